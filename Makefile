@@ -1,0 +1,43 @@
+# A thin driver over CMake (the one build description).
+#   make            build the library and examples in $(BUILD)
+#   make check      build and run the whole test suite (CTest)
+#   make demo       build and run the demonstration scenes
+#   make install    install into $(PREFIX)
+#   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
+BUILD    ?= build
+PREFIX   ?= /usr/local
+JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
+CMAKE_FLAGS ?=
+
+.PHONY: all deps configure check demo install check-sanitize check-valgrind clean
+
+all: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+deps:
+	@sh scripts/install-deps.sh
+
+configure: deps
+	@test -f $(BUILD)/CMakeCache.txt || cmake -S . -B $(BUILD) -DCMAKE_INSTALL_PREFIX=$(PREFIX) $(CMAKE_FLAGS)
+
+check: all
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+demo: all
+	@sh scripts/demo.sh $(BUILD)
+
+install: all
+	cmake --install $(BUILD) --prefix $(PREFIX)
+
+check-sanitize: deps
+	@test -f build-sanitize/CMakeCache.txt || cmake -S . -B build-sanitize -DND_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+	cmake --build build-sanitize -j $(JOBS)
+	cd build-sanitize && CK_FORK=no ctest --output-on-failure -j $(JOBS)
+
+check-valgrind: all
+	cd $(BUILD) && CK_FORK=no ctest --output-on-failure -j $(JOBS) -E exported_symbols \
+	  --overwrite MemoryCheckCommandOptions="--error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite" \
+	  -T memcheck
+
+clean:
+	rm -rf $(BUILD) build-sanitize

@@ -1,0 +1,185 @@
+/*
+ * nitschedyn.h - the public C interface of libnitschedyn.
+ *
+ * Nitsche's method for dynamic frictionless unilateral contact of a linear
+ * elastic body with a rigid obstacle (Chouly, Hild, Renard, M2AN 49(2) 2015).
+ * This is the only public header. No C++ type crosses it.
+ *
+ * Conventions (see libnitschedyn(3)):
+ *  - every function returns an int status: ND_OK (0) on success, a negative
+ *    ND_ERR_* code on error; nd_last_error() then tells what went wrong;
+ *  - handles are typed and opaque; create functions write them through an
+ *    out-parameter, destroy functions take their address and set it to NULL;
+ *  - sizes and indices are int64_t, booleans are int, arrays come with their
+ *    lengths and are copied;
+ *  - distinct handles may be used from distinct threads at the same time,
+ *    one handle from one thread at a time.
+ */
+#ifndef NITSCHEDYN_H
+#define NITSCHEDYN_H
+
+#include <stdint.h>
+
+#define ND_VERSION_MAJOR 0
+#define ND_VERSION_MINOR 1
+#define ND_VERSION_PATCH 0
+#define ND_VERSION_STRING "0.1.0"
+
+#if defined(ND_BUILDING_LIBRARY) && defined(__GNUC__)
+#define ND_EXPORT __attribute__((visibility("default")))
+#else
+#define ND_EXPORT
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/*
+ * Every list of constants is an X-macro: the C enums below, nd_strerror()
+ * and the Fortran parameters are all generated from these lists. Values are
+ * explicit and only ever appended.
+ */
+
+/* Status codes: X(name, value, message) */
+#define ND_STATUS_LIST(X)                                                              \
+  X(ND_OK, 0, "success")                                                               \
+  X(ND_MONITOR_STOP, 1, "the step was accepted and the monitor asked to stop")        \
+  X(ND_ERR_NULL, -1, "a required handle or pointer is NULL")                           \
+  X(ND_ERR_DIMENSION, -2, "the space dimension is not 1, 2 or 3, or does not match")   \
+  X(ND_ERR_SIZE, -3, "a count is not positive or an array length does not match")      \
+  X(ND_ERR_INDEX, -4, "an index is out of range")                                      \
+  X(ND_ERR_NONFINITE, -5, "an input value is NaN or infinite")                         \
+  X(ND_ERR_DEGENERATE, -6, "a cell has zero or negative measure")                      \
+  X(ND_ERR_DEGREE, -7, "the polynomial degree is not 1 or 2")                          \
+  X(ND_ERR_MATERIAL, -8, "a material parameter is out of range")                       \
+  X(ND_ERR_NITSCHE, -9, "a Nitsche parameter is out of range")                         \
+  X(ND_ERR_TIMESTEP, -10, "the time step is not positive and finite")                  \
+  X(ND_ERR_SCHEME, -11, "unknown time scheme or scheme parameter out of range")        \
+  X(ND_ERR_KEY, -12, "unknown field, scalar key or option value")                      \
+  X(ND_ERR_INCOMPLETE, -13, "the problem is not complete enough for this call")        \
+  X(ND_ERR_REGION, -14, "a region or facet is invalid")                                \
+  X(ND_ERR_VALUE, -15, "an option value is out of range")                              \
+  X(ND_ERR_NEWTON, -16, "Newton's method did not converge; the step was not taken")    \
+  X(ND_ERR_NONFINITE_STATE, -17, "the step produced NaN or infinite values; not taken")\
+  X(ND_ERR_INDEFINITE, -18, "the step operator c*M + K_Theta is not positive definite")\
+  X(ND_ERR_SINGULAR, -19, "a matrix is singular")                                      \
+  X(ND_ERR_NOMEM, -20, "out of memory")                                                \
+  X(ND_ERR_INTERNAL, -21, "internal error")                                           \
+  X(ND_ERR_STATE, -22, "the call is not allowed in the problem's current state")
+
+/* Time schemes for nd_problem_set_scheme: X(name, value, parameters) */
+#define ND_SCHEME_LIST(X)                                                              \
+  X(ND_SCHEME_THETA, 1, "theta in [0,1]; theta = 0 is explicit")                       \
+  X(ND_SCHEME_NEWMARK, 2, "beta in [0,1/2], gamma in [0,1]; beta = 0 is explicit")     \
+  X(ND_SCHEME_HYBRID, 3, "no parameter")
+
+/* Fields for nd_get_field: X(name, value, description) */
+#define ND_FIELD_LIST(X)                                                               \
+  X(ND_FIELD_DISPLACEMENT, 1, "displacement u")                                        \
+  X(ND_FIELD_VELOCITY, 2, "velocity v")                                                \
+  X(ND_FIELD_ACCELERATION, 3, "acceleration a")
+
+/* Scalars for nd_get_scalar: X(name, value, description) */
+#define ND_SCALAR_LIST(X)                                                              \
+  X(ND_TIME, 1, "time t^n")                                                            \
+  X(ND_STEP_INDEX, 2, "number of accepted steps n")                                    \
+  X(ND_ENERGY_MECHANICAL, 3, "E = 1/2 V'MV + 1/2 U'KU")                                \
+  X(ND_ENERGY_NITSCHE, 4, "R = 1/2 sum_q w_q (gamma_q (s_q U)^2 - [P_q]_+^2/gamma_q)") \
+  X(ND_ENERGY_AUGMENTED, 5, "E_Theta = E - Theta R")                                   \
+  X(ND_WORK, 6, "W, work of the external loads since t = 0")                           \
+  X(ND_CONTACT_FORCE, 7, "sum_q w_q [P_q]_+/gamma_q, resultant normal contact force")  \
+  X(ND_NEWTON_ITERATIONS, 8, "Newton iterations (linear solves) of the last step")     \
+  X(ND_ACTIVE_POINTS, 9, "number of contact points with P_q > 0")                      \
+  X(ND_MAX_PENETRATION, 10, "max_q (u_n - g0)_+ at the contact points")                \
+  X(ND_NEWTON_ITERATIONS_TOTAL, 11, "Newton iterations of all accepted steps")         \
+  X(ND_TIMESTEP, 12, "the time step tau")
+
+/* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
+#define ND_SOLVER_LIST(X)                                                              \
+  X(ND_SOLVER_AUTO, 0, "choose by size and structure")                                 \
+  X(ND_SOLVER_DENSE, 1, "LAPACK dense Cholesky / LU")                                  \
+  X(ND_SOLVER_BANDED, 2, "LAPACK banded Cholesky / LU after reverse Cuthill-McKee")
+
+#define ND_ENUM_ENTRY_(name, value, text) name = value,
+enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
+enum nd_scheme { ND_SCHEME_LIST(ND_ENUM_ENTRY_) };
+enum nd_field { ND_FIELD_LIST(ND_ENUM_ENTRY_) };
+enum nd_scalar { ND_SCALAR_LIST(ND_ENUM_ENTRY_) };
+enum nd_solver { ND_SOLVER_LIST(ND_ENUM_ENTRY_) };
+#undef ND_ENUM_ENTRY_
+
+typedef struct nd_mesh_s *nd_mesh;
+typedef struct nd_problem_s *nd_problem;
+
+/* Monitor: called after every accepted step; a non-zero return makes
+   nd_step return ND_MONITOR_STOP (the step itself is kept). */
+typedef int (*nd_monitor_fn)(nd_problem p, void *userdata);
+
+/* ---- library ----------------------------------------------------------- */
+ND_EXPORT int nd_version(int *major, int *minor, int *patch);
+ND_EXPORT const char *nd_last_error(void);
+ND_EXPORT const char *nd_strerror(int code);
+
+/* ---- mesh -------------------------------------------------------------- */
+/* coords node-major (n_nodes*dim); cells are simplices, dim+1 0-based vertex
+   indices each; both copied. */
+ND_EXPORT int nd_mesh_create(int dim, int64_t n_nodes, const double *coords,
+                             int64_t n_cells, const int64_t *cells, nd_mesh *out);
+ND_EXPORT int nd_mesh_create_interval(int64_t n_cells, double a, double b, nd_mesh *out);
+/* Adds boundary facets (dim vertices each) to a region (region >= 0). */
+ND_EXPORT int nd_mesh_set_region(nd_mesh m, int region, int64_t n_facets,
+                                 const int64_t *facet_vertices);
+/* Adds the boundary facets whose vertices all lie in the box [lo, hi]. */
+ND_EXPORT int nd_mesh_mark_boundary_box(nd_mesh m, int region, const double *lo,
+                                        const double *hi);
+ND_EXPORT int nd_mesh_get_dimension(nd_mesh m, int *dim);
+ND_EXPORT int nd_mesh_get_vertex_count(nd_mesh m, int64_t *n_vertices);
+ND_EXPORT int nd_mesh_get_cell_count(nd_mesh m, int64_t *n_cells);
+ND_EXPORT int nd_mesh_get_region_size(nd_mesh m, int region, int64_t *n_facets);
+ND_EXPORT int nd_mesh_destroy(nd_mesh *m);
+
+/* ---- problem: definition ---------------------------------------------- */
+/* The problem keeps its own copy of the mesh (regions included). */
+ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out);
+ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson,
+                                      double density);
+ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region);
+ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f);
+ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
+/* normal points from the obstacle towards the body */
+ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
+                                           const double *normal);
+/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet) */
+ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
+ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);
+ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f);
+ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter);
+ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
+ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
+ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
+ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0,
+                                           const double *v0);
+ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userdata);
+
+/* ---- problem: queries -------------------------------------------------- */
+/* FE nodes: the mesh vertices first (same numbering), then for P2 one node
+   per edge midpoint. */
+ND_EXPORT int nd_problem_get_node_count(nd_problem p, int64_t *n_nodes);
+ND_EXPORT int nd_problem_get_node_coordinates(nd_problem p, int64_t n, double *coords);
+ND_EXPORT int nd_problem_get_contact_point_count(nd_problem p, int64_t *n_points);
+ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coords,
+                                            double *weights);
+
+/* ---- time stepping ----------------------------------------------------- */
+ND_EXPORT int nd_step(nd_problem p);
+ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out);
+ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
+/* lambda_q = -[P_q]_+/gamma_q at each contact point (<= 0: compression) */
+ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out);
+ND_EXPORT int nd_problem_destroy(nd_problem *p);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* NITSCHEDYN_H */

@@ -1,0 +1,20 @@
+#!/bin/sh
+# Installs the Debian packages that the build and the tests need, when one is
+# missing and we are root; otherwise says what to install. Safe to run twice.
+set -e
+need=""
+have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+for pkg in cmake g++ make pkg-config liblapack-dev liblapacke-dev check binutils valgrind; do
+  have_pkg "$pkg" || need="$need $pkg"
+done
+[ -z "$need" ] && exit 0
+if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+  echo "install-deps: installing$need"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends $need >/dev/null
+else
+  echo "install-deps: missing Debian packages:$need" >&2
+  echo "install-deps: run as root: apt-get install$need" >&2
+  exit 1
+fi

@@ -1,0 +1,117 @@
+#include "assembly/bulk.hpp"
+
+#include <cmath>
+
+#include "fem/facet.hpp"
+
+namespace nd {
+
+Csr operator_pattern(const Space &s, const DofMap &dofs) {
+  std::vector<std::vector<int64_t>> rows(static_cast<size_t>(dofs.n_free));
+  const int nb = s.basis.n, d = s.dim;
+  std::vector<int64_t> local(static_cast<size_t>(nb * d));
+  for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    for (int i = 0; i < nb; ++i)
+      for (int a = 0; a < d; ++a) local[i * d + a] = dofs.free[s.nodes_of(c)[i] * d + a];
+    for (int64_t r : local)
+      if (r >= 0)
+        for (int64_t col : local)
+          if (col >= 0) rows[r].push_back(col);
+  }
+  return csr_from_rows(std::move(rows));
+}
+
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat) {
+  BulkOperators ops;
+  ops.M = operator_pattern(s, dofs);
+  ops.K = ops.M.zeros_like();
+  ops.M_lumped.assign(static_cast<size_t>(dofs.n_free), 0.0);
+  const int nb = s.basis.n, d = s.dim, p = s.degree;
+  const double lam = mat.lambda(d), mu = mat.mu(d), rho = mat.density;
+  const QuadratureRule mass_rule = simplex_rule(d, 2 * p), stiff_rule = simplex_rule(d, 2 * (p - 1));
+  std::vector<double> phi(nb), gref(nb * d), g(nb * d), me(nb * nb), ke(nb * d * nb * d);
+  for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    const AffineMap map(*s.mesh, c);
+    std::fill(me.begin(), me.end(), 0.0);
+    std::fill(ke.begin(), ke.end(), 0.0);
+    for (size_t q = 0; q < mass_rule.size(); ++q) {
+      s.basis.values(&mass_rule.points[q * d], phi.data());
+      const double w = mass_rule.weights[q] * map.det * rho;
+      for (int i = 0; i < nb; ++i)
+        for (int j = 0; j < nb; ++j) me[i * nb + j] += w * phi[i] * phi[j];
+    }
+    for (size_t q = 0; q < stiff_rule.size(); ++q) {
+      s.basis.gradients(&stiff_rule.points[q * d], gref.data());
+      for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
+      const double w = stiff_rule.weights[q] * map.det;
+      // row (i,a), column (j,b): lambda d_a phi_i d_b phi_j
+      //                          + mu (delta_ab grad phi_i . grad phi_j + d_b phi_i d_a phi_j)
+      for (int i = 0; i < nb; ++i)
+        for (int j = 0; j < nb; ++j) {
+          double gg = 0;
+          for (int k = 0; k < d; ++k) gg += g[i * d + k] * g[j * d + k];
+          for (int a = 0; a < d; ++a)
+            for (int b = 0; b < d; ++b)
+              ke[(i * d + a) * nb * d + j * d + b] +=
+                  w * (lam * g[i * d + a] * g[j * d + b] +
+                       mu * ((a == b ? gg : 0.0) + g[i * d + b] * g[j * d + a]));
+        }
+    }
+    // HRZ lumping: the consistent diagonal scaled to the element's mass
+    double diag = 0;
+    for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
+    const double cell_mass = rho * map.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
+    const int64_t *nodes = s.nodes_of(c);
+    for (int i = 0; i < nb; ++i)
+      for (int a = 0; a < d; ++a) {
+        const int64_t r = dofs.free[nodes[i] * d + a];
+        if (r < 0) continue;
+        ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
+        for (int j = 0; j < nb; ++j)
+          for (int b = 0; b < d; ++b) {
+            const int64_t col = dofs.free[nodes[j] * d + b];
+            if (col < 0) continue;
+            const int64_t k = ops.K.find(r, col);
+            ops.K.val[k] += ke[(i * d + a) * nb * d + j * d + b];
+            if (a == b) ops.M.val[k] += me[i * nb + j];
+          }
+      }
+  }
+  return ops;
+}
+
+std::vector<double> assemble_load(const Space &s, const DofMap &dofs, const double *f,
+                                  const std::vector<NeumannLoad> &neumann) {
+  if (!f && neumann.empty()) return {};
+  std::vector<double> F(static_cast<size_t>(dofs.n_free), 0.0);
+  const int nb = s.basis.n, d = s.dim;
+  std::vector<double> phi(nb);
+  auto add = [&](const int64_t *nodes, const double *vec, double w) {
+    for (int i = 0; i < nb; ++i)
+      for (int a = 0; a < d; ++a) {
+        const int64_t r = dofs.free[nodes[i] * d + a];
+        if (r >= 0) F[r] += w * phi[i] * vec[a];
+      }
+  };
+  if (f) {
+    const QuadratureRule rule = simplex_rule(d, s.degree);
+    for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+      const AffineMap map(*s.mesh, c);
+      for (size_t q = 0; q < rule.size(); ++q) {
+        s.basis.values(&rule.points[q * d], phi.data());
+        add(s.nodes_of(c), f, rule.weights[q] * map.det);
+      }
+    }
+  }
+  for (const NeumannLoad &nl : neumann)
+    for (int64_t b : s.mesh->regions.at(nl.region)) {
+      const Facet &facet = s.mesh->boundary[b];
+      for (const FacetPoint &fp : facet_quadrature(*s.mesh, facet, s.degree)) {
+        s.basis.values(fp.xi, phi.data());
+        add(s.nodes_of(facet.cell), nl.g, fp.weight);
+      }
+    }
+  return F;
+}
+
+}  // namespace nd

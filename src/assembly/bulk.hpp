@@ -1,0 +1,31 @@
+// Volume operators over the free DOFs: mass (consistent and lumped),
+// stiffness, and the constant load vector.
+#pragma once
+#include <vector>
+
+#include "assembly/material.hpp"
+#include "fem/space.hpp"
+#include "linalg/csr.hpp"
+
+namespace nd {
+
+struct NeumannLoad {
+  int region;
+  double g[3];
+};
+
+// The pattern shared by all operators: every pair of free DOFs of a cell.
+Csr operator_pattern(const Space &s, const DofMap &dofs);
+
+struct BulkOperators {
+  Csr M, K;
+  std::vector<double> M_lumped;  // diagonal, HRZ (row sums for P1)
+};
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat);
+
+// Constant load: body force f (dim values, or nullptr) and Neumann tractions.
+// Returns an empty vector when there is no load at all.
+std::vector<double> assemble_load(const Space &s, const DofMap &dofs, const double *body_force,
+                                  const std::vector<NeumannLoad> &neumann);
+
+}  // namespace nd

@@ -1,0 +1,41 @@
+// The contact quadrature points and their constant rows (DESIGN §2):
+//   a_q . U = u_n(x_q),  s_q . U = sigma_n(u)(x_q) (gradient in the owning cell)
+// with weight w_q, gamma_q = gamma0 h_K and initial gap g_q. Assembled once.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "assembly/material.hpp"
+#include "fem/space.hpp"
+
+namespace nd {
+
+struct SparseRow {
+  std::vector<int64_t> idx;  // free DOF indices
+  std::vector<double> val;
+  double dot(const double *U) const {
+    double s = 0;
+    for (size_t k = 0; k < idx.size(); ++k) s += val[k] * U[idx[k]];
+    return s;
+  }
+};
+
+// A rigid plane through `point`; `normal` is the unit normal pointing from
+// the obstacle towards the body (nu_o). The contact normal is n = -nu_o and
+// the initial gap g0(x) = (x - point) . nu_o.
+struct ContactPlane {
+  int region;
+  double point[3];
+  double normal[3];
+};
+
+struct ContactPoints {
+  std::vector<SparseRow> a, s;
+  std::vector<double> w, gamma, gap, x;  // x: n * dim
+  size_t size() const { return w.size(); }
+};
+
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
+                               const std::vector<ContactPlane> &planes, double gamma0);
+
+}  // namespace nd

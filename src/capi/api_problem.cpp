@@ -1,0 +1,229 @@
+// nd_problem_*: definition of a problem, checked argument by argument.
+#include <cmath>
+#include <string>
+
+#include "capi/guard.hpp"
+#include "capi/handles.hpp"
+
+namespace {
+
+nd::Problem &problem_of(nd_problem p) {
+  nd::need(p, "problem");
+  return p->problem;
+}
+
+void need_node_array(nd::Problem &pr, int64_t n, const char *name) {
+  if (n != pr.space().n_nodes)
+    nd::fail(ND_ERR_SIZE, std::string(name) + " has " + std::to_string(n) + " nodes; the problem has " +
+                              std::to_string(pr.space().n_nodes));
+}
+
+void need_range(bool ok, int code, const std::string &what) {
+  if (!ok) nd::fail(code, what);
+}
+
+}  // namespace
+
+extern "C" {
+
+ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out) {
+  return nd::guarded("nd_problem_create", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    nd::need(m, "mesh");
+    need_range(degree == 1 || degree == 2, ND_ERR_DEGREE, "degree is " + std::to_string(degree) + ", not 1 or 2");
+    auto mesh = std::make_shared<const nd::Mesh>(m->mesh);  // the problem keeps its own copy
+    *out = new nd_problem_s{nd::Problem(mesh, degree)};
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson, double density) {
+  return nd::guarded("nd_problem_set_material", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_range(std::isfinite(young) && young > 0, ND_ERR_MATERIAL, "young must be positive and finite");
+    need_range(std::isfinite(density) && density > 0, ND_ERR_MATERIAL, "density must be positive and finite");
+    if (pr.space().dim > 1)  // in 1D sigma = E u_x: Poisson's ratio is not used
+      need_range(std::isfinite(poisson) && poisson > -1 && poisson < 0.5, ND_ERR_MATERIAL,
+                 "poisson must lie in (-1, 1/2)");
+    pr.set_material(nd::Material{young, poisson, density});
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region) {
+  return nd::guarded("nd_problem_set_dirichlet", [&] {
+    problem_of(p).add_dirichlet(region);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f) {
+  return nd::guarded("nd_problem_set_body_force", [&] {
+    nd::Problem &pr = problem_of(p);
+    nd::need(f, "f");
+    nd::need_finite(f, pr.space().dim, "f");
+    pr.set_body_force(f);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g) {
+  return nd::guarded("nd_problem_set_neumann", [&] {
+    nd::Problem &pr = problem_of(p);
+    nd::need(g, "g");
+    nd::need_finite(g, pr.space().dim, "g");
+    pr.add_neumann(region, g);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
+                                           const double *normal) {
+  return nd::guarded("nd_problem_set_contact_plane", [&] {
+    nd::Problem &pr = problem_of(p);
+    nd::need(point, "point");
+    nd::need(normal, "normal");
+    nd::need_finite(point, pr.space().dim, "point");
+    nd::need_finite(normal, pr.space().dim, "normal");
+    pr.add_contact_plane(region, point, normal);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0) {
+  return nd::guarded("nd_problem_set_nitsche", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_range(std::isfinite(theta), ND_ERR_NITSCHE, "theta must be finite");
+    need_range(std::isfinite(gamma0) && gamma0 > 0, ND_ERR_NITSCHE, "gamma0 must be positive and finite");
+    pr.set_nitsche(theta, gamma0);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params) {
+  return nd::guarded("nd_problem_set_scheme", [&] {
+    nd::Problem &pr = problem_of(p);
+    nd::SchemeSpec s;
+    s.kind = scheme;
+    switch (scheme) {
+      case ND_SCHEME_THETA:
+        nd::need(params, "params");
+        s.theta = params[0];
+        need_range(s.theta >= 0 && s.theta <= 1, ND_ERR_SCHEME, "theta (params[0]) must lie in [0, 1]");
+        break;
+      case ND_SCHEME_NEWMARK:
+        nd::need(params, "params");
+        s.beta = params[0];
+        s.gamma = params[1];
+        need_range(s.beta >= 0 && s.beta <= 0.5, ND_ERR_SCHEME, "beta (params[0]) must lie in [0, 1/2]");
+        need_range(s.gamma >= 0 && s.gamma <= 1, ND_ERR_SCHEME, "gamma (params[1]) must lie in [0, 1]");
+        break;
+      case ND_SCHEME_HYBRID:
+        break;
+      default:
+        nd::fail(ND_ERR_SCHEME, "scheme " + std::to_string(scheme) + " is not an ND_SCHEME_* value");
+    }
+    pr.set_scheme(s);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f) {
+  return nd::guarded("nd_problem_set_nodal_forces", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_node_array(pr, n, "f");
+    nd::need(f, "f");
+    nd::need_finite(f, n * pr.space().dim, "f");
+    pr.set_nodal_forces(f);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter) {
+  return nd::guarded("nd_problem_set_newton", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_range(std::isfinite(rtol) && rtol >= 0, ND_ERR_VALUE, "rtol must be finite and >= 0");
+    need_range(std::isfinite(atol) && atol >= 0, ND_ERR_VALUE, "atol must be finite and >= 0");
+    need_range(max_iter >= 1, ND_ERR_VALUE, "max_iter must be at least 1");
+    pr.set_newton(nd::NewtonOptions{rtol, atol, max_iter});
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped) {
+  return nd::guarded("nd_problem_set_mass_lumping", [&] {
+    problem_of(p).set_mass_lumping(lumped != 0);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
+  return nd::guarded("nd_problem_set_linear_solver", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_range(solver == ND_SOLVER_AUTO || solver == ND_SOLVER_DENSE || solver == ND_SOLVER_BANDED,
+               ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
+    pr.set_linear_solver(solver);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau) {
+  return nd::guarded("nd_problem_set_timestep", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_range(std::isfinite(tau) && tau > 0, ND_ERR_TIMESTEP, "tau must be positive and finite");
+    pr.set_timestep(tau);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0, const double *v0) {
+  return nd::guarded("nd_problem_set_initial_state", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_node_array(pr, n, "u0/v0");
+    if (u0) nd::need_finite(u0, n * pr.space().dim, "u0");
+    if (v0) nd::need_finite(v0, n * pr.space().dim, "v0");
+    pr.set_initial_state(u0, v0);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userdata) {
+  return nd::guarded("nd_problem_set_monitor", [&] {
+    problem_of(p);
+    p->monitor = fn;
+    p->userdata = userdata;
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_get_node_count(nd_problem p, int64_t *n_nodes) {
+  return nd::guarded("nd_problem_get_node_count", [&] {
+    nd::need(n_nodes, "n_nodes");
+    *n_nodes = problem_of(p).space().n_nodes;
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_get_node_coordinates(nd_problem p, int64_t n, double *coords) {
+  return nd::guarded("nd_problem_get_node_coordinates", [&] {
+    nd::Problem &pr = problem_of(p);
+    need_node_array(pr, n, "coords");
+    nd::need(coords, "coords");
+    const auto &x = pr.space().node_coords;
+    std::copy(x.begin(), x.end(), coords);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_destroy(nd_problem *p) {
+  return nd::guarded("nd_problem_destroy", [&] {
+    if (p) {
+      delete *p;
+      *p = nullptr;
+    }
+    return ND_OK;
+  });
+}
+
+}  // extern "C"

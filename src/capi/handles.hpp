@@ -1,0 +1,17 @@
+// What the opaque handles of the public header hold.
+#pragma once
+#include <memory>
+
+#include "mesh/mesh.hpp"
+#include "nitschedyn.h"
+#include "problem/problem.hpp"
+
+struct nd_mesh_s {
+  nd::Mesh mesh;
+};
+
+struct nd_problem_s {
+  nd::Problem problem;
+  nd_monitor_fn monitor = nullptr;
+  void *userdata = nullptr;
+};

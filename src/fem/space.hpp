@@ -1,0 +1,39 @@
+// The vector P1/P2 Lagrange space on a mesh: FE nodes (vertices, then one
+// node per edge for P2), DOFs (node * dim + component) and the numbering of
+// the free DOFs left after eliminating the clamped (Dirichlet) ones.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "fem/simplex.hpp"
+#include "mesh/mesh.hpp"
+
+namespace nd {
+
+struct Space {
+  std::shared_ptr<const Mesh> mesh;
+  int dim = 0, degree = 0;
+  Lagrange basis{1, 1};
+  int64_t n_nodes = 0;
+  std::vector<int64_t> cell_nodes;  // n_cells * basis.n
+  std::vector<double> node_coords;  // n_nodes * dim
+
+  Space(std::shared_ptr<const Mesh> m, int degree);
+  const int64_t *nodes_of(int64_t c) const { return &cell_nodes[c * basis.n]; }
+  int64_t n_dofs() const { return n_nodes * dim; }
+  // The FE nodes lying on a boundary facet (vertices and, for P2, edges).
+  std::vector<int64_t> facet_nodes(const Facet &f) const;
+};
+
+// Free DOFs: free[dof] = index in the unknown vector U, or -1 if clamped.
+struct DofMap {
+  std::vector<int64_t> free;
+  int64_t n_free = 0;
+  DofMap(const Space &s, const std::vector<int> &clamped_regions);
+  // full (n_dofs) <-> free (n_free) vectors; clamped DOFs are 0
+  void restrict_to_free(const double *full, double *u) const;
+  void extend_to_full(const double *u, double *full) const;
+};
+
+}  // namespace nd

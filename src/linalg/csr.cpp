@@ -1,0 +1,54 @@
+#include "linalg/csr.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace nd {
+
+void Csr::multiply(const double *x, double *y) const {
+  for (int64_t i = 0; i < n; ++i) {
+    double s = 0;
+    for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k) s += val[k] * x[col[k]];
+    y[i] = s;
+  }
+}
+
+int64_t Csr::find(int64_t i, int64_t j) const {
+  auto b = col.begin() + ptr[i], e = col.begin() + ptr[i + 1];
+  auto it = std::lower_bound(b, e, j);
+  return it != e && *it == j ? it - col.begin() : -1;
+}
+
+Csr csr_from_rows(std::vector<std::vector<int64_t>> rows) {
+  Csr A;
+  A.n = static_cast<int64_t>(rows.size());
+  A.ptr.assign(rows.size() + 1, 0);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    auto &r = rows[i];
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    A.ptr[i + 1] = A.ptr[i] + static_cast<int64_t>(r.size());
+  }
+  A.col.reserve(A.ptr.back());
+  for (auto &r : rows) A.col.insert(A.col.end(), r.begin(), r.end());
+  A.val.assign(A.col.size(), 0.0);
+  return A;
+}
+
+void csr_combine(double a, const Csr &A, double b, const Csr &B, Csr &C) {
+  C.n = A.n;
+  C.ptr = A.ptr;
+  C.col = A.col;
+  C.val.resize(A.val.size());
+  for (size_t k = 0; k < A.val.size(); ++k) C.val[k] = a * A.val[k] + b * B.val[k];
+}
+
+double dot(int64_t n, const double *x, const double *y) {
+  double s = 0;
+  for (int64_t i = 0; i < n; ++i) s += x[i] * y[i];
+  return s;
+}
+
+double norm2(int64_t n, const double *x) { return std::sqrt(dot(n, x, x)); }
+
+}  // namespace nd

@@ -1,0 +1,25 @@
+// One small interface over the direct solvers. A factorization is created
+// for a pattern (the symbolic work: ordering, bandwidth) and then factors any
+// matrix of that pattern numerically, as often as needed.
+#pragma once
+#include <memory>
+
+#include "linalg/csr.hpp"
+
+namespace nd {
+
+enum class Structure { SymmetricPositiveDefinite, General };
+
+class Factorization {
+ public:
+  virtual ~Factorization() = default;
+  // Throws ND_ERR_INDEFINITE (SPD requested, pivot <= 0) or ND_ERR_SINGULAR.
+  virtual void factor(const Csr &A, Structure s) = 0;
+  virtual void solve(double *x) const = 0;  // in place, one right-hand side
+  virtual const char *name() const = 0;
+};
+
+// solver: an ND_SOLVER_* value. AUTO picks by size.
+std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern);
+
+}  // namespace nd

@@ -1,0 +1,116 @@
+// Banded LAPACK Cholesky (SPD) or LU (general) after a reverse Cuthill-McKee
+// ordering, which makes 1D operators (P1 and P2) tridiagonal or pentadiagonal.
+#include <lapacke.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "linalg/lapack_solvers.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+
+std::vector<int64_t> reverse_cuthill_mckee(const Csr &A) {
+  const int64_t n = A.n;
+  auto degree = [&](int64_t i) { return A.ptr[i + 1] - A.ptr[i]; };
+  std::vector<int64_t> order;
+  order.reserve(static_cast<size_t>(n));
+  std::vector<char> seen(static_cast<size_t>(n), 0);
+  std::vector<int64_t> by_degree(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) by_degree[i] = i;
+  std::stable_sort(by_degree.begin(), by_degree.end(),
+                   [&](int64_t a, int64_t b) { return degree(a) < degree(b); });
+  std::vector<int64_t> nbrs;
+  for (int64_t start : by_degree) {  // one breadth-first sweep per component
+    if (seen[start]) continue;
+    seen[start] = 1;
+    size_t head = order.size();
+    order.push_back(start);
+    while (head < order.size()) {
+      const int64_t i = order[head++];
+      nbrs.clear();
+      for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k)
+        if (!seen[A.col[k]]) {
+          seen[A.col[k]] = 1;
+          nbrs.push_back(A.col[k]);
+        }
+      std::stable_sort(nbrs.begin(), nbrs.end(), [&](int64_t a, int64_t b) { return degree(a) < degree(b); });
+      order.insert(order.end(), nbrs.begin(), nbrs.end());
+    }
+  }
+  std::reverse(order.begin(), order.end());
+  return order;
+}
+
+namespace {
+
+class BandedFactorization : public Factorization {
+ public:
+  explicit BandedFactorization(const Csr &pattern) : n_(pattern.n) {
+    perm_ = reverse_cuthill_mckee(pattern);
+    inv_.resize(static_cast<size_t>(n_));
+    for (int64_t i = 0; i < n_; ++i) inv_[perm_[i]] = i;
+    kd_ = 0;
+    for (int64_t i = 0; i < n_; ++i)
+      for (int64_t k = pattern.ptr[i]; k < pattern.ptr[i + 1]; ++k)
+        kd_ = std::max<int64_t>(kd_, std::llabs(inv_[i] - inv_[pattern.col[k]]));
+  }
+  void factor(const Csr &A, Structure s) override {
+    spd_ = s == Structure::SymmetricPositiveDefinite;
+    lapack_int info;
+    if (spd_) {  // upper band: ab[kd + i - j + j*ld] = A(i, j), i <= j
+      ld_ = kd_ + 1;
+      ab_.assign(static_cast<size_t>(ld_ * n_), 0.0);
+      for (int64_t r = 0; r < n_; ++r)
+        for (int64_t k = A.ptr[r]; k < A.ptr[r + 1]; ++k) {
+          const int64_t i = inv_[r], j = inv_[A.col[k]];
+          if (i <= j) ab_[kd_ + i - j + j * ld_] = A.val[k];
+        }
+      info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n_, kd_, ab_.data(), ld_);
+      if (info > 0)
+        fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (Cholesky pivot " +
+                                    std::to_string(info) + " is not positive)");
+    } else {  // ab[2kd + i - j + j*ld] = A(i, j) with room for the LU fill
+      ld_ = 3 * kd_ + 1;
+      ab_.assign(static_cast<size_t>(ld_ * n_), 0.0);
+      for (int64_t r = 0; r < n_; ++r)
+        for (int64_t k = A.ptr[r]; k < A.ptr[r + 1]; ++k) {
+          const int64_t i = inv_[r], j = inv_[A.col[k]];
+          ab_[2 * kd_ + i - j + j * ld_] = A.val[k];
+        }
+      ipiv_.resize(static_cast<size_t>(n_));
+      info = LAPACKE_dgbtrf(LAPACK_COL_MAJOR, n_, n_, kd_, kd_, ab_.data(), ld_, ipiv_.data());
+      if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
+    }
+    if (info < 0) fail(ND_ERR_INTERNAL, "LAPACK banded factorization: argument " + std::to_string(-info));
+  }
+  void solve(double *x) const override {
+    work_.resize(static_cast<size_t>(n_));
+    for (int64_t i = 0; i < n_; ++i) work_[i] = x[perm_[i]];
+    if (spd_)
+      LAPACKE_dpbtrs(LAPACK_COL_MAJOR, 'U', n_, kd_, 1, ab_.data(), ld_, work_.data(), n_);
+    else
+      LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_, ipiv_.data(), work_.data(), n_);
+    for (int64_t i = 0; i < n_; ++i) x[perm_[i]] = work_[i];
+  }
+  const char *name() const override { return "banded"; }
+
+ private:
+  int64_t n_, kd_ = 0, ld_ = 0;
+  bool spd_ = false;
+  std::vector<int64_t> perm_, inv_;
+  std::vector<double> ab_;
+  std::vector<lapack_int> ipiv_;
+  mutable std::vector<double> work_;
+};
+
+}  // namespace
+
+std::unique_ptr<Factorization> make_banded_factorization(const Csr &pattern) {
+  return std::make_unique<BandedFactorization>(pattern);
+}
+
+}  // namespace nd

@@ -1,0 +1,195 @@
+#include "mesh/mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+#include "common/error.hpp"
+#include "fem/simplex.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+namespace {
+
+using FacetKey = std::array<int64_t, 3>;  // sorted vertices, padded with -1
+
+struct FacetKeyHash {
+  size_t operator()(const FacetKey &k) const {
+    size_t h = 1469598103934665603ull;
+    for (int64_t v : k) h = (h ^ static_cast<size_t>(v)) * 1099511628211ull;
+    return h;
+  }
+};
+
+FacetKey key_of(std::array<int64_t, 3> v, int n) {
+  for (int i = n; i < 3; ++i) v[i] = -1;
+  // three entries at most: sorted by hand (std::sort trips GCC 12's -Warray-bounds)
+  for (int i = 1; i < n; ++i)
+    for (int j = i; j > 0 && v[j - 1] > v[j]; --j) std::swap(v[j - 1], v[j]);
+  return v;
+}
+
+std::unordered_map<FacetKey, int64_t, FacetKeyHash> boundary_index(const Mesh &m) {
+  std::unordered_map<FacetKey, int64_t, FacetKeyHash> index;
+  for (size_t i = 0; i < m.boundary.size(); ++i)
+    index.emplace(key_of(m.facet_vertices(m.boundary[i]), m.dim), static_cast<int64_t>(i));
+  return index;
+}
+
+void find_boundary(Mesh &m) {
+  // A facet is on the boundary when exactly one cell owns it.
+  std::unordered_map<FacetKey, std::pair<Facet, int>, FacetKeyHash> seen;
+  seen.reserve(static_cast<size_t>(m.n_cells) * (m.dim + 1));
+  for (int64_t c = 0; c < m.n_cells; ++c)
+    for (int f = 0; f <= m.dim; ++f) {
+      Facet facet{c, f};
+      auto it = seen.emplace(key_of(m.facet_vertices(facet), m.dim), std::make_pair(facet, 0));
+      if (++it.first->second.second > 2)
+        fail(ND_ERR_DEGENERATE, "nd_mesh_create: a facet of cell " + std::to_string(c) +
+                                    " is shared by more than two cells");
+    }
+  for (auto &kv : seen)
+    if (kv.second.second == 1) m.boundary.push_back(kv.second.first);
+  std::sort(m.boundary.begin(), m.boundary.end(), [](const Facet &a, const Facet &b) {
+    return a.cell != b.cell ? a.cell < b.cell : a.opposite < b.opposite;
+  });
+}
+
+}  // namespace
+
+std::array<int64_t, 3> Mesh::facet_vertices(const Facet &f) const {
+  std::array<int64_t, 3> v{-1, -1, -1};
+  const int64_t *c = cell(f.cell);
+  int k = 0;
+  for (int i = 0; i <= dim; ++i)
+    if (i != f.opposite) v[k++] = c[i];
+  return v;
+}
+
+double Mesh::cell_diameter(int64_t c) const {
+  const int64_t *v = cell(c);
+  double h2 = 0;
+  for (int i = 0; i <= dim; ++i)
+    for (int j = i + 1; j <= dim; ++j) {
+      double d2 = 0;
+      for (int k = 0; k < dim; ++k) d2 += std::pow(x(v[i])[k] - x(v[j])[k], 2);
+      h2 = std::max(h2, d2);
+    }
+  return std::sqrt(h2);
+}
+
+Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
+               const int64_t *cells) {
+  const std::string fn = "nd_mesh_create: ";
+  if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, fn + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
+  if (n_vertices <= dim) fail(ND_ERR_SIZE, fn + "n_nodes must be at least dim + 1");
+  if (n_cells <= 0) fail(ND_ERR_SIZE, fn + "n_cells must be positive");
+  if (!coords) fail(ND_ERR_NULL, fn + "coords is NULL");
+  if (!cells) fail(ND_ERR_NULL, fn + "cells is NULL");
+  Mesh m;
+  m.dim = dim;
+  m.n_vertices = n_vertices;
+  m.n_cells = n_cells;
+  m.coords.assign(coords, coords + n_vertices * dim);
+  m.cells.assign(cells, cells + n_cells * (dim + 1));
+  for (int64_t i = 0; i < n_vertices * dim; ++i)
+    if (!std::isfinite(m.coords[i]))
+      fail(ND_ERR_NONFINITE, fn + "coordinate " + std::to_string(i % dim) + " of node " +
+                                 std::to_string(i / dim) + " is not finite");
+  for (int64_t c = 0; c < n_cells; ++c) {
+    const int64_t *v = m.cell(c);
+    for (int i = 0; i <= dim; ++i) {
+      if (v[i] < 0 || v[i] >= n_vertices)
+        fail(ND_ERR_INDEX, fn + "cell " + std::to_string(c) + " names vertex " +
+                               std::to_string(v[i]) + ", outside [0, " +
+                               std::to_string(n_vertices) + ")");
+      for (int j = 0; j < i; ++j)
+        if (v[j] == v[i])
+          fail(ND_ERR_INDEX, fn + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
+    }
+    const AffineMap map(m, c);
+    const double h = m.cell_diameter(c);
+    // Relative to h^dim so that the test does not depend on the unit of length.
+    if (std::fabs(map.det) <= 1e-13 * std::pow(h, dim))
+      fail(ND_ERR_DEGENERATE, fn + "cell " + std::to_string(c) + " has zero " +
+                                  (dim == 1 ? "length" : dim == 2 ? "area" : "volume"));
+    if (map.det < 0)
+      fail(ND_ERR_DEGENERATE, fn + "cell " + std::to_string(c) +
+                                  " is inverted (negative orientation): order its vertices " +
+                                  (dim == 1 ? "left to right" : dim == 2 ? "counter-clockwise"
+                                                                          : "with positive volume"));
+  }
+  find_boundary(m);
+  return m;
+}
+
+Mesh make_interval(int64_t n_cells, double a, double b) {
+  const std::string fn = "nd_mesh_create_interval: ";
+  if (n_cells <= 0) fail(ND_ERR_SIZE, fn + "n_cells must be positive");
+  if (!std::isfinite(a) || !std::isfinite(b)) fail(ND_ERR_NONFINITE, fn + "a and b must be finite");
+  if (!(b > a)) fail(ND_ERR_DEGENERATE, fn + "b must be greater than a");
+  std::vector<double> x(n_cells + 1);
+  std::vector<int64_t> cells(2 * n_cells);
+  for (int64_t i = 0; i <= n_cells; ++i)
+    x[i] = i == n_cells ? b : a + (b - a) * static_cast<double>(i) / static_cast<double>(n_cells);
+  for (int64_t c = 0; c < n_cells; ++c) {
+    cells[2 * c] = c;
+    cells[2 * c + 1] = c + 1;
+  }
+  return make_mesh(1, n_cells + 1, x.data(), n_cells, cells.data());
+}
+
+void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices) {
+  const std::string fn = "nd_mesh_set_region: ";
+  if (region < 0) fail(ND_ERR_REGION, fn + "region must be >= 0");
+  if (n_facets <= 0) fail(ND_ERR_SIZE, fn + "n_facets must be positive");
+  if (!facet_vertices) fail(ND_ERR_NULL, fn + "facet_vertices is NULL");
+  const auto index = boundary_index(m);
+  std::vector<int64_t> found;
+  for (int64_t f = 0; f < n_facets; ++f) {
+    std::array<int64_t, 3> v{-1, -1, -1};
+    for (int i = 0; i < m.dim; ++i) {
+      v[i] = facet_vertices[f * m.dim + i];
+      if (v[i] < 0 || v[i] >= m.n_vertices)
+        fail(ND_ERR_INDEX, fn + "facet " + std::to_string(f) + " names vertex " + std::to_string(v[i]) +
+                               ", outside [0, " + std::to_string(m.n_vertices) + ")");
+    }
+    auto it = index.find(key_of(v, m.dim));
+    if (it == index.end())
+      fail(ND_ERR_REGION, fn + "facet " + std::to_string(f) + " is not a boundary facet of the mesh");
+    found.push_back(it->second);
+  }
+  m.regions[region].insert(found.begin(), found.end());
+}
+
+void add_region_box(Mesh &m, int region, const double *lo, const double *hi) {
+  const std::string fn = "nd_mesh_mark_boundary_box: ";
+  if (region < 0) fail(ND_ERR_REGION, fn + "region must be >= 0");
+  if (!lo || !hi) fail(ND_ERR_NULL, fn + std::string(!lo ? "lo" : "hi") + " is NULL");
+  for (int k = 0; k < m.dim; ++k)
+    if (std::isnan(lo[k]) || std::isnan(hi[k])) fail(ND_ERR_NONFINITE, fn + "lo and hi must not be NaN");
+  // A tolerance relative to the mesh size, so that a box drawn through
+  // vertices computed in floating point catches them.
+  double extent = 0;
+  for (int k = 0; k < m.dim; ++k) {
+    double a = m.coords[k], b = m.coords[k];
+    for (int64_t v = 0; v < m.n_vertices; ++v) {
+      a = std::min(a, m.x(v)[k]);
+      b = std::max(b, m.x(v)[k]);
+    }
+    extent = std::max(extent, b - a);
+  }
+  const double tol = 1e-10 * extent;
+  auto &set = m.regions[region];
+  for (size_t i = 0; i < m.boundary.size(); ++i) {
+    const auto v = m.facet_vertices(m.boundary[i]);
+    bool inside = true;
+    for (int j = 0; j < m.dim && inside; ++j)
+      for (int k = 0; k < m.dim; ++k)
+        if (m.x(v[j])[k] < lo[k] - tol || m.x(v[j])[k] > hi[k] + tol) inside = false;
+    if (inside) set.insert(static_cast<int64_t>(i));
+  }
+}
+
+}  // namespace nd

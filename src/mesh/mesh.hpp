@@ -1,0 +1,45 @@
+// Simplicial meshes in 1D (intervals), 2D (triangles) and 3D (tetrahedra),
+// with their boundary facets and numbered boundary regions.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <vector>
+
+namespace nd {
+
+// A facet of a cell, named by the cell and the local vertex opposite to it.
+struct Facet {
+  int64_t cell;
+  int opposite;
+};
+
+struct Mesh {
+  int dim = 0;
+  int64_t n_vertices = 0;
+  int64_t n_cells = 0;
+  std::vector<double> coords;          // n_vertices * dim
+  std::vector<int64_t> cells;          // n_cells * (dim + 1)
+  std::vector<Facet> boundary;         // facets owned by exactly one cell
+  std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
+
+  int verts_per_cell() const { return dim + 1; }
+  const double *x(int64_t v) const { return &coords[v * dim]; }
+  const int64_t *cell(int64_t c) const { return &cells[c * (dim + 1)]; }
+  // The dim vertices of a facet, in the cell's local order.
+  std::array<int64_t, 3> facet_vertices(const Facet &f) const;
+  double cell_diameter(int64_t c) const;
+};
+
+// Validates and copies; computes the boundary facets.
+Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
+               const int64_t *cells);
+Mesh make_interval(int64_t n_cells, double a, double b);
+
+// Adds boundary facets given by their vertices (dim per facet) to a region.
+void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices);
+// Adds the boundary facets whose vertices all lie in [lo, hi].
+void add_region_box(Mesh &m, int region, const double *lo, const double *hi);
+
+}  // namespace nd

@@ -1,0 +1,64 @@
+#include "solve/newton.hpp"
+
+#include <cfloat>
+#include <cmath>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+
+namespace {
+
+// G = A U + kappa N(U) - r; returns ||G||, fills the active set
+double residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
+                std::vector<double> &G, std::vector<char> &active) {
+  sys.A->multiply(U.data(), G.data());
+  sys.law->add_force(U.data(), sys.kappa, G.data(), &active);
+  for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
+  return norm2(static_cast<int64_t>(G.size()), G.data());
+}
+
+}  // namespace
+
+NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
+                          const NewtonOptions &opt, std::vector<double> &U) {
+  const int64_t n = static_cast<int64_t>(U.size());
+  std::vector<double> G(U.size()), MU(U.size());
+  std::vector<char> active, previous;
+  const double r_norm = norm2(n, r.data());
+  Csr T = *sys.A;
+  NewtonResult res;
+  res.residual = residual(sys, r, U, G, active);
+  for (int it = 1; it <= opt.max_iter; ++it) {
+    if (!std::isfinite(res.residual))
+      fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
+    bool any_active = false;
+    for (char a : active) any_active |= a != 0;
+    for (auto &g : G) g = -g;
+    if (any_active) {  // tangent = A + kappa N'(U), refactored numerically
+      T.val = sys.A->val;
+      sys.law->add_tangent(U.data(), sys.kappa, T);
+      sys.T_factor->factor(T, sys.tangent_structure);
+      sys.T_factor->solve(G.data());
+    } else {
+      sys.A_factor->solve(G.data());
+    }
+    for (int64_t i = 0; i < n; ++i) U[i] += G[i];
+    const double step = norm2(n, G.data());
+    previous.swap(active);
+    res.residual = residual(sys, r, U, G, active);
+    res.iterations = it;
+    sys.M->multiply(U.data(), MU.data());
+    const double u_norm = norm2(n, U.data());
+    res.tolerance = opt.rtol * (r_norm + sys.c * norm2(n, MU.data())) + opt.atol;
+    if (active == previous &&
+        (res.residual <= res.tolerance || step <= 64 * DBL_EPSILON * u_norm)) {
+      res.converged = true;
+      return res;
+    }
+  }
+  return res;
+}
+
+}  // namespace nd

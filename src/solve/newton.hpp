@@ -1,0 +1,38 @@
+// Semi-smooth Newton for G(U) = A U + kappa N(U) - r = 0 (DESIGN §3).
+// Converged when the active set did not change in the last iteration and
+// either ||G|| <= rtol (||r|| + ||cMU||) + atol or the update is at the
+// round-off level of U.
+#pragma once
+#include <vector>
+
+#include "linalg/factorization.hpp"
+#include "solve/contact_law.hpp"
+
+namespace nd {
+
+struct NewtonOptions {
+  double rtol = 1e-10, atol = 0;
+  int max_iter = 50;
+};
+
+struct NewtonSystem {
+  const Csr *A;                  // c M + K_Theta
+  const Factorization *A_factor; // its factorization, used while no point is active
+  Factorization *T_factor;       // for tangents with active points
+  Structure tangent_structure;   // SPD when Theta = 1
+  const Csr *M;
+  double c, kappa;
+  const ContactLaw *law;
+};
+
+struct NewtonResult {
+  int iterations = 0;
+  bool converged = false;
+  double residual = 0, tolerance = 0;
+};
+
+// U holds the initial guess on entry and the solution on exit.
+NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
+                          const NewtonOptions &opt, std::vector<double> &U);
+
+}  // namespace nd

@@ -1,0 +1,38 @@
+#include "testutil.h"
+
+#include <stdlib.h>
+
+int nd_test_run(Suite *s) {
+  SRunner *sr = srunner_create(s);
+  srunner_run_all(sr, CK_NORMAL);
+  int failed = srunner_ntests_failed(sr);
+  srunner_free(sr);
+  return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+
+nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, double theta,
+                       double gamma0, double tau) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double zero = 0, up = 1, lo0 = -0.5, hi0 = 0.5, lo1 = 0.5, hi1 = 1.5;
+  ND_OK_OR_FAIL(nd_mesh_create_interval(nx, 0.0, 1.0, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, &lo0, &hi0)); /* x = 0: contact */
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, &lo1, &hi1)); /* x = 1: clamped */
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, &zero, &up));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, gamma0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *x = malloc(sizeof(double) * (size_t)n), *u0 = malloc(sizeof(double) * (size_t)n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  for (int64_t i = 0; i < n; ++i) u0[i] = 0.5 * (1 - x[i]);
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, u0, NULL));
+  free(x);
+  free(u0);
+  return p;
+}

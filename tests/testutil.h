@@ -1,0 +1,24 @@
+/* Shared helpers of the Check tests. */
+#ifndef ND_TESTUTIL_H
+#define ND_TESTUTIL_H
+#include <check.h>
+
+#include "nitschedyn.h"
+
+/* Runs a suite; returns the process exit status (0 when all passed). */
+int nd_test_run(Suite *s);
+
+/* The 1D bar of DESIGN §7: Omega = (0,1), rho = E = 1, clamped at x = 1,
+   contact at x = 0 with the obstacle below (g0 = 0), u0 = (1-x)/2, v0 = 0.
+   scheme/params as nd_problem_set_scheme. Fails the test on any error. */
+nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, double theta,
+                       double gamma0, double tau);
+
+/* ck_assert on a status, printing nd_last_error() when it is not ND_OK */
+#define ND_OK_OR_FAIL(call)                                                          \
+  do {                                                                               \
+    int nd_status_ = (call);                                                         \
+    ck_assert_msg(nd_status_ == ND_OK, "%s returned %d: %s", #call, nd_status_,      \
+                  nd_last_error());                                                  \
+  } while (0)
+#endif
