@@ -5,6 +5,10 @@
 
 #include "nitschedyn.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Runs a suite; returns the process exit status (0 when all passed). */
 int nd_test_run(Suite *s);
 
@@ -13,6 +17,10 @@ int nd_test_run(Suite *s);
    scheme/params as nd_problem_set_scheme. Fails the test on any error. */
 nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, double theta,
                        double gamma0, double tau);
+
+#ifdef __cplusplus
+}
+#endif
 
 /* ck_assert on a status, printing nd_last_error() when it is not ND_OK */
 #define ND_OK_OR_FAIL(call)                                                          \

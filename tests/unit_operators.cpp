@@ -1,0 +1,171 @@
+// Mass and stiffness: total mass, rigid motions, symmetry, and P1 = P2 on
+// fields both spaces represent exactly.
+#include <check.h>
+
+#include <cmath>
+
+#include "assembly/bulk.hpp"
+#include "testutil.h"
+#include "unit_fixtures.hpp"
+
+namespace {
+
+double total(const nd::Csr &A) {
+  double s = 0;
+  for (double v : A.val) s += v;
+  return s;
+}
+
+double max_abs(const std::vector<double> &v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+double max_asymmetry(const nd::Csr &A) {
+  double m = 0;
+  for (int64_t i = 0; i < A.n; ++i)
+    for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k)
+      m = std::max(m, std::fabs(A.val[k] - A.val[A.find(A.col[k], i)]));
+  return m;
+}
+
+// interpolate a vector field given per point into the (free = all) DOFs
+template <class F>
+std::vector<double> interpolate(const nd::Space &s, F f) {
+  std::vector<double> u(s.n_dofs());
+  for (int64_t i = 0; i < s.n_nodes; ++i) f(&s.node_coords[i * s.dim], &u[i * s.dim]);
+  return u;
+}
+
+double quadratic_form(const nd::Csr &A, const std::vector<double> &u) {
+  std::vector<double> y(u.size());
+  A.multiply(u.data(), y.data());
+  return nd::dot(A.n, u.data(), y.data());
+}
+
+const nd::Material steel_like{3.0, 0.3, 2.5};
+
+}  // namespace
+
+START_TEST(total_mass_is_rho_times_measure) {
+  // 1D (0.3, 2), 2D [0,2]x[0,1], 3D unit cube; P1 and P2; consistent and lumped
+  const std::shared_ptr<nd::Mesh> meshes[] = {ndtest::irregular_interval(9, 0.3, 2.0),
+                                              ndtest::irregular_rectangle(3), ndtest::cube_of_tets()};
+  const double measure[] = {1.7, 2.0, 1.0};
+  for (int m = 0; m < 3; ++m)
+    for (int degree = 1; degree <= 2; ++degree) {
+      nd::Space s(meshes[m], degree);
+      nd::DofMap dofs(s, {});
+      nd::BulkOperators ops = nd::assemble_bulk(s, dofs, steel_like);
+      const double expected = steel_like.density * measure[m] * s.dim;  // per component
+      ck_assert_double_eq_tol(total(ops.M), expected, 1e-13 * expected);
+      double lumped = 0;
+      for (double v : ops.M_lumped) {
+        ck_assert_msg(v > 0, "lumped mass must be positive (dim %d, P%d)", s.dim, degree);
+        lumped += v;
+      }
+      ck_assert_double_eq_tol(lumped, expected, 1e-13 * expected);
+      ck_assert_double_le(max_asymmetry(ops.M), 1e-15 * expected);
+      ck_assert_double_le(max_asymmetry(ops.K), 1e-14);
+    }
+}
+END_TEST
+
+START_TEST(stiffness_annihilates_rigid_motions) {
+  const std::shared_ptr<nd::Mesh> meshes[] = {ndtest::irregular_interval(9, 0.3, 2.0),
+                                              ndtest::irregular_rectangle(3), ndtest::cube_of_tets()};
+  for (int m = 0; m < 3; ++m)
+    for (int degree = 1; degree <= 2; ++degree) {
+      nd::Space s(meshes[m], degree);
+      nd::DofMap dofs(s, {});
+      nd::BulkOperators ops = nd::assemble_bulk(s, dofs, steel_like);
+      const int d = s.dim;
+      // translations e_k, and the rotations x_a e_b - x_b e_a
+      std::vector<std::vector<double>> motions;
+      for (int k = 0; k < d; ++k)
+        motions.push_back(interpolate(s, [&](const double *, double *u) {
+          for (int c = 0; c < d; ++c) u[c] = c == k;
+        }));
+      for (int a = 0; a < d; ++a)
+        for (int b = a + 1; b < d; ++b)
+          motions.push_back(interpolate(s, [&](const double *x, double *u) {
+            for (int c = 0; c < d; ++c) u[c] = 0;
+            u[b] = x[a];
+            u[a] = -x[b];
+          }));
+      ck_assert_int_eq(static_cast<int>(motions.size()), d * (d + 1) / 2);
+      double kmax = 0;
+      for (double v : ops.K.val) kmax = std::max(kmax, std::fabs(v));
+      for (auto &u : motions) {
+        std::vector<double> y(u.size());
+        ops.K.multiply(u.data(), y.data());
+        ck_assert_msg(max_abs(y) <= 1e-13 * kmax, "K r = %g for a rigid motion (dim %d, P%d)", max_abs(y), d, degree);
+      }
+    }
+}
+END_TEST
+
+START_TEST(p1_and_p2_agree_on_linear_fields) {
+  // u = A x + c is in both spaces: the energies and the mass norm must agree
+  // with each other and with the exact integrals.
+  auto mesh = ndtest::irregular_interval(7, 0.3, 2.0);
+  const double a = 0.7, b = -1.3;  // u = a + b x
+  double energy[2], mass[2];
+  for (int degree = 1; degree <= 2; ++degree) {
+    nd::Space s(mesh, degree);
+    nd::DofMap dofs(s, {});
+    nd::BulkOperators ops = nd::assemble_bulk(s, dofs, steel_like);
+    auto u = interpolate(s, [&](const double *x, double *v) { v[0] = a + b * x[0]; });
+    energy[degree - 1] = quadratic_form(ops.K, u);
+    mass[degree - 1] = quadratic_form(ops.M, u);
+  }
+  const double L0 = 0.3, L1 = 2.0;
+  const double exact_energy = steel_like.young * b * b * (L1 - L0);
+  const double exact_mass = steel_like.density * (std::pow(a + b * L1, 3) - std::pow(a + b * L0, 3)) / (3 * b);
+  for (int k = 0; k < 2; ++k) {
+    ck_assert_double_eq_tol(energy[k], exact_energy, 1e-13 * exact_energy);
+    ck_assert_double_eq_tol(mass[k], exact_mass, 1e-13 * exact_mass);
+  }
+  // 2D: a linear field, plane strain energy is the same for P1 and P2
+  auto rect = ndtest::irregular_rectangle(2);
+  double e2[2];
+  for (int degree = 1; degree <= 2; ++degree) {
+    nd::Space s(rect, degree);
+    nd::DofMap dofs(s, {});
+    nd::BulkOperators ops = nd::assemble_bulk(s, dofs, steel_like);
+    auto u = interpolate(s, [&](const double *x, double *v) {
+      v[0] = 0.1 + 0.4 * x[0] - 0.2 * x[1];
+      v[1] = -0.3 + 0.5 * x[0] + 0.25 * x[1];
+    });
+    e2[degree - 1] = quadratic_form(ops.K, u);
+  }
+  ck_assert_double_eq_tol(e2[0], e2[1], 1e-13 * e2[0]);
+}
+END_TEST
+
+START_TEST(load_vector_integrates_the_body_force) {
+  // sum of F over a component = f_k |Omega| for P1 and P2
+  auto mesh = ndtest::irregular_interval(6, 0.3, 2.0);
+  for (int degree = 1; degree <= 2; ++degree) {
+    nd::Space s(mesh, degree);
+    nd::DofMap dofs(s, {});
+    const double f = -0.37;
+    std::vector<double> F = nd::assemble_load(s, dofs, &f, {});
+    double sum = 0;
+    for (double v : F) sum += v;
+    ck_assert_double_eq_tol(sum, f * 1.7, 1e-14);
+  }
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("operators");
+  TCase *tc = tcase_create("bulk");
+  tcase_add_test(tc, total_mass_is_rho_times_measure);
+  tcase_add_test(tc, stiffness_annihilates_rigid_motions);
+  tcase_add_test(tc, p1_and_p2_agree_on_linear_fields);
+  tcase_add_test(tc, load_vector_integrates_the_body_force);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
