@@ -35,9 +35,7 @@ check-sanitize: deps
 	cd build-sanitize && CK_FORK=no ctest --output-on-failure -j $(JOBS)
 
 check-valgrind: all
-	cd $(BUILD) && CK_FORK=no ctest --output-on-failure -j $(JOBS) -E exported_symbols \
-	  --overwrite MemoryCheckCommandOptions="--error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite" \
-	  -T memcheck
+	sh scripts/check-valgrind.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) build-sanitize

@@ -1,0 +1,26 @@
+#!/bin/sh
+# Demonstration scenes, run by `make demo` after the build:
+#   sh scripts/demo.sh BUILD_DIR
+# The 1D bar of DESIGN §7 against its exact solution, with the hybrid scheme
+# and with Newmark (beta = 1/4, gamma = 1/2): P1, Theta = 1, gamma0 = 0.2,
+# NX = 80, T = 3 (one period). Exits non-zero as soon as a run fails.
+set -e
+
+if [ $# -ne 1 ]; then
+  echo "usage: sh scripts/demo.sh BUILD_DIR" >&2
+  exit 2
+fi
+bar1d="$1/bar1d"
+if [ ! -x "$bar1d" ]; then
+  echo "demo: $bar1d not found; build first (make)" >&2
+  exit 1
+fi
+
+# the common scene; the scheme and its parameters come first
+bar() { "$bar1d" "$@" --degree 1 --Theta 1 --gamma0 0.2 --nx 80 --T 3 --quiet; }
+
+echo "== 1D bar, hybrid scheme (P1, Theta=1, gamma0=0.2, NX=80, T=3)"
+bar hybrid
+echo
+echo "== 1D bar, Newmark beta=1/4 gamma=1/2 (P1, Theta=1, gamma0=0.2, NX=80, T=3)"
+bar newmark --beta 0.25 --gamma 0.5
