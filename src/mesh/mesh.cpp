@@ -37,7 +37,7 @@ std::unordered_map<FacetKey, int64_t, FacetKeyHash> boundary_index(const Mesh &m
   return index;
 }
 
-void find_boundary(Mesh &m) {
+void find_boundary(Mesh &m, const std::string &fn) {
   // A facet is on the boundary when exactly one cell owns it.
   std::unordered_map<FacetKey, std::pair<Facet, int>, FacetKeyHash> seen;
   seen.reserve(static_cast<size_t>(m.n_cells) * (m.dim + 1));
@@ -46,7 +46,7 @@ void find_boundary(Mesh &m) {
       Facet facet{c, f};
       auto it = seen.emplace(key_of(m.facet_vertices(facet), m.dim), std::make_pair(facet, 0));
       if (++it.first->second.second > 2)
-        fail(ND_ERR_DEGENERATE, "nd_mesh_create: a facet of cell " + std::to_string(c) +
+        fail(ND_ERR_DEGENERATE, fn + "a facet of cell " + std::to_string(c) +
                                     " is shared by more than two cells");
     }
   for (auto &kv : seen)
@@ -80,8 +80,8 @@ double Mesh::cell_diameter(int64_t c) const {
 }
 
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells) {
-  const std::string fn = "nd_mesh_create: ";
+               const int64_t *cells, const char *caller) {
+  const std::string fn = std::string(caller) + ": ";
   if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, fn + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
   if (n_vertices <= dim) fail(ND_ERR_SIZE, fn + "n_nodes must be at least dim + 1");
   if (n_cells <= 0) fail(ND_ERR_SIZE, fn + "n_cells must be positive");
@@ -120,7 +120,7 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
                                   (dim == 1 ? "left to right" : dim == 2 ? "counter-clockwise"
                                                                           : "with positive volume"));
   }
-  find_boundary(m);
+  find_boundary(m, fn);
   return m;
 }
 
@@ -129,6 +129,7 @@ Mesh make_interval(int64_t n_cells, double a, double b) {
   if (n_cells <= 0) fail(ND_ERR_SIZE, fn + "n_cells must be positive");
   if (!std::isfinite(a) || !std::isfinite(b)) fail(ND_ERR_NONFINITE, fn + "a and b must be finite");
   if (!(b > a)) fail(ND_ERR_DEGENERATE, fn + "b must be greater than a");
+  if (!std::isfinite(b - a)) fail(ND_ERR_NONFINITE, fn + "b - a overflows");
   std::vector<double> x(n_cells + 1);
   std::vector<int64_t> cells(2 * n_cells);
   for (int64_t i = 0; i <= n_cells; ++i)
@@ -137,7 +138,7 @@ Mesh make_interval(int64_t n_cells, double a, double b) {
     cells[2 * c] = c;
     cells[2 * c + 1] = c + 1;
   }
-  return make_mesh(1, n_cells + 1, x.data(), n_cells, cells.data());
+  return make_mesh(1, n_cells + 1, x.data(), n_cells, cells.data(), "nd_mesh_create_interval");
 }
 
 void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices) {

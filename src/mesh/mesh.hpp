@@ -32,9 +32,9 @@ struct Mesh {
   double cell_diameter(int64_t c) const;
 };
 
-// Validates and copies; computes the boundary facets.
+// Validates and copies; computes the boundary facets. Errors name `caller`.
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells);
+               const int64_t *cells, const char *caller = "nd_mesh_create");
 Mesh make_interval(int64_t n_cells, double a, double b);
 
 // Adds boundary facets given by their vertices (dim per facet) to a region.

@@ -74,13 +74,17 @@ void Problem::add_neumann(int region, const double *g) {
 void Problem::add_contact_plane(int region, const double *point, const double *normal) {
   require_regions(region, "contact");
   ContactPlane pl{region, {0, 0, 0}, {0, 0, 0}};
+  // scale by the largest component first, so that the length neither
+  // overflows nor underflows for any finite non-zero normal
+  double big = 0;
+  for (int k = 0; k < space_.dim; ++k) big = std::max(big, std::fabs(normal[k]));
+  if (!(big > 0)) fail(ND_ERR_VALUE, "normal has zero length");
   double len = 0;
-  for (int k = 0; k < space_.dim; ++k) len += normal[k] * normal[k];
+  for (int k = 0; k < space_.dim; ++k) len += (normal[k] / big) * (normal[k] / big);
   len = std::sqrt(len);
-  if (!(len > 0)) fail(ND_ERR_VALUE, "normal has zero length");
   for (int k = 0; k < space_.dim; ++k) {
     pl.point[k] = point[k];
-    pl.normal[k] = normal[k] / len;
+    pl.normal[k] = normal[k] / big / len;
   }
   planes_.push_back(pl);
   ops_.reset();
