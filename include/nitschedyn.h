@@ -153,11 +153,16 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
 /* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet) */
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);
+/* Extra force per FE node (n = node count, n*dim values), e.g. from a coupled
+   code; replaces the previous values (zeros remove them). A step uses the
+   values set at its start as F^{n+1}. */
 ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f);
 ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter);
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
+/* u0, v0 per FE node (n*dim values each); NULL means zero. Values at clamped
+   DOFs are ignored. Resets the time, the step count and the work to 0. */
 ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0,
                                            const double *v0);
 ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userdata);
@@ -168,6 +173,9 @@ ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userd
 ND_EXPORT int nd_problem_get_node_count(nd_problem p, int64_t *n_nodes);
 ND_EXPORT int nd_problem_get_node_coordinates(nd_problem p, int64_t n, double *coords);
 ND_EXPORT int nd_problem_get_contact_point_count(nd_problem p, int64_t *n_points);
+/* The contact quadrature points (n*dim coordinates) and their weights; either
+   array may be NULL. Needs the material and Nitsche parameters (the rows of
+   every point are built with the points). */
 ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coords,
                                             double *weights);
 

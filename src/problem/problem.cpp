@@ -33,6 +33,17 @@ Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
 
 // ---- definition -------------------------------------------------------------
 
+// Before the first step the state at t^0 (its load F^0 and acceleration A^0)
+// is derived from the definition, so it is derived again after any change.
+// Later, the state is the history and stays; a changed load enters as F^{n+1}.
+void Problem::definition_changed(bool operators) {
+  if (operators) {
+    ops_.reset();
+    step_op_.reset();
+  }
+  if (state_ready_ && state_.n == 0) state_ready_ = false;
+}
+
 void Problem::require_regions(int region, const char *what) const {
   auto it = mesh_->regions.find(region);
   if (it == mesh_->regions.end() || it->second.empty())
@@ -43,24 +54,22 @@ void Problem::require_regions(int region, const char *what) const {
 void Problem::set_material(const Material &m) {
   material_ = m;
   has_material_ = true;
-  ops_.reset();
-  step_op_.reset();
+  definition_changed(true);
 }
 
 void Problem::add_dirichlet(int region) {
   require_regions(region, "Dirichlet");
-  if (state_ready_)
+  if (state_ready_ && state_.n > 0)
     fail(ND_ERR_STATE, "the clamped boundary cannot change once stepping has started; "
                        "call nd_problem_set_initial_state first");
   dirichlet_.push_back(region);
-  ops_.reset();
-  step_op_.reset();
+  definition_changed(true);
 }
 
 void Problem::set_body_force(const double *f) {
   for (int k = 0; k < space_.dim; ++k) body_force_[k] = f[k];
   has_body_force_ = true;
-  ops_.reset();
+  definition_changed(true);
 }
 
 void Problem::add_neumann(int region, const double *g) {
@@ -68,7 +77,7 @@ void Problem::add_neumann(int region, const double *g) {
   NeumannLoad nl{region, {0, 0, 0}};
   for (int k = 0; k < space_.dim; ++k) nl.g[k] = g[k];
   neumann_.push_back(nl);
-  ops_.reset();
+  definition_changed(true);
 }
 
 void Problem::add_contact_plane(int region, const double *point, const double *normal) {
@@ -87,16 +96,14 @@ void Problem::add_contact_plane(int region, const double *point, const double *n
     pl.normal[k] = normal[k] / big / len;
   }
   planes_.push_back(pl);
-  ops_.reset();
-  step_op_.reset();
+  definition_changed(true);
 }
 
 void Problem::set_nitsche(double theta, double gamma0) {
   theta_ = theta;
   gamma0_ = gamma0;
   has_nitsche_ = true;
-  ops_.reset();
-  step_op_.reset();
+  definition_changed(true);
 }
 
 void Problem::set_scheme(const SchemeSpec &s) {
@@ -106,16 +113,13 @@ void Problem::set_scheme(const SchemeSpec &s) {
 }
 
 void Problem::set_nodal_forces(const double *f) {
-  if (f)
-    nodal_.assign(f, f + space_.n_dofs());
-  else
-    nodal_.clear();
+  nodal_.assign(f, f + space_.n_dofs());
+  definition_changed(false);
 }
 
 void Problem::set_mass_lumping(bool lumped) {
   lumped_ = lumped;
-  ops_.reset();
-  step_op_.reset();
+  definition_changed(true);
 }
 
 void Problem::set_linear_solver(int solver) {
@@ -136,7 +140,7 @@ void Problem::set_initial_state(const double *u0, const double *v0) {
   v0_.assign(n, 0.0);
   if (u0) u0_.assign(u0, u0 + n);
   if (v0) v0_.assign(v0, v0 + n);
-  reset_state();
+  state_ready_ = false;
 }
 
 // ---- derived operators --------------------------------------------------------

@@ -73,7 +73,7 @@ class Problem {
   std::vector<double> current_load();
   void equilibrium_acceleration(State &s);
   std::string missing() const;
-  void reset_state() { state_ready_ = false; }
+  void definition_changed(bool operators);
 
   std::shared_ptr<const Mesh> mesh_;
   Space space_;

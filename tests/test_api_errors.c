@@ -1,0 +1,1138 @@
+/* Error handling of the public C API (DESIGN §6): every bad input gets its
+ * specific status code, nd_last_error() names the function ("nd_<function>:")
+ * and the argument, a rejected call leaves the object exactly as it was, and
+ * the next successful call clears the message.
+ *
+ * Test cases: mesh, problem definition, stepping and getters, status codes. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "testutil.h"
+
+/* ---- helpers ------------------------------------------------------------ */
+
+static int contains(const char *s, const char *sub) {
+  return sub == NULL || (s != NULL && strstr(s, sub) != NULL);
+}
+
+/* call must return `code`; nd_last_error() must start with "fn: " and, when
+   `word` is not NULL, contain it. */
+#define EXPECT_ERR(call, code, fn, word)                                                   \
+  do {                                                                                     \
+    const int st_ = (call);                                                                \
+    const char *msg_ = nd_last_error();                                                    \
+    ck_assert_msg(st_ == (code), "%s returned %d (%s), expected %d (%s); message: '%s'",   \
+                  #call, st_, nd_strerror(st_), (int)(code), nd_strerror(code),            \
+                  msg_ ? msg_ : "(NULL)");                                                 \
+    ck_assert_msg(msg_ != NULL && msg_[0] != '\0', "%s: nd_last_error() is empty", #call); \
+    ck_assert_msg(strncmp(msg_, fn ": ", strlen(fn ": ")) == 0,                            \
+                  "%s: message '%s' does not start with '%s: '", #call, msg_, fn);         \
+    ck_assert_msg(contains(msg_, word), "%s: message '%s' does not mention '%s'", #call,   \
+                  msg_, (const char *)(word));                                             \
+  } while (0)
+
+/* call must succeed and leave nd_last_error() empty */
+#define EXPECT_OK(call)                                                                    \
+  do {                                                                                     \
+    ND_OK_OR_FAIL(call);                                                                   \
+    ck_assert_msg(nd_last_error() != NULL && nd_last_error()[0] == '\0',                   \
+                  "%s succeeded but nd_last_error() is '%s'", #call, nd_last_error());     \
+  } while (0)
+
+/* a non-NULL handle value that must be overwritten with NULL on failure */
+static int sentinel_storage;
+#define MESH_SENTINEL ((nd_mesh)(void *)&sentinel_storage)
+#define PROBLEM_SENTINEL ((nd_problem)(void *)&sentinel_storage)
+
+/* (0,1) in n cells; region 1 = {x = 0}, region 2 = {x = 1} */
+static nd_mesh interval_with_regions(int64_t n) {
+  nd_mesh m = NULL;
+  const int64_t left = 0, right = n;
+  EXPECT_OK(nd_mesh_create_interval(n, 0.0, 1.0, &m));
+  EXPECT_OK(nd_mesh_set_region(m, 1, 1, &left));
+  EXPECT_OK(nd_mesh_set_region(m, 2, 1, &right));
+  return m;
+}
+
+/* the unit square in two counter-clockwise triangles;
+   region 1 = bottom edge, region 2 = top edge */
+static const double square_xy[] = {0, 0, 1, 0, 1, 1, 0, 1};
+static const int64_t square_cells[] = {0, 1, 2, 0, 2, 3};
+
+static nd_mesh square_with_regions(void) {
+  nd_mesh m = NULL;
+  const int64_t bottom[] = {0, 1}, top[] = {3, 2};  /* facet vertices in any order */
+  EXPECT_OK(nd_mesh_create(2, 4, square_xy, 2, square_cells, &m));
+  EXPECT_OK(nd_mesh_set_region(m, 1, 1, bottom));
+  EXPECT_OK(nd_mesh_set_region(m, 2, 1, top));
+  return m;
+}
+
+static nd_problem problem_from(nd_mesh m, int degree) {
+  nd_problem p = NULL;
+  EXPECT_OK(nd_problem_create(m, degree, &p));
+  ck_assert_ptr_nonnull(p);
+  return p;
+}
+
+static nd_problem problem_1d(void) {
+  nd_mesh m = interval_with_regions(4);
+  nd_problem p = problem_from(m, 1);
+  EXPECT_OK(nd_mesh_destroy(&m));
+  return p;
+}
+
+static nd_problem problem_2d(void) {
+  nd_mesh m = square_with_regions();
+  nd_problem p = problem_from(m, 1);
+  EXPECT_OK(nd_mesh_destroy(&m));
+  return p;
+}
+
+static int64_t node_count(nd_problem p) {
+  int64_t n = -1;
+  EXPECT_OK(nd_problem_get_node_count(p, &n));
+  ck_assert_int_gt(n, 0);
+  return n;
+}
+
+static int64_t contact_count(nd_problem p) {
+  int64_t n = -1;
+  EXPECT_OK(nd_problem_get_contact_point_count(p, &n));
+  ck_assert_int_gt(n, 0);
+  return n;
+}
+
+static double scalar(nd_problem p, int key) {
+  double x = NAN;
+  EXPECT_OK(nd_get_scalar(p, key, &x));
+  return x;
+}
+
+/* ======================================================================== */
+/* mesh                                                                      */
+/* ======================================================================== */
+
+START_TEST(mesh_null_arguments) {
+  const double x[] = {0, 1};
+  const int64_t c[] = {0, 1};
+  nd_mesh m = NULL;
+  int dim = 0;
+  int64_t n = 0;
+  const double lo = -1, hi = 2;
+  const int64_t v0 = 0;
+
+  EXPECT_ERR(nd_mesh_create(1, 2, x, 1, c, NULL), ND_ERR_NULL, "nd_mesh_create", "out");
+  m = MESH_SENTINEL;
+  EXPECT_ERR(nd_mesh_create(1, 2, NULL, 1, c, &m), ND_ERR_NULL, "nd_mesh_create", "coords");
+  ck_assert_ptr_null(m);
+  m = MESH_SENTINEL;
+  EXPECT_ERR(nd_mesh_create(1, 2, x, 1, NULL, &m), ND_ERR_NULL, "nd_mesh_create", "cells");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create_interval(4, 0, 1, NULL), ND_ERR_NULL, "nd_mesh_create_interval",
+             "out");
+
+  /* NULL handle */
+  EXPECT_ERR(nd_mesh_set_region(NULL, 1, 1, &v0), ND_ERR_NULL, "nd_mesh_set_region", "NULL");
+  EXPECT_ERR(nd_mesh_mark_boundary_box(NULL, 1, &lo, &hi), ND_ERR_NULL,
+             "nd_mesh_mark_boundary_box", "NULL");
+  EXPECT_ERR(nd_mesh_get_dimension(NULL, &dim), ND_ERR_NULL, "nd_mesh_get_dimension", "NULL");
+  EXPECT_ERR(nd_mesh_get_vertex_count(NULL, &n), ND_ERR_NULL, "nd_mesh_get_vertex_count",
+             "NULL");
+  EXPECT_ERR(nd_mesh_get_cell_count(NULL, &n), ND_ERR_NULL, "nd_mesh_get_cell_count", "NULL");
+  EXPECT_ERR(nd_mesh_get_region_size(NULL, 1, &n), ND_ERR_NULL, "nd_mesh_get_region_size",
+             "NULL");
+
+  /* NULL arrays and out-pointers on a valid mesh */
+  m = interval_with_regions(4);
+  EXPECT_ERR(nd_mesh_set_region(m, 3, 1, NULL), ND_ERR_NULL, "nd_mesh_set_region",
+             "facet_vertices");
+  EXPECT_ERR(nd_mesh_mark_boundary_box(m, 3, NULL, &hi), ND_ERR_NULL,
+             "nd_mesh_mark_boundary_box", "lo");
+  EXPECT_ERR(nd_mesh_mark_boundary_box(m, 3, &lo, NULL), ND_ERR_NULL,
+             "nd_mesh_mark_boundary_box", "hi");
+  EXPECT_ERR(nd_mesh_get_dimension(m, NULL), ND_ERR_NULL, "nd_mesh_get_dimension", "dim");
+  EXPECT_ERR(nd_mesh_get_vertex_count(m, NULL), ND_ERR_NULL, "nd_mesh_get_vertex_count",
+             "n_vertices");
+  EXPECT_ERR(nd_mesh_get_cell_count(m, NULL), ND_ERR_NULL, "nd_mesh_get_cell_count",
+             "n_cells");
+  EXPECT_ERR(nd_mesh_get_region_size(m, 1, NULL), ND_ERR_NULL, "nd_mesh_get_region_size",
+             "n_facets");
+
+  /* the getters still work */
+  EXPECT_OK(nd_mesh_get_dimension(m, &dim));
+  ck_assert_int_eq(dim, 1);
+  EXPECT_OK(nd_mesh_get_vertex_count(m, &n));
+  ck_assert_int_eq(n, 5);
+  EXPECT_OK(nd_mesh_get_cell_count(m, &n));
+  ck_assert_int_eq(n, 4);
+  EXPECT_OK(nd_mesh_get_region_size(m, 3, &n));
+  ck_assert_int_eq(n, 0);
+
+  /* destroy: NULL, pointer to NULL, sets the handle to NULL, safe twice */
+  EXPECT_OK(nd_mesh_destroy(NULL));
+  EXPECT_OK(nd_mesh_destroy(&m));
+  ck_assert_ptr_null(m);
+  EXPECT_OK(nd_mesh_destroy(&m));
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
+START_TEST(mesh_create_dimension_and_sizes) {
+  const double x[] = {0, 1, 2};
+  const int64_t c[] = {0, 1, 1, 2};
+  nd_mesh m = MESH_SENTINEL;
+
+  EXPECT_ERR(nd_mesh_create(0, 3, x, 2, c, &m), ND_ERR_DIMENSION, "nd_mesh_create", "dim");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create(4, 3, x, 2, c, &m), ND_ERR_DIMENSION, "nd_mesh_create", "dim");
+  EXPECT_ERR(nd_mesh_create(-1, 3, x, 2, c, &m), ND_ERR_DIMENSION, "nd_mesh_create", "dim");
+
+  EXPECT_ERR(nd_mesh_create(1, 0, x, 2, c, &m), ND_ERR_SIZE, "nd_mesh_create", "n_nodes");
+  EXPECT_ERR(nd_mesh_create(1, -3, x, 2, c, &m), ND_ERR_SIZE, "nd_mesh_create", "n_nodes");
+  EXPECT_ERR(nd_mesh_create(1, 3, x, 0, c, &m), ND_ERR_SIZE, "nd_mesh_create", "n_cells");
+  EXPECT_ERR(nd_mesh_create(1, 3, x, -2, c, &m), ND_ERR_SIZE, "nd_mesh_create", "n_cells");
+  ck_assert_ptr_null(m);
+
+  EXPECT_OK(nd_mesh_create(1, 3, x, 2, c, &m));
+  ck_assert_ptr_nonnull(m);
+  EXPECT_OK(nd_mesh_destroy(&m));
+}
+END_TEST
+
+START_TEST(mesh_create_indices) {
+  const double x[] = {0, 1, 2};
+  nd_mesh m = MESH_SENTINEL;
+  const int64_t too_big[] = {0, 1, 1, 3};   /* cell 1 names vertex 3 of 3 */
+  const int64_t negative[] = {0, 1, -1, 2}; /* cell 1 names vertex -1 */
+  const int64_t repeated[] = {0, 1, 2, 2};  /* cell 1 repeats vertex 2 */
+
+  EXPECT_ERR(nd_mesh_create(1, 3, x, 2, too_big, &m), ND_ERR_INDEX, "nd_mesh_create", "cell 1");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create(1, 3, x, 2, negative, &m), ND_ERR_INDEX, "nd_mesh_create",
+             "cell 1");
+  EXPECT_ERR(nd_mesh_create(1, 3, x, 2, repeated, &m), ND_ERR_INDEX, "nd_mesh_create",
+             "cell 1");
+
+  /* 2D: out of range and repeated vertex in a triangle */
+  const int64_t tri_big[] = {0, 1, 2, 0, 2, 4};
+  const int64_t tri_rep[] = {0, 1, 2, 0, 2, 2};
+  EXPECT_ERR(nd_mesh_create(2, 4, square_xy, 2, tri_big, &m), ND_ERR_INDEX, "nd_mesh_create",
+             "cell 1");
+  EXPECT_ERR(nd_mesh_create(2, 4, square_xy, 2, tri_rep, &m), ND_ERR_INDEX, "nd_mesh_create",
+             "cell 1");
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
+START_TEST(mesh_create_nonfinite) {
+  const int64_t c[] = {0, 1, 1, 2};
+  const double x_nan[] = {0, NAN, 2};
+  const double x_inf[] = {0, 1, INFINITY};
+  const double x_minf[] = {-INFINITY, 1, 2};
+  nd_mesh m = MESH_SENTINEL;
+
+  EXPECT_ERR(nd_mesh_create(1, 3, x_nan, 2, c, &m), ND_ERR_NONFINITE, "nd_mesh_create",
+             "node 1");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create(1, 3, x_inf, 2, c, &m), ND_ERR_NONFINITE, "nd_mesh_create",
+             "node 2");
+  EXPECT_ERR(nd_mesh_create(1, 3, x_minf, 2, c, &m), ND_ERR_NONFINITE, "nd_mesh_create",
+             "node 0");
+
+  double xy[8];
+  memcpy(xy, square_xy, sizeof xy);
+  xy[5] = NAN; /* y of node 2 */
+  EXPECT_ERR(nd_mesh_create(2, 4, xy, 2, square_cells, &m), ND_ERR_NONFINITE,
+             "nd_mesh_create", "node 2");
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
+START_TEST(mesh_create_degenerate) {
+  nd_mesh m = MESH_SENTINEL;
+
+  /* 1D: cell 1 has zero length */
+  const double x0[] = {0, 1, 1};
+  const int64_t c0[] = {0, 1, 1, 2};
+  EXPECT_ERR(nd_mesh_create(1, 3, x0, 2, c0, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
+             "cell 1");
+  ck_assert_ptr_null(m);
+
+  /* 2D: cell 1 has zero area (three collinear vertices) */
+  const double xy[] = {0, 0, 1, 0, 1, 1, 2, 0};
+  const int64_t tri[] = {0, 1, 2, 0, 3, 1};
+  EXPECT_ERR(nd_mesh_create(2, 4, xy, 2, tri, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
+             "cell 1");
+
+  /* inverted: 1D cell {1, 0} with x0 < x1, clockwise triangle */
+  const double x1[] = {0, 1, 2};
+  const int64_t c_inv[] = {0, 1, 2, 1};
+  EXPECT_ERR(nd_mesh_create(1, 3, x1, 2, c_inv, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
+             "cell 1");
+  const int64_t c_inv0[] = {1, 0};
+  EXPECT_ERR(nd_mesh_create(1, 2, x1, 1, c_inv0, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
+             "cell 0");
+  const int64_t cw[] = {0, 1, 2, 0, 3, 2}; /* cell 1 clockwise */
+  EXPECT_ERR(nd_mesh_create(2, 4, square_xy, 2, cw, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
+             "cell 1");
+  ck_assert_ptr_null(m);
+
+  /* 3D: a positive tetrahedron is accepted, the mirrored one is not */
+  const double xyz[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const int64_t tet[] = {0, 1, 2, 3}, tet_inv[] = {0, 2, 1, 3};
+  const int64_t tet_flat[] = {0, 1, 2, 3};
+  const double xyz_flat[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  EXPECT_OK(nd_mesh_create(3, 4, xyz, 1, tet, &m));
+  EXPECT_OK(nd_mesh_destroy(&m));
+  EXPECT_ERR(nd_mesh_create(3, 4, xyz, 1, tet_inv, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
+             "cell 0");
+  EXPECT_ERR(nd_mesh_create(3, 4, xyz_flat, 1, tet_flat, &m), ND_ERR_DEGENERATE,
+             "nd_mesh_create", "cell 0");
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
+START_TEST(mesh_create_interval_errors) {
+  nd_mesh m = MESH_SENTINEL;
+  EXPECT_ERR(nd_mesh_create_interval(0, 0, 1, &m), ND_ERR_SIZE, "nd_mesh_create_interval",
+             "n_cells");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create_interval(-5, 0, 1, &m), ND_ERR_SIZE, "nd_mesh_create_interval",
+             "n_cells");
+  EXPECT_ERR(nd_mesh_create_interval(4, 1, 1, &m), ND_ERR_DEGENERATE, "nd_mesh_create_interval",
+             "b");
+  EXPECT_ERR(nd_mesh_create_interval(4, 1, 0, &m), ND_ERR_DEGENERATE, "nd_mesh_create_interval",
+             "b");
+  EXPECT_ERR(nd_mesh_create_interval(4, NAN, 1, &m), ND_ERR_NONFINITE, "nd_mesh_create_interval",
+             NULL);
+  EXPECT_ERR(nd_mesh_create_interval(4, 0, NAN, &m), ND_ERR_NONFINITE, "nd_mesh_create_interval",
+             NULL);
+  EXPECT_ERR(nd_mesh_create_interval(4, -INFINITY, 1, &m), ND_ERR_NONFINITE,
+             "nd_mesh_create_interval", NULL);
+  EXPECT_ERR(nd_mesh_create_interval(4, 0, INFINITY, &m), ND_ERR_NONFINITE,
+             "nd_mesh_create_interval", NULL);
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
+/* Failures found while building the cells of an interval are reported by
+   nd_mesh_create_interval, not by the nd_mesh_create it uses internally.
+   Loop test: _i = 0, 1. */
+START_TEST(mesh_create_interval_error_names_function) {
+  nd_mesh m = MESH_SENTINEL;
+  if (_i == 0) /* 100 cells on an interval 4.5 ulps long: adjacent vertices coincide */
+    EXPECT_ERR(nd_mesh_create_interval(100, 1.0, 1.0 + 1e-15, &m), ND_ERR_DEGENERATE,
+               "nd_mesh_create_interval", NULL);
+  else /* b - a overflows: the interior vertex is not finite */
+    EXPECT_ERR(nd_mesh_create_interval(2, -1e308, 1e308, &m), ND_ERR_NONFINITE,
+               "nd_mesh_create_interval", NULL);
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
+START_TEST(mesh_set_region_errors) {
+  nd_mesh m = NULL;
+  int64_t n = -1;
+  EXPECT_OK(nd_mesh_create_interval(4, 0.0, 1.0, &m)); /* vertices 0..4 */
+
+  const int64_t interior = 2, outside = 5, negative = -1, left = 0;
+  EXPECT_ERR(nd_mesh_set_region(m, 1, 1, &interior), ND_ERR_REGION, "nd_mesh_set_region",
+             "facet 0");
+  EXPECT_ERR(nd_mesh_set_region(m, 1, 1, &outside), ND_ERR_INDEX, "nd_mesh_set_region",
+             "facet 0");
+  EXPECT_ERR(nd_mesh_set_region(m, 1, 1, &negative), ND_ERR_INDEX, "nd_mesh_set_region",
+             "facet 0");
+  EXPECT_ERR(nd_mesh_set_region(m, -1, 1, &left), ND_ERR_REGION, "nd_mesh_set_region",
+             "region");
+  EXPECT_ERR(nd_mesh_set_region(m, 1, 0, &left), ND_ERR_SIZE, "nd_mesh_set_region",
+             "n_facets");
+  EXPECT_ERR(nd_mesh_set_region(m, 1, -1, &left), ND_ERR_SIZE, "nd_mesh_set_region",
+             "n_facets");
+
+  /* a rejected call adds nothing, not even its valid facets */
+  const int64_t mixed[] = {0, 2}; /* facet 0 on the boundary, facet 1 interior */
+  EXPECT_ERR(nd_mesh_set_region(m, 1, 2, mixed), ND_ERR_REGION, "nd_mesh_set_region",
+             "facet 1");
+  EXPECT_OK(nd_mesh_get_region_size(m, 1, &n));
+  ck_assert_int_eq(n, 0);
+
+  EXPECT_OK(nd_mesh_set_region(m, 1, 1, &left));
+  EXPECT_OK(nd_mesh_get_region_size(m, 1, &n));
+  ck_assert_int_eq(n, 1);
+
+  /* the box marker */
+  const double lo = NAN, hi = 1;
+  EXPECT_ERR(nd_mesh_mark_boundary_box(m, 2, &lo, &hi), ND_ERR_NONFINITE,
+             "nd_mesh_mark_boundary_box", NULL);
+  EXPECT_ERR(nd_mesh_mark_boundary_box(m, -2, &hi, &hi), ND_ERR_REGION,
+             "nd_mesh_mark_boundary_box", "region");
+  EXPECT_OK(nd_mesh_get_region_size(m, 2, &n));
+  ck_assert_int_eq(n, 0);
+  EXPECT_OK(nd_mesh_destroy(&m));
+
+  /* 2D: the diagonal of the square is interior; edges are found in any order */
+  m = square_with_regions();
+  const int64_t diagonal[] = {0, 2}, right[] = {2, 1}, bad[] = {0, 9};
+  EXPECT_ERR(nd_mesh_set_region(m, 3, 1, diagonal), ND_ERR_REGION, "nd_mesh_set_region",
+             "facet 0");
+  EXPECT_ERR(nd_mesh_set_region(m, 3, 1, bad), ND_ERR_INDEX, "nd_mesh_set_region", "facet 0");
+  EXPECT_OK(nd_mesh_set_region(m, 3, 1, right));
+  EXPECT_OK(nd_mesh_get_region_size(m, 3, &n));
+  ck_assert_int_eq(n, 1);
+  EXPECT_OK(nd_mesh_destroy(&m));
+}
+END_TEST
+
+/* ======================================================================== */
+/* problem definition                                                        */
+/* ======================================================================== */
+
+START_TEST(problem_null_handles) {
+  const double v[3] = {0, 1, 0};
+  const double params[2] = {0.25, 0.5};
+  int64_t n = 0;
+  double x[8] = {0};
+  const char *fn_null = "problem";
+
+  EXPECT_ERR(nd_problem_set_material(NULL, 1, 0, 1), ND_ERR_NULL, "nd_problem_set_material",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_dirichlet(NULL, 1), ND_ERR_NULL, "nd_problem_set_dirichlet",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_body_force(NULL, v), ND_ERR_NULL, "nd_problem_set_body_force",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_neumann(NULL, 1, v), ND_ERR_NULL, "nd_problem_set_neumann",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_contact_plane(NULL, 1, v, v), ND_ERR_NULL,
+             "nd_problem_set_contact_plane", fn_null);
+  EXPECT_ERR(nd_problem_set_nitsche(NULL, 1, 0.2), ND_ERR_NULL, "nd_problem_set_nitsche",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_scheme(NULL, ND_SCHEME_NEWMARK, params), ND_ERR_NULL,
+             "nd_problem_set_scheme", fn_null);
+  EXPECT_ERR(nd_problem_set_nodal_forces(NULL, 1, x), ND_ERR_NULL,
+             "nd_problem_set_nodal_forces", fn_null);
+  EXPECT_ERR(nd_problem_set_newton(NULL, 1e-10, 0, 50), ND_ERR_NULL, "nd_problem_set_newton",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_mass_lumping(NULL, 1), ND_ERR_NULL, "nd_problem_set_mass_lumping",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_linear_solver(NULL, ND_SOLVER_AUTO), ND_ERR_NULL,
+             "nd_problem_set_linear_solver", fn_null);
+  EXPECT_ERR(nd_problem_set_timestep(NULL, 0.1), ND_ERR_NULL, "nd_problem_set_timestep",
+             fn_null);
+  EXPECT_ERR(nd_problem_set_initial_state(NULL, 1, x, x), ND_ERR_NULL,
+             "nd_problem_set_initial_state", fn_null);
+  EXPECT_ERR(nd_problem_set_monitor(NULL, NULL, NULL), ND_ERR_NULL, "nd_problem_set_monitor",
+             fn_null);
+  EXPECT_ERR(nd_problem_get_node_count(NULL, &n), ND_ERR_NULL, "nd_problem_get_node_count",
+             fn_null);
+  EXPECT_ERR(nd_problem_get_node_coordinates(NULL, 1, x), ND_ERR_NULL,
+             "nd_problem_get_node_coordinates", fn_null);
+  EXPECT_ERR(nd_problem_get_contact_point_count(NULL, &n), ND_ERR_NULL,
+             "nd_problem_get_contact_point_count", fn_null);
+  EXPECT_ERR(nd_problem_get_contact_points(NULL, 1, x, x), ND_ERR_NULL,
+             "nd_problem_get_contact_points", fn_null);
+  EXPECT_ERR(nd_step(NULL), ND_ERR_NULL, "nd_step", fn_null);
+  EXPECT_ERR(nd_get_field(NULL, ND_FIELD_DISPLACEMENT, 1, x), ND_ERR_NULL, "nd_get_field",
+             fn_null);
+  EXPECT_ERR(nd_get_scalar(NULL, ND_TIME, x), ND_ERR_NULL, "nd_get_scalar", fn_null);
+  EXPECT_ERR(nd_get_contact_pressure(NULL, 1, x), ND_ERR_NULL, "nd_get_contact_pressure",
+             fn_null);
+
+  /* nd_problem_create: NULL mesh and NULL out */
+  nd_problem p = PROBLEM_SENTINEL;
+  EXPECT_ERR(nd_problem_create(NULL, 1, &p), ND_ERR_NULL, "nd_problem_create", "mesh");
+  ck_assert_ptr_null(p);
+  nd_mesh m = interval_with_regions(4);
+  EXPECT_ERR(nd_problem_create(m, 1, NULL), ND_ERR_NULL, "nd_problem_create", "out");
+  EXPECT_OK(nd_mesh_destroy(&m));
+
+  /* destroy: NULL, pointer to NULL, sets the handle to NULL, safe twice */
+  p = NULL;
+  EXPECT_OK(nd_problem_destroy(NULL));
+  EXPECT_OK(nd_problem_destroy(&p));
+  p = problem_1d();
+  EXPECT_OK(nd_problem_destroy(&p));
+  ck_assert_ptr_null(p);
+  EXPECT_OK(nd_problem_destroy(&p));
+  ck_assert_ptr_null(p);
+}
+END_TEST
+
+START_TEST(problem_null_arrays) {
+  nd_problem p = nd_test_bar(4, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  const double one = 1;
+  const int64_t n = node_count(p), nq = contact_count(p);
+
+  EXPECT_ERR(nd_problem_set_body_force(p, NULL), ND_ERR_NULL, "nd_problem_set_body_force",
+             "f");
+  EXPECT_ERR(nd_problem_set_neumann(p, 1, NULL), ND_ERR_NULL, "nd_problem_set_neumann", "g");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, NULL, &one), ND_ERR_NULL,
+             "nd_problem_set_contact_plane", "point");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, &one, NULL), ND_ERR_NULL,
+             "nd_problem_set_contact_plane", "normal");
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, n, NULL), ND_ERR_NULL,
+             "nd_problem_set_nodal_forces", "f");
+  EXPECT_ERR(nd_problem_get_node_count(p, NULL), ND_ERR_NULL, "nd_problem_get_node_count",
+             "n_nodes");
+  EXPECT_ERR(nd_problem_get_node_coordinates(p, n, NULL), ND_ERR_NULL,
+             "nd_problem_get_node_coordinates", "coords");
+  EXPECT_ERR(nd_problem_get_contact_point_count(p, NULL), ND_ERR_NULL,
+             "nd_problem_get_contact_point_count", "n_points");
+  EXPECT_ERR(nd_get_field(p, ND_FIELD_DISPLACEMENT, n, NULL), ND_ERR_NULL, "nd_get_field",
+             "out");
+  EXPECT_ERR(nd_get_scalar(p, ND_TIME, NULL), ND_ERR_NULL, "nd_get_scalar", "out");
+  EXPECT_ERR(nd_get_contact_pressure(p, nq, NULL), ND_ERR_NULL, "nd_get_contact_pressure",
+             "out");
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(problem_create_degree) {
+  nd_mesh m = interval_with_regions(4);
+  nd_problem p = PROBLEM_SENTINEL;
+  EXPECT_ERR(nd_problem_create(m, 0, &p), ND_ERR_DEGREE, "nd_problem_create", "degree");
+  ck_assert_ptr_null(p);
+  EXPECT_ERR(nd_problem_create(m, 3, &p), ND_ERR_DEGREE, "nd_problem_create", "degree");
+  EXPECT_ERR(nd_problem_create(m, -1, &p), ND_ERR_DEGREE, "nd_problem_create", "degree");
+  ck_assert_ptr_null(p);
+  for (int degree = 1; degree <= 2; ++degree) {
+    EXPECT_OK(nd_problem_create(m, degree, &p));
+    EXPECT_OK(nd_problem_destroy(&p));
+  }
+  EXPECT_OK(nd_mesh_destroy(&m));
+}
+END_TEST
+
+START_TEST(problem_material) {
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_material(p, 0, 0, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "young");
+  EXPECT_ERR(nd_problem_set_material(p, -1, 0, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "young");
+  EXPECT_ERR(nd_problem_set_material(p, NAN, 0, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "young");
+  EXPECT_ERR(nd_problem_set_material(p, INFINITY, 0, 1), ND_ERR_MATERIAL,
+             "nd_problem_set_material", "young");
+  EXPECT_ERR(nd_problem_set_material(p, 1, 0, 0), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "density");
+  EXPECT_ERR(nd_problem_set_material(p, 1, 0, -2), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "density");
+  EXPECT_ERR(nd_problem_set_material(p, 1, 0, NAN), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "density");
+  /* 1D: Poisson's ratio is not used, any value is accepted */
+  EXPECT_OK(nd_problem_set_material(p, 1, 0.7, 1));
+  EXPECT_OK(nd_problem_set_material(p, 1, -3, 1));
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  p = problem_2d();
+  EXPECT_ERR(nd_problem_set_material(p, 1, -1, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "poisson");
+  EXPECT_ERR(nd_problem_set_material(p, 1, -1.5, 1), ND_ERR_MATERIAL,
+             "nd_problem_set_material", "poisson");
+  EXPECT_ERR(nd_problem_set_material(p, 1, 0.5, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "poisson");
+  EXPECT_ERR(nd_problem_set_material(p, 1, 0.7, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "poisson");
+  EXPECT_ERR(nd_problem_set_material(p, 1, NAN, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "poisson");
+  EXPECT_ERR(nd_problem_set_material(p, 0, 0.3, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             "young");
+  EXPECT_OK(nd_problem_set_material(p, 1, 0.3, 1));
+  EXPECT_OK(nd_problem_set_material(p, 1, -0.99, 1));
+  EXPECT_OK(nd_problem_set_material(p, 1, 0.49, 1));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(problem_nitsche_timestep) {
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_nitsche(p, 1, 0), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             "gamma0");
+  EXPECT_ERR(nd_problem_set_nitsche(p, 1, -0.2), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             "gamma0");
+  EXPECT_ERR(nd_problem_set_nitsche(p, 1, NAN), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             "gamma0");
+  EXPECT_ERR(nd_problem_set_nitsche(p, 1, INFINITY), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             "gamma0");
+  EXPECT_ERR(nd_problem_set_nitsche(p, NAN, 0.2), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             "theta");
+  EXPECT_ERR(nd_problem_set_nitsche(p, -INFINITY, 0.2), ND_ERR_NITSCHE,
+             "nd_problem_set_nitsche", "theta");
+  const double thetas[] = {-3, -1, 0, 0.5, 1, 7};
+  for (size_t i = 0; i < sizeof thetas / sizeof *thetas; ++i)
+    EXPECT_OK(nd_problem_set_nitsche(p, thetas[i], 0.2));
+
+  EXPECT_ERR(nd_problem_set_timestep(p, 0), ND_ERR_TIMESTEP, "nd_problem_set_timestep", "tau");
+  EXPECT_ERR(nd_problem_set_timestep(p, -0.1), ND_ERR_TIMESTEP, "nd_problem_set_timestep",
+             "tau");
+  EXPECT_ERR(nd_problem_set_timestep(p, NAN), ND_ERR_TIMESTEP, "nd_problem_set_timestep",
+             "tau");
+  EXPECT_ERR(nd_problem_set_timestep(p, INFINITY), ND_ERR_TIMESTEP, "nd_problem_set_timestep",
+             "tau");
+  EXPECT_OK(nd_problem_set_timestep(p, 1e-3));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(problem_scheme) {
+  nd_problem p = problem_1d();
+  const double half = 0.5;
+  EXPECT_ERR(nd_problem_set_scheme(p, 0, &half), ND_ERR_SCHEME, "nd_problem_set_scheme",
+             "scheme");
+  EXPECT_ERR(nd_problem_set_scheme(p, 4, &half), ND_ERR_SCHEME, "nd_problem_set_scheme",
+             "scheme");
+  EXPECT_ERR(nd_problem_set_scheme(p, -1, NULL), ND_ERR_SCHEME, "nd_problem_set_scheme",
+             "scheme");
+
+  /* theta scheme: theta in [0, 1] */
+  const double th_bad[] = {-0.1, 1.1, NAN, INFINITY};
+  for (size_t i = 0; i < sizeof th_bad / sizeof *th_bad; ++i)
+    EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_THETA, &th_bad[i]), ND_ERR_SCHEME,
+               "nd_problem_set_scheme", "theta");
+  const double th_ok[] = {0, 0.5, 1};
+  for (size_t i = 0; i < sizeof th_ok / sizeof *th_ok; ++i)
+    EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_THETA, &th_ok[i]));
+  EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_THETA, NULL), ND_ERR_NULL,
+             "nd_problem_set_scheme", "params");
+
+  /* Newmark: beta in [0, 1/2], gamma in [0, 1] */
+  const double nm_bad_beta[][2] = {{-0.1, 0.5}, {0.6, 0.5}, {NAN, 0.5}};
+  for (size_t i = 0; i < 3; ++i)
+    EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, nm_bad_beta[i]), ND_ERR_SCHEME,
+               "nd_problem_set_scheme", "beta");
+  const double nm_bad_gamma[][2] = {{0.25, -0.1}, {0.25, 1.1}, {0.25, NAN}};
+  for (size_t i = 0; i < 3; ++i)
+    EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, nm_bad_gamma[i]), ND_ERR_SCHEME,
+               "nd_problem_set_scheme", "gamma");
+  const double nm_ok[][2] = {{0, 0}, {0, 1}, {0.5, 0}, {0.5, 1}, {0.25, 0.5}};
+  for (size_t i = 0; i < 5; ++i)
+    EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, nm_ok[i]));
+  EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, NULL), ND_ERR_NULL,
+             "nd_problem_set_scheme", "params");
+
+  /* hybrid: no parameter, NULL accepted */
+  EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(problem_regions_and_loads) {
+  nd_problem p = problem_1d(); /* regions 1 and 2 */
+  const double zero = 0, one = 1, nan = NAN, inf = INFINITY;
+
+  EXPECT_ERR(nd_problem_set_dirichlet(p, 7), ND_ERR_REGION, "nd_problem_set_dirichlet",
+             "region 7");
+  EXPECT_ERR(nd_problem_set_dirichlet(p, -1), ND_ERR_REGION, "nd_problem_set_dirichlet",
+             "region -1");
+  EXPECT_ERR(nd_problem_set_neumann(p, 7, &one), ND_ERR_REGION, "nd_problem_set_neumann",
+             "region 7");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 7, &zero, &one), ND_ERR_REGION,
+             "nd_problem_set_contact_plane", "region 7");
+
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, &zero, &zero), ND_ERR_VALUE,
+             "nd_problem_set_contact_plane", "normal");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, &nan, &one), ND_ERR_NONFINITE,
+             "nd_problem_set_contact_plane", "point");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, &zero, &inf), ND_ERR_NONFINITE,
+             "nd_problem_set_contact_plane", "normal");
+  EXPECT_ERR(nd_problem_set_body_force(p, &nan), ND_ERR_NONFINITE, "nd_problem_set_body_force",
+             "f");
+  EXPECT_ERR(nd_problem_set_neumann(p, 1, &inf), ND_ERR_NONFINITE, "nd_problem_set_neumann",
+             "g");
+
+  EXPECT_OK(nd_problem_set_dirichlet(p, 2));
+  EXPECT_OK(nd_problem_set_neumann(p, 1, &one));
+  EXPECT_OK(nd_problem_set_body_force(p, &one));
+  EXPECT_OK(nd_problem_set_contact_plane(p, 1, &zero, &one));
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  /* the problem keeps its own copy of the mesh: a region added to the mesh
+     afterwards is not part of the problem */
+  nd_mesh m = interval_with_regions(4);
+  p = problem_from(m, 1);
+  const int64_t right = 4;
+  EXPECT_OK(nd_mesh_set_region(m, 5, 1, &right));
+  EXPECT_ERR(nd_problem_set_dirichlet(p, 5), ND_ERR_REGION, "nd_problem_set_dirichlet",
+             "region 5");
+  EXPECT_OK(nd_mesh_destroy(&m));
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  /* 2D */
+  p = problem_2d();
+  const double pt[2] = {0, 0}, up[2] = {0, 1}, n0[2] = {0, 0}, n_nan[2] = {NAN, 1},
+               pt_inf[2] = {0, INFINITY}, f_nan[2] = {0, NAN}, g_inf[2] = {-INFINITY, 0};
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, pt, n0), ND_ERR_VALUE,
+             "nd_problem_set_contact_plane", "normal");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, pt, n_nan), ND_ERR_NONFINITE,
+             "nd_problem_set_contact_plane", "normal");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, pt_inf, up), ND_ERR_NONFINITE,
+             "nd_problem_set_contact_plane", "point");
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 3, pt, up), ND_ERR_REGION,
+             "nd_problem_set_contact_plane", "region 3");
+  EXPECT_ERR(nd_problem_set_body_force(p, f_nan), ND_ERR_NONFINITE, "nd_problem_set_body_force",
+             "f");
+  EXPECT_ERR(nd_problem_set_neumann(p, 2, g_inf), ND_ERR_NONFINITE, "nd_problem_set_neumann",
+             "g");
+  EXPECT_ERR(nd_problem_set_neumann(p, 3, up), ND_ERR_REGION, "nd_problem_set_neumann",
+             "region 3");
+  EXPECT_OK(nd_problem_set_contact_plane(p, 1, pt, up));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* The normal is normalised: its length does not matter as long as it is
+   finite and non-zero, also at the ends of the double range.
+   Loop test: _i = 0 (normal 1e200), 1 (normal 1e-200), each against normal 1. */
+static void contact_bar_displacement(double normal, double *u) {
+  const double zero = 0;
+  nd_mesh m = interval_with_regions(20);
+  nd_problem p = problem_from(m, 1);
+  EXPECT_OK(nd_mesh_destroy(&m));
+  EXPECT_OK(nd_problem_set_material(p, 1, 0, 1));
+  EXPECT_OK(nd_problem_set_dirichlet(p, 2));
+  const int st = nd_problem_set_contact_plane(p, 1, &zero, &normal);
+  char msg[256];
+  snprintf(msg, sizeof msg, "%s", nd_last_error());
+  if (st != ND_OK) nd_problem_destroy(&p); /* no leak when the assertion fails */
+  ck_assert_msg(st == ND_OK, "normal %g rejected: %d, '%s'", normal, st, msg);
+  EXPECT_OK(nd_problem_set_nitsche(p, 1, 0.2));
+  EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  EXPECT_OK(nd_problem_set_timestep(p, 0.025));
+  double x[21], u0[21];
+  EXPECT_OK(nd_problem_get_node_coordinates(p, 21, x));
+  for (int i = 0; i < 21; ++i) u0[i] = 0.5 * (1 - x[i]);
+  EXPECT_OK(nd_problem_set_initial_state(p, 21, u0, NULL));
+  for (int k = 0; k < 60; ++k) EXPECT_OK(nd_step(p)); /* t = 1.5: in contact */
+  EXPECT_OK(nd_get_field(p, ND_FIELD_DISPLACEMENT, 21, u));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+
+START_TEST(problem_contact_normal_scale) {
+  const double normal = _i == 0 ? 1e200 : 1e-200;
+  double u_ref[21], u[21];
+  contact_bar_displacement(1.0, u_ref);
+  contact_bar_displacement(normal, u);
+  for (int i = 0; i < 21; ++i)
+    ck_assert_msg(fabs(u[i] - u_ref[i]) <= 1e-12, "normal %g: u[%d] = %g, expected %g", normal,
+                  i, u[i], u_ref[i]);
+}
+END_TEST
+
+START_TEST(problem_newton_solver) {
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_newton(p, -1e-8, 0, 50), ND_ERR_VALUE, "nd_problem_set_newton",
+             "rtol");
+  EXPECT_ERR(nd_problem_set_newton(p, NAN, 0, 50), ND_ERR_VALUE, "nd_problem_set_newton",
+             "rtol");
+  EXPECT_ERR(nd_problem_set_newton(p, INFINITY, 0, 50), ND_ERR_VALUE, "nd_problem_set_newton",
+             "rtol");
+  EXPECT_ERR(nd_problem_set_newton(p, 1e-8, -1, 50), ND_ERR_VALUE, "nd_problem_set_newton",
+             "atol");
+  EXPECT_ERR(nd_problem_set_newton(p, 1e-8, NAN, 50), ND_ERR_VALUE, "nd_problem_set_newton",
+             "atol");
+  EXPECT_ERR(nd_problem_set_newton(p, 1e-8, 0, 0), ND_ERR_VALUE, "nd_problem_set_newton",
+             "max_iter");
+  EXPECT_ERR(nd_problem_set_newton(p, 1e-8, 0, -5), ND_ERR_VALUE, "nd_problem_set_newton",
+             "max_iter");
+  EXPECT_OK(nd_problem_set_newton(p, 0, 0, 1));
+
+  EXPECT_ERR(nd_problem_set_linear_solver(p, 3), ND_ERR_KEY, "nd_problem_set_linear_solver",
+             "solver");
+  EXPECT_ERR(nd_problem_set_linear_solver(p, -1), ND_ERR_KEY, "nd_problem_set_linear_solver",
+             "solver");
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_AUTO));
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_DENSE));
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_BANDED));
+  EXPECT_OK(nd_problem_set_mass_lumping(p, 1));
+  EXPECT_OK(nd_problem_set_mass_lumping(p, 0));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* ======================================================================== */
+/* stepping and getters                                                      */
+/* ======================================================================== */
+
+START_TEST(step_array_lengths) {
+  nd_problem p = nd_test_bar(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  const int64_t n = node_count(p), nq = contact_count(p);
+  ck_assert_int_eq(n, 21);
+  double *a = calloc((size_t)(n + 1), sizeof(double));
+  double *b = calloc((size_t)(n + 1), sizeof(double));
+  double *q = calloc((size_t)(nq + 1), sizeof(double));
+  double *w = calloc((size_t)(nq + 1), sizeof(double));
+  ck_assert_ptr_nonnull(a);
+  ck_assert_ptr_nonnull(b);
+  ck_assert_ptr_nonnull(q);
+  ck_assert_ptr_nonnull(w);
+
+  EXPECT_ERR(nd_problem_set_initial_state(p, n - 1, a, b), ND_ERR_SIZE,
+             "nd_problem_set_initial_state", NULL);
+  EXPECT_ERR(nd_problem_set_initial_state(p, n + 1, a, b), ND_ERR_SIZE,
+             "nd_problem_set_initial_state", NULL);
+  EXPECT_ERR(nd_problem_set_initial_state(p, 0, NULL, NULL), ND_ERR_SIZE,
+             "nd_problem_set_initial_state", NULL);
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, n - 1, a), ND_ERR_SIZE,
+             "nd_problem_set_nodal_forces", NULL);
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, -1, a), ND_ERR_SIZE, "nd_problem_set_nodal_forces",
+             NULL);
+  EXPECT_ERR(nd_problem_get_node_coordinates(p, n + 1, a), ND_ERR_SIZE,
+             "nd_problem_get_node_coordinates", NULL);
+  EXPECT_ERR(nd_problem_get_node_coordinates(p, n - 1, a), ND_ERR_SIZE,
+             "nd_problem_get_node_coordinates", NULL);
+  for (int field = ND_FIELD_DISPLACEMENT; field <= ND_FIELD_ACCELERATION; ++field) {
+    EXPECT_ERR(nd_get_field(p, field, n - 1, a), ND_ERR_SIZE, "nd_get_field", NULL);
+    EXPECT_ERR(nd_get_field(p, field, n + 1, a), ND_ERR_SIZE, "nd_get_field", NULL);
+    EXPECT_OK(nd_get_field(p, field, n, a));
+  }
+  EXPECT_ERR(nd_get_contact_pressure(p, nq + 1, q), ND_ERR_SIZE, "nd_get_contact_pressure",
+             NULL);
+  EXPECT_ERR(nd_get_contact_pressure(p, nq - 1, q), ND_ERR_SIZE, "nd_get_contact_pressure",
+             NULL);
+  EXPECT_ERR(nd_problem_get_contact_points(p, nq + 1, q, w), ND_ERR_SIZE,
+             "nd_problem_get_contact_points", NULL);
+  EXPECT_ERR(nd_problem_get_contact_points(p, nq - 1, q, w), ND_ERR_SIZE,
+             "nd_problem_get_contact_points", NULL);
+  EXPECT_OK(nd_get_contact_pressure(p, nq, q));
+  EXPECT_OK(nd_problem_get_contact_points(p, nq, q, w));
+
+  /* non-finite values in the arrays */
+  for (int64_t i = 0; i < n; ++i) a[i] = b[i] = 0;
+  a[n - 1] = NAN;
+  EXPECT_ERR(nd_problem_set_initial_state(p, n, a, b), ND_ERR_NONFINITE,
+             "nd_problem_set_initial_state", "u0");
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, n, a), ND_ERR_NONFINITE,
+             "nd_problem_set_nodal_forces", "f");
+  a[n - 1] = 0;
+  b[3] = INFINITY;
+  EXPECT_ERR(nd_problem_set_initial_state(p, n, a, b), ND_ERR_NONFINITE,
+             "nd_problem_set_initial_state", "v0");
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, n, b), ND_ERR_NONFINITE,
+             "nd_problem_set_nodal_forces", "f");
+  b[3] = 0;
+  EXPECT_OK(nd_problem_set_nodal_forces(p, n, b));
+
+  free(a);
+  free(b);
+  free(q);
+  free(w);
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(step_unknown_keys) {
+  nd_problem p = nd_test_bar(4, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  double u[5], x = 0;
+  EXPECT_ERR(nd_get_field(p, 0, 5, u), ND_ERR_KEY, "nd_get_field", "field");
+  EXPECT_ERR(nd_get_field(p, 4, 5, u), ND_ERR_KEY, "nd_get_field", "field");
+  EXPECT_ERR(nd_get_field(p, -1, 5, u), ND_ERR_KEY, "nd_get_field", "field");
+  EXPECT_ERR(nd_get_scalar(p, 0, &x), ND_ERR_KEY, "nd_get_scalar", "key");
+  EXPECT_ERR(nd_get_scalar(p, 13, &x), ND_ERR_KEY, "nd_get_scalar", "key");
+  EXPECT_ERR(nd_get_scalar(p, -3, &x), ND_ERR_KEY, "nd_get_scalar", "key");
+#define ND_CHECK_KEY_(name, value, text) EXPECT_OK(nd_get_scalar(p, name, &x));
+  ND_SCALAR_LIST(ND_CHECK_KEY_)
+#undef ND_CHECK_KEY_
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* A problem with everything but what `omit` names:
+   'm' material, 't' time step, 's' scheme, 'n' Nitsche parameters. */
+static nd_problem partial_bar(char omit) {
+  nd_mesh m = interval_with_regions(4);
+  nd_problem p = problem_from(m, 1);
+  const double zero = 0, up = 1;
+  EXPECT_OK(nd_mesh_destroy(&m));
+  if (omit != 'm') EXPECT_OK(nd_problem_set_material(p, 1, 0, 1));
+  EXPECT_OK(nd_problem_set_dirichlet(p, 2));
+  EXPECT_OK(nd_problem_set_contact_plane(p, 1, &zero, &up));
+  if (omit != 'n') EXPECT_OK(nd_problem_set_nitsche(p, 1, 0.2));
+  if (omit != 's') EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  if (omit != 't') EXPECT_OK(nd_problem_set_timestep(p, 0.025));
+  return p;
+}
+
+START_TEST(step_incomplete) {
+  nd_problem p = partial_bar('m');
+  EXPECT_ERR(nd_step(p), ND_ERR_INCOMPLETE, "nd_step", "material");
+  ck_assert(!contains(nd_last_error(), "time step"));
+  ck_assert(!contains(nd_last_error(), "Nitsche"));
+  /* completing the problem makes it step */
+  EXPECT_OK(nd_problem_set_material(p, 1, 0, 1));
+  EXPECT_OK(nd_step(p));
+  ck_assert_double_eq(scalar(p, ND_STEP_INDEX), 1);
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  p = partial_bar('t');
+  EXPECT_ERR(nd_step(p), ND_ERR_INCOMPLETE, "nd_step", "time step");
+  ck_assert(!contains(nd_last_error(), "material"));
+  ck_assert(!contains(nd_last_error(), "scheme"));
+  EXPECT_OK(nd_problem_set_timestep(p, 0.025));
+  EXPECT_OK(nd_step(p));
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  p = partial_bar('s');
+  EXPECT_ERR(nd_step(p), ND_ERR_INCOMPLETE, "nd_step", "scheme");
+  ck_assert(!contains(nd_last_error(), "material"));
+  ck_assert(!contains(nd_last_error(), "time step"));
+  EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  EXPECT_OK(nd_step(p));
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  p = partial_bar('n');
+  EXPECT_ERR(nd_step(p), ND_ERR_INCOMPLETE, "nd_step", "Nitsche");
+  ck_assert(!contains(nd_last_error(), "material"));
+  EXPECT_OK(nd_problem_set_nitsche(p, 1, 0.2));
+  EXPECT_OK(nd_step(p));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(step_dirichlet_after_step) {
+  nd_problem p = nd_test_bar(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  EXPECT_OK(nd_step(p));
+  EXPECT_ERR(nd_problem_set_dirichlet(p, 2), ND_ERR_STATE, "nd_problem_set_dirichlet", NULL);
+  EXPECT_ERR(nd_problem_set_dirichlet(p, 1), ND_ERR_STATE, "nd_problem_set_dirichlet", NULL);
+  ck_assert_double_eq(scalar(p, ND_STEP_INDEX), 1);
+  EXPECT_OK(nd_step(p));
+  ck_assert_double_eq(scalar(p, ND_STEP_INDEX), 2);
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* Every setter called with a bad argument; all must be rejected. */
+static void reject_everything(nd_problem p, int started) {
+  const int64_t n = node_count(p);
+  double *bad = calloc((size_t)n, sizeof(double));
+  ck_assert_ptr_nonnull(bad);
+  bad[n - 1] = NAN;
+  const double zero = 0, nan = NAN, th = 2, nm[2] = {0.25, 1.5};
+  double x = 0;
+
+  EXPECT_ERR(nd_problem_set_material(p, -1, 0, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             NULL);
+  EXPECT_ERR(nd_problem_set_material(p, 2, 0, NAN), ND_ERR_MATERIAL, "nd_problem_set_material",
+             NULL);
+  EXPECT_ERR(nd_problem_set_nitsche(p, NAN, 0.1), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             NULL);
+  EXPECT_ERR(nd_problem_set_nitsche(p, 0, -0.1), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
+             NULL);
+  EXPECT_ERR(nd_problem_set_timestep(p, 0), ND_ERR_TIMESTEP, "nd_problem_set_timestep", NULL);
+  EXPECT_ERR(nd_problem_set_scheme(p, 99, NULL), ND_ERR_SCHEME, "nd_problem_set_scheme", NULL);
+  EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_THETA, &th), ND_ERR_SCHEME,
+             "nd_problem_set_scheme", NULL);
+  EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, nm), ND_ERR_SCHEME,
+             "nd_problem_set_scheme", NULL);
+  EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_THETA, NULL), ND_ERR_NULL,
+             "nd_problem_set_scheme", NULL);
+  if (started)
+    EXPECT_ERR(nd_problem_set_dirichlet(p, 1), ND_ERR_STATE, "nd_problem_set_dirichlet", NULL);
+  EXPECT_ERR(nd_problem_set_dirichlet(p, 7), ND_ERR_REGION, "nd_problem_set_dirichlet", NULL);
+  EXPECT_ERR(nd_problem_set_neumann(p, 7, &zero), ND_ERR_REGION, "nd_problem_set_neumann",
+             NULL);
+  EXPECT_ERR(nd_problem_set_neumann(p, 1, &nan), ND_ERR_NONFINITE, "nd_problem_set_neumann",
+             NULL);
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, &zero, &zero), ND_ERR_VALUE,
+             "nd_problem_set_contact_plane", NULL);
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 1, &nan, &th), ND_ERR_NONFINITE,
+             "nd_problem_set_contact_plane", NULL);
+  EXPECT_ERR(nd_problem_set_contact_plane(p, 9, &zero, &th), ND_ERR_REGION,
+             "nd_problem_set_contact_plane", NULL);
+  EXPECT_ERR(nd_problem_set_body_force(p, &nan), ND_ERR_NONFINITE, "nd_problem_set_body_force",
+             NULL);
+  EXPECT_ERR(nd_problem_set_body_force(p, NULL), ND_ERR_NULL, "nd_problem_set_body_force",
+             NULL);
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, n - 1, bad), ND_ERR_SIZE,
+             "nd_problem_set_nodal_forces", NULL);
+  EXPECT_ERR(nd_problem_set_nodal_forces(p, n, bad), ND_ERR_NONFINITE,
+             "nd_problem_set_nodal_forces", NULL);
+  EXPECT_ERR(nd_problem_set_initial_state(p, n, bad, NULL), ND_ERR_NONFINITE,
+             "nd_problem_set_initial_state", NULL);
+  EXPECT_ERR(nd_problem_set_initial_state(p, n, NULL, bad), ND_ERR_NONFINITE,
+             "nd_problem_set_initial_state", NULL);
+  EXPECT_ERR(nd_problem_set_initial_state(p, n + 1, NULL, NULL), ND_ERR_SIZE,
+             "nd_problem_set_initial_state", NULL);
+  EXPECT_ERR(nd_problem_set_newton(p, -1, 0, 50), ND_ERR_VALUE, "nd_problem_set_newton", NULL);
+  EXPECT_ERR(nd_problem_set_newton(p, 1e-10, 0, 0), ND_ERR_VALUE, "nd_problem_set_newton",
+             NULL);
+  EXPECT_ERR(nd_problem_set_linear_solver(p, 9), ND_ERR_KEY, "nd_problem_set_linear_solver",
+             NULL);
+  EXPECT_ERR(nd_get_field(p, 9, n, bad), ND_ERR_KEY, "nd_get_field", NULL);
+  EXPECT_ERR(nd_get_scalar(p, 99, &x), ND_ERR_KEY, "nd_get_scalar", NULL);
+  free(bad);
+}
+
+static void run_bar(int with_rejects, double *u, double *v, double *s) {
+  nd_problem p = nd_test_bar(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  if (with_rejects) reject_everything(p, 0);
+  for (int k = 0; k < 40; ++k) {
+    EXPECT_OK(nd_step(p));
+    if (with_rejects && k == 19) reject_everything(p, 1);
+  }
+  EXPECT_OK(nd_get_field(p, ND_FIELD_DISPLACEMENT, 21, u));
+  EXPECT_OK(nd_get_field(p, ND_FIELD_VELOCITY, 21, v));
+  s[0] = scalar(p, ND_TIME);
+  s[1] = scalar(p, ND_STEP_INDEX);
+  s[2] = scalar(p, ND_ENERGY_AUGMENTED);
+  s[3] = scalar(p, ND_WORK);
+  s[4] = scalar(p, ND_NEWTON_ITERATIONS_TOTAL);
+  s[5] = scalar(p, ND_TIMESTEP);
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+
+START_TEST(step_rejected_calls_change_nothing) {
+  double u_ref[21], v_ref[21], s_ref[6], u[21], v[21], s[6];
+  run_bar(0, u_ref, v_ref, s_ref);
+  run_bar(1, u, v, s);
+  ck_assert_double_eq(s_ref[1], 40);
+  ck_assert_msg(memcmp(u, u_ref, sizeof u) == 0, "displacement changed by rejected calls");
+  ck_assert_msg(memcmp(v, v_ref, sizeof v) == 0, "velocity changed by rejected calls");
+  for (int i = 0; i < 6; ++i)
+    ck_assert_msg(memcmp(&s[i], &s_ref[i], sizeof(double)) == 0,
+                  "scalar %d changed by rejected calls: %.17g vs %.17g", i, s[i], s_ref[i]);
+}
+END_TEST
+
+/* Reading the initial state is not a definition call: a body force set after
+   a getter must act from t = 0 exactly as when no getter was called. */
+static void run_loaded_bar(int peek, double *u, double *work) {
+  nd_problem p = nd_test_bar(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  const double f = -0.3;
+  if (peek) (void)scalar(p, ND_ENERGY_MECHANICAL);
+  EXPECT_OK(nd_problem_set_body_force(p, &f));
+  for (int k = 0; k < 40; ++k) EXPECT_OK(nd_step(p));
+  EXPECT_OK(nd_get_field(p, ND_FIELD_DISPLACEMENT, 21, u));
+  *work = scalar(p, ND_WORK);
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+
+START_TEST(step_getter_has_no_side_effect) {
+  double u_ref[21], u[21], w_ref = 0, w = 0;
+  run_loaded_bar(0, u_ref, &w_ref);
+  run_loaded_bar(1, u, &w);
+  for (int i = 0; i < 21; ++i)
+    ck_assert_msg(fabs(u[i] - u_ref[i]) <= 1e-13, "u[%d] = %.17g after a getter, %.17g without",
+                  i, u[i], u_ref[i]);
+  ck_assert_msg(fabs(w - w_ref) <= 1e-13, "work %.17g after a getter, %.17g without", w, w_ref);
+}
+END_TEST
+
+/* ======================================================================== */
+/* status codes and the error message                                        */
+/* ======================================================================== */
+
+START_TEST(last_error_cleared_by_success) {
+  nd_mesh m = interval_with_regions(4);
+  int dim = 0;
+  EXPECT_ERR(nd_mesh_get_dimension(m, NULL), ND_ERR_NULL, "nd_mesh_get_dimension", NULL);
+  /* reading the message does not clear it */
+  ck_assert_str_ne(nd_last_error(), "");
+  ck_assert_str_ne(nd_last_error(), "");
+  EXPECT_OK(nd_mesh_get_dimension(m, &dim));
+  ck_assert_str_eq(nd_last_error(), "");
+
+  nd_problem p = problem_from(m, 1);
+  EXPECT_ERR(nd_problem_set_timestep(p, -1), ND_ERR_TIMESTEP, "nd_problem_set_timestep", NULL);
+  EXPECT_OK(nd_problem_set_timestep(p, 0.1));
+  ck_assert_str_eq(nd_last_error(), "");
+
+  /* a failure of another function replaces the message */
+  EXPECT_ERR(nd_problem_set_material(p, -1, 0, 1), ND_ERR_MATERIAL, "nd_problem_set_material",
+             NULL);
+  EXPECT_ERR(nd_problem_set_nitsche(p, 1, -1), ND_ERR_NITSCHE, "nd_problem_set_nitsche", NULL);
+  ck_assert(!contains(nd_last_error(), "nd_problem_set_material"));
+
+  /* destroy and the library functions also clear it */
+  int major, minor, patch;
+  EXPECT_OK(nd_version(&major, &minor, &patch));
+  ck_assert_str_eq(nd_last_error(), "");
+  EXPECT_ERR(nd_problem_set_nitsche(p, 1, -1), ND_ERR_NITSCHE, "nd_problem_set_nitsche", NULL);
+  EXPECT_OK(nd_problem_destroy(&p));
+  ck_assert_str_eq(nd_last_error(), "");
+  EXPECT_OK(nd_mesh_destroy(&m));
+}
+END_TEST
+
+#define ND_STATUS_ENTRY_(name, value, text) {name, value, #name, text},
+static const struct {
+  int code, value;
+  const char *name, *text;
+} statuses[] = {ND_STATUS_LIST(ND_STATUS_ENTRY_)};
+#undef ND_STATUS_ENTRY_
+static const size_t n_statuses = sizeof statuses / sizeof *statuses;
+
+START_TEST(strerror_all_codes) {
+  ck_assert_int_ge(n_statuses, 23);
+  for (size_t i = 0; i < n_statuses; ++i) {
+    ck_assert_int_eq(statuses[i].code, statuses[i].value);
+    const char *s = nd_strerror(statuses[i].code);
+    ck_assert_msg(s != NULL && s[0] != '\0', "nd_strerror(%s) is empty", statuses[i].name);
+    ck_assert_msg(strcmp(s, statuses[i].text) == 0, "nd_strerror(%s) = '%s', header says '%s'",
+                  statuses[i].name, s, statuses[i].text);
+    /* errors are negative, ND_OK is 0, ND_MONITOR_STOP positive */
+    if (strncmp(statuses[i].name, "ND_ERR_", 7) == 0)
+      ck_assert_msg(statuses[i].code < 0, "%s is not negative", statuses[i].name);
+    for (size_t j = 0; j < i; ++j) {
+      ck_assert_msg(statuses[i].code != statuses[j].code, "%s and %s share the value %d",
+                    statuses[i].name, statuses[j].name, statuses[i].code);
+      ck_assert_msg(strcmp(s, nd_strerror(statuses[j].code)) != 0,
+                    "%s and %s share the message '%s'", statuses[i].name, statuses[j].name, s);
+    }
+  }
+  ck_assert_int_eq(ND_OK, 0);
+  ck_assert_int_gt(ND_MONITOR_STOP, 0);
+  const int unknown[] = {2, 12345, -23 - 1000, -99999, 2147483647, -2147483647 - 1};
+  for (size_t i = 0; i < sizeof unknown / sizeof *unknown; ++i) {
+    const char *s = nd_strerror(unknown[i]);
+    ck_assert_msg(s != NULL && s[0] != '\0', "nd_strerror(%d) is NULL or empty", unknown[i]);
+    ck_assert_str_ne(s, nd_strerror(ND_OK));
+  }
+}
+END_TEST
+
+static Suite *api_errors_suite(void) {
+  Suite *s = suite_create("api_errors");
+
+  TCase *mesh = tcase_create("mesh");
+  tcase_add_test(mesh, mesh_null_arguments);
+  tcase_add_test(mesh, mesh_create_dimension_and_sizes);
+  tcase_add_test(mesh, mesh_create_indices);
+  tcase_add_test(mesh, mesh_create_nonfinite);
+  tcase_add_test(mesh, mesh_create_degenerate);
+  tcase_add_test(mesh, mesh_create_interval_errors);
+  tcase_add_loop_test(mesh, mesh_create_interval_error_names_function, 0, 2);
+  tcase_add_test(mesh, mesh_set_region_errors);
+  suite_add_tcase(s, mesh);
+
+  TCase *def = tcase_create("problem_definition");
+  tcase_add_test(def, problem_null_handles);
+  tcase_add_test(def, problem_null_arrays);
+  tcase_add_test(def, problem_create_degree);
+  tcase_add_test(def, problem_material);
+  tcase_add_test(def, problem_nitsche_timestep);
+  tcase_add_test(def, problem_scheme);
+  tcase_add_test(def, problem_regions_and_loads);
+  tcase_add_loop_test(def, problem_contact_normal_scale, 0, 2);
+  tcase_add_test(def, problem_newton_solver);
+  suite_add_tcase(s, def);
+
+  TCase *step = tcase_create("stepping_getters");
+  tcase_set_timeout(step, 60);
+  tcase_add_test(step, step_array_lengths);
+  tcase_add_test(step, step_unknown_keys);
+  tcase_add_test(step, step_incomplete);
+  tcase_add_test(step, step_dirichlet_after_step);
+  tcase_add_test(step, step_rejected_calls_change_nothing);
+  tcase_add_test(step, step_getter_has_no_side_effect);
+  suite_add_tcase(s, step);
+
+  TCase *codes = tcase_create("status_codes");
+  tcase_add_test(codes, last_error_cleared_by_success);
+  tcase_add_test(codes, strerror_all_codes);
+  suite_add_tcase(s, codes);
+  return s;
+}
+
+int main(void) { return nd_test_run(api_errors_suite()); }
