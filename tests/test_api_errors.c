@@ -29,8 +29,9 @@ static int contains(const char *s, const char *sub) {
     ck_assert_msg(msg_ != NULL && msg_[0] != '\0', "%s: nd_last_error() is empty", #call); \
     ck_assert_msg(strncmp(msg_, fn ": ", strlen(fn ": ")) == 0,                            \
                   "%s: message '%s' does not start with '%s: '", #call, msg_, fn);         \
-    ck_assert_msg(contains(msg_, word), "%s: message '%s' does not mention '%s'", #call,   \
-                  msg_, (const char *)(word));                                             \
+    const char *word_ = (word);                                                            \
+    ck_assert_msg(contains(msg_, word_), "%s: message '%s' does not mention '%s'", #call,  \
+                  msg_, word_ ? word_ : "");                                               \
   } while (0)
 
 /* call must succeed and leave nd_last_error() empty */
