@@ -142,6 +142,8 @@ ND_EXPORT int nd_mesh_destroy(nd_mesh *m);
 /* ---- problem: definition ---------------------------------------------- */
 /* The problem keeps its own copy of the mesh (regions included). */
 ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out);
+/* Isotropic: Young's modulus E > 0, Poisson's ratio in (-1, 1/2), density > 0.
+   2D is plane strain. In 1D sigma = E u_x and `poisson` is ignored. */
 ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson,
                                       double density);
 ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region);
