@@ -66,7 +66,9 @@ extern "C" {
   X(ND_ERR_SINGULAR, -19, "a matrix is singular")                                      \
   X(ND_ERR_NOMEM, -20, "out of memory")                                                \
   X(ND_ERR_INTERNAL, -21, "internal error")                                           \
-  X(ND_ERR_STATE, -22, "the call is not allowed in the problem's current state")
+  X(ND_ERR_STATE, -22, "the call is not allowed in the problem's current state")      \
+  X(ND_ERR_IO, -23, "a file could not be opened, read or written")                     \
+  X(ND_ERR_FORMAT, -24, "a file is malformed or uses an unsupported format")
 
 /* Time schemes for nd_problem_set_scheme: X(name, value, parameters) */
 #define ND_SCHEME_LIST(X)                                                              \
@@ -99,7 +101,10 @@ extern "C" {
 #define ND_SOLVER_LIST(X)                                                              \
   X(ND_SOLVER_AUTO, 0, "choose by size and structure")                                 \
   X(ND_SOLVER_DENSE, 1, "LAPACK dense Cholesky / LU")                                  \
-  X(ND_SOLVER_BANDED, 2, "LAPACK banded Cholesky / LU after reverse Cuthill-McKee")
+  X(ND_SOLVER_BANDED, 2, "LAPACK banded Cholesky / LU after reverse Cuthill-McKee")   \
+  X(ND_SOLVER_CHOLMOD, 3, "SuiteSparse CHOLMOD (symmetric positive definite)")          \
+  X(ND_SOLVER_UMFPACK, 4, "SuiteSparse UMFPACK (general sparse LU)")                    \
+  X(ND_SOLVER_KLU, 5, "SuiteSparse KLU (general sparse LU)")
 
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
 enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
@@ -127,6 +132,15 @@ ND_EXPORT const char *nd_strerror(int code);
 ND_EXPORT int nd_mesh_create(int dim, int64_t n_nodes, const double *coords,
                              int64_t n_cells, const int64_t *cells, nd_mesh *out);
 ND_EXPORT int nd_mesh_create_interval(int64_t n_cells, double a, double b, nd_mesh *out);
+/* nx*ny rectangles of [lo, hi], each split into 2 triangles */
+ND_EXPORT int nd_mesh_create_rectangle(int64_t nx, int64_t ny, const double lo[2],
+                                       const double hi[2], nd_mesh *out);
+/* nx*ny*nz boxes of [lo, hi], each split into 6 tetrahedra */
+ND_EXPORT int nd_mesh_create_box(int64_t nx, int64_t ny, int64_t nz, const double lo[3],
+                                 const double hi[3], nd_mesh *out);
+/* Gmsh MSH 4.1 or 2.2, ASCII: the cells of the top dimension; each physical
+   group of facets becomes the region with the group's tag. */
+ND_EXPORT int nd_mesh_read_gmsh(const char *path, nd_mesh *out);
 /* Adds boundary facets (dim vertices each) to a region (region >= 0). */
 ND_EXPORT int nd_mesh_set_region(nd_mesh m, int region, int64_t n_facets,
                                  const int64_t *facet_vertices);
@@ -188,6 +202,14 @@ ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
 /* lambda_q = -[P_q]_+/gamma_q at each contact point (<= 0: compression) */
 ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out);
 ND_EXPORT int nd_problem_destroy(nd_problem *p);
+
+/* ---- output ------------------------------------------------------------ */
+/* VTK XML unstructured grid of the current state: displacement, velocity
+   (per FE vertex node) and the contact pressure on the contact facets. */
+ND_EXPORT int nd_problem_write_vtu(nd_problem p, const char *path);
+/* A ParaView time series: n VTU files (paths as written in the .pvd) and times. */
+ND_EXPORT int nd_write_pvd(const char *path, int64_t n, const char *const *vtu_files,
+                           const double *times);
 
 #ifdef __cplusplus
 }

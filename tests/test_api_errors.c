@@ -739,13 +739,16 @@ START_TEST(problem_newton_solver) {
              "max_iter");
   EXPECT_OK(nd_problem_set_newton(p, 0, 0, 1));
 
-  EXPECT_ERR(nd_problem_set_linear_solver(p, 3), ND_ERR_KEY, "nd_problem_set_linear_solver",
-             "solver");
+  EXPECT_ERR(nd_problem_set_linear_solver(p, ND_SOLVER_KLU + 1), ND_ERR_KEY,
+             "nd_problem_set_linear_solver", "solver");
   EXPECT_ERR(nd_problem_set_linear_solver(p, -1), ND_ERR_KEY, "nd_problem_set_linear_solver",
              "solver");
   EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_AUTO));
   EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_DENSE));
   EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_BANDED));
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_CHOLMOD));
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_UMFPACK));
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_KLU));
   EXPECT_OK(nd_problem_set_mass_lumping(p, 1));
   EXPECT_OK(nd_problem_set_mass_lumping(p, 0));
   EXPECT_OK(nd_problem_destroy(&p));

@@ -32,6 +32,33 @@ ND_EXPORT int nd_mesh_create_interval(int64_t n_cells, double a, double b, nd_me
   });
 }
 
+ND_EXPORT int nd_mesh_create_rectangle(int64_t nx, int64_t ny, const double lo[2], const double hi[2],
+                                       nd_mesh *out) {
+  return nd::guarded("nd_mesh_create_rectangle", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    return publish(nd::make_rectangle(nx, ny, lo, hi), out);
+  });
+}
+
+ND_EXPORT int nd_mesh_create_box(int64_t nx, int64_t ny, int64_t nz, const double lo[3], const double hi[3],
+                                 nd_mesh *out) {
+  return nd::guarded("nd_mesh_create_box", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    return publish(nd::make_box(nx, ny, nz, lo, hi), out);
+  });
+}
+
+ND_EXPORT int nd_mesh_read_gmsh(const char *path, nd_mesh *out) {
+  return nd::guarded("nd_mesh_read_gmsh", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    nd::need(path, "path");
+    return publish(nd::read_gmsh(path), out);
+  });
+}
+
 ND_EXPORT int nd_mesh_set_region(nd_mesh m, int region, int64_t n_facets, const int64_t *facet_vertices) {
   return nd::guarded("nd_mesh_set_region", [&] {
     nd::add_region_facets(mesh_of(m).mesh, region, n_facets, facet_vertices);

@@ -161,8 +161,8 @@ ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped) {
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
   return nd::guarded("nd_problem_set_linear_solver", [&] {
     nd::Problem &pr = problem_of(p);
-    need_range(solver == ND_SOLVER_AUTO || solver == ND_SOLVER_DENSE || solver == ND_SOLVER_BANDED,
-               ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
+    need_range(solver >= ND_SOLVER_AUTO && solver <= ND_SOLVER_KLU, ND_ERR_KEY,
+               "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
     pr.set_linear_solver(solver);
     return ND_OK;
   });

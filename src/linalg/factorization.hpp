@@ -19,7 +19,9 @@ class Factorization {
   virtual const char *name() const = 0;
 };
 
-// solver: an ND_SOLVER_* value. AUTO picks by size.
-std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern);
+// solver: an ND_SOLVER_* value; s: the structure of the matrices it will
+// factor. AUTO picks by size and bandwidth, CHOLMOD falls back to UMFPACK
+// for non-symmetric matrices.
+std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s);
 
 }  // namespace nd

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "linalg/lapack_solvers.hpp"
+#include "linalg/backends.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -45,6 +45,15 @@ std::vector<int64_t> reverse_cuthill_mckee(const Csr &A) {
   return order;
 }
 
+int64_t bandwidth(const Csr &A, const std::vector<int64_t> &perm) {
+  std::vector<int64_t> inv(perm.size());
+  for (size_t i = 0; i < perm.size(); ++i) inv[perm[i]] = static_cast<int64_t>(i);
+  int64_t kd = 0;
+  for (int64_t i = 0; i < A.n; ++i)
+    for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k) kd = std::max<int64_t>(kd, std::llabs(inv[i] - inv[A.col[k]]));
+  return kd;
+}
+
 namespace {
 
 class BandedFactorization : public Factorization {
@@ -53,10 +62,7 @@ class BandedFactorization : public Factorization {
     perm_ = reverse_cuthill_mckee(pattern);
     inv_.resize(static_cast<size_t>(n_));
     for (int64_t i = 0; i < n_; ++i) inv_[perm_[i]] = i;
-    kd_ = 0;
-    for (int64_t i = 0; i < n_; ++i)
-      for (int64_t k = pattern.ptr[i]; k < pattern.ptr[i + 1]; ++k)
-        kd_ = std::max<int64_t>(kd_, std::llabs(inv_[i] - inv_[pattern.col[k]]));
+    kd_ = bandwidth(pattern, perm_);
   }
   void factor(const Csr &A, Structure s) override {
     spd_ = s == Structure::SymmetricPositiveDefinite;

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "linalg/lapack_solvers.hpp"
+#include "linalg/backends.hpp"
 #include "nitschedyn.h"
 
 namespace nd {

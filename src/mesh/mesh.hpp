@@ -36,6 +36,11 @@ struct Mesh {
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
                const int64_t *cells, const char *caller = "nd_mesh_create");
 Mesh make_interval(int64_t n_cells, double a, double b);
+// nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra
+Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi);
+Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double *hi);
+// Gmsh MSH 4.1 / 2.2 ASCII; physical groups of facets become regions.
+Mesh read_gmsh(const char *path);
 
 // Adds boundary facets given by their vertices (dim per facet) to a region.
 void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices);

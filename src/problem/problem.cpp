@@ -22,7 +22,7 @@ void Operators::mass_solve(double *x, int solver) {
     return;
   }
   if (!M_factor) {
-    M_factor = make_factorization(solver, M);
+    M_factor = make_factorization(solver, M, Structure::SymmetricPositiveDefinite);
     M_factor->factor(M, Structure::SymmetricPositiveDefinite);
   }
   M_factor->solve(x);
@@ -193,7 +193,7 @@ StepOperator &Problem::build_step_operator() {
   if (!scheme_.is_explicit()) {
     so->coef = step_coefficients(scheme_, tau_);
     csr_combine(so->coef.c, ops.M, 1.0, ops.K_theta, so->A);
-    so->A_factor = make_factorization(solver_, so->A);
+    so->A_factor = make_factorization(solver_, so->A, Structure::SymmetricPositiveDefinite);
     try {
       so->A_factor->factor(so->A, Structure::SymmetricPositiveDefinite);
     } catch (const Error &e) {
@@ -202,7 +202,7 @@ StepOperator &Problem::build_step_operator() {
                                   "): with Theta = " + std::to_string(theta_) + " the step is not "
                                   "well posed; lower gamma0 or the time step (DESIGN §3, Props 3.4-3.6)");
     }
-    if (!ops.contact.a.empty()) so->T_factor = make_factorization(solver_, so->A);
+    if (!ops.contact.a.empty()) so->T_factor = make_factorization(solver_, so->A, tangent_structure());
   }
   step_op_ = std::move(so);
   return *step_op_;
@@ -290,7 +290,7 @@ void Problem::step() {
         law.Pn = &Pn;
       }
       NewtonSystem sys{&so.A, so.A_factor.get(), so.T_factor.get(),
-                       theta_ == 1 ? Structure::SymmetricPositiveDefinite : Structure::General,
+                       tangent_structure(),
                        &ops.M, so.coef.c, so.coef.kappa, &law};
       const NewtonResult res = newton_solve(sys, r, newton_, next.U);
       if (!res.converged)

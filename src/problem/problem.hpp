@@ -74,6 +74,10 @@ class Problem {
   void equilibrium_acceleration(State &s);
   std::string missing() const;
   void definition_changed(bool operators);
+  // The Newton tangent is symmetric (and positive definite with c M + K_Theta) iff Theta = 1.
+  Structure tangent_structure() const {
+    return theta_ == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+  }
 
   std::shared_ptr<const Mesh> mesh_;
   Space space_;

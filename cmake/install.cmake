@@ -1,0 +1,5 @@
+# Install rules of the C library.
+install(TARGETS nitschedyn LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(FILES include/nitschedyn.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+file(GLOB ND_MAN3 ${PROJECT_SOURCE_DIR}/man/*.3)
+install(FILES ${ND_MAN3} DESTINATION ${CMAKE_INSTALL_MANDIR}/man3)

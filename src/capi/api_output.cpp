@@ -1,0 +1,28 @@
+// nd_problem_write_vtu, nd_write_pvd.
+#include "capi/guard.hpp"
+#include "capi/handles.hpp"
+#include "io/vtu.hpp"
+
+extern "C" {
+
+ND_EXPORT int nd_problem_write_vtu(nd_problem p, const char *path) {
+  return nd::guarded("nd_problem_write_vtu", [&] {
+    nd::need(p, "problem");
+    nd::need(path, "path");
+    nd::write_vtu(p->problem, path);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_write_pvd(const char *path, int64_t n, const char *const *vtu_files, const double *times) {
+  return nd::guarded("nd_write_pvd", [&] {
+    nd::need(path, "path");
+    if (n <= 0) nd::fail(ND_ERR_SIZE, "n must be positive");
+    nd::need(vtu_files, "vtu_files");
+    nd::need(times, "times");
+    nd::write_pvd(path, n, vtu_files, times);
+    return ND_OK;
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,124 @@
+#include "io/vtu.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+#include "problem/problem.hpp"
+
+namespace nd {
+namespace {
+
+using File = std::unique_ptr<FILE, int (*)(FILE *)>;
+
+File open_for_writing(const char *path) {
+  File f(std::fopen(path, "w"), &std::fclose);
+  if (!f) fail(ND_ERR_IO, std::string("cannot open '") + path + "' for writing");
+  return f;
+}
+
+void close_checked(File &f, const char *path) {
+  const bool bad = std::ferror(f.get()) != 0;
+  if (std::fclose(f.release()) != 0 || bad) fail(ND_ERR_IO, std::string("error writing '") + path + "'");
+}
+
+// VTK cell types and the VTK order of our local nodes (vertices, then edges
+// (0,1),(0,2),...,(1,2),... lexicographically).
+struct VtkCell {
+  int type;
+  std::vector<int> order;
+};
+VtkCell vtk_cell(int dim, int degree) {
+  if (degree == 1) return {dim == 1 ? 3 : dim == 2 ? 5 : 10, dim == 1 ? std::vector<int>{0, 1} : dim == 2 ? std::vector<int>{0, 1, 2} : std::vector<int>{0, 1, 2, 3}};
+  if (dim == 1) return {21, {0, 1, 2}};
+  if (dim == 2) return {22, {0, 1, 2, 3, 5, 4}};        // edges (0,1),(1,2),(2,0)
+  return {24, {0, 1, 2, 3, 4, 7, 5, 6, 8, 9}};           // (0,1),(1,2),(2,0),(0,3),(1,3),(2,3)
+}
+int vtk_facet_type(int dim) { return dim == 1 ? 1 : dim == 2 ? 3 : 5; }  // vertex, line, triangle
+
+void write_vector_field(FILE *f, const char *name, const std::vector<double> &full, int dim, int64_t n) {
+  std::fprintf(f, "        <DataArray type=\"Float64\" Name=\"%s\" NumberOfComponents=\"3\" format=\"ascii\">\n", name);
+  for (int64_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) std::fprintf(f, "%.17g%c", k < dim ? full[i * dim + k] : 0.0, k == 2 ? '\n' : ' ');
+  std::fprintf(f, "        </DataArray>\n");
+}
+
+}  // namespace
+
+void write_vtu(Problem &p, const char *path) {
+  const Space &s = p.space();
+  const Mesh &m = *s.mesh;
+  const int d = s.dim;
+  std::vector<double> U(s.n_dofs()), V(s.n_dofs());
+  p.field(ND_FIELD_DISPLACEMENT, U.data());
+  p.field(ND_FIELD_VELOCITY, V.data());
+  // mean contact pressure per contact facet
+  const ContactPoints &cp = p.operators().contact;
+  const std::vector<double> lam = p.contact_pressure();
+  std::map<int64_t, std::pair<double, double>> facet_pressure;  // facet -> (sum w lambda, sum w)
+  for (size_t q = 0; q < cp.size(); ++q) {
+    auto &acc = facet_pressure[cp.facet[q]];
+    acc.first += cp.w[q] * lam[q];
+    acc.second += cp.w[q];
+  }
+  const VtkCell cell = vtk_cell(d, s.degree);
+  const int64_t n_cells = m.n_cells, n_facets = static_cast<int64_t>(facet_pressure.size());
+  File f = open_for_writing(path);
+  FILE *o = f.get();
+  std::fprintf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+  std::fprintf(o, "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n",
+               static_cast<long long>(s.n_nodes), static_cast<long long>(n_cells + n_facets));
+  std::fprintf(o, "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+  for (int64_t i = 0; i < s.n_nodes; ++i)
+    for (int k = 0; k < 3; ++k) std::fprintf(o, "%.17g%c", k < d ? s.node_coords[i * d + k] : 0.0, k == 2 ? '\n' : ' ');
+  std::fprintf(o, "        </DataArray>\n      </Points>\n      <Cells>\n");
+  std::fprintf(o, "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+  for (int64_t c = 0; c < n_cells; ++c)
+    for (size_t k = 0; k < cell.order.size(); ++k)
+      std::fprintf(o, "%lld%c", static_cast<long long>(s.nodes_of(c)[cell.order[k]]), k + 1 == cell.order.size() ? '\n' : ' ');
+  for (auto &fp : facet_pressure) {  // contact facets through their vertices
+    const auto v = m.facet_vertices(m.boundary[fp.first]);
+    for (int k = 0; k < d; ++k) std::fprintf(o, "%lld%c", static_cast<long long>(v[k]), k + 1 == d ? '\n' : ' ');
+  }
+  std::fprintf(o, "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+  int64_t offset = 0;
+  for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%lld\n", static_cast<long long>(offset += static_cast<int64_t>(cell.order.size())));
+  for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%lld\n", static_cast<long long>(offset += d));
+  std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+  for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%d\n", cell.type);
+  for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%d\n", vtk_facet_type(d));
+  std::fprintf(o, "        </DataArray>\n      </Cells>\n      <PointData Vectors=\"displacement\">\n");
+  write_vector_field(o, "displacement", U, d, s.n_nodes);
+  write_vector_field(o, "velocity", V, d, s.n_nodes);
+  std::fprintf(o, "      </PointData>\n      <CellData Scalars=\"contact_pressure\">\n");
+  std::fprintf(o, "        <DataArray type=\"Float64\" Name=\"contact_pressure\" format=\"ascii\">\n");
+  for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "0\n");
+  for (auto &fp : facet_pressure) std::fprintf(o, "%.17g\n", fp.second.first / fp.second.second);
+  std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"contact_facet\" format=\"ascii\">\n");
+  for (int64_t c = 0; c < n_cells + n_facets; ++c) std::fprintf(o, "%d\n", c >= n_cells ? 1 : 0);
+  std::fprintf(o, "        </DataArray>\n      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+  close_checked(f, path);
+}
+
+void write_pvd(const char *path, int64_t n, const char *const *files, const double *times) {
+  for (int64_t i = 0; i < n; ++i) {
+    if (!files[i]) fail(ND_ERR_NULL, "vtu_files[" + std::to_string(i) + "] is NULL");
+    if (!std::isfinite(times[i])) fail(ND_ERR_NONFINITE, "times[" + std::to_string(i) + "] is not finite");
+    for (const char *c = files[i]; *c; ++c)
+      if (*c == '"' || *c == '<' || *c == '&')
+        fail(ND_ERR_VALUE, "vtu_files[" + std::to_string(i) + "] contains a character that XML would need escaped");
+  }
+  File f = open_for_writing(path);
+  std::fprintf(f.get(), "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
+  for (int64_t i = 0; i < n; ++i)
+    std::fprintf(f.get(), "    <DataSet timestep=\"%.17g\" part=\"0\" file=\"%s\"/>\n", times[i], files[i]);
+  std::fprintf(f.get(), "  </Collection>\n</VTKFile>\n");
+  close_checked(f, path);
+}
+
+}  // namespace nd
