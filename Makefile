@@ -4,12 +4,13 @@
 #   make demo       build and run the demonstration scenes
 #   make install    install into $(PREFIX)
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
+#   make meshes     regenerate examples/meshes/*.msh from the .geo sources (gmsh)
 BUILD    ?= build
 PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -36,6 +37,14 @@ check-sanitize: deps
 
 check-valgrind: all
 	sh scripts/check-valgrind.sh $(BUILD)
+
+# Regenerate the committed reference meshes (needs Debian's gmsh).
+MESHES = examples/meshes
+meshes:
+	for h in 4 2 1; do \
+	  gmsh -2 -setnumber h $$h -format msh41 $(MESHES)/disk.geo -o $(MESHES)/disk_h$$h.msh || exit 1; \
+	  gmsh -3 -setnumber h $$h -format msh41 $(MESHES)/ball.geo -o $(MESHES)/ball_h$$h.msh || exit 1; \
+	done
 
 clean:
 	rm -rf $(BUILD) build-sanitize
