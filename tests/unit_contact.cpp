@@ -25,8 +25,9 @@ struct Scene {
   nd::ContactPoints cp;
 };
 
-// 1D: contact at x = 0.3 against a plane at x = 0.25 (gap 0.05); 2D: the
-// bottom y = 0 against the plane y = -0.05. Optionally clamped at the far end.
+// 1D: contact at x = 0.3 against a plane at x = 0.25 (gap 0.05); 2D, 3D: the
+// bottom y = 0 (z = 0) against the plane y = -0.05 (z = -0.05). Optionally
+// clamped at the far end.
 Scene make_scene(int dim, int degree, bool clamp) {
   Scene s;
   if (dim == 1) {
@@ -34,9 +35,14 @@ Scene make_scene(int dim, int degree, bool clamp) {
     const double lo0 = 0, hi0 = 0.31, lo1 = 1.9, hi1 = 2.1;
     nd::add_region_box(*s.mesh, 1, &lo0, &hi0);
     nd::add_region_box(*s.mesh, 2, &lo1, &hi1);
-  } else {
+  } else if (dim == 2) {
     s.mesh = ndtest::irregular_rectangle(3);
     const double lo0[2] = {-1, -1}, hi0[2] = {3, 0}, lo1[2] = {-1, 1}, hi1[2] = {3, 2};
+    nd::add_region_box(*s.mesh, 1, lo0, hi0);
+    nd::add_region_box(*s.mesh, 2, lo1, hi1);
+  } else {
+    s.mesh = ndtest::cube_of_tets();
+    const double lo0[3] = {-1, -1, -1}, hi0[3] = {2, 2, 0}, lo1[3] = {-1, -1, 1}, hi1[3] = {2, 2, 2};
     nd::add_region_box(*s.mesh, 1, lo0, hi0);
     nd::add_region_box(*s.mesh, 2, lo1, hi1);
   }
@@ -44,7 +50,7 @@ Scene make_scene(int dim, int degree, bool clamp) {
   s.dofs = std::make_unique<nd::DofMap>(*s.space, clamp ? std::vector<int>{2} : std::vector<int>{});
   nd::ContactPlane pl{1, {0, 0, 0}, {0, 0, 0}};
   pl.point[0] = dim == 1 ? 0.25 : 0.0;
-  pl.point[1] = dim == 1 ? 0.0 : -0.05;
+  pl.point[dim - 1] = dim == 1 ? 0.25 : -0.05;
   pl.normal[dim - 1] = 1;
   s.cp = nd::assemble_contact(*s.space, *s.dofs, mat, {pl}, 0.3);
   return s;
@@ -53,12 +59,12 @@ Scene make_scene(int dim, int degree, bool clamp) {
 }  // namespace
 
 START_TEST(rows_give_normal_displacement_and_stress) {
-  for (int dim = 1; dim <= 2; ++dim)
+  for (int dim = 1; dim <= 3; ++dim)
     for (int degree = 1; degree <= 2; ++degree) {
       Scene s = make_scene(dim, degree, false);
       ck_assert_int_gt(static_cast<int>(s.cp.size()), 0);
       // u = B x + c, with n = -e_dim: u_n = -u_dim, sigma_n = lambda tr(eps) + 2 mu eps_{dd}
-      const double B[2][2] = {{0.4, -0.2}, {0.5, 0.25}}, c[2] = {0.1, -0.3};
+      const double B[3][3] = {{0.4, -0.2, 0.1}, {0.5, 0.25, -0.3}, {0.2, -0.15, 0.35}}, c[3] = {0.1, -0.3, 0.2};
       std::vector<double> U(s.space->n_dofs());
       for (int64_t i = 0; i < s.space->n_nodes; ++i)
         for (int a = 0; a < dim; ++a) {
@@ -75,11 +81,12 @@ START_TEST(rows_give_normal_displacement_and_stress) {
         for (int b = 0; b < dim; ++b) u_last += B[dim - 1][b] * x[b];
         ck_assert_double_eq_tol(s.cp.a[q].dot(U.data()), -u_last, 1e-14);
         ck_assert_double_eq_tol(s.cp.s[q].dot(U.data()), sigma_n, 1e-12);
-        ck_assert_double_eq_tol(s.cp.gap[q], dim == 1 ? 0.05 : 0.05, 1e-14);
+        ck_assert_double_eq_tol(s.cp.gap[q], 0.05, 1e-14);
         total_weight += s.cp.w[q];
       }
-      // the weights integrate 1 over the contact boundary: a point, or the side of length 2
-      ck_assert_double_eq_tol(total_weight, dim == 1 ? 1.0 : 2.0, 1e-14);
+      // the weights integrate 1 over the contact boundary: a point, the side of
+      // length 2, the unit square face
+      ck_assert_double_eq_tol(total_weight, dim == 2 ? 2.0 : 1.0, 1e-14);
     }
 }
 END_TEST
@@ -124,7 +131,7 @@ START_TEST(tangent_matches_finite_differences) {
   std::uniform_real_distribution<double> uni(-0.2, 0.2);
   const double thetas[] = {1.0, 0.0, -1.0};
   int checked_active = 0;
-  for (int dim = 1; dim <= 2; ++dim)
+  for (int dim = 1; dim <= 3; ++dim)
     for (int degree = 1; degree <= 2; ++degree)
       for (double theta : thetas)
         for (int hybrid = 0; hybrid <= 1; ++hybrid) {

@@ -159,6 +159,53 @@ START_TEST(load_vector_integrates_the_body_force) {
 }
 END_TEST
 
+START_TEST(patch_test_constant_strain) {
+  // u = B x + c has constant strain: K u must equal the load of its boundary
+  // tractions sigma(u) n, side by side, exactly (P1 and P2, 2D and 3D, on
+  // distorted triangles and on tetrahedra).
+  const double B[3][3] = {{0.3, -0.1, 0.2}, {0.25, -0.4, 0.05}, {-0.15, 0.1, 0.35}}, c[3] = {0.1, 0.2, -0.3};
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree) {
+      auto mesh = dim == 2 ? ndtest::irregular_rectangle(3) : ndtest::cube_of_tets();
+      const double ext[3] = {dim == 2 ? 2.0 : 1.0, 1.0, 1.0};
+      // one region per side, with its outward normal
+      std::vector<nd::NeumannLoad> sides;
+      const double lam = steel_like.lambda(dim), mu = steel_like.mu(dim);
+      double trace = 0;
+      for (int k = 0; k < dim; ++k) trace += B[k][k];
+      for (int k = 0; k < dim; ++k)
+        for (int side = 0; side < 2; ++side) {
+          double lo[3], hi[3], n[3] = {0, 0, 0};
+          for (int j = 0; j < 3; ++j) lo[j] = -1, hi[j] = 3;
+          lo[k] = hi[k] = side ? ext[k] : 0.0;
+          n[k] = side ? 1 : -1;
+          const int region = 2 * k + side;
+          nd::add_region_box(*mesh, region, lo, hi);
+          nd::NeumannLoad nl{region, {0, 0, 0}};
+          for (int a = 0; a < dim; ++a)  // sigma n = lambda tr(B) n + mu (B + B^T) n
+            for (int b = 0; b < dim; ++b)
+              nl.g[a] += (a == b ? lam * trace : 0.0) * n[b] + mu * (B[a][b] + B[b][a]) * n[b];
+          sides.push_back(nl);
+        }
+      nd::Space s(mesh, degree);
+      nd::DofMap dofs(s, {});
+      nd::BulkOperators ops = nd::assemble_bulk(s, dofs, steel_like);
+      auto u = interpolate(s, [&](const double *x, double *v) {
+        for (int a = 0; a < dim; ++a) {
+          v[a] = c[a];
+          for (int b = 0; b < dim; ++b) v[a] += B[a][b] * x[b];
+        }
+      });
+      std::vector<double> Ku(u.size());
+      ops.K.multiply(u.data(), Ku.data());
+      const std::vector<double> F = nd::assemble_load(s, dofs, nullptr, sides);
+      double diff = 0;
+      for (size_t i = 0; i < F.size(); ++i) diff = std::max(diff, std::fabs(Ku[i] - F[i]));
+      ck_assert_msg(diff <= 1e-13 * max_abs(F), "dim %d P%d: |K u - F| = %g (|F| = %g)", dim, degree, diff, max_abs(F));
+    }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("operators");
   TCase *tc = tcase_create("bulk");
@@ -166,6 +213,7 @@ int main(void) {
   tcase_add_test(tc, stiffness_annihilates_rigid_motions);
   tcase_add_test(tc, p1_and_p2_agree_on_linear_fields);
   tcase_add_test(tc, load_vector_integrates_the_body_force);
+  tcase_add_test(tc, patch_test_constant_strain);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
