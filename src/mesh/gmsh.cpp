@@ -225,17 +225,16 @@ Mesh read_gmsh(const char *path) {
   Tokens tk(path);
   tk.expect("$MeshFormat");
   const std::string version = tk.word("the format version");
-  const int64_t file_type = tk.integer("the file type");
+  const bool v4 = version == "4.1", v2 = version.compare(0, 2, "2.") == 0;
+  if (!v4 && !v2) tk.error("MSH version " + version + " is not supported (4.1 and 2.2 are)");
+  if (tk.integer("the file type") != 0) tk.error("binary MSH files are not supported; save as ASCII");
   tk.integer("the data size");
-  if (file_type != 0) tk.error("binary MSH files are not supported; save as ASCII");
   tk.expect("$EndMeshFormat");
   RawMesh raw;
-  if (version == "4.1")
+  if (v4)
     read_v4(tk, raw);
-  else if (version.compare(0, 2, "2.") == 0)
-    read_v2(tk, raw);
   else
-    tk.error("MSH version " + version + " is not supported (4.1 and 2.2 are)");
+    read_v2(tk, raw);
 
   int top = -1;
   for (const Element &e : raw.elements) top = std::max(top, e.dim);
