@@ -202,7 +202,10 @@ StepOperator &Problem::build_step_operator() {
                                   "): with Theta = " + std::to_string(theta_) + " the step is not "
                                   "well posed; lower gamma0 or the time step (DESIGN §3, Props 3.4-3.6)");
     }
-    if (!ops.contact.a.empty()) so->T_factor = make_factorization(solver_, so->A, tangent_structure());
+    if (!ops.contact.a.empty()) {
+      so->T = so->A;
+      so->T_factor = make_factorization(solver_, so->A, tangent_structure());
+    }
   }
   step_op_ = std::move(so);
   return *step_op_;
@@ -289,7 +292,7 @@ void Problem::step() {
         for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = law.P(q, old.U.data());
         law.Pn = &Pn;
       }
-      NewtonSystem sys{&so.A, so.A_factor.get(), so.T_factor.get(),
+      NewtonSystem sys{&so.A, so.A_factor.get(), so.T_factor.get(), &so.T,
                        tangent_structure(),
                        &ops.M, so.coef.c, so.coef.kappa, &law};
       const NewtonResult res = newton_solve(sys, r, newton_, next.U);

@@ -29,6 +29,7 @@ struct Operators {
 
 struct StepOperator {
   Csr A;  // c M + K_Theta
+  Csr T;  // Newton tangent workspace, same pattern
   StepCoefficients coef;
   std::unique_ptr<Factorization> A_factor, T_factor;
 };

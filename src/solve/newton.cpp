@@ -27,7 +27,6 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
   std::vector<double> G(U.size()), MU(U.size());
   std::vector<char> active, previous;
   const double r_norm = norm2(n, r.data());
-  Csr T = *sys.A;
   NewtonResult res;
   res.residual = residual(sys, r, U, G, active);
   for (int it = 1; it <= opt.max_iter; ++it) {
@@ -37,9 +36,9 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     for (char a : active) any_active |= a != 0;
     for (auto &g : G) g = -g;
     if (any_active) {  // tangent = A + kappa N'(U), refactored numerically
-      T.val = sys.A->val;
-      sys.law->add_tangent(U.data(), sys.kappa, T);
-      sys.T_factor->factor(T, sys.tangent_structure);
+      sys.T->val = sys.A->val;  // same size: no allocation
+      sys.law->add_tangent(U.data(), sys.kappa, *sys.T);
+      sys.T_factor->factor(*sys.T, sys.tangent_structure);
       sys.T_factor->solve(G.data());
     } else {
       sys.A_factor->solve(G.data());

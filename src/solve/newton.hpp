@@ -19,6 +19,7 @@ struct NewtonSystem {
   const Csr *A;                  // c M + K_Theta
   const Factorization *A_factor; // its factorization, used while no point is active
   Factorization *T_factor;       // for tangents with active points
+  Csr *T;                        // workspace for the tangent (the pattern of A)
   Structure tangent_structure;   // SPD when Theta = 1
   const Csr *M;
   double c, kappa;
