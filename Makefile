@@ -4,13 +4,14 @@
 #   make demo       build and run the demonstration scenes
 #   make install    install into $(PREFIX)
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
+#   make bench      run the benchmarks (bench/run.sh), results in bench/results/
 #   make meshes     regenerate examples/meshes/*.msh from the .geo sources (gmsh)
 BUILD    ?= build
 PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -37,6 +38,10 @@ check-sanitize: deps
 
 check-valgrind: all
 	sh scripts/check-valgrind.sh $(BUILD)
+
+# Benchmarks (not tests): bench/results/*.csv
+bench: all
+	sh bench/run.sh $(BUILD)
 
 # Regenerate the committed reference meshes (needs Debian's gmsh).
 MESHES = examples/meshes

@@ -97,6 +97,30 @@ static double get(nd_problem p, int key) {
   return x;
 }
 
+int drop_scene_create(int dim, const char *mesh, int degree, int scheme, const double *params, double Theta,
+                      double gamma0, double tau, int solver, nd_problem *out) {
+  const double lambda = 20, mu = 20; /* E and nu from the Lame coefficients */
+  const double young = mu * (3 * lambda + 2 * mu) / (lambda + mu), nu = lambda / (2 * (lambda + mu));
+  const double g[3] = {0, dim == 2 ? -0.1 : 0, dim == 3 ? -0.1 : 0}, origin[3] = {0, 0, 0};
+  const double up[3] = {0, dim == 2 ? 1 : 0, dim == 3 ? 1 : 0};
+  nd_mesh m = NULL;
+  int mdim = 0, st = nd_mesh_read_gmsh(mesh, &m);
+  if (st == ND_OK) st = nd_mesh_get_dimension(m, &mdim);
+  if (st == ND_OK && mdim != dim) st = ND_ERR_DIMENSION;
+  if (st == ND_OK) st = nd_problem_create(m, degree, out);
+  nd_mesh_destroy(&m); /* the problem keeps its own copy */
+  if (st == ND_OK) st = nd_problem_set_material(*out, young, nu, 1.0);
+  if (st == ND_OK) st = nd_problem_set_body_force(*out, g);
+  if (st == ND_OK) st = nd_problem_set_contact_plane(*out, 1, origin, up);
+  if (st == ND_OK) st = nd_problem_set_nitsche(*out, Theta, gamma0);
+  if (st == ND_OK) st = nd_problem_set_scheme(*out, scheme, params);
+  if (st == ND_OK) st = nd_problem_set_timestep(*out, tau);
+  if (st == ND_OK) st = nd_problem_set_linear_solver(*out, solver);
+  if (st == ND_ERR_DIMENSION && mdim != dim && mdim > 0)
+    fprintf(stderr, "%s is a %dD mesh, the scene is %dD\n", mesh, mdim, dim);
+  return st;
+}
+
 #define TRY(call)                                                 \
   do {                                                            \
     if ((call) != ND_OK) {                                        \
@@ -111,33 +135,14 @@ int drop_scene_main(int argc, char **argv, int dim) {
   const int parsed = parse(argc, argv, dim, &o, default_mesh, sizeof default_mesh);
   if (parsed) return parsed == 1 ? 0 : 2;
   int status = 1;
-  nd_mesh m = NULL;
   nd_problem p = NULL;
   char **files = NULL;
   double *times = NULL;
-  const double lambda = 20, mu = 20;
-  const double young = mu * (3 * lambda + 2 * mu) / (lambda + mu), nu = lambda / (2 * (lambda + mu));
-  const double g[3] = {0, dim == 2 ? -0.1 : 0, dim == 3 ? -0.1 : 0}, origin[3] = {0, 0, 0};
-  const double up[3] = {0, dim == 2 ? 1 : 0, dim == 3 ? 1 : 0};
   const int64_t steps = (int64_t)(o.T / o.tau + 0.5), every = (int64_t)(o.every / o.tau + 0.5) > 0 ? (int64_t)(o.every / o.tau + 0.5) : 1;
   int64_t n_nodes = 0, n_files = 0;
   double t0 = now(), t_setup = 0, t_loop = 0, max_pen = 0, newton = 0;
-  int mdim = 0;
 
-  TRY(nd_mesh_read_gmsh(o.mesh, &m));
-  TRY(nd_mesh_get_dimension(m, &mdim));
-  if (mdim != dim) {
-    fprintf(stderr, "%s: %s is a %dD mesh, this scene is %dD\n", argv[0], o.mesh, mdim, dim);
-    goto done;
-  }
-  TRY(nd_problem_create(m, o.degree, &p));
-  TRY(nd_problem_set_material(p, young, nu, 1.0));
-  TRY(nd_problem_set_body_force(p, g));
-  TRY(nd_problem_set_contact_plane(p, 1, origin, up));
-  TRY(nd_problem_set_nitsche(p, o.Theta, o.gamma0));
-  TRY(nd_problem_set_scheme(p, o.scheme, o.params));
-  TRY(nd_problem_set_timestep(p, o.tau));
-  TRY(nd_problem_set_linear_solver(p, o.solver));
+  TRY(drop_scene_create(dim, o.mesh, o.degree, o.scheme, o.params, o.Theta, o.gamma0, o.tau, o.solver, &p));
   TRY(nd_problem_get_node_count(p, &n_nodes));
   t_setup = now() - t0;
   if (!o.quiet) {
@@ -188,6 +193,5 @@ done:
   free(files);
   free(times);
   nd_problem_destroy(&p);
-  nd_mesh_destroy(&m);
   return status;
 }

@@ -60,6 +60,8 @@ class Problem {
   const State &state();
   const Operators &operators() { return build_operators(); }
   double theta() const { return theta_; }
+  // the step operator once built (benchmarks time its solve: the floor of a step)
+  const StepOperator *step_operator() const { return step_op_.get(); }
   void field(int which, double *full);  // n_dofs values
   double scalar(int key);
   std::vector<double> contact_pressure();  // lambda_q
