@@ -5,11 +5,14 @@
 
 namespace nd {
 
-// AUTO: dense LU/Cholesky costs nothing below a few hundred unknowns; a
-// pattern that reverse Cuthill-McKee makes narrow (1D meshes: half-bandwidth
-// 1-4) is cheapest banded; anything else goes to the sparse direct solvers.
-// The thresholds are measured by bench/solvers (see bench/README.md).
-constexpr int64_t kDenseMax = 200, kBandMax = 16;
+// AUTO, from bench/solver_crossover (bench/results/solver_crossover.csv, 2D
+// P1, c M + K): a step pays one solve, a Newton iteration with active contact
+// a factorization too. Dense factorization beats CHOLMOD up to ~130 unknowns
+// but a dense solve is 3x slower than CHOLMOD's already at 56 (2.7 vs 0.8 us),
+// so dense only below 40. Banded factors faster than CHOLMOD in 2D but solves
+// 1.6x slower at 870 unknowns: it is kept for patterns that reverse
+// Cuthill-McKee makes truly narrow (1D meshes: half-bandwidth 1-4).
+constexpr int64_t kDenseMax = 40, kBandMax = 16;
 
 std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s) {
   const bool spd = s == Structure::SymmetricPositiveDefinite;
