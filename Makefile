@@ -11,7 +11,7 @@ PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -38,6 +38,10 @@ check-sanitize: deps
 
 check-valgrind: all
 	sh scripts/check-valgrind.sh $(BUILD)
+
+# Record the public ABI (abi/nitschedyn.abi) after a deliberate change of the API.
+abi-update: all
+	cmake --build $(BUILD) --target abi-update
 
 # Benchmarks (not tests): bench/results/*.csv
 bench: all

@@ -4,7 +4,7 @@
 set -e
 need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc; do
+for pkg in cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy; do
   have_pkg "$pkg" || need="$need $pkg"
 done
 [ -z "$need" ] && exit 0

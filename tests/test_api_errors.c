@@ -181,6 +181,17 @@ START_TEST(mesh_null_arguments) {
 }
 END_TEST
 
+START_TEST(mesh_create_orphan_vertex) {
+  /* node 3 belongs to no cell: it would carry unknowns with no mass and no
+     stiffness (a lumped mass then wrote outside its matrix) */
+  const double x[] = {0, 1, 2, 5};
+  const int64_t c[] = {0, 1, 1, 2};
+  nd_mesh m = MESH_SENTINEL;
+  EXPECT_ERR(nd_mesh_create(1, 4, x, 2, c, &m), ND_ERR_INDEX, "nd_mesh_create", "vertex 3");
+  ck_assert_ptr_null(m);
+}
+END_TEST
+
 START_TEST(mesh_create_dimension_and_sizes) {
   const double x[] = {0, 1, 2};
   const int64_t c[] = {0, 1, 1, 2};
@@ -1102,6 +1113,7 @@ static Suite *api_errors_suite(void) {
   TCase *mesh = tcase_create("mesh");
   tcase_add_test(mesh, mesh_null_arguments);
   tcase_add_test(mesh, mesh_create_dimension_and_sizes);
+  tcase_add_test(mesh, mesh_create_orphan_vertex);
   tcase_add_test(mesh, mesh_create_indices);
   tcase_add_test(mesh, mesh_create_nonfinite);
   tcase_add_test(mesh, mesh_create_degenerate);

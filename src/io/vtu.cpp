@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/c_locale.hpp"
 #include "common/error.hpp"
 #include "nitschedyn.h"
 #include "problem/problem.hpp"
@@ -51,6 +52,7 @@ void write_vector_field(FILE *f, const char *name, const std::vector<double> &fu
 }  // namespace
 
 void write_vtu(Problem &p, const char *path) {
+  const ClassicNumericLocale c_locale;  // VTK wants '.' as the decimal point
   const Space &s = p.space();
   const Mesh &m = *s.mesh;
   const int d = s.dim;
@@ -113,6 +115,7 @@ void write_pvd(const char *path, int64_t n, const char *const *files, const doub
       if (*c == '"' || *c == '<' || *c == '&')
         fail(ND_ERR_VALUE, "vtu_files[" + std::to_string(i) + "] contains a character that XML would need escaped");
   }
+  const ClassicNumericLocale c_locale;
   File f = open_for_writing(path);
   std::fprintf(f.get(), "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
   for (int64_t i = 0; i < n; ++i)

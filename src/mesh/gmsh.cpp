@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/c_locale.hpp"
 #include "common/error.hpp"
 #include "mesh/mesh.hpp"
 #include "nitschedyn.h"
@@ -222,6 +223,7 @@ double orientation(int dim, const std::vector<std::array<double, 3>> &x) {
 }  // namespace
 
 Mesh read_gmsh(const char *path) {
+  const ClassicNumericLocale c_locale;  // numbers in the file use '.', whatever the caller's locale
   Tokens tk(path);
   tk.expect("$MeshFormat");
   const std::string version = tk.word("the format version");
@@ -281,7 +283,8 @@ Mesh read_gmsh(const char *path) {
   }
   for (auto &kv : facets) {
     if (kv.first < 0 || kv.first > 2147483647) fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(kv.first) + " is not a valid region");
-    add_region_facets(m, static_cast<int>(kv.first), static_cast<int64_t>(kv.second.size()) / top, kv.second.data());
+    add_region_facets(m, static_cast<int>(kv.first), static_cast<int64_t>(kv.second.size()) / top, kv.second.data(),
+                      std::string("nd_mesh_read_gmsh: ") + path + ": physical group " + std::to_string(kv.first) + ": ");
   }
   return m;
 }

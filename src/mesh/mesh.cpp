@@ -120,6 +120,12 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
                                   (dim == 1 ? "left to right" : dim == 2 ? "counter-clockwise"
                                                                           : "with positive volume"));
   }
+  // An orphan vertex would carry unknowns with no mass and no stiffness.
+  std::vector<char> used(static_cast<size_t>(n_vertices), 0);
+  for (int64_t v : m.cells) used[v] = 1;
+  for (int64_t v = 0; v < n_vertices; ++v)
+    if (!used[v])
+      fail(ND_ERR_INDEX, fn + "vertex " + std::to_string(v) + " belongs to no cell; every vertex must belong to one");
   find_boundary(m, fn);
   return m;
 }
@@ -141,8 +147,8 @@ Mesh make_interval(int64_t n_cells, double a, double b) {
   return make_mesh(1, n_cells + 1, x.data(), n_cells, cells.data(), "nd_mesh_create_interval");
 }
 
-void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices) {
-  const std::string fn = "nd_mesh_set_region: ";
+void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices,
+                       const std::string &fn) {
   if (region < 0) fail(ND_ERR_REGION, fn + "region must be >= 0");
   if (n_facets <= 0) fail(ND_ERR_SIZE, fn + "n_facets must be positive");
   if (!facet_vertices) fail(ND_ERR_NULL, fn + "facet_vertices is NULL");

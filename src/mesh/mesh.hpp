@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace nd {
@@ -42,8 +43,10 @@ Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double
 // Gmsh MSH 4.1 / 2.2 ASCII; physical groups of facets become regions.
 Mesh read_gmsh(const char *path);
 
-// Adds boundary facets given by their vertices (dim per facet) to a region.
-void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices);
+// Adds boundary facets given by their vertices (dim per facet) to a region;
+// errors start with `fn` (the caller, and for files the file name).
+void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices,
+                       const std::string &fn = "nd_mesh_set_region: ");
 // Adds the boundary facets whose vertices all lie in [lo, hi].
 void add_region_box(Mesh &m, int region, const double *lo, const double *hi);
 

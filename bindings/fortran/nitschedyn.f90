@@ -1,0 +1,502 @@
+! nitschedyn.f90 - the Fortran 2018 interface of libnitschedyn (module nitschedyn).
+!
+! Hand-written bind(C) interfaces, in the style of SUNDIALS' Fortran 2003
+! modules: every function of nitschedyn.h is callable from Fortran under its
+! own C name, with the same arguments in the same order, so that the C manual
+! pages document it. The C types map as follows (see nitschedyn_fortran(3)):
+!
+!   nd_mesh, nd_problem (by value)  type(c_ptr), value
+!   nd_mesh *, nd_problem * (out)   type(c_ptr)              (by reference)
+!   int, int64_t, double (by value) integer(c_int), integer(c_int64_t), real(c_double), value
+!   int *, int64_t *, double * (out scalar)  the same kinds, by reference
+!   const double *, double * (arrays)        real(c_double), dimension(*)
+!   const int64_t * (arrays)                 integer(c_int64_t), dimension(*)
+!   pointers that C allows to be NULL        optional (absent means NULL; F2018)
+!   const char * (in)                        character(kind=c_char), dimension(*),
+!                                            NUL-terminated: use the *_f wrappers
+!   const char * (returned)                  type(c_ptr): use the *_f wrappers
+!   nd_monitor_fn, void *userdata            type(c_funptr), type(c_ptr), value
+!
+! Booleans are integer(c_int) (0 false, non-zero true), never logical.
+! The ND_* constants are integer(c_int) parameters generated at build time
+! from the X-macro lists of the header (nitschedyn_constants.inc).
+module nitschedyn
+  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char, c_ptr, c_funptr, &
+                                         c_null_char, c_null_ptr, c_size_t, c_f_pointer, c_loc, &
+                                         c_associated
+  implicit none
+  private
+
+  include 'nitschedyn_constants.inc'
+
+  ! ---- the C functions, under their C names --------------------------------
+  public :: nd_version, nd_last_error, nd_strerror
+  public :: nd_mesh_create, nd_mesh_create_interval, nd_mesh_create_rectangle, nd_mesh_create_box, &
+            nd_mesh_read_gmsh, nd_mesh_set_region, nd_mesh_mark_boundary_box, nd_mesh_get_dimension, &
+            nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy
+  public :: nd_problem_create, nd_problem_set_material, nd_problem_set_dirichlet, &
+            nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
+            nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
+            nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_linear_solver, &
+            nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor
+  public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
+            nd_problem_get_contact_point_count, nd_problem_get_contact_points
+  public :: nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
+  public :: nd_problem_write_vtu, nd_write_pvd
+  ! ---- the monitor's interface and the Fortran string wrappers --------------
+  public :: nd_monitor_fn
+  public :: nd_last_error_f, nd_strerror_f, nd_mesh_read_gmsh_f, nd_problem_write_vtu_f, nd_write_pvd_f
+
+  abstract interface
+    ! A monitor: called after every accepted step of nd_step; a non-zero
+    ! result makes nd_step return ND_MONITOR_STOP (the step is kept). Write it
+    !   integer(c_int) function my_monitor(p, userdata) bind(C)
+    !     type(c_ptr), value :: p, userdata
+    ! and pass c_funloc(my_monitor) to nd_problem_set_monitor.
+    function nd_monitor_fn(p, userdata) result(stop_run) bind(C)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p, userdata
+      integer(c_int) :: stop_run
+    end function nd_monitor_fn
+  end interface
+
+  interface
+    ! ---- library --------------------------------------------------------------
+    function nd_version(major, minor, patch) result(status) bind(C, name='nd_version')
+      import :: c_int
+      integer(c_int), intent(out) :: major, minor, patch
+      integer(c_int) :: status
+    end function nd_version
+
+    ! The C string of the calling thread's last error; nd_last_error_f() copies it.
+    function nd_last_error() result(message) bind(C, name='nd_last_error')
+      import :: c_ptr
+      type(c_ptr) :: message
+    end function nd_last_error
+
+    ! The static C string describing a status code; nd_strerror_f(code) copies it.
+    function nd_strerror(code) result(message) bind(C, name='nd_strerror')
+      import :: c_int, c_ptr
+      integer(c_int), value :: code
+      type(c_ptr) :: message
+    end function nd_strerror
+
+    ! ---- mesh -----------------------------------------------------------------
+    ! coords(dim, n_nodes), cells(dim+1, n_cells) of 0-based vertex indices
+    function nd_mesh_create(dim, n_nodes, coords, n_cells, cells, out) result(status) &
+        bind(C, name='nd_mesh_create')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int), value :: dim
+      integer(c_int64_t), value :: n_nodes
+      real(c_double), intent(in) :: coords(*)
+      integer(c_int64_t), value :: n_cells
+      integer(c_int64_t), intent(in) :: cells(*)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create
+
+    function nd_mesh_create_interval(n_cells, a, b, out) result(status) &
+        bind(C, name='nd_mesh_create_interval')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: n_cells
+      real(c_double), value :: a, b
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_interval
+
+    function nd_mesh_create_rectangle(nx, ny, lo, hi, out) result(status) &
+        bind(C, name='nd_mesh_create_rectangle')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nx, ny
+      real(c_double), intent(in) :: lo(2), hi(2)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_rectangle
+
+    function nd_mesh_create_box(nx, ny, nz, lo, hi, out) result(status) &
+        bind(C, name='nd_mesh_create_box')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nx, ny, nz
+      real(c_double), intent(in) :: lo(3), hi(3)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_box
+
+    ! path NUL-terminated: trim(path)//c_null_char, or use nd_mesh_read_gmsh_f
+    function nd_mesh_read_gmsh(path, out) result(status) bind(C, name='nd_mesh_read_gmsh')
+      import :: c_int, c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_read_gmsh
+
+    ! facet_vertices(dim, n_facets) of 0-based vertex indices
+    function nd_mesh_set_region(m, region, n_facets, facet_vertices) result(status) &
+        bind(C, name='nd_mesh_set_region')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int), value :: region
+      integer(c_int64_t), value :: n_facets
+      integer(c_int64_t), intent(in) :: facet_vertices(*)
+      integer(c_int) :: status
+    end function nd_mesh_set_region
+
+    function nd_mesh_mark_boundary_box(m, region, lo, hi) result(status) &
+        bind(C, name='nd_mesh_mark_boundary_box')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int), value :: region
+      real(c_double), intent(in) :: lo(*), hi(*)
+      integer(c_int) :: status
+    end function nd_mesh_mark_boundary_box
+
+    function nd_mesh_get_dimension(m, dim) result(status) bind(C, name='nd_mesh_get_dimension')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int), intent(out) :: dim
+      integer(c_int) :: status
+    end function nd_mesh_get_dimension
+
+    function nd_mesh_get_vertex_count(m, n_vertices) result(status) &
+        bind(C, name='nd_mesh_get_vertex_count')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int64_t), intent(out) :: n_vertices
+      integer(c_int) :: status
+    end function nd_mesh_get_vertex_count
+
+    function nd_mesh_get_cell_count(m, n_cells) result(status) bind(C, name='nd_mesh_get_cell_count')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int64_t), intent(out) :: n_cells
+      integer(c_int) :: status
+    end function nd_mesh_get_cell_count
+
+    function nd_mesh_get_region_size(m, region, n_facets) result(status) &
+        bind(C, name='nd_mesh_get_region_size')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int), value :: region
+      integer(c_int64_t), intent(out) :: n_facets
+      integer(c_int) :: status
+    end function nd_mesh_get_region_size
+
+    ! Sets m to c_null_ptr; harmless on c_null_ptr (safe twice).
+    function nd_mesh_destroy(m) result(status) bind(C, name='nd_mesh_destroy')
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: m
+      integer(c_int) :: status
+    end function nd_mesh_destroy
+
+    ! ---- problem: definition -------------------------------------------------
+    function nd_problem_create(m, degree, out) result(status) bind(C, name='nd_problem_create')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int), value :: degree
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_problem_create
+
+    function nd_problem_set_material(p, young, poisson, density) result(status) &
+        bind(C, name='nd_problem_set_material')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), value :: young, poisson, density
+      integer(c_int) :: status
+    end function nd_problem_set_material
+
+    function nd_problem_set_dirichlet(p, region) result(status) bind(C, name='nd_problem_set_dirichlet')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region
+      integer(c_int) :: status
+    end function nd_problem_set_dirichlet
+
+    function nd_problem_set_body_force(p, f) result(status) bind(C, name='nd_problem_set_body_force')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), intent(in) :: f(*)
+      integer(c_int) :: status
+    end function nd_problem_set_body_force
+
+    function nd_problem_set_neumann(p, region, g) result(status) bind(C, name='nd_problem_set_neumann')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region
+      real(c_double), intent(in) :: g(*)
+      integer(c_int) :: status
+    end function nd_problem_set_neumann
+
+    function nd_problem_set_contact_plane(p, region, point, normal) result(status) &
+        bind(C, name='nd_problem_set_contact_plane')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region
+      real(c_double), intent(in) :: point(*), normal(*)
+      integer(c_int) :: status
+    end function nd_problem_set_contact_plane
+
+    function nd_problem_set_nitsche(p, theta, gamma0) result(status) bind(C, name='nd_problem_set_nitsche')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), value :: theta, gamma0
+      integer(c_int) :: status
+    end function nd_problem_set_nitsche
+
+    ! params absent (NULL) for ND_SCHEME_HYBRID
+    function nd_problem_set_scheme(p, scheme, params) result(status) bind(C, name='nd_problem_set_scheme')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: scheme
+      real(c_double), intent(in), optional :: params(*)
+      integer(c_int) :: status
+    end function nd_problem_set_scheme
+
+    ! f(dim, n): n FE nodes
+    function nd_problem_set_nodal_forces(p, n, f) result(status) &
+        bind(C, name='nd_problem_set_nodal_forces')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: f(*)
+      integer(c_int) :: status
+    end function nd_problem_set_nodal_forces
+
+    function nd_problem_set_newton(p, rtol, atol, max_iter) result(status) &
+        bind(C, name='nd_problem_set_newton')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), value :: rtol, atol
+      integer(c_int), value :: max_iter
+      integer(c_int) :: status
+    end function nd_problem_set_newton
+
+    function nd_problem_set_mass_lumping(p, lumped) result(status) &
+        bind(C, name='nd_problem_set_mass_lumping')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: lumped
+      integer(c_int) :: status
+    end function nd_problem_set_mass_lumping
+
+    function nd_problem_set_linear_solver(p, solver) result(status) &
+        bind(C, name='nd_problem_set_linear_solver')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: solver
+      integer(c_int) :: status
+    end function nd_problem_set_linear_solver
+
+    function nd_problem_set_timestep(p, tau) result(status) bind(C, name='nd_problem_set_timestep')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), value :: tau
+      integer(c_int) :: status
+    end function nd_problem_set_timestep
+
+    ! u0(dim, n), v0(dim, n); an absent array (NULL) means zero
+    function nd_problem_set_initial_state(p, n, u0, v0) result(status) &
+        bind(C, name='nd_problem_set_initial_state')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in), optional :: u0(*), v0(*)
+      integer(c_int) :: status
+    end function nd_problem_set_initial_state
+
+    ! fn = c_funloc(f) of a procedure with the interface nd_monitor_fn, or
+    ! c_null_funptr to remove the monitor; userdata is passed back to fn.
+    function nd_problem_set_monitor(p, fn, userdata) result(status) bind(C, name='nd_problem_set_monitor')
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: p
+      type(c_funptr), value :: fn
+      type(c_ptr), value :: userdata
+      integer(c_int) :: status
+    end function nd_problem_set_monitor
+
+    ! ---- problem: queries ------------------------------------------------------
+    function nd_problem_get_node_count(p, n_nodes) result(status) bind(C, name='nd_problem_get_node_count')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), intent(out) :: n_nodes
+      integer(c_int) :: status
+    end function nd_problem_get_node_count
+
+    ! coords(dim, n)
+    function nd_problem_get_node_coordinates(p, n, coords) result(status) &
+        bind(C, name='nd_problem_get_node_coordinates')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: coords(*)
+      integer(c_int) :: status
+    end function nd_problem_get_node_coordinates
+
+    function nd_problem_get_contact_point_count(p, n_points) result(status) &
+        bind(C, name='nd_problem_get_contact_point_count')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), intent(out) :: n_points
+      integer(c_int) :: status
+    end function nd_problem_get_contact_point_count
+
+    ! coords(dim, n), weights(n); either may be absent (NULL)
+    function nd_problem_get_contact_points(p, n, coords, weights) result(status) &
+        bind(C, name='nd_problem_get_contact_points')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out), optional :: coords(*), weights(*)
+      integer(c_int) :: status
+    end function nd_problem_get_contact_points
+
+    ! ---- time stepping -------------------------------------------------------
+    function nd_step(p) result(status) bind(C, name='nd_step')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int) :: status
+    end function nd_step
+
+    ! out(dim, n): n FE nodes
+    function nd_get_field(p, field, n, out) result(status) bind(C, name='nd_get_field')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: field
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: status
+    end function nd_get_field
+
+    function nd_get_scalar(p, key, out) result(status) bind(C, name='nd_get_scalar')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: key
+      real(c_double), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_get_scalar
+
+    function nd_get_contact_pressure(p, n, out) result(status) bind(C, name='nd_get_contact_pressure')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: status
+    end function nd_get_contact_pressure
+
+    ! Sets p to c_null_ptr; harmless on c_null_ptr (safe twice).
+    function nd_problem_destroy(p) result(status) bind(C, name='nd_problem_destroy')
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: p
+      integer(c_int) :: status
+    end function nd_problem_destroy
+
+    ! ---- output --------------------------------------------------------------
+    ! path NUL-terminated: trim(path)//c_null_char, or use nd_problem_write_vtu_f
+    function nd_problem_write_vtu(p, path) result(status) bind(C, name='nd_problem_write_vtu')
+      import :: c_int, c_char, c_ptr
+      type(c_ptr), value :: p
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: status
+    end function nd_problem_write_vtu
+
+    ! vtu_files(n): C pointers to NUL-terminated strings; or use nd_write_pvd_f
+    function nd_write_pvd(path, n, vtu_files, times) result(status) bind(C, name='nd_write_pvd')
+      import :: c_int, c_int64_t, c_double, c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int64_t), value :: n
+      type(c_ptr), intent(in) :: vtu_files(*)
+      real(c_double), intent(in) :: times(*)
+      integer(c_int) :: status
+    end function nd_write_pvd
+  end interface
+
+  interface
+    ! the C library's strlen, to copy the strings that nd_last_error and
+    ! nd_strerror return
+    function c_strlen(s) result(n) bind(C, name='strlen')
+      import :: c_ptr, c_size_t
+      type(c_ptr), value :: s
+      integer(c_size_t) :: n
+    end function c_strlen
+  end interface
+
+contains
+
+  ! A Fortran copy of a NUL-terminated C string ('' for a null pointer).
+  function c_string_copy(s) result(f)
+    type(c_ptr), intent(in) :: s
+    character(len=:), allocatable :: f
+    character(kind=c_char), pointer :: chars(:)
+    integer(c_size_t) :: n, i
+    if (.not. c_associated(s)) then
+      f = ''
+      return
+    end if
+    n = c_strlen(s)
+    allocate(character(len=n) :: f)
+    if (n == 0) return
+    call c_f_pointer(s, chars, [n])
+    do i = 1, n
+      f(i:i) = chars(i)
+    end do
+  end function c_string_copy
+
+  ! nd_last_error() as a Fortran string: what went wrong in the calling
+  ! thread's last failed call ('' after a successful one).
+  function nd_last_error_f() result(message)
+    character(len=:), allocatable :: message
+    message = c_string_copy(nd_last_error())
+  end function nd_last_error_f
+
+  ! nd_strerror(code) as a Fortran string.
+  function nd_strerror_f(code) result(message)
+    integer(c_int), intent(in) :: code
+    character(len=:), allocatable :: message
+    message = c_string_copy(nd_strerror(code))
+  end function nd_strerror_f
+
+  ! nd_mesh_read_gmsh with a Fortran path (trailing blanks are ignored).
+  function nd_mesh_read_gmsh_f(path, out) result(status)
+    character(len=*), intent(in) :: path
+    type(c_ptr), intent(out) :: out
+    integer(c_int) :: status
+    status = nd_mesh_read_gmsh(trim(path)//c_null_char, out)
+  end function nd_mesh_read_gmsh_f
+
+  ! nd_problem_write_vtu with a Fortran path (trailing blanks are ignored).
+  function nd_problem_write_vtu_f(p, path) result(status)
+    type(c_ptr), value :: p
+    character(len=*), intent(in) :: path
+    integer(c_int) :: status
+    status = nd_problem_write_vtu(p, trim(path)//c_null_char)
+  end function nd_problem_write_vtu_f
+
+  ! nd_write_pvd with Fortran strings: n = size(vtu_files) files (trailing
+  ! blanks of each are ignored) at times(1:n). Pass sections, e.g.
+  ! nd_write_pvd_f('run.pvd', names(1:k), times(1:k)), for the first k.
+  function nd_write_pvd_f(path, vtu_files, times) result(status)
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: vtu_files(:)
+    real(c_double), intent(in) :: times(*)
+    integer(c_int) :: status
+    ! all names NUL-terminated, one after the other, and a pointer to each
+    character(kind=c_char), allocatable, target :: buffer(:)
+    type(c_ptr), allocatable :: pointers(:)
+    integer :: i, j, k, n
+    n = size(vtu_files)
+    allocate(buffer(sum(len_trim(vtu_files)) + n), pointers(max(n, 1)))
+    pointers = c_null_ptr
+    k = 1
+    do i = 1, n
+      pointers(i) = c_loc(buffer(k))
+      do j = 1, len_trim(vtu_files(i))
+        buffer(k) = vtu_files(i)(j:j)
+        k = k + 1
+      end do
+      buffer(k) = c_null_char
+      k = k + 1
+    end do
+    status = nd_write_pvd(trim(path)//c_null_char, int(n, c_int64_t), pointers, times)
+  end function nd_write_pvd_f
+
+end module nitschedyn

@@ -1,0 +1,21 @@
+# Runs examples/bar1d (C) and bar1d_f90 (Fortran) with the same ARGS and
+# checks that their summaries are the same text, the run-time line aside.
+#   cmake -DC_BAR=... -DF_BAR=... -DARGS="--quiet;--nx;20" -P compare_summary.cmake
+cmake_minimum_required(VERSION 3.18)
+foreach(which C F)
+  execute_process(COMMAND ${${which}_BAR} ${ARGS} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${${which}_BAR} ${ARGS} failed (${rc}):\n${out}${err}")
+  endif()
+  string(REGEX REPLACE "run time:[^\n]*\n" "" ${which}_summary "${out}")
+  message(STATUS "${which}:\n${out}")
+endforeach()
+string(REGEX MATCHALL "\n" lines "${C_summary}")
+list(LENGTH lines n_lines)
+if(NOT C_summary STREQUAL F_summary)
+  message(FATAL_ERROR "the summaries differ\n--- C\n${C_summary}--- Fortran\n${F_summary}\n0 passed, 1 failed")
+endif()
+if(n_lines LESS 10)
+  message(FATAL_ERROR "the summary has ${n_lines} lines, expected 10 at least\n0 passed, 1 failed")
+endif()
+message(STATUS "the ${n_lines} summary lines (run time aside) are identical\n1 passed, 0 failed")

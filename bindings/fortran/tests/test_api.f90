@@ -1,0 +1,289 @@
+! test_api - the Fortran module against the library, one part per CTest:
+!   errors     (b) a bad argument returns its ND_ERR_* code and the message of
+!                  nd_last_error reaches Fortran intact
+!   destroy    (c) destroying a handle twice is harmless
+!   monitor    (d) a monitor written in Fortran runs once per step and can stop
+!   api        generated constants, nd_version, absent optional arguments
+!              (NULL), a general mesh
+! usage: test_api PART; prints "N passed, M failed", exits 1 on a failure.
+program test_api
+  use, intrinsic :: iso_c_binding
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use nitschedyn
+  use nd_fortran_bar, only: make_bar
+  use nd_fortran_checks, only: check, finish
+  implicit none
+
+  ! what the monitor sees through its userdata pointer
+  type :: monitor_data
+    integer :: calls = 0
+    integer :: stop_at = -1 ! the call that asks to stop
+    type(c_ptr) :: expected = c_null_ptr
+    real(c_double) :: last_time = -1
+    integer :: wrong_handle = 0
+  end type monitor_data
+
+  interface
+    ! the C library's strlen, to check the length of nd_last_error()
+    function c_strlen(s) result(n) bind(C, name='strlen')
+      import :: c_ptr, c_size_t
+      type(c_ptr), value :: s
+      integer(c_size_t) :: n
+    end function c_strlen
+  end interface
+
+  character(len=32) :: part
+  if (command_argument_count() /= 1) then
+    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api'
+    stop 2, quiet=.true.
+  end if
+  call get_command_argument(1, part)
+  select case (trim(part))
+  case ('errors')
+    call test_errors()
+  case ('destroy')
+    call test_destroy()
+  case ('monitor')
+    call test_monitor()
+  case ('api')
+    call test_constants_and_api()
+  case default
+    write (error_unit, '(a)') 'test_api: unknown part ' // trim(part)
+    stop 2, quiet=.true.
+  end select
+  call finish()
+
+contains
+
+  logical function starts_with(s, prefix)
+    character(len=*), intent(in) :: s, prefix
+    starts_with = len(s) >= len(prefix)
+    if (starts_with) starts_with = s(1:len(prefix)) == prefix
+  end function starts_with
+
+  ! ---- (b) ---------------------------------------------------------------
+  subroutine test_errors()
+    type(c_ptr) :: p, m
+    integer(c_int64_t) :: n
+    integer(c_int) :: status
+    character(len=:), allocatable :: msg
+    real(c_double) :: x
+    real(c_double), allocatable :: buf(:)
+    integer(c_size_t) :: length
+
+    call check(make_bar(10_c_int64_t, 1_c_int, 0.05_c_double, p, n) == ND_OK, 'the bar is set up')
+
+    status = nd_problem_set_timestep(p, -1.0_c_double)
+    call check(status == ND_ERR_TIMESTEP, 'nd_problem_set_timestep(p, -1) returns ND_ERR_TIMESTEP')
+    msg = nd_last_error_f()
+    write (*, '(a)') '  nd_last_error_f() = "' // msg // '"'
+    call check(starts_with(msg, 'nd_problem_set_timestep:'), 'the message starts with "nd_problem_set_timestep:"')
+    length = c_strlen(nd_last_error())
+    call check(len(msg) == length .and. index(msg, c_null_char) == 0 &
+               .and. len(msg) > len('nd_problem_set_timestep: '), &
+               'the message arrives whole: its length is strlen(nd_last_error()), no NUL inside')
+    call check(msg == nd_last_error_f(), 'reading the message does not clear it')
+    call check(nd_strerror_f(status) == 'the time step is not positive and finite', &
+               'nd_strerror_f(ND_ERR_TIMESTEP) is the header''s text')
+
+    x = ieee_nan()
+    call check(nd_problem_set_timestep(p, x) == ND_ERR_TIMESTEP, 'a NaN time step returns ND_ERR_TIMESTEP')
+    call check(nd_problem_set_timestep(p, 0.05_c_double) == ND_OK, 'a good time step returns ND_OK')
+    call check(len(nd_last_error_f()) == 0, 'a successful call clears the message')
+
+    call check(nd_step(c_null_ptr) == ND_ERR_NULL, 'nd_step(c_null_ptr) returns ND_ERR_NULL')
+    call check(starts_with(nd_last_error_f(), 'nd_step:'), 'and its message names nd_step')
+
+    status = nd_mesh_create_interval(0_c_int64_t, 0.0_c_double, 1.0_c_double, m)
+    call check(status < 0 .and. .not. c_associated(m), 'nd_mesh_create_interval with 0 cells fails, no handle')
+    call check(starts_with(nd_last_error_f(), 'nd_mesh_create_interval:'), &
+               'and its message names nd_mesh_create_interval')
+
+    allocate(buf(n + 1))
+    call check(nd_get_field(p, ND_FIELD_DISPLACEMENT, n + 1, buf) == ND_ERR_SIZE, &
+               'nd_get_field with a wrong node count returns ND_ERR_SIZE')
+    call check(nd_get_scalar(p, 9999_c_int, x) == ND_ERR_KEY, 'nd_get_scalar with an unknown key returns ND_ERR_KEY')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_THETA) == ND_ERR_NULL, &
+               'ND_SCHEME_THETA with params absent (NULL) returns ND_ERR_NULL')
+    call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
+  end subroutine test_errors
+
+  real(c_double) function ieee_nan()
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    ieee_nan = ieee_value(0.0_c_double, ieee_quiet_nan)
+  end function ieee_nan
+
+  ! ---- (c) ---------------------------------------------------------------
+  subroutine test_destroy()
+    type(c_ptr) :: m, p
+    integer(c_int64_t) :: n
+    integer(c_int) :: status
+
+    m = c_null_ptr
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy(c_null_ptr) returns ND_OK')
+    status = nd_mesh_create_interval(4_c_int64_t, 0.0_c_double, 1.0_c_double, m)
+    call check(status == ND_OK .and. c_associated(m), 'nd_mesh_create_interval gives a handle')
+    call check(nd_mesh_destroy(m) == ND_OK, 'first nd_mesh_destroy returns ND_OK')
+    call check(.not. c_associated(m), 'and sets the handle to c_null_ptr')
+    call check(nd_mesh_destroy(m) == ND_OK, 'second nd_mesh_destroy returns ND_OK')
+    call check(.not. c_associated(m), 'and the handle stays c_null_ptr')
+
+    status = make_bar(4_c_int64_t, 1_c_int, 0.1_c_double, p, n)
+    call check(status == ND_OK .and. c_associated(p), 'the bar problem is set up')
+    call check(nd_step(p) == ND_OK, 'one step')
+    call check(nd_problem_destroy(p) == ND_OK, 'first nd_problem_destroy returns ND_OK')
+    call check(.not. c_associated(p), 'and sets the handle to c_null_ptr')
+    call check(nd_problem_destroy(p) == ND_OK, 'second nd_problem_destroy returns ND_OK')
+    call check(.not. c_associated(p), 'and the handle stays c_null_ptr')
+    call check(nd_step(p) == ND_ERR_NULL, 'nd_step on the destroyed handle returns ND_ERR_NULL')
+  end subroutine test_destroy
+
+  ! ---- (d) ---------------------------------------------------------------
+  ! The monitor: counts its calls, checks it gets the problem it was set on,
+  ! queries the problem, and asks to stop at call stop_at.
+  integer(c_int) function count_steps(p, userdata) bind(C)
+    type(c_ptr), value :: p, userdata
+    type(monitor_data), pointer :: d
+    call c_f_pointer(userdata, d)
+    d%calls = d%calls + 1
+    if (.not. c_associated(p, d%expected)) d%wrong_handle = d%wrong_handle + 1
+    if (nd_get_scalar(p, ND_TIME, d%last_time) /= ND_OK) d%last_time = -1
+    count_steps = 0
+    if (d%calls == d%stop_at) count_steps = 1
+  end function count_steps
+
+  subroutine test_monitor()
+    type(c_ptr) :: p
+    integer(c_int64_t) :: n
+    integer(c_int) :: status
+    type(monitor_data), target :: data
+    real(c_double), parameter :: tau = 0.05_c_double
+    real(c_double) :: steps_taken, t
+    integer :: k
+
+    call check(make_bar(10_c_int64_t, 1_c_int, tau, p, n) == ND_OK, 'the bar is set up')
+    data%expected = p
+    call check(nd_problem_set_monitor(p, c_funloc(count_steps), c_loc(data)) == ND_OK, &
+               'nd_problem_set_monitor(p, c_funloc(count_steps), c_loc(data))')
+    status = ND_OK
+    do k = 1, 10
+      status = nd_step(p)
+      if (status /= ND_OK) exit
+    end do
+    call check(status == ND_OK, '10 steps return ND_OK while the monitor returns 0')
+    call check(data%calls == 10, 'the monitor was called once per step (10 times)')
+    call check(data%wrong_handle == 0, 'the monitor received the problem''s handle')
+    call check(abs(data%last_time - 10 * tau) <= 1e-12_c_double, 'the monitor can query the problem (time 10 tau)')
+
+    data%stop_at = 15
+    do k = 1, 100
+      status = nd_step(p)
+      if (status /= ND_OK) exit
+    end do
+    call check(status == ND_MONITOR_STOP, 'nd_step returns ND_MONITOR_STOP when the monitor asks to stop')
+    call check(k == 5 .and. data%calls == 15, 'the run stopped at the 15th step, as asked')
+    status = nd_get_scalar(p, ND_STEP_INDEX, steps_taken)
+    call check(status == ND_OK .and. nint(steps_taken) == 15, 'the stopping step was kept (ND_STEP_INDEX = 15)')
+    status = nd_get_scalar(p, ND_TIME, t)
+    call check(status == ND_OK .and. abs(t - 15 * tau) <= 1e-12_c_double, 'the time is 15 tau')
+    status = nd_step(p)
+    call check(status == ND_OK .and. data%calls == 16, 'stepping on after a stop works')
+
+    call check(nd_problem_set_monitor(p, c_null_funptr, c_null_ptr) == ND_OK, &
+               'nd_problem_set_monitor(p, c_null_funptr, c_null_ptr) removes the monitor')
+    status = nd_step(p)
+    call check(status == ND_OK .and. data%calls == 16, 'without a monitor nothing is called')
+    call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
+  end subroutine test_monitor
+
+  ! ---- constants, version, optional arguments, general mesh ----------------
+  subroutine test_constants_and_api()
+    type(c_ptr) :: p, m
+    integer(c_int64_t) :: n, nc, nv, nf
+    integer(c_int) :: major, minor, patch, dim, i, bad, status
+    real(c_double), allocatable :: x(:), u(:), buf(:)
+    real(c_double) :: s, w(1), xc(1), lam(1)
+    character(len=16) :: version
+
+    call check(nd_version(major, minor, patch) == ND_OK, 'nd_version')
+    call check(major == ND_VERSION_MAJOR .and. minor == ND_VERSION_MINOR .and. patch == ND_VERSION_PATCH, &
+               'nd_version agrees with the ND_VERSION_* parameters')
+    write (version, '(i0, ".", i0, ".", i0)') major, minor, patch
+    call check(trim(version) == ND_VERSION_STRING, 'ND_VERSION_STRING is ' // trim(version))
+
+    ! every generated status code is one the library knows
+    bad = 0
+    do i = 1, size(ND_STATUS_VALUES)
+      if (nd_strerror_f(ND_STATUS_VALUES(i)) == 'unknown status code') bad = bad + 1
+    end do
+    call check(bad == 0 .and. size(ND_STATUS_VALUES) >= 25, 'nd_strerror knows every ND_STATUS_VALUES code')
+    call check(nd_strerror_f(12345_c_int) == 'unknown status code', 'and no other')
+    call check(nd_strerror_f(ND_OK) == 'success' .and. ND_OK == 0, 'ND_OK is 0, "success"')
+
+    call check(make_bar(8_c_int64_t, 2_c_int, 0.05_c_double, p, n) == ND_OK, 'a P2 bar is set up')
+    call check(n == 17, 'it has 17 FE nodes')
+    allocate(x(n), u(n), buf(n))
+    bad = 0
+    do i = 1, size(ND_FIELD_VALUES)
+      if (nd_get_field(p, ND_FIELD_VALUES(i), n, buf) /= ND_OK) bad = bad + 1
+    end do
+    call check(bad == 0, 'every ND_FIELD_VALUES field can be read')
+    bad = 0
+    do i = 1, size(ND_SCALAR_VALUES)
+      if (nd_get_scalar(p, ND_SCALAR_VALUES(i), s) /= ND_OK) bad = bad + 1
+    end do
+    call check(bad == 0, 'every ND_SCALAR_VALUES key can be read')
+    bad = 0
+    do i = 1, size(ND_SCHEME_VALUES)
+      if (nd_problem_set_scheme(p, ND_SCHEME_VALUES(i), [0.25_c_double, 0.5_c_double]) /= ND_OK) bad = bad + 1
+    end do
+    call check(bad == 0, 'every ND_SCHEME_VALUES scheme is accepted')
+    call check(size(ND_SOLVER_VALUES) >= 3 .and. ND_SOLVER_VALUES(1) == ND_SOLVER_AUTO, 'ND_SOLVER_VALUES')
+    call check(nd_problem_set_linear_solver(p, ND_SOLVER_DENSE) == ND_OK, 'ND_SOLVER_DENSE is accepted')
+
+    ! absent optional arguments are NULL pointers
+    call check(nd_problem_get_node_coordinates(p, n, x) == ND_OK, 'node coordinates')
+    u = 0.5_c_double * (1 - x)
+    call check(nd_problem_set_initial_state(p, n, u) == ND_OK, 'nd_problem_set_initial_state with v0 absent')
+    status = nd_get_field(p, ND_FIELD_VELOCITY, n, buf)
+    call check(status == ND_OK .and. maxval(abs(buf)) <= 0, 'an absent v0 means zero velocity')
+    status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, buf)
+    call check(status == ND_OK .and. maxval(abs(buf - u)) <= 1e-15_c_double, 'the displacement is u0')
+    call check(nd_problem_set_initial_state(p, n) == ND_OK, 'nd_problem_set_initial_state with u0, v0 absent')
+    status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, buf)
+    call check(status == ND_OK .and. maxval(abs(buf)) <= 0, 'absent u0 means zero displacement')
+    status = nd_problem_get_contact_point_count(p, nc)
+    call check(status == ND_OK .and. nc == 1, 'one contact point')
+    w = -1
+    status = nd_problem_get_contact_points(p, nc, weights=w)
+    call check(status == ND_OK .and. abs(w(1) - 1) <= 1e-15_c_double, 'contact points with coords absent: weight 1')
+    xc = -1
+    status = nd_problem_get_contact_points(p, nc, coords=xc)
+    call check(status == ND_OK .and. abs(xc(1)) <= 0, 'contact points with weights absent: at x = 0')
+    call check(nd_problem_set_initial_state(p, n, u) == ND_OK, 'u0 again')
+    call check(nd_step(p) == ND_OK, 'a step')
+    status = nd_get_contact_pressure(p, nc, lam)
+    call check(status == ND_OK .and. lam(1) <= 0, 'the contact pressure is <= 0')
+    call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
+
+    ! a general mesh: three vertices, two cells, 0-based indices, int64
+    call check(nd_mesh_create(1_c_int, 3_c_int64_t, [0.0_c_double, 0.5_c_double, 1.0_c_double], 2_c_int64_t, &
+                              [0_c_int64_t, 1_c_int64_t, 1_c_int64_t, 2_c_int64_t], m) == ND_OK, 'nd_mesh_create')
+    status = nd_mesh_get_dimension(m, dim)
+    call check(status == ND_OK .and. dim == 1, 'dimension 1')
+    status = nd_mesh_get_vertex_count(m, nv)
+    call check(status == ND_OK .and. nv == 3, '3 vertices')
+    status = nd_mesh_get_cell_count(m, nc)
+    call check(status == ND_OK .and. nc == 2, '2 cells')
+    call check(nd_mesh_set_region(m, 7_c_int, 1_c_int64_t, [0_c_int64_t]) == ND_OK, 'nd_mesh_set_region')
+    call check(nd_mesh_mark_boundary_box(m, 8_c_int, [0.9_c_double], [1.1_c_double]) == ND_OK, &
+               'nd_mesh_mark_boundary_box')
+    status = nd_mesh_get_region_size(m, 7_c_int, nf)
+    call check(status == ND_OK .and. nf == 1, 'region 7 has 1 facet')
+    status = nd_mesh_get_region_size(m, 8_c_int, nf)
+    call check(status == ND_OK .and. nf == 1, 'region 8 has 1 facet')
+    call check(nd_mesh_set_region(m, 7_c_int, 1_c_int64_t, [5_c_int64_t]) < 0, 'a facet vertex out of range fails')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+  end subroutine test_constants_and_api
+
+end program test_api

@@ -1,0 +1,498 @@
+"""nitschedyn - Python bindings of libnitschedyn over its C ABI (ctypes, numpy).
+
+Nitsche's method for dynamic frictionless contact of a linear elastic body
+with a rigid obstacle. Two layers:
+
+* ``lib``: the ctypes library with the prototype of every ``nd_*`` function
+  of nitschedyn.h, to call them exactly as in C (the manual pages apply);
+* ``Mesh``, ``Problem``, ``write_pvd``: a thin Pythonic layer taking and
+  returning numpy arrays, raising ``Error`` (status code, name and the
+  message of ``nd_last_error()``) instead of returning negative codes.
+  ``Mesh`` and ``Problem`` own their handle: ``close()`` or a ``with`` block
+  releases it (closing twice is harmless).
+
+The ND_* constants (e.g. ``ND_SCHEME_HYBRID``, ``ND_ERR_TIMESTEP``) come from
+``_constants.py``, generated at build time from the X-macro lists of
+nitschedyn.h by the same program that writes the Fortran parameters; the
+dictionaries ``STATUS``, ``SCHEME``, ``FIELD``, ``SCALAR``, ``SOLVER`` map each
+name to ``(value, description)``.
+
+The shared library is found in this order: the path in the environment
+variable ND_LIBRARY; the library this package was built or installed with
+(``_library_path.py``); ``libnitschedyn.so.<major>`` through the dynamic
+loader (LD_LIBRARY_PATH, the system directories).
+
+Example::
+
+    import numpy as np, nitschedyn as nd
+    with nd.Mesh.interval(40, 0.0, 1.0) as m:
+        m.mark_boundary_box(1, [-0.5], [0.5])       # x = 0: contact
+        m.mark_boundary_box(2, [0.5], [1.5])        # x = 1: clamped
+        p = nd.Problem(m, degree=1)                 # copies the mesh
+    with p:
+        p.set_material(1.0, 0.0, 1.0)
+        p.set_dirichlet(2)
+        p.set_contact_plane(1, [0.0], [1.0])
+        p.set_nitsche(1.0, 0.2)
+        p.set_scheme(nd.ND_SCHEME_HYBRID)
+        p.set_timestep(1 / 80)
+        x = p.node_coordinates()[:, 0]
+        p.set_initial_state(0.5 * (1 - x))
+        for _ in range(240):
+            p.step()
+        print(p.scalar(nd.ND_ENERGY_AUGMENTED))     # close to 1/8
+"""
+
+import ctypes
+import os
+import weakref
+
+import numpy as np
+
+try:  # the package built by CMake (bindings/python) or installed
+    from . import _constants
+    from ._constants import *  # noqa: F401,F403  (the ND_* names)
+except ImportError:  # nitschedyn.py next to a generated _constants.py
+    import _constants  # type: ignore
+    from _constants import *  # type: ignore # noqa: F401,F403
+
+__all__ = ["Error", "Mesh", "Problem", "write_pvd", "version", "last_error", "strerror", "lib",
+           "STATUS", "SCHEME", "FIELD", "SCALAR", "SOLVER"]
+__all__ += [name for name in dir(_constants) if name.startswith("ND_")]
+__version__ = _constants.ND_VERSION_STRING
+
+# ---- the library --------------------------------------------------------------
+
+
+def _candidates():
+    env = os.environ.get("ND_LIBRARY")
+    if env:
+        yield env
+        return
+    try:
+        from . import _library_path as where
+    except ImportError:
+        where = None
+    if where is not None:
+        path = where.LIBRARY
+        if where.RELATIVE:
+            path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), path))
+        yield path
+    yield "libnitschedyn.so.%d" % _constants.ND_VERSION_MAJOR
+
+
+def _load():
+    errors = []
+    for path in _candidates():
+        try:
+            return ctypes.CDLL(path)
+        except OSError as e:
+            errors.append("%s: %s" % (path, e))
+    raise ImportError("nitschedyn: cannot load libnitschedyn (set ND_LIBRARY to its path):\n  "
+                      + "\n  ".join(errors))
+
+
+lib = _load()
+
+_int, _i64, _dbl, _ptr = ctypes.c_int, ctypes.c_int64, ctypes.c_double, ctypes.c_void_p
+_pint, _pi64, _pdbl, _pptr = (ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int64),
+                              ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_void_p))
+_str = ctypes.c_char_p
+MONITOR = ctypes.CFUNCTYPE(_int, _ptr, _ptr)  # int (*)(nd_problem, void *)
+
+# every function of nitschedyn.h: name -> (result, argument types); handles
+# are void *, nd_mesh * and nd_problem * are void **
+_PROTOTYPES = {
+    "nd_version": (_int, [_pint, _pint, _pint]),
+    "nd_last_error": (_str, []),
+    "nd_strerror": (_str, [_int]),
+    "nd_mesh_create": (_int, [_int, _i64, _pdbl, _i64, _pi64, _pptr]),
+    "nd_mesh_create_interval": (_int, [_i64, _dbl, _dbl, _pptr]),
+    "nd_mesh_create_rectangle": (_int, [_i64, _i64, _pdbl, _pdbl, _pptr]),
+    "nd_mesh_create_box": (_int, [_i64, _i64, _i64, _pdbl, _pdbl, _pptr]),
+    "nd_mesh_read_gmsh": (_int, [_str, _pptr]),
+    "nd_mesh_set_region": (_int, [_ptr, _int, _i64, _pi64]),
+    "nd_mesh_mark_boundary_box": (_int, [_ptr, _int, _pdbl, _pdbl]),
+    "nd_mesh_get_dimension": (_int, [_ptr, _pint]),
+    "nd_mesh_get_vertex_count": (_int, [_ptr, _pi64]),
+    "nd_mesh_get_cell_count": (_int, [_ptr, _pi64]),
+    "nd_mesh_get_region_size": (_int, [_ptr, _int, _pi64]),
+    "nd_mesh_destroy": (_int, [_pptr]),
+    "nd_problem_create": (_int, [_ptr, _int, _pptr]),
+    "nd_problem_set_material": (_int, [_ptr, _dbl, _dbl, _dbl]),
+    "nd_problem_set_dirichlet": (_int, [_ptr, _int]),
+    "nd_problem_set_body_force": (_int, [_ptr, _pdbl]),
+    "nd_problem_set_neumann": (_int, [_ptr, _int, _pdbl]),
+    "nd_problem_set_contact_plane": (_int, [_ptr, _int, _pdbl, _pdbl]),
+    "nd_problem_set_nitsche": (_int, [_ptr, _dbl, _dbl]),
+    "nd_problem_set_scheme": (_int, [_ptr, _int, _pdbl]),
+    "nd_problem_set_nodal_forces": (_int, [_ptr, _i64, _pdbl]),
+    "nd_problem_set_newton": (_int, [_ptr, _dbl, _dbl, _int]),
+    "nd_problem_set_mass_lumping": (_int, [_ptr, _int]),
+    "nd_problem_set_linear_solver": (_int, [_ptr, _int]),
+    "nd_problem_set_timestep": (_int, [_ptr, _dbl]),
+    "nd_problem_set_initial_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
+    "nd_problem_set_monitor": (_int, [_ptr, MONITOR, _ptr]),
+    "nd_problem_get_node_count": (_int, [_ptr, _pi64]),
+    "nd_problem_get_node_coordinates": (_int, [_ptr, _i64, _pdbl]),
+    "nd_problem_get_contact_point_count": (_int, [_ptr, _pi64]),
+    "nd_problem_get_contact_points": (_int, [_ptr, _i64, _pdbl, _pdbl]),
+    "nd_step": (_int, [_ptr]),
+    "nd_get_field": (_int, [_ptr, _int, _i64, _pdbl]),
+    "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
+    "nd_get_contact_pressure": (_int, [_ptr, _i64, _pdbl]),
+    "nd_problem_destroy": (_int, [_pptr]),
+    "nd_problem_write_vtu": (_int, [_ptr, _str]),
+    "nd_write_pvd": (_int, [_str, _i64, ctypes.POINTER(_str), _pdbl]),
+}
+for _name, (_res, _args) in _PROTOTYPES.items():
+    _f = getattr(lib, _name)
+    _f.restype, _f.argtypes = _res, _args
+
+
+def _check_version():
+    major, minor, patch = _int(), _int(), _int()
+    lib.nd_version(ctypes.byref(major), ctypes.byref(minor), ctypes.byref(patch))
+    if major.value != _constants.ND_VERSION_MAJOR:
+        raise ImportError("nitschedyn: the library is version %d.%d.%d, these bindings need %d.x"
+                          % (major.value, minor.value, patch.value, _constants.ND_VERSION_MAJOR))
+
+
+_check_version()
+
+# ---- errors and small helpers ------------------------------------------------------
+
+_STATUS_NAMES = {value: name for name, (value, _) in _constants.STATUS.items()}
+
+
+class Error(Exception):
+    """A call of libnitschedyn failed: ``code`` (ND_ERR_*), ``name`` (its
+    name), ``message`` (nd_last_error(), naming the function and argument)."""
+
+    def __init__(self, code, message):
+        self.code = code
+        self.name = _STATUS_NAMES.get(code, "status %d" % code)
+        self.message = message
+        super().__init__("%s [%s]" % (message or strerror(code), self.name))
+
+
+def version():
+    """(major, minor, patch) of the loaded library."""
+    v = [_int(), _int(), _int()]
+    lib.nd_version(*(ctypes.byref(x) for x in v))
+    return tuple(x.value for x in v)
+
+
+def last_error():
+    """nd_last_error(): the calling thread's last error message."""
+    return (lib.nd_last_error() or b"").decode("utf-8", "replace")
+
+
+def strerror(code):
+    """nd_strerror(code)."""
+    return (lib.nd_strerror(code) or b"").decode("utf-8", "replace")
+
+
+def _check(status):
+    if status < 0:
+        raise Error(status, last_error())
+    return status
+
+
+def _doubles(values, count=None, what="array"):
+    """A C-contiguous float64 copy (or view) of values, of count entries."""
+    a = np.ascontiguousarray(values, dtype=np.float64).reshape(-1)
+    if count is not None and a.size != count:
+        raise ValueError("%s has %d values, expected %d" % (what, a.size, count))
+    return a
+
+
+def _dptr(a):
+    return None if a is None else a.ctypes.data_as(_pdbl)
+
+
+def _i64ptr(a):
+    return a.ctypes.data_as(_pi64)
+
+
+# ---- mesh --------------------------------------------------------------------------
+
+
+class _Handle:
+    """Owns one nd_* handle; close() destroys it (harmless twice)."""
+
+    _destroy = None
+
+    def __init__(self):
+        self._h = _ptr()
+
+    @property
+    def handle(self):
+        """The C handle (a ctypes.c_void_p; NULL once closed)."""
+        return self._h
+
+    def close(self):
+        if self._h:
+            type(self)._destroy(ctypes.byref(self._h))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # at interpreter shutdown lib may be gone
+            pass
+
+
+class Mesh(_Handle):
+    """A simplicial mesh (nd_mesh) with boundary regions."""
+
+    _destroy = lib.nd_mesh_destroy
+
+    def __init__(self, coords=None, cells=None):
+        """A mesh from coords (n_nodes, dim) and cells (n_cells, dim+1) of
+        0-based vertex indices (both copied); Mesh() alone is empty, for
+        the constructors below."""
+        super().__init__()
+        if coords is None:
+            return
+        x = np.ascontiguousarray(coords, dtype=np.float64)
+        if x.ndim == 1:  # 1D: a flat list of x
+            x = x.reshape(-1, 1)
+        c = np.ascontiguousarray(cells, dtype=np.int64)
+        dim = x.shape[1]
+        if c.ndim != 2 or c.shape[1] != dim + 1:
+            raise ValueError("cells must have shape (n_cells, %d)" % (dim + 1))
+        _check(lib.nd_mesh_create(dim, x.shape[0], _dptr(x), c.shape[0], _i64ptr(c), ctypes.byref(self._h)))
+
+    @classmethod
+    def interval(cls, n_cells, a=0.0, b=1.0):
+        m = cls()
+        _check(lib.nd_mesh_create_interval(n_cells, a, b, ctypes.byref(m._h)))
+        return m
+
+    @classmethod
+    def rectangle(cls, nx, ny, lo, hi):
+        m = cls()
+        _check(lib.nd_mesh_create_rectangle(nx, ny, _dptr(_doubles(lo, 2, "lo")), _dptr(_doubles(hi, 2, "hi")),
+                                            ctypes.byref(m._h)))
+        return m
+
+    @classmethod
+    def box(cls, nx, ny, nz, lo, hi):
+        m = cls()
+        _check(lib.nd_mesh_create_box(nx, ny, nz, _dptr(_doubles(lo, 3, "lo")), _dptr(_doubles(hi, 3, "hi")),
+                                      ctypes.byref(m._h)))
+        return m
+
+    @classmethod
+    def read_gmsh(cls, path):
+        m = cls()
+        _check(lib.nd_mesh_read_gmsh(os.fsencode(path), ctypes.byref(m._h)))
+        return m
+
+    @property
+    def dimension(self):
+        d = _int()
+        _check(lib.nd_mesh_get_dimension(self._h, ctypes.byref(d)))
+        return d.value
+
+    @property
+    def vertex_count(self):
+        n = _i64()
+        _check(lib.nd_mesh_get_vertex_count(self._h, ctypes.byref(n)))
+        return n.value
+
+    @property
+    def cell_count(self):
+        n = _i64()
+        _check(lib.nd_mesh_get_cell_count(self._h, ctypes.byref(n)))
+        return n.value
+
+    def region_size(self, region):
+        n = _i64()
+        _check(lib.nd_mesh_get_region_size(self._h, region, ctypes.byref(n)))
+        return n.value
+
+    def set_region(self, region, facets):
+        """Adds boundary facets (n_facets, dim) of 0-based vertex indices."""
+        f = np.ascontiguousarray(facets, dtype=np.int64)
+        dim = self.dimension
+        f = f.reshape(-1, dim)
+        _check(lib.nd_mesh_set_region(self._h, region, f.shape[0], _i64ptr(f)))
+
+    def mark_boundary_box(self, region, lo, hi):
+        """Adds the boundary facets whose vertices all lie in [lo, hi]."""
+        dim = self.dimension
+        _check(lib.nd_mesh_mark_boundary_box(self._h, region, _dptr(_doubles(lo, dim, "lo")),
+                                             _dptr(_doubles(hi, dim, "hi"))))
+
+
+# ---- problem -----------------------------------------------------------------------
+
+
+class Problem(_Handle):
+    """A dynamic contact problem (nd_problem) on its own copy of a mesh.
+
+    Per-node arrays are (n_nodes, dim) numpy arrays in the library's node
+    order (mesh vertices first, then P2 edge nodes); setters also accept any
+    array of n_nodes*dim values.
+    """
+
+    _destroy = lib.nd_problem_destroy
+
+    def __init__(self, mesh, degree=1):
+        super().__init__()
+        self.dim = mesh.dimension
+        self._monitor = None  # the ctypes callback, kept alive
+        self._monitor_error = None
+        _check(lib.nd_problem_create(mesh.handle, degree, ctypes.byref(self._h)))
+
+    def _vector(self, values, what):
+        return _doubles(values, self.dim, what)
+
+    def _nodal(self, values, what):
+        return None if values is None else _doubles(values, self.node_count * self.dim, what)
+
+    # definition
+    def set_material(self, young, poisson, density):
+        _check(lib.nd_problem_set_material(self._h, young, poisson, density))
+
+    def set_dirichlet(self, region):
+        _check(lib.nd_problem_set_dirichlet(self._h, region))
+
+    def set_body_force(self, f):
+        _check(lib.nd_problem_set_body_force(self._h, _dptr(self._vector(f, "f"))))
+
+    def set_neumann(self, region, g):
+        _check(lib.nd_problem_set_neumann(self._h, region, _dptr(self._vector(g, "g"))))
+
+    def set_contact_plane(self, region, point, normal):
+        _check(lib.nd_problem_set_contact_plane(self._h, region, _dptr(self._vector(point, "point")),
+                                                _dptr(self._vector(normal, "normal"))))
+
+    def set_nitsche(self, theta, gamma0):
+        _check(lib.nd_problem_set_nitsche(self._h, theta, gamma0))
+
+    def set_scheme(self, scheme, params=None):
+        """ND_SCHEME_THETA (theta,), ND_SCHEME_NEWMARK (beta, gamma), ND_SCHEME_HYBRID ()."""
+        needed = {_constants.ND_SCHEME_THETA: 1, _constants.ND_SCHEME_NEWMARK: 2}.get(scheme, 0)
+        a = None
+        if params is not None or needed:
+            a = _doubles(() if params is None else params)
+            if a.size < needed:
+                raise ValueError("scheme %d needs %d parameters, got %d" % (scheme, needed, a.size))
+        _check(lib.nd_problem_set_scheme(self._h, scheme, _dptr(a)))
+
+    def set_nodal_forces(self, f):
+        _check(lib.nd_problem_set_nodal_forces(self._h, self.node_count, _dptr(self._nodal(f, "f"))))
+
+    def set_newton(self, rtol, atol, max_iter):
+        _check(lib.nd_problem_set_newton(self._h, rtol, atol, max_iter))
+
+    def set_mass_lumping(self, lumped):
+        _check(lib.nd_problem_set_mass_lumping(self._h, int(bool(lumped))))
+
+    def set_linear_solver(self, solver):
+        _check(lib.nd_problem_set_linear_solver(self._h, solver))
+
+    def set_timestep(self, tau):
+        _check(lib.nd_problem_set_timestep(self._h, tau))
+
+    def set_initial_state(self, u0=None, v0=None):
+        """u0, v0 per node; None means zero."""
+        _check(lib.nd_problem_set_initial_state(self._h, self.node_count, _dptr(self._nodal(u0, "u0")),
+                                                _dptr(self._nodal(v0, "v0"))))
+
+    def set_monitor(self, fn):
+        """fn(problem) after every accepted step; a true result makes step()
+        return ND_MONITOR_STOP (the step is kept). An exception raised by fn
+        stops too and is raised again by step(). None removes the monitor."""
+        if fn is None:
+            cb = MONITOR()  # NULL
+        else:
+            problem = weakref.ref(self)  # no reference cycle through the callback
+
+            def trampoline(_p, _userdata):
+                try:
+                    return 1 if fn(problem()) else 0
+                except BaseException as e:  # noqa: B902 - carried to step()
+                    self._monitor_error = e
+                    return 1
+            cb = MONITOR(trampoline)
+        _check(lib.nd_problem_set_monitor(self._h, cb, None))
+        self._monitor = cb
+
+    # queries
+    @property
+    def node_count(self):
+        n = _i64()
+        _check(lib.nd_problem_get_node_count(self._h, ctypes.byref(n)))
+        return n.value
+
+    def node_coordinates(self):
+        n = self.node_count
+        x = np.empty((n, self.dim))
+        _check(lib.nd_problem_get_node_coordinates(self._h, n, _dptr(x)))
+        return x
+
+    @property
+    def contact_point_count(self):
+        n = _i64()
+        _check(lib.nd_problem_get_contact_point_count(self._h, ctypes.byref(n)))
+        return n.value
+
+    def contact_points(self):
+        """(coords (n, dim), weights (n,)) of the contact quadrature points."""
+        n = self.contact_point_count
+        x, w = np.empty((n, self.dim)), np.empty(n)
+        _check(lib.nd_problem_get_contact_points(self._h, n, _dptr(x), _dptr(w)))
+        return x, w
+
+    # time stepping
+    def step(self):
+        """One time step: ND_OK, or ND_MONITOR_STOP when the monitor asked to
+        stop (the step is kept). Raises Error when the step failed (the
+        problem is then unchanged)."""
+        self._monitor_error = None
+        status = _check(lib.nd_step(self._h))
+        if self._monitor_error is not None:
+            e, self._monitor_error = self._monitor_error, None
+            raise e
+        return status
+
+    def field(self, which=_constants.ND_FIELD_DISPLACEMENT):
+        """ND_FIELD_DISPLACEMENT, _VELOCITY or _ACCELERATION: (n_nodes, dim)."""
+        n = self.node_count
+        out = np.empty((n, self.dim))
+        _check(lib.nd_get_field(self._h, which, n, _dptr(out)))
+        return out
+
+    def scalar(self, key):
+        """nd_get_scalar: ND_TIME, ND_ENERGY_AUGMENTED, ..."""
+        x = _dbl()
+        _check(lib.nd_get_scalar(self._h, key, ctypes.byref(x)))
+        return x.value
+
+    def contact_pressure(self):
+        """lambda_q = -[P_q]_+/gamma_q at each contact point."""
+        n = self.contact_point_count
+        out = np.empty(n)
+        _check(lib.nd_get_contact_pressure(self._h, n, _dptr(out)))
+        return out
+
+    def write_vtu(self, path):
+        _check(lib.nd_problem_write_vtu(self._h, os.fsencode(path)))
+
+
+def write_pvd(path, vtu_files, times):
+    """A ParaView time series of the VTU files (paths as written) at times."""
+    names = [os.fsencode(f) for f in vtu_files]
+    t = _doubles(times, len(names), "times")
+    arr = (_str * max(len(names), 1))(*names)
+    _check(lib.nd_write_pvd(os.fsencode(path), len(names), arr, _dptr(t)))
