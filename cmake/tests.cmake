@@ -12,10 +12,13 @@
 #   target abi-update      rewrite abi/nitschedyn.abi from the current build
 enable_testing()
 
-add_test(NAME man_pages
-  COMMAND sh ${PROJECT_SOURCE_DIR}/tests/man_pages.sh ${PROJECT_SOURCE_DIR}
-          $<TARGET_FILE:nitschedyn> ${CMAKE_C_COMPILER} ${PROJECT_BINARY_DIR}/tests/man_pages)
-set_tests_properties(man_pages PROPERTIES LABELS man)
+# (the page examples are compiled as plain programs: not in a sanitizer build)
+if(NOT ND_SANITIZE)
+  add_test(NAME man_pages
+    COMMAND sh ${PROJECT_SOURCE_DIR}/tests/man_pages.sh ${PROJECT_SOURCE_DIR}
+            $<TARGET_FILE:nitschedyn> ${CMAKE_C_COMPILER} ${PROJECT_BINARY_DIR}/tests/man_pages)
+  set_tests_properties(man_pages PROPERTIES LABELS man)
+endif()
 
 add_test(NAME abi_guard
   COMMAND sh ${PROJECT_SOURCE_DIR}/tests/abi_guard.sh check ${CMAKE_C_COMPILER}
@@ -33,4 +36,7 @@ if(NOT TARGET abi-update)
     VERBATIM)
 endif()
 
-add_subdirectory(${PROJECT_SOURCE_DIR}/tests/postinstall ${PROJECT_BINARY_DIR}/tests/postinstall)
+# (not in a sanitizer build: consumers would link an ASan library without ASan)
+if(NOT ND_SANITIZE)
+  add_subdirectory(${PROJECT_SOURCE_DIR}/tests/postinstall ${PROJECT_BINARY_DIR}/tests/postinstall)
+endif()
