@@ -12,9 +12,14 @@ int nd_test_run(Suite *s) {
 
 nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, double theta,
                        double gamma0, double tau) {
+  return nd_test_bar_at(nx, degree, scheme, params, theta, gamma0, tau, 0.0, NULL);
+}
+
+nd_problem nd_test_bar_at(int nx, int degree, int scheme, const double *params, double theta,
+                          double gamma0, double tau, double plane_x, const double *body_force) {
   nd_mesh m = NULL;
   nd_problem p = NULL;
-  const double zero = 0, up = 1, lo0 = -0.5, hi0 = 0.5, lo1 = 0.5, hi1 = 1.5;
+  const double up = 1, lo0 = -0.5, hi0 = 0.5, lo1 = 0.5, hi1 = 1.5;
   ND_OK_OR_FAIL(nd_mesh_create_interval(nx, 0.0, 1.0, &m));
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, &lo0, &hi0)); /* x = 0: contact */
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, &lo1, &hi1)); /* x = 1: clamped */
@@ -22,7 +27,8 @@ nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, dou
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
   ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0));
   ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
-  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, &zero, &up));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, &plane_x, &up));
+  if (body_force) ND_OK_OR_FAIL(nd_problem_set_body_force(p, body_force));
   ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, gamma0));
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));

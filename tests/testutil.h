@@ -17,6 +17,10 @@ int nd_test_run(Suite *s);
    scheme/params as nd_problem_set_scheme. Fails the test on any error. */
 nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, double theta,
                        double gamma0, double tau);
+/* The same bar with the obstacle plane at x = plane_x (0 in nd_test_bar) and,
+   unless NULL, a body force. */
+nd_problem nd_test_bar_at(int nx, int degree, int scheme, const double *params, double theta,
+                          double gamma0, double tau, double plane_x, const double *body_force);
 
 #ifdef __cplusplus
 }

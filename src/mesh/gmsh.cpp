@@ -74,20 +74,6 @@ class Tokens {
   int64_t line_ = 0;
 };
 
-// element type -> (dimension, number of nodes) for simplices and points
-bool element_shape(int64_t type, int &dim, int &nodes) {
-  switch (type) {
-    case 15: dim = 0, nodes = 1; return true;   // point
-    case 1: dim = 1, nodes = 2; return true;    // line
-    case 8: dim = 1, nodes = 3; return true;    // line, 2nd order
-    case 2: dim = 2, nodes = 3; return true;    // triangle
-    case 9: dim = 2, nodes = 6; return true;    // triangle, 2nd order
-    case 4: dim = 3, nodes = 4; return true;    // tetrahedron
-    case 11: dim = 3, nodes = 10; return true;  // tetrahedron, 2nd order
-    default: return false;
-  }
-}
-
 struct Element {
   int dim;
   std::vector<int64_t> tags;  // physical tags
@@ -98,6 +84,37 @@ struct RawMesh {
   std::map<int64_t, std::array<double, 3>> nodes;  // tag -> xyz
   std::vector<Element> elements;
 };
+
+// An element of a given Gmsh type: its dimension, and its node tags of which
+// the corners are kept (simplices and points only, first or second order).
+Element read_element(Tokens &tk, int64_t type, std::vector<int64_t> tags) {
+  int dim, nodes;
+  switch (type) {
+    case 15: dim = 0, nodes = 1; break;   // point
+    case 1: dim = 1, nodes = 2; break;    // line
+    case 8: dim = 1, nodes = 3; break;    // line, 2nd order
+    case 2: dim = 2, nodes = 3; break;    // triangle
+    case 9: dim = 2, nodes = 6; break;    // triangle, 2nd order
+    case 4: dim = 3, nodes = 4; break;    // tetrahedron
+    case 11: dim = 3, nodes = 10; break;  // tetrahedron, 2nd order
+    default:
+      tk.error("element type " + std::to_string(type) + " is not supported (simplices only: 15, 1, 2, 4, 8, 9, 11)");
+  }
+  Element el{dim, std::move(tags), {}};
+  for (int k = 0; k < nodes; ++k) {
+    const int64_t node = tk.integer("a node tag");
+    if (k <= dim) el.nodes.push_back(node);
+  }
+  return el;
+}
+
+// A section neither reader needs is skipped; anything else is an error.
+void other_section(Tokens &tk, const std::string &t) {
+  if (t.size() > 1 && t[0] == '$' && t.compare(0, 4, "$End") != 0)
+    tk.skip_section(t.substr(1));
+  else
+    tk.error("expected a section ($Nodes, $Elements, ...), found '" + t + "'");
+}
 
 void read_v4(Tokens &tk, RawMesh &raw) {
   std::map<std::pair<int, int64_t>, std::vector<int64_t>> entity_tags;  // (dim, tag) -> physical
@@ -148,25 +165,15 @@ void read_v4(Tokens &tk, RawMesh &raw) {
         const int64_t etag = tk.integer("an entity tag");
         const int64_t type = tk.integer("an element type");
         const int64_t n = tk.integer("the number of elements in the block");
-        int dim, nn;
-        if (!element_shape(type, dim, nn))
-          tk.error("element type " + std::to_string(type) + " is not supported (simplices only: 15, 1, 2, 4, 8, 9, 11)");
         const auto &phys = entity_tags[{static_cast<int>(edim), etag}];
         for (int64_t e = 0; e < n; ++e) {
           tk.integer("an element tag");
-          Element el{dim, phys, {}};
-          for (int k = 0; k < nn; ++k) {
-            const int64_t node = tk.integer("a node tag");
-            if (k <= dim) el.nodes.push_back(node);
-          }
-          raw.elements.push_back(std::move(el));
+          raw.elements.push_back(read_element(tk, type, phys));
         }
       }
       tk.expect("$EndElements");
-    } else if (t.size() > 1 && t[0] == '$' && t.compare(0, 4, "$End") != 0) {
-      tk.skip_section(t.substr(1));
     } else {
-      tk.error("expected a section ($Nodes, $Elements, ...), found '" + t + "'");
+      other_section(tk, t);
     }
   }
 }
@@ -186,26 +193,17 @@ void read_v2(Tokens &tk, RawMesh &raw) {
       for (int64_t i = 0; i < n; ++i) {
         tk.integer("an element tag");
         const int64_t type = tk.integer("an element type");
-        int dim, nn;
-        if (!element_shape(type, dim, nn))
-          tk.error("element type " + std::to_string(type) + " is not supported (simplices only: 15, 1, 2, 4, 8, 9, 11)");
         const int64_t ntags = tk.integer("the number of tags");
-        Element el{dim, {}, {}};
+        std::vector<int64_t> phys;
         for (int64_t k = 0; k < ntags; ++k) {
           const int64_t tag = tk.integer("a tag");
-          if (k == 0 && tag != 0) el.tags.push_back(tag);  // the first tag is the physical group
+          if (k == 0 && tag != 0) phys.push_back(tag);  // the first tag is the physical group
         }
-        for (int k = 0; k < nn; ++k) {
-          const int64_t node = tk.integer("a node tag");
-          if (k <= dim) el.nodes.push_back(node);
-        }
-        raw.elements.push_back(std::move(el));
+        raw.elements.push_back(read_element(tk, type, std::move(phys)));
       }
       tk.expect("$EndElements");
-    } else if (t.size() > 1 && t[0] == '$' && t.compare(0, 4, "$End") != 0) {
-      tk.skip_section(t.substr(1));
     } else {
-      tk.error("expected a section ($Nodes, $Elements, ...), found '" + t + "'");
+      other_section(tk, t);
     }
   }
 }
@@ -245,24 +243,24 @@ Mesh read_gmsh(const char *path) {
   std::map<int64_t, int64_t> index;
   std::vector<double> coords;
   std::vector<int64_t> cells;
+  auto position = [&](int64_t tag) -> const std::array<double, 3> & {
+    auto node = raw.nodes.find(tag);
+    if (node == raw.nodes.end())
+      fail(ND_ERR_FORMAT, std::string(path) + ": an element uses node " + std::to_string(tag) + ", which is not in $Nodes");
+    return node->second;
+  };
   auto vertex = [&](int64_t tag) {
     auto it = index.find(tag);
     if (it != index.end()) return it->second;
-    auto node = raw.nodes.find(tag);
-    if (node == raw.nodes.end()) fail(ND_ERR_FORMAT, std::string(path) + ": an element uses node " + std::to_string(tag) + ", which is not in $Nodes");
     const int64_t id = static_cast<int64_t>(index.size());
     index.emplace(tag, id);
-    for (int k = 0; k < top; ++k) coords.push_back(node->second[k]);
+    for (int k = 0; k < top; ++k) coords.push_back(position(tag)[k]);
     return id;
   };
   for (const Element &e : raw.elements) {
     if (e.dim != top) continue;
     std::vector<std::array<double, 3>> x;
-    for (int64_t tag : e.nodes) {
-      auto node = raw.nodes.find(tag);
-      if (node == raw.nodes.end()) fail(ND_ERR_FORMAT, std::string(path) + ": an element uses node " + std::to_string(tag) + ", which is not in $Nodes");
-      x.push_back(node->second);
-    }
+    for (int64_t tag : e.nodes) x.push_back(position(tag));
     std::vector<int64_t> v = e.nodes;
     if (orientation(top, x) < 0) std::swap(v[0], v[1]);  // Gmsh does not fix the orientation
     for (int64_t tag : v) cells.push_back(vertex(tag));
