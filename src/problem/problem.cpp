@@ -17,8 +17,8 @@ bool all_finite(const std::vector<double> &v) {
 }  // namespace
 
 void Operators::mass_solve(double *x, int solver) {
-  if (lumped) {
-    for (int64_t i = 0; i < M.n; ++i) x[i] /= M.val[M.find(i, i)];
+  if (lumped) {  // explicit steps with lumped mass: no solve at all
+    for (size_t i = 0; i < M_lumped.size(); ++i) x[i] /= M_lumped[i];
     return;
   }
   if (!M_factor) {
@@ -163,6 +163,7 @@ Operators &Problem::build_operators() {
   if (lumped_) {
     ops->M = ops->K.zeros_like();
     for (int64_t i = 0; i < ops->M.n; ++i) ops->M.val[ops->M.find(i, i)] = bulk.M_lumped[i];
+    ops->M_lumped = std::move(bulk.M_lumped);
   } else {
     ops->M = std::move(bulk.M);
   }

@@ -20,6 +20,7 @@ struct Operators {
   DofMap dofs;
   Csr M;        // the scheme's mass: consistent, or lumped (diagonal) on the same pattern
   bool lumped;
+  std::vector<double> M_lumped;  // the lumped diagonal (empty when consistent)
   Csr K, K_theta;             // K and K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
   std::vector<double> F_const;  // empty when there is no body force or traction
   ContactPoints contact;
