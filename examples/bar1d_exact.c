@@ -122,11 +122,41 @@ static int gauss_rule(int n, double *pt, double *wt) {
    the cell's degree, the exact one is linear between the kinks x = r, 1 - r,
    so each cell is split at the kinks inside it and each piece gets a Gauss
    rule exact for degree 2*degree + 1 or more. */
+/* Adds the squared differences at the ng points of one piece: phi, dphi are
+   the basis values at the points (dphi already per unit x). */
+static void add_piece(space_norms *s, int m, int ng, const double *uc, const double *vc, const double *xq,
+                      const double *wq, const double (*phi)[3], const double (*dphi)[3], phase ph) {
+  for (int q = 0; q < ng; ++q) {
+    double uh = 0, uhx = 0, vh = 0;
+    for (int j = 0; j < m; ++j) {
+      uh += phi[q][j] * uc[j];
+      uhx += dphi[q][j] * uc[j];
+      vh += phi[q][j] * vc[j];
+    }
+    const exact_value e = exact_at(ph, xq[q]);
+    const double w = wq[q];
+    s->err[0] += w * (uh - e.u) * (uh - e.u);
+    s->err[1] += w * (uhx - e.ux) * (uhx - e.ux);
+    s->err[2] += w * (vh - e.v) * (vh - e.v);
+    s->ref[0] += w * e.u * e.u;
+    s->ref[1] += w * e.ux * e.ux;
+    s->ref[2] += w * e.v * e.v;
+  }
+}
+
+/* Exact integrals of the squared differences: the FE field is a polynomial of
+   the cell's degree, the exact one is linear between the kinks x = r, 1 - r,
+   so each cell is split at the kinks inside it and each piece gets a Gauss
+   rule exact for degree 2*degree + 1 or more. Cells without a kink (all but
+   two) use basis values tabulated once on the reference cell. */
 space_norms norms_at(const grid *g, const double *U, const double *V, phase ph) {
   space_norms s = {{0, 0, 0}, {0, 0, 0}};
   double pt[4], wt[4];
   const int ng = gauss_rule(g->degree + 2, pt, wt), m = g->degree + 1;
   const double k1 = fmin(ph.r, 1 - ph.r), k2 = fmax(ph.r, 1 - ph.r);
+  double ref_nodes[3], ref_phi[4][3], ref_dphi[4][3];
+  for (int j = 0; j < m; ++j) ref_nodes[j] = -1.0 + 2.0 * j / (m - 1); /* equispaced in the cell */
+  for (int q = 0; q < ng; ++q) lagrange(m, ref_nodes, pt[q], ref_phi[q], ref_dphi[q]);
   for (int64_t c = 0; c < g->n_cells; ++c) {
     const int64_t first = c * g->degree;
     const double *xs = g->x + first;
@@ -135,31 +165,30 @@ space_norms norms_at(const grid *g, const double *U, const double *V, phase ph) 
       uc[j] = U[g->id[first + j]];
       vc[j] = V[g->id[first + j]];
     }
-    double cuts[4];
+    double cuts[4], xq[4], wq[4], phi[4][3], dphi[4][3];
     int nc = 0;
     cuts[nc++] = xs[0];
     if (k1 > xs[0] && k1 < xs[m - 1]) cuts[nc++] = k1;
     if (k2 > xs[0] && k2 < xs[m - 1] && k2 > k1) cuts[nc++] = k2;
     cuts[nc++] = xs[m - 1];
+    if (nc == 2) {
+      const double mid = 0.5 * (xs[0] + xs[m - 1]), half = 0.5 * (xs[m - 1] - xs[0]);
+      for (int q = 0; q < ng; ++q) {
+        xq[q] = mid + half * pt[q];
+        wq[q] = half * wt[q];
+        for (int j = 0; j < m; ++j) dphi[q][j] = ref_dphi[q][j] / half;
+      }
+      add_piece(&s, m, ng, uc, vc, xq, wq, (const double (*)[3])ref_phi, (const double (*)[3])dphi, ph);
+      continue;
+    }
     for (int p = 0; p + 1 < nc; ++p) {
       const double mid = 0.5 * (cuts[p] + cuts[p + 1]), half = 0.5 * (cuts[p + 1] - cuts[p]);
       for (int q = 0; q < ng; ++q) {
-        const double x = mid + half * pt[q], w = half * wt[q];
-        double phi[3], dphi[3], uh = 0, uhx = 0, vh = 0;
-        lagrange(m, xs, x, phi, dphi);
-        for (int j = 0; j < m; ++j) {
-          uh += phi[j] * uc[j];
-          uhx += dphi[j] * uc[j];
-          vh += phi[j] * vc[j];
-        }
-        const exact_value e = exact_at(ph, x);
-        s.err[0] += w * (uh - e.u) * (uh - e.u);
-        s.err[1] += w * (uhx - e.ux) * (uhx - e.ux);
-        s.err[2] += w * (vh - e.v) * (vh - e.v);
-        s.ref[0] += w * e.u * e.u;
-        s.ref[1] += w * e.ux * e.ux;
-        s.ref[2] += w * e.v * e.v;
+        xq[q] = mid + half * pt[q];
+        wq[q] = half * wt[q];
+        lagrange(m, xs, xq[q], phi[q], dphi[q]);
       }
+      add_piece(&s, m, ng, uc, vc, xq, wq, (const double (*)[3])phi, (const double (*)[3])dphi, ph);
     }
   }
   return s;

@@ -196,6 +196,10 @@ ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coo
                                             double *weights);
 
 /* ---- time stepping ----------------------------------------------------- */
+/* Assembles, factorizes and computes the initial acceleration now rather
+   than in the first nd_step (which calls it when needed): to time the set-up
+   apart, or to learn of an ill-posed step before stepping. */
+ND_EXPORT int nd_problem_setup(nd_problem p);
 ND_EXPORT int nd_step(nd_problem p);
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out);
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);

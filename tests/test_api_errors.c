@@ -446,6 +446,7 @@ START_TEST(problem_null_handles) {
   EXPECT_ERR(nd_problem_get_contact_points(NULL, 1, x, x), ND_ERR_NULL,
              "nd_problem_get_contact_points", fn_null);
   EXPECT_ERR(nd_step(NULL), ND_ERR_NULL, "nd_step", fn_null);
+  EXPECT_ERR(nd_problem_setup(NULL), ND_ERR_NULL, "nd_problem_setup", fn_null);
   EXPECT_ERR(nd_get_field(NULL, ND_FIELD_DISPLACEMENT, 1, x), ND_ERR_NULL, "nd_get_field",
              fn_null);
   EXPECT_ERR(nd_get_scalar(NULL, ND_TIME, x), ND_ERR_NULL, "nd_get_scalar", fn_null);
@@ -871,6 +872,7 @@ static nd_problem partial_bar(char omit) {
 
 START_TEST(step_incomplete) {
   nd_problem p = partial_bar('m');
+  EXPECT_ERR(nd_problem_setup(p), ND_ERR_INCOMPLETE, "nd_problem_setup", "material");
   EXPECT_ERR(nd_step(p), ND_ERR_INCOMPLETE, "nd_step", "material");
   ck_assert(!contains(nd_last_error(), "time step"));
   ck_assert(!contains(nd_last_error(), "Nitsche"));

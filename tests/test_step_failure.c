@@ -103,12 +103,58 @@ START_TEST(divergence_is_refused_and_keeps_the_state) {
 }
 END_TEST
 
+/* nd_problem_setup does the first step's set-up early: nothing observable
+   changes, and the steps after it are bitwise those of a twin without it. */
+START_TEST(setup_is_invisible) {
+  const double nm[2] = {0.25, 0.5};
+  for (int scheme = ND_SCHEME_NEWMARK; scheme <= ND_SCHEME_HYBRID; ++scheme) {
+    nd_problem a = nd_test_bar(20, 2, scheme, nm, 1.0, 0.2, 0.025);
+    nd_problem b = nd_test_bar(20, 2, scheme, nm, 1.0, 0.2, 0.025);
+    snapshot before = take(a);
+    ND_OK_OR_FAIL(nd_problem_setup(a));
+    ND_OK_OR_FAIL(nd_problem_setup(a)); /* a second call is a no-op */
+    snapshot after = take(a);
+    assert_same(&before, &after);
+    release(&before);
+    release(&after);
+    for (int k = 0; k < 60; ++k) { /* into contact at t = 1 */
+      ND_OK_OR_FAIL(nd_step(a));
+      ND_OK_OR_FAIL(nd_step(b));
+    }
+    snapshot sa = take(a), sb = take(b);
+    assert_same(&sa, &sb);
+    release(&sa);
+    release(&sb);
+    ND_OK_OR_FAIL(nd_problem_destroy(&a));
+    ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  }
+}
+END_TEST
+
+/* Theta = 1 with gamma0 E far above 1 and a long step: c M + K_Theta is
+   indefinite, and nd_problem_setup says so before any step. */
+START_TEST(setup_reports_an_ill_posed_step) {
+  const double nm[2] = {0.25, 0.5};
+  nd_problem p = nd_test_bar(20, 1, ND_SCHEME_NEWMARK, nm, 1.0, 100.0, 1.0);
+  snapshot before = take(p);
+  ck_assert_int_eq(nd_problem_setup(p), ND_ERR_INDEFINITE);
+  ck_assert_ptr_nonnull(strstr(nd_last_error(), "nd_problem_setup"));
+  snapshot after = take(p);
+  assert_same(&before, &after);
+  release(&before);
+  release(&after);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("step_failure");
   TCase *tc = tcase_create("problem");
   tcase_set_timeout(tc, 60);
   tcase_add_test(tc, newton_failure_keeps_the_state);
   tcase_add_test(tc, divergence_is_refused_and_keeps_the_state);
+  tcase_add_test(tc, setup_is_invisible);
+  tcase_add_test(tc, setup_reports_an_ill_posed_step);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -41,7 +41,7 @@ module nitschedyn
             nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
-  public :: nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
+  public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
   public :: nd_problem_write_vtu, nd_write_pvd
   ! ---- the monitor's interface and the Fortran string wrappers --------------
   public :: nd_monitor_fn
@@ -351,6 +351,12 @@ module nitschedyn
     end function nd_problem_get_contact_points
 
     ! ---- time stepping -------------------------------------------------------
+    function nd_problem_setup(p) result(status) bind(C, name='nd_problem_setup')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int) :: status
+    end function nd_problem_setup
+
     function nd_step(p) result(status) bind(C, name='nd_step')
       import :: c_int, c_ptr
       type(c_ptr), value :: p

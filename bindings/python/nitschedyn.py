@@ -137,6 +137,7 @@ _PROTOTYPES = {
     "nd_problem_get_node_coordinates": (_int, [_ptr, _i64, _pdbl]),
     "nd_problem_get_contact_point_count": (_int, [_ptr, _pi64]),
     "nd_problem_get_contact_points": (_int, [_ptr, _i64, _pdbl, _pdbl]),
+    "nd_problem_setup": (_int, [_ptr]),
     "nd_step": (_int, [_ptr]),
     "nd_get_field": (_int, [_ptr, _int, _i64, _pdbl]),
     "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
@@ -455,6 +456,11 @@ class Problem(_Handle):
         return x, w
 
     # time stepping
+    def setup(self):
+        """Assemble, factorize and compute the initial acceleration now
+        (step() does it when needed). Raises Error when that fails."""
+        _check(lib.nd_problem_setup(self._h))
+
     def step(self):
         """One time step: ND_OK, or ND_MONITOR_STOP when the monitor asked to
         stop (the step is kept). Raises Error when the step failed (the

@@ -18,6 +18,13 @@ void need_count(int64_t n, int64_t expected, const char *what) {
 
 extern "C" {
 
+ND_EXPORT int nd_problem_setup(nd_problem p) {
+  return nd::guarded("nd_problem_setup", [&] {
+    problem_of(p).setup();
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_step(nd_problem p) {
   const int status = nd::guarded("nd_step", [&] {
     problem_of(p).step();

@@ -254,11 +254,17 @@ const State &Problem::state() {
 
 // ---- stepping --------------------------------------------------------------------
 
-void Problem::step() {
-  Operators &ops = build_operators();
-  StepOperator &so = build_step_operator();
+void Problem::setup() {
+  build_operators();
+  build_step_operator();
   state();
   if (!scheme_.is_hybrid() && !state_.A_valid) equilibrium_acceleration(state_);
+}
+
+void Problem::step() {
+  setup();
+  Operators &ops = build_operators();
+  StepOperator &so = build_step_operator();
   const State &old = state_;
   State next;
   next.t = old.t + tau_;

@@ -68,6 +68,7 @@ class Problem {
   std::vector<double> contact_pressure();  // lambda_q
 
   // Advances one step; throws nd::Error (state untouched) on failure.
+  void setup();  // operators, factorization, initial acceleration
   void step();
 
  private:
