@@ -5,13 +5,15 @@
 #   make install    install into $(PREFIX)
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
 #   make bench      run the benchmarks (bench/run.sh), results in bench/results/
+#   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
+#   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
 #   make meshes     regenerate examples/meshes/*.msh from the .geo sources (gmsh)
 BUILD    ?= build
 PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench report report-quick report-deps abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -46,6 +48,20 @@ abi-update: all
 # Benchmarks (not tests): bench/results/*.csv
 bench: all
 	sh bench/run.sh $(BUILD)
+
+# The work-precision report (tools/report): runs, then plots and REPORT.md.
+# Debian's python3 (/usr/bin/python3) with matplotlib and GetFEM.
+REPORT_PY = /usr/bin/python3
+report-deps:
+	@sh scripts/install-deps.sh report
+
+report: all report-deps
+	$(REPORT_PY) tools/report/run.py --full --build $(BUILD) --out report
+	$(REPORT_PY) tools/report/make_report.py --data report/data --out report
+
+report-quick: all report-deps
+	$(REPORT_PY) tools/report/run.py --quick --build $(BUILD) --out $(BUILD)/report-quick
+	$(REPORT_PY) tools/report/make_report.py --data $(BUILD)/report-quick/data --out $(BUILD)/report-quick
 
 # Regenerate the committed reference meshes (needs Debian's gmsh).
 MESHES = examples/meshes

@@ -1,10 +1,14 @@
 #!/bin/sh
 # Installs the Debian packages that the build and the tests need, when one is
 # missing and we are root; otherwise says what to install. Safe to run twice.
+#   install-deps.sh          the build and the tests
+#   install-deps.sh report   also the work-precision report (matplotlib, GetFEM)
 set -e
 need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy; do
+pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy"
+[ "${1:-}" = report ] && pkgs="$pkgs python3 python3-matplotlib python3-getfem"
+for pkg in $pkgs; do
   have_pkg "$pkg" || need="$need $pkg"
 done
 [ -z "$need" ] && exit 0

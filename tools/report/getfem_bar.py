@@ -31,11 +31,18 @@ right-hand side brick, updated every step. Initial acceleration:
 M A^0 = -K_Theta U^0 - N(U^0), the full Nitsche residual of GetFEM's model
 at U^0 (mass and right-hand side bricks disabled), solved by GetFEM.
 
-Newton stopping (GetFEM's classical Newton, Model.solve): it stops when
-  min( ||G||_1 / ||explicit rhs||_1 , ||dU||_1 / ||U||_1 ) <= max_res
-(max_res = --newton-rtol, default 1e-12): a relative residual, or a relative
-update at the round-off level. Both are relative, so P2 on fine meshes does
-not run into an unreachable absolute residual.
+Newton stopping. Model.solve (GetFEM 5.4.2, default line search) runs
+GetFEM's Newton_with_step_control, which stops when ||G||_1 / eln <= max_res,
+where eln (GetFEM's "approximate external load norm") is 1 for this model:
+an absolute residual, unreachable for P2 on fine meshes if fixed. So each
+step passes max_res = rtol * (||r||_1 + ||c M U^n||_1), r the right-hand side
+above: the relative rule of our library (||G|| <= 1e-10 (||r|| + ||cMU||)),
+in GetFEM's 1-norm; rtol = --newton-rtol, default 1e-12 (its round-off floor
+is near 1e-16 here; 1e-10 gives the same results and iteration counts).
+Newton iterations per step are what Model.solve returns.
+
+Linear solver: --lsolver auto (GetFEM's choice; MUMPS in Debian's build).
+'superlu' crashes (segmentation fault) in Debian's python3-getfem 5.4.2.
 
 Usage (from the repository root, after `make all`):
   /usr/bin/python3 tools/report/getfem_bar.py \
@@ -47,7 +54,6 @@ Usage (from the repository root, after `make all`):
 import argparse
 import csv as csvmod
 import ctypes
-import math
 import os
 import statistics
 import sys
@@ -207,7 +213,8 @@ class Bar:
         sn = float(self.s_row @ self.U)
         pp = max(un - self.gamma * sn, 0.0)
         lam = -pp / self.gamma
-        E = 0.5 * float(self.V @ np.asarray(self.M.mult(self.V))) + 0.5 * float(self.U @ np.asarray(self.K.mult(self.U)))
+        E = 0.5 * float(self.V @ np.asarray(self.M.mult(self.V))) \
+            + 0.5 * float(self.U @ np.asarray(self.K.mult(self.U)))
         R = 0.5 * (self.gamma * sn * sn - pp * pp / self.gamma)
         return lam, E, E - self.Theta * R
 
@@ -353,7 +360,7 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=1)
     p.add_argument("--csv", default=None, help="append one row per run to this file")
     p.add_argument("--newton-rtol", type=float, default=1e-12,
-                   help="GetFEM's max_res: relative residual / relative update (default 1e-12)")
+                   help="Newton stops at ||G||_1 <= rtol (||r||_1 + ||c M U^n||_1) (default 1e-12)")
     p.add_argument("--newton-max-iter", type=int, default=50)
     p.add_argument("--lsolver", default="auto",
                    help="GetFEM linear solver: auto (default; MUMPS in Debian's build), mumps, dense_lu, ...")
@@ -367,6 +374,8 @@ def main(argv=None):
         p.error("--degree must be 1 or 2")
     if args.repeat < 1 or args.gamma0 <= 0 or args.beta <= 0 or args.T <= 0 or args.tau_over_h <= 0:
         p.error("--repeat, --gamma0, --beta, --T and --tau-over-h must be positive")
+    if any(int(round(args.T * nx / args.tau_over_h)) < 1 for nx in args.nx):
+        p.error("T/tau rounds to zero steps")
 
     gf.util_trace_level(0)
     gf.util_warning_level(0)

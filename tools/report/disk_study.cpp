@@ -1,0 +1,366 @@
+// The 2D disk of DESIGN §7 (dropped on a plane, impact at t = 10) on the
+// committed meshes, P1/P2, hybrid and Newmark (1/4, 1/2), against the finest
+// run: displacement at t = 12 and t = 14 in L2 and in the energy norm, and
+// the contact force history in L2(0, T), versus the wall time of the steps.
+//
+// The runs go through the public API (examples/drop_scene.c); only the
+// comparison of fields on different meshes uses the library's internals
+// (the P1/P2 basis on a cell), so the meshes need not be nested: every
+// quadrature point of the reference mesh is located in the coarse mesh and
+// the coarse field evaluated there (outside the coarse polygon, near the
+// curved boundary, the nearest cell's polynomial is extended).
+//
+//   disk_study --plan quick|full --out DIR [--repeat K]
+// writes DIR/disk.csv (a row per run) and DIR/disk_force.csv (histories).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "drop_scene.h"
+#include "fem/simplex.hpp"
+#include "fem/space.hpp"
+#include "mesh/mesh.hpp"
+#include "nitschedyn.h"
+
+namespace {
+
+constexpr double kLambda = 20, kMu = 20;  // the scene's Lame coefficients
+constexpr double kGamma0 = 1e-3;          // safe for P1 and P2 (DESIGN §7)
+constexpr double kTauOverH = 1.0 / 40;    // tau tied to h: 0.1 at h = 4
+constexpr double kT = 14, kSnap1 = 12, kSnap2 = 14;
+
+struct Spec {
+  std::string scheme;  // "hybrid" or "newmark(0.25,0.5)"
+  int degree;
+  double h, tau;
+  bool reference;
+  std::string label() const {
+    char b[96];
+    std::snprintf(b, sizeof b, "%s P%d h=%g%s", scheme.c_str(), degree, h, reference ? " (reference)" : "");
+    return b;
+  }
+};
+
+struct Run {
+  Spec spec;
+  std::unique_ptr<nd::Space> space;  // for evaluating the fields
+  std::vector<double> u1, u2;        // full nodal displacements at kSnap1, kSnap2
+  std::vector<double> force;         // ND_CONTACT_FORCE at every time level
+  int64_t unknowns = 0, steps = 0;
+  double setup_s = 0, loop_s = 0, newton = 0;
+  int repeats = 0;
+  std::string status = "ok";
+};
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::string mesh_path(double h) {
+  char b[512];
+  std::snprintf(b, sizeof b, "%s/disk_h%g.msh", ND_MESH_DIR, h);
+  return b;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// One pass over the steps; with keep = true also the fields and the force.
+// Returns an empty string or the error.
+std::string march(Run &r, bool keep, double &setup_s, double &loop_s) {
+  const Spec &s = r.spec;
+  const bool hybrid = s.scheme == "hybrid";
+  const double nm[2] = {0.25, 0.5};
+  nd_problem p = nullptr;
+  double t0 = now();
+  int st = drop_scene_create(2, mesh_path(s.h).c_str(), s.degree, hybrid ? ND_SCHEME_HYBRID : ND_SCHEME_NEWMARK,
+                             nm, 1.0, kGamma0, s.tau, ND_SOLVER_AUTO, &p);
+  if (st == ND_OK) st = nd_problem_setup(p);
+  setup_s = now() - t0;
+  loop_s = 0;
+  std::string error;
+  int64_t n_nodes = 0;
+  if (st == ND_OK) st = nd_problem_get_node_count(p, &n_nodes);
+  const int64_t n1 = std::llround(kSnap1 / s.tau), n2 = std::llround(kSnap2 / s.tau);
+  r.steps = std::llround(kT / s.tau);
+  if (keep) {
+    r.force.assign(r.steps + 1, 0.0);
+    r.newton = 0;
+    r.unknowns = 2 * n_nodes;
+  }
+  for (int64_t n = 0; st == ND_OK && n <= r.steps; ++n) {
+    if (n > 0) {
+      t0 = now();
+      st = nd_step(p);
+      loop_s += now() - t0;
+      if (st != ND_OK) break;
+    }
+    if (!keep) continue;
+    double f = 0, it = 0;
+    if (st == ND_OK) st = nd_get_scalar(p, ND_CONTACT_FORCE, &f);
+    if (st == ND_OK && n > 0) st = nd_get_scalar(p, ND_NEWTON_ITERATIONS, &it);
+    r.force[n] = f;
+    r.newton += it;
+    if (st == ND_OK && (n == n1 || n == n2)) {
+      std::vector<double> &u = n == n1 ? r.u1 : r.u2;
+      u.resize(2 * n_nodes);
+      st = nd_get_field(p, ND_FIELD_DISPLACEMENT, n_nodes, u.data());
+    }
+  }
+  if (st != ND_OK) error = nd_last_error();
+  if (keep && error.empty()) {  // the evaluation space; its nodes must be the problem's
+    auto mesh = std::make_shared<const nd::Mesh>(nd::read_gmsh(mesh_path(s.h).c_str()));
+    r.space = std::make_unique<nd::Space>(mesh, s.degree);
+    std::vector<double> x(2 * n_nodes);
+    nd_problem_get_node_coordinates(p, n_nodes, x.data());
+    if (r.space->n_nodes != n_nodes || x != r.space->node_coords) error = "the evaluation space differs from the run's";
+  }
+  nd_problem_destroy(&p);
+  return error;
+}
+
+void run(Run &r, int repeat) {
+  std::vector<double> setup(1), loop(1);
+  std::string err = march(r, true, setup[0], loop[0]);
+  for (int k = 1; err.empty() && k < repeat; ++k) {
+    double s, l;
+    err = march(r, false, s, l);
+    setup.push_back(s);
+    loop.push_back(l);
+  }
+  if (!err.empty()) {
+    for (char &c : err)
+      if (c == ',' || c == '"' || c == '\n') c = ';';
+    r.status = err;
+  }
+  r.repeats = static_cast<int>(loop.size());
+  r.setup_s = median(setup);
+  r.loop_s = median(loop);
+  std::fprintf(stderr, "%-36s %6lld unknowns %5lld steps  setup %.3f s  loop %.3f s  %s\n", r.spec.label().c_str(),
+               static_cast<long long>(r.unknowns), static_cast<long long>(r.steps), r.setup_s, r.loop_s,
+               r.status.c_str());
+}
+
+// ---- fields on non-nested meshes --------------------------------------------------
+
+// Finds, for a point, the cell of a 2D mesh that contains it (or, outside the
+// mesh, the one it is least outside of) through a uniform grid of buckets.
+class Locator {
+ public:
+  explicit Locator(const nd::Mesh &m) : m_(m) {
+    lo_[0] = lo_[1] = 1e300;
+    double hi[2] = {-1e300, -1e300};
+    for (int64_t v = 0; v < m.n_vertices; ++v)
+      for (int d = 0; d < 2; ++d) lo_[d] = std::min(lo_[d], m.x(v)[d]), hi[d] = std::max(hi[d], m.x(v)[d]);
+    const int nb = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(m.n_cells) / 2)));
+    for (int d = 0; d < 2; ++d) size_[d] = (hi[d] - lo_[d]) / nb * (1 + 1e-9);
+    nb_ = nb;
+    buckets_.resize(static_cast<size_t>(nb * nb));
+    for (int64_t c = 0; c < m.n_cells; ++c) {
+      double clo[2] = {1e300, 1e300}, chi[2] = {-1e300, -1e300};
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 2; ++d)
+          clo[d] = std::min(clo[d], m.x(m.cell(c)[k])[d]), chi[d] = std::max(chi[d], m.x(m.cell(c)[k])[d]);
+      for (int i = index(clo[0], 0); i <= index(chi[0], 0); ++i)
+        for (int j = index(clo[1], 1); j <= index(chi[1], 1); ++j) buckets_[i * nb_ + j].push_back(c);
+    }
+  }
+  // cell and reference coordinates xi of x in it
+  int64_t find(const double *x, double *xi) const {
+    int64_t best = -1;
+    double best_min = -1e300;
+    const int bi = index(x[0], 0), bj = index(x[1], 1);
+    for (int ring = 0; ring <= nb_ && best_min < -1e-12; ++ring) {  // widen until inside, or all searched
+      for (int i = bi - ring; i <= bi + ring; ++i)
+        for (int j = bj - ring; j <= bj + ring; ++j) {
+          if (i < 0 || j < 0 || i >= nb_ || j >= nb_) continue;
+          if (std::max(std::abs(i - bi), std::abs(j - bj)) != ring) continue;
+          for (int64_t c : buckets_[i * nb_ + j]) {
+            double l[2];
+            reference(c, x, l);
+            const double lmin = std::min({l[0], l[1], 1 - l[0] - l[1]});
+            if (lmin > best_min) best_min = lmin, best = c, xi[0] = l[0], xi[1] = l[1];
+          }
+        }
+      if (best >= 0 && ring >= 1) break;  // outside the mesh: the nearest rings decide
+    }
+    return best;
+  }
+
+ private:
+  int index(double v, int d) const {
+    return std::clamp(static_cast<int>(std::floor((v - lo_[d]) / size_[d])), 0, nb_ - 1);
+  }
+  void reference(int64_t c, const double *x, double *xi) const {
+    const nd::AffineMap A(m_, c);
+    const double dx[2] = {x[0] - A.x0[0], x[1] - A.x0[1]};
+    xi[0] = A.Jinv[0] * dx[0] + A.Jinv[1] * dx[1];
+    xi[1] = A.Jinv[2] * dx[0] + A.Jinv[3] * dx[1];
+  }
+  const nd::Mesh &m_;
+  double lo_[2], size_[2];
+  int nb_;
+  std::vector<std::vector<int64_t>> buckets_;
+};
+
+// u and its gradient (row-major 2x2, du_i/dx_j) at reference point xi of cell c
+void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, const double *xi, double *val,
+              double *grad) {
+  const nd::AffineMap A(*s.mesh, c);
+  double phi[6], dphi_ref[12], dphi[2];
+  s.basis.values(xi, phi);
+  s.basis.gradients(xi, dphi_ref);
+  const int64_t *nodes = s.nodes_of(c);
+  std::fill(val, val + 2, 0.0);
+  std::fill(grad, grad + 4, 0.0);
+  for (int a = 0; a < s.basis.n; ++a) {
+    A.physical_gradient(dphi_ref + 2 * a, dphi);
+    for (int i = 0; i < 2; ++i) {
+      const double ui = u[2 * nodes[a] + i];
+      val[i] += phi[a] * ui;
+      grad[2 * i] += dphi[0] * ui;
+      grad[2 * i + 1] += dphi[1] * ui;
+    }
+  }
+}
+
+double strain_energy_density(const double *g) {
+  const double e00 = g[0], e11 = g[3], e01 = 0.5 * (g[1] + g[2]);
+  const double tr = e00 + e11;
+  return 2 * kMu * (e00 * e00 + e11 * e11 + 2 * e01 * e01) + kLambda * tr * tr;
+}
+
+// Relative L2 and energy-norm errors of (coarse, uc) against (reference, ur),
+// integrated with the reference mesh's rule of degree 2 p_ref.
+void field_errors(const Run &ref, const std::vector<double> &ur, const Run &run, const std::vector<double> &uc,
+                  const Locator &loc, double &l2, double &energy) {
+  const nd::Space &R = *ref.space, &C = *run.space;
+  const nd::QuadratureRule q = nd::simplex_rule(2, 2 * R.degree);
+  double e_l2 = 0, r_l2 = 0, e_en = 0, r_en = 0;
+  for (int64_t c = 0; c < R.mesh->n_cells; ++c) {
+    const nd::AffineMap A(*R.mesh, c);
+    for (size_t k = 0; k < q.size(); ++k) {
+      const double *xi = &q.points[2 * k];
+      double x[2], vr[2], gr[4], vc[2], gc[4], xic[2];
+      A.to_physical(xi, x);
+      evaluate(R, ur, c, xi, vr, gr);
+      const int64_t cc = loc.find(x, xic);
+      evaluate(C, uc, cc, xic, vc, gc);
+      const double w = q.weights[k] * std::abs(A.det);
+      const double d[2] = {vc[0] - vr[0], vc[1] - vr[1]};
+      double dg[4];
+      for (int i = 0; i < 4; ++i) dg[i] = gc[i] - gr[i];
+      e_l2 += w * (d[0] * d[0] + d[1] * d[1]);
+      r_l2 += w * (vr[0] * vr[0] + vr[1] * vr[1]);
+      e_en += w * strain_energy_density(dg);
+      r_en += w * strain_energy_density(gr);
+    }
+  }
+  l2 = std::sqrt(e_l2 / r_l2);
+  energy = std::sqrt(e_en / r_en);
+}
+
+// L2(0,T) error of the force history, trapezoidal at the coarse run's times
+// (the reference's step divides the coarse one).
+double force_error(const Run &ref, const Run &run) {
+  const int64_t k = std::llround(run.spec.tau / ref.spec.tau);
+  double e = 0, r = 0;
+  for (int64_t n = 0; n <= run.steps; ++n) {
+    const double w = (n == 0 || n == run.steps) ? 0.5 : 1.0;
+    const double fr = ref.force[n * k], d = run.force[n] - fr;
+    e += w * d * d;
+    r += w * fr * fr;
+  }
+  return std::sqrt(e / r);
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  std::string plan = "quick", out = ".";
+  int repeat = 3;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--plan")) plan = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
+    else {
+      std::fprintf(stderr, "usage: disk_study --plan quick|full --out DIR [--repeat K]\n");
+      return 2;
+    }
+  }
+  if ((argc - 1) % 2 != 0 || (plan != "quick" && plan != "full")) {
+    std::fprintf(stderr, "usage: disk_study --plan quick|full --out DIR [--repeat K]\n");
+    return 2;
+  }
+  // the ladder; the reference is the finest mesh in P2 with half its time step
+  const std::vector<double> hs = plan == "quick" ? std::vector<double>{4, 2} : std::vector<double>{4, 2, 1};
+  const double h_ref = hs.back();
+  std::vector<Run> runs;
+  Run ref;
+  ref.spec = {"hybrid", 2, h_ref, 0.5 * kTauOverH * h_ref, true};
+  run(ref, 1);
+  if (ref.status != "ok") {
+    std::fprintf(stderr, "disk_study: the reference run failed: %s\n", ref.status.c_str());
+    return 1;
+  }
+  for (const char *scheme : {"hybrid", "newmark(0.25,0.5)"})
+    for (int degree : {1, 2})
+      for (double h : hs) {
+        if (plan == "quick" && degree == 2 && h == h_ref) continue;
+        Run r;
+        r.spec = {scheme, degree, h, kTauOverH * h, false};
+        run(r, repeat);
+        runs.push_back(std::move(r));
+      }
+
+  const std::string csv = out + "/disk.csv", fcsv = out + "/disk_force.csv";
+  FILE *f = std::fopen(csv.c_str(), "w"), *ff = std::fopen(fcsv.c_str(), "w");
+  if (!f || !ff) {
+    std::fprintf(stderr, "disk_study: cannot write %s\n", out.c_str());
+    return 1;
+  }
+  std::fprintf(f, "code,scheme,degree,h,unknowns,tau,T,steps,setup_s,loop_s,repeats,newton_its,e_l2_u_t12,"
+                  "e_energy_u_t12,e_l2_u_t14,e_energy_u_t14,e_force_l2,status\n");
+  std::fprintf(ff, "run,t,force\n");
+  auto row = [&](const Run &r, const std::string &errors) {
+    std::fprintf(f, "nitschedyn,\"%s\",%d,%g,%lld,%.10g,%g,%lld,%.6g,%.6g,%d,%.0f,%s,%s\n", r.spec.scheme.c_str(),
+                 r.spec.degree, r.spec.h, static_cast<long long>(r.unknowns), r.spec.tau, kT,
+                 static_cast<long long>(r.steps), r.setup_s, r.loop_s, r.repeats, r.newton, errors.c_str(),
+                 r.spec.reference ? "reference" : r.status.c_str());
+    for (size_t n = 0; n < r.force.size(); ++n)
+      std::fprintf(ff, "\"%s\",%.10g,%.10g\n", r.spec.label().c_str(), static_cast<double>(n) * r.spec.tau, r.force[n]);
+  };
+  row(ref, ",,,,");
+  {  // the transfer itself: the reference against itself through the locator is exact
+    const Locator loc(*ref.space->mesh);
+    double l2, en;
+    field_errors(ref, ref.u2, ref, ref.u2, loc, l2, en);
+    if (!(l2 < 1e-12 && en < 1e-10)) {
+      std::fprintf(stderr, "disk_study: the field transfer is not exact on one mesh (%g, %g)\n", l2, en);
+      return 1;
+    }
+  }
+  for (const Run &r : runs) {
+    if (r.status != "ok") {
+      row(r, ",,,,");
+      continue;
+    }
+    const Locator loc(*r.space->mesh);
+    double l2a, ena, l2b, enb;
+    field_errors(ref, ref.u1, r, r.u1, loc, l2a, ena);
+    field_errors(ref, ref.u2, r, r.u2, loc, l2b, enb);
+    char b[160];
+    std::snprintf(b, sizeof b, "%.6g,%.6g,%.6g,%.6g,%.6g", l2a, ena, l2b, enb, force_error(ref, r));
+    row(r, b);
+  }
+  const bool ok = std::fclose(f) == 0 && std::fclose(ff) == 0;
+  return ok ? 0 : 1;
+}

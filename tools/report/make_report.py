@@ -1,0 +1,680 @@
+#!/usr/bin/python3
+"""Turns the CSV files of tools/report/run.py into plots and REPORT.md.
+
+    make_report.py --data DIR --out OUTDIR
+
+DIR holds bar.csv, getfem.csv, energy_*.csv, disk.csv, disk_force.csv and
+machine.txt (any of them may be missing: the report then says that part was
+not run). Rows whose status is not "ok" are listed as failed runs and left out
+of fits and plots. The output depends on the CSV files only.
+"""
+import argparse
+import csv
+import math
+import os
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+
+SCHEMES = ["theta(0.5)", "theta(1)", "newmark(0.25,0.5)", "newmark(0.5,1)", "hybrid", "newmark(0,0.5)"]
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*"]
+NORMS = [("e_linf_l2_u", "L∞(0,T;L²) u"), ("e_linf_h1_u", "L∞(0,T;H¹) u"), ("e_linf_l2_v", "L∞(0,T;L²) v"),
+         ("e_l2_l2_u", "L²(0,T;L²) u"), ("e_l2_h1_u", "L²(0,T;H¹) u"), ("e_l2_l2_v", "L²(0,T;L²) v"),
+         ("e_l2_stress", "L²(0,T) contact stress")]
+NAME = dict(NORMS)
+WP = [("e_l2_l2_u", "u_l2l2"), ("e_l2_l2_v", "v_l2l2"), ("e_l2_stress", "stress")]
+TARGETS = [("e_l2_stress", "contact-stress", [1e-1, 5e-2, 2e-2, 1e-2]), ("e_l2_l2_u", "u L²L²", [1e-2, 1e-3, 1e-4]),
+           ("e_l2_l2_v", "v L²L²", [1e-1, 5e-2, 2e-2])]
+DISK_ERR = [("e_l2_u_t12", "u L² t=12"), ("e_energy_u_t12", "u energy t=12"), ("e_l2_u_t14", "u L² t=14"),
+            ("e_energy_u_t14", "u energy t=14"), ("e_force_l2", "force L²(0,T)")]
+TEXT = ["code", "study", "scheme", "status", "run"]
+PNGS = {"bar": ["bar_wp_%s_T%d.png" % (s, T) for T in (3, 12) for _, s in WP] +
+        ["bar_wp_theta_T3.png", "bar_conv_T3.png", "bar_tau_ladder.png"],
+        "energy": ["bar_energy.png"], "disk": ["disk_wp.png", "disk_force.png"]}
+
+
+# ---------------------------------------------------------------- helpers
+def fnum(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def read_csv(path):
+    """Rows of a CSV file as dicts (numbers converted), or None if absent."""
+    if not os.path.exists(path):
+        return None
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:
+        for k in list(r):
+            if k not in TEXT:
+                r[k] = fnum(r[k])
+        r["status"] = (r.get("status") or "").strip()
+    return rows
+
+
+def g3(x):
+    return "–" if x is None or not math.isfinite(x) else "%.3g" % x
+
+
+def frate(x):
+    return "–" if not math.isfinite(x) else "%.2f" % x
+
+
+def ftime(s):
+    if s is None or not math.isfinite(s):
+        return "–"
+    return "%.3g ms" % (1e3 * s) if s < 1 else "%.3g s" % s
+
+
+def table(head, rows):
+    out = ["| " + " | ".join(head) + " |", "|" + "|".join("---" for _ in head) + "|"]
+    return "\n".join(out + ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]) + "\n"
+
+
+def rank(scheme):
+    return (SCHEMES.index(scheme), "") if scheme in SCHEMES else (len(SCHEMES), scheme)
+
+
+def style(scheme, degree):
+    i = SCHEMES.index(scheme) if scheme in SCHEMES else len(SCHEMES) + sum(map(ord, scheme)) % 3
+    return dict(color="C%d" % i, marker=MARKERS[i % len(MARKERS)], ms=5, lw=1.4,
+                ls="-" if degree == 1 else "--", mfc=None if degree == 1 else "none")
+
+
+def label(r):
+    return "%s P%d" % (r["scheme"], r["degree"])
+
+
+def ok(r):
+    return r["status"] == "ok"
+
+
+def curves(rows, key=lambda r: (r["scheme"], int(r["degree"]))):
+    """{key: rows sorted by nx}, keys in scheme order."""
+    out = {}
+    for r in rows:
+        out.setdefault(key(r), []).append(r)
+    return {k: sorted(out[k], key=lambda r: (r.get("nx", 0), -r.get("h", 0)))
+            for k in sorted(out, key=lambda k: (rank(k[0]),) + tuple(k[1:]))}
+
+
+def h_ladder(bar, T, Theta=1.0):
+    return [r for r in bar or [] if ok(r) and r["study"] == "h-ladder" and r["T"] == T and r["Theta"] == Theta]
+
+
+def rate(hs, es):
+    """Least-squares slope of log(error) against log(h)."""
+    pts = [(math.log(h), math.log(e)) for h, e in zip(hs, es) if h > 0 and e > 0 and math.isfinite(e)]
+    if len(pts) < 2:
+        return math.nan
+    return float(np.polyfit([p[0] for p in pts], [p[1] for p in pts], 1)[0])
+
+
+def plot_xy(ax, rows, x, y, **kw):
+    pts = [(x(r), r[y]) for r in rows if x(r) > 0 and r[y] > 0 and math.isfinite(r[y])]
+    if pts:
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], **kw)
+
+
+def h_ticks(ax, nxs):
+    """Ticks of an h axis at the mesh sizes of the data, labelled 1/NX."""
+    nxs = sorted(set(int(n) for n in nxs))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax.set_xticks([1 / n for n in nxs], ["1/%d" % n for n in nxs], rotation=45 if len(nxs) > 5 else 0, fontsize=8)
+
+
+def save(fig, out, name, written):
+    fig.savefig(os.path.join(out, name), dpi=110)
+    plt.close(fig)
+    written.append(name)
+
+
+# ---------------------------------------------------------------- plots
+def plot_bar(bar, out, written):
+    for T in (3, 12):
+        cs = curves(h_ladder(bar, T))
+        for key, short in WP if cs else []:
+            fig, ax = plt.subplots(figsize=(9, 4.8))
+            fig.subplots_adjust(left=0.11, right=0.74, bottom=0.11, top=0.93)
+            for (s, d), rows in cs.items():
+                plot_xy(ax, rows, lambda r: r["loop_s"], key, label=label(rows[0]), **style(s, d))
+            ax.set(xlabel="time loop (s)", ylabel="relative error", title="bar, %s, Θ = 1, T = %d" % (NAME[key], T))
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
+            save(fig, out, "bar_wp_%s_T%d.png" % (short, T), written)
+    th = curves([r for r in bar if ok(r) and r["study"] == "h-ladder" and r["T"] == 3
+                 and r["scheme"] in ("hybrid", "newmark(0.25,0.5)")],
+                key=lambda r: (r["scheme"], int(r["degree"]), r["Theta"]))
+    if th:
+        fig, axs = plt.subplots(2, 2, figsize=(11, 8), sharex=True)
+        fig.subplots_adjust(left=0.09, right=0.98, bottom=0.07, top=0.95, wspace=0.24, hspace=0.15)
+        for i, key in enumerate(("e_l2_stress", "e_l2_l2_u")):
+            for j, scheme in enumerate(("hybrid", "newmark(0.25,0.5)")):
+                ax = axs[i, j]
+                for (s, d, Th), rows in th.items():
+                    if s == scheme:
+                        plot_xy(ax, rows, lambda r: r["loop_s"], key, color={1: "C0", 0: "C1", -1: "C2"}.get(Th, "C3"),
+                                ls="-" if d == 1 else "--", marker="o" if d == 1 else "s",
+                                mfc=None if d == 1 else "none", label="Θ = %g, P%d" % (Th, d))
+                ax.set(title="%s: %s" % (scheme, NAME[key]), ylabel="relative error")
+                ax.grid(True, which="both", alpha=0.3)
+                ax.legend(fontsize=7)
+        for ax in axs[1]:
+            ax.set_xlabel("time loop (s), T = 3")
+        save(fig, out, "bar_wp_theta_T3.png", written)
+    cs = curves(h_ladder(bar, 3))
+    if cs:
+        fig, axs = plt.subplots(2, 4, figsize=(16, 8))
+        fig.subplots_adjust(left=0.05, right=0.99, bottom=0.1, top=0.95, wspace=0.24, hspace=0.4)
+        for ax, (key, name) in zip(axs.flat, NORMS):
+            for (s, d), rows in cs.items():
+                plot_xy(ax, rows, lambda r: 1 / r["nx"], key, label=label(rows[0]), **style(s, d))
+            ax.set(title=name, xlabel="h")
+            h_ticks(ax, [r["nx"] for rows in cs.values() for r in rows])
+            ax.grid(True, which="both", alpha=0.3)
+        axs.flat[7].axis("off")
+        axs.flat[7].legend(*axs.flat[0].get_legend_handles_labels(), loc="center", fontsize=9,
+                           title="bar, Θ = 1, T = 3")
+        save(fig, out, "bar_conv_T3.png", written)
+    tl = curves([r for r in bar if ok(r) and r["study"] == "tau-ladder"])
+    if tl:
+        fig, axs = plt.subplots(1, 2, figsize=(14, 4.8))
+        fig.subplots_adjust(left=0.07, right=0.82, bottom=0.11, top=0.93, wspace=0.22)
+        for ax, key in zip(axs, ("e_l2_l2_u", "e_l2_stress")):
+            for (s, d), rows in tl.items():
+                plot_xy(ax, rows, lambda r: r["tau"], key, label=label(rows[0]), **style(s, d))
+            nxs = sorted({int(r["nx"]) for rows in tl.values() for r in rows})
+            ax.set(xlabel="τ", ylabel="relative error",
+                   title="%s, NX = %s, Θ = 1, T = 3" % (NAME[key], ", ".join(map(str, nxs))))
+            ax.grid(True, which="both", alpha=0.3)
+        axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
+        save(fig, out, "bar_tau_ladder.png", written)
+
+
+ELABEL = {"hybrid": "hybrid", "newmark": "Newmark(1/4,1/2)", "theta_half": "θ-scheme, θ = 1/2"}
+
+
+def plot_energy(energy, out, written):
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(12, 7.5), sharex=True)
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.07, top=0.95, hspace=0.08)
+    tmax = max(max(e["t"]) for e in energy.values())
+    for ax in (a1, a2):
+        for k in range(int(tmax // 3) + 1):
+            if 3 * k + 1 < tmax:
+                ax.axvspan(3 * k + 1, min(3 * k + 2, tmax), color="0.85", lw=0)
+    looks = {"hybrid": dict(color="C4", lw=2.2), "newmark": dict(color="C2", lw=1.2),
+             "theta_half": dict(color="k", lw=0.8, ls=":")}
+    for name, e in energy.items():
+        E0 = e["E"][0]
+        a1.plot(e["t"], (e["E_Theta"] - e["E_Theta"][0]) / E0, label=ELABEL.get(name, name), **looks.get(name, {}))
+    for z, name in enumerate(sorted(energy, key=lambda n: -list(looks).index(n) if n in looks else 1)):
+        a2.plot(energy[name]["t"], energy[name]["contact_stress"], label=ELABEL.get(name, name), zorder=2 + z,
+                **dict(looks.get(name, {}), lw=0.7, ls="-"))
+    t = np.linspace(0, tmax, 4001)
+    a2.plot(t, np.where(np.floor(t % 3) == 1, -0.5, 0.0), color="r", lw=1.5, ls="--", label="exact", zorder=10)
+    a1.set(ylabel="(E_Θ(t) − E_Θ(0)) / E(0)", title="bar, P1, Θ = 1: energy and contact stress "
+           "(grey: exact contact phases)")
+    a2.set(xlabel="t", ylabel="contact stress at x = 0")
+    for ax in (a1, a2):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8, loc="lower left")
+    save(fig, out, "bar_energy.png", written)
+
+
+def plot_disk(disk, force, out, written):
+    cs = curves([r for r in disk or [] if ok(r)])
+    if cs:
+        fig, axs = plt.subplots(1, 3, figsize=(17, 4.8))
+        fig.subplots_adjust(left=0.06, right=0.86, bottom=0.11, top=0.93, wspace=0.28)
+        for ax, key in zip(axs, ("e_l2_u_t14", "e_energy_u_t14", "e_force_l2")):
+            for (s, d), rows in cs.items():
+                plot_xy(ax, rows, lambda r: r["loop_s"], key, label=label(rows[0]), **style(s, d))
+            ax.set(xlabel="time loop (s)", ylabel="error relative to the reference run", title=dict(DISK_ERR)[key])
+            ax.grid(True, which="both", alpha=0.3)
+        axs[2].legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
+        save(fig, out, "disk_wp.png", written)
+    if force:
+        runs = {}
+        for r in force:
+            runs.setdefault(r["run"], ([], []))
+            runs[r["run"]][0].append(r["t"])
+            runs[r["run"]][1].append(r["force"])
+        fig, ax = plt.subplots(figsize=(12, 5))
+        fig.subplots_adjust(left=0.07, right=0.74, bottom=0.1, top=0.93)
+        # labels look like "hybrid P2 h=1": one colour map per scheme, darker for later (finer) runs, P2 dashed
+        maps = {"hybrid": plt.cm.Purples, "newmark(0.25,0.5)": plt.cm.Greens}
+        family = {}
+        for name in runs:
+            family.setdefault(name.split(" ")[0], []).append(name)
+        for i, (name, (t, f)) in enumerate(runs.items()):
+            ref = "reference" in name
+            fam = family[name.split(" ")[0]]
+            cmap = maps.get(name.split(" ")[0], plt.cm.Oranges)
+            ax.plot(t, f, label=name, color="k" if ref else cmap(0.35 + 0.6 * fam.index(name) / max(len(fam) - 1, 1)),
+                    lw=2.5 if ref else 1.0, ls="--" if " P2 " in name + " " and not ref else "-", zorder=3 if ref else 2)
+        ax.set(xlabel="t", ylabel="contact force", title="disk: contact force histories")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=7)
+        save(fig, out, "disk_force.png", written)
+
+
+# ---------------------------------------------------------------- report sections
+def sec_setup(bar, energy, disk, machine):
+    md = ["## Setup\n"]
+    if machine:
+        md.append("Machine: %s. Date of the runs: %s (plan: %s). Runs went %s at a time; wall time of the runs: %s." % (
+            machine.get("machine", "?"), machine.get("date", "?"), machine.get("plan", "?"), machine.get("jobs", "?"),
+            machine.get("wall time of the runs", "?")))
+    else:
+        md.append("machine.txt is missing: machine, date and number of parallel runs unknown.")
+    reps = sorted({int(r["repeats"]) for r in bar or [] if math.isfinite(r["repeats"])})
+    md[-1] += (" Timings are medians of %s runs of each case; the loop time counts the `nd_step` calls only, "
+              "the setup time is reported separately.\n" % ("/".join(map(str, reps)) or "`repeats`"))
+    if bar:
+        hl = [r for r in bar if r["study"] == "h-ladder"]
+        g0 = sorted({r["gamma0"] for r in bar})
+        t12 = [r["nx"] for r in hl if r["T"] == 12]
+        md.append("**1D bar** (DESIGN §7: exact solution of period 3, contact for t mod 3 in [1, 2], contact stress "
+                  "−1/2). γ0 = %s (paper convention: γ0 has units of 1/stress), Θ ∈ {%s}. The *h-ladder* uses "
+                  "NX = %s with τ tied to h (table); T = 12 runs exist up to NX = %s, larger NX run to T = 3 only. "
+                  "Errors are relative, in the seven norms of DESIGN §7: %s. Newton its are totals over the run; "
+                  "the energy drift is max|E_Θ − E_Θ(0) − W| / E(0).\n" % (
+                      ", ".join(map(g3, g0)), ", ".join(sorted({"%g" % r["Theta"] for r in bar}, key=float)),
+                      ", ".join(str(int(n)) for n in sorted({r["nx"] for r in hl})),
+                      int(max(t12)) if t12 else "– (none)", "; ".join(n for _, n in NORMS)))
+        rows = []
+        for s, d in curves(hl):
+            rs = [r for r in hl if r["scheme"] == s and r["degree"] == d]
+            rows.append([s, "P%d" % d, "yes" if rs[0]["lumped"] else "no",
+                         ", ".join(sorted({g3(r["tau"] * r["nx"]) for r in rs})),
+                         ", ".join(sorted({g3(r["tau"] * r["nx"] * d) for r in rs}))])
+        md.append(table(["scheme", "degree", "lumped mass", "τ/h", "τ/dx (dx = h/degree)"], rows))
+        tl = [r for r in bar if r["study"] == "tau-ladder"]
+        if tl:
+            md.append("\nThe *τ-ladder* keeps NX = %s, Θ = %s, T = %s and varies τ (τ/h from %s to %s).\n" % (
+                ", ".join(str(int(n)) for n in sorted({r["nx"] for r in tl})),
+                ", ".join(sorted({"%g" % r["Theta"] for r in tl})), ", ".join(sorted({"%g" % r["T"] for r in tl})),
+                g3(min(r["tau"] * r["nx"] for r in tl)), g3(max(r["tau"] * r["nx"] for r in tl))))
+    if energy:
+        e = next(iter(energy.values()))
+        dt = e["t"][1] - e["t"][0] if len(e["t"]) > 1 else math.nan
+        md.append("\nThe **energy histories** are P1, NX = 80, Θ = 1, γ0 = 0.2 (as set by run.py), τ = %s, T = %s.\n"
+                  % (g3(dt), g3(e["t"][-1])))
+    if disk:
+        md.append("\n**2D disk** (DESIGN §7: radius 20, gap 5, λ = μ = 20, gravity 0.1, impact at t = 10). Errors are "
+                  "relative to the finest run (status `reference`), not to an exact solution: displacement at "
+                  "t = 12 and t = 14 in L² and in the energy norm, and the L²(0,T) error of the contact force. "
+                  "h = %s, T = %s.\n" % (", ".join(g3(h) for h in sorted({r["h"] for r in disk}, reverse=True)),
+                                         ", ".join(sorted({g3(r["T"]) for r in disk}))))
+    return md
+
+
+def rates_table(bar):
+    md = ["## Observed convergence rates (bar, Θ = 1)\n",
+          "Least-squares slope of log(error) against log(h) over the finest (at most) 4 successful points of each "
+          "curve of the h-ladder; the fit range is given per row.\n"]
+    rows = []
+    for T in (3, 12):
+        for (s, d), rs in curves(h_ladder(bar, T)).items():
+            fit = rs[-4:]
+            rows.append([s, "P%d" % d, T, "NX %d–%d" % (fit[0]["nx"], fit[-1]["nx"])] +
+                        [frate(rate([1 / r["nx"] for r in fit], [r[k] for r in fit])) for k, _ in NORMS])
+    md.append(table(["scheme", "P", "T", "fit range"] + [n for _, n in NORMS], rows) if rows else "No data.\n")
+    return md
+
+
+def wp_rows(rows, extra=()):
+    out = []
+    for r in rows:
+        its = r["newton_its"] / r["steps"] if r["steps"] else math.nan
+        out.append([r["scheme"], "P%d" % r["degree"]] + [f(r) for f in extra] +
+                   [int(r["nx"]), g3(r["tau"]), int(r["steps"]), ftime(r["loop_s"]), g3(its),
+                    g3(r["e_l2_l2_u"]), g3(r["e_l2_l2_v"]), g3(r["e_l2_stress"]), g3(r["energy_drift"])])
+    return out
+
+
+WP_HEAD = ["NX", "τ", "steps", "loop", "Newton its/step", "u L²L²", "v L²L²", "stress L²", "energy drift"]
+
+
+def sec_wp(bar, data_rel):
+    md = ["## Work–precision (bar, Θ = 1)\n"]
+    for T in (3, 12):
+        if h_ladder(bar, T):
+            md.append("T = %d:\n\n" % T + "".join("![bar %s T=%d](bar_wp_%s_T%d.png)\n" % (s, T, s, T) for _, s in WP))
+    rows = []
+    for rs in curves(h_ladder(bar, 3)).values():
+        rows += wp_rows(rs[-4:])
+    md.append("The finest 4 runs of each curve (all runs: `%s/bar.csv`):\n" % data_rel)
+    md.append(table(["scheme", "P"] + WP_HEAD, rows))
+    md.append("\n### Θ = 1, 0, −1 (T = 3, finest NX)\n\n![Theta comparison](bar_wp_theta_T3.png)\n")
+    rows = []
+    for (s, d, Th), rs in curves([r for r in bar if ok(r) and r["study"] == "h-ladder" and r["T"] == 3 and
+                                  r["scheme"] in ("hybrid", "newmark(0.25,0.5)")],
+                                 key=lambda r: (r["scheme"], int(r["degree"]), -r["Theta"])).items():
+        rows += wp_rows(rs[-1:], [lambda r: "%g" % r["Theta"]])
+    md.append(table(["scheme", "P", "Θ"] + WP_HEAD, rows))
+    md.append("\n## Convergence in h (Θ = 1, T = 3)\n\n![convergence](bar_conv_T3.png)\n")
+    return md
+
+
+def sec_cheapest(bar):
+    md = ["## Cheapest choice for a target error\n",
+          "Among all successful h-ladder runs (every scheme, degree and Θ) whose error is at most the target, the "
+          "one with the smallest loop time. Loop times of the T = 3 rows of T = 12 runs count the steps up to t = 3.\n"]
+    concl = []
+    for T in (3, 12):
+        runs = [r for r in bar if ok(r) and r["study"] == "h-ladder" and r["T"] == T]
+        if not runs:
+            continue
+        nxmax = int(max(r["nx"] for r in runs))
+        rows = []
+        for key, name, targets in TARGETS:
+            reached, missed = None, None
+            for tgt in targets:
+                good = [r for r in runs if r[key] <= tgt]
+                if not good:
+                    rows.append([name, g3(tgt), "not reached by any run up to NX = %d" % nxmax] + ["–"] * 6)
+                    missed = tgt
+                    break
+                b = min(good, key=lambda r: (r["loop_s"], rank(r["scheme"]), r["degree"], r["nx"]))
+                rows.append([name, g3(tgt), "%s P%d, Θ = %g, NX = %d" % (b["scheme"], b["degree"], b["Theta"], b["nx"]),
+                             ftime(b["loop_s"]), g3(b[key]), g3(b["e_l2_l2_u"]), g3(b["e_l2_l2_v"]),
+                             g3(b["e_l2_stress"]), g3(b["energy_drift"])])
+                reached = (tgt, b)
+            if T == 3:
+                concl += conclusion(bar, runs, key, name, reached, missed, nxmax)
+        md.append("\n### T = %d\n\n" % T)
+        md.append(table(["measure", "target", "cheapest run", "loop", "its error", "u L²L²", "v L²L²", "stress L²",
+                         "energy drift"], rows))
+    md.append("\n**Conclusion** (T = 3; T = 12 in the second table). " +
+              (" ".join(concl) or "No successful h-ladder run at T = 3.") + "\n")
+    return md
+
+
+def conclusion(bar, runs, key, name, reached, missed, nxmax):
+    """Sentences on the smallest target reached and the first one missed."""
+    out = []
+    if reached:
+        tgt, b = reached
+        out.append("For a %s error of %s (T = 3) the cheapest run is %s P%d, Θ = %g, NX = %d (%s; its energy drift is "
+                   "%s)." % (name, g3(tgt), b["scheme"], b["degree"], b["Theta"], b["nx"], ftime(b["loop_s"]),
+                             g3(b["energy_drift"])))
+    if missed:
+        best = min((r for r in runs if math.isfinite(r[key])), key=lambda r: r[key])
+        rs = sorted((rate([1 / r["nx"] for r in c[-4:]], [r[key] for r in c[-4:]]), "%s P%d" % k)
+                    for k, c in curves(h_ladder(bar, 3)).items())
+        rs = [x for x in rs if math.isfinite(x[0])]
+        out.append("No run reaches a %s error of %s up to NX = %d: the smallest is %s (%s P%d, Θ = %g, NX = %d)%s." % (
+            name, g3(missed), nxmax, g3(best[key]), best["scheme"], best["degree"], best["Theta"], best["nx"],
+            "; at Θ = 1 its observed rate in h (finest 4 NX) ranges from %.2f (%s) to %.2f (%s)" % (
+                rs[0] + rs[-1]) if rs else ""))
+    return out
+
+
+def sec_tau(bar):
+    md = ["## Time-step ladder (Θ = 1, T = 3)\n"]
+    tl = curves([r for r in bar if ok(r) and r["study"] == "tau-ladder"])
+    if not tl:
+        return md + ["The τ-ladder was not run (or all its runs failed).\n"]
+    md.append("![tau ladder](bar_tau_ladder.png)\n")
+    rows, srows, notes, sl_u = [], [], [], {}
+    for (s, d), rs in tl.items():
+        rs = sorted(rs, key=lambda r: r["tau"])
+        rows += wp_rows(rs, [lambda r: g3(r["tau"] * r["nx"])])
+        sl = [rate([r["tau"] for r in rs], [r[k] for r in rs]) for k in ("e_l2_l2_u", "e_l2_l2_v", "e_l2_stress")]
+        srows.append([s, "P%d" % d, "%s–%s" % (g3(rs[0]["tau"]), g3(rs[-1]["tau"]))] + [frate(x) for x in sl])
+        if math.isfinite(sl[0]):
+            sl_u["%s P%d" % (s, d)] = sl[0]
+        for x, n in zip(sl, ("u L²L²", "v L²L²", "stress")):
+            if x < -0.3:
+                notes.append("%s P%d: the %s error grows as τ decreases (slope %.2f)" % (s, d, n, x))
+    md.append(table(["scheme", "P", "τ/h"] + WP_HEAD, rows))
+    md.append("\nSlopes of log(error) against log(τ) over the whole ladder:\n\n")
+    md.append(table(["scheme", "P", "τ range", "u L²L²", "v L²L²", "stress L²"], srows))
+    if not sl_u:
+        return md + ["\n"]
+    flat = [k for k, v in sl_u.items() if abs(v) < 0.3]
+    steep = [k for k, v in sl_u.items() if v >= 0.8]
+    lo, hi = min(sl_u, key=sl_u.get), max(sl_u, key=sl_u.get)
+    md.append("\nThe slopes of the u L²L² error in τ range from %.2f (%s) to %.2f (%s). It falls with τ at a slope ≥ 0.8 "
+              "for %s, and hardly changes (|slope| < 0.3) for %s." % (
+                  sl_u[lo], lo, sl_u[hi], hi, ", ".join(steep) or "no scheme",
+                  ", ".join(flat) or "no scheme"))
+    if notes:
+        md[-1] += " " + "; ".join(notes) + "."
+    return md + ["\n"]
+
+
+def sec_energy(bar, energy):
+    md = ["## Energy\n"]
+    t12 = [r for r in bar or [] if ok(r) and r["study"] == "h-ladder" and r["T"] == 12 and r["Theta"] == 1]
+    if t12:
+        rows = [rs[-1] for rs in curves(t12).values()]
+        md.append("Maximum energy drift max|E_Θ − E_Θ(0) − W|/E(0) over T = 12, Θ = 1, finest NX:\n\n")
+        md.append(table(["scheme", "P", "NX", "energy drift"],
+                        [[r["scheme"], "P%d" % r["degree"], int(r["nx"]), g3(r["energy_drift"])] for r in rows]))
+        fin = [r for r in rows if math.isfinite(r["energy_drift"])] or rows
+        lo, hi = min(fin, key=lambda r: r["energy_drift"]), max(fin, key=lambda r: r["energy_drift"])
+        md.append("\nThe smallest drift is %s (%s), the largest %s (%s).\n" % (
+            g3(lo["energy_drift"]), label(lo), g3(hi["energy_drift"]), label(hi)))
+    if not energy:
+        return md + ["The energy histories were not run.\n"]
+    md.append("\n![energy](bar_energy.png)\n\n")
+    rows, sent = [], []
+    for name, e in energy.items():
+        E0 = e["E"][0]
+        d = np.diff(e["E_Theta"]) / E0
+        i = int(np.argmax(d))
+        rows.append([name, g3(np.max(np.abs(e["E_Theta"] - e["E_Theta"][0])) / E0), g3(max(d.max(), 0)),
+                     g3(e["t"][i + 1]) if d.max() > 0 else "–", g3(np.max(np.abs(e["E"] - E0)) / E0)])
+        sent.append("%s: E_Θ %s" % (name, "never increases by more than 1e-9 E(0) between time levels" if d.max() <
+                                    1e-9 else "increases by up to %s E(0) in one step (at t = %s, t mod 3 = %s)" % (
+                                        g3(d.max()), g3(e["t"][i + 1]), g3(e["t"][i + 1] % 3))))
+    md.append(table(["history", "max \\|E_Θ − E_Θ(0)\\|/E(0)", "largest one-step increase of E_Θ / E(0)", "at t",
+                     "max \\|E − E(0)\\|/E(0)"], rows))
+    md.append("\n" + "; ".join(sent) + ".")
+    md[-1] = md[-1].replace("theta_half", "θ = 1/2")
+    if "newmark" in energy and "theta_half" in energy and len(energy["newmark"]["t"]) == len(energy["theta_half"]["t"]):
+        diff = max(np.max(np.abs(energy["newmark"][k] - energy["theta_half"][k])) for k in ("E_Theta", "contact_stress"))
+        md[-1] += (" The Newmark and θ = 1/2 histories differ by at most %s (E_Θ and contact stress)." % g3(diff))
+    return md + ["\n"]
+
+
+def sec_getfem(bar, getfem, pairs):
+    md = ["## Side by side with GetFEM\n"]
+    if getfem is None:
+        return md + ["GetFEM was not run (no getfem.csv).\n"]
+    # our runs of the same cases made right after GetFEM's in the same run
+    # (getfem_pair.csv); the h-ladder rows when those are missing
+    source = pairs if pairs else [r for r in h_ladder(bar, 3) if r["scheme"] == "newmark(0.25,0.5)"]
+    mine = {(int(r["degree"]), int(r["nx"])): r for r in source if ok(r) and r["Theta"] == 1}
+    rows, worst_all = [], 0.0
+    for g in sorted((g for g in getfem if ok(g)), key=lambda g: (g["degree"], g["nx"])):
+        n = mine.get((int(g["degree"]), int(g["nx"])))
+        if n is None:
+            continue
+        rel = [(abs(n[k] - g[k]) / max(abs(n[k]), abs(g[k])) if max(abs(n[k]), abs(g[k])) > 0 else 0.0, nm)
+               for k, nm in NORMS]
+        worst = max(rel)
+        worst_all = max(worst_all, worst[0])
+        its = lambda r: g3(r["newton_its"] / r["steps"]) if r.get("newton_its") is not None else "–"
+        rows.append(["P%d" % g["degree"], int(g["nx"]), g3(n["e_l2_l2_u"]), g3(g["e_l2_l2_u"]), g3(n["e_l2_l2_v"]),
+                     g3(g["e_l2_l2_v"]), g3(n["e_l2_stress"]), g3(g["e_l2_stress"]), its(n), its(g),
+                     ftime(n["loop_s"]), ftime(g["loop_s"]), g3(g["loop_s"] / n["loop_s"]), ftime(n["setup_s"]),
+                     ftime(g["setup_s"]), "%s (%s)" % (g3(worst[0]), worst[1])])
+    md.append("The same bar, the same discretisation: Newmark (1/4, 1/2), consistent mass, Θ = 1, γ0 = 0.2 in the paper's "
+              "convention (passed to GetFEM as its inverse, 1/γ0, since GetFEM's Nitsche brick takes γ0/h), τ = h/2, "
+              "T = 3, both codes' errors measured by the same C code (`examples/bar1d_exact.c`, loaded by "
+              "`tools/report/getfem_bar.py` through ctypes). nitschedyn (nd) rows: %s. Loop = the time steps only, "
+              "median of the repeated runs. The last column is the largest relative difference of the seven errors, "
+              "|nd − gf| / max(nd, gf).\n\n" % ("runs of the same cases made right after GetFEM's in the same "
+                                                 "`run.py` call (data/getfem_pair.csv)" if pairs else
+                                                 "the h-ladder"))
+    md.append(table(["P", "NX", "u L²L² nd", "u L²L² gf", "v L²L² nd", "v L²L² gf", "stress nd", "stress gf",
+                     "Newton/step nd", "Newton/step gf", "loop nd", "loop gf", "gf/nd loop", "setup nd", "setup gf",
+                     "max rel. diff"], rows) if rows else "No GetFEM run has a matching nitschedyn run.\n")
+    if rows:
+        ratios = [float(r[12]) for r in rows]
+        if worst_all < 1e-6:
+            md.append("\nThe errors agree to %s relative at worst: the two codes solve the same discrete problem, "
+                      "and what differs is where each Newton method stops — nitschedyn when ‖G‖ ≤ 1e-10 (‖r‖ + ‖cMU‖) "
+                      "and the active set did not change in the last iteration (or the update is at round-off), "
+                      "GetFEM (as driven here) when the ℓ¹ norm of its residual is below 1e-12 (‖r‖₁ + ‖cMUⁿ‖₁), on "
+                      "the residual alone, hence its slightly lower iteration count. GetFEM's loop is %s–%s times "
+                      "slower: every Newton iteration re-assembles the residual and the tangent through its generic "
+                      "weak-form assembly and factorizes anew (MUMPS), whereas nitschedyn factorizes c M + K_Θ once "
+                      "and, while no contact point is active, a step is one solve with that factor.\n"
+                      % (g3(worst_all), g3(min(ratios)), g3(max(ratios))))
+        else:
+            md.append("\n**The errors differ by up to %s relative, beyond the Newton tolerances: the two runs do "
+                      "not solve the same discrete problem.** See the rows above.\n" % g3(worst_all))
+    return md
+
+
+def sec_disk(disk, force):
+    md = ["## 2D disk\n"]
+    if disk is None:
+        return md + ["The disk study was not run (no disk.csv).\n"]
+    md.append(("![disk work-precision](disk_wp.png)\n\n" if any(ok(r) for r in disk) else "") +
+              ("![disk force](disk_force.png)\n\n" if force else "No force histories (disk_force.csv missing).\n\n"))
+    rows = []
+    for rs in curves([r for r in disk if r["status"] in ("ok", "reference")]).values():
+        for r in rs:
+            rows.append([r["code"], r["scheme"], "P%d" % r["degree"], g3(r["h"]), int(r["unknowns"]), g3(r["tau"]),
+                         int(r["steps"]), ftime(r["setup_s"]), ftime(r["loop_s"]),
+                         g3(r["newton_its"] / r["steps"] if r["steps"] else math.nan)] +
+                        [g3(r[k]) for k, _ in DISK_ERR] + [r["status"]])
+    md.append(table(["code", "scheme", "P", "h", "unknowns", "τ", "steps", "setup", "loop", "Newton its/step"] +
+                    [n for _, n in DISK_ERR] + ["status"], rows))
+    rows = []
+    for (s, d), rs in curves([r for r in disk if ok(r)]).items():
+        if len(rs) >= 2:
+            rows.append([s, "P%d" % d, "h %s–%s" % (g3(rs[0]["h"]), g3(rs[-1]["h"]))] +
+                        [frate(rate([r["h"] for r in rs], [r[k] for r in rs])) for k, _ in DISK_ERR])
+    md.append("\nRates: slope of log(error) against log(h) over all non-reference runs of each curve:\n\n")
+    md.append(table(["scheme", "P", "fit range"] + [n for _, n in DISK_ERR], rows) if rows else
+              "Fewer than 2 non-reference runs per curve: no rates.\n")
+    return md
+
+
+def sec_failed(parts):
+    rows = []
+    for name, rs in parts:
+        for r in rs or []:
+            if r["status"] not in ("ok", "reference"):
+                rows.append([name, r.get("scheme", ""), "P%d" % r["degree"] if "degree" in r else "",
+                             "%g" % r["Theta"] if "Theta" in r else "", g3(r["nx"]) if "nx" in r else "h = " + g3(r["h"]),
+                             g3(r["tau"]), g3(r["T"]), " ".join(r["status"].replace("|", "/").split()) or "(empty)"])
+    md = ["## Failed runs\n"]
+    md += [table(["file", "scheme", "P", "Θ", "NX", "τ", "T", "status"], rows) if rows
+           else "None: every row has status ok.\n" if any(rs for _, rs in parts) else "No runs recorded.\n"]
+    # completed runs whose energy left its bounds: unstable, though no step failed
+    wild = {}
+    for name, rs in parts:
+        for r in rs or []:
+            if r["status"] == "ok" and (r.get("energy_drift") or 0) > 1:
+                key = (r["scheme"], r["degree"], r["Theta"])
+                wild.setdefault(key, []).append(r)
+    if wild:
+        md.append("\n### Completed but unstable\n\nRuns with no failed step whose energy drift "
+                  "max|E_Θ − E_Θ(0) − W|/E(0) exceeds 1 (the energy grew past twice its initial value): the "
+                  "library does not detect this.\n\n")
+        md.append(table(["scheme", "P", "Θ", "NX", "τ/h range", "energy drift", "u L²L²", "v L²L²"],
+                        [[k[0], "P%d" % k[1], "%g" % k[2],
+                          "%d–%d" % (min(r["nx"] for r in v), max(r["nx"] for r in v)),
+                          "%s–%s" % (g3(min(r["tau"] * r["nx"] for r in v)), g3(max(r["tau"] * r["nx"] for r in v))),
+                          "%s–%s" % (g3(min(r["energy_drift"] for r in v)), g3(max(r["energy_drift"] for r in v))),
+                          "%s–%s" % (g3(min(r["e_l2_l2_u"] for r in v)), g3(max(r["e_l2_l2_u"] for r in v))),
+                          "%s–%s" % (g3(min(r["e_l2_l2_v"] for r in v)), g3(max(r["e_l2_l2_v"] for r in v)))]
+                         for k, v in sorted(wild.items())]))
+    return md
+
+
+DESCR = {"bar.csv": "bar runs: h-ladder and τ-ladder, one row per run (and per --at summary)",
+         "getfem.csv": "the same bar runs with GetFEM", "energy_hybrid.csv": "energy history, hybrid scheme",
+         "energy_newmark.csv": "energy history, Newmark(1/4,1/2)", "energy_theta_half.csv": "energy history, θ = 1/2",
+         "disk.csv": "2D disk runs and their errors against the reference run",
+         "disk_force.csv": "contact force history of every disk run", "machine.txt": "machine, date, plan, jobs",
+         "runs.log": "command line, exit code and stderr of every run",
+         "getfem_pair.csv": "nitschedyn runs of the GetFEM cases, made right after them",
+         "bar_wp_theta_T3.png": "stress and u L²L² error vs loop time, hybrid and Newmark(1/4,1/2), Θ = 1, 0, −1",
+         "bar_conv_T3.png": "the seven errors vs h, Θ = 1, T = 3", "bar_tau_ladder.png": "u L²L² and stress error vs τ",
+         "bar_energy.png": "E_Θ − E_Θ(0) and contact stress vs t", "disk_wp.png": "disk errors vs loop time",
+         "disk_force.png": "disk contact force histories"}
+DESCR.update({"bar_wp_%s_T%d.png" % (s, T): "%s error vs loop time, h-ladder, Θ = 1, T = %d" % (NAME[k], T)
+              for T in (3, 12) for k, s in WP})
+
+
+def sec_files(data_dir, data_rel, written):
+    md = ["## Files\n"]
+    if not os.listdir(data_dir) and not written:
+        md.append("None.")
+    for f in sorted(os.listdir(data_dir)):
+        md.append("- `%s/%s`: %s" % (data_rel, f, DESCR.get(f, "")))
+    for f in written:
+        md.append("- `%s`: %s" % (f, DESCR.get(f, "")))
+    return md + [""]
+
+
+# ---------------------------------------------------------------- main
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--data", required=True, help="the data directory written by run.py")
+    ap.add_argument("--out", required=True, help="where the PNG files and REPORT.md go")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    for names in PNGS.values():  # no stale plots of a part that was not run this time
+        for n in names:
+            if os.path.exists(os.path.join(a.out, n)):
+                os.remove(os.path.join(a.out, n))
+    bar = read_csv(os.path.join(a.data, "bar.csv"))
+    getfem = read_csv(os.path.join(a.data, "getfem.csv"))
+    pairs = read_csv(os.path.join(a.data, "getfem_pair.csv"))
+    disk = read_csv(os.path.join(a.data, "disk.csv"))
+    force = read_csv(os.path.join(a.data, "disk_force.csv"))
+    energy = {}
+    for name in ("hybrid", "newmark", "theta_half"):
+        rs = read_csv(os.path.join(a.data, "energy_%s.csv" % name))
+        if rs and len(rs) > 1:
+            energy[name] = {k: np.array([r[k] for r in rs]) for k in ("t", "E", "E_Theta", "contact_stress")}
+    machine = None
+    if os.path.exists(os.path.join(a.data, "machine.txt")):
+        with open(os.path.join(a.data, "machine.txt")) as fh:
+            machine = dict(l.rstrip("\n").split(": ", 1) for l in fh if ": " in l)
+    data_rel = os.path.relpath(a.data, a.out)
+
+    written = []
+    if bar:
+        plot_bar(bar, a.out, written)
+    if energy:
+        plot_energy(energy, a.out, written)
+    plot_disk(disk, force, a.out, written)
+
+    md = ["# libnitschedyn: work–precision report\n",
+          "**How to regenerate.** `make report` (about 15 minutes) runs the full plan (NX = 20…2560) and writes "
+          "this report into `report/`; `make report-quick` (1–2 minutes) runs the CI plan (NX = 20…160) into "
+          "`build/report-quick/`. Both call `tools/report/run.py` (the runs, CSV files in `data/`) and then "
+          "`tools/report/make_report.py --data DIR --out OUTDIR` (these plots and this file, from the CSV files "
+          "only).\n"]
+    md += sec_setup(bar, energy, disk, machine)
+    if bar:
+        md += rates_table(bar) + sec_wp(bar, data_rel) + sec_cheapest(bar) + sec_tau(bar)
+    else:
+        md.append("## 1D bar\n\nThe bar study was not run (no bar.csv): no rates, work–precision or cheapest-choice "
+                  "results.\n")
+    md += sec_energy(bar, energy) + sec_getfem(bar, getfem, pairs) + sec_disk(disk, force)
+    md += sec_failed([("bar.csv", bar), ("getfem.csv", getfem), ("disk.csv", disk)])
+    md += sec_files(a.data, data_rel, written)
+    with open(os.path.join(a.out, "REPORT.md"), "w") as fh:
+        fh.write("\n".join(md))
+    print("wrote %s and %d plots" % (os.path.join(a.out, "REPORT.md"), len(written)))
+
+
+if __name__ == "__main__":
+    main()
