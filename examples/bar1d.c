@@ -287,21 +287,17 @@ static int sample(nd_problem p, const grid *g, double *U, double *V, int64_t n, 
     e->E_min = e->E_max = E;
     e->ET_min = e->ET_max = ET;
   }
+  e->E_min = fmin(e->E_min, E);
+  e->E_max = fmax(e->E_max, E);
+  e->ET_min = fmin(e->ET_min, ET);
+  e->ET_max = fmax(e->ET_max, ET);
+  e->drift = fmax(e->drift, fabs(ET - rs->ET0 - W) / rs->E0);
   if (n == n_at) { /* the --at summary ends here: its last trapezoidal weight is a half */
     rs->at = *e;
     acc_add(&rs->at.norms, &s, lam - sigma, sigma, 0.5 * o->tau);
   }
   const double w = (n == 0 || n == e->steps) ? 0.5 * o->tau : o->tau; /* trapezoidal weight */
   acc_add(&e->norms, &s, lam - sigma, sigma, w);
-  e->E_min = fmin(e->E_min, E);
-  e->E_max = fmax(e->E_max, E);
-  e->ET_min = fmin(e->ET_min, ET);
-  e->ET_max = fmax(e->ET_max, ET);
-  e->drift = fmax(e->drift, fabs(ET - rs->ET0 - W) / rs->E0);
-  if (n == n_at) { /* energies up to and including this level */
-    rs->at.E_min = e->E_min, rs->at.E_max = e->E_max, rs->at.ET_min = e->ET_min, rs->at.ET_max = e->ET_max;
-    rs->at.drift = e->drift;
-  }
   const double u0h = U[g->id[0]], v0h = V[g->id[0]]; /* sorted node 0 is x = 0 */
   if (csv) fprintf(csv, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", t, u0h, v0h, lam, E, ET);
   if (!o->quiet && (n % trace_every == 0 || n == e->steps))

@@ -118,10 +118,6 @@ static int gauss_rule(int n, double *pt, double *wt) {
   return n;
 }
 
-/* Exact integrals of the squared differences: the FE field is a polynomial of
-   the cell's degree, the exact one is linear between the kinks x = r, 1 - r,
-   so each cell is split at the kinks inside it and each piece gets a Gauss
-   rule exact for degree 2*degree + 1 or more. */
 /* Adds the squared differences at the ng points of one piece: phi, dphi are
    the basis values at the points (dphi already per unit x). */
 static void add_piece(space_norms *s, int m, int ng, const double *uc, const double *vc, const double *xq,

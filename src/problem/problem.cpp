@@ -263,7 +263,7 @@ void Problem::setup() {
 
 void Problem::step() {
   setup();
-  Operators &ops = build_operators();
+  Operators &ops = build_operators();  // built by setup(): these only fetch them
   StepOperator &so = build_step_operator();
   const State &old = state_;
   State next;

@@ -67,8 +67,10 @@ class Problem {
   double scalar(int key);
   std::vector<double> contact_pressure();  // lambda_q
 
+  // Operators, factorization of the step operator, initial acceleration:
+  // what the first step needs; done once until the definition changes.
+  void setup();
   // Advances one step; throws nd::Error (state untouched) on failure.
-  void setup();  // operators, factorization, initial acceleration
   void step();
 
  private:

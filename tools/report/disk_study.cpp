@@ -211,10 +211,9 @@ class Locator {
   std::vector<std::vector<int64_t>> buckets_;
 };
 
-// u and its gradient (row-major 2x2, du_i/dx_j) at reference point xi of cell c
-void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, const double *xi, double *val,
-              double *grad) {
-  const nd::AffineMap A(*s.mesh, c);
+// u and its gradient (row-major 2x2, du_i/dx_j) at reference point xi of cell c (map A)
+void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, const nd::AffineMap &A, const double *xi,
+              double *val, double *grad) {
   double phi[6], dphi_ref[12], dphi[2];
   s.basis.values(xi, phi);
   s.basis.gradients(xi, dphi_ref);
@@ -251,9 +250,9 @@ void field_errors(const Run &ref, const std::vector<double> &ur, const Run &run,
       const double *xi = &q.points[2 * k];
       double x[2], vr[2], gr[4], vc[2], gc[4], xic[2];
       A.to_physical(xi, x);
-      evaluate(R, ur, c, xi, vr, gr);
+      evaluate(R, ur, c, A, xi, vr, gr);
       const int64_t cc = loc.find(x, xic);
-      evaluate(C, uc, cc, xic, vc, gc);
+      evaluate(C, uc, cc, nd::AffineMap(*C.mesh, cc), xic, vc, gc);
       const double w = q.weights[k] * std::abs(A.det);
       const double d[2] = {vc[0] - vr[0], vc[1] - vr[1]};
       double dg[4];

@@ -30,6 +30,7 @@ SCHEMES = [
     ("hybrid", ["hybrid"], False),
     ("newmark(0,0.5)", ["newmark", "--beta", "0", "--gamma", "0.5", "--lumped", "1"], True),
 ]
+SCHEME_ARGS = {label: args for label, args, _ in SCHEMES}
 GAMMA0 = 0.2  # the bar's usual value (DESIGN §7), paper convention
 TAU_OVER_H = 0.5  # implicit schemes: tau = h/2 (wave speed 1: CFL number 1/2 per cell)
 EXPLICIT_TAU_OVER_DX = 0.25  # explicit Newmark, lumped: tau = dx/4, dx = h/degree the node spacing
@@ -43,20 +44,22 @@ def plan(quick):
                 tau_ladder_k=6, repeat=3, getfem_nx=[20, 40, 80, 160, 320], disk="full")
 
 
+def bar_argv(build, scheme_args, degree, Theta, nx, tau, T, repeat, row, study, at=None):
+    """One bar1d run appending its summary row(s) to row."""
+    argv = [os.path.join(build, "bar1d")] + scheme_args + [
+        "--degree", str(degree), "--Theta", str(Theta), "--gamma0", str(GAMMA0), "--nx", str(nx),
+        "--tau", repr(tau), "--T", str(T), "--quiet", "--repeat", str(repeat), "--row", row, "--study", study]
+    return argv + (["--at", str(at)] if at else [])
+
+
 def bar_jobs(build, p, rows_dir):
     """(cost estimate, argv) of every bar1d run."""
-    bar = os.path.join(build, "bar1d")
     jobs = []
 
     def add(study, scheme_args, degree, Theta, nx, tau, T, at):
         row = os.path.join(rows_dir, "bar_%05d.csv" % len(jobs))
-        argv = [bar] + scheme_args + ["--degree", str(degree), "--Theta", str(Theta), "--gamma0", str(GAMMA0),
-                                      "--nx", str(nx), "--tau", repr(tau), "--T", str(T), "--quiet",
-                                      "--repeat", str(p["repeat"]), "--row", row, "--study", study]
-        if at:
-            argv += ["--at", str(at)]
-        steps = T / tau
-        jobs.append((steps * nx * degree, argv))
+        argv = bar_argv(build, scheme_args, degree, Theta, nx, tau, T, p["repeat"], row, study, at)
+        jobs.append((T / tau * nx * degree, argv))
 
     # the mesh ladder, tau tied to h; T = 12 runs also summarize at T = 3
     for label, args, explicit in SCHEMES:
@@ -173,9 +176,9 @@ def main():
         if "energy" in parts:  # energy histories, P1, NX = 80, T = 12, Theta = 1
             t0 = time.time()
             jobs = []
-            for label, args, explicit in SCHEMES[:1] + SCHEMES[2:3] + SCHEMES[4:5]:
-                csv = os.path.join(data, "energy_%s.csv" % label.split("(")[0].replace("theta", "theta_half"))
-                jobs.append((1, [os.path.join(a.build, "bar1d")] + args +
+            for label, name in (("theta(0.5)", "theta_half"), ("newmark(0.25,0.5)", "newmark"), ("hybrid", "hybrid")):
+                csv = os.path.join(data, "energy_%s.csv" % name)
+                jobs.append((1, [os.path.join(a.build, "bar1d")] + SCHEME_ARGS[label] +
                              ["--degree", "1", "--nx", "80", "--T", "12", "--Theta", "1", "--gamma0", str(GAMMA0),
                               "--quiet", "--csv", csv]))
             failures += run_all(jobs, a.jobs, log)
@@ -197,10 +200,8 @@ def main():
             for degree in (1, 2):
                 for nx in p["getfem_nx"]:
                     row = os.path.join(rows, "pair_%05d.csv" % len(jobs))
-                    jobs.append((1, [os.path.join(a.build, "bar1d"), "newmark", "--beta", "0.25", "--gamma", "0.5",
-                                     "--degree", str(degree), "--Theta", "1", "--gamma0", str(GAMMA0),
-                                     "--nx", str(nx), "--tau", repr(TAU_OVER_H / nx), "--T", "3", "--quiet",
-                                     "--repeat", str(p["repeat"]), "--row", row, "--study", "getfem-pair"]))
+                    jobs.append((1, bar_argv(a.build, SCHEME_ARGS["newmark(0.25,0.5)"], degree, 1, nx, TAU_OVER_H / nx, 3,
+                                             p["repeat"], row, "getfem-pair")))
             failures += run_all(jobs, 1, log)
             concat(rows, "pair_", os.path.join(data, "getfem_pair.csv"))
             print("getfem and its pairs in %.0f s" % (time.time() - t0), flush=True)
