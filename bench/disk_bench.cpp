@@ -59,7 +59,7 @@ int main(int argc, char **argv) {
     newton += it;
   }
   // the floor: one forward/backward solve with the cached factor
-  const nd::StepOperator *so = p->problem.step_operator();
+  const nd::Integrator *so = p->problem.integrator();
   std::vector<double> x(static_cast<size_t>(so->A.n), 1.0), floor_times;
   for (int r = 0; r < 21; ++r) {
     t0 = seconds();

@@ -74,7 +74,8 @@ extern "C" {
 #define ND_SCHEME_LIST(X)                                                              \
   X(ND_SCHEME_THETA, 1, "theta in [0,1]; theta = 0 is explicit")                       \
   X(ND_SCHEME_NEWMARK, 2, "beta in [0,1/2], gamma in [0,1]; beta = 0 is explicit")     \
-  X(ND_SCHEME_HYBRID, 3, "no parameter")
+  X(ND_SCHEME_HYBRID, 3, "no parameter")                                               \
+  X(ND_SCHEME_GENERALIZED_ALPHA, 4, "rho_inf in [0,1]")
 
 /* Fields for nd_get_field: X(name, value, description) */
 #define ND_FIELD_LIST(X)                                                               \

@@ -594,7 +594,9 @@ START_TEST(problem_scheme) {
   const double half = 0.5;
   EXPECT_ERR(nd_problem_set_scheme(p, 0, &half), ND_ERR_SCHEME, "nd_problem_set_scheme",
              "scheme");
-  EXPECT_ERR(nd_problem_set_scheme(p, 4, &half), ND_ERR_SCHEME, "nd_problem_set_scheme",
+  EXPECT_ERR(nd_problem_set_scheme(p, 5, &half), ND_ERR_SCHEME, "nd_problem_set_scheme",
+             "scheme");
+  EXPECT_ERR(nd_problem_set_scheme(p, 99, &half), ND_ERR_SCHEME, "nd_problem_set_scheme",
              "scheme");
   EXPECT_ERR(nd_problem_set_scheme(p, -1, NULL), ND_ERR_SCHEME, "nd_problem_set_scheme",
              "scheme");
@@ -627,6 +629,17 @@ START_TEST(problem_scheme) {
 
   /* hybrid: no parameter, NULL accepted */
   EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+
+  /* generalized-alpha: rho_inf in [0, 1] */
+  const double ga_bad[] = {-0.1, 1.1, NAN, INFINITY};
+  for (size_t i = 0; i < sizeof ga_bad / sizeof *ga_bad; ++i)
+    EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_GENERALIZED_ALPHA, &ga_bad[i]), ND_ERR_SCHEME,
+               "nd_problem_set_scheme", "rho_inf");
+  const double ga_ok[] = {0, 0.5, 1};
+  for (size_t i = 0; i < sizeof ga_ok / sizeof *ga_ok; ++i)
+    EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_GENERALIZED_ALPHA, &ga_ok[i]));
+  EXPECT_ERR(nd_problem_set_scheme(p, ND_SCHEME_GENERALIZED_ALPHA, NULL), ND_ERR_NULL,
+             "nd_problem_set_scheme", "params");
   EXPECT_OK(nd_problem_destroy(&p));
 }
 END_TEST

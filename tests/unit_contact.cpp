@@ -11,6 +11,7 @@
 #include "assembly/bulk.hpp"
 #include "assembly/contact.hpp"
 #include "solve/contact_law.hpp"
+#include "nitschedyn.h"
 #include "testutil.h"
 #include "unit_fixtures.hpp"
 
@@ -136,10 +137,12 @@ START_TEST(tangent_matches_finite_differences) {
       for (double theta : thetas)
         for (int hybrid = 0; hybrid <= 1; ++hybrid) {
           Scene s = make_scene(dim, degree, true);
-          nd::ContactLaw law{&s.cp, theta, nullptr};
+          nd::ContactLaw law{&s.cp, theta};
           std::vector<double> Pn(s.cp.size());
+          const auto phi = nd::make_scheme(ND_SCHEME_HYBRID, {});
           if (hybrid) {  // alternate the sign of P^n so both branches of Phi are used
             for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = (q % 2 ? -1 : 1) * (0.02 + 0.01 * q);
+            law.scheme = phi.get();
             law.Pn = &Pn;
           }
           // a random U whose P_q (and P^n + P_q) stay clear of the kinks
@@ -170,7 +173,8 @@ START_TEST(hybrid_phi_matches_its_definition) {
   // Phi = H(P^n)[(P^n+P)/2]_+ + H(-P^n)([P^n]_+ + [P]_+)/2, H(0) = 1/2
   Scene s = make_scene(1, 1, true);
   std::vector<double> Pn(1);
-  nd::ContactLaw law{&s.cp, 1.0, &Pn};
+  const auto hybrid = nd::make_scheme(ND_SCHEME_HYBRID, {});
+  nd::ContactLaw law{&s.cp, 1.0, hybrid.get(), &Pn};
   auto pos = [](double x) { return x > 0 ? x : 0; };
   const double values[] = {-0.3, -0.1, 0.0, 0.05, 0.2};
   for (double pn : values)

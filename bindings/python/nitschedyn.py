@@ -381,13 +381,17 @@ class Problem(_Handle):
         _check(lib.nd_problem_set_nitsche(self._h, theta, gamma0))
 
     def set_scheme(self, scheme, params=None):
-        """ND_SCHEME_THETA (theta,), ND_SCHEME_NEWMARK (beta, gamma), ND_SCHEME_HYBRID ()."""
-        needed = {_constants.ND_SCHEME_THETA: 1, _constants.ND_SCHEME_NEWMARK: 2}.get(scheme, 0)
+        """An ND_SCHEME_* value and its parameters (SCHEME[name] describes them):
+        ND_SCHEME_THETA (theta,), ND_SCHEME_NEWMARK (beta, gamma),
+        ND_SCHEME_HYBRID (), ND_SCHEME_GENERALIZED_ALPHA (rho_inf,)."""
         a = None
-        if params is not None or needed:
-            a = _doubles(() if params is None else params)
-            if a.size < needed:
-                raise ValueError("scheme %d needs %d parameters, got %d" % (scheme, needed, a.size))
+        if params is not None:
+            # the library reads as many values as the scheme takes: pad with
+            # NaN, which every scheme refuses, so that too few values are an
+            # nd.Error (ND_ERR_SCHEME) and never a read past the array
+            given = _doubles(params)
+            a = np.full(max(8, given.size), np.nan)
+            a[:given.size] = given
         _check(lib.nd_problem_set_scheme(self._h, scheme, _dptr(a)))
 
     def set_nodal_forces(self, f):

@@ -10,6 +10,20 @@ thread_local std::string last_error;
 }  // namespace
 void set_last_error(const std::string &message) { last_error = message; }
 void clear_last_error() { last_error.clear(); }
+
+std::string calls_that_set(unsigned aspects) {
+  static const struct {
+    unsigned aspect;
+    const char *call;
+  } kCalls[] = {{kMaterial, "nd_problem_set_material"},
+                {kNitsche, "nd_problem_set_nitsche"},
+                {kScheme, "nd_problem_set_scheme"},
+                {kTimestep, "nd_problem_set_timestep"}};
+  std::string calls;
+  for (const auto &c : kCalls)
+    if (aspects & c.aspect) calls += (calls.empty() ? "" : ", ") + std::string(c.call);
+  return "(set with " + calls + ")";
+}
 }  // namespace nd
 
 extern "C" {

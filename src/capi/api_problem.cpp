@@ -7,11 +7,6 @@
 
 namespace {
 
-nd::Problem &problem_of(nd_problem p) {
-  nd::need(p, "problem");
-  return p->problem;
-}
-
 void need_node_array(nd::Problem &pr, int64_t n, const char *name) {
   if (n != pr.space().n_nodes)
     nd::fail(ND_ERR_SIZE, std::string(name) + " has " + std::to_string(n) + " nodes; the problem has " +
@@ -40,7 +35,7 @@ ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out) {
 
 ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson, double density) {
   return nd::guarded("nd_problem_set_material", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_range(std::isfinite(young) && young > 0, ND_ERR_MATERIAL, "young must be positive and finite");
     need_range(std::isfinite(density) && density > 0, ND_ERR_MATERIAL, "density must be positive and finite");
     if (pr.space().dim > 1)  // in 1D sigma = E u_x: Poisson's ratio is not used
@@ -53,14 +48,14 @@ ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson
 
 ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region) {
   return nd::guarded("nd_problem_set_dirichlet", [&] {
-    problem_of(p).add_dirichlet(region);
+    nd::problem_of(p).add_dirichlet(region);
     return ND_OK;
   });
 }
 
 ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f) {
   return nd::guarded("nd_problem_set_body_force", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     nd::need(f, "f");
     nd::need_finite(f, pr.space().dim, "f");
     pr.set_body_force(f);
@@ -70,7 +65,7 @@ ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f) {
 
 ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g) {
   return nd::guarded("nd_problem_set_neumann", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     nd::need(g, "g");
     nd::need_finite(g, pr.space().dim, "g");
     pr.add_neumann(region, g);
@@ -81,7 +76,7 @@ ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g) 
 ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
                                            const double *normal) {
   return nd::guarded("nd_problem_set_contact_plane", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     nd::need(point, "point");
     nd::need(normal, "normal");
     nd::need_finite(point, pr.space().dim, "point");
@@ -93,7 +88,7 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
 
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0) {
   return nd::guarded("nd_problem_set_nitsche", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_range(std::isfinite(theta), ND_ERR_NITSCHE, "theta must be finite");
     need_range(std::isfinite(gamma0) && gamma0 > 0, ND_ERR_NITSCHE, "gamma0 must be positive and finite");
     pr.set_nitsche(theta, gamma0);
@@ -103,35 +98,21 @@ ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0) 
 
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params) {
   return nd::guarded("nd_problem_set_scheme", [&] {
-    nd::Problem &pr = problem_of(p);
-    nd::SchemeSpec s;
-    s.kind = scheme;
-    switch (scheme) {
-      case ND_SCHEME_THETA:
-        nd::need(params, "params");
-        s.theta = params[0];
-        need_range(s.theta >= 0 && s.theta <= 1, ND_ERR_SCHEME, "theta (params[0]) must lie in [0, 1]");
-        break;
-      case ND_SCHEME_NEWMARK:
-        nd::need(params, "params");
-        s.beta = params[0];
-        s.gamma = params[1];
-        need_range(s.beta >= 0 && s.beta <= 0.5, ND_ERR_SCHEME, "beta (params[0]) must lie in [0, 1/2]");
-        need_range(s.gamma >= 0 && s.gamma <= 1, ND_ERR_SCHEME, "gamma (params[1]) must lie in [0, 1]");
-        break;
-      case ND_SCHEME_HYBRID:
-        break;
-      default:
-        nd::fail(ND_ERR_SCHEME, "scheme " + std::to_string(scheme) + " is not an ND_SCHEME_* value");
+    nd::Problem &pr = nd::problem_of(p);
+    const int n = nd::scheme_parameter_count(scheme);  // ND_ERR_SCHEME if unknown
+    std::vector<double> prm;
+    if (n > 0) {
+      nd::need(params, "params");
+      prm.assign(params, params + n);
     }
-    pr.set_scheme(s);
+    pr.set_scheme(scheme, prm);
     return ND_OK;
   });
 }
 
 ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f) {
   return nd::guarded("nd_problem_set_nodal_forces", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_node_array(pr, n, "f");
     nd::need(f, "f");
     nd::need_finite(f, n * pr.space().dim, "f");
@@ -142,7 +123,7 @@ ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double 
 
 ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter) {
   return nd::guarded("nd_problem_set_newton", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_range(std::isfinite(rtol) && rtol >= 0, ND_ERR_VALUE, "rtol must be finite and >= 0");
     need_range(std::isfinite(atol) && atol >= 0, ND_ERR_VALUE, "atol must be finite and >= 0");
     need_range(max_iter >= 1, ND_ERR_VALUE, "max_iter must be at least 1");
@@ -153,16 +134,15 @@ ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int 
 
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped) {
   return nd::guarded("nd_problem_set_mass_lumping", [&] {
-    problem_of(p).set_mass_lumping(lumped != 0);
+    nd::problem_of(p).set_mass_lumping(lumped != 0);
     return ND_OK;
   });
 }
 
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
   return nd::guarded("nd_problem_set_linear_solver", [&] {
-    nd::Problem &pr = problem_of(p);
-    need_range(solver >= ND_SOLVER_AUTO && solver <= ND_SOLVER_KLU, ND_ERR_KEY,
-               "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need_member(ND_IS_MEMBER_(ND_SOLVER_LIST, solver), ND_ERR_KEY, "solver", solver, "ND_SOLVER_*");
     pr.set_linear_solver(solver);
     return ND_OK;
   });
@@ -170,7 +150,7 @@ ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
 
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau) {
   return nd::guarded("nd_problem_set_timestep", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_range(std::isfinite(tau) && tau > 0, ND_ERR_TIMESTEP, "tau must be positive and finite");
     pr.set_timestep(tau);
     return ND_OK;
@@ -179,7 +159,7 @@ ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau) {
 
 ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0, const double *v0) {
   return nd::guarded("nd_problem_set_initial_state", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_node_array(pr, n, "u0/v0");
     if (u0) nd::need_finite(u0, n * pr.space().dim, "u0");
     if (v0) nd::need_finite(v0, n * pr.space().dim, "v0");
@@ -190,7 +170,7 @@ ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double
 
 ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userdata) {
   return nd::guarded("nd_problem_set_monitor", [&] {
-    problem_of(p);
+    nd::problem_of(p);
     p->monitor = fn;
     p->userdata = userdata;
     return ND_OK;
@@ -200,14 +180,14 @@ ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userd
 ND_EXPORT int nd_problem_get_node_count(nd_problem p, int64_t *n_nodes) {
   return nd::guarded("nd_problem_get_node_count", [&] {
     nd::need(n_nodes, "n_nodes");
-    *n_nodes = problem_of(p).space().n_nodes;
+    *n_nodes = nd::problem_of(p).space().n_nodes;
     return ND_OK;
   });
 }
 
 ND_EXPORT int nd_problem_get_node_coordinates(nd_problem p, int64_t n, double *coords) {
   return nd::guarded("nd_problem_get_node_coordinates", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_node_array(pr, n, "coords");
     nd::need(coords, "coords");
     const auto &x = pr.space().node_coords;

@@ -5,11 +5,7 @@
 #include "capi/handles.hpp"
 
 namespace {
-nd::Problem &problem_of(nd_problem p) {
-  nd::need(p, "problem");
-  return p->problem;
-}
-int64_t contact_count(nd::Problem &pr) { return static_cast<int64_t>(pr.operators().contact.size()); }
+int64_t contact_count(nd::Problem &pr) { return static_cast<int64_t>(pr.discretization().contact.size()); }
 void need_count(int64_t n, int64_t expected, const char *what) {
   if (n != expected)
     nd::fail(ND_ERR_SIZE, std::string(what) + ": n is " + std::to_string(n) + ", expected " + std::to_string(expected));
@@ -20,14 +16,14 @@ extern "C" {
 
 ND_EXPORT int nd_problem_setup(nd_problem p) {
   return nd::guarded("nd_problem_setup", [&] {
-    problem_of(p).setup();
+    nd::problem_of(p).setup();
     return ND_OK;
   });
 }
 
 ND_EXPORT int nd_step(nd_problem p) {
   const int status = nd::guarded("nd_step", [&] {
-    problem_of(p).step();
+    nd::problem_of(p).step();
     return ND_OK;
   });
   if (status != ND_OK || !p->monitor) return status;
@@ -36,9 +32,8 @@ ND_EXPORT int nd_step(nd_problem p) {
 
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
   return nd::guarded("nd_get_field", [&] {
-    nd::Problem &pr = problem_of(p);
-    if (field != ND_FIELD_DISPLACEMENT && field != ND_FIELD_VELOCITY && field != ND_FIELD_ACCELERATION)
-      nd::fail(ND_ERR_KEY, "field " + std::to_string(field) + " is not an ND_FIELD_* value");
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
     need_count(n, pr.space().n_nodes, "nodes");
     nd::need(out, "out");
     pr.field(field, out);
@@ -48,8 +43,8 @@ ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
 
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out) {
   return nd::guarded("nd_get_scalar", [&] {
-    nd::Problem &pr = problem_of(p);
-    if (!nd::is_scalar_key(key)) nd::fail(ND_ERR_KEY, "key " + std::to_string(key) + " is not an ND_* scalar key");
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need_member(ND_IS_MEMBER_(ND_SCALAR_LIST, key), ND_ERR_KEY, "key", key, "ND_* scalar key");
     nd::need(out, "out");
     *out = pr.scalar(key);
     return ND_OK;
@@ -58,7 +53,7 @@ ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out) {
 
 ND_EXPORT int nd_problem_get_contact_point_count(nd_problem p, int64_t *n_points) {
   return nd::guarded("nd_problem_get_contact_point_count", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     nd::need(n_points, "n_points");
     *n_points = contact_count(pr);
     return ND_OK;
@@ -67,9 +62,9 @@ ND_EXPORT int nd_problem_get_contact_point_count(nd_problem p, int64_t *n_points
 
 ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coords, double *weights) {
   return nd::guarded("nd_problem_get_contact_points", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_count(n, contact_count(pr), "contact points");
-    const nd::ContactPoints &cp = pr.operators().contact;
+    const nd::ContactPoints &cp = pr.discretization().contact;
     if (coords) std::copy(cp.x.begin(), cp.x.end(), coords);
     if (weights) std::copy(cp.w.begin(), cp.w.end(), weights);
     return ND_OK;
@@ -78,7 +73,7 @@ ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coo
 
 ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out) {
   return nd::guarded("nd_get_contact_pressure", [&] {
-    nd::Problem &pr = problem_of(p);
+    nd::Problem &pr = nd::problem_of(p);
     need_count(n, contact_count(pr), "contact points");
     nd::need(out, "out");
     const std::vector<double> lam = pr.contact_pressure();

@@ -8,17 +8,23 @@
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "problem/definition.hpp"
 
 namespace nd {
 
 void set_last_error(const std::string &message);
 void clear_last_error();
+// "(set with nd_problem_set_material, ...)" for the missing aspects
+std::string calls_that_set(unsigned aspects);
 
 template <class Body>
 int guarded(const char *fn, Body &&body) noexcept {
   clear_last_error();
   try {
     return body();
+  } catch (const Incomplete &e) {
+    set_last_error(std::string(fn) + ": " + e.what() + " " + calls_that_set(e.missing()));
+    return e.code();
   } catch (const Error &e) {
     const std::string msg = e.what();
     set_last_error(msg.compare(0, 3, "nd_") == 0 ? msg : std::string(fn) + ": " + msg);
@@ -36,6 +42,12 @@ int guarded(const char *fn, Body &&body) noexcept {
 }
 
 // Argument checks shared by the API functions; each throws with the name.
+// An enum argument is one of its X-macro list (nitschedyn.h).
+#define ND_MEMBER_CASE_(name, value, text) case name:
+#define ND_IS_MEMBER_(list, v) [](int x) { switch (x) { list(ND_MEMBER_CASE_) return true; default: return false; } }(v)
+inline void need_member(bool member, int code, const char *arg, int value, const char *list) {
+  if (!member) fail(code, std::string(arg) + " " + std::to_string(value) + " is not an " + list + " value");
+}
 inline void need(const void *ptr, const char *name) {
   if (!ptr) fail(ND_ERR_NULL, std::string(name) + " is NULL");
 }

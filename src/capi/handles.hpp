@@ -2,6 +2,7 @@
 #pragma once
 #include <memory>
 
+#include "capi/guard.hpp"
 #include "mesh/mesh.hpp"
 #include "nitschedyn.h"
 #include "problem/problem.hpp"
@@ -15,3 +16,10 @@ struct nd_problem_s {
   nd_monitor_fn monitor = nullptr;
   void *userdata = nullptr;
 };
+
+namespace nd {
+inline Problem &problem_of(nd_problem p) {
+  need(p, "problem");
+  return p->problem;
+}
+}  // namespace nd

@@ -60,7 +60,7 @@ void write_vtu(Problem &p, const char *path) {
   p.field(ND_FIELD_DISPLACEMENT, U.data());
   p.field(ND_FIELD_VELOCITY, V.data());
   // mean contact pressure per contact facet
-  const ContactPoints &cp = p.operators().contact;
+  const ContactPoints &cp = p.discretization().contact;
   const std::vector<double> lam = p.contact_pressure();
   std::map<int64_t, std::pair<double, double>> facet_pressure;  // facet -> (sum w lambda, sum w)
   for (size_t q = 0; q < cp.size(); ++q) {

@@ -19,6 +19,11 @@ int64_t Csr::find(int64_t i, int64_t j) const {
   return it != e && *it == j ? it - col.begin() : -1;
 }
 
+void Csr::add_outer(const std::vector<int64_t> &idx, const double *u, const double *v, double f) {
+  for (size_t i = 0; i < idx.size(); ++i)
+    for (size_t j = 0; j < idx.size(); ++j) val[find(idx[i], idx[j])] += f * u[i] * v[j];
+}
+
 Csr csr_from_rows(std::vector<std::vector<int64_t>> rows) {
   Csr A;
   A.n = static_cast<int64_t>(rows.size());

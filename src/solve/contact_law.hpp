@@ -1,27 +1,29 @@
 // The Nitsche contact term (DESIGN §2-3) as a function of U:
 //   P_q(U) = p_q.U - g_q,  p_q = a_q - gamma_q s_q,  b_q = a_q - Theta gamma_q s_q
-//   N(U)   = sum_q (w_q/gamma_q) phi_q(P_q(U)) b_q
-// with phi_q(P) = [P]_+ for the theta-scheme and Newmark, and the hybrid
-// scheme's Phi_q(P; P_q^n) (eq. (17)). The tangent is
-//   N'(U)  = sum_q (w_q/gamma_q) phi_q'(P_q(U)) b_q p_q^T.
+//   N(U)   = sum_q (w_q/gamma_q) phi(P_q(U), P_q^n) b_q
+// where phi is the time scheme's contact term ([P]_+ for the theta-scheme and
+// Newmark, the hybrid scheme's Phi, generalized-alpha's shifted point), or
+// [P]_+ when no scheme is given (energies, pressure, explicit steps). The
+// tangent is N'(U) = sum_q (w_q/gamma_q) phi'(P_q(U), P_q^n) b_q p_q^T.
 #pragma once
 #include <vector>
 
 #include "assembly/contact.hpp"
 #include "linalg/csr.hpp"
+#include "time/scheme.hpp"
 
 namespace nd {
 
 struct ContactLaw {
   const ContactPoints *cp = nullptr;
-  double theta = 1;                    // Nitsche's Theta
-  const std::vector<double> *Pn = nullptr;  // P_q(U^n): set for the hybrid scheme
+  double theta = 1;                         // Nitsche's Theta
+  const TimeScheme *scheme = nullptr;       // the step's contact term; nullptr: [P]_+
+  const std::vector<double> *Pn = nullptr;  // P_q(U^n), needed with a scheme
 
   double P(size_t q, const double *U) const {
     return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - cp->gap[q];
   }
-  // value and slope of phi_q at P; H(0) = 1/2 in the hybrid switch (paper),
-  // the slope of [.]_+ at 0 is taken as 0.
+  // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given
   void add_force(const double *U, double kappa, double *y, std::vector<char> *active) const;

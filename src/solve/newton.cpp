@@ -35,14 +35,7 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     bool any_active = false;
     for (char a : active) any_active |= a != 0;
     for (auto &g : G) g = -g;
-    if (any_active) {  // tangent = A + kappa N'(U), refactored numerically
-      sys.T->val = sys.A->val;  // same size: no allocation
-      sys.law->add_tangent(U.data(), sys.kappa, *sys.T);
-      sys.T_factor->factor(*sys.T, sys.tangent_structure);
-      sys.T_factor->solve(G.data());
-    } else {
-      sys.A_factor->solve(G.data());
-    }
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data());
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2(n, G.data());
     previous.swap(active);

@@ -5,8 +5,8 @@
 #pragma once
 #include <vector>
 
-#include "linalg/factorization.hpp"
 #include "solve/contact_law.hpp"
+#include "solve/tangent_solver.hpp"
 
 namespace nd {
 
@@ -16,11 +16,8 @@ struct NewtonOptions {
 };
 
 struct NewtonSystem {
-  const Csr *A;                  // c M + K_Theta
-  const Factorization *A_factor; // its factorization, used while no point is active
-  Factorization *T_factor;       // for tangents with active points
-  Csr *T;                        // workspace for the tangent (the pattern of A)
-  Structure tangent_structure;   // SPD when Theta = 1
+  const Csr *A;             // c M + K_Theta
+  TangentSolver *tangent;   // solves with A + kappa N'(U)
   const Csr *M;
   double c, kappa;
   const ContactLaw *law;

@@ -1,50 +1,68 @@
-// The time-marching schemes of section 3 of the paper (DESIGN §3 table).
-// Every implicit step solves (c M + K_Theta) U + kappa N(U) = r for U^{n+1};
-// the explicit variants (theta = 0, Newmark beta = 0) predict U^{n+1} and
-// then solve M A^{n+1} = F^{n+1} - K_Theta U^{n+1} - N(U^{n+1}).
+// A time scheme (DESIGN §3), one file per scheme behind this interface, and
+// the registry from ND_SCHEME_* ids. The step driver knows no scheme by name.
+//
+// An implicit step solves for U = U^{n+1}
+//   G(U) = (c M + K_Theta) U + kappa sum_q (w_q/gamma_q) phi(P_q(U), P_q^n) b_q - r = 0
+// where phi is the scheme's contact term. An explicit step predicts U^{n+1},
+// then solves M A^{n+1} = F^{n+1} - K_Theta U^{n+1} - N(U^{n+1}).
 #pragma once
-#include <cstddef>
-#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "linalg/csr.hpp"
+#include "time/state.hpp"
 
 namespace nd {
-
-struct SchemeSpec {
-  int kind = 0;  // ND_SCHEME_*
-  double theta = 0, beta = 0, gamma = 0;
-  bool is_explicit() const;
-  bool is_hybrid() const;
-};
-
-// The state at t^n, in free DOFs. F is the load F^n used by the last step.
-struct State {
-  double t = 0;
-  int64_t n = 0;
-  std::vector<double> U, V, A, F;
-  bool A_valid = false;  // the hybrid scheme needs no acceleration: computed on demand
-  double W = 0;
-  int last_iterations = 0;
-  int64_t total_iterations = 0;
-};
 
 struct StepCoefficients {
   double c, kappa;
 };
-StepCoefficients step_coefficients(const SchemeSpec &s, double tau);
 
-// r for an implicit step. F_old, F_new: loads at t^n, t^{n+1} (both empty when
-// there is none); KtU = K_Theta U^n (used by the hybrid scheme only).
-void implicit_rhs(const SchemeSpec &s, double tau, const Csr &M, const State &old,
-                  const std::vector<double> &F_old, const std::vector<double> &F_new,
-                  const std::vector<double> &KtU,
-                  std::vector<double> &r);
-// A first guess for U^{n+1}: U^n + tau V^n (+ tau^2/2 A^n for Newmark); for an
-// explicit scheme this is the step's displacement.
-void predict_displacement(const SchemeSpec &s, double tau, const State &old, std::vector<double> &U);
-// V^{n+1}, A^{n+1} from U^{n+1} (implicit), or V^{n+1} from A^{n+1} (explicit).
-void implicit_update(const SchemeSpec &s, double tau, const State &old, State &next);
-void explicit_update(const SchemeSpec &s, double tau, const State &old, State &next);
+// What a right-hand side may read: the operators and the loads at both ends
+// of the step (F_old, F_new both empty when there is no load).
+struct StepInputs {
+  const Csr &M, &K_theta;
+  const std::vector<double> &F_old, &F_new;
+};
+
+class TimeScheme {
+ public:
+  virtual ~TimeScheme() = default;
+  virtual bool is_explicit() const = 0;
+  // Does the state carry A^n (Remark 3.2 at t^0)? The hybrid scheme needs none.
+  virtual bool uses_acceleration() const { return true; }
+  virtual StepCoefficients coefficients(double tau) const = 0;  // implicit schemes
+  virtual void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const = 0;
+  // The first guess of U^{n+1}; for an explicit scheme, U^{n+1} itself.
+  virtual void predict(double tau, const State &old, std::vector<double> &U) const = 0;
+  // phi and d phi / dP at P = P_q(U), given P^n = P_q(U^n); [P]_+ by default.
+  virtual void contact(double P, double Pn, double &value, double &slope) const {
+    value = P > 0 ? P : 0;
+    slope = P > 0 ? 1 : 0;
+  }
+  // Implicit: V^{n+1}, A^{n+1} from U^{n+1}. Explicit: V^{n+1} from A^{n+1}.
+  virtual void update(double tau, const State &old, State &next) const = 0;
+};
+
+// The registry: how many parameters an ND_SCHEME_* id reads (throws
+// ND_ERR_SCHEME for an unknown id), and the scheme for checked parameters
+// (throws ND_ERR_SCHEME naming the parameter that is out of range).
+int scheme_parameter_count(int id);
+std::unique_ptr<TimeScheme> make_scheme(int id, const std::vector<double> &params);
+
+// The entries of the registry, one per scheme file.
+std::unique_ptr<TimeScheme> make_theta_scheme(const std::vector<double> &params);
+std::unique_ptr<TimeScheme> make_newmark_scheme(const std::vector<double> &params);
+std::unique_ptr<TimeScheme> make_hybrid_scheme(const std::vector<double> &params);
+std::unique_ptr<TimeScheme> make_generalized_alpha_scheme(const std::vector<double> &params);
+
+// U = U^n + tau V^n (+ tau^2/2 A^n when with_acceleration and A^n is known):
+// the Taylor predictor the schemes share.
+void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U);
+// r = M y (+ F): the part of every right-hand side that goes through the mass.
+void mass_times(const Csr &M, const std::vector<double> &y, std::vector<double> &r);
+
+// A parameter check shared by the schemes: lo <= x <= hi (NaN fails).
+void require_parameter(double x, double lo, double hi, const char *what);
 
 }  // namespace nd

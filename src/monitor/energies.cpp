@@ -1,0 +1,63 @@
+#include "monitor/energies.hpp"
+
+#include <algorithm>
+
+#include "solve/contact_law.hpp"
+
+namespace nd {
+
+double mechanical_energy(const Discretization &d, const State &s) {
+  const int64_t n = static_cast<int64_t>(s.U.size());
+  std::vector<double> y(n);
+  d.M.multiply(s.V.data(), y.data());
+  double E = 0.5 * dot(n, s.V.data(), y.data());
+  d.K.multiply(s.U.data(), y.data());
+  return E + 0.5 * dot(n, s.U.data(), y.data());
+}
+
+double nitsche_energy(const Discretization &d, const State &s) {
+  const ContactPoints &cp = d.contact;
+  ContactLaw law{&cp, d.theta};
+  double R = 0;
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const double P = law.P(q, s.U.data()), Pp = P > 0 ? P : 0;
+    const double sn = cp.s[q].dot(s.U.data());
+    R += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
+  }
+  return R;
+}
+
+std::vector<double> contact_pressure(const Discretization &d, const State &s) {
+  ContactLaw law{&d.contact, d.theta};
+  std::vector<double> lam(d.contact.size());
+  for (size_t q = 0; q < lam.size(); ++q) {
+    const double P = law.P(q, s.U.data());
+    lam[q] = P > 0 ? -P / d.contact.gamma[q] : 0.0;
+  }
+  return lam;
+}
+
+double contact_force(const Discretization &d, const State &s) {
+  ContactLaw law{&d.contact, d.theta};
+  double F = 0;
+  for (size_t q = 0; q < d.contact.size(); ++q) {
+    const double P = law.P(q, s.U.data());
+    if (P > 0) F += d.contact.w[q] * P / d.contact.gamma[q];
+  }
+  return F;
+}
+
+int64_t active_points(const Discretization &d, const State &s) {
+  ContactLaw law{&d.contact, d.theta};
+  int64_t k = 0;
+  for (size_t q = 0; q < d.contact.size(); ++q) k += law.P(q, s.U.data()) > 0;
+  return k;
+}
+
+double max_penetration(const Discretization &d, const State &s) {
+  double m = 0;
+  for (size_t q = 0; q < d.contact.size(); ++q) m = std::max(m, d.contact.a[q].dot(s.U.data()) - d.contact.gap[q]);
+  return m;
+}
+
+}  // namespace nd

@@ -1,0 +1,24 @@
+// The monitors of the analysis (DESIGN §2): energies, contact pressure and
+// contact statistics of a state. They read the discretization and the state
+// and change neither.
+#pragma once
+#include <vector>
+
+#include "problem/discretization.hpp"
+#include "time/state.hpp"
+
+namespace nd {
+
+// E = 1/2 V'MV + 1/2 U'KU
+double mechanical_energy(const Discretization &d, const State &s);
+// R = 1/2 sum_q w_q (gamma_q (s_q.U)^2 - [P_q]_+^2/gamma_q)
+double nitsche_energy(const Discretization &d, const State &s);
+// sum_q w_q [P_q]_+/gamma_q
+double contact_force(const Discretization &d, const State &s);
+int64_t active_points(const Discretization &d, const State &s);
+// max_q (u_n - g0)_+
+double max_penetration(const Discretization &d, const State &s);
+// lambda_q = -[P_q]_+/gamma_q
+std::vector<double> contact_pressure(const Discretization &d, const State &s);
+
+}  // namespace nd

@@ -1,0 +1,81 @@
+// What the C API sets: the definition of a problem, grouped into aspects.
+// Everything derived from it (discretization, integrator, initial state)
+// declares the aspects it depends on (problem.cpp), so a setter only names
+// its own aspect and what it invalidates follows.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "assembly/bulk.hpp"
+#include "assembly/contact.hpp"
+#include "assembly/material.hpp"
+#include "common/error.hpp"
+#include "nitschedyn.h"
+#include "solve/newton.hpp"
+
+namespace nd {
+
+enum Aspect : unsigned {
+  kMaterial = 1u << 0,
+  kDirichlet = 1u << 1,
+  kLoads = 1u << 2,     // body force, tractions
+  kContact = 1u << 3,   // obstacle planes
+  kNitsche = 1u << 11,  // Theta, gamma0
+  kLumping = 1u << 4,
+  kScheme = 1u << 5,
+  kTimestep = 1u << 6,
+  kSolver = 1u << 7,
+  kNodal = 1u << 8,     // nodal forces
+  kInitial = 1u << 9,   // u0, v0
+  kNewton = 1u << 10,
+};
+
+struct Definition {
+  Material material;
+  std::vector<int> dirichlet;
+  bool has_body_force = false;
+  double body_force[3] = {0, 0, 0};
+  std::vector<NeumannLoad> neumann;
+  std::vector<ContactPlane> planes;
+  double theta = 1, gamma0 = 0;
+  int scheme = 0;  // ND_SCHEME_*
+  std::vector<double> scheme_params;
+  double tau = 0;
+  NewtonOptions newton;
+  bool lumped = false;
+  int solver = ND_SOLVER_AUTO;
+  std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
+  unsigned given = 0;                 // the aspects set so far
+
+  // The aspects still missing for the operators (material; Nitsche
+  // parameters once there is an obstacle) and for a step (scheme, time step).
+  unsigned missing_for_operators() const {
+    unsigned m = 0;
+    if (!(given & kMaterial)) m |= kMaterial;
+    if (!planes.empty() && !(given & kNitsche)) m |= kNitsche;
+    return m;
+  }
+  unsigned missing_for_step() const {
+    unsigned m = missing_for_operators();
+    if (!(given & kScheme)) m |= kScheme;
+    if (!(given & kTimestep)) m |= kTimestep;
+    return m;
+  }
+};
+
+// ND_ERR_INCOMPLETE with the aspects that are missing, for the C layer to
+// name the calls that set them.
+class Incomplete : public Error {
+ public:
+  Incomplete(unsigned missing, const std::string &what)
+      : Error(ND_ERR_INCOMPLETE, "the problem is incomplete: missing " + what), missing_(missing) {}
+  unsigned missing() const noexcept { return missing_; }
+
+ private:
+  unsigned missing_;
+};
+
+// Throws Incomplete when any aspect of `missing` is missing.
+void require_complete(unsigned missing);
+
+}  // namespace nd

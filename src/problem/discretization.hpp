@@ -1,0 +1,37 @@
+// The discretization derived from a definition: the DOF numbering, the
+// operators M, K, K_Theta, the contact points with their rows, and the
+// constant load. Built once; rebuilt only when an aspect it depends on changes.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "assembly/contact.hpp"
+#include "fem/space.hpp"
+#include "linalg/csr.hpp"
+#include "linalg/factorization.hpp"
+#include "problem/definition.hpp"
+#include "time/state.hpp"
+
+namespace nd {
+
+struct Discretization {
+  Discretization(DofMap d, bool lump) : dofs(std::move(d)), lumped(lump) {}
+  DofMap dofs;
+  Csr M;  // the scheme's mass: consistent, or lumped (diagonal) on the same pattern
+  bool lumped;
+  std::vector<double> M_lumped;  // the lumped diagonal (empty when consistent)
+  Csr K, K_theta;                // K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
+  ContactPoints contact;
+  double theta = 1;
+  std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
+
+  void mass_solve(double *x, int solver);
+  // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
+  void equilibrium_acceleration(State &s, int solver);
+};
+
+std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def);
+// The constant load on the free DOFs: body force and tractions (empty: none).
+std::vector<double> constant_load(const Space &space, const Discretization &d, const Definition &def);
+
+}  // namespace nd

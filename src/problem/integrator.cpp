@@ -1,0 +1,97 @@
+#include "problem/integrator.hpp"
+
+#include <cmath>
+
+#include "common/format.hpp"
+#include "solve/newton.hpp"
+
+namespace nd {
+
+namespace {
+
+bool all_finite(const std::vector<double> &v) {
+  for (double x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
+}
+
+// The Newton tangent is symmetric (and positive definite with c M + K_Theta) iff Theta = 1.
+Structure tangent_structure(double theta) {
+  return theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+}
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def) {
+  require_complete(def.missing_for_step());
+  auto in = std::make_unique<Integrator>();
+  in->scheme = make_scheme(def.scheme, def.scheme_params);
+  in->tau = def.tau;
+  if (in->scheme->is_explicit()) return in;
+  in->coef = in->scheme->coefficients(def.tau);
+  csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
+  in->A_factor = make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite);
+  try {
+    in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
+  } catch (const Error &e) {
+    if (e.code() != ND_ERR_INDEFINITE) throw;
+    fail(ND_ERR_INDEFINITE, "c*M + K_Theta is not positive definite (" + std::string(e.what()) +
+                                "): with Theta = " + num(def.theta) + ", gamma0 = " + num(def.gamma0) +
+                                " and tau = " + num(def.tau) +
+                                " the step is not well posed; lower gamma0 or the time step");
+  }
+  if (!d.contact.a.empty())
+    in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, tangent_structure(def.theta));
+  return in;
+}
+
+State advance(Integrator &in, Discretization &d, const Definition &def, const State &old,
+              const std::vector<double> &F_new) {
+  const TimeScheme &scheme = *in.scheme;
+  const double tau = in.tau;
+  const size_t n = old.U.size();
+  State next;
+  next.t = old.t + tau;
+  next.n = old.n + 1;
+  next.F = F_new;
+  // an empty load vector means no load; both ends of the step need one if either has
+  if (next.F.empty() && !old.F.empty()) next.F.assign(n, 0.0);  // nodal forces withdrawn
+  const std::vector<double> F_old =
+      !next.F.empty() && old.F.empty() ? std::vector<double>(n, 0.0) : old.F;
+  scheme.predict(tau, old, next.U);
+  if (scheme.is_explicit()) {
+    next.last_iterations = 0;
+    d.equilibrium_acceleration(next, def.solver);
+  } else {
+    std::vector<double> r;
+    scheme.rhs(StepInputs{d.M, d.K_theta, F_old, next.F}, tau, old, r);
+    if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
+      next.U = r;
+      in.A_factor->solve(next.U.data());
+      next.last_iterations = 1;
+    } else {
+      ContactLaw law{&d.contact, def.theta, &scheme, nullptr};
+      std::vector<double> Pn(d.contact.size());
+      for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = law.P(q, old.U.data());
+      law.Pn = &Pn;
+      NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
+      const NewtonResult res = newton_solve(sys, r, def.newton, next.U);
+      if (!res.converged)
+        fail(ND_ERR_NEWTON, "Newton did not converge in " + std::to_string(res.iterations) + " iterations at t = " +
+                                num(next.t) + " (residual " + num(res.residual) + ", tolerance " +
+                                num(res.tolerance) + "); the step was not taken");
+      next.last_iterations = res.iterations;
+    }
+  }
+  scheme.update(tau, old, next);
+  if (!all_finite(next.U) || !all_finite(next.V) || !all_finite(next.A))
+    fail(ND_ERR_NONFINITE_STATE,
+         "the step to t = " + num(next.t) + " produced non-finite values; the step was not taken");
+  next.W = old.W;
+  if (!next.F.empty())  // trapezoidal work of the loads
+    for (size_t i = 0; i < n; ++i) next.W += 0.5 * (next.F[i] + F_old[i]) * (next.U[i] - old.U[i]);
+  next.total_iterations = old.total_iterations + next.last_iterations;
+  return next;
+}
+
+}  // namespace nd

@@ -1,0 +1,34 @@
+// The integrator for one time scheme and one step size: the scheme, the step
+// operator A = c M + K_Theta with its factorization, and the tangent solver
+// of the Newton iterations. advance() is the step driver: it names no scheme.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "linalg/factorization.hpp"
+#include "problem/definition.hpp"
+#include "problem/discretization.hpp"
+#include "solve/tangent_solver.hpp"
+#include "time/scheme.hpp"
+
+namespace nd {
+
+struct Integrator {
+  std::unique_ptr<TimeScheme> scheme;
+  double tau = 0;
+  StepCoefficients coef{0, 0};
+  Csr A;  // c M + K_Theta (implicit schemes)
+  std::unique_ptr<Factorization> A_factor;
+  std::unique_ptr<TangentSolver> tangent;  // when there are contact points
+};
+
+// Factorizes A for an implicit scheme: throws ND_ERR_INDEFINITE when the
+// step is not well posed.
+std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def);
+
+// The state at t^{n+1} from `old` with the load F_new at t^{n+1} (empty: none).
+// Throws (and changes nothing) when the step fails.
+State advance(Integrator &in, Discretization &d, const Definition &def, const State &old,
+              const std::vector<double> &F_new);
+
+}  // namespace nd

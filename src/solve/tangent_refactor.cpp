@@ -1,0 +1,39 @@
+// The reference tangent solver: assemble A + kappa N'(U) on A's pattern and
+// factor it numerically at every Newton iteration with an active point.
+#include "solve/tangent_solver.hpp"
+
+namespace nd {
+namespace {
+
+class RefactoringTangent : public TangentSolver {
+ public:
+  RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s)
+      : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s)) {}
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+    if (!any_active) {
+      A_factor_.solve(x);
+      return;
+    }
+    T_.val = A_.val;  // same size: no allocation
+    law.add_tangent(U, kappa, T_);
+    T_factor_->factor(T_, structure_);
+    T_factor_->solve(x);
+  }
+  const char *name() const override { return "refactor"; }
+
+ private:
+  const Csr &A_;
+  const Factorization &A_factor_;
+  Csr T_;
+  Structure structure_;
+  std::unique_ptr<Factorization> T_factor_;
+};
+
+}  // namespace
+
+std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
+                                                        Structure structure) {
+  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure);
+}
+
+}  // namespace nd

@@ -1,0 +1,52 @@
+// The paper's hybrid scheme (eq. (17)): Crank-Nicolson for the bulk, a
+// contact term that switches on the sign of P_q^n. With Theta = 1 and no load
+// E_Theta never increases. It carries no acceleration.
+#include "nitschedyn.h"
+#include "time/scheme.hpp"
+
+namespace nd {
+namespace {
+
+class Hybrid : public TimeScheme {
+ public:
+  bool is_explicit() const override { return false; }
+  bool uses_acceleration() const override { return false; }
+  StepCoefficients coefficients(double tau) const override { return {4 / (tau * tau), 2}; }
+  // 2 F^{n+1/2} - K_Theta U^n + M (c U^n + 4/tau V^n), F^{n+1/2} = (F^n + F^{n+1})/2
+  void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
+    const size_t n = old.U.size();
+    const double c = coefficients(tau).c;
+    std::vector<double> y(n), KtU(n);
+    for (size_t i = 0; i < n; ++i) y[i] = c * old.U[i] + 4 / tau * old.V[i];
+    mass_times(in.M, y, r);
+    in.K_theta.multiply(old.U.data(), KtU.data());
+    const bool has_load = !in.F_new.empty();
+    for (size_t i = 0; i < n; ++i) {
+      r[i] -= KtU[i];
+      if (has_load) r[i] += in.F_old[i] + in.F_new[i];
+    }
+  }
+  void predict(double tau, const State &old, std::vector<double> &U) const override {
+    predict_taylor(tau, old, false, U);
+  }
+  // Phi = H(P^n) [(P^n + P)/2]_+ + H(-P^n) ([P^n]_+ + [P]_+)/2, H(0) = 1/2 (paper)
+  void contact(double P, double Pn, double &value, double &slope) const override {
+    const double h_pos = Pn > 0 ? 1 : Pn < 0 ? 0 : 0.5, h_neg = 1 - h_pos;
+    const double mid = 0.5 * (Pn + P);
+    value = h_pos * (mid > 0 ? mid : 0) + h_neg * 0.5 * ((Pn > 0 ? Pn : 0) + (P > 0 ? P : 0));
+    slope = h_pos * (mid > 0 ? 0.5 : 0) + h_neg * (P > 0 ? 0.5 : 0);
+  }
+  void update(double tau, const State &old, State &next) const override {
+    const size_t n = old.U.size();
+    next.V.resize(n);
+    next.A.assign(n, 0.0);
+    next.A_valid = false;
+    for (size_t i = 0; i < n; ++i) next.V[i] = 2 * (next.U[i] - old.U[i]) / tau - old.V[i];
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<TimeScheme> make_hybrid_scheme(const std::vector<double> &) { return std::make_unique<Hybrid>(); }
+
+}  // namespace nd

@@ -1,0 +1,46 @@
+// Newmark (paper eq. (16)); beta = 0 is its explicit variant
+// (U^{n+1} = U^n + tau V^n + tau^2/2 A^n, then A^{n+1} from the equilibrium).
+#include "nitschedyn.h"
+#include "time/newmark_update.hpp"
+#include "time/scheme.hpp"
+
+namespace nd {
+namespace {
+
+class Newmark : public TimeScheme {
+ public:
+  Newmark(double beta, double gamma) : beta_(beta), gamma_(gamma) {}
+  bool is_explicit() const override { return beta_ == 0; }
+  StepCoefficients coefficients(double tau) const override { return {1 / (beta_ * tau * tau), 1}; }
+  void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
+    const double c = coefficients(tau).c;
+    std::vector<double> y(old.U.size());
+    for (size_t i = 0; i < y.size(); ++i)
+      y[i] = c * old.U[i] + old.V[i] / (beta_ * tau) + (0.5 / beta_ - 1) * old.A[i];
+    mass_times(in.M, y, r);
+    if (!in.F_new.empty())
+      for (size_t i = 0; i < r.size(); ++i) r[i] += in.F_new[i];
+  }
+  void predict(double tau, const State &old, std::vector<double> &U) const override {
+    predict_taylor(tau, old, true, U);
+  }
+  void update(double tau, const State &old, State &next) const override {
+    if (is_explicit())
+      newmark_velocity(gamma_, tau, old, next);
+    else
+      newmark_update(beta_, gamma_, tau, old, next);
+  }
+
+ private:
+  double beta_, gamma_;
+};
+
+}  // namespace
+
+std::unique_ptr<TimeScheme> make_newmark_scheme(const std::vector<double> &params) {
+  require_parameter(params[0], 0, 0.5, "beta (params[0])");
+  require_parameter(params[1], 0, 1, "gamma (params[1])");
+  return std::make_unique<Newmark>(params[0], params[1]);
+}
+
+}  // namespace nd

@@ -1,0 +1,65 @@
+// ND_SCHEME_* id -> scheme. A new scheme is one file, one line here and its
+// line in ND_SCHEME_LIST (include/nitschedyn.h).
+#include <string>
+
+#include "common/error.hpp"
+#include "common/format.hpp"
+#include "nitschedyn.h"
+#include "time/scheme.hpp"
+
+namespace nd {
+namespace {
+
+struct Entry {
+  int id;
+  int n_params;
+  std::unique_ptr<TimeScheme> (*make)(const std::vector<double> &);
+};
+
+const Entry kSchemes[] = {
+    {ND_SCHEME_THETA, 1, make_theta_scheme},
+    {ND_SCHEME_NEWMARK, 2, make_newmark_scheme},
+    {ND_SCHEME_HYBRID, 0, make_hybrid_scheme},
+    {ND_SCHEME_GENERALIZED_ALPHA, 1, make_generalized_alpha_scheme},
+};
+
+const Entry &entry(int id) {
+  for (const Entry &e : kSchemes)
+    if (e.id == id) return e;
+  fail(ND_ERR_SCHEME, "scheme " + std::to_string(id) + " is not an ND_SCHEME_* value");
+}
+
+}  // namespace
+
+int scheme_parameter_count(int id) { return entry(id).n_params; }
+
+std::unique_ptr<TimeScheme> make_scheme(int id, const std::vector<double> &params) {
+  const Entry &e = entry(id);
+  if (static_cast<int>(params.size()) != e.n_params)
+    fail(ND_ERR_SCHEME, "the scheme takes " + std::to_string(e.n_params) + " parameters, not " +
+                            std::to_string(params.size()));
+  return e.make(params);
+}
+
+void require_parameter(double x, double lo, double hi, const char *what) {
+  if (!(x >= lo && x <= hi))
+    fail(ND_ERR_SCHEME, std::string(what) + " is " + num(x) + "; it must lie in [" + num(lo) + ", " + num(hi) + "]");
+}
+
+}  // namespace nd
+
+namespace nd {
+
+void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U) {
+  U.resize(old.U.size());
+  const bool acc = with_acceleration && old.A_valid;
+  for (size_t i = 0; i < U.size(); ++i)
+    U[i] = old.U[i] + tau * old.V[i] + (acc ? 0.5 * tau * tau * old.A[i] : 0.0);
+}
+
+void mass_times(const Csr &M, const std::vector<double> &y, std::vector<double> &r) {
+  r.resize(y.size());
+  M.multiply(y.data(), r.data());
+}
+
+}  // namespace nd
