@@ -25,7 +25,6 @@ struct Mesh {
   std::vector<Facet> boundary;         // facets owned by exactly one cell
   std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
 
-  int verts_per_cell() const { return dim + 1; }
   const double *x(int64_t v) const { return &coords[v * dim]; }
   const int64_t *cell(int64_t c) const { return &cells[c * (dim + 1)]; }
   // The dim vertices of a facet, in the cell's local order.
