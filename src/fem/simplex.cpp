@@ -2,28 +2,24 @@
 
 #include <cmath>
 
+#include "mesh/geometry.hpp"
 #include "mesh/mesh.hpp"
 
 namespace nd {
 
 AffineMap::AffineMap(const Mesh &m, int64_t c) : dim(m.dim) {
-  const int64_t *v = m.cell(c);
-  for (int i = 0; i < dim; ++i) x0[i] = m.x(v[0])[i];
-  for (int i = 0; i < dim; ++i)
-    for (int j = 0; j < dim; ++j) J[i * dim + j] = m.x(v[j + 1])[i] - x0[i];
+  for (int i = 0; i < dim; ++i) x0[i] = m.x(m.cell(c)[0])[i];
+  m.cell_jacobian(c, J);
+  det = determinant(dim, J);
   if (dim == 1) {
-    det = J[0];
     Jinv[0] = 1.0 / det;
   } else if (dim == 2) {
-    det = J[0] * J[3] - J[1] * J[2];
     Jinv[0] = J[3] / det;
     Jinv[1] = -J[1] / det;
     Jinv[2] = -J[2] / det;
     Jinv[3] = J[0] / det;
   } else {
     const double *a = J;
-    det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) +
-          a[2] * (a[3] * a[7] - a[4] * a[6]);
     Jinv[0] = (a[4] * a[8] - a[5] * a[7]) / det;
     Jinv[1] = (a[2] * a[7] - a[1] * a[8]) / det;
     Jinv[2] = (a[1] * a[5] - a[2] * a[4]) / det;

@@ -6,7 +6,7 @@
 #include <unordered_map>
 
 #include "common/error.hpp"
-#include "fem/simplex.hpp"
+#include "mesh/geometry.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -79,6 +79,13 @@ double Mesh::cell_diameter(int64_t c) const {
   return std::sqrt(h2);
 }
 
+void Mesh::cell_jacobian(int64_t c, double *J) const {
+  const int64_t *v = cell(c);
+  const double *corners[4];
+  for (int i = 0; i <= dim; ++i) corners[i] = x(v[i]);
+  simplex_jacobian(dim, corners, J);
+}
+
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
                const int64_t *cells, const char *caller) {
   const std::string fn = std::string(caller) + ": ";
@@ -108,13 +115,15 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
         if (v[j] == v[i])
           fail(ND_ERR_INDEX, fn + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
     }
-    const AffineMap map(m, c);
+    double J[9];
+    m.cell_jacobian(c, J);
+    const double det = determinant(dim, J);
     const double h = m.cell_diameter(c);
     // Relative to h^dim so that the test does not depend on the unit of length.
-    if (std::fabs(map.det) <= 1e-13 * std::pow(h, dim))
+    if (std::fabs(det) <= 1e-13 * std::pow(h, dim))
       fail(ND_ERR_DEGENERATE, fn + "cell " + std::to_string(c) + " has zero " +
                                   (dim == 1 ? "length" : dim == 2 ? "area" : "volume"));
-    if (map.det < 0)
+    if (det < 0)
       fail(ND_ERR_DEGENERATE, fn + "cell " + std::to_string(c) +
                                   " is inverted (negative orientation): order its vertices " +
                                   (dim == 1 ? "left to right" : dim == 2 ? "counter-clockwise"

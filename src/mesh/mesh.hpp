@@ -30,6 +30,9 @@ struct Mesh {
   // The dim vertices of a facet, in the cell's local order.
   std::array<int64_t, 3> facet_vertices(const Facet &f) const;
   double cell_diameter(int64_t c) const;
+  // The Jacobian of the affine map from the reference simplex onto cell c
+  // (dim x dim, row-major; see mesh/geometry.hpp).
+  void cell_jacobian(int64_t c, double *J) const;
 };
 
 // Validates and copies; computes the boundary facets. Errors name `caller`.
