@@ -259,7 +259,8 @@ Mesh read_gmsh(const char *path) {
     for (int64_t tag : v) cells.push_back(vertex(tag));
   }
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
-                     static_cast<int64_t>(cells.size()) / (top + 1), cells.data(), "nd_mesh_read_gmsh");
+                     static_cast<int64_t>(cells.size()) / (top + 1), cells.data(),
+                     std::string(path) + ": ");
   // facet elements of physical groups -> regions
   std::map<int64_t, std::vector<int64_t>> facets;
   for (const Element &e : raw.elements) {
@@ -275,7 +276,7 @@ Mesh read_gmsh(const char *path) {
   for (auto &kv : facets) {
     if (kv.first < 0 || kv.first > 2147483647) fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(kv.first) + " is not a valid region");
     add_region_facets(m, static_cast<int>(kv.first), static_cast<int64_t>(kv.second.size()) / top, kv.second.data(),
-                      std::string("nd_mesh_read_gmsh: ") + path + ": physical group " + std::to_string(kv.first) + ": ");
+                      std::string(path) + ": physical group " + std::to_string(kv.first) + ": ");
   }
   return m;
 }
