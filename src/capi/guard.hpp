@@ -1,6 +1,8 @@
 // The exception barrier of the C API: every nd_* function runs its body in
 // guarded(), which clears the thread's last error on entry and turns any
 // exception into a status code and a message. Nothing is printed.
+// The core's messages say what is wrong and never name a C function;
+// guarded() prefixes every one with "fn: ".
 #pragma once
 #include <cmath>
 #include <new>
@@ -26,8 +28,7 @@ int guarded(const char *fn, Body &&body) noexcept {
     set_last_error(std::string(fn) + ": " + e.what() + " " + calls_that_set(e.missing()));
     return e.code();
   } catch (const Error &e) {
-    const std::string msg = e.what();
-    set_last_error(msg.compare(0, 3, "nd_") == 0 ? msg : std::string(fn) + ": " + msg);
+    set_last_error(std::string(fn) + ": " + e.what());
     return e.code();
   } catch (const std::bad_alloc &) {
     set_last_error(std::string(fn) + ": out of memory");

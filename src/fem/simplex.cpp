@@ -2,28 +2,24 @@
 
 #include <cmath>
 
+#include "mesh/geometry.hpp"
 #include "mesh/mesh.hpp"
 
 namespace nd {
 
 AffineMap::AffineMap(const Mesh &m, int64_t c) : dim(m.dim) {
-  const int64_t *v = m.cell(c);
-  for (int i = 0; i < dim; ++i) x0[i] = m.x(v[0])[i];
-  for (int i = 0; i < dim; ++i)
-    for (int j = 0; j < dim; ++j) J[i * dim + j] = m.x(v[j + 1])[i] - x0[i];
+  for (int i = 0; i < dim; ++i) x0[i] = m.x(m.cell(c)[0])[i];
+  m.cell_jacobian(c, J);
+  det = determinant(dim, J);
   if (dim == 1) {
-    det = J[0];
     Jinv[0] = 1.0 / det;
   } else if (dim == 2) {
-    det = J[0] * J[3] - J[1] * J[2];
     Jinv[0] = J[3] / det;
     Jinv[1] = -J[1] / det;
     Jinv[2] = -J[2] / det;
     Jinv[3] = J[0] / det;
   } else {
     const double *a = J;
-    det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6]) +
-          a[2] * (a[3] * a[7] - a[4] * a[6]);
     Jinv[0] = (a[4] * a[8] - a[5] * a[7]) / det;
     Jinv[1] = (a[2] * a[7] - a[1] * a[8]) / det;
     Jinv[2] = (a[1] * a[5] - a[2] * a[4]) / det;
@@ -108,36 +104,37 @@ void Lagrange::gradients(const double *xi, double *dphi) const {
   }
 }
 
+namespace {
+// The Legendre polynomial P_n and its derivative at z (|z| < 1), by the
+// three-term recurrence.
+struct LegendreValue {
+  double p, dp;
+};
+LegendreValue legendre(int n, double z) {
+  double p0 = 1, p1 = z;
+  for (int k = 2; k <= n; ++k) {
+    const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+    p0 = p1;
+    p1 = p2;
+  }
+  return {p1, n * (z * p1 - p0) / (z * z - 1)};
+}
+}  // namespace
+
 void gauss_legendre01(int n, std::vector<double> &x, std::vector<double> &w) {
   // Newton's method on the Legendre polynomial P_n from Chebyshev guesses.
   x.assign(n, 0);
   w.assign(n, 0);
   const double pi = 3.14159265358979323846;
   for (int i = 0; i < n; ++i) {
-    double z = std::cos(pi * (i + 0.75) / (n + 0.5)), dp = 1;
+    double z = std::cos(pi * (i + 0.75) / (n + 0.5));
     for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) p0 = 1;
-      dp = n * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
+      const LegendreValue l = legendre(n, z);
+      const double dz = l.p / l.dp;
       z -= dz;
       if (std::fabs(dz) < 1e-16) break;
     }
-    {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) p0 = 1;
-      dp = n * (z * p1 - p0) / (z * z - 1);
-    }
+    const double dp = legendre(n, z).dp;  // at the root found
     x[i] = 0.5 * (1 - z);
     w[i] = 1.0 / ((1 - z * z) * dp * dp);  // 2/((1-z^2)P'^2), halved for [0,1]
   }

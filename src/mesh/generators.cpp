@@ -4,20 +4,22 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "mesh/mesh.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
 namespace {
 
-void check_box(const char *fn, int dim, const int64_t *n, const double *lo, const double *hi) {
-  const std::string f = std::string(fn) + ": ";
-  if (!lo || !hi) fail(ND_ERR_NULL, f + (!lo ? "lo" : "hi") + " is NULL");
+void check_box(int dim, const int64_t *n, const double *lo, const double *hi) {
+  if (!lo || !hi) fail(ND_ERR_NULL, std::string(!lo ? "lo" : "hi") + " is NULL");
   for (int k = 0; k < dim; ++k) {
-    if (n[k] <= 0) fail(ND_ERR_SIZE, f + "the number of cells in direction " + std::to_string(k) + " must be positive");
+    const std::string K = std::to_string(k);
+    if (n[k] <= 0) fail(ND_ERR_SIZE, "the number of cells in direction " + K + " must be positive");
     if (!std::isfinite(lo[k]) || !std::isfinite(hi[k]) || !std::isfinite(hi[k] - lo[k]))
-      fail(ND_ERR_NONFINITE, f + "lo and hi must be finite");
-    if (!(hi[k] > lo[k])) fail(ND_ERR_DEGENERATE, f + "hi[" + std::to_string(k) + "] must exceed lo[" + std::to_string(k) + "]");
+      fail(ND_ERR_NONFINITE, "lo and hi must be finite (lo[" + K + "] = " + num(lo[k]) + ", hi[" + K + "] = " + num(hi[k]) + ")");
+    if (!(hi[k] > lo[k]))
+      fail(ND_ERR_DEGENERATE, "hi[" + K + "] must exceed lo[" + K + "] (lo[" + K + "] = " + num(lo[k]) + ", hi[" + K + "] = " + num(hi[k]) + ")");
   }
 }
 
@@ -29,7 +31,7 @@ double grid_coord(double lo, double hi, int64_t i, int64_t n) {
 
 Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi) {
   const int64_t n[2] = {nx, ny};
-  check_box("nd_mesh_create_rectangle", 2, n, lo, hi);
+  check_box(2, n, lo, hi);
   std::vector<double> x;
   x.reserve(static_cast<size_t>(2 * (nx + 1) * (ny + 1)));
   for (int64_t j = 0; j <= ny; ++j)
@@ -45,12 +47,12 @@ Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi) 
       c.insert(c.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       c.insert(c.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
-  return make_mesh(2, (nx + 1) * (ny + 1), x.data(), 2 * nx * ny, c.data(), "nd_mesh_create_rectangle");
+  return make_mesh(2, (nx + 1) * (ny + 1), x.data(), 2 * nx * ny, c.data());
 }
 
 Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double *hi) {
   const int64_t n[3] = {nx, ny, nz};
-  check_box("nd_mesh_create_box", 3, n, lo, hi);
+  check_box(3, n, lo, hi);
   std::vector<double> x;
   x.reserve(static_cast<size_t>(3 * (nx + 1) * (ny + 1) * (nz + 1)));
   for (int64_t k = 0; k <= nz; ++k)
@@ -71,7 +73,7 @@ Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double
       for (int64_t i = 0; i < nx; ++i)
         for (const auto &path : paths)
           for (int corner : path) c.push_back(id(i + (corner & 1), j + ((corner >> 1) & 1), k + ((corner >> 2) & 1)));
-  return make_mesh(3, (nx + 1) * (ny + 1) * (nz + 1), x.data(), 6 * nx * ny * nz, c.data(), "nd_mesh_create_box");
+  return make_mesh(3, (nx + 1) * (ny + 1) * (nz + 1), x.data(), 6 * nx * ny * nz, c.data());
 }
 
 }  // namespace nd

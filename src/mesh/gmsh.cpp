@@ -11,6 +11,7 @@
 
 #include "common/c_locale.hpp"
 #include "common/error.hpp"
+#include "mesh/geometry.hpp"
 #include "mesh/mesh.hpp"
 #include "nitschedyn.h"
 
@@ -208,16 +209,6 @@ void read_v2(Tokens &tk, RawMesh &raw) {
   }
 }
 
-double orientation(int dim, const std::vector<std::array<double, 3>> &x) {
-  if (dim == 1) return x[1][0] - x[0][0];
-  double a[3][3];
-  for (int i = 0; i < dim; ++i)
-    for (int k = 0; k < dim; ++k) a[i][k] = x[i + 1][k] - x[0][k];
-  if (dim == 2) return a[0][0] * a[1][1] - a[0][1] * a[1][0];
-  return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-         a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-}
-
 }  // namespace
 
 Mesh read_gmsh(const char *path) {
@@ -259,14 +250,17 @@ Mesh read_gmsh(const char *path) {
   };
   for (const Element &e : raw.elements) {
     if (e.dim != top) continue;
-    std::vector<std::array<double, 3>> x;
-    for (int64_t tag : e.nodes) x.push_back(position(tag));
+    const double *x[4];
+    for (int i = 0; i <= top; ++i) x[i] = position(e.nodes[i]).data();
+    double J[9];
+    simplex_jacobian(top, x, J);
     std::vector<int64_t> v = e.nodes;
-    if (orientation(top, x) < 0) std::swap(v[0], v[1]);  // Gmsh does not fix the orientation
+    if (determinant(top, J) < 0) std::swap(v[0], v[1]);  // Gmsh does not fix the orientation
     for (int64_t tag : v) cells.push_back(vertex(tag));
   }
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
-                     static_cast<int64_t>(cells.size()) / (top + 1), cells.data(), "nd_mesh_read_gmsh");
+                     static_cast<int64_t>(cells.size()) / (top + 1), cells.data(),
+                     std::string(path) + ": ");
   // facet elements of physical groups -> regions
   std::map<int64_t, std::vector<int64_t>> facets;
   for (const Element &e : raw.elements) {
@@ -282,7 +276,7 @@ Mesh read_gmsh(const char *path) {
   for (auto &kv : facets) {
     if (kv.first < 0 || kv.first > 2147483647) fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(kv.first) + " is not a valid region");
     add_region_facets(m, static_cast<int>(kv.first), static_cast<int64_t>(kv.second.size()) / top, kv.second.data(),
-                      std::string("nd_mesh_read_gmsh: ") + path + ": physical group " + std::to_string(kv.first) + ": ");
+                      std::string(path) + ": physical group " + std::to_string(kv.first) + ": ");
   }
   return m;
 }

@@ -6,7 +6,8 @@
 #include <unordered_map>
 
 #include "common/error.hpp"
-#include "fem/simplex.hpp"
+#include "common/format.hpp"
+#include "mesh/geometry.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -37,7 +38,7 @@ std::unordered_map<FacetKey, int64_t, FacetKeyHash> boundary_index(const Mesh &m
   return index;
 }
 
-void find_boundary(Mesh &m, const std::string &fn) {
+void find_boundary(Mesh &m, const std::string &where) {
   // A facet is on the boundary when exactly one cell owns it.
   std::unordered_map<FacetKey, std::pair<Facet, int>, FacetKeyHash> seen;
   seen.reserve(static_cast<size_t>(m.n_cells) * (m.dim + 1));
@@ -46,8 +47,8 @@ void find_boundary(Mesh &m, const std::string &fn) {
       Facet facet{c, f};
       auto it = seen.emplace(key_of(m.facet_vertices(facet), m.dim), std::make_pair(facet, 0));
       if (++it.first->second.second > 2)
-        fail(ND_ERR_DEGENERATE, fn + "a facet of cell " + std::to_string(c) +
-                                    " is shared by more than two cells");
+        fail(ND_ERR_DEGENERATE, where + "a facet of cell " + std::to_string(c) +
+                                       " is shared by more than two cells");
     }
   for (auto &kv : seen)
     if (kv.second.second == 1) m.boundary.push_back(kv.second.first);
@@ -79,14 +80,20 @@ double Mesh::cell_diameter(int64_t c) const {
   return std::sqrt(h2);
 }
 
+void Mesh::cell_jacobian(int64_t c, double *J) const {
+  const int64_t *v = cell(c);
+  const double *corners[4];
+  for (int i = 0; i <= dim; ++i) corners[i] = x(v[i]);
+  simplex_jacobian(dim, corners, J);
+}
+
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells, const char *caller) {
-  const std::string fn = std::string(caller) + ": ";
-  if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, fn + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
-  if (n_vertices <= dim) fail(ND_ERR_SIZE, fn + "n_nodes must be at least dim + 1");
-  if (n_cells <= 0) fail(ND_ERR_SIZE, fn + "n_cells must be positive");
-  if (!coords) fail(ND_ERR_NULL, fn + "coords is NULL");
-  if (!cells) fail(ND_ERR_NULL, fn + "cells is NULL");
+               const int64_t *cells, const std::string &where) {
+  if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, where + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
+  if (n_vertices <= dim) fail(ND_ERR_SIZE, where + "n_nodes must be at least dim + 1");
+  if (n_cells <= 0) fail(ND_ERR_SIZE, where + "n_cells must be positive");
+  if (!coords) fail(ND_ERR_NULL, where + "coords is NULL");
+  if (!cells) fail(ND_ERR_NULL, where + "cells is NULL");
   Mesh m;
   m.dim = dim;
   m.n_vertices = n_vertices;
@@ -95,27 +102,29 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
   m.cells.assign(cells, cells + n_cells * (dim + 1));
   for (int64_t i = 0; i < n_vertices * dim; ++i)
     if (!std::isfinite(m.coords[i]))
-      fail(ND_ERR_NONFINITE, fn + "coordinate " + std::to_string(i % dim) + " of node " +
-                                 std::to_string(i / dim) + " is not finite");
+      fail(ND_ERR_NONFINITE, where + "coords[" + std::to_string(i) + "] (coordinate " +
+                                 std::to_string(i % dim) + " of node " + std::to_string(i / dim) +
+                                 ") is not finite");
   for (int64_t c = 0; c < n_cells; ++c) {
     const int64_t *v = m.cell(c);
     for (int i = 0; i <= dim; ++i) {
       if (v[i] < 0 || v[i] >= n_vertices)
-        fail(ND_ERR_INDEX, fn + "cell " + std::to_string(c) + " names vertex " +
-                               std::to_string(v[i]) + ", outside [0, " +
-                               std::to_string(n_vertices) + ")");
+        fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " names vertex " +
+                               std::to_string(v[i]) + ", outside [0, " + std::to_string(n_vertices) + ")");
       for (int j = 0; j < i; ++j)
         if (v[j] == v[i])
-          fail(ND_ERR_INDEX, fn + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
+          fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
     }
-    const AffineMap map(m, c);
+    double J[9];
+    m.cell_jacobian(c, J);
+    const double det = determinant(dim, J);
     const double h = m.cell_diameter(c);
     // Relative to h^dim so that the test does not depend on the unit of length.
-    if (std::fabs(map.det) <= 1e-13 * std::pow(h, dim))
-      fail(ND_ERR_DEGENERATE, fn + "cell " + std::to_string(c) + " has zero " +
+    if (std::fabs(det) <= 1e-13 * std::pow(h, dim))
+      fail(ND_ERR_DEGENERATE, where + "cell " + std::to_string(c) + " has zero " +
                                   (dim == 1 ? "length" : dim == 2 ? "area" : "volume"));
-    if (map.det < 0)
-      fail(ND_ERR_DEGENERATE, fn + "cell " + std::to_string(c) +
+    if (det < 0)
+      fail(ND_ERR_DEGENERATE, where + "cell " + std::to_string(c) +
                                   " is inverted (negative orientation): order its vertices " +
                                   (dim == 1 ? "left to right" : dim == 2 ? "counter-clockwise"
                                                                           : "with positive volume"));
@@ -125,17 +134,17 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
   for (int64_t v : m.cells) used[v] = 1;
   for (int64_t v = 0; v < n_vertices; ++v)
     if (!used[v])
-      fail(ND_ERR_INDEX, fn + "vertex " + std::to_string(v) + " belongs to no cell; every vertex must belong to one");
-  find_boundary(m, fn);
+      fail(ND_ERR_INDEX, where + "vertex " + std::to_string(v) + " belongs to no cell; every vertex must belong to one");
+  find_boundary(m, where);
   return m;
 }
 
 Mesh make_interval(int64_t n_cells, double a, double b) {
-  const std::string fn = "nd_mesh_create_interval: ";
-  if (n_cells <= 0) fail(ND_ERR_SIZE, fn + "n_cells must be positive");
-  if (!std::isfinite(a) || !std::isfinite(b)) fail(ND_ERR_NONFINITE, fn + "a and b must be finite");
-  if (!(b > a)) fail(ND_ERR_DEGENERATE, fn + "b must be greater than a");
-  if (!std::isfinite(b - a)) fail(ND_ERR_NONFINITE, fn + "b - a overflows");
+  if (n_cells <= 0) fail(ND_ERR_SIZE, "n_cells must be positive");
+  if (!std::isfinite(a) || !std::isfinite(b))
+    fail(ND_ERR_NONFINITE, "a and b must be finite (a = " + num(a) + ", b = " + num(b) + ")");
+  if (!(b > a)) fail(ND_ERR_DEGENERATE, "b must be greater than a (a = " + num(a) + ", b = " + num(b) + ")");
+  if (!std::isfinite(b - a)) fail(ND_ERR_NONFINITE, "b - a overflows");
   std::vector<double> x(n_cells + 1);
   std::vector<int64_t> cells(2 * n_cells);
   for (int64_t i = 0; i <= n_cells; ++i)
@@ -144,14 +153,14 @@ Mesh make_interval(int64_t n_cells, double a, double b) {
     cells[2 * c] = c;
     cells[2 * c + 1] = c + 1;
   }
-  return make_mesh(1, n_cells + 1, x.data(), n_cells, cells.data(), "nd_mesh_create_interval");
+  return make_mesh(1, n_cells + 1, x.data(), n_cells, cells.data());
 }
 
 void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices,
-                       const std::string &fn) {
-  if (region < 0) fail(ND_ERR_REGION, fn + "region must be >= 0");
-  if (n_facets <= 0) fail(ND_ERR_SIZE, fn + "n_facets must be positive");
-  if (!facet_vertices) fail(ND_ERR_NULL, fn + "facet_vertices is NULL");
+                       const std::string &where) {
+  if (region < 0) fail(ND_ERR_REGION, where + "region must be >= 0");
+  if (n_facets <= 0) fail(ND_ERR_SIZE, where + "n_facets must be positive");
+  if (!facet_vertices) fail(ND_ERR_NULL, where + "facet_vertices is NULL");
   const auto index = boundary_index(m);
   std::vector<int64_t> found;
   for (int64_t f = 0; f < n_facets; ++f) {
@@ -159,23 +168,23 @@ void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *fac
     for (int i = 0; i < m.dim; ++i) {
       v[i] = facet_vertices[f * m.dim + i];
       if (v[i] < 0 || v[i] >= m.n_vertices)
-        fail(ND_ERR_INDEX, fn + "facet " + std::to_string(f) + " names vertex " + std::to_string(v[i]) +
+        fail(ND_ERR_INDEX, where + "facet " + std::to_string(f) + " names vertex " + std::to_string(v[i]) +
                                ", outside [0, " + std::to_string(m.n_vertices) + ")");
     }
     auto it = index.find(key_of(v, m.dim));
     if (it == index.end())
-      fail(ND_ERR_REGION, fn + "facet " + std::to_string(f) + " is not a boundary facet of the mesh");
+      fail(ND_ERR_REGION, where + "facet " + std::to_string(f) + " is not a boundary facet of the mesh");
     found.push_back(it->second);
   }
   m.regions[region].insert(found.begin(), found.end());
 }
 
 void add_region_box(Mesh &m, int region, const double *lo, const double *hi) {
-  const std::string fn = "nd_mesh_mark_boundary_box: ";
-  if (region < 0) fail(ND_ERR_REGION, fn + "region must be >= 0");
-  if (!lo || !hi) fail(ND_ERR_NULL, fn + std::string(!lo ? "lo" : "hi") + " is NULL");
+  if (region < 0) fail(ND_ERR_REGION, "region must be >= 0");
+  if (!lo || !hi) fail(ND_ERR_NULL, std::string(!lo ? "lo" : "hi") + " is NULL");
   for (int k = 0; k < m.dim; ++k)
-    if (std::isnan(lo[k]) || std::isnan(hi[k])) fail(ND_ERR_NONFINITE, fn + "lo and hi must not be NaN");
+    if (std::isnan(lo[k]) || std::isnan(hi[k]))
+      fail(ND_ERR_NONFINITE, std::string(std::isnan(lo[k]) ? "lo" : "hi") + "[" + std::to_string(k) + "] is NaN");
   // A tolerance relative to the mesh size, so that a box drawn through
   // vertices computed in floating point catches them.
   double extent = 0;

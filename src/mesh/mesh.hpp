@@ -25,17 +25,20 @@ struct Mesh {
   std::vector<Facet> boundary;         // facets owned by exactly one cell
   std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
 
-  int verts_per_cell() const { return dim + 1; }
   const double *x(int64_t v) const { return &coords[v * dim]; }
   const int64_t *cell(int64_t c) const { return &cells[c * (dim + 1)]; }
   // The dim vertices of a facet, in the cell's local order.
   std::array<int64_t, 3> facet_vertices(const Facet &f) const;
   double cell_diameter(int64_t c) const;
+  // The Jacobian of the affine map from the reference simplex onto cell c
+  // (dim x dim, row-major; see mesh/geometry.hpp).
+  void cell_jacobian(int64_t c, double *J) const;
 };
 
-// Validates and copies; computes the boundary facets. Errors name `caller`.
+// Validates and copies; computes the boundary facets. Error messages start
+// with `where` (a file reader passes "PATH: ").
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells, const char *caller = "nd_mesh_create");
+               const int64_t *cells, const std::string &where = {});
 Mesh make_interval(int64_t n_cells, double a, double b);
 // nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra
 Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi);
@@ -44,9 +47,9 @@ Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double
 Mesh read_gmsh(const char *path);
 
 // Adds boundary facets given by their vertices (dim per facet) to a region;
-// errors start with `fn` (the caller, and for files the file name).
+// error messages start with `where` (a file reader passes "PATH: ...: ").
 void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices,
-                       const std::string &fn = "nd_mesh_set_region: ");
+                       const std::string &where = {});
 // Adds the boundary facets whose vertices all lie in [lo, hi].
 void add_region_box(Mesh &m, int region, const double *lo, const double *hi);
 
