@@ -27,7 +27,7 @@
 
 typedef struct {
   int scheme;        /* ND_SCHEME_* */
-  double params[2];  /* theta, or beta and gamma */
+  double params[2];  /* theta, beta and gamma, or rho_inf */
   int degree;
   double Theta, gamma0;
   int64_t nx;
@@ -45,8 +45,9 @@ static void usage(FILE *f, const char *prog) {
   fprintf(f,
           "usage: %s [SCHEME] [options]\n"
           "The 1D bar with an exact solution (DESIGN §7), relative errors and energies.\n"
-          "  SCHEME, or --scheme SCHEME   hybrid (default) | theta | newmark\n"
+          "  SCHEME, or --scheme SCHEME   hybrid (default) | theta | newmark | galpha\n"
           "  --theta-param X   theta of the theta-scheme (default 0.5)\n"
+          "  --rho-inf X       generalized-alpha's rho_inf in [0,1] (default 0.8)\n"
           "  --beta X          Newmark beta (default 0.25)\n"
           "  --gamma X         Newmark gamma (default 0.5)\n"
           "  --degree 1|2      polynomial degree (default 1)\n"
@@ -84,13 +85,14 @@ static int parse_scheme(const char *s, int *scheme) {
   if (strcmp(s, "hybrid") == 0) *scheme = ND_SCHEME_HYBRID;
   else if (strcmp(s, "theta") == 0) *scheme = ND_SCHEME_THETA;
   else if (strcmp(s, "newmark") == 0) *scheme = ND_SCHEME_NEWMARK;
+  else if (strcmp(s, "galpha") == 0) *scheme = ND_SCHEME_GENERALIZED_ALPHA;
   else return 0;
   return 1;
 }
 
 /* Returns 0 to run, 1 after --help, 2 on a usage error. */
 static int parse_args(int argc, char **argv, options *o) {
-  double theta = 0.5, beta = 0.25, gamma = 0.5;
+  double theta = 0.5, beta = 0.25, gamma = 0.5, rho_inf = 0.8;
   *o = (options){ND_SCHEME_HYBRID, {0, 0}, 1, 1.0, 0.2, 40, 0.0, 3.0, 0, 0, NULL, 1, 0.0, NULL, "bar"};
   for (int i = 1; i < argc; ++i) {
     const char *arg = argv[i];
@@ -128,6 +130,7 @@ static int parse_args(int argc, char **argv, options *o) {
     if (strcmp(key, "--scheme") == 0) ok = parse_scheme(val, &o->scheme);
     else if (strcmp(key, "--theta-param") == 0) ok = parse_double(val, &theta);
     else if (strcmp(key, "--beta") == 0) ok = parse_double(val, &beta);
+    else if (strcmp(key, "--rho-inf") == 0) ok = parse_double(val, &rho_inf);
     else if (strcmp(key, "--gamma") == 0) ok = parse_double(val, &gamma);
     else if (strcmp(key, "--Theta") == 0) ok = parse_double(val, &o->Theta);
     else if (strcmp(key, "--gamma0") == 0) ok = parse_double(val, &o->gamma0);
@@ -170,6 +173,7 @@ static int parse_args(int argc, char **argv, options *o) {
   }
   if (o->tau <= 0) o->tau = 0.5 / (double)o->nx;
   if (o->scheme == ND_SCHEME_THETA) o->params[0] = theta;
+  if (o->scheme == ND_SCHEME_GENERALIZED_ALPHA) o->params[0] = rho_inf;
   if (o->scheme == ND_SCHEME_NEWMARK) {
     o->params[0] = beta;
     o->params[1] = gamma;
@@ -390,6 +394,7 @@ static double median(double *v, int n) {
 static void scheme_label(const options *o, char *buf, size_t size) {
   if (o->scheme == ND_SCHEME_THETA) snprintf(buf, size, "theta(%g)", o->params[0]);
   else if (o->scheme == ND_SCHEME_NEWMARK) snprintf(buf, size, "newmark(%g,%g)", o->params[0], o->params[1]);
+  else if (o->scheme == ND_SCHEME_GENERALIZED_ALPHA) snprintf(buf, size, "galpha(%g)", o->params[0]);
   else snprintf(buf, size, "hybrid");
 }
 

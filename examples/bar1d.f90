@@ -17,7 +17,7 @@
 ! structures passed and returned by value, pointers inside structures, and
 ! a C array of strings.
 !
-! usage: bar1d_f90 [--nx N] [--degree 1|2] [--tau X] [--T X] [--quiet]
+! usage: bar1d_f90 [--scheme hybrid|galpha] [--rho-inf X] [--nx N] [--degree 1|2] [--tau X] [--T X] [--quiet]
 ! (--key=value also works; --quiet is accepted for symmetry with bar1d, the
 ! summary is all this program prints). Exit status: 0 ok, 1 library error,
 ! 2 usage error.
@@ -242,6 +242,8 @@ program bar1d
   integer(c_int64_t) :: nx = 40, steps, n_nodes, n
   integer(c_int) :: degree = 1
   real(c_double) :: tau = 0, t_final = 3
+  integer(c_int) :: scheme = ND_SCHEME_HYBRID
+  real(c_double) :: rho_inf = 0.8_c_double ! generalized-alpha's parameter
   type(c_ptr) :: p = c_null_ptr
   type(grid) :: g
   logical :: have_grid = .false.
@@ -323,9 +325,10 @@ contains
       call get_command_argument(i, arg)
       i = i + 1
       if (arg == '--help' .or. arg == '-h') then
-        write (output_unit, '(a)') 'usage: bar1d_f90 [--nx N] [--degree 1|2] [--tau X] [--T X] [--quiet]', &
-          'The 1D bar of DESIGN §7 from Fortran (hybrid scheme, Theta = 1, gamma0 = 0.2):', &
-          'the summary of bar1d --quiet. Defaults: nx 40, degree 1, tau h/2, T 3.'
+        write (output_unit, '(a)') &
+          'usage: bar1d_f90 [--scheme hybrid|galpha] [--rho-inf X] [--nx N] [--degree 1|2] [--tau X] [--T X] [--quiet]', &
+          'The 1D bar of DESIGN §7 from Fortran (Theta = 1, gamma0 = 0.2): the summary of bar1d --quiet.', &
+          'Defaults: hybrid scheme, rho_inf 0.8 (generalized-alpha), nx 40, degree 1, tau h/2, T 3.'
         stop
       end if
       if (arg == '--quiet') cycle
@@ -340,6 +343,18 @@ contains
         i = i + 1
       end if
       select case (trim(key))
+      case ('--scheme')
+        select case (trim(val))
+        case ('hybrid')
+          scheme = ND_SCHEME_HYBRID
+        case ('galpha')
+          scheme = ND_SCHEME_GENERALIZED_ALPHA
+        case default
+          call usage_error("bad value '" // trim(val) // "'")
+        end select
+      case ('--rho-inf')
+        read (val, *, iostat=ios) rho_inf
+        if (ios /= 0) call usage_error("bad value '" // trim(val) // "'")
       case ('--nx')
         read (val, *, iostat=ios) nx
         if (ios /= 0 .or. nx < 1 .or. nx > 100000000) call usage_error("bad value '" // trim(val) // "'")
@@ -384,7 +399,13 @@ contains
     if (.not. failed) failed = check(nd_problem_set_dirichlet(p, CLAMPED))
     if (.not. failed) failed = check(nd_problem_set_contact_plane(p, CONTACT, [0.0_c_double], [1.0_c_double]))
     if (.not. failed) failed = check(nd_problem_set_nitsche(p, THETA, GAMMA0))
-    if (.not. failed) failed = check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID)) ! no parameter: NULL
+    if (.not. failed) then
+      if (scheme == ND_SCHEME_HYBRID) then
+        failed = check(nd_problem_set_scheme(p, scheme)) ! no parameter: NULL
+      else
+        failed = check(nd_problem_set_scheme(p, scheme, [rho_inf]))
+      end if
+    end if
     if (.not. failed) failed = check(nd_problem_set_mass_lumping(p, 0_c_int))
     if (.not. failed) failed = check(nd_problem_set_timestep(p, tau))
     if (.not. failed) failed = check(nd_problem_get_node_count(p, n_nodes))
@@ -464,7 +485,13 @@ contains
     character(len=18) :: name
     integer :: i
     logical :: relative
-    write (output_unit, '(a)') 'scheme=hybrid degree=' // itoa(int(degree, c_int64_t)) // ' Theta=' // &
+    character(len=:), allocatable :: label
+    if (scheme == ND_SCHEME_HYBRID) then
+      label = 'hybrid'
+    else
+      label = 'galpha(' // fmt_g(rho_inf) // ')'
+    end if
+    write (output_unit, '(a)') 'scheme=' // label // ' degree=' // itoa(int(degree, c_int64_t)) // ' Theta=' // &
       fmt_g(THETA) // ' gamma0=' // fmt_g(GAMMA0) // ' nx=' // itoa(nx) // ' tau=' // fmt_g(tau) // &
       ' T=' // fmt_g(real(steps, c_double) * tau) // ' steps=' // itoa(steps)
     do i = 1, N_NORMS

@@ -22,9 +22,10 @@ static void usage(const char *prog, int dim) {
   printf("usage: %s [options]\n"
          "  --mesh FILE       Gmsh mesh (default %s/%s_h4.msh; region 1 = contact boundary)\n"
          "  --degree 1|2      Lagrange degree (default 1)\n"
-         "  --scheme S        hybrid (default) | newmark | theta\n"
+         "  --scheme S        hybrid (default) | newmark | theta | galpha\n"
          "  --beta B --gamma G   Newmark parameters (default 0.25, 0.5)\n"
          "  --theta-param T   theta of the theta-scheme (default 0.5)\n"
+         "  --rho-inf R       generalized-alpha's rho_inf in [0,1] (default 0.8)\n"
          "  --Theta T         Nitsche's Theta (default 1)\n"
          "  --gamma0 G        Nitsche parameter, gamma = gamma0 h_K (default 1e-3)\n"
          "  --tau T           time step (default 0.05)\n"
@@ -39,7 +40,7 @@ static void usage(const char *prog, int dim) {
 static int parse(int argc, char **argv, int dim, options *o, char *default_mesh, size_t size) {
   snprintf(default_mesh, size, "%s/%s_h4.msh", ND_MESH_DIR, dim == 2 ? "disk" : "ball");
   *o = (options){default_mesh, NULL, 1, ND_SCHEME_HYBRID, ND_SOLVER_AUTO, 0, {0.25, 0.5}, 1.0, 1e-3, 0.05, 32.0, 1.0};
-  int theta_set = 0;
+  int theta_set = 0, rho_set = 0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
     if (!strcmp(a, "--help")) {
@@ -61,6 +62,7 @@ static int parse(int argc, char **argv, int dim, options *o, char *default_mesh,
     else if (!strcmp(a, "--beta")) o->params[0] = atof(v);
     else if (!strcmp(a, "--gamma")) o->params[1] = atof(v);
     else if (!strcmp(a, "--theta-param")) o->params[0] = atof(v), theta_set = 1;
+    else if (!strcmp(a, "--rho-inf")) o->params[0] = atof(v), rho_set = 1;
     else if (!strcmp(a, "--Theta")) o->Theta = atof(v);
     else if (!strcmp(a, "--gamma0")) o->gamma0 = atof(v);
     else if (!strcmp(a, "--tau")) o->tau = atof(v);
@@ -68,7 +70,7 @@ static int parse(int argc, char **argv, int dim, options *o, char *default_mesh,
     else if (!strcmp(a, "--every")) o->every = atof(v);
     else if (!strcmp(a, "--scheme")) {
       o->scheme = !strcmp(v, "newmark") ? ND_SCHEME_NEWMARK : !strcmp(v, "theta") ? ND_SCHEME_THETA
-                : !strcmp(v, "hybrid") ? ND_SCHEME_HYBRID : -1;
+                : !strcmp(v, "hybrid") ? ND_SCHEME_HYBRID : !strcmp(v, "galpha") ? ND_SCHEME_GENERALIZED_ALPHA : -1;
       if (o->scheme < 0) return fprintf(stderr, "%s: unknown scheme %s\n", argv[0], v), 2;
     } else if (!strcmp(a, "--solver")) {
       static const char *names[] = {"auto", "dense", "banded", "cholmod", "umfpack", "klu"};
@@ -82,6 +84,7 @@ static int parse(int argc, char **argv, int dim, options *o, char *default_mesh,
     }
   }
   if (o->scheme == ND_SCHEME_THETA && !theta_set) o->params[0] = 0.5;
+  if (o->scheme == ND_SCHEME_GENERALIZED_ALPHA && !rho_set) o->params[0] = 0.8;
   return 0;
 }
 
