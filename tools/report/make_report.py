@@ -19,7 +19,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
-SCHEMES = ["theta(0.5)", "theta(1)", "newmark(0.25,0.5)", "newmark(0.5,1)", "hybrid", "newmark(0,0.5)"]
+SCHEMES = ["theta(0.5)", "theta(1)", "newmark(0.25,0.5)", "newmark(0.5,1)", "hybrid", "galpha(0.8)", "galpha(0.5)",
+           "newmark(0,0.5)"]
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*"]
 NORMS = [("e_linf_l2_u", "L∞(0,T;L²) u"), ("e_linf_h1_u", "L∞(0,T;H¹) u"), ("e_linf_l2_v", "L∞(0,T;L²) v"),
          ("e_l2_l2_u", "L²(0,T;L²) u"), ("e_l2_h1_u", "L²(0,T;H¹) u"), ("e_l2_l2_v", "L²(0,T;L²) v"),

@@ -28,6 +28,8 @@ SCHEMES = [
     ("newmark(0.25,0.5)", ["newmark", "--beta", "0.25", "--gamma", "0.5"], False),
     ("newmark(0.5,1)", ["newmark", "--beta", "0.5", "--gamma", "1"], False),
     ("hybrid", ["hybrid"], False),
+    ("galpha(0.8)", ["galpha", "--rho-inf", "0.8"], False),
+    ("galpha(0.5)", ["galpha", "--rho-inf", "0.5"], False),
     ("newmark(0,0.5)", ["newmark", "--beta", "0", "--gamma", "0.5", "--lumped", "1"], True),
 ]
 SCHEME_ARGS = {label: args for label, args, _ in SCHEMES}
