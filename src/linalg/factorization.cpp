@@ -1,6 +1,7 @@
 #include "linalg/factorization.hpp"
 
 #include "linalg/backends.hpp"
+#include "linalg/ordering.hpp"
 #include "nitschedyn.h"
 
 namespace nd {

@@ -1,0 +1,74 @@
+// CHOLMOD: sparse Cholesky (supernodal LL^T or simplicial LDL^T, CHOLMOD's
+// choice). The pattern is analysed once (ordering, symbolic factorization),
+// each matrix of it factored numerically. Our CSR arrays, read as CSC,
+// describe A^T = A.
+#include <cholmod.h>
+
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "common/error.hpp"
+#include "linalg/backends.hpp"
+#include "nitschedyn.h"
+
+static_assert(std::is_same<SuiteSparse_long, int64_t>::value, "SuiteSparse_long must be int64_t");
+
+namespace nd {
+namespace {
+
+class Cholmod : public Factorization {
+ public:
+  explicit Cholmod(const Csr &pattern) : n_(pattern.n) {
+    cholmod_l_start(&c_);
+    c_.print = 0;  // the library never prints
+    A_ = cholmod_l_allocate_sparse(n_, n_, pattern.col.size(), 1, 1, 1, CHOLMOD_REAL, &c_);
+    if (!A_) fail(ND_ERR_NOMEM, "CHOLMOD could not allocate the matrix");
+    std::memcpy(A_->p, pattern.ptr.data(), sizeof(int64_t) * pattern.ptr.size());
+    std::memcpy(A_->i, pattern.col.data(), sizeof(int64_t) * pattern.col.size());
+    L_ = cholmod_l_analyze(A_, &c_);
+    if (!L_) fail(ND_ERR_NOMEM, "CHOLMOD analysis failed (status " + std::to_string(c_.status) + ")");
+  }
+  ~Cholmod() override {
+    cholmod_l_free_factor(&L_, &c_);
+    cholmod_l_free_sparse(&A_, &c_);
+    cholmod_l_finish(&c_);
+  }
+  void factor(const Csr &A, Structure s) override {
+    if (s != Structure::SymmetricPositiveDefinite) fail(ND_ERR_INTERNAL, "CHOLMOD given a non-symmetric matrix");
+    std::memcpy(A_->x, A.val.data(), sizeof(double) * A.val.size());
+    cholmod_l_factorize(A_, L_, &c_);
+    if (c_.status == CHOLMOD_NOT_POSDEF)
+      fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (CHOLMOD: leading minor " +
+                                  std::to_string(L_->minor + 1) + " is not positive)");
+    if (c_.status != CHOLMOD_OK) fail(ND_ERR_NOMEM, "CHOLMOD factorization failed (status " + std::to_string(c_.status) + ")");
+  }
+  void solve(double *x) const override {
+    cholmod_dense b;
+    std::memset(&b, 0, sizeof b);
+    b.nrow = static_cast<size_t>(n_);
+    b.ncol = 1;
+    b.nzmax = b.d = static_cast<size_t>(n_);
+    b.x = x;
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense *r = cholmod_l_solve(CHOLMOD_A, L_, &b, &c_);
+    if (!r) fail(ND_ERR_NOMEM, "CHOLMOD solve failed");
+    std::memcpy(x, r->x, sizeof(double) * static_cast<size_t>(n_));
+    cholmod_l_free_dense(&r, &c_);
+  }
+  const char *name() const override { return "cholmod"; }
+
+ private:
+  int64_t n_;
+  mutable cholmod_common c_;
+  cholmod_sparse *A_ = nullptr;
+  cholmod_factor *L_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &p) { return std::make_unique<Cholmod>(p); }
+
+}  // namespace nd

@@ -1,0 +1,58 @@
+// UMFPACK: general sparse LU. The pattern is analysed once, each matrix of
+// it factored numerically. Our CSR arrays, read as CSC, describe A^T: we
+// solve with the transpose.
+#include <umfpack.h>
+
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "common/error.hpp"
+#include "linalg/backends.hpp"
+#include "nitschedyn.h"
+
+static_assert(std::is_same<SuiteSparse_long, int64_t>::value, "SuiteSparse_long must be int64_t");
+
+namespace nd {
+namespace {
+
+class Umfpack : public Factorization {
+ public:
+  explicit Umfpack(const Csr &pattern) : n_(pattern.n), ptr_(pattern.ptr), col_(pattern.col) {
+    umfpack_dl_defaults(control_);
+    std::vector<double> ones(col_.size(), 1.0);  // the ordering depends on the pattern only
+    if (umfpack_dl_symbolic(n_, n_, ptr_.data(), col_.data(), ones.data(), &symbolic_, control_, nullptr) != UMFPACK_OK)
+      fail(ND_ERR_NOMEM, "UMFPACK symbolic analysis failed");
+  }
+  ~Umfpack() override {
+    if (numeric_) umfpack_dl_free_numeric(&numeric_);
+    if (symbolic_) umfpack_dl_free_symbolic(&symbolic_);
+  }
+  void factor(const Csr &A, Structure) override {
+    if (numeric_) umfpack_dl_free_numeric(&numeric_);
+    val_ = A.val;
+    const int64_t st = umfpack_dl_numeric(ptr_.data(), col_.data(), val_.data(), symbolic_, &numeric_, control_, nullptr);
+    if (st == UMFPACK_WARNING_singular_matrix) fail(ND_ERR_SINGULAR, "the matrix is singular (UMFPACK)");
+    if (st != UMFPACK_OK) fail(ND_ERR_NOMEM, "UMFPACK numeric factorization failed (status " + std::to_string(st) + ")");
+  }
+  void solve(double *x) const override {
+    work_.assign(x, x + n_);
+    // the arrays describe A^T, so solve with its transpose
+    umfpack_dl_solve(UMFPACK_At, ptr_.data(), col_.data(), val_.data(), x, work_.data(), numeric_, control_, nullptr);
+  }
+  const char *name() const override { return "umfpack"; }
+
+ private:
+  int64_t n_;
+  std::vector<int64_t> ptr_, col_;
+  std::vector<double> val_;
+  mutable std::vector<double> work_;
+  double control_[UMFPACK_CONTROL];
+  void *symbolic_ = nullptr, *numeric_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &p) { return std::make_unique<Umfpack>(p); }
+
+}  // namespace nd
