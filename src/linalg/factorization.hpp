@@ -21,7 +21,9 @@ class Factorization {
 
 // solver: an ND_SOLVER_* value; s: the structure of the matrices it will
 // factor. AUTO picks by size and bandwidth, CHOLMOD falls back to UMFPACK
-// for non-symmetric matrices.
+// for non-symmetric matrices. Any other id throws ND_ERR_KEY.
 std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s);
+// whether make_factorization accepts this id (AUTO or a registered backend)
+bool linear_solver_known(int solver);
 
 }  // namespace nd
