@@ -23,6 +23,7 @@ class BandedFactorization : public Factorization {
     kd_ = bandwidth(pattern, perm_);
   }
   void factor(const Csr &A, Structure s) override {
+    def_ = Definiteness::Unknown;
     spd_ = s == Structure::SymmetricPositiveDefinite;
     lapack_int info;
     if (spd_) {  // upper band: ab[kd + i - j + j*ld] = A(i, j), i <= j
@@ -34,9 +35,7 @@ class BandedFactorization : public Factorization {
           if (i <= j) ab_[kd_ + i - j + j * ld_] = A.val[k];
         }
       info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n_, kd_, ab_.data(), ld_);
-      if (info > 0)
-        fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (Cholesky pivot " +
-                                    std::to_string(info) + " is not positive)");
+      if (info > 0) fail_not_positive_definite("Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {  // ab[2kd + i - j + j*ld] = A(i, j) with room for the LU fill
       ld_ = 3 * kd_ + 1;
       ab_.assign(static_cast<size_t>(ld_ * n_), 0.0);
@@ -50,6 +49,7 @@ class BandedFactorization : public Factorization {
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
     if (info < 0) fail(ND_ERR_INTERNAL, "LAPACK banded factorization: argument " + std::to_string(-info));
+    if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
     work_.resize(static_cast<size_t>(n_));
@@ -60,6 +60,7 @@ class BandedFactorization : public Factorization {
       LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_, ipiv_.data(), work_.data(), n_);
     for (int64_t i = 0; i < n_; ++i) x[perm_[i]] = work_[i];
   }
+  Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "banded"; }
 
  private:
@@ -85,6 +86,7 @@ class BandedFactorization : public Factorization {
 
   int64_t n_, kd_ = 0, ld_ = 0;
   bool spd_ = false;
+  Definiteness def_ = Definiteness::Unknown;
   std::vector<int64_t> perm_, inv_;
   std::vector<double> ab_;
   std::vector<lapack_int> ipiv_;

@@ -36,13 +36,21 @@ class Cholmod : public Factorization {
     cholmod_l_finish(&c_);
   }
   void factor(const Csr &A, Structure s) override {
+    def_ = Definiteness::Unknown;
     if (s != Structure::SymmetricPositiveDefinite) fail(ND_ERR_INTERNAL, "CHOLMOD given a non-symmetric matrix");
     std::memcpy(A_->x, A.val.data(), sizeof(double) * A.val.size());
     cholmod_l_factorize(A_, L_, &c_);
     if (c_.status == CHOLMOD_NOT_POSDEF)
-      fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (CHOLMOD: leading minor " +
-                                  std::to_string(L_->minor + 1) + " is not positive)");
+      fail_not_positive_definite("leading minor " + std::to_string(L_->minor + 1) + " is not positive");
     if (c_.status != CHOLMOD_OK) fail(ND_ERR_NOMEM, "CHOLMOD factorization failed (status " + std::to_string(c_.status) + ")");
+    if (!L_->is_ll) {  // simplicial LDL^T factors indefinite matrices too: D tells
+      const auto *p = static_cast<const int64_t *>(L_->p);
+      const auto *x = static_cast<const double *>(L_->x);
+      d_.resize(static_cast<size_t>(n_));
+      for (int64_t j = 0; j < n_; ++j) d_[j] = x[p[j]];  // D(j) comes first in column j
+      require_positive_pivots(n_, d_.data());
+    }
+    def_ = Definiteness::PositiveDefinite;
   }
   void solve(double *x) const override {
     cholmod_dense b;
@@ -58,6 +66,7 @@ class Cholmod : public Factorization {
     std::memcpy(x, r->x, sizeof(double) * static_cast<size_t>(n_));
     cholmod_l_free_dense(&r, &c_);
   }
+  Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "cholmod"; }
 
  private:
@@ -65,6 +74,8 @@ class Cholmod : public Factorization {
   mutable cholmod_common c_;
   cholmod_sparse *A_ = nullptr;
   cholmod_factor *L_ = nullptr;
+  std::vector<double> d_;
+  Definiteness def_ = Definiteness::Unknown;
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "linalg/factorization.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "common/error.hpp"
@@ -57,6 +58,20 @@ std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern
   const Backend *b = find_backend(backend_for(solver, pattern, s));
   if (!b) fail(ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
   return b->make(pattern);
+}
+
+void fail_not_positive_definite(const std::string &why) {
+  fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (" + why + ")");
+}
+
+Definiteness require_positive_pivots(int64_t n, const double *d) {
+  const int64_t bad = std::count_if(d, d + n, [](double x) { return !(x > 0); });  // NaN too
+  if (bad) fail_not_positive_definite(std::to_string(bad) + " of its " + std::to_string(n) + " eigenvalues are not positive");
+  return Definiteness::PositiveDefinite;
+}
+
+Definiteness lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag) {
+  return std::equal(p, p + n, q) ? require_positive_pivots(n, udiag) : Definiteness::Unknown;
 }
 
 }  // namespace nd

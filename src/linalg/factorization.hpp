@@ -9,13 +9,18 @@
 namespace nd {
 
 enum class Structure { SymmetricPositiveDefinite, General };
+// What the last factor() learnt about the matrix. Unknown: factored as
+// General, or the backend's pivoting hid the inertia.
+enum class Definiteness { PositiveDefinite, NotPositiveDefinite, Unknown };
 
 class Factorization {
  public:
   virtual ~Factorization() = default;
-  // Throws ND_ERR_INDEFINITE (SPD requested, pivot <= 0) or ND_ERR_SINGULAR.
+  // Throws ND_ERR_INDEFINITE (SPD requested on a matrix that is certainly
+  // not positive definite) or ND_ERR_SINGULAR.
   virtual void factor(const Csr &A, Structure s) = 0;
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
+  virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
 };
 

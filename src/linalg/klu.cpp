@@ -27,16 +27,20 @@ class Klu : public Factorization {
     if (numeric_) klu_l_free_numeric(&numeric_, &c_);
     klu_l_free_symbolic(&symbolic_, &c_);
   }
-  void factor(const Csr &A, Structure) override {
+  void factor(const Csr &A, Structure s) override {
+    def_ = Definiteness::Unknown;
     if (numeric_) klu_l_free_numeric(&numeric_, &c_);
     val_ = A.val;
     numeric_ = klu_l_factor(ptr_.data(), col_.data(), val_.data(), symbolic_, &c_);
     if (!numeric_ && c_.status == KLU_SINGULAR) fail(ND_ERR_SINGULAR, "the matrix is singular (KLU)");
     if (!numeric_) fail(ND_ERR_NOMEM, "KLU factorization failed (status " + std::to_string(c_.status) + ")");
+    if (s == Structure::SymmetricPositiveDefinite)  // Udiag in pivot order
+      def_ = lu_definiteness(n_, numeric_->Pnum, symbolic_->Q, static_cast<const double *>(numeric_->Udiag));
   }
   void solve(double *x) const override {
     klu_l_tsolve(symbolic_, numeric_, n_, 1, x, &c_);  // the arrays describe A^T
   }
+  Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "klu"; }
 
  private:
@@ -46,6 +50,7 @@ class Klu : public Factorization {
   mutable klu_l_common c_;
   klu_l_symbolic *symbolic_ = nullptr;
   klu_l_numeric *numeric_ = nullptr;
+  Definiteness def_ = Definiteness::Unknown;
 };
 
 }  // namespace
