@@ -6,14 +6,12 @@
 
 #include <cstring>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "common/error.hpp"
 #include "linalg/backends.hpp"
+#include "linalg/suitesparse.hpp"
 #include "nitschedyn.h"
-
-static_assert(std::is_same<SuiteSparse_long, int64_t>::value, "SuiteSparse_long must be int64_t");
 
 namespace nd {
 namespace {
