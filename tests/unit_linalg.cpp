@@ -128,6 +128,7 @@ START_TEST(every_backend_reports_indefinite) {
     ck_assert_msg(f->definiteness() == Definiteness::PositiveDefinite, "%s: SPD not recognized", f->name());
     ck_assert_msg(solve_error(*f, A) <= 1e-10, "%s: SPD solve off by %g", f->name(), solve_error(*f, A));
     ck_assert_msg(error_code_of_factor(*f, B, spd) == ND_ERR_INDEFINITE, "%s: indefinite not reported", f->name());
+    ck_assert_msg(f->definiteness() == Definiteness::NotPositiveDefinite, "%s", f->name());
     f->factor(A, spd);  // the same symbolic analysis serves again
     ck_assert_msg(solve_error(*f, A) <= 1e-10, "%s: refactored SPD solve off", f->name());
   }

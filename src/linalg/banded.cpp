@@ -35,7 +35,7 @@ class BandedFactorization : public Factorization {
           if (i <= j) ab_[kd_ + i - j + j * ld_] = A.val[k];
         }
       info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n_, kd_, ab_.data(), ld_);
-      if (info > 0) fail_not_positive_definite("Cholesky pivot " + std::to_string(info) + " is not positive");
+      if (info > 0) fail_not_positive_definite(def_, "Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {  // ab[2kd + i - j + j*ld] = A(i, j) with room for the LU fill
       ld_ = 3 * kd_ + 1;
       ab_.assign(static_cast<size_t>(ld_ * n_), 0.0);

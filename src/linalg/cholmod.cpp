@@ -39,14 +39,14 @@ class Cholmod : public Factorization {
     std::memcpy(A_->x, A.val.data(), sizeof(double) * A.val.size());
     cholmod_l_factorize(A_, L_, &c_);
     if (c_.status == CHOLMOD_NOT_POSDEF)
-      fail_not_positive_definite("leading minor " + std::to_string(L_->minor + 1) + " is not positive");
+      fail_not_positive_definite(def_, "leading minor " + std::to_string(L_->minor + 1) + " is not positive");
     if (c_.status != CHOLMOD_OK) fail(ND_ERR_NOMEM, "CHOLMOD factorization failed (status " + std::to_string(c_.status) + ")");
     if (!L_->is_ll) {  // simplicial LDL^T factors indefinite matrices too: D tells
       const auto *p = static_cast<const int64_t *>(L_->p);
       const auto *x = static_cast<const double *>(L_->x);
       d_.resize(static_cast<size_t>(n_));
       for (int64_t j = 0; j < n_; ++j) d_[j] = x[p[j]];  // D(j) comes first in column j
-      require_positive_pivots(n_, d_.data());
+      require_positive_pivots(n_, d_.data(), def_);
     }
     def_ = Definiteness::PositiveDefinite;
   }

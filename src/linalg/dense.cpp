@@ -23,7 +23,7 @@ class DenseFactorization : public Factorization {
     lapack_int info;
     if (spd_) {
       info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n_, a_.data(), n_);
-      if (info > 0) fail_not_positive_definite("Cholesky pivot " + std::to_string(info) + " is not positive");
+      if (info > 0) fail_not_positive_definite(def_, "Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {
       ipiv_.resize(static_cast<size_t>(n_));
       info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, n_, n_, a_.data(), n_, ipiv_.data());

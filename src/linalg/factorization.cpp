@@ -60,18 +60,20 @@ std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern
   return b->make(pattern);
 }
 
-void fail_not_positive_definite(const std::string &why) {
+void fail_not_positive_definite(Definiteness &def, const std::string &why) {
+  def = Definiteness::NotPositiveDefinite;
   fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (" + why + ")");
 }
 
-Definiteness require_positive_pivots(int64_t n, const double *d) {
+void require_positive_pivots(int64_t n, const double *d, Definiteness &def) {
   const int64_t bad = std::count_if(d, d + n, [](double x) { return !(x > 0); });  // NaN too
-  if (bad) fail_not_positive_definite(std::to_string(bad) + " of its " + std::to_string(n) + " eigenvalues are not positive");
-  return Definiteness::PositiveDefinite;
+  if (bad) fail_not_positive_definite(def, "eigenvalues <= 0: " + std::to_string(bad) + " of " + std::to_string(n));
+  def = Definiteness::PositiveDefinite;
 }
 
-Definiteness lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag) {
-  return std::equal(p, p + n, q) ? require_positive_pivots(n, udiag) : Definiteness::Unknown;
+void lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag, Definiteness &def) {
+  def = Definiteness::Unknown;
+  if (std::equal(p, p + n, q)) require_positive_pivots(n, udiag, def);
 }
 
 }  // namespace nd

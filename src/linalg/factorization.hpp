@@ -9,8 +9,9 @@
 namespace nd {
 
 enum class Structure { SymmetricPositiveDefinite, General };
-// What the last factor() learnt about the matrix. Unknown: factored as
-// General, or the backend's pivoting hid the inertia.
+// What the last factor() learnt about the matrix (NotPositiveDefinite: it
+// threw ND_ERR_INDEFINITE). Unknown: factored as General, the backend's
+// pivoting hid the inertia, or factor() failed otherwise.
 enum class Definiteness { PositiveDefinite, NotPositiveDefinite, Unknown };
 
 class Factorization {

@@ -33,7 +33,7 @@ class Klu : public Factorization {
     if (!numeric_ && c_.status == KLU_SINGULAR) fail(ND_ERR_SINGULAR, "the matrix is singular (KLU)");
     if (!numeric_) fail(ND_ERR_NOMEM, "KLU factorization failed (status " + std::to_string(c_.status) + ")");
     if (s == Structure::SymmetricPositiveDefinite)  // Udiag in pivot order
-      def_ = lu_definiteness(n_, numeric_->Pnum, symbolic_->Q, static_cast<const double *>(numeric_->Udiag));
+      lu_definiteness(n_, numeric_->Pnum, symbolic_->Q, static_cast<const double *>(numeric_->Udiag), def_);
   }
   void solve(double *x) const override {
     klu_l_tsolve(symbolic_, numeric_, n_, 1, x, &c_);  // the arrays describe A^T

@@ -38,7 +38,7 @@ class Umfpack : public Factorization {
     if (umfpack_dl_get_numeric(nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, p_.data(), q_.data(),
                                udiag_.data(), nullptr, nullptr, numeric_) != UMFPACK_OK)
       fail(ND_ERR_NOMEM, "UMFPACK could not return its pivots");
-    def_ = lu_definiteness(n_, p_.data(), q_.data(), udiag_.data());
+    lu_definiteness(n_, p_.data(), q_.data(), udiag_.data(), def_);
   }
   void solve(double *x) const override {
     work_.assign(x, x + n_);
