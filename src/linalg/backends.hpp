@@ -1,17 +1,26 @@
 // The backends behind make_factorization().
 #pragma once
-#include <vector>
+#include <string>
 
 #include "linalg/factorization.hpp"
 
 namespace nd {
+
 std::unique_ptr<Factorization> make_dense_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_banded_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_klu_factorization(const Csr &pattern);
-// Reverse Cuthill-McKee: perm[new] = old.
-std::vector<int64_t> reverse_cuthill_mckee(const Csr &pattern);
-// half-bandwidth of the pattern in the ordering perm[new] = old
-int64_t bandwidth(const Csr &pattern, const std::vector<int64_t> &perm);
+
+// Shared by the backends that factor with SPD requested; each sets the
+// backend's verdict `def` (NotPositiveDefinite before it throws).
+[[noreturn]] void fail_not_positive_definite(Definiteness &def, const std::string &why);
+// Sylvester's law of inertia: the pivots d[0..n) of a symmetric elimination
+// (D of LDL^T; U's diagonal of an LU with symmetric pivoting and a positive
+// row scaling) have the signs of the eigenvalues. Throws unless all are > 0.
+void require_positive_pivots(int64_t n, const double *d, Definiteness &def);
+// LU backends: pivots p[k] (row) and q[k] (column); only symmetric pivoting
+// (p == q) reveals the inertia, else def is Unknown.
+void lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag, Definiteness &def);
+
 }  // namespace nd

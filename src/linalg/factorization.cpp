@@ -1,9 +1,33 @@
 #include "linalg/factorization.hpp"
 
+#include <algorithm>
+#include <string>
+
+#include "common/error.hpp"
 #include "linalg/backends.hpp"
+#include "linalg/ordering.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
+namespace {
+
+// The registry. Adding a backend: its file, its ND_SOLVER_* value and one
+// line here.
+struct Backend {
+  int id;
+  std::unique_ptr<Factorization> (*make)(const Csr &pattern);
+};
+constexpr Backend kBackends[] = {
+    {ND_SOLVER_DENSE, make_dense_factorization},     {ND_SOLVER_BANDED, make_banded_factorization},
+    {ND_SOLVER_CHOLMOD, make_cholmod_factorization}, {ND_SOLVER_UMFPACK, make_umfpack_factorization},
+    {ND_SOLVER_KLU, make_klu_factorization},
+};
+
+const Backend *find_backend(int id) {
+  for (const Backend &b : kBackends)
+    if (b.id == id) return &b;
+  return nullptr;
+}
 
 // AUTO, from bench/solver_crossover (bench/results/solver_crossover.csv, 2D
 // P1, c M + K): a step pays one solve, a Newton iteration with active contact
@@ -14,24 +38,42 @@ namespace nd {
 // Cuthill-McKee makes truly narrow (1D meshes: half-bandwidth 1-4).
 constexpr int64_t kDenseMax = 40, kBandMax = 16;
 
-std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s) {
-  const bool spd = s == Structure::SymmetricPositiveDefinite;
-  switch (solver) {
-    case ND_SOLVER_DENSE:
-      return make_dense_factorization(pattern);
-    case ND_SOLVER_BANDED:
-      return make_banded_factorization(pattern);
-    case ND_SOLVER_CHOLMOD:  // Cholesky needs symmetry: non-symmetric systems go to UMFPACK
-      return spd ? make_cholmod_factorization(pattern) : make_umfpack_factorization(pattern);
-    case ND_SOLVER_UMFPACK:
-      return make_umfpack_factorization(pattern);
-    case ND_SOLVER_KLU:
-      return make_klu_factorization(pattern);
-    default:
-      if (pattern.n <= kDenseMax) return make_dense_factorization(pattern);
-      if (bandwidth(pattern, reverse_cuthill_mckee(pattern)) <= kBandMax) return make_banded_factorization(pattern);
-      return spd ? make_cholmod_factorization(pattern) : make_umfpack_factorization(pattern);
+// The backend that factors for `solver`: AUTO's choice, and CHOLMOD's
+// fallback (Cholesky needs symmetry: non-symmetric systems go to UMFPACK).
+int backend_for(int solver, const Csr &pattern, Structure s) {
+  if (solver == ND_SOLVER_AUTO) {
+    if (pattern.n <= kDenseMax) return ND_SOLVER_DENSE;
+    if (bandwidth(pattern, reverse_cuthill_mckee(pattern)) <= kBandMax) return ND_SOLVER_BANDED;
+    solver = ND_SOLVER_CHOLMOD;
   }
+  if (solver == ND_SOLVER_CHOLMOD && s != Structure::SymmetricPositiveDefinite) return ND_SOLVER_UMFPACK;
+  return solver;
+}
+
+}  // namespace
+
+bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_backend(solver); }
+
+std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s) {
+  const Backend *b = find_backend(backend_for(solver, pattern, s));
+  if (!b) fail(ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
+  return b->make(pattern);
+}
+
+void fail_not_positive_definite(Definiteness &def, const std::string &why) {
+  def = Definiteness::NotPositiveDefinite;
+  fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (" + why + ")");
+}
+
+void require_positive_pivots(int64_t n, const double *d, Definiteness &def) {
+  const int64_t bad = std::count_if(d, d + n, [](double x) { return !(x > 0); });  // NaN too
+  if (bad) fail_not_positive_definite(def, "eigenvalues <= 0: " + std::to_string(bad) + " of " + std::to_string(n));
+  def = Definiteness::PositiveDefinite;
+}
+
+void lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag, Definiteness &def) {
+  def = Definiteness::Unknown;
+  if (std::equal(p, p + n, q)) require_positive_pivots(n, udiag, def);
 }
 
 }  // namespace nd

@@ -15,6 +15,7 @@ class DenseFactorization : public Factorization {
  public:
   explicit DenseFactorization(int64_t n) : n_(n) {}
   void factor(const Csr &A, Structure s) override {
+    def_ = Definiteness::Unknown;
     a_.assign(static_cast<size_t>(n_ * n_), 0.0);
     for (int64_t i = 0; i < n_; ++i)
       for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k) a_[A.col[k] * n_ + i] = A.val[k];
@@ -22,15 +23,14 @@ class DenseFactorization : public Factorization {
     lapack_int info;
     if (spd_) {
       info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n_, a_.data(), n_);
-      if (info > 0)
-        fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (Cholesky pivot " +
-                                    std::to_string(info) + " is not positive)");
+      if (info > 0) fail_not_positive_definite(def_, "Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {
       ipiv_.resize(static_cast<size_t>(n_));
       info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, n_, n_, a_.data(), n_, ipiv_.data());
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
     if (info < 0) fail(ND_ERR_INTERNAL, "LAPACK dense factorization: argument " + std::to_string(-info));
+    if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
     if (spd_)
@@ -38,11 +38,13 @@ class DenseFactorization : public Factorization {
     else
       LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n_, 1, a_.data(), n_, ipiv_.data(), x, n_);
   }
+  Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "dense"; }
 
  private:
   int64_t n_;
   bool spd_ = false;
+  Definiteness def_ = Definiteness::Unknown;
   std::vector<double> a_;
   std::vector<lapack_int> ipiv_;
 };

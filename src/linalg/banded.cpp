@@ -3,57 +3,15 @@
 #include <lapacke.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "common/error.hpp"
 #include "linalg/backends.hpp"
+#include "linalg/ordering.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
-
-std::vector<int64_t> reverse_cuthill_mckee(const Csr &A) {
-  const int64_t n = A.n;
-  auto degree = [&](int64_t i) { return A.ptr[i + 1] - A.ptr[i]; };
-  std::vector<int64_t> order;
-  order.reserve(static_cast<size_t>(n));
-  std::vector<char> seen(static_cast<size_t>(n), 0);
-  std::vector<int64_t> by_degree(static_cast<size_t>(n));
-  for (int64_t i = 0; i < n; ++i) by_degree[i] = i;
-  std::stable_sort(by_degree.begin(), by_degree.end(),
-                   [&](int64_t a, int64_t b) { return degree(a) < degree(b); });
-  std::vector<int64_t> nbrs;
-  for (int64_t start : by_degree) {  // one breadth-first sweep per component
-    if (seen[start]) continue;
-    seen[start] = 1;
-    size_t head = order.size();
-    order.push_back(start);
-    while (head < order.size()) {
-      const int64_t i = order[head++];
-      nbrs.clear();
-      for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k)
-        if (!seen[A.col[k]]) {
-          seen[A.col[k]] = 1;
-          nbrs.push_back(A.col[k]);
-        }
-      std::stable_sort(nbrs.begin(), nbrs.end(), [&](int64_t a, int64_t b) { return degree(a) < degree(b); });
-      order.insert(order.end(), nbrs.begin(), nbrs.end());
-    }
-  }
-  std::reverse(order.begin(), order.end());
-  return order;
-}
-
-int64_t bandwidth(const Csr &A, const std::vector<int64_t> &perm) {
-  std::vector<int64_t> inv(perm.size());
-  for (size_t i = 0; i < perm.size(); ++i) inv[perm[i]] = static_cast<int64_t>(i);
-  int64_t kd = 0;
-  for (int64_t i = 0; i < A.n; ++i)
-    for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k) kd = std::max<int64_t>(kd, std::llabs(inv[i] - inv[A.col[k]]));
-  return kd;
-}
-
 namespace {
 
 class BandedFactorization : public Factorization {
@@ -65,6 +23,7 @@ class BandedFactorization : public Factorization {
     kd_ = bandwidth(pattern, perm_);
   }
   void factor(const Csr &A, Structure s) override {
+    def_ = Definiteness::Unknown;
     spd_ = s == Structure::SymmetricPositiveDefinite;
     lapack_int info;
     if (spd_) {  // upper band: ab[kd + i - j + j*ld] = A(i, j), i <= j
@@ -76,9 +35,7 @@ class BandedFactorization : public Factorization {
           if (i <= j) ab_[kd_ + i - j + j * ld_] = A.val[k];
         }
       info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n_, kd_, ab_.data(), ld_);
-      if (info > 0)
-        fail(ND_ERR_INDEFINITE, "the matrix is not positive definite (Cholesky pivot " +
-                                    std::to_string(info) + " is not positive)");
+      if (info > 0) fail_not_positive_definite(def_, "Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {  // ab[2kd + i - j + j*ld] = A(i, j) with room for the LU fill
       ld_ = 3 * kd_ + 1;
       ab_.assign(static_cast<size_t>(ld_ * n_), 0.0);
@@ -92,6 +49,7 @@ class BandedFactorization : public Factorization {
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
     if (info < 0) fail(ND_ERR_INTERNAL, "LAPACK banded factorization: argument " + std::to_string(-info));
+    if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
     work_.resize(static_cast<size_t>(n_));
@@ -102,6 +60,7 @@ class BandedFactorization : public Factorization {
       LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_, ipiv_.data(), work_.data(), n_);
     for (int64_t i = 0; i < n_; ++i) x[perm_[i]] = work_[i];
   }
+  Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "banded"; }
 
  private:
@@ -127,6 +86,7 @@ class BandedFactorization : public Factorization {
 
   int64_t n_, kd_ = 0, ld_ = 0;
   bool spd_ = false;
+  Definiteness def_ = Definiteness::Unknown;
   std::vector<int64_t> perm_, inv_;
   std::vector<double> ab_;
   std::vector<lapack_int> ipiv_;
