@@ -4,6 +4,7 @@
 
 #include "capi/guard.hpp"
 #include "capi/handles.hpp"
+#include "linalg/factorization.hpp"
 
 namespace {
 
@@ -142,7 +143,7 @@ ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped) {
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
   return nd::guarded("nd_problem_set_linear_solver", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    nd::need_member(ND_IS_MEMBER_(ND_SOLVER_LIST, solver), ND_ERR_KEY, "solver", solver, "ND_SOLVER_*");
+    nd::need_member(nd::linear_solver_known(solver), ND_ERR_KEY, "solver", solver, "ND_SOLVER_*");
     pr.set_linear_solver(solver);
     return ND_OK;
   });

@@ -35,10 +35,9 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
     if (e.code() != ND_ERR_INDEFINITE) throw;
-    fail(ND_ERR_INDEFINITE, "c*M + K_Theta is not positive definite (" + std::string(e.what()) +
-                                "): with Theta = " + num(def.theta) + ", gamma0 = " + num(def.gamma0) +
-                                " and tau = " + num(def.tau) +
-                                " the step is not well posed; lower gamma0 or the time step");
+    fail(ND_ERR_INDEFINITE, "the step operator c*M + K_Theta: " + std::string(e.what()) + "; with Theta = " +
+                                num(def.theta) + ", gamma0 = " + num(def.gamma0) + " and tau = " + num(def.tau) +
+                                " the step is not well posed: lower gamma0 or the time step");
   }
   if (!d.contact.a.empty())
     in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, tangent_structure(def.theta));
