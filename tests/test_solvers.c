@@ -20,7 +20,13 @@ enum { N_BACKENDS = sizeof backends / sizeof backends[0] };
    with gamma0 E = 0.1 K_Theta (Theta = 1, P2) is indefinite and the free
    flight grows exponentially (x1.3 per step), amplifying any round-off
    difference between backends to 1e-10 in 60 steps (DESIGN §7). */
+static nd_problem block_2d_gamma0(int degree, int scheme, const double *params, double theta, double gamma0,
+                                  double tau);
 static nd_problem block_2d(int degree, int scheme, const double *params, double theta) {
+  return block_2d_gamma0(degree, scheme, params, theta, 0.0005, 0.02);
+}
+static nd_problem block_2d_gamma0(int degree, int scheme, const double *params, double theta, double gamma0,
+                                  double tau) {
   nd_mesh m = NULL;
   nd_problem p = NULL;
   const double lo[2] = {0, 0.1}, hi[2] = {2, 1.1}, blo[2] = {-1, 0}, bhi[2] = {3, 0.1};
@@ -32,9 +38,9 @@ static nd_problem block_2d(int degree, int scheme, const double *params, double 
   ND_OK_OR_FAIL(nd_problem_set_material(p, 20.0, 0.3, 1.0));
   ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
   ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, origin, up));
-  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, 0.0005));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, gamma0));
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
-  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.02));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
   return p;
 }
 
@@ -88,13 +94,34 @@ static void conform(int dim, int degree, int scheme, const double *params, doubl
 }
 
 START_TEST(every_backend_gives_the_same_answer) {
-  const double thetas[] = {1.0, 0.0, -1.0}, half = 0.5, nm[2] = {0.25, 0.5};
-  const int schemes[] = {ND_SCHEME_HYBRID, ND_SCHEME_THETA, ND_SCHEME_NEWMARK};
-  const double *params[] = {NULL, &half, nm};
+  const double thetas[] = {1.0, 0.0, -1.0}, half = 0.5, nm[2] = {0.25, 0.5}, rho_inf = 0.8;
+  const int schemes[] = {ND_SCHEME_HYBRID, ND_SCHEME_THETA, ND_SCHEME_NEWMARK, ND_SCHEME_GENERALIZED_ALPHA};
+  const double *params[] = {NULL, &half, nm, &rho_inf};
   for (int dim = 1; dim <= 2; ++dim)
     for (int degree = 1; degree <= 2; ++degree)
       for (int t = 0; t < 3; ++t)
-        for (int s = 0; s < 3; ++s) conform(dim, degree, schemes[s], params[s], thetas[t]);
+        for (int s = 0; s < 4; ++s) conform(dim, degree, schemes[s], params[s], thetas[t]);
+}
+END_TEST
+
+/* An ill-posed step (Theta = 1, gamma0 E = 100, tau = 1: c M + K_Theta has
+   negative eigenvalues) is reported as ND_ERR_INDEFINITE by every backend,
+   CHOLMOD's simplicial LDL^T and the LU backends included; the well-posed
+   scene of the conformance test (gamma0 E = 0.01, tau = 0.02) is not. */
+START_TEST(every_backend_reports_an_indefinite_step) {
+  for (int degree = 1; degree <= 2; ++degree)
+    for (int b = 0; b < N_BACKENDS; ++b) {
+      nd_problem p = block_2d_gamma0(degree, ND_SCHEME_HYBRID, NULL, 1.0, 5.0, 1.0);
+      ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, backends[b]));
+      const int status = nd_problem_setup(p);
+      ck_assert_msg(status == ND_ERR_INDEFINITE, "P%d backend %d: setup returned %d (%s)", degree, backends[b], status,
+                    nd_last_error());
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+      p = block_2d(degree, ND_SCHEME_HYBRID, NULL, 1.0);
+      ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, backends[b]));
+      ND_OK_OR_FAIL(nd_problem_setup(p));
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
 }
 END_TEST
 
@@ -103,6 +130,7 @@ int main(void) {
   TCase *tc = tcase_create("conformance");
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, every_backend_gives_the_same_answer);
+  tcase_add_test(tc, every_backend_reports_an_indefinite_step);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
