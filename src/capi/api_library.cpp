@@ -12,17 +12,11 @@ void set_last_error(const std::string &message) { last_error = message; }
 void clear_last_error() { last_error.clear(); }
 
 std::string calls_that_set(unsigned aspects) {
-  static const struct {
-    unsigned aspect;
-    const char *call;
-  } kCalls[] = {{kMaterial, "nd_problem_set_material"},
-                {kNitsche, "nd_problem_set_nitsche"},
-                {kScheme, "nd_problem_set_scheme"},
-                {kTimestep, "nd_problem_set_timestep"}};
-  std::string calls;
-  for (const auto &c : kCalls)
-    if (aspects & c.aspect) calls += (calls.empty() ? "" : ", ") + std::string(c.call);
-  return "(set with " + calls + ")";
+  static const AspectName kCalls[] = {{kMaterial, "nd_problem_set_material"},
+                                      {kNitsche, "nd_problem_set_nitsche"},
+                                      {kScheme, "nd_problem_set_scheme"},
+                                      {kTimestep, "nd_problem_set_timestep"}};
+  return "(set with " + aspect_names(aspects, kCalls) + ")";
 }
 }  // namespace nd
 

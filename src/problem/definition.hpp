@@ -3,6 +3,7 @@
 // declares the aspects it depends on (problem.cpp), so a setter only names
 // its own aspect and what it invalidates follows.
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -77,5 +78,19 @@ class Incomplete : public Error {
 
 // Throws Incomplete when any aspect of `missing` is missing.
 void require_complete(unsigned missing);
+
+// "a, b, c": the names of the aspects in `mask`, from a table of
+// {aspect, name} (the core's words, or the C layer's function names)
+struct AspectName {
+  unsigned aspect;
+  const char *name;
+};
+template <size_t N>
+std::string aspect_names(unsigned mask, const AspectName (&names)[N]) {
+  std::string s;
+  for (const AspectName &n : names)
+    if (mask & n.aspect) s += (s.empty() ? "" : ", ") + std::string(n.name);
+  return s;
+}
 
 }  // namespace nd
