@@ -133,15 +133,13 @@ static void drop(const char *mesh, int dim, int degree, double rho_inf, double t
 }
 
 START_TEST(disk_bounces_with_newton_converging) {
-  for (int degree = 1; degree <= 2; ++degree) {
-    drop(ND_MESH_DIR "/disk_h4.msh", 2, degree, 0.8, 0.1, 32.0);
-    drop(ND_MESH_DIR "/disk_h4.msh", 2, degree, 0.5, 0.1, 32.0);
-  }
+  drop(ND_MESH_DIR "/disk_h4.msh", 2, 1, 0.8, 0.2, 32.0);
+  drop(ND_MESH_DIR "/disk_h4.msh", 2, 2, 0.5, 0.2, 32.0);
 }
 END_TEST
 
 START_TEST(ball_bounces_with_newton_converging) {
-  drop(ND_MESH_DIR "/ball_h4.msh", 3, 1, 0.8, 0.2, 32.0);
+  drop(ND_MESH_DIR "/ball_h4.msh", 3, 1, 0.8, 0.4, 32.0);
 }
 END_TEST
 

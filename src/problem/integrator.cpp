@@ -69,7 +69,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.A_factor->solve(next.U.data());
       next.last_iterations = 1;
     } else {
-      ContactLaw law{&d.contact, def.theta, &scheme, nullptr};
+      ContactLaw law{&d.contact, d.theta, &scheme, nullptr};
       std::vector<double> Pn(d.contact.size());
       for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = law.P(q, old.U.data());
       law.Pn = &Pn;
