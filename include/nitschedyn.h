@@ -68,7 +68,11 @@ extern "C" {
   X(ND_ERR_INTERNAL, -21, "internal error")                                           \
   X(ND_ERR_STATE, -22, "the call is not allowed in the problem's current state")      \
   X(ND_ERR_IO, -23, "a file could not be opened, read or written")                     \
-  X(ND_ERR_FORMAT, -24, "a file is malformed or uses an unsupported format")
+  X(ND_ERR_FORMAT, -24, "a file is malformed or uses an unsupported format")          \
+  X(ND_ERR_NOT_COERCIVE, -25, "K_Theta is not positive semi-definite: gamma0 too large for Theta") \
+  X(ND_ERR_UNSTABLE, -26, "the scheme is unstable with this time step (explicit, or theta < 1/2)") \
+  X(ND_ERR_ENERGY_GROWTH, -27, "the energy guard refused the step: energy grew past the loads' work") \
+  X(ND_ERR_PENETRATION, -28, "the penetration guard refused the step or the initial state")
 
 /* Time schemes for nd_problem_set_scheme: X(name, value, parameters) */
 #define ND_SCHEME_LIST(X)                                                              \
@@ -96,7 +100,9 @@ extern "C" {
   X(ND_ACTIVE_POINTS, 9, "number of contact points with P_q > 0")                      \
   X(ND_MAX_PENETRATION, 10, "max_q (u_n - g0)_+ at the contact points")                \
   X(ND_NEWTON_ITERATIONS_TOTAL, 11, "Newton iterations of all accepted steps")         \
-  X(ND_TIMESTEP, 12, "the time step tau")
+  X(ND_TIMESTEP, 12, "the time step tau")                                             \
+  X(ND_GAMMA0, 13, "gamma0 in use (the automatic value when 0 was set)")               \
+  X(ND_GAMMA0_LIMIT, 14, "largest gamma0 keeping K_Theta >= 0 (element bound; inf if Theta <= 0)")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -107,12 +113,22 @@ extern "C" {
   X(ND_SOLVER_UMFPACK, 4, "SuiteSparse UMFPACK (general sparse LU)")                    \
   X(ND_SOLVER_KLU, 5, "SuiteSparse KLU (general sparse LU)")
 
+/* Guards for nd_problem_set_guard: X(name, value, description) */
+#define ND_GUARD_LIST(X)                                                                \
+  X(ND_GUARD_ENERGY, 1, "factor f: refuse a step with E > f (E^0 + max_k W^k); 0 off; default 2") \
+  X(ND_GUARD_PENETRATION, 2, "refuse a step sinking a point deeper than f h_K; 0 off; default 0.5") \
+  X(ND_GUARD_CRITICAL_TIMESTEP, 3, "1: refuse explicit steps above tau_c (default); 0: allow") \
+  X(ND_GUARD_UNSTABLE_SCHEME, 4, "1: refuse the theta-scheme with theta < 1/2 (default); 0: allow") \
+  X(ND_GUARD_COERCIVITY, 5, "1: refuse Theta > 0 with K_Theta indefinite (default); 0: allow") \
+  X(ND_GUARD_INITIAL_PENETRATION, 6, "1: refuse an initial state inside the obstacle (default); 0: allow")
+
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
 enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
 enum nd_scheme { ND_SCHEME_LIST(ND_ENUM_ENTRY_) };
 enum nd_field { ND_FIELD_LIST(ND_ENUM_ENTRY_) };
 enum nd_scalar { ND_SCALAR_LIST(ND_ENUM_ENTRY_) };
 enum nd_solver { ND_SOLVER_LIST(ND_ENUM_ENTRY_) };
+enum nd_guard { ND_GUARD_LIST(ND_ENUM_ENTRY_) };
 #undef ND_ENUM_ENTRY_
 
 typedef struct nd_mesh_s *nd_mesh;
@@ -167,7 +183,8 @@ ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
 /* normal points from the obstacle towards the body */
 ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
                                            const double *normal);
-/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet) */
+/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet);
+   gamma0 = 0 chooses a safe value (half the coercivity limit, ND_GAMMA0) */
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);
 /* Extra force per FE node (n = node count, n*dim values), e.g. from a coupled
@@ -183,6 +200,8 @@ ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
 ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0,
                                            const double *v0);
 ND_EXPORT int nd_problem_set_monitor(nd_problem p, nd_monitor_fn fn, void *userdata);
+/* Sets or disables (value 0) one of the checks of ND_GUARD_LIST. */
+ND_EXPORT int nd_problem_set_guard(nd_problem p, int guard, double value);
 
 /* ---- problem: queries -------------------------------------------------- */
 /* FE nodes: the mesh vertices first (same numbering), then for P2 one node

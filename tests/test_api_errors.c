@@ -561,8 +561,7 @@ END_TEST
 
 START_TEST(problem_nitsche_timestep) {
   nd_problem p = problem_1d();
-  EXPECT_ERR(nd_problem_set_nitsche(p, 1, 0), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
-             "gamma0");
+  EXPECT_OK(nd_problem_set_nitsche(p, 1, 0)); /* automatic */
   EXPECT_ERR(nd_problem_set_nitsche(p, 1, -0.2), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
              "gamma0");
   EXPECT_ERR(nd_problem_set_nitsche(p, 1, NAN), ND_ERR_NITSCHE, "nd_problem_set_nitsche",
@@ -851,6 +850,25 @@ START_TEST(step_array_lengths) {
 }
 END_TEST
 
+START_TEST(problem_guards) {
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_guard(NULL, ND_GUARD_ENERGY, 2), ND_ERR_NULL, "nd_problem_set_guard", "problem");
+  EXPECT_ERR(nd_problem_set_guard(p, 0, 1), ND_ERR_KEY, "nd_problem_set_guard", "guard 0");
+  EXPECT_ERR(nd_problem_set_guard(p, 7, 1), ND_ERR_KEY, "nd_problem_set_guard", "guard 7");
+  EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_ENERGY, 0.5), ND_ERR_VALUE, "nd_problem_set_guard", ">= 1");
+  EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_ENERGY, NAN), ND_ERR_VALUE, "nd_problem_set_guard", "0 (off)");
+  EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_PENETRATION, -1), ND_ERR_VALUE, "nd_problem_set_guard", "0 (off)");
+  EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_PENETRATION, INFINITY), ND_ERR_VALUE, "nd_problem_set_guard",
+             "finite");
+#define ND_CHECK_GUARD_(name, value, text) \
+  EXPECT_OK(nd_problem_set_guard(p, name, 0)); \
+  EXPECT_OK(nd_problem_set_guard(p, name, 3));
+  ND_GUARD_LIST(ND_CHECK_GUARD_)
+#undef ND_CHECK_GUARD_
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(step_unknown_keys) {
   nd_problem p = nd_test_bar(4, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
   double u[5], x = 0;
@@ -858,7 +876,7 @@ START_TEST(step_unknown_keys) {
   EXPECT_ERR(nd_get_field(p, 4, 5, u), ND_ERR_KEY, "nd_get_field", "field");
   EXPECT_ERR(nd_get_field(p, -1, 5, u), ND_ERR_KEY, "nd_get_field", "field");
   EXPECT_ERR(nd_get_scalar(p, 0, &x), ND_ERR_KEY, "nd_get_scalar", "key");
-  EXPECT_ERR(nd_get_scalar(p, 13, &x), ND_ERR_KEY, "nd_get_scalar", "key");
+  EXPECT_ERR(nd_get_scalar(p, 15, &x), ND_ERR_KEY, "nd_get_scalar", "key");
   EXPECT_ERR(nd_get_scalar(p, -3, &x), ND_ERR_KEY, "nd_get_scalar", "key");
 #define ND_CHECK_KEY_(name, value, text) EXPECT_OK(nd_get_scalar(p, name, &x));
   ND_SCALAR_LIST(ND_CHECK_KEY_)
@@ -1147,6 +1165,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_regions_and_loads);
   tcase_add_loop_test(def, problem_contact_normal_scale, 0, 2);
   tcase_add_test(def, problem_newton_solver);
+  tcase_add_test(def, problem_guards);
   suite_add_tcase(s, def);
 
   TCase *step = tcase_create("stepping_getters");

@@ -104,7 +104,7 @@ END_TEST
 START_TEST(writes_vtu_and_pvd) {
   /* a P2 strip in contact: the file lists every FE node, every cell and the
      contact facets, and the .pvd names its files */
-  const double lo[2] = {0, 0}, hi[2] = {1, 0.25}, blo[2] = {-1, -1}, bhi[2] = {2, 0}, o[2] = {0, 0.01}, up[2] = {0, 1};
+  const double lo[2] = {0, 0}, hi[2] = {1, 0.25}, blo[2] = {-1, -1}, bhi[2] = {2, 0}, o[2] = {0, -0.01}, up[2] = {0, 1};
   const double g[2] = {0, -1};
   nd_mesh m = NULL;
   nd_problem p = NULL;

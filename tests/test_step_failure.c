@@ -2,6 +2,7 @@
  * every scalar and the contact pressure compare equal bit for bit, and the
  * run continues afterwards as if the failure had never happened. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -86,6 +87,11 @@ START_TEST(divergence_is_refused_and_keeps_the_state) {
   const double nm[2] = {0.0, 0.5};
   nd_problem p = nd_test_bar(40, 1, ND_SCHEME_NEWMARK, nm, 1.0, 0.2, 1.0);
   ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+  /* the guards would refuse it long before (test_guards): off, to reach the
+     last line of defence */
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_ENERGY, 0));
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0));
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_CRITICAL_TIMESTEP, 0));
   int status = ND_OK, k = 0;
   snapshot before = take(p);
   for (; k < 100000 && status == ND_OK; ++k) {
@@ -100,6 +106,47 @@ START_TEST(divergence_is_refused_and_keeps_the_state) {
   release(&before);
   release(&after);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* The guards refuse a blow-up long before it overflows, each with its own
+   code, and keep the state: explicit Newmark far above its critical step (the
+   energy guard), and Theta = 0 with a penalty so weak that the bar sinks into
+   the obstacle (the penetration guard). */
+START_TEST(guards_refuse_and_keep_the_state) {
+  const double nm[2] = {0.0, 0.5}, avg[2] = {0.25, 0.5};
+  struct {
+    nd_problem p;
+    int code;
+  } cases[2];
+  cases[0].p = nd_test_bar(40, 1, ND_SCHEME_NEWMARK, nm, 1.0, 0.2, 1.1 / 40); /* tau = 1.1 h */
+  ND_OK_OR_FAIL(nd_problem_set_mass_lumping(cases[0].p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_guard(cases[0].p, ND_GUARD_CRITICAL_TIMESTEP, 0)); /* reach the energy guard */
+  cases[0].code = ND_ERR_ENERGY_GROWTH;
+  cases[1].p = nd_test_bar(40, 1, ND_SCHEME_NEWMARK, avg, 0.0, 1e4, 1.0 / 80);
+  cases[1].code = ND_ERR_PENETRATION;
+  for (int c = 0; c < 2; ++c) {
+    nd_problem p = cases[c].p;
+    int status = ND_OK, k = 0;
+    snapshot before = take(p);
+    for (; k < 1000 && status == ND_OK; ++k) {
+      release(&before);
+      before = take(p);
+      status = nd_step(p);
+    }
+    ck_assert_msg(status == cases[c].code, "case %d: step %d returned %d (%s)", c, k, status, nd_last_error());
+    printf("case %d refused at step %d: %s\n", c, k, nd_last_error());
+    snapshot after = take(p);
+    assert_same(&before, &after);
+    /* and the energy at t^n is within the guard's factor */
+    double E = 0, W = 0, E0 = c == 0 ? 0.125 : 0.125;
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_ENERGY_MECHANICAL, &E));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_WORK, &W));
+    ck_assert_double_le(E, 2 * (E0 + fmax(W, 0)) * (1 + 1e-12));
+    release(&before);
+    release(&after);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
 }
 END_TEST
 
@@ -153,6 +200,7 @@ int main(void) {
   tcase_set_timeout(tc, 60);
   tcase_add_test(tc, newton_failure_keeps_the_state);
   tcase_add_test(tc, divergence_is_refused_and_keeps_the_state);
+  tcase_add_test(tc, guards_refuse_and_keep_the_state);
   tcase_add_test(tc, setup_is_invisible);
   tcase_add_test(tc, setup_reports_an_ill_posed_step);
   suite_add_tcase(s, tc);

@@ -38,7 +38,8 @@ module nitschedyn
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
             nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_linear_solver, &
-            nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor
+            nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor, &
+            nd_problem_set_guard
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
@@ -270,6 +271,15 @@ module nitschedyn
       integer(c_int), value :: max_iter
       integer(c_int) :: status
     end function nd_problem_set_newton
+
+    function nd_problem_set_guard(p, guard, value) result(status) &
+        bind(C, name='nd_problem_set_guard')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: guard
+      real(c_double), value :: value
+      integer(c_int) :: status
+    end function nd_problem_set_guard
 
     function nd_problem_set_mass_lumping(p, lumped) result(status) &
         bind(C, name='nd_problem_set_mass_lumping')

@@ -14,7 +14,7 @@ with a rigid obstacle. Two layers:
 The ND_* constants (e.g. ``ND_SCHEME_HYBRID``, ``ND_ERR_TIMESTEP``) come from
 ``_constants.py``, generated at build time from the X-macro lists of
 nitschedyn.h by the same program that writes the Fortran parameters; the
-dictionaries ``STATUS``, ``SCHEME``, ``FIELD``, ``SCALAR``, ``SOLVER`` map each
+dictionaries ``STATUS``, ``SCHEME``, ``FIELD``, ``SCALAR``, ``SOLVER``, ``GUARD`` map each
 name to ``(value, description)``.
 
 The shared library is found in this order: the path in the environment
@@ -57,7 +57,7 @@ except ImportError:  # nitschedyn.py next to a generated _constants.py
     from _constants import *  # type: ignore # noqa: F401,F403
 
 __all__ = ["Error", "Mesh", "Problem", "write_pvd", "version", "last_error", "strerror", "lib",
-           "STATUS", "SCHEME", "FIELD", "SCALAR", "SOLVER"]
+           "STATUS", "SCHEME", "FIELD", "SCALAR", "SOLVER", "GUARD"]
 __all__ += [name for name in dir(_constants) if name.startswith("ND_")]
 __version__ = _constants.ND_VERSION_STRING
 
@@ -128,6 +128,7 @@ _PROTOTYPES = {
     "nd_problem_set_scheme": (_int, [_ptr, _int, _pdbl]),
     "nd_problem_set_nodal_forces": (_int, [_ptr, _i64, _pdbl]),
     "nd_problem_set_newton": (_int, [_ptr, _dbl, _dbl, _int]),
+    "nd_problem_set_guard": (_int, [_ptr, _int, _dbl]),
     "nd_problem_set_mass_lumping": (_int, [_ptr, _int]),
     "nd_problem_set_linear_solver": (_int, [_ptr, _int]),
     "nd_problem_set_timestep": (_int, [_ptr, _dbl]),
@@ -399,6 +400,10 @@ class Problem(_Handle):
 
     def set_newton(self, rtol, atol, max_iter):
         _check(lib.nd_problem_set_newton(self._h, rtol, atol, max_iter))
+
+    def set_guard(self, guard, value):
+        """An ND_GUARD_* and its value (0 disables it); GUARD describes them."""
+        _check(lib.nd_problem_set_guard(self._h, guard, float(value)))
 
     def set_mass_lumping(self, lumped):
         _check(lib.nd_problem_set_mass_lumping(self._h, int(bool(lumped))))

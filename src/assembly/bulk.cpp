@@ -1,5 +1,6 @@
 #include "assembly/bulk.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "fem/facet.hpp"
@@ -21,46 +22,66 @@ Csr operator_pattern(const Space &s, const DofMap &dofs) {
   return csr_from_rows(std::move(rows));
 }
 
+ElementMatrices::ElementMatrices(const Space &s, const Material &mat)
+    : me(static_cast<size_t>(s.basis.n * s.basis.n)),
+      ke(static_cast<size_t>(s.basis.n * s.dim * s.basis.n * s.dim)),
+      s_(s),
+      lam_(mat.lambda(s.dim)),
+      mu_(mat.mu(s.dim)),
+      rho_(mat.density),
+      mass_rule_(simplex_rule(s.dim, 2 * s.degree)),
+      stiff_rule_(simplex_rule(s.dim, 2 * (s.degree - 1))),
+      phi_(static_cast<size_t>(s.basis.n)),
+      gref_(static_cast<size_t>(s.basis.n * s.dim)),
+      g_(static_cast<size_t>(s.basis.n * s.dim)) {}
+
+void ElementMatrices::compute(int64_t c) {
+  const int nb = s_.basis.n, d = s_.dim;
+  const double lam = lam_, mu = mu_, rho = rho_;
+  const AffineMap map(*s_.mesh, c);
+  det = map.det;
+  std::fill(me.begin(), me.end(), 0.0);
+  std::fill(ke.begin(), ke.end(), 0.0);
+  for (size_t q = 0; q < mass_rule_.size(); ++q) {
+    s_.basis.values(&mass_rule_.points[q * d], phi_.data());
+    const double w = mass_rule_.weights[q] * map.det * rho;
+    for (int i = 0; i < nb; ++i)
+      for (int j = 0; j < nb; ++j) me[i * nb + j] += w * phi_[i] * phi_[j];
+  }
+  const std::vector<double> &g = g_;
+  for (size_t q = 0; q < stiff_rule_.size(); ++q) {
+    s_.basis.gradients(&stiff_rule_.points[q * d], gref_.data());
+    for (int i = 0; i < nb; ++i) map.physical_gradient(&gref_[i * d], &g_[i * d]);
+    const double w = stiff_rule_.weights[q] * map.det;
+    // row (i,a), column (j,b): lambda d_a phi_i d_b phi_j
+    //                          + mu (delta_ab grad phi_i . grad phi_j + d_b phi_i d_a phi_j)
+    for (int i = 0; i < nb; ++i)
+      for (int j = 0; j < nb; ++j) {
+        double gg = 0;
+        for (int k = 0; k < d; ++k) gg += g[i * d + k] * g[j * d + k];
+        for (int a = 0; a < d; ++a)
+          for (int b = 0; b < d; ++b)
+            ke[(i * d + a) * nb * d + j * d + b] +=
+                w * (lam * g[i * d + a] * g[j * d + b] + mu * ((a == b ? gg : 0.0) + g[i * d + b] * g[j * d + a]));
+      }
+  }
+}
+
 BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat) {
   BulkOperators ops;
   ops.M = operator_pattern(s, dofs);
   ops.K = ops.M.zeros_like();
   ops.M_lumped.assign(static_cast<size_t>(dofs.n_free), 0.0);
-  const int nb = s.basis.n, d = s.dim, p = s.degree;
-  const double lam = mat.lambda(d), mu = mat.mu(d), rho = mat.density;
-  const QuadratureRule mass_rule = simplex_rule(d, 2 * p), stiff_rule = simplex_rule(d, 2 * (p - 1));
-  std::vector<double> phi(nb), gref(nb * d), g(nb * d), me(nb * nb), ke(nb * d * nb * d);
+  const int nb = s.basis.n, d = s.dim;
+  const double rho = mat.density;
+  ElementMatrices em(s, mat);
+  const std::vector<double> &me = em.me, &ke = em.ke;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
-    const AffineMap map(*s.mesh, c);
-    std::fill(me.begin(), me.end(), 0.0);
-    std::fill(ke.begin(), ke.end(), 0.0);
-    for (size_t q = 0; q < mass_rule.size(); ++q) {
-      s.basis.values(&mass_rule.points[q * d], phi.data());
-      const double w = mass_rule.weights[q] * map.det * rho;
-      for (int i = 0; i < nb; ++i)
-        for (int j = 0; j < nb; ++j) me[i * nb + j] += w * phi[i] * phi[j];
-    }
-    for (size_t q = 0; q < stiff_rule.size(); ++q) {
-      s.basis.gradients(&stiff_rule.points[q * d], gref.data());
-      for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
-      const double w = stiff_rule.weights[q] * map.det;
-      // row (i,a), column (j,b): lambda d_a phi_i d_b phi_j
-      //                          + mu (delta_ab grad phi_i . grad phi_j + d_b phi_i d_a phi_j)
-      for (int i = 0; i < nb; ++i)
-        for (int j = 0; j < nb; ++j) {
-          double gg = 0;
-          for (int k = 0; k < d; ++k) gg += g[i * d + k] * g[j * d + k];
-          for (int a = 0; a < d; ++a)
-            for (int b = 0; b < d; ++b)
-              ke[(i * d + a) * nb * d + j * d + b] +=
-                  w * (lam * g[i * d + a] * g[j * d + b] +
-                       mu * ((a == b ? gg : 0.0) + g[i * d + b] * g[j * d + a]));
-        }
-    }
+    em.compute(c);
     // HRZ lumping: the consistent diagonal scaled to the element's mass
     double diag = 0;
     for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
-    const double cell_mass = rho * map.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
+    const double cell_mass = rho * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
     const int64_t *nodes = s.nodes_of(c);
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) {

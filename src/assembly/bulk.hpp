@@ -17,6 +17,22 @@ struct NeumannLoad {
 // The pattern shared by all operators: every pair of free DOFs of a cell.
 Csr operator_pattern(const Space &s, const DofMap &dofs);
 
+// The element mass (nb x nb, scalar, times rho) and stiffness (nb*dim
+// squared, row (i,a), column (j,b)) of one cell, over all its local DOFs.
+class ElementMatrices {
+ public:
+  ElementMatrices(const Space &s, const Material &mat);
+  void compute(int64_t cell);  // fills me, ke and det
+  std::vector<double> me, ke;
+  double det = 0;  // of the cell's affine map
+
+ private:
+  const Space &s_;
+  double lam_, mu_, rho_;
+  QuadratureRule mass_rule_, stiff_rule_;
+  std::vector<double> phi_, gref_, g_;
+};
+
 struct BulkOperators {
   Csr M, K;
   std::vector<double> M_lumped;  // diagonal, HRZ (row sums for P1)

@@ -45,6 +45,7 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
         cp.s.push_back(std::move(s));
         cp.w.push_back(fp.weight);
         cp.gamma.push_back(gamma0 * h);
+        cp.h.push_back(h);
         cp.gap.push_back(gap);
         cp.facet.push_back(b);
         for (int k = 0; k < d; ++k) cp.x.push_back(fp.x[k]);

@@ -32,6 +32,7 @@ struct ContactPlane {
 struct ContactPoints {
   std::vector<SparseRow> a, s;
   std::vector<double> w, gamma, gap, x;  // x: n * dim
+  std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
   std::vector<int64_t> facet;            // index into Mesh::boundary
   size_t size() const { return w.size(); }
 };

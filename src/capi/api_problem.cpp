@@ -91,7 +91,8 @@ ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0) 
   return nd::guarded("nd_problem_set_nitsche", [&] {
     nd::Problem &pr = nd::problem_of(p);
     need_range(std::isfinite(theta), ND_ERR_NITSCHE, "theta must be finite");
-    need_range(std::isfinite(gamma0) && gamma0 > 0, ND_ERR_NITSCHE, "gamma0 must be positive and finite");
+    need_range(std::isfinite(gamma0) && gamma0 >= 0, ND_ERR_NITSCHE,
+               "gamma0 must be finite and positive, or 0 for an automatic choice");
     pr.set_nitsche(theta, gamma0);
     return ND_OK;
   });
@@ -165,6 +166,15 @@ ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double
     if (u0) nd::need_finite(u0, n * pr.space().dim, "u0");
     if (v0) nd::need_finite(v0, n * pr.space().dim, "v0");
     pr.set_initial_state(u0, v0);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_guard(nd_problem p, int guard, double value) {
+  return nd::guarded("nd_problem_set_guard", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need_member(ND_IS_MEMBER_(ND_GUARD_LIST, guard), ND_ERR_KEY, "guard", guard, "ND_GUARD_*");
+    pr.set_guard(guard, value);
     return ND_OK;
   });
 }

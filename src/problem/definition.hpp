@@ -29,6 +29,14 @@ enum Aspect : unsigned {
   kNodal = 1u << 8,     // nodal forces
   kInitial = 1u << 9,   // u0, v0
   kNewton = 1u << 10,
+  kGuards = 1u << 12,
+};
+
+// What the library checks (DESIGN §3b); nd_problem_set_guard sets them.
+struct Guards {
+  double energy = 2;         // E <= f (E^0 + max_k W^k); 0: off
+  double penetration = 0.5;  // u_n - g0 <= f h_K; 0: off
+  bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
 };
 
 struct Definition {
@@ -38,7 +46,7 @@ struct Definition {
   double body_force[3] = {0, 0, 0};
   std::vector<NeumannLoad> neumann;
   std::vector<ContactPlane> planes;
-  double theta = 1, gamma0 = 0;
+  double theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
   int scheme = 0;  // ND_SCHEME_*
   std::vector<double> scheme_params;
   double tau = 0;
@@ -46,6 +54,7 @@ struct Definition {
   bool lumped = false;
   int solver = ND_SOLVER_AUTO;
   std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
+  Guards guards;
   unsigned given = 0;                 // the aspects set so far
 
   // The aspects still missing for the operators (material; Nitsche

@@ -1,6 +1,11 @@
 #include "problem/discretization.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "assembly/bulk.hpp"
+#include "assembly/coercivity.hpp"
+#include "common/format.hpp"
 #include "assembly/nitsche.hpp"
 #include "solve/contact_law.hpp"
 
@@ -18,14 +23,52 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   } else {
     d->M = std::move(bulk.M);
   }
-  d->contact = assemble_contact(space, d->dofs, def.material, def.planes, def.gamma0);
+  const bool automatic = def.gamma0 == 0;
+  d->contact = assemble_contact(space, d->dofs, def.material, def.planes, automatic ? 1.0 : def.gamma0);
+  d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
   d->theta = def.theta;
+  d->gamma0 = def.gamma0;
+  if (automatic && d->contact.size() > 0) {
+    if (!(d->gamma0_limit > 0 && std::isfinite(d->gamma0_limit)))
+      fail(ND_ERR_NITSCHE, "no automatic gamma0: the coercivity limit is " + num(d->gamma0_limit));
+    d->gamma0 = kAutomaticGamma0Fraction * d->gamma0_limit / std::max(def.theta, 1.0);
+    for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
+  }
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
   return d;
 }
 
 std::vector<double> constant_load(const Space &space, const Discretization &d, const Definition &def) {
   return assemble_load(space, d.dofs, def.has_body_force ? def.body_force : nullptr, def.neumann);
+}
+
+void check_coercivity(Discretization &d, int solver) {
+  if (d.coercive || !(d.theta > 0) || d.theta * d.gamma0 <= d.gamma0_limit) {
+    d.coercive = true;
+    return;
+  }
+  // K_Theta's kernel (rigid motions of a free body) is lifted by delta M,
+  // far above round-off and far below any eigenvalue of the Nitsche term
+  // that matters for growth in time.
+  double kmax = 0, mmax = 0;
+  for (int64_t i = 0; i < d.K.n; ++i) {
+    kmax = std::max(kmax, d.K.val[d.K.find(i, i)]);
+    mmax = std::max(mmax, d.M.val[d.M.find(i, i)]);
+  }
+  Csr A;
+  csr_combine(1.0, d.K_theta, 1e-10 * kmax / mmax, d.M, A);
+  auto f = make_factorization(solver, A, Structure::SymmetricPositiveDefinite);
+  try {
+    f->factor(A, Structure::SymmetricPositiveDefinite);
+  } catch (const Error &e) {
+    if (e.code() != ND_ERR_INDEFINITE) throw;
+    fail(ND_ERR_NOT_COERCIVE, "K_Theta = K - Theta sum_q w_q gamma_q s_q s_q^T: " + std::string(e.what()) +
+                                  "; the free motion would grow exponentially. With Theta = " + num(d.theta) +
+                                  ", gamma0 = " + num(d.gamma0) + " exceeds the coercivity limit: gamma0 <= " +
+                                  num(d.gamma0_limit / d.theta) +
+                                  " is safe (element bound), and gamma0 = 0 chooses one automatically");
+  }
+  d.coercive = true;
 }
 
 void Discretization::mass_solve(double *x, int solver) {

@@ -23,6 +23,9 @@ struct Discretization {
   Csr K, K_theta;                // K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
   ContactPoints contact;
   double theta = 1;
+  double gamma0 = 0;        // in use (chosen here when the definition asks for it)
+  double gamma0_limit = 0;  // gamma0* at Theta = 1 (DESIGN §3b.1); +inf without contact
+  bool coercive = false;    // K_Theta checked positive semi-definite
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
 
   void mass_solve(double *x, int solver);
@@ -30,7 +33,13 @@ struct Discretization {
   void equilibrium_acceleration(State &s, int solver);
 };
 
+// The automatic gamma0: this fraction of gamma0*/max(Theta, 1).
+constexpr double kAutomaticGamma0Fraction = 0.5;
+
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def);
+// With Theta > 0 and Theta gamma0 above the element bound, the exact check:
+// K_Theta + delta M must factor as positive definite (ND_ERR_NOT_COERCIVE).
+void check_coercivity(Discretization &d, int solver);
 // The constant load on the free DOFs: body force and tractions (empty: none).
 std::vector<double> constant_load(const Space &space, const Discretization &d, const Definition &def);
 

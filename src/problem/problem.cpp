@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <limits>
+
+#include "common/format.hpp"
 #include "monitor/energies.hpp"
+#include "monitor/guards.hpp"
 
 namespace nd {
 
@@ -132,6 +136,40 @@ void Problem::set_initial_state(const double *u0, const double *v0) {
   changed(kInitial);
 }
 
+void Problem::set_guard(int guard, double value) {
+  Guards &g = def_.guards;
+  const bool on = value != 0;
+  auto need_factor = [&](double lo) {
+    if (!(value == 0 || (value >= lo && std::isfinite(value))))
+      fail(ND_ERR_VALUE, "the guard's value is " + num(value) + "; it must be 0 (off) or a finite number >= " + num(lo));
+  };
+  switch (guard) {
+    case ND_GUARD_ENERGY:
+      need_factor(1);
+      g.energy = value;
+      break;
+    case ND_GUARD_PENETRATION:
+      need_factor(0);
+      g.penetration = value;
+      break;
+    case ND_GUARD_CRITICAL_TIMESTEP:
+      g.critical_timestep = on;
+      break;
+    case ND_GUARD_UNSTABLE_SCHEME:
+      g.unstable_scheme = on;
+      break;
+    case ND_GUARD_COERCIVITY:
+      g.coercivity = on;
+      break;
+    case ND_GUARD_INITIAL_PENETRATION:
+      g.initial_penetration = on;
+      break;
+    default:
+      fail(ND_ERR_KEY, "guard " + std::to_string(guard) + " is not an ND_GUARD_* value");
+  }
+  changed(kGuards);
+}
+
 // ---- derived objects ------------------------------------------------------------
 
 Discretization &Problem::discretization_() {
@@ -181,7 +219,13 @@ void Problem::setup() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
   Discretization &d = discretization_();
   Integrator &in = integrator_or_build();
+  if (def_.guards.unstable_scheme && in.scheme->always_unstable())
+    fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
+                          "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
+                          "gamma >= 1/2, or allow it with the unstable-scheme guard for a study");
+  if (def_.guards.coercivity) check_coercivity(d, def_.solver);
   state();
+  if (state_.n == 0) guard_initial_state(d, def_.guards, state_);
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) d.equilibrium_acceleration(state_, def_.solver);
 }
@@ -189,6 +233,7 @@ void Problem::setup() {
 void Problem::step() {
   setup();
   State next = advance(*integrator_, *disc_, def_, state_, current_load());
+  guard_step(*disc_, def_.guards, state_, next);
   state_ = std::move(next);
 }
 
@@ -220,6 +265,12 @@ double Problem::scalar(int key) {
       return state().W;
     case ND_TIMESTEP:
       return def_.tau;
+    case ND_GAMMA0:
+      return discretization_().gamma0;
+    case ND_GAMMA0_LIMIT: {
+      const Discretization &d = discretization_();
+      return d.theta > 0 ? d.gamma0_limit / d.theta : std::numeric_limits<double>::infinity();
+    }
     default:
       break;
   }

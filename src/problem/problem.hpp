@@ -34,6 +34,7 @@ class Problem {
   void set_linear_solver(int solver);
   void set_timestep(double tau);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
+  void set_guard(int guard, double value);  // an ND_GUARD_* and its value
 
   // ---- queries
   const Space &space() const { return space_; }

@@ -11,6 +11,8 @@ class Newmark : public TimeScheme {
  public:
   Newmark(double beta, double gamma) : beta_(beta), gamma_(gamma) {}
   bool is_explicit() const override { return beta_ == 0; }
+  // gamma < 1/2 is negative numerical damping: growth at every step size
+  bool always_unstable() const override { return gamma_ < 0.5; }
   StepCoefficients coefficients(double tau) const override { return {1 / (beta_ * tau * tau), 1}; }
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
     const double c = coefficients(tau).c;

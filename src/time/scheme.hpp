@@ -29,6 +29,9 @@ class TimeScheme {
  public:
   virtual ~TimeScheme() = default;
   virtual bool is_explicit() const = 0;
+  // Amplifies every undamped oscillation whatever the step (theta < 1/2,
+  // Newmark gamma < 1/2): refused unless the caller insists.
+  virtual bool always_unstable() const { return false; }
   // Does the state carry A^n (Remark 3.2 at t^0)? The hybrid scheme needs none.
   virtual bool uses_acceleration() const { return true; }
   virtual StepCoefficients coefficients(double tau) const = 0;  // implicit schemes

@@ -5,6 +5,14 @@
 
 namespace nd {
 
+// What the energy guard carries from step to step (src/monitor/guards.hpp).
+struct GuardState {
+  double E0 = 0;      // mechanical energy at t^0
+  double budget = 0;  // E^0 + max_k W^k: the most energy the loads have put in
+  double u2 = -1, v2 = -1;  // |U|^2, |V|^2 when the energy was last evaluated (-1: never)
+  int since = 0;            // steps since then
+};
+
 struct State {
   double t = 0;
   int64_t n = 0;
@@ -14,6 +22,7 @@ struct State {
   double W = 0;
   int last_iterations = 0;
   int64_t total_iterations = 0;
+  GuardState guard;
 };
 
 }  // namespace nd

@@ -11,6 +11,8 @@ class Theta : public TimeScheme {
  public:
   explicit Theta(double theta) : th_(theta) {}
   bool is_explicit() const override { return th_ == 0; }
+  // |1 + (1-theta) i w tau| > |1 - theta i w tau| for every w tau > 0
+  bool always_unstable() const override { return th_ < 0.5; }
   StepCoefficients coefficients(double tau) const override { return {1 / (tau * tau * th_ * th_), 1}; }
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
     const double c = coefficients(tau).c;

@@ -1,0 +1,92 @@
+#include "assembly/coercivity.hpp"
+
+#include <lapacke.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <vector>
+
+#include "assembly/bulk.hpp"
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+namespace {
+
+// Largest lambda with S x = lambda K x, K symmetric positive semi-definite
+// (m x m, row-major, destroyed). Infinity if S does not vanish on K's kernel.
+double largest_relative_eigenvalue(int m, std::vector<double> &K, const std::vector<double> &S) {
+  std::vector<double> w(static_cast<size_t>(m));
+  if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'V', 'U', m, K.data(), m, w.data()) != 0)
+    fail(ND_ERR_INTERNAL, "the element stiffness eigenproblem failed");
+  const double kmax = w[m - 1], tol = 1e-10 * kmax;
+  // S in K's eigenbasis: B = V^T S V (columns of V are K's eigenvectors)
+  std::vector<double> SV(static_cast<size_t>(m * m), 0.0), B(static_cast<size_t>(m * m), 0.0);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      for (int k = 0; k < m; ++k) SV[i * m + j] += S[i * m + k] * K[k * m + j];
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      for (int k = 0; k < m; ++k) B[i * m + j] += K[k * m + i] * SV[k * m + j];
+  double smax = 0;
+  for (int i = 0; i < m; ++i) smax = std::max(smax, std::fabs(B[i * m + i]));
+  // the kernel modes: S must vanish there, else no gamma0 > 0 keeps K_e - gamma0 S >= 0
+  int r = 0;
+  while (r < m && w[r] <= tol) ++r;
+  for (int i = 0; i < r; ++i)
+    if (std::fabs(B[i * m + i]) > 1e-8 * smax) return std::numeric_limits<double>::infinity();
+  // scaled reduced problem: Lambda^{-1/2} B_rr Lambda^{-1/2}
+  const int n = m - r;
+  if (n == 0) return 0;
+  std::vector<double> C(static_cast<size_t>(n * n)), e(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      C[i * n + j] = B[(r + i) * m + (r + j)] / std::sqrt(w[r + i] * w[r + j]);
+  if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'N', 'U', n, C.data(), n, e.data()) != 0)
+    fail(ND_ERR_INTERNAL, "the element coercivity eigenproblem failed");
+  return std::max(e[n - 1], 0.0);
+}
+
+}  // namespace
+
+double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, const ContactPoints &cp) {
+  // the contact points of each cell
+  std::map<int64_t, std::vector<size_t>> by_cell;
+  for (size_t q = 0; q < cp.size(); ++q) by_cell[s.mesh->boundary[cp.facet[q]].cell].push_back(q);
+  double limit = std::numeric_limits<double>::infinity();
+  ElementMatrices em(s, mat);
+  const int nb = s.basis.n, d = s.dim;
+  for (const auto &[cell, points] : by_cell) {
+    em.compute(cell);
+    // the cell's free DOFs: local position -> free index
+    const int64_t *nodes = s.nodes_of(cell);
+    std::vector<int> local;  // positions (i*d + a) that are free
+    std::map<int64_t, int> where;
+    for (int i = 0; i < nb * d; ++i) {
+      const int64_t f = dofs.free[nodes[i / d] * d + i % d];
+      if (f < 0) continue;
+      where[f] = static_cast<int>(local.size());
+      local.push_back(i);
+    }
+    const int m = static_cast<int>(local.size());
+    if (m == 0) continue;
+    std::vector<double> K(static_cast<size_t>(m * m)), S(static_cast<size_t>(m * m), 0.0);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) K[i * m + j] = em.ke[local[i] * nb * d + local[j]];
+    const double h = s.mesh->cell_diameter(cell);
+    for (size_t q : points) {
+      const SparseRow &row = cp.s[q];
+      for (size_t a = 0; a < row.idx.size(); ++a)
+        for (size_t b = 0; b < row.idx.size(); ++b)
+          S[where.at(row.idx[a]) * m + where.at(row.idx[b])] += h * cp.w[q] * row.val[a] * row.val[b];
+    }
+    const double lambda = largest_relative_eigenvalue(m, K, S);
+    if (lambda > 0) limit = std::min(limit, 1 / lambda);
+    if (std::isinf(lambda)) limit = 0;
+  }
+  return limit;
+}
+
+}  // namespace nd

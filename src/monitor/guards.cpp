@@ -1,0 +1,94 @@
+#include "monitor/guards.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/format.hpp"
+#include "monitor/energies.hpp"
+
+namespace nd {
+namespace {
+
+constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
+constexpr double kNormGrowth = 1.21;            // |.|^2: 10 % in norm
+constexpr int kEnergyEvery = 16;
+
+double squared(const std::vector<double> &x) {
+  double s = 0;
+  for (double v : x) s += v * v;
+  return s;
+}
+
+// the deepest point relative to its cell size: (penetration / h, index)
+std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
+  const ContactPoints &cp = d.contact;
+  std::pair<double, size_t> worst{-INFINITY, 0};
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const double r = (cp.a[q].dot(s.U.data()) - cp.gap[q]) / cp.h[q];
+    if (r > worst.first) worst = {r, q};
+  }
+  return worst;
+}
+
+std::string point(const Discretization &d, size_t q) {
+  const int dim = static_cast<int>(d.contact.x.size() / d.contact.size());
+  std::string at = "(";
+  for (int k = 0; k < dim; ++k) at += (k ? ", " : "") + num(d.contact.x[q * dim + k]);
+  return at + ")";
+}
+
+}  // namespace
+
+void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
+  if (g.initial_penetration && d.contact.size() > 0) {
+    const auto [r, q] = deepest(d, s);
+    if (r > kInitialPenetration)
+      fail(ND_ERR_PENETRATION, "the initial state penetrates the obstacle by " + num(r * d.contact.h[q]) +
+                                   " at contact point " + std::to_string(q) + " " + point(d, q) +
+                                   " (cell size " + num(d.contact.h[q]) +
+                                   "); move the body or the obstacle, or allow it with the initial-penetration guard");
+  }
+  s.guard = GuardState{};
+  s.guard.E0 = mechanical_energy(d, s);
+  s.guard.budget = s.guard.E0;
+  if (!std::isfinite(s.guard.E0)) fail(ND_ERR_NONFINITE_STATE, "the initial energy is not finite");
+}
+
+void guard_step(const Discretization &d, const Guards &g, const State &old, State &next) {
+  GuardState &gs = next.guard;
+  gs = old.guard;
+  gs.budget = std::max(gs.budget, gs.E0 + next.W);
+  if (g.penetration > 0 && d.contact.size() > 0) {
+    const auto [r, q] = deepest(d, next);
+    if (r > g.penetration)
+      fail(ND_ERR_PENETRATION, "the step to t = " + num(next.t) + " sinks contact point " + std::to_string(q) + " " +
+                                   point(d, q) + " " + num(r * d.contact.h[q]) + " into the obstacle, more than " +
+                                   num(g.penetration) + " of its cell size " + num(d.contact.h[q]) +
+                                   ": the penalty is too weak (lower gamma0, or gamma0 = 0 for an automatic one) or "
+                                   "the step too large; the step was not taken");
+  }
+  if (!(g.energy > 0)) return;
+  const double u2 = squared(next.U), v2 = squared(next.V);
+  const bool due = gs.u2 < 0 || u2 > kNormGrowth * gs.u2 || v2 > kNormGrowth * gs.v2 || gs.since + 1 >= kEnergyEvery;
+  if (!due) {
+    ++gs.since;
+    return;
+  }
+  const double E = mechanical_energy(d, next);
+  if (!std::isfinite(E))
+    fail(ND_ERR_NONFINITE_STATE, "the energy after the step to t = " + num(next.t) +
+                                     " is not finite; the step was not taken");
+  if (E > g.energy * gs.budget)
+    fail(ND_ERR_ENERGY_GROWTH,
+         "the step to t = " + num(next.t) + " raises the mechanical energy to " + num(E) + ", more than " +
+             num(g.energy) + " times the energy put in (E^0 + W = " + num(gs.budget) +
+             "): the scheme is unstable here. Lower the time step (explicit schemes: below the critical step), "
+             "lower gamma0 (gamma0 = 0 chooses a safe one), or use a dissipative or the hybrid scheme; "
+             "the step was not taken");
+  gs.u2 = u2;
+  gs.v2 = v2;
+  gs.since = 0;
+}
+
+}  // namespace nd

@@ -1,0 +1,23 @@
+// The guards of DESIGN §3b: a step that would silently blow up, sink into the
+// obstacle or start inside it is refused with its own code and a message
+// saying what to change. They read the state and the discretization only.
+#pragma once
+#include "problem/definition.hpp"
+#include "problem/discretization.hpp"
+#include "time/state.hpp"
+
+namespace nd {
+
+// At t^0: the initial penetration (beyond round-off, 1e-10 h_K) and the
+// energy reference E^0. Throws ND_ERR_PENETRATION.
+void guard_initial_state(const Discretization &d, const Guards &g, State &s);
+
+// After a step old -> next: penetration deeper than the guard's fraction of
+// h_K (ND_ERR_PENETRATION); mechanical energy above f (E^0 + max_k W^k)
+// (ND_ERR_ENERGY_GROWTH) or not finite (ND_ERR_NONFINITE_STATE). The energy
+// costs two sparse products, so it is evaluated only when |U| or |V| grew by
+// more than 10 % since its last evaluation, and at least every 16 steps: an
+// instability grows every norm. Updates next.guard.
+void guard_step(const Discretization &d, const Guards &g, const State &old, State &next);
+
+}  // namespace nd
