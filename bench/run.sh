@@ -24,3 +24,10 @@ for entry in $list; do
   done
 done
 echo "written: $out"
+# what the guards cost a free-flight step (DESIGN §3b: at most 5 %)
+guards=$(dirname "$out")/guard_cost.csv
+echo "degree,unknowns,median_step_ms_guarded,median_step_ms_unguarded,relative_cost,energy_evaluation_over_step" > "$guards"
+for degree in 1 2; do
+  "$build/guard_cost" "$meshes/disk_h1.msh" "$degree" >> "$guards"
+done
+cat "$guards"
