@@ -7,13 +7,15 @@
 #   make bench      run the benchmarks (bench/run.sh), results in bench/results/
 #   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
+#   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
+#   make stability-quick  its small plan (a test of make check too): $(BUILD)/stability-quick/
 #   make meshes     regenerate examples/meshes/*.msh from the .geo sources (gmsh)
 BUILD    ?= build
 PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench report report-quick report-deps abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -62,6 +64,13 @@ report: all report-deps
 report-quick: all report-deps
 	$(REPORT_PY) tools/report/run.py --quick --build $(BUILD) --out $(BUILD)/report-quick
 	$(REPORT_PY) tools/report/make_report.py --data $(BUILD)/report-quick/data --out $(BUILD)/report-quick
+
+# The stability suite (tools/stability): stiff and extreme cases, no silent failure.
+stability: all
+	$(REPORT_PY) tools/stability/run.py --build $(BUILD) --out report
+
+stability-quick: all
+	$(REPORT_PY) tools/stability/run.py --quick --build $(BUILD) --out $(BUILD)/stability-quick
 
 # Regenerate the committed reference meshes (needs Debian's gmsh).
 MESHES = examples/meshes

@@ -7,12 +7,19 @@
 namespace nd {
 
 double mechanical_energy(const Discretization &d, const State &s) {
-  const int64_t n = static_cast<int64_t>(s.U.size());
-  std::vector<double> y(n);
-  d.M.multiply(s.V.data(), y.data());
-  double E = 0.5 * dot(n, s.V.data(), y.data());
-  d.K.multiply(s.U.data(), y.data());
-  return E + 0.5 * dot(n, s.U.data(), y.data());
+  // M and K share one pattern (lumped M included): one pass over it
+  const Csr &M = d.M, &K = d.K;
+  double kinetic = 0, strain = 0;
+  for (int64_t i = 0; i < K.n; ++i) {
+    double mv = 0, ku = 0;
+    for (int64_t k = K.ptr[i]; k < K.ptr[i + 1]; ++k) {
+      mv += M.val[k] * s.V[K.col[k]];
+      ku += K.val[k] * s.U[K.col[k]];
+    }
+    kinetic += s.V[i] * mv;
+    strain += s.U[i] * ku;
+  }
+  return 0.5 * kinetic + 0.5 * strain;
 }
 
 double nitsche_energy(const Discretization &d, const State &s) {

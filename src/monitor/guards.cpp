@@ -11,15 +11,6 @@ namespace nd {
 namespace {
 
 constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
-constexpr double kNormGrowth = 1.21;            // |.|^2: 10 % in norm
-constexpr int kEnergyEvery = 16;
-
-double squared(const std::vector<double> &x) {
-  double s = 0;
-  for (double v : x) s += v * v;
-  return s;
-}
-
 // the deepest point relative to its cell size: (penetration / h, index)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
@@ -69,12 +60,6 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
                                    "the step too large; the step was not taken");
   }
   if (!(g.energy > 0)) return;
-  const double u2 = squared(next.U), v2 = squared(next.V);
-  const bool due = gs.u2 < 0 || u2 > kNormGrowth * gs.u2 || v2 > kNormGrowth * gs.v2 || gs.since + 1 >= kEnergyEvery;
-  if (!due) {
-    ++gs.since;
-    return;
-  }
   const double E = mechanical_energy(d, next);
   if (!std::isfinite(E))
     fail(ND_ERR_NONFINITE_STATE, "the energy after the step to t = " + num(next.t) +
@@ -86,9 +71,6 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
              "): the scheme is unstable here. Lower the time step (explicit schemes: below the critical step), "
              "lower gamma0 (gamma0 = 0 chooses a safe one), or use a dissipative or the hybrid scheme; "
              "the step was not taken");
-  gs.u2 = u2;
-  gs.v2 = v2;
-  gs.since = 0;
 }
 
 }  // namespace nd

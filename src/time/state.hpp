@@ -9,8 +9,6 @@ namespace nd {
 struct GuardState {
   double E0 = 0;      // mechanical energy at t^0
   double budget = 0;  // E^0 + max_k W^k: the most energy the loads have put in
-  double u2 = -1, v2 = -1;  // |U|^2, |V|^2 when the energy was last evaluated (-1: never)
-  int since = 0;            // steps since then
 };
 
 struct State {

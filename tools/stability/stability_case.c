@@ -1,0 +1,165 @@
+/* stability_case - one run of the stability suite (tools/stability/run.py):
+ * a scene, a degree, a scheme, Theta and gamma0 E, marched with the library's
+ * default guards, and judged independently of them. Prints one CSV row:
+ *
+ *   scene,degree,scheme,Theta,gamma0E,tau,steps_planned,outcome,code,step,
+ *   energy_growth,max_penetration_over_h,late,newton_per_step,wall_s,theory,message
+ *
+ * outcome: completed | refused_at_setup | stopped_at_step | silent_failure.
+ * A run is a silent failure when every call returned ND_OK although, by this
+ * program's own measurement, the mechanical energy passed 2 (E^0 + max_k W^k)
+ * (the guard's default factor), became non-finite, or a contact point sank
+ * deeper than half its cell size: what the guards exist to catch. late: the
+ * steps accepted past those limits before a guard stopped the run.
+ * theory: for the hybrid scheme with Theta = 1, whether E_Theta - W never
+ * increased (part 2 of the paper), else "-".
+ *
+ * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR
+ *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "nitschedyn.h"
+
+static double get(nd_problem p, int key) {
+  double x = NAN;
+  nd_get_scalar(p, key, &x);
+  return x;
+}
+
+static const char *code_name(int code) {
+#define ND_NAME_CASE_(name, value, text) \
+  case name:                             \
+    return #name;
+  switch (code) { ND_STATUS_LIST(ND_NAME_CASE_) }
+#undef ND_NAME_CASE_
+  return "unknown";
+}
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int main(int argc, char **argv) {
+  if (argc != 7) {
+    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR\n", argv[0]);
+    return 2;
+  }
+  const char *scene = argv[1], *scheme_name = argv[3];
+  const int degree = atoi(argv[2]);
+  const double Theta = atof(argv[4]), gamma0E = atof(argv[5]);
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  double E = 1, nu = 0.3, h = 0, tau = 0, T = 0;
+  int st = ND_OK;
+  double g[3] = {0, 0, 0}, origin[3] = {0, 0, 0}, up[3] = {0, 0, 0};
+  if (!strcmp(scene, "bar")) { /* DESIGN §7: clamped at x = 1, u0 = (1-x)/2 */
+    const double lo[2] = {-0.5, 0.5}, hi[2] = {0.5, 1.5};
+    h = 1.0 / 40, tau = h / 2, T = 6;
+    st = nd_mesh_create_interval(40, 0, 1, &m);
+    if (!st) st = nd_mesh_mark_boundary_box(m, 1, &lo[0], &hi[0]);
+    if (!st) st = nd_mesh_mark_boundary_box(m, 2, &lo[1], &hi[1]);
+    up[0] = 1;
+  } else if (!strcmp(scene, "rect")) { /* a free 16 x 4 block, 0.05 above the plane, falling at 0.5 */
+    const double lo[2] = {0, 0.05}, hi[2] = {4, 1.05}, blo[2] = {-1, 0}, bhi[2] = {5, 0.05};
+    h = 0.25 * sqrt(2.0), tau = 0.02, T = 4;
+    st = nd_mesh_create_rectangle(16, 4, lo, hi, &m);
+    if (!st) st = nd_mesh_mark_boundary_box(m, 1, blo, bhi);
+    up[1] = 1;
+  } else { /* the disk of DESIGN §7, h = 4 */
+    char path[1024];
+    snprintf(path, sizeof path, "%s/disk_h4.msh", argv[6]);
+    E = 50, nu = 0.25, h = 4, tau = 0.1, T = 32;
+    g[1] = -0.1, up[1] = 1;
+    st = nd_mesh_read_gmsh(path, &m);
+  }
+  if (!st) st = nd_problem_create(m, degree, &p);
+  nd_mesh_destroy(&m);
+  if (!st) st = nd_problem_set_material(p, E, nu, 1.0);
+  if (!st && !strcmp(scene, "bar")) st = nd_problem_set_dirichlet(p, 2);
+  if (!st && !strcmp(scene, "disk")) st = nd_problem_set_body_force(p, g);
+  if (!st) st = nd_problem_set_contact_plane(p, 1, origin, up);
+  if (!st) st = nd_problem_set_nitsche(p, Theta, gamma0E / E);
+  const double nm[2] = {0.25, 0.5}, nme[2] = {0, 0.5}, th1 = 1, rho = 0.8;
+  int scheme = ND_SCHEME_HYBRID;
+  const double *params = NULL;
+  if (!strcmp(scheme_name, "newmark")) scheme = ND_SCHEME_NEWMARK, params = nm;
+  if (!strcmp(scheme_name, "theta1")) scheme = ND_SCHEME_THETA, params = &th1;
+  if (!strcmp(scheme_name, "galpha")) scheme = ND_SCHEME_GENERALIZED_ALPHA, params = &rho;
+  if (!strcmp(scheme_name, "explicit")) { /* explicit Newmark, lumped mass, tau at a quarter of the node spacing */
+    scheme = ND_SCHEME_NEWMARK, params = nme;
+    tau = 0.25 * h / degree / sqrt(E);
+    if (!st) st = nd_problem_set_mass_lumping(p, 1);
+  }
+  if (!st) st = nd_problem_set_scheme(p, scheme, params);
+  if (!st) st = nd_problem_set_timestep(p, tau);
+  if (st) {
+    fprintf(stderr, "%s\n", nd_last_error());
+    return 1;
+  }
+  /* a rectangle at rest needs its initial velocity: towards the plane */
+  int64_t n = 0;
+  nd_problem_get_node_count(p, &n);
+  if (!strcmp(scene, "rect")) {
+    double *v0 = calloc((size_t)(2 * n), sizeof(double));
+    for (int64_t i = 0; i < n; ++i) v0[2 * i + 1] = -0.5;
+    nd_problem_set_initial_state(p, n, NULL, v0);
+    free(v0);
+  } else if (!strcmp(scene, "bar")) {
+    double *x = malloc(sizeof(double) * (size_t)n), *u0 = malloc(sizeof(double) * (size_t)n);
+    nd_problem_get_node_coordinates(p, n, x);
+    for (int64_t i = 0; i < n; ++i) u0[i] = 0.5 * (1 - x[i]);
+    nd_problem_set_initial_state(p, n, u0, NULL);
+    free(x);
+    free(u0);
+  }
+  const long steps = lround(T / tau);
+  const double t0 = now();
+  const char *outcome = "completed";
+  int code = ND_OK;
+  long k = 0;
+  double E0 = get(p, ND_ENERGY_MECHANICAL), budget = E0, growth = 0, pen = 0, its = 0;
+  double prev = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), scale = fabs(prev);
+  int theory_ok = 1, late = 0;
+  st = nd_problem_setup(p);
+  if (st) {
+    outcome = "refused_at_setup", code = st;
+  } else {
+    for (k = 1; k <= steps; ++k) {
+      st = nd_step(p);
+      if (st) {
+        outcome = "stopped_at_step", code = st;
+        break;
+      }
+      const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK);
+      budget = fmax(budget, E0 + W);
+      const double r = budget > 0 ? Em / budget : (Em > 0 ? INFINITY : 0);
+      growth = fmax(growth, isfinite(r) ? r : INFINITY);
+      pen = fmax(pen, get(p, ND_MAX_PENETRATION) / h);
+      its += get(p, ND_NEWTON_ITERATIONS);
+      if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) / h > 0.5) ++late;
+      const double e = get(p, ND_ENERGY_AUGMENTED) - W;
+      scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W));
+      if (e > prev + 1e-10 * scale) theory_ok = 0;
+      prev = e;
+    }
+  }
+  if (!code && late) outcome = "silent_failure";
+  const char *theory = scheme == ND_SCHEME_HYBRID && Theta == 1 ? (theory_ok ? "held" : "violated") : "-";
+  char msg[256] = "";
+  if (code) {
+    snprintf(msg, sizeof msg, "%s", nd_last_error());
+    for (char *c = msg; *c; ++c)
+      if (*c == '"' || *c == ',' || *c == '\n') *c = ' ';
+  }
+  printf("%s,%d,%s,%g,%g,%g,%ld,%s,%s,%ld,%.4g,%.4g,%d,%.3f,%.3f,%s,\"%s\"\n", scene, degree, scheme_name, Theta, gamma0E,
+         tau, steps, outcome, code_name(code), code ? k : 0L, growth, pen, late,
+         k > 0 ? its / (double)(code ? k - 1 : steps) : 0.0, now() - t0, theory, msg);
+  nd_problem_destroy(&p);
+  return 0;
+}
