@@ -27,7 +27,8 @@ static void usage(const char *prog, int dim) {
          "  --theta-param T   theta of the theta-scheme (default 0.5)\n"
          "  --rho-inf R       generalized-alpha's rho_inf in [0,1] (default 0.8)\n"
          "  --Theta T         Nitsche's Theta (default 1)\n"
-         "  --gamma0 G        Nitsche parameter, gamma = gamma0 h_K (default 1e-3)\n"
+         "  --gamma0 G        Nitsche parameter, gamma = gamma0 h_K; 0 (default): automatic,\n"
+         "                    half the coercivity bound of the mesh (printed)\n"
          "  --tau T           time step (default 0.05)\n"
          "  --T T             final time (default 32)\n"
          "  --every D         print every D time units (default 1)\n"
@@ -39,7 +40,7 @@ static void usage(const char *prog, int dim) {
 
 static int parse(int argc, char **argv, int dim, options *o, char *default_mesh, size_t size) {
   snprintf(default_mesh, size, "%s/%s_h4.msh", ND_MESH_DIR, dim == 2 ? "disk" : "ball");
-  *o = (options){default_mesh, NULL, 1, ND_SCHEME_HYBRID, ND_SOLVER_AUTO, 0, {0.25, 0.5}, 1.0, 1e-3, 0.05, 32.0, 1.0};
+  *o = (options){default_mesh, NULL, 1, ND_SCHEME_HYBRID, ND_SOLVER_AUTO, 0, {0.25, 0.5}, 1.0, 0.0, 0.05, 32.0, 1.0};
   int theta_set = 0, rho_set = 0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -149,9 +150,13 @@ int drop_scene_main(int argc, char **argv, int dim) {
   TRY(nd_problem_get_node_count(p, &n_nodes));
   t_setup = now() - t0;
   if (!o.quiet) {
-    printf("%dD %s: P%d, %lld FE nodes (%lld unknowns), Theta = %g, gamma0 = %g, tau = %g, T = %g\n", dim,
-           dim == 2 ? "disk" : "ball", o.degree, (long long)n_nodes, (long long)(n_nodes * dim), o.Theta, o.gamma0,
-           o.tau, o.T);
+    double gamma0 = 0, limit = 0;
+    TRY(nd_get_scalar(p, ND_GAMMA0, &gamma0));
+    TRY(nd_get_scalar(p, ND_GAMMA0_LIMIT, &limit));
+    printf("%dD %s: P%d, %lld FE nodes (%lld unknowns), Theta = %g, gamma0 = %g%s (coercive up to %g), tau = %g, "
+           "T = %g\n",
+           dim, dim == 2 ? "disk" : "ball", o.degree, (long long)n_nodes, (long long)(n_nodes * dim), o.Theta, gamma0,
+           o.gamma0 == 0 ? " (automatic)" : "", limit, o.tau, o.T);
     printf("%8s %14s %14s %14s %12s %12s %7s\n", "t", "E", "E_Theta", "E_Theta-W", "force", "penetration", "Newton");
   }
   if (o.vtu) {
