@@ -223,6 +223,17 @@ ND_EXPORT int nd_problem_setup(nd_problem p);
 ND_EXPORT int nd_step(nd_problem p);
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out);
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
+/* Checkpoint: the whole state at t^n (t, n, U, V, A, F^n, W, Newton totals,
+   the guards' reference) as a versioned, checksummed block of nbytes bytes;
+   a run resumed from it is bitwise the uninterrupted one. Loading checks the
+   problem's structure and changes nothing when it fails. */
+ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes);
+ND_EXPORT int nd_problem_save_state(nd_problem p, int64_t nbytes, void *buf);
+ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *buf);
+/* Overwrites u, v (per FE node, n*dim values; NULL keeps one) at the current
+   time, e.g. after a coupled code's own sub-cycling: t, n and W stay, the
+   acceleration is re-derived. */
+ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v);
 /* lambda_q = -[P_q]_+/gamma_q at each contact point (<= 0: compression) */
 ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out);
 ND_EXPORT int nd_problem_destroy(nd_problem *p);

@@ -21,7 +21,7 @@
 ! The ND_* constants are integer(c_int) parameters generated at build time
 ! from the X-macro lists of the header (nitschedyn_constants.inc).
 module nitschedyn
-  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char, c_ptr, c_funptr, &
+  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_signed_char, c_char, c_ptr, c_funptr, &
                                          c_null_char, c_null_ptr, c_size_t, c_f_pointer, c_loc, &
                                          c_associated
   implicit none
@@ -43,6 +43,7 @@ module nitschedyn
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
+  public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
   public :: nd_problem_write_vtu, nd_write_pvd
   ! ---- the monitor's interface and the Fortran string wrappers --------------
   public :: nd_monitor_fn
@@ -313,6 +314,38 @@ module nitschedyn
       real(c_double), intent(in), optional :: u0(*), v0(*)
       integer(c_int) :: status
     end function nd_problem_set_initial_state
+
+    ! The checkpoint is a byte array: integer(c_signed_char) buf(nbytes).
+    function nd_problem_get_state_size(p, nbytes) result(status) bind(C, name='nd_problem_get_state_size')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), intent(out) :: nbytes
+      integer(c_int) :: status
+    end function nd_problem_get_state_size
+
+    function nd_problem_save_state(p, nbytes, buf) result(status) bind(C, name='nd_problem_save_state')
+      import :: c_int, c_int64_t, c_ptr, c_signed_char
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: nbytes
+      integer(c_signed_char), intent(out) :: buf(*)
+      integer(c_int) :: status
+    end function nd_problem_save_state
+
+    function nd_problem_load_state(p, nbytes, buf) result(status) bind(C, name='nd_problem_load_state')
+      import :: c_int, c_int64_t, c_ptr, c_signed_char
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: nbytes
+      integer(c_signed_char), intent(in) :: buf(*)
+      integer(c_int) :: status
+    end function nd_problem_load_state
+
+    function nd_problem_set_state(p, n, u, v) result(status) bind(C, name='nd_problem_set_state')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in), optional :: u(*), v(*)
+      integer(c_int) :: status
+    end function nd_problem_set_state
 
     ! fn = c_funloc(f) of a procedure with the interface nd_monitor_fn, or
     ! c_null_funptr to remove the monitor; userdata is passed back to fn.

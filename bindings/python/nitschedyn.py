@@ -133,6 +133,10 @@ _PROTOTYPES = {
     "nd_problem_set_linear_solver": (_int, [_ptr, _int]),
     "nd_problem_set_timestep": (_int, [_ptr, _dbl]),
     "nd_problem_set_initial_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
+    "nd_problem_get_state_size": (_int, [_ptr, ctypes.POINTER(ctypes.c_int64)]),
+    "nd_problem_save_state": (_int, [_ptr, _i64, ctypes.c_void_p]),
+    "nd_problem_load_state": (_int, [_ptr, _i64, ctypes.c_void_p]),
+    "nd_problem_set_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
     "nd_problem_set_monitor": (_int, [_ptr, MONITOR, _ptr]),
     "nd_problem_get_node_count": (_int, [_ptr, _pi64]),
     "nd_problem_get_node_coordinates": (_int, [_ptr, _i64, _pdbl]),
@@ -418,6 +422,24 @@ class Problem(_Handle):
         """u0, v0 per node; None means zero."""
         _check(lib.nd_problem_set_initial_state(self._h, self.node_count, _dptr(self._nodal(u0, "u0")),
                                                 _dptr(self._nodal(v0, "v0"))))
+
+    def save_state(self):
+        """The checkpoint of the state at t^n, as bytes."""
+        n = ctypes.c_int64()
+        _check(lib.nd_problem_get_state_size(self._h, ctypes.byref(n)))
+        buf = ctypes.create_string_buffer(n.value)
+        _check(lib.nd_problem_save_state(self._h, n.value, buf))
+        return buf.raw
+
+    def load_state(self, data):
+        """Restores a checkpoint of save_state() (all or nothing)."""
+        data = bytes(data)
+        _check(lib.nd_problem_load_state(self._h, len(data), ctypes.c_char_p(data)))
+
+    def set_state(self, u=None, v=None):
+        """Overwrites u and/or v (per node) at the current time; t, n and W stay."""
+        _check(lib.nd_problem_set_state(self._h, self.node_count, _dptr(self._nodal(u, "u")),
+                                        _dptr(self._nodal(v, "v"))))
 
     def set_monitor(self, fn):
         """fn(problem) after every accepted step; a true result makes step()

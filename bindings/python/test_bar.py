@@ -184,6 +184,34 @@ def test_constants():
     check(nd.ND_ERR_FORMAT == -24 and len(nd.STATUS) >= 25, "the status list is complete")
 
 
+def test_checkpoint():
+    """save_state/load_state from Python: the resumed run is bitwise the uninterrupted one."""
+    p, _ = make_bar(20, 2)
+    with p:
+        for _ in range(30):
+            p.step()
+        blob = p.save_state()
+        for _ in range(20):
+            p.step()
+        u_ref = p.field(nd.ND_FIELD_DISPLACEMENT).copy()
+        p.load_state(blob)
+        for _ in range(20):
+            p.step()
+        check(np.array_equal(p.field(nd.ND_FIELD_DISPLACEMENT), u_ref), "resumed run bitwise equal (Python)")
+        bad = bytearray(blob)
+        bad[len(bad) // 2] ^= 0xFF
+        try:
+            p.load_state(bytes(bad))
+            check(False, "a corrupted checkpoint is refused")
+        except nd.Error as e:
+            check(e.name == "ND_ERR_FORMAT", "a corrupted checkpoint is refused with ND_ERR_FORMAT")
+        w = p.scalar(nd.ND_WORK)
+        p.set_state(u=0.9 * u_ref)
+        check(p.scalar(nd.ND_WORK) == w, "set_state keeps the work")
+        p.set_guard(nd.ND_GUARD_ENERGY, 3.0)
+        p.step()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bar1d", required=True)
@@ -200,6 +228,7 @@ def main():
     test_errors()
     test_monitor()
     test_constants()
+    test_checkpoint()
     print("%d passed, %d failed" % (passed, failed))
     return 1 if failed else 0
 

@@ -82,4 +82,45 @@ ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out) {
   });
 }
 
+ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
+  return nd::guarded("nd_problem_get_state_size", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(nbytes, "nbytes");
+    *nbytes = static_cast<int64_t>(pr.save_state().size());
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_save_state(nd_problem p, int64_t nbytes, void *buf) {
+  return nd::guarded("nd_problem_save_state", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(buf, "buf");
+    const std::vector<unsigned char> bytes = pr.save_state();
+    need_count(nbytes, static_cast<int64_t>(bytes.size()), "buf (nbytes, see nd_problem_get_state_size)");
+    std::copy(bytes.begin(), bytes.end(), static_cast<unsigned char *>(buf));
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *buf) {
+  return nd::guarded("nd_problem_load_state", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(buf, "buf");
+    if (nbytes <= 0) nd::fail(ND_ERR_SIZE, "nbytes is " + std::to_string(nbytes) + "; it must be positive");
+    pr.load_state(static_cast<const unsigned char *>(buf), nbytes);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v) {
+  return nd::guarded("nd_problem_set_state", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    need_count(n, pr.space().n_nodes, "nodes");
+    if (u) nd::need_finite(u, n * pr.space().dim, "u");
+    if (v) nd::need_finite(v, n * pr.space().dim, "v");
+    pr.overwrite_state(u, v);
+    return ND_OK;
+  });
+}
+
 }  // extern "C"

@@ -8,6 +8,7 @@
 #include "common/format.hpp"
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
+#include "problem/checkpoint.hpp"
 
 namespace nd {
 
@@ -30,7 +31,12 @@ void Problem::changed(unsigned aspects) {
   if (disc_ && (aspects & kMassFactorDeps)) disc_->M_factor.reset();
   if (aspects & kLoadDeps) load_.reset();
   if (aspects & kIntegratorDeps) integrator_.reset();
-  if ((aspects & kInitial) || ((aspects & kInitialStateDeps) && state_.n == 0)) state_ready_ = false;
+  // after setup a load is F^{n+1} of the next step, also at n = 0
+  const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal : 0u);
+  if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
+    state_ready_ = false;
+    setup_done_ = false;
+  }
 }
 
 // ---- definition -------------------------------------------------------------
@@ -66,7 +72,12 @@ void Problem::add_neumann(int region, const double *g) {
   require_region(region, "Neumann");
   NeumannLoad nl{region, {0, 0, 0}};
   std::copy(g, g + space_.dim, nl.g);
-  def_.neumann.push_back(nl);
+  // a region's traction is set, not added: it replaces the previous one
+  auto it = std::find_if(def_.neumann.begin(), def_.neumann.end(), [&](const NeumannLoad &x) { return x.region == region; });
+  if (it != def_.neumann.end())
+    *it = nl;
+  else
+    def_.neumann.push_back(nl);
   changed(kLoads);
 }
 
@@ -226,6 +237,7 @@ void Problem::setup() {
   if (def_.guards.coercivity) check_coercivity(d, def_.solver);
   state();
   if (state_.n == 0) guard_initial_state(d, def_.guards, state_);
+  setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) d.equilibrium_acceleration(state_, def_.solver);
 }
@@ -235,6 +247,34 @@ void Problem::step() {
   State next = advance(*integrator_, *disc_, def_, state_, current_load());
   guard_step(*disc_, def_.guards, state_, next);
   state_ = std::move(next);
+}
+
+void Problem::overwrite_state(const double *u, const double *v) {
+  setup();
+  Discretization &d = *disc_;
+  State s = state_;
+  if (u) d.dofs.restrict_to_free(u, s.U.data());
+  if (v) d.dofs.restrict_to_free(v, s.V.data());
+  s.A_valid = false;
+  if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
+  const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
+  s.guard.E0 += dE;
+  s.guard.budget += dE;
+  state_ = std::move(s);
+}
+
+std::vector<unsigned char> Problem::save_state() {
+  const State &s = state();
+  return encode_state(s, state_fingerprint(space_, *disc_));
+}
+
+void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
+  Discretization &d = discretization_();
+  State s;
+  decode_state(buf, nbytes, state_fingerprint(space_, d), d.dofs.n_free, s);
+  state_ = std::move(s);
+  state_ready_ = true;
+  setup_done_ = state_.n > 0;
 }
 
 // ---- monitors ----------------------------------------------------------------------

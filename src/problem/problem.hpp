@@ -35,6 +35,14 @@ class Problem {
   void set_timestep(double tau);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
   void set_guard(int guard, double value);  // an ND_GUARD_* and its value
+  // Replaces U and V at the current time (n_dofs each, nullptr: unchanged);
+  // t, n and W stay, A is re-derived from the equilibrium when the scheme
+  // carries it, and the energy guard counts the change as energy put in.
+  void overwrite_state(const double *u, const double *v);
+
+  // ---- checkpoint (problem/checkpoint.hpp)
+  std::vector<unsigned char> save_state();
+  void load_state(const unsigned char *buf, int64_t nbytes);  // all or nothing
 
   // ---- queries
   const Space &space() const { return space_; }
@@ -69,6 +77,7 @@ class Problem {
   std::unique_ptr<Integrator> integrator_;
   State state_;
   bool state_ready_ = false;
+  bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (DESIGN §8)
 };
 
 }  // namespace nd

@@ -5,6 +5,9 @@
 !   monitor    (d) a monitor written in Fortran runs once per step and can stop
 !   api        generated constants, nd_version, absent optional arguments
 !              (NULL), a general mesh
+!   checkpoint a state saved into a Fortran byte array and loaded back: the
+!              resumed run is bitwise the uninterrupted one; set_state and
+!              guards from Fortran
 ! usage: test_api PART; prints "N passed, M failed", exits 1 on a failure.
 program test_api
   use, intrinsic :: iso_c_binding
@@ -34,7 +37,7 @@ program test_api
 
   character(len=32) :: part
   if (command_argument_count() /= 1) then
-    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api'
+    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint'
     stop 2, quiet=.true.
   end if
   call get_command_argument(1, part)
@@ -47,6 +50,8 @@ program test_api
     call test_monitor()
   case ('api')
     call test_constants_and_api()
+  case ('checkpoint')
+    call test_checkpoint()
   case default
     write (error_unit, '(a)') 'test_api: unknown part ' // trim(part)
     stop 2, quiet=.true.
@@ -195,6 +200,54 @@ contains
     call check(status == ND_OK .and. data%calls == 16, 'without a monitor nothing is called')
     call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
   end subroutine test_monitor
+
+  ! ---- checkpoint and restart, the way a legacy code holds its data --------
+  subroutine test_checkpoint()
+    type(c_ptr) :: p
+    integer(c_int64_t) :: n, nbytes
+    integer(c_signed_char), allocatable :: buf(:)
+    real(c_double), allocatable :: u_ref(:), u(:), v(:)
+    real(c_double) :: t, w0, w1
+    integer :: k
+    integer(c_int) :: status
+
+    call check(make_bar(20_c_int64_t, 2_c_int, 0.025_c_double, p, n) == ND_OK, 'the bar is set up')
+    allocate(u_ref(n), u(n), v(n))
+    status = ND_OK
+    do k = 1, 30
+      if (status == ND_OK) status = nd_step(p)
+    end do
+    call check(status == ND_OK, '30 steps')
+    call check(nd_problem_get_state_size(p, nbytes) == ND_OK, 'nd_problem_get_state_size')
+    allocate(buf(nbytes))
+    call check(nd_problem_save_state(p, nbytes, buf) == ND_OK, 'nd_problem_save_state into integer(c_signed_char) buf(:)')
+    do k = 1, 20
+      if (status == ND_OK) status = nd_step(p)
+    end do
+    if (status == ND_OK) status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u_ref)
+    call check(status == ND_OK, '20 more steps')
+    call check(nd_problem_load_state(p, nbytes, buf) == ND_OK, 'nd_problem_load_state')
+    call check(nd_get_scalar(p, ND_TIME, t) == ND_OK, 'nd_get_scalar(ND_TIME)')
+    call check(abs(t - 30 * 0.025_c_double) < 1e-12_c_double, 'the time is back at step 30')
+    do k = 1, 20
+      if (status == ND_OK) status = nd_step(p)
+    end do
+    if (status == ND_OK) status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u)
+    call check(status == ND_OK, 'the same 20 steps again')
+    call check(maxval(abs(u - u_ref)) <= 0, 'the resumed run is bitwise the uninterrupted one')
+    buf(nbytes / 2) = not(buf(nbytes / 2))
+    call check(nd_problem_load_state(p, nbytes, buf) == ND_ERR_FORMAT, 'a corrupted checkpoint: ND_ERR_FORMAT')
+    status = nd_get_scalar(p, ND_WORK, w0)
+    if (status == ND_OK) status = nd_get_field(p, ND_FIELD_VELOCITY, n, v)
+    call check(status == ND_OK, 'the state is readable')
+    u = 0.9_c_double * u
+    call check(nd_problem_set_state(p, n, u) == ND_OK, 'nd_problem_set_state with v absent (NULL)')
+    call check(nd_get_scalar(p, ND_WORK, w1) == ND_OK, 'nd_get_scalar(ND_WORK)')
+    call check(abs(w1 - w0) <= 0, 'the work is kept')
+    call check(nd_problem_set_guard(p, ND_GUARD_ENERGY, 3.0_c_double) == ND_OK, 'nd_problem_set_guard from Fortran')
+    call check(nd_step(p) == ND_OK, 'a step after set_state')
+    call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
+  end subroutine test_checkpoint
 
   ! ---- constants, version, optional arguments, general mesh ----------------
   subroutine test_constants_and_api()

@@ -1,0 +1,158 @@
+#include "problem/checkpoint.hpp"
+
+#include <array>
+#include <cstring>
+#include <string>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+namespace {
+
+constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
+constexpr uint32_t kVersion = 1;
+
+struct Hash {  // FNV-1a, 64 bits
+  uint64_t h = 1469598103934665603ull;
+  void bytes(const void *p, size_t n) {
+    const unsigned char *c = static_cast<const unsigned char *>(p);
+    for (size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void value(const T &x) { bytes(&x, sizeof x); }
+  template <class T>
+  void vec(const std::vector<T> &v) {
+    value(static_cast<uint64_t>(v.size()));
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+};
+
+class Writer {
+ public:
+  template <class T>
+  void value(const T &x) {
+    const unsigned char *p = reinterpret_cast<const unsigned char *>(&x);
+    out.insert(out.end(), p, p + sizeof x);
+  }
+  void vec(const std::vector<double> &v) {
+    value(static_cast<uint64_t>(v.size()));
+    const unsigned char *p = reinterpret_cast<const unsigned char *>(v.data());
+    out.insert(out.end(), p, p + v.size() * sizeof(double));
+  }
+  std::vector<unsigned char> out;
+};
+
+class Reader {
+ public:
+  Reader(const unsigned char *p, size_t n) : p_(p), n_(n) {}
+  template <class T>
+  T value() {
+    T x;
+    need(sizeof x);
+    std::memcpy(&x, p_ + at_, sizeof x);
+    at_ += sizeof x;
+    return x;
+  }
+  // a vector of exactly `expected` doubles (or 0, for an empty load)
+  std::vector<double> vec(int64_t expected, bool may_be_empty, const char *what) {
+    const uint64_t n = value<uint64_t>();
+    if (n != static_cast<uint64_t>(expected) && !(may_be_empty && n == 0))
+      fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has " + std::to_string(n) + " values, expected " +
+                              std::to_string(expected));
+    need(n * sizeof(double));
+    std::vector<double> v(n);
+    std::memcpy(v.data(), p_ + at_, n * sizeof(double));
+    at_ += n * sizeof(double);
+    return v;
+  }
+  size_t at() const { return at_; }
+
+ private:
+  void need(size_t k) {
+    if (k > n_ - at_) fail(ND_ERR_FORMAT, "the checkpoint is truncated");
+  }
+  const unsigned char *p_;
+  size_t n_, at_ = 0;
+};
+
+}  // namespace
+
+uint64_t state_fingerprint(const Space &s, const Discretization &d) {
+  Hash h;
+  h.value(s.dim);
+  h.value(s.degree);
+  h.vec(s.mesh->coords);
+  h.vec(s.mesh->cells);
+  h.vec(d.dofs.free);
+  h.vec(d.contact.w);
+  h.vec(d.contact.x);
+  return h.h;
+}
+
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
+  Writer payload;
+  payload.value(s.t);
+  payload.value(s.n);
+  payload.vec(s.U);
+  payload.vec(s.V);
+  payload.vec(s.A);
+  payload.vec(s.F);
+  payload.value(static_cast<uint8_t>(s.A_valid));
+  payload.value(s.W);
+  payload.value(static_cast<int64_t>(s.last_iterations));
+  payload.value(s.total_iterations);
+  payload.value(s.guard.E0);
+  payload.value(s.guard.budget);
+  Writer w;
+  w.out.assign(kMagic, kMagic + sizeof kMagic);
+  w.value(kVersion);
+  w.value(uint32_t{0});
+  w.value(fingerprint);
+  w.value(static_cast<uint64_t>(payload.out.size()));
+  w.out.insert(w.out.end(), payload.out.begin(), payload.out.end());
+  Hash h;
+  h.bytes(w.out.data(), w.out.size());
+  w.value(h.h);
+  return std::move(w.out);
+}
+
+void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, int64_t n_free, State &out) {
+  if (nbytes < static_cast<int64_t>(sizeof kMagic) || std::memcmp(buf, kMagic, sizeof kMagic) != 0)
+    fail(ND_ERR_FORMAT, "not a checkpoint of this library (bad magic number)");
+  Reader r(buf, static_cast<size_t>(nbytes));
+  r.value<std::array<char, 8>>();
+  const uint32_t version = r.value<uint32_t>();
+  if (version != kVersion)
+    fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads version " +
+                            std::to_string(kVersion));
+  r.value<uint32_t>();
+  const uint64_t print = r.value<uint64_t>(), size = r.value<uint64_t>();
+  const size_t end = r.at() + size;
+  if (size > static_cast<uint64_t>(nbytes) || end + sizeof(uint64_t) != static_cast<size_t>(nbytes))
+    fail(ND_ERR_FORMAT, "the checkpoint is truncated or has trailing bytes (" + std::to_string(nbytes) + " bytes)");
+  Hash h;
+  h.bytes(buf, end);
+  uint64_t sum;
+  std::memcpy(&sum, buf + end, sizeof sum);
+  if (sum != h.h) fail(ND_ERR_FORMAT, "the checkpoint is corrupted (checksum mismatch)");
+  if (print != fingerprint)
+    fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs or contact points differ)");
+  State s;
+  s.t = r.value<double>();
+  s.n = r.value<int64_t>();
+  s.U = r.vec(n_free, false, "displacement");
+  s.V = r.vec(n_free, false, "velocity");
+  s.A = r.vec(n_free, false, "acceleration");
+  s.F = r.vec(n_free, true, "load");
+  s.A_valid = r.value<uint8_t>() != 0;
+  s.W = r.value<double>();
+  s.last_iterations = static_cast<int>(r.value<int64_t>());
+  s.total_iterations = r.value<int64_t>();
+  s.guard.E0 = r.value<double>();
+  s.guard.budget = r.value<double>();
+  if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
+  out = std::move(s);
+}
+
+}  // namespace nd

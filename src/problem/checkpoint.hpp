@@ -1,0 +1,26 @@
+// The state at t^n as bytes (DESIGN §8): everything a step reads, so that a
+// run resumed from a checkpoint is bitwise the uninterrupted one. Layout
+// (little-endian, as the machine writes doubles):
+//   magic "NDSTATE\0", u32 version, u32 reserved, u64 fingerprint of the
+//   problem's structure, u64 payload size, payload, u64 checksum (FNV-1a of
+//   all that precedes it).
+// The fingerprint covers what makes a state meaningful for a problem: the
+// dimension, degree, mesh, clamped DOFs and contact points, not the scheme
+// or the time step (a coupled code may change those between steps).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "fem/space.hpp"
+#include "problem/discretization.hpp"
+#include "time/state.hpp"
+
+namespace nd {
+
+uint64_t state_fingerprint(const Space &s, const Discretization &d);
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint);
+// Throws ND_ERR_FORMAT (truncated, corrupted, another version) or ND_ERR_STATE
+// (another problem); `out` is written only on success.
+void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, int64_t n_free, State &out);
+
+}  // namespace nd

@@ -1,0 +1,289 @@
+/* Checkpoint and restart (DESIGN §8): a run resumed from a saved state is
+ * bitwise the uninterrupted run, for every scheme, P1/P2, 1D/2D/3D, also
+ * across a process boundary; truncated, corrupted, other-version and
+ * other-problem checkpoints are refused with their codes and change nothing;
+ * an implicitly coupled code can save, step, restore and step again with
+ * another load; nd_problem_set_state overwrites U and V at the current time. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "testutil.h"
+
+enum { N_SCALARS = 12 };
+
+typedef struct {
+  int64_t n;
+  double *f; /* u, v, a per DOF, then the first scalars */
+} snap;
+
+static snap take(nd_problem p, int dim) {
+  snap s;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &s.n));
+  const int64_t len = s.n * dim;
+  s.f = malloc(sizeof(double) * (size_t)(3 * len + N_SCALARS));
+  for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT + k, s.n, s.f + k * len));
+  for (int k = 0; k < N_SCALARS; ++k) ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME + k, s.f + 3 * len + k));
+  s.n = 3 * len + N_SCALARS;
+  return s;
+}
+
+static int same(snap a, snap b) { return a.n == b.n && memcmp(a.f, b.f, sizeof(double) * (size_t)a.n) == 0; }
+
+/* a block clamped at x = 0 falling on the plane below it (1D: the bar) */
+static nd_problem scene(int dim, int degree, int scheme, const double *params) {
+  if (dim == 1) {
+    nd_problem p = nd_test_bar(20, degree, scheme, params, 1.0, 0.0, 0.025);
+    if (scheme == ND_SCHEME_NEWMARK && params[0] == 0) {
+      ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+      ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.25 / 20 / degree));
+    }
+    return p;
+  }
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double lo[3] = {0, 0.02, 0.02}, hi[3] = {2, 1.02, 1.02}, g[3] = {0, -1, 0}, up[3] = {0, 1, 0}, o[3] = {0, 0, 0};
+  const double blo[3] = {-1, -1, -1}, bhi[3] = {3, 0.02, 3};
+  if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 2, lo, hi, &m));
+  if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box(2, 1, 1, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 10.0, 0.3, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, up));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 0.0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.02));
+  if (scheme == ND_SCHEME_NEWMARK && params[0] == 0) {
+    ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.002));
+  }
+  return p;
+}
+
+static unsigned char *save(nd_problem p, int64_t *nbytes) {
+  ND_OK_OR_FAIL(nd_problem_get_state_size(p, nbytes));
+  unsigned char *buf = malloc((size_t)*nbytes);
+  ND_OK_OR_FAIL(nd_problem_save_state(p, *nbytes, buf));
+  return buf;
+}
+
+static const struct {
+  int scheme;
+  double params[2];
+} schemes[] = {{ND_SCHEME_THETA, {0.5, 0}},   {ND_SCHEME_THETA, {1, 0}}, {ND_SCHEME_NEWMARK, {0.25, 0.5}},
+               {ND_SCHEME_NEWMARK, {0, 0.5}}, {ND_SCHEME_HYBRID, {0, 0}}, {ND_SCHEME_GENERALIZED_ALPHA, {0.8, 0}}};
+enum { N_SCHEMES = sizeof schemes / sizeof schemes[0] };
+
+START_TEST(resumed_runs_are_bitwise_the_uninterrupted_ones) {
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (int s = 0; s < N_SCHEMES; ++s) {
+        const int first = 30, then = 40; /* through the impact */
+        for (int at = 0; at <= first; at += first) { /* also a checkpoint at t = 0 */
+          nd_problem a = scene(dim, degree, schemes[s].scheme, schemes[s].params);
+          for (int k = 0; k < at; ++k) ND_OK_OR_FAIL(nd_step(a));
+          int64_t nbytes = 0;
+          unsigned char *buf = save(a, &nbytes);
+          for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(a));
+          nd_problem b = scene(dim, degree, schemes[s].scheme, schemes[s].params);
+          ND_OK_OR_FAIL(nd_problem_load_state(b, nbytes, buf));
+          for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(b));
+          snap sa = take(a, dim), sb = take(b, dim);
+          ck_assert_msg(same(sa, sb), "%dD P%d scheme %d from step %d: the resumed run differs", dim, degree,
+                        schemes[s].scheme, at);
+          free(sa.f);
+          free(sb.f);
+          free(buf);
+          ND_OK_OR_FAIL(nd_problem_destroy(&a));
+          ND_OK_OR_FAIL(nd_problem_destroy(&b));
+        }
+      }
+}
+END_TEST
+
+/* the checkpoint crosses a process boundary: a child process runs the first
+   part and writes the bytes to a file, this process resumes from them */
+START_TEST(resumes_in_another_process) {
+  const double nm[2] = {0.25, 0.5};
+  char path[] = "/tmp/nd_checkpoint_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  const pid_t pid = fork();
+  ck_assert_int_ge(pid, 0);
+  if (pid == 0) {
+    nd_problem p = scene(2, 2, ND_SCHEME_NEWMARK, nm);
+    for (int k = 0; k < 25; ++k)
+      if (nd_step(p) != ND_OK) _exit(1);
+    int64_t nbytes = 0;
+    if (nd_problem_get_state_size(p, &nbytes) != ND_OK) _exit(1);
+    unsigned char *buf = malloc((size_t)nbytes);
+    FILE *f = fopen(path, "wb");
+    if (!f || nd_problem_save_state(p, nbytes, buf) != ND_OK || fwrite(buf, 1, (size_t)nbytes, f) != (size_t)nbytes)
+      _exit(1);
+    fclose(f);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ck_assert(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  FILE *f = fopen(path, "rb");
+  ck_assert_ptr_nonnull(f);
+  unsigned char buf[1 << 16];
+  const size_t nbytes = fread(buf, 1, sizeof buf, f);
+  fclose(f);
+  unlink(path);
+  nd_problem a = scene(2, 2, ND_SCHEME_NEWMARK, nm), b = scene(2, 2, ND_SCHEME_NEWMARK, nm);
+  for (int k = 0; k < 50; ++k) ND_OK_OR_FAIL(nd_step(a));
+  ND_OK_OR_FAIL(nd_problem_load_state(b, (int64_t)nbytes, buf));
+  for (int k = 0; k < 25; ++k) ND_OK_OR_FAIL(nd_step(b));
+  snap sa = take(a, 2), sb = take(b, 2);
+  ck_assert(same(sa, sb));
+  free(sa.f);
+  free(sb.f);
+  ND_OK_OR_FAIL(nd_problem_destroy(&a));
+  ND_OK_OR_FAIL(nd_problem_destroy(&b));
+}
+END_TEST
+
+START_TEST(bad_checkpoints_are_refused_and_change_nothing) {
+  const double nm[2] = {0.25, 0.5};
+  nd_problem p = scene(2, 1, ND_SCHEME_NEWMARK, nm);
+  for (int k = 0; k < 10; ++k) ND_OK_OR_FAIL(nd_step(p));
+  int64_t nbytes = 0;
+  unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
+  for (int k = 0; k < 5; ++k) ND_OK_OR_FAIL(nd_step(p));
+  snap before = take(p, 2);
+  /* truncated: every shorter length */
+  for (int64_t len = 1; len < nbytes; len += 7) {
+    const int st = nd_problem_load_state(p, len, good);
+    ck_assert_msg(st == ND_ERR_FORMAT, "length %lld: %d", (long long)len, st);
+  }
+  /* corrupted: one flipped bit anywhere (the version field is reported as such) */
+  for (int64_t i = 0; i < nbytes; i += 5) {
+    memcpy(bad, good, (size_t)nbytes);
+    bad[i] ^= 0x10;
+    ck_assert_int_eq(nd_problem_load_state(p, nbytes, bad), ND_ERR_FORMAT);
+  }
+  memcpy(bad, good, (size_t)nbytes);
+  bad[8] = 2; /* version 2 */
+  ck_assert_int_eq(nd_problem_load_state(p, nbytes, bad), ND_ERR_FORMAT);
+  ck_assert_ptr_nonnull(strstr(nd_last_error(), "version 2"));
+  ck_assert_int_eq(nd_problem_load_state(p, nbytes + 1, good), ND_ERR_FORMAT);
+  ck_assert_int_eq(nd_problem_load_state(p, 0, good), ND_ERR_SIZE);
+  ck_assert_int_eq(nd_problem_load_state(p, nbytes, NULL), ND_ERR_NULL);
+  ck_assert_int_eq(nd_problem_save_state(p, nbytes - 1, bad), ND_ERR_SIZE);
+  /* another problem: P2 on the same mesh, and the bar */
+  nd_problem q = scene(2, 2, ND_SCHEME_NEWMARK, nm), r = scene(1, 1, ND_SCHEME_NEWMARK, nm);
+  ck_assert_int_eq(nd_problem_load_state(q, nbytes, good), ND_ERR_STATE);
+  ck_assert_int_eq(nd_problem_load_state(r, nbytes, good), ND_ERR_STATE);
+  printf("%s\n", nd_last_error());
+  snap after = take(p, 2);
+  ck_assert(same(before, after));
+  /* and the good one still loads */
+  ND_OK_OR_FAIL(nd_problem_load_state(p, nbytes, good));
+  free(before.f);
+  free(after.f);
+  free(good);
+  free(bad);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  ND_OK_OR_FAIL(nd_problem_destroy(&r));
+}
+END_TEST
+
+/* implicit coupling (the preCICE pattern): save, step with a first guess of
+   the load, restore, step with the converged load: the result is that of a
+   run that only ever saw the converged load */
+START_TEST(coupling_iteration_restores_and_retries) {
+  const double nm[2] = {0.25, 0.5};
+  for (int s = 0; s < N_SCHEMES; ++s) {
+    if (schemes[s].scheme == ND_SCHEME_NEWMARK && schemes[s].params[0] == 0) continue;
+    (void)nm;
+    nd_problem a = scene(2, 1, schemes[s].scheme, schemes[s].params);
+    nd_problem b = scene(2, 1, schemes[s].scheme, schemes[s].params);
+    int64_t n = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(a, &n));
+    double *guess = calloc((size_t)(2 * n), sizeof(double)), *load = calloc((size_t)(2 * n), sizeof(double));
+    for (int k = 0; k < 20; ++k) {
+      for (int64_t i = 0; i < n; ++i) guess[2 * i] = 0.1 * sin(k + i), load[2 * i] = 0.1 * cos(k + i);
+      int64_t nbytes = 0;
+      unsigned char *buf = save(a, &nbytes);
+      ND_OK_OR_FAIL(nd_problem_set_nodal_forces(a, n, guess));
+      ND_OK_OR_FAIL(nd_step(a));
+      ND_OK_OR_FAIL(nd_problem_load_state(a, nbytes, buf));
+      ND_OK_OR_FAIL(nd_problem_set_nodal_forces(a, n, load));
+      ND_OK_OR_FAIL(nd_step(a));
+      ND_OK_OR_FAIL(nd_problem_set_nodal_forces(b, n, load));
+      ND_OK_OR_FAIL(nd_step(b));
+      free(buf);
+    }
+    snap sa = take(a, 2), sb = take(b, 2);
+    ck_assert_msg(same(sa, sb), "scheme %d: the retried run differs", schemes[s].scheme);
+    free(sa.f);
+    free(sb.f);
+    free(guess);
+    free(load);
+    ND_OK_OR_FAIL(nd_problem_destroy(&a));
+    ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  }
+}
+END_TEST
+
+/* nd_problem_set_state: U, V replaced at t^n; t, n and W kept; A re-derived
+   from the equilibrium exactly as at t^0 */
+START_TEST(set_state_keeps_time_and_work) {
+  const double nm[2] = {0.25, 0.5};
+  nd_problem p = scene(2, 2, ND_SCHEME_NEWMARK, nm), q = scene(2, 2, ND_SCHEME_NEWMARK, nm);
+  for (int k = 0; k < 30; ++k) ND_OK_OR_FAIL(nd_step(p));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *u = malloc(sizeof(double) * (size_t)(2 * n)), *v = malloc(sizeof(double) * (size_t)(2 * n));
+  double *a1 = malloc(sizeof(double) * (size_t)(2 * n)), *a2 = malloc(sizeof(double) * (size_t)(2 * n));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, n, v));
+  for (int64_t i = 0; i < 2 * n; ++i) u[i] *= 0.9, v[i] *= 1.1;
+  double t0, n0, w0, t1, n1, w1;
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME, &t0));
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_STEP_INDEX, &n0));
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_WORK, &w0));
+  ND_OK_OR_FAIL(nd_problem_set_state(p, n, u, v));
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME, &t1));
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_STEP_INDEX, &n1));
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_WORK, &w1));
+  ck_assert(t0 == t1 && n0 == n1 && w0 == w1);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, n, a1));
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(q, n, u, v));
+  ND_OK_OR_FAIL(nd_problem_setup(q));
+  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, n, a2));
+  ck_assert(memcmp(a1, a2, sizeof(double) * (size_t)(2 * n)) == 0);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, n, a1));
+  for (int64_t i = 0; i < 2 * n; ++i)
+    if (a1[i] != 0) ck_assert(a1[i] == v[i]); /* clamped DOFs read 0 */
+  ND_OK_OR_FAIL(nd_step(p));
+  free(u);
+  free(v);
+  free(a1);
+  free(a2);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("checkpoint");
+  TCase *tc = tcase_create("checkpoint");
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, resumed_runs_are_bitwise_the_uninterrupted_ones);
+  tcase_add_test(tc, resumes_in_another_process);
+  tcase_add_test(tc, bad_checkpoints_are_refused_and_change_nothing);
+  tcase_add_test(tc, coupling_iteration_restores_and_retries);
+  tcase_add_test(tc, set_state_keeps_time_and_work);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
