@@ -15,17 +15,11 @@
 
 #include "capi/handles.hpp"
 #include "drop_scene.h"
+#include "timing.hpp"
 #include "monitor/energies.hpp"
 
-namespace {
-double seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
-}  // namespace
+using ndbench::median;
+using ndbench::seconds;
 
 int main(int argc, char **argv) {
   if (argc != 3) {
