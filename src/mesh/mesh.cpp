@@ -133,6 +133,9 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
     m.cell_jacobian(c, J);
     const double det = determinant(dim, J);
     const double h = m.cell_diameter(c);
+    if (!std::isfinite(det) || !std::isfinite(std::pow(h, dim)))
+      fail(ND_ERR_VALUE, where + "cell " + std::to_string(c) + ": its size overflows (diameter " + num(h) +
+                             "): the coordinates are too large, rescale the units");
     // Relative to h^dim so that the test does not depend on the unit of length.
     if (std::fabs(det) <= 1e-13 * std::pow(h, dim))
       fail(ND_ERR_DEGENERATE, where + "cell " + std::to_string(c) + " has zero " +
