@@ -31,6 +31,13 @@ class Cholmod : public Factorization {
   explicit Cholmod(const Csr &pattern) : n_(pattern.n) {
     cholmod_l_start(&c_);
     c_.print = 0;  // the library never prints
+    // One ordering, AMD. By default CHOLMOD tries several (AMD, then METIS
+    // when AMD's fill is high) and silently skips one that runs out of
+    // memory: the factorization, and the results in their last bits, then
+    // depended on the memory available. Now running out of memory is an error.
+    c_.nmethods = 1;
+    c_.method[0].ordering = CHOLMOD_AMD;
+    c_.postorder = 1;
     A_ = cholmod_l_allocate_sparse(n_, n_, pattern.col.size(), 1, 1, 1, CHOLMOD_REAL, &c_);
     if (!A_) fail_cholmod(c_.status, "matrix allocation");
     std::memcpy(A_->p, pattern.ptr.data(), sizeof(int64_t) * pattern.ptr.size());
