@@ -57,24 +57,27 @@ void *hooked_realloc(void *p, size_t n) { return should_fail() ? nullptr : std::
 
 // ---- the replaceable global allocation functions ------------------------------
 // (GCC sees free() of what its own operator new returned: this is that pair)
+// (never inlined: under valgrind, which substitutes these symbols, every new
+// and delete must go through the symbols so that they stay paired)
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void *operator new(size_t n) {
+#define ND_REPLACED __attribute__((noinline))
+ND_REPLACED void *operator new(size_t n) {
   if (should_fail()) throw std::bad_alloc();
   if (void *p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-void *operator new[](size_t n) { return operator new(n); }
-void *operator new(size_t n, const std::nothrow_t &) noexcept {
+ND_REPLACED void *operator new[](size_t n) { return operator new(n); }
+ND_REPLACED void *operator new(size_t n, const std::nothrow_t &) noexcept {
   if (should_fail()) return nullptr;
   return std::malloc(n ? n : 1);
 }
-void *operator new[](size_t n, const std::nothrow_t &t) noexcept { return operator new(n, t); }
-void operator delete(void *p) noexcept { std::free(p); }
-void operator delete[](void *p) noexcept { std::free(p); }
-void operator delete(void *p, size_t) noexcept { std::free(p); }
-void operator delete[](void *p, size_t) noexcept { std::free(p); }
-void operator delete(void *p, const std::nothrow_t &) noexcept { std::free(p); }
-void operator delete[](void *p, const std::nothrow_t &) noexcept { std::free(p); }
+ND_REPLACED void *operator new[](size_t n, const std::nothrow_t &t) noexcept { return operator new(n, t); }
+ND_REPLACED void operator delete(void *p) noexcept { std::free(p); }
+ND_REPLACED void operator delete[](void *p) noexcept { std::free(p); }
+ND_REPLACED void operator delete(void *p, size_t) noexcept { std::free(p); }
+ND_REPLACED void operator delete[](void *p, size_t) noexcept { std::free(p); }
+ND_REPLACED void operator delete(void *p, const std::nothrow_t &) noexcept { std::free(p); }
+ND_REPLACED void operator delete[](void *p, const std::nothrow_t &) noexcept { std::free(p); }
 
 namespace {
 
