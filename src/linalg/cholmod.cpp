@@ -39,13 +39,20 @@ class Cholmod : public Factorization {
     c_.method[0].ordering = CHOLMOD_AMD;
     c_.postorder = 1;
     A_ = cholmod_l_allocate_sparse(n_, n_, pattern.col.size(), 1, 1, 1, CHOLMOD_REAL, &c_);
-    if (!A_) fail_cholmod(c_.status, "matrix allocation");
-    std::memcpy(A_->p, pattern.ptr.data(), sizeof(int64_t) * pattern.ptr.size());
-    std::memcpy(A_->i, pattern.col.data(), sizeof(int64_t) * pattern.col.size());
-    L_ = cholmod_l_analyze(A_, &c_);
-    if (!L_) fail_cholmod(c_.status, "analysis");
+    if (A_) {
+      std::memcpy(A_->p, pattern.ptr.data(), sizeof(int64_t) * pattern.ptr.size());
+      std::memcpy(A_->i, pattern.col.data(), sizeof(int64_t) * pattern.col.size());
+      L_ = cholmod_l_analyze(A_, &c_);
+    }
+    if (!L_) {  // a constructor that throws runs no destructor: release here
+      const int status = c_.status;
+      const char *what = A_ ? "analysis" : "matrix allocation";
+      release();
+      fail_cholmod(status, what);
+    }
   }
-  ~Cholmod() override {
+  ~Cholmod() override { release(); }
+  void release() {
     cholmod_l_free_factor(&L_, &c_);
     cholmod_l_free_sparse(&A_, &c_);
     cholmod_l_finish(&c_);
