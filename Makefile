@@ -4,6 +4,9 @@
 #   make demo       build and run the demonstration scenes
 #   make install    install into $(PREFIX)
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
+#   make fuzz       the libFuzzer targets (clang), $(FUZZ_TIME) s each on their seed corpora
+#   CMAKE_FLAGS=... (re)configures $(BUILD) with these flags, e.g. CI's
+#                   make check CMAKE_FLAGS=-DND_WERROR=ON
 #   make bench      run the benchmarks (bench/run.sh), results in bench/results/
 #   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
@@ -14,8 +17,10 @@ BUILD    ?= build
 PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
+FUZZ_BUILD ?= build-fuzz
+FUZZ_TIME  ?= 60
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind meshes bench report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps meshes bench report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -23,8 +28,10 @@ all: configure
 deps:
 	@sh scripts/install-deps.sh
 
+# configured once; again whenever CMAKE_FLAGS is given (so that CI's flags apply)
 configure: deps
-	@test -f $(BUILD)/CMakeCache.txt || cmake -S . -B $(BUILD) -DCMAKE_INSTALL_PREFIX=$(PREFIX) $(CMAKE_FLAGS)
+	@if [ ! -f $(BUILD)/CMakeCache.txt ] || [ -n "$(CMAKE_FLAGS)" ]; then \
+	  cmake -S . -B $(BUILD) -DCMAKE_INSTALL_PREFIX=$(PREFIX) $(CMAKE_FLAGS); fi
 
 check: all
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -36,12 +43,24 @@ install: all
 	cmake --install $(BUILD) --prefix $(PREFIX)
 
 check-sanitize: deps
-	@test -f build-sanitize/CMakeCache.txt || cmake -S . -B build-sanitize -DND_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+	@if [ ! -f build-sanitize/CMakeCache.txt ] || [ -n "$(CMAKE_FLAGS)" ]; then \
+	  cmake -S . -B build-sanitize -DND_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug $(CMAKE_FLAGS); fi
 	cmake --build build-sanitize -j $(JOBS)
 	cd build-sanitize && CK_FORK=no ctest --output-on-failure -j $(JOBS)
 
 check-valgrind: all
 	sh scripts/check-valgrind.sh $(BUILD)
+
+# libFuzzer (tests/fuzz): clang with ASan+UBSan; fails on any crash, leak,
+# timeout or sanitizer report (scripts/fuzz.sh)
+fuzz-deps:
+	@sh scripts/install-deps.sh fuzz
+
+fuzz: fuzz-deps
+	@test -f $(FUZZ_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DND_FUZZ=ON \
+	  -DND_TESTS=OFF -DND_FORTRAN=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_gmsh fuzz_api
+	sh scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_TIME)
 
 # Record the public ABI (abi/nitschedyn.abi) after a deliberate change of the API.
 abi-update: all
@@ -81,4 +100,4 @@ meshes:
 	done
 
 clean:
-	rm -rf $(BUILD) build-sanitize
+	rm -rf $(BUILD) build-sanitize $(FUZZ_BUILD)

@@ -80,7 +80,8 @@ START_TEST(malformed_files_are_refused_with_file_and_line) {
       {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n$Elements\n1\n1 1 2 0 1 1 7\n"
        "$EndElements\n",
        "node 7, which is not in $Nodes", ND_ERR_FORMAT},
-      {"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n0 1 0 2\n1\n", ": unexpected end of file", ND_ERR_FORMAT},
+      {"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n0 1 0 2\n1\n",
+       ":5: the number of nodes (2) is more than the rest of the file (15 bytes) can hold", ND_ERR_FORMAT},
       {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n", "no line, triangle or tetrahedron",
        ND_ERR_FORMAT},
   };

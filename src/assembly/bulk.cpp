@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/error.hpp"
+#include "common/format.hpp"
 #include "fem/facet.hpp"
+#include "nitschedyn.h"
 
 namespace nd {
 
@@ -98,6 +101,22 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
           }
       }
   }
+  // Finite but extreme parameters (E = 1e308, rho = 1e-308, a huge or tiny
+  // mesh) overflow or underflow here: refused with what to change, rather
+  // than NaN operators that fail later as an internal error.
+  auto all_finite = [](const std::vector<double> &v) {
+    for (double x : v)
+      if (!std::isfinite(x)) return false;
+    return true;
+  };
+  if (!all_finite(ops.K.val))
+    fail(ND_ERR_MATERIAL, "the stiffness matrix overflows with E = " + num(mat.young) + " and nu = " +
+                              num(mat.poisson) + " on this mesh: rescale the units");
+  if (!all_finite(ops.M.val) || !all_finite(ops.M_lumped))
+    fail(ND_ERR_MATERIAL, "the mass matrix overflows with density " + num(rho) + " on this mesh: rescale the units");
+  for (double m : ops.M_lumped)
+    if (!(m > 0) || !std::isnormal(m))
+      fail(ND_ERR_MATERIAL, "the mass matrix underflows with density " + num(rho) + " on this mesh: rescale the units");
   return ops;
 }
 
@@ -132,6 +151,8 @@ std::vector<double> assemble_load(const Space &s, const DofMap &dofs, const doub
         add(s.nodes_of(facet.cell), nl.g, fp.weight);
       }
     }
+  for (double x : F)
+    if (!std::isfinite(x)) fail(ND_ERR_VALUE, "the load vector overflows: the body force or a traction is too large for this mesh");
   return F;
 }
 

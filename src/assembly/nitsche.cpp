@@ -1,5 +1,11 @@
 #include "assembly/nitsche.hpp"
 
+#include <cmath>
+
+#include "common/error.hpp"
+#include "common/format.hpp"
+#include "nitschedyn.h"
+
 namespace nd {
 
 Csr assemble_k_theta(const Csr &K, const ContactPoints &cp, double theta) {
@@ -9,6 +15,9 @@ Csr assemble_k_theta(const Csr &K, const ContactPoints &cp, double theta) {
       const SparseRow &s = cp.s[q];
       K_theta.add_outer(s.idx, s.val.data(), s.val.data(), -(theta * cp.w[q] * cp.gamma[q]));
     }
+  for (double x : K_theta.val)
+    if (!std::isfinite(x))
+      fail(ND_ERR_NITSCHE, "the Nitsche terms overflow (Theta = " + num(theta) + "): lower gamma0 or rescale the units");
   return K_theta;
 }
 

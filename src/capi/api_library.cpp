@@ -1,22 +1,50 @@
 // Version and error reporting.
-#include <string>
 
 #include "capi/guard.hpp"
 
 namespace nd {
 namespace {
-// One message per thread: distinct handles may be used from distinct threads.
-thread_local std::string last_error;
+// One message per thread (distinct handles may be used from distinct
+// threads), in static thread-local storage: setting it never allocates.
+constexpr size_t kMessageCapacity = 1024;
+thread_local char last_error[kMessageCapacity];
+thread_local size_t last_error_length;
+constexpr char kEllipsis[] = "...";
 }  // namespace
-void set_last_error(const std::string &message) { last_error = message; }
-void clear_last_error() { last_error.clear(); }
 
-std::string calls_that_set(unsigned aspects) {
+void clear_last_error() noexcept {
+  last_error[0] = '\0';
+  last_error_length = 0;
+}
+
+void append_last_error(const char *text) noexcept {
+  if (!text) return;
+  constexpr size_t limit = kMessageCapacity - 1;  // room for the terminating NUL
+  size_t n = last_error_length;
+  if (n >= limit) return;                         // already full (and truncated)
+  while (*text && n < limit) last_error[n++] = *text++;
+  if (*text) {  // truncated: end with "..."
+    n = limit;
+    for (size_t k = 0; k < sizeof kEllipsis - 1; ++k) last_error[limit - (sizeof kEllipsis - 1) + k] = kEllipsis[k];
+  }
+  last_error[n] = '\0';
+  last_error_length = n;
+}
+
+void append_calls_that_set(unsigned aspects) noexcept {
   static const AspectName kCalls[] = {{kMaterial, "nd_problem_set_material"},
                                       {kNitsche, "nd_problem_set_nitsche"},
                                       {kScheme, "nd_problem_set_scheme"},
                                       {kTimestep, "nd_problem_set_timestep"}};
-  return "(set with " + aspect_names(aspects, kCalls) + ")";
+  append_last_error("(set with ");
+  bool first = true;
+  for (const AspectName &c : kCalls)
+    if (aspects & c.aspect) {
+      if (!first) append_last_error(", ");
+      append_last_error(c.name);
+      first = false;
+    }
+  append_last_error(")");
 }
 }  // namespace nd
 
@@ -34,7 +62,7 @@ ND_EXPORT int nd_version(int *major, int *minor, int *patch) {
   });
 }
 
-ND_EXPORT const char *nd_last_error(void) { return nd::last_error.c_str(); }
+ND_EXPORT const char *nd_last_error(void) { return nd::last_error; }
 
 ND_EXPORT const char *nd_strerror(int code) {
 #define ND_STRERROR_CASE_(name, value, text) \

@@ -100,6 +100,7 @@ ND_EXPORT int nd_mesh_get_cell_count(nd_mesh m, int64_t *n) {
 ND_EXPORT int nd_mesh_get_region_size(nd_mesh m, int region, int64_t *n) {
   return nd::guarded("nd_mesh_get_region_size", [&] {
     nd::need(n, "n_facets");
+    if (region < 0) nd::fail(ND_ERR_REGION, "region is " + std::to_string(region) + "; regions are >= 0");
     const auto &regions = mesh_of(m).mesh.regions;
     auto it = regions.find(region);
     *n = it == regions.end() ? 0 : static_cast<int64_t>(it->second.size());

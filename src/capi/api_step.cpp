@@ -27,7 +27,11 @@ ND_EXPORT int nd_step(nd_problem p) {
     return ND_OK;
   });
   if (status != ND_OK || !p->monitor) return status;
-  return p->monitor(p, p->userdata) != 0 ? ND_MONITOR_STOP : ND_OK;
+  const int stop = p->monitor(p, p->userdata);
+  // the monitor's own calls (a failing getter, say) set and cleared the
+  // thread's message: nd_step returns with the error state of its outcome
+  nd::clear_last_error();
+  return stop != 0 ? ND_MONITOR_STOP : ND_OK;
 }
 
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {

@@ -14,10 +14,20 @@
 
 namespace nd {
 
-void set_last_error(const std::string &message);
-void clear_last_error();
-// "(set with nd_problem_set_material, ...)" for the missing aspects
-std::string calls_that_set(unsigned aspects);
+// The thread's last error lives in a fixed buffer: the error path never
+// allocates (a message that does not fit is truncated, ending in "..."), so a
+// process out of memory still gets its code and a message.
+void clear_last_error() noexcept;
+void append_last_error(const char *text) noexcept;
+// appends "(set with nd_problem_set_material, ...)" for the missing aspects
+void append_calls_that_set(unsigned aspects) noexcept;
+
+inline void set_last_error(const char *fn, const char *message) noexcept {
+  clear_last_error();
+  append_last_error(fn);
+  append_last_error(": ");
+  append_last_error(message);
+}
 
 template <class Body>
 int guarded(const char *fn, Body &&body) noexcept {
@@ -25,19 +35,22 @@ int guarded(const char *fn, Body &&body) noexcept {
   try {
     return body();
   } catch (const Incomplete &e) {
-    set_last_error(std::string(fn) + ": " + e.what() + " " + calls_that_set(e.missing()));
+    set_last_error(fn, e.what());
+    append_last_error(" ");
+    append_calls_that_set(e.missing());
     return e.code();
   } catch (const Error &e) {
-    set_last_error(std::string(fn) + ": " + e.what());
+    set_last_error(fn, e.what());
     return e.code();
   } catch (const std::bad_alloc &) {
-    set_last_error(std::string(fn) + ": out of memory");
+    set_last_error(fn, "out of memory");
     return ND_ERR_NOMEM;
   } catch (const std::exception &e) {
-    set_last_error(std::string(fn) + ": internal error: " + e.what());
+    set_last_error(fn, "internal error: ");
+    append_last_error(e.what());
     return ND_ERR_INTERNAL;
   } catch (...) {
-    set_last_error(std::string(fn) + ": internal error");
+    set_last_error(fn, "internal error");
     return ND_ERR_INTERNAL;
   }
 }

@@ -4,6 +4,9 @@
 #include <map>
 #include <utility>
 
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
 namespace nd {
 
 Space::Space(std::shared_ptr<const Mesh> m, int p)
@@ -70,6 +73,11 @@ DofMap::DofMap(const Space &s, const std::vector<int> &clamped_regions) {
         for (int k = 0; k < s.dim; ++k) free[node * s.dim + k] = -1;
   }
   for (auto &f : free) f = f == 0 ? n_free++ : -1;
+  // Nothing left to solve for: LAPACK and SuiteSparse reject an empty system
+  // (LAPACK printing to stderr), so say what is wrong here.
+  if (n_free == 0)
+    fail(ND_ERR_SIZE, "every degree of freedom is clamped (the Dirichlet regions cover all nodes): "
+                      "the problem has no unknowns");
 }
 
 void DofMap::restrict_to_free(const double *full, double *u) const {

@@ -1,13 +1,21 @@
 #include "io/vtu.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "common/c_locale.hpp"
+#include "common/checked.hpp"
 #include "common/error.hpp"
 #include "nitschedyn.h"
 #include "problem/problem.hpp"
@@ -15,17 +23,97 @@
 namespace nd {
 namespace {
 
-using File = std::unique_ptr<FILE, int (*)(FILE *)>;
-
-File open_for_writing(const char *path) {
-  File f(std::fopen(path, "w"), &std::fclose);
-  if (!f) fail(ND_ERR_IO, std::string("cannot open '") + path + "' for writing");
-  return f;
+// A file written atomically: the text goes to a temporary file in the same
+// directory, which is flushed, synced and renamed over `path` only when
+// everything was written. A failure (a full disk, an exception) removes the
+// temporary file and leaves a previous file at `path` untouched.
+// mkstemp makes the file 0600: give it the mode of the file it replaces, or
+// the one a plain fopen would (0666 & ~umask; the umask read without
+// umask(), which would change it for every thread for a moment).
+mode_t file_mode(const std::string &path) {
+  struct stat st;
+  if (stat(path.c_str(), &st) == 0) return st.st_mode & 07777;
+  mode_t mask = 022;
+  if (FILE *f = std::fopen("/proc/self/status", "r")) {
+    char line[128];
+    unsigned m;
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, "Umask: %o", &m) == 1) mask = static_cast<mode_t>(m);
+    std::fclose(f);
+  }
+  return 0666 & ~mask;
 }
 
-void close_checked(File &f, const char *path) {
-  const bool bad = std::ferror(f.get()) != 0;
-  if (std::fclose(f.release()) != 0 || bad) fail(ND_ERR_IO, std::string("error writing '") + path + "'");
+class AtomicFile {
+ public:
+  explicit AtomicFile(const char *path) : path_(path), tmp_(path_ + ".tmp.XXXXXX") {
+    const int fd = mkstemp(&tmp_[0]);
+    if (fd < 0) fail(ND_ERR_IO, "cannot create a temporary file next to '" + path_ + "': " + std::strerror(errno));
+    f_ = fdopen(fd, "w");
+    if (!f_) {
+      const int err = errno;
+      close(fd);
+      unlink(tmp_.c_str());
+      fail(ND_ERR_IO, "cannot open '" + tmp_ + "' for writing: " + std::strerror(err));
+    }
+    fchmod(fd, file_mode(path_));
+  }
+  ~AtomicFile() {  // not committed: an error on the way
+    if (f_) std::fclose(f_);
+    if (!committed_) unlink(tmp_.c_str());
+  }
+  AtomicFile(const AtomicFile &) = delete;
+  AtomicFile &operator=(const AtomicFile &) = delete;
+  FILE *get() const { return f_; }
+  void commit() {
+    const bool bad = std::fflush(f_) != 0 || std::ferror(f_) != 0 || fsync(fileno(f_)) != 0;
+    const int err = errno;
+    const bool close_bad = std::fclose(f_) != 0;
+    f_ = nullptr;
+    if (bad || close_bad) fail(ND_ERR_IO, "error writing '" + path_ + "': " + std::strerror(err));
+    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
+      fail(ND_ERR_IO, "cannot rename '" + tmp_ + "' to '" + path_ + "': " + std::strerror(errno));
+    committed_ = true;
+    // make the rename itself durable (best effort: not every file system can)
+    const size_t slash = path_.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path_.substr(0, slash);
+    const int dfd = open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+    if (dfd >= 0) {
+      fsync(dfd);
+      close(dfd);
+    }
+  }
+
+ private:
+  std::string path_, tmp_;
+  FILE *f_ = nullptr;
+  bool committed_ = false;
+};
+
+// XML attribute text: markup characters escaped, tab, newline and carriage
+// return as character references; the other control characters cannot be
+// represented in XML 1.0 at all (not even as references): refused.
+std::string xml_attribute(const char *s, const std::string &name) {
+  std::string out;
+  for (const char *c = s; *c; ++c) {
+    const unsigned char u = static_cast<unsigned char>(*c);
+    switch (u) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      case '\t': out += "&#9;"; break;
+      case '\n': out += "&#10;"; break;
+      case '\r': out += "&#13;"; break;
+      default:
+        if (u < 0x20)
+          fail(ND_ERR_VALUE, name + " contains control character " + std::to_string(u) + " at byte " +
+                                 std::to_string(c - s) + ", which XML 1.0 cannot represent");
+        out += *c;
+    }
+  }
+  return out;
 }
 
 // VTK cell types and the VTK order of our local nodes (vertices, then edges
@@ -70,7 +158,7 @@ void write_vtu(Problem &p, const char *path) {
   }
   const VtkCell cell = vtk_cell(d, s.degree);
   const int64_t n_cells = m.n_cells, n_facets = static_cast<int64_t>(facet_pressure.size());
-  File f = open_for_writing(path);
+  AtomicFile f(path);
   FILE *o = f.get();
   std::fprintf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
   std::fprintf(o, "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n",
@@ -104,24 +192,25 @@ void write_vtu(Problem &p, const char *path) {
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"contact_facet\" format=\"ascii\">\n");
   for (int64_t c = 0; c < n_cells + n_facets; ++c) std::fprintf(o, "%d\n", c >= n_cells ? 1 : 0);
   std::fprintf(o, "        </DataArray>\n      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
-  close_checked(f, path);
+  f.commit();
 }
 
 void write_pvd(const char *path, int64_t n, const char *const *files, const double *times) {
+  std::vector<std::string> names;
+  names.reserve(checked_count<std::string>(n, "n"));
   for (int64_t i = 0; i < n; ++i) {
-    if (!files[i]) fail(ND_ERR_NULL, "vtu_files[" + std::to_string(i) + "] is NULL");
+    const std::string name = "vtu_files[" + std::to_string(i) + "]";
+    if (!files[i]) fail(ND_ERR_NULL, name + " is NULL");
     if (!std::isfinite(times[i])) fail(ND_ERR_NONFINITE, "times[" + std::to_string(i) + "] is not finite");
-    for (const char *c = files[i]; *c; ++c)
-      if (*c == '"' || *c == '<' || *c == '&')
-        fail(ND_ERR_VALUE, "vtu_files[" + std::to_string(i) + "] contains a character that XML would need escaped");
+    names.push_back(xml_attribute(files[i], name));
   }
   const ClassicNumericLocale c_locale;
-  File f = open_for_writing(path);
+  AtomicFile f(path);
   std::fprintf(f.get(), "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
   for (int64_t i = 0; i < n; ++i)
-    std::fprintf(f.get(), "    <DataSet timestep=\"%.17g\" part=\"0\" file=\"%s\"/>\n", times[i], files[i]);
+    std::fprintf(f.get(), "    <DataSet timestep=\"%.17g\" part=\"0\" file=\"%s\"/>\n", times[i], names[i].c_str());
   std::fprintf(f.get(), "  </Collection>\n</VTKFile>\n");
-  close_checked(f, path);
+  f.commit();
 }
 
 }  // namespace nd

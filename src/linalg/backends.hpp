@@ -23,4 +23,11 @@ void require_positive_pivots(int64_t n, const double *d, Definiteness &def);
 // (p == q) reveals the inertia, else def is Unknown.
 void lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag, Definiteness &def);
 
+// Every backend refuses a matrix with a NaN or infinite entry before it
+// factors (ND_ERR_NONFINITE_STATE), rather than reporting a breakdown.
+void require_finite(const Csr &A);
+// A LAPACKE info < 0: its work-memory errors are ND_ERR_NOMEM, anything
+// else ND_ERR_INTERNAL with the argument.
+[[noreturn]] void fail_lapack(int info, const char *what);
+
 }  // namespace nd

@@ -24,6 +24,8 @@ class BandedFactorization : public Factorization {
   }
   void factor(const Csr &A, Structure s) override {
     def_ = Definiteness::Unknown;
+    require_finite(A);
+    if (n_ == 0) fail(ND_ERR_SIZE, "the matrix has no rows");  // LAPACK would print and fail
     spd_ = s == Structure::SymmetricPositiveDefinite;
     lapack_int info;
     if (spd_) {  // upper band: ab[kd + i - j + j*ld] = A(i, j), i <= j
@@ -48,7 +50,7 @@ class BandedFactorization : public Factorization {
       info = LAPACKE_dgbtrf(LAPACK_COL_MAJOR, n_, n_, kd_, kd_, ab_.data(), ld_, ipiv_.data());
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
-    if (info < 0) fail(ND_ERR_INTERNAL, "LAPACK banded factorization: argument " + std::to_string(-info));
+    if (info < 0) fail_lapack(info, "banded factorization");
     if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
@@ -56,8 +58,10 @@ class BandedFactorization : public Factorization {
     for (int64_t i = 0; i < n_; ++i) work_[i] = x[perm_[i]];
     if (spd_)
       cholesky_band_solve(work_.data());
-    else
-      LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_, ipiv_.data(), work_.data(), n_);
+    else if (const lapack_int info = LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_,
+                                                    ipiv_.data(), work_.data(), n_);
+             info < 0)
+      fail_lapack(info, "banded solve");
     for (int64_t i = 0; i < n_; ++i) x[perm_[i]] = work_[i];
   }
   Definiteness definiteness() const override { return def_; }

@@ -1,6 +1,7 @@
 // Dense LAPACK Cholesky (SPD) or LU (general).
 #include <lapacke.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ class DenseFactorization : public Factorization {
   explicit DenseFactorization(int64_t n) : n_(n) {}
   void factor(const Csr &A, Structure s) override {
     def_ = Definiteness::Unknown;
+    require_finite(A);
+    if (n_ == 0) fail(ND_ERR_SIZE, "the matrix has no rows");  // LAPACK would print and fail
     a_.assign(static_cast<size_t>(n_ * n_), 0.0);
     for (int64_t i = 0; i < n_; ++i)
       for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k) a_[A.col[k] * n_ + i] = A.val[k];
@@ -29,14 +32,15 @@ class DenseFactorization : public Factorization {
       info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, n_, n_, a_.data(), n_, ipiv_.data());
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
-    if (info < 0) fail(ND_ERR_INTERNAL, "LAPACK dense factorization: argument " + std::to_string(-info));
+    if (info < 0) fail_lapack(info, "dense factorization");
     if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
-    if (spd_)
-      LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n_, 1, a_.data(), n_, x, n_);
-    else
-      LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n_, 1, a_.data(), n_, ipiv_.data(), x, n_);
+    for (int64_t i = 0; i < n_; ++i)  // LAPACKE refuses NaN (a status we would call internal)
+      if (!std::isfinite(x[i])) fail(ND_ERR_NONFINITE_STATE, "the right-hand side has a non-finite entry (row " + std::to_string(i) + ")");
+    const lapack_int info = spd_ ? LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n_, 1, a_.data(), n_, x, n_)
+                                 : LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n_, 1, a_.data(), n_, ipiv_.data(), x, n_);
+    if (info < 0) fail_lapack(info, "dense solve");
   }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "dense"; }

@@ -1,6 +1,7 @@
 #include "linalg/factorization.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "common/error.hpp"
@@ -69,6 +70,20 @@ void require_positive_pivots(int64_t n, const double *d, Definiteness &def) {
   const int64_t bad = std::count_if(d, d + n, [](double x) { return !(x > 0); });  // NaN too
   if (bad) fail_not_positive_definite(def, "eigenvalues <= 0: " + std::to_string(bad) + " of " + std::to_string(n));
   def = Definiteness::PositiveDefinite;
+}
+
+void require_finite(const Csr &A) {
+  for (size_t k = 0; k < A.val.size(); ++k)
+    if (!std::isfinite(A.val[k]))
+      fail(ND_ERR_NONFINITE_STATE, "the matrix has a non-finite entry (row " +
+                                       std::to_string(std::upper_bound(A.ptr.begin(), A.ptr.end(), static_cast<int64_t>(k)) - A.ptr.begin() - 1) +
+                                       ", column " + std::to_string(A.col[k]) + ")");
+}
+
+void fail_lapack(int info, const char *what) {
+  // LAPACKE_WORK_MEMORY_ERROR, LAPACKE_TRANSPOSE_MEMORY_ERROR (lapacke.h)
+  if (info == -1010 || info == -1011) fail(ND_ERR_NOMEM, std::string("out of memory in the LAPACK ") + what);
+  fail(ND_ERR_INTERNAL, std::string("LAPACK ") + what + ": argument " + std::to_string(-info) + " is invalid");
 }
 
 void lu_definiteness(int64_t n, const int64_t *p, const int64_t *q, const double *udiag, Definiteness &def) {

@@ -14,12 +14,22 @@
 namespace nd {
 namespace {
 
+// A KLU status that is not OK: singular is ND_ERR_SINGULAR, out of memory
+// ND_ERR_NOMEM, too large ND_ERR_SIZE, anything else ND_ERR_INTERNAL.
+[[noreturn]] void fail_klu(int status, const char *what) {
+  const std::string st = " (KLU status " + std::to_string(status) + ")";
+  if (status == KLU_SINGULAR) fail(ND_ERR_SINGULAR, "the matrix is singular" + st);
+  if (status == KLU_OUT_OF_MEMORY) fail(ND_ERR_NOMEM, std::string("out of memory in the KLU ") + what + st);
+  if (status == KLU_TOO_LARGE) fail(ND_ERR_SIZE, std::string("the matrix is too large for the KLU ") + what + st);
+  fail(ND_ERR_INTERNAL, std::string("KLU ") + what + " failed" + st);
+}
+
 class Klu : public Factorization {
  public:
   explicit Klu(const Csr &pattern) : n_(pattern.n), ptr_(pattern.ptr), col_(pattern.col) {
     klu_l_defaults(&c_);
     symbolic_ = klu_l_analyze(n_, ptr_.data(), col_.data(), &c_);
-    if (!symbolic_) fail(ND_ERR_NOMEM, "KLU analysis failed (status " + std::to_string(c_.status) + ")");
+    if (!symbolic_) fail_klu(c_.status, "analysis");
   }
   ~Klu() override {
     if (numeric_) klu_l_free_numeric(&numeric_, &c_);
@@ -27,16 +37,16 @@ class Klu : public Factorization {
   }
   void factor(const Csr &A, Structure s) override {
     def_ = Definiteness::Unknown;
+    require_finite(A);
     if (numeric_) klu_l_free_numeric(&numeric_, &c_);
     val_ = A.val;
     numeric_ = klu_l_factor(ptr_.data(), col_.data(), val_.data(), symbolic_, &c_);
-    if (!numeric_ && c_.status == KLU_SINGULAR) fail(ND_ERR_SINGULAR, "the matrix is singular (KLU)");
-    if (!numeric_) fail(ND_ERR_NOMEM, "KLU factorization failed (status " + std::to_string(c_.status) + ")");
+    if (!numeric_) fail_klu(c_.status, "factorization");
     if (s == Structure::SymmetricPositiveDefinite)  // Udiag in pivot order
       lu_definiteness(n_, numeric_->Pnum, symbolic_->Q, static_cast<const double *>(numeric_->Udiag), def_);
   }
   void solve(double *x) const override {
-    klu_l_tsolve(symbolic_, numeric_, n_, 1, x, &c_);  // the arrays describe A^T
+    if (!klu_l_tsolve(symbolic_, numeric_, n_, 1, x, &c_)) fail_klu(c_.status, "solve");  // the arrays describe A^T
   }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "klu"; }

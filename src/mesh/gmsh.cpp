@@ -2,14 +2,23 @@
 // the mesh (only the vertices they use are kept); each physical group of
 // facet elements becomes the region with the group's tag. Higher-order
 // Gmsh elements are read through their corner nodes (straight sides).
+//
+// A file is untrusted input: it is read whole (a NUL byte, as in a binary
+// file or /dev/zero, stops the reading at once), every count in it is
+// checked against what the rest of the file can hold before it sizes
+// anything, and every loop consumes tokens of the file. A file of n bytes
+// therefore costs O(n) memory and O(n log n) time, whatever its counts say.
+#include <array>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
 #include <map>
-#include <sstream>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "common/c_locale.hpp"
 #include "common/error.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/mesh.hpp"
@@ -18,160 +27,247 @@
 namespace nd {
 namespace {
 
-// Whitespace-separated tokens with the line each came from.
+std::string text_of(std::string_view t) {
+  constexpr size_t kShown = 40;  // a message quotes a bounded part of a token
+  return t.size() <= kShown ? std::string(t) : std::string(t.substr(0, kShown)) + "...";
+}
+
+// The file's text and its whitespace-separated tokens, with line numbers.
 class Tokens {
  public:
-  explicit Tokens(const char *path) : path_(path), in_(path) {
-    if (!in_) fail(ND_ERR_IO, std::string("cannot open '") + path + "'");
-  }
-  bool next(std::string &tok) {
-    while (!(line_in_ >> tok)) {
-      std::string line;
-      if (!std::getline(in_, line)) return false;
-      ++line_;
-      line_in_.clear();
-      line_in_.str(line);
+  explicit Tokens(const char *path) : path_(path) {
+    std::unique_ptr<FILE, int (*)(FILE *)> f(std::fopen(path, "rb"), &std::fclose);
+    if (!f) fail(ND_ERR_IO, "cannot open '" + path_ + "'");
+    char chunk[1 << 16];
+    for (;;) {
+      const size_t got = std::fread(chunk, 1, sizeof chunk, f.get());
+      for (size_t i = 0; i < got; ++i)
+        if (chunk[i] == '\0')
+          fail(ND_ERR_FORMAT, path_ + ": byte " + std::to_string(text_.size() + i) +
+                                  " is NUL: not an ASCII MSH file");
+      text_.append(chunk, got);
+      if (got < sizeof chunk) break;
     }
+    if (std::ferror(f.get())) fail(ND_ERR_IO, "error reading '" + path_ + "'");
+  }
+  bool next(std::string_view &tok) {
+    while (pos_ < text_.size() && is_space(text_[pos_]))
+      if (text_[pos_++] == '\n') ++line_;
+    if (pos_ == text_.size()) return false;
+    const size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_])) ++pos_;
+    tok = std::string_view(text_).substr(start, pos_ - start);
     return true;
   }
-  std::string word(const char *what) {
-    std::string t;
+  std::string_view word(const char *what) {
+    std::string_view t;
     if (!next(t)) error(std::string("unexpected end of file, expected ") + what);
     return t;
   }
-  void expect(const std::string &w) {
-    const std::string t = word(w.c_str());
-    if (t != w) error("expected '" + w + "', found '" + t + "'");
+  void expect(const char *w) {
+    const std::string_view t = word(w);
+    if (t != w) error(std::string("expected '") + w + "', found '" + text_of(t) + "'");
   }
   int64_t integer(const char *what) {
-    const std::string t = word(what);
-    char *end = nullptr;
-    const long long v = std::strtoll(t.c_str(), &end, 10);
-    if (*end) error(std::string("expected ") + what + " (an integer), found '" + t + "'");
+    const std::string_view t = word(what);
+    int64_t v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (r.ec == std::errc::result_out_of_range)
+      error(std::string(what) + " '" + text_of(t) + "' is out of range");
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+      error(std::string("expected ") + what + " (an integer), found '" + text_of(t) + "'");
     return v;
   }
   double real(const char *what) {
-    const std::string t = word(what);
-    char *end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    if (*end) error(std::string("expected ") + what + " (a number), found '" + t + "'");
+    std::string_view t = word(what);
+    const std::string_view shown = t;
+    if (t.size() > 1 && t[0] == '+') t.remove_prefix(1);  // from_chars takes no '+'
+    double v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (r.ec == std::errc::result_out_of_range) error(std::string(what) + " '" + text_of(shown) + "' is out of range");
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+      error(std::string("expected ") + what + " (a number), found '" + text_of(shown) + "'");
+    if (!std::isfinite(v)) error(std::string(what) + " '" + text_of(shown) + "' is not finite");
     return v;
   }
-  // skip to the line after "$End<section>"
-  void skip_section(const std::string &name) {
-    std::string t;
-    while (next(t))
-      if (t == "$End" + name) return;
-    error("section $" + name + " has no $End" + name);
+  // A count of items that each take at least `tokens` tokens: never negative
+  // and never more than the rest of the file can hold (a token and its
+  // separator are at least two bytes).
+  int64_t count(const char *what, int64_t tokens) {
+    const int64_t n = integer(what);
+    if (n < 0) error(std::string(what) + " is negative (" + std::to_string(n) + ")");
+    if (n > static_cast<int64_t>(remaining() / (2 * static_cast<size_t>(tokens))))
+      error(std::string(what) + " (" + std::to_string(n) + ") is more than the rest of the file (" +
+            std::to_string(remaining()) + " bytes) can hold");
+    return n;
   }
+  // skip to the token after "$End<section>"
+  void skip_section(std::string_view name) {
+    std::string_view t;
+    while (next(t))
+      if (t.size() == name.size() + 4 && t.substr(0, 4) == "$End" && t.substr(4) == name) return;
+    error("section $" + std::string(name) + " has no $End" + std::string(name));
+  }
+  size_t remaining() const { return text_.size() - pos_; }
+  size_t size() const { return text_.size(); }
+  const std::string &path() const { return path_; }
   [[noreturn]] void error(const std::string &what) const {
     fail(ND_ERR_FORMAT, path_ + ":" + std::to_string(line_) + ": " + what);
   }
 
  private:
+  static bool is_space(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
   std::string path_;
-  std::ifstream in_;
-  std::istringstream line_in_;
-  int64_t line_ = 0;
+  std::string text_;
+  size_t pos_ = 0;
+  int64_t line_ = 1;
 };
 
 struct Element {
   int dim;
-  std::vector<int64_t> tags;  // physical tags
-  std::vector<int64_t> nodes; // corner node tags
+  int64_t tags;                    // index into RawMesh::tag_lists, -1: no physical group
+  std::array<int64_t, 4> nodes;    // corner node tags (dim + 1 of them)
 };
 
 struct RawMesh {
   std::map<int64_t, std::array<double, 3>> nodes;  // tag -> xyz
+  std::vector<std::vector<int64_t>> tag_lists;      // lists of physical tags, shared by elements
   std::vector<Element> elements;
 };
 
-// An element of a given Gmsh type: its dimension, and its node tags of which
-// the corners are kept (simplices and points only, first or second order).
-Element read_element(Tokens &tk, int64_t type, std::vector<int64_t> tags) {
+struct ElementType {
   int dim, nodes;
+};
+// The Gmsh element types we read: simplices and points, first or second order
+// (dim < 0: not supported).
+ElementType element_type(int64_t type) {
   switch (type) {
-    case 15: dim = 0, nodes = 1; break;   // point
-    case 1: dim = 1, nodes = 2; break;    // line
-    case 8: dim = 1, nodes = 3; break;    // line, 2nd order
-    case 2: dim = 2, nodes = 3; break;    // triangle
-    case 9: dim = 2, nodes = 6; break;    // triangle, 2nd order
-    case 4: dim = 3, nodes = 4; break;    // tetrahedron
-    case 11: dim = 3, nodes = 10; break;  // tetrahedron, 2nd order
-    default:
-      tk.error("element type " + std::to_string(type) + " is not supported (simplices only: 15, 1, 2, 4, 8, 9, 11)");
+    case 15: return {0, 1};   // point
+    case 1: return {1, 2};    // line
+    case 8: return {1, 3};    // line, 2nd order
+    case 2: return {2, 3};    // triangle
+    case 9: return {2, 6};    // triangle, 2nd order
+    case 4: return {3, 4};    // tetrahedron
+    case 11: return {3, 10};  // tetrahedron, 2nd order
+    default: return {-1, 0};
   }
-  Element el{dim, std::move(tags), {}};
-  for (int k = 0; k < nodes; ++k) {
+}
+
+ElementType supported(Tokens &tk, int64_t type) {
+  const ElementType et = element_type(type);
+  if (et.dim < 0)
+    tk.error("element type " + std::to_string(type) + " is not supported (simplices only: 15, 1, 2, 4, 8, 9, 11)");
+  return et;
+}
+
+Element read_element(Tokens &tk, ElementType et, int64_t tags) {
+  Element el{et.dim, tags, {-1, -1, -1, -1}};
+  for (int k = 0; k < et.nodes; ++k) {
     const int64_t node = tk.integer("a node tag");
-    if (k <= dim) el.nodes.push_back(node);
+    if (k <= et.dim) el.nodes[k] = node;
   }
   return el;
 }
 
+void read_node(Tokens &tk, RawMesh &raw, int64_t tag, const std::array<double, 3> &x) {
+  if (!raw.nodes.emplace(tag, x).second) tk.error("node " + std::to_string(tag) + " is defined twice");
+}
+
 // A section neither reader needs is skipped; anything else is an error.
-void other_section(Tokens &tk, const std::string &t) {
-  if (t.size() > 1 && t[0] == '$' && t.compare(0, 4, "$End") != 0)
+void other_section(Tokens &tk, std::string_view t) {
+  if (t.size() > 1 && t[0] == '$' && t.substr(0, 4) != "$End")
     tk.skip_section(t.substr(1));
   else
-    tk.error("expected a section ($Nodes, $Elements, ...), found '" + t + "'");
+    tk.error("expected a section ($Nodes, $Elements, ...), found '" + text_of(t) + "'");
+}
+
+void check_total(Tokens &tk, int64_t declared, int64_t found, const char *what) {
+  if (declared != found)
+    tk.error("the header declares " + std::to_string(declared) + " " + what + ", the blocks hold " +
+             std::to_string(found));
 }
 
 void read_v4(Tokens &tk, RawMesh &raw) {
-  std::map<std::pair<int, int64_t>, std::vector<int64_t>> entity_tags;  // (dim, tag) -> physical
-  std::string t;
+  std::map<std::pair<int, int64_t>, int64_t> entity_tags;  // (dim, tag) -> tag list
+  bool nodes = false, elements = false;
+  std::string_view t;
   while (tk.next(t)) {
     if (t == "$Entities") {
       int64_t count[4];
-      for (auto &c : count) c = tk.integer("an entity count");
+      for (auto &c : count) c = tk.count("an entity count", 5);
       for (int d = 0; d < 4; ++d)
         for (int64_t e = 0; e < count[d]; ++e) {
           const int64_t tag = tk.integer("an entity tag");
           for (int k = 0; k < (d == 0 ? 3 : 6); ++k) tk.real("a coordinate");
-          const int64_t np = tk.integer("the number of physical tags");
-          auto &phys = entity_tags[{d, tag}];
+          const int64_t np = tk.count("the number of physical tags", 1);
+          std::vector<int64_t> phys;
+          phys.reserve(static_cast<size_t>(np));
           for (int64_t k = 0; k < np; ++k) phys.push_back(tk.integer("a physical tag"));
           if (d > 0) {
-            const int64_t nb = tk.integer("the number of bounding entities");
+            const int64_t nb = tk.count("the number of bounding entities", 1);
             for (int64_t k = 0; k < nb; ++k) tk.integer("a bounding entity");
           }
+          if (!entity_tags.emplace(std::make_pair(d, tag), static_cast<int64_t>(raw.tag_lists.size())).second)
+            tk.error("entity " + std::to_string(tag) + " of dimension " + std::to_string(d) + " is defined twice");
+          raw.tag_lists.push_back(std::move(phys));
         }
       tk.expect("$EndEntities");
     } else if (t == "$Nodes") {
-      const int64_t blocks = tk.integer("the number of node blocks");
-      tk.integer("the number of nodes");
+      if (nodes) tk.error("a second $Nodes section");
+      nodes = true;
+      const int64_t blocks = tk.count("the number of node blocks", 4);
+      const int64_t total = tk.count("the number of nodes", 4);
       tk.integer("the minimum node tag");
       tk.integer("the maximum node tag");
+      int64_t found = 0;
+      std::vector<int64_t> tags;
       for (int64_t b = 0; b < blocks; ++b) {
         tk.integer("an entity dimension");
         tk.integer("an entity tag");
         const int64_t parametric = tk.integer("the parametric flag");
-        const int64_t n = tk.integer("the number of nodes in the block");
         if (parametric) tk.error("parametric node blocks are not supported");
-        std::vector<int64_t> tags(n);
-        for (auto &tag : tags) tag = tk.integer("a node tag");
+        const int64_t n = tk.count("the number of nodes in the block", 4);  // tag + 3 coordinates
+        tags.clear();
+        tags.reserve(static_cast<size_t>(n));
+        for (int64_t i = 0; i < n; ++i) tags.push_back(tk.integer("a node tag"));
         for (int64_t tag : tags) {
-          auto &x = raw.nodes[tag];
+          std::array<double, 3> x;
           for (auto &c : x) c = tk.real("a node coordinate");
+          read_node(tk, raw, tag, x);
         }
+        found += n;
       }
+      check_total(tk, total, found, "nodes");
       tk.expect("$EndNodes");
     } else if (t == "$Elements") {
-      const int64_t blocks = tk.integer("the number of element blocks");
-      tk.integer("the number of elements");
+      if (elements) tk.error("a second $Elements section");
+      elements = true;
+      const int64_t blocks = tk.count("the number of element blocks", 4);
+      const int64_t total = tk.count("the number of elements", 2);
       tk.integer("the minimum element tag");
       tk.integer("the maximum element tag");
+      int64_t found = 0;
       for (int64_t b = 0; b < blocks; ++b) {
         const int64_t edim = tk.integer("an entity dimension");
         const int64_t etag = tk.integer("an entity tag");
         const int64_t type = tk.integer("an element type");
-        const int64_t n = tk.integer("the number of elements in the block");
-        const auto &phys = entity_tags[{static_cast<int>(edim), etag}];
+        const ElementType et = element_type(type);
+        // an element is its tag and its nodes
+        const int64_t n = tk.count("the number of elements in the block", 1 + (et.dim < 0 ? 1 : et.nodes));
+        if (n > 0) supported(tk, type);
+        if (n > 0 && edim != et.dim)
+          tk.error("a block of entity dimension " + std::to_string(edim) + " holds elements of type " +
+                   std::to_string(type) + " (dimension " + std::to_string(et.dim) + ")");
+        const auto it = entity_tags.find({static_cast<int>(edim), etag});
+        const int64_t tags = it == entity_tags.end() || raw.tag_lists[it->second].empty() ? -1 : it->second;
+        raw.elements.reserve(raw.elements.size() + static_cast<size_t>(n));
         for (int64_t e = 0; e < n; ++e) {
           tk.integer("an element tag");
-          raw.elements.push_back(read_element(tk, type, phys));
+          raw.elements.push_back(read_element(tk, et, tags));
         }
+        found += n;
       }
+      check_total(tk, total, found, "elements");
       tk.expect("$EndElements");
     } else {
       other_section(tk, t);
@@ -180,27 +276,40 @@ void read_v4(Tokens &tk, RawMesh &raw) {
 }
 
 void read_v2(Tokens &tk, RawMesh &raw) {
-  std::string t;
+  std::map<int64_t, int64_t> lists;  // physical tag -> its one-tag list
+  bool nodes = false, elements = false;
+  std::string_view t;
   while (tk.next(t)) {
     if (t == "$Nodes") {
-      const int64_t n = tk.integer("the number of nodes");
+      if (nodes) tk.error("a second $Nodes section");
+      nodes = true;
+      const int64_t n = tk.count("the number of nodes", 4);  // tag + 3 coordinates
       for (int64_t i = 0; i < n; ++i) {
-        auto &x = raw.nodes[tk.integer("a node tag")];
+        const int64_t tag = tk.integer("a node tag");
+        std::array<double, 3> x;
         for (auto &c : x) c = tk.real("a node coordinate");
+        read_node(tk, raw, tag, x);
       }
       tk.expect("$EndNodes");
     } else if (t == "$Elements") {
-      const int64_t n = tk.integer("the number of elements");
+      if (elements) tk.error("a second $Elements section");
+      elements = true;
+      const int64_t n = tk.count("the number of elements", 4);  // tag, type, tag count, a node
+      raw.elements.reserve(static_cast<size_t>(n));
       for (int64_t i = 0; i < n; ++i) {
         tk.integer("an element tag");
-        const int64_t type = tk.integer("an element type");
-        const int64_t ntags = tk.integer("the number of tags");
-        std::vector<int64_t> phys;
+        const ElementType et = supported(tk, tk.integer("an element type"));
+        const int64_t ntags = tk.count("the number of tags", 1);
+        int64_t list = -1;
         for (int64_t k = 0; k < ntags; ++k) {
           const int64_t tag = tk.integer("a tag");
-          if (k == 0 && tag != 0) phys.push_back(tag);  // the first tag is the physical group
+          if (k == 0 && tag != 0) {  // the first tag is the physical group
+            auto it = lists.emplace(tag, static_cast<int64_t>(raw.tag_lists.size()));
+            if (it.second) raw.tag_lists.push_back({tag});
+            list = it.first->second;
+          }
         }
-        raw.elements.push_back(read_element(tk, type, std::move(phys)));
+        raw.elements.push_back(read_element(tk, et, list));
       }
       tk.expect("$EndElements");
     } else {
@@ -212,12 +321,11 @@ void read_v2(Tokens &tk, RawMesh &raw) {
 }  // namespace
 
 Mesh read_gmsh(const char *path) {
-  const ClassicNumericLocale c_locale;  // numbers in the file use '.', whatever the caller's locale
   Tokens tk(path);
   tk.expect("$MeshFormat");
-  const std::string version = tk.word("the format version");
-  const bool v4 = version == "4.1", v2 = version.compare(0, 2, "2.") == 0;
-  if (!v4 && !v2) tk.error("MSH version " + version + " is not supported (4.1 and 2.2 are)");
+  const std::string_view version = tk.word("the format version");
+  const bool v4 = version == "4.1", v2 = version == "2.2" || version == "2.1" || version == "2.0" || version == "2";
+  if (!v4 && !v2) tk.error("MSH version " + text_of(version) + " is not supported (4.1 and 2.2 are)");
   if (tk.integer("the file type") != 0) tk.error("binary MSH files are not supported; save as ASCII");
   tk.integer("the data size");
   tk.expect("$EndMeshFormat");
@@ -244,8 +352,9 @@ Mesh read_gmsh(const char *path) {
     auto it = index.find(tag);
     if (it != index.end()) return it->second;
     const int64_t id = static_cast<int64_t>(index.size());
+    const auto &x = position(tag);
     index.emplace(tag, id);
-    for (int k = 0; k < top; ++k) coords.push_back(position(tag)[k]);
+    for (int k = 0; k < top; ++k) coords.push_back(x[k]);
     return id;
   };
   for (const Element &e : raw.elements) {
@@ -254,30 +363,37 @@ Mesh read_gmsh(const char *path) {
     for (int i = 0; i <= top; ++i) x[i] = position(e.nodes[i]).data();
     double J[9];
     simplex_jacobian(top, x, J);
-    std::vector<int64_t> v = e.nodes;
+    std::array<int64_t, 4> v = e.nodes;
     if (determinant(top, J) < 0) std::swap(v[0], v[1]);  // Gmsh does not fix the orientation
-    for (int64_t tag : v) cells.push_back(vertex(tag));
+    for (int i = 0; i <= top; ++i) cells.push_back(vertex(v[i]));
   }
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
                      static_cast<int64_t>(cells.size()) / (top + 1), cells.data(),
                      std::string(path) + ": ");
-  // facet elements of physical groups -> regions
+  // facet elements of physical groups -> regions. Each (facet, group) pair
+  // costs memory: a file may name at most as many pairs as it has bytes
+  // (a facet element line in a real file is longer than its group count).
   std::map<int64_t, std::vector<int64_t>> facets;
+  size_t pairs = 0;
   for (const Element &e : raw.elements) {
-    if (e.dim != top - 1 || e.tags.empty()) continue;
-    std::vector<int64_t> v;
-    for (int64_t tag : e.nodes) {
-      auto it = index.find(tag);
-      if (it == index.end()) fail(ND_ERR_FORMAT, std::string(path) + ": a facet of physical group " + std::to_string(e.tags[0]) + " uses a node of no cell");
-      v.push_back(it->second);
+    if (e.dim != top - 1 || e.tags < 0) continue;
+    const std::vector<int64_t> &tags = raw.tag_lists[e.tags];
+    int64_t v[3];
+    for (int i = 0; i < top; ++i) {
+      auto it = index.find(e.nodes[i]);
+      if (it == index.end())
+        fail(ND_ERR_FORMAT, std::string(path) + ": a facet of physical group " + std::to_string(tags[0]) + " uses a node of no cell");
+      v[i] = it->second;
     }
-    for (int64_t tag : e.tags) facets[tag].insert(facets[tag].end(), v.begin(), v.end());
+    pairs += tags.size();
+    if (pairs > tk.size())
+      fail(ND_ERR_FORMAT, std::string(path) + ": the facets name more (facet, physical group) pairs than the file has bytes");
+    for (int64_t tag : tags) facets[tag].insert(facets[tag].end(), v, v + top);
   }
-  for (auto &kv : facets) {
-    if (kv.first < 0 || kv.first > 2147483647) fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(kv.first) + " is not a valid region");
-    add_region_facets(m, static_cast<int>(kv.first), static_cast<int64_t>(kv.second.size()) / top, kv.second.data(),
-                      std::string(path) + ": physical group " + std::to_string(kv.first) + ": ");
-  }
+  for (auto &kv : facets)
+    if (kv.first < 0 || kv.first > 2147483647)
+      fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(kv.first) + " is not a valid region");
+  add_region_groups(m, facets, std::string(path) + ": physical group ");
   return m;
 }
 

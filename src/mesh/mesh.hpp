@@ -50,6 +50,10 @@ Mesh read_gmsh(const char *path);
 // error messages start with `where` (a file reader passes "PATH: ...: ").
 void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *facet_vertices,
                        const std::string &where = {});
+// Adds facets to many regions at once (region -> dim vertices per facet),
+// the boundary indexed once: linear in the number of facets, whatever the
+// number of regions. Messages start with `where` followed by the region.
+void add_region_groups(Mesh &m, const std::map<int64_t, std::vector<int64_t>> &groups, const std::string &where);
 // Adds the boundary facets whose vertices all lie in [lo, hi].
 void add_region_box(Mesh &m, int region, const double *lo, const double *hi);
 

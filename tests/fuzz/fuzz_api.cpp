@@ -1,0 +1,256 @@
+// libFuzzer target: bytes -> a sequence of nd_* calls on up to two meshes and
+// two problems, with bounded sizes (small meshes, at most 24 steps) and
+// arguments drawn from ordinary and extreme values (NaN, infinities, 1e308,
+// 1e-308, INT64_MAX, negative counts). Oracle, besides the sanitizers: the
+// C API's contract on every call: a known status; a message that names the
+// call exactly when it failed; create functions leave NULL on failure; an
+// accepted nd_step leaves no message even when the monitor made a failing
+// call.
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "nitschedyn.h"
+
+namespace {
+
+[[noreturn]] void violated(const char *call, int status, const char *what) {
+  std::fprintf(stderr, "fuzz_api: %s returned %d: %s (last error '%s')\n", call, status, what, nd_last_error());
+  std::abort();
+}
+
+// The contract of one call's outcome.
+int check(const char *call, int status) {
+  if (std::strcmp(nd_strerror(status), "unknown status code") == 0) violated(call, status, "unknown status");
+  const char *msg = nd_last_error();
+  if (msg == nullptr) violated(call, status, "nd_last_error() is NULL");
+  if (status < 0) {
+    const size_t n = std::strlen(call);
+    if (std::strncmp(msg, call, n) != 0 || std::strncmp(msg + n, ": ", 2) != 0)
+      violated(call, status, "the message does not start with the call's name");
+    if (status == ND_ERR_INTERNAL) violated(call, status, "ND_ERR_INTERNAL");
+  } else if (msg[0] != '\0') {
+    violated(call, status, "a message after success");
+  }
+  return status;
+}
+#define CALL(fn, ...) check(#fn, fn(__VA_ARGS__))
+
+double any_double(FuzzedDataProvider &in) {
+  static const double special[] = {0.0, 1.0, -1.0, 0.5, 0.25, 0.3, 2.0, 10.0, 1e-3, 1e-12, 1e308, -1e308, 1e-308,
+                                   DBL_MAX, DBL_MIN, std::numeric_limits<double>::denorm_min(),
+                                   std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                                   std::numeric_limits<double>::quiet_NaN(), 0.49999999, -0.99999999};
+  const uint8_t k = in.ConsumeIntegral<uint8_t>();
+  if (k < 2 * sizeof special / sizeof special[0]) return special[k / 2];
+  return in.ConsumeFloatingPointInRange<double>(-4.0, 4.0);
+}
+
+// a count: usually small, sometimes one that must be refused by arithmetic
+int64_t any_count(FuzzedDataProvider &in, int64_t small_max) {
+  // (each large one overflows, or exceeds what an array may hold, in every
+  // size computation it enters: refused before anything is allocated)
+  static const int64_t extreme[] = {0, -1, INT64_MIN, INT64_MAX, INT64_MAX / 3 + 1, int64_t(1) << 62, int64_t(1) << 61};
+  const uint8_t k = in.ConsumeIntegral<uint8_t>();
+  if (k < 2 * sizeof extreme / sizeof extreme[0]) return extreme[k / 2];
+  return in.ConsumeIntegralInRange<int64_t>(1, small_max);
+}
+
+int monitor(nd_problem p, void *userdata) {
+  double x;
+  nd_get_scalar(p, 12345, &x);  // fails: nd_step must not return with its message
+  return *static_cast<int *>(userdata);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  FuzzedDataProvider in(data, size);
+  nd_mesh meshes[2] = {nullptr, nullptr};
+  nd_problem problems[2] = {nullptr, nullptr};
+  int stop_flag = 0, steps = 0;
+  std::vector<double> buf, buf2;
+  for (int op = 0; op < 64 && in.remaining_bytes() > 0; ++op) {
+    const int which = in.ConsumeIntegral<uint8_t>() & 1;
+    nd_mesh &m = meshes[which];
+    nd_problem &p = problems[which];
+    double lo[3], hi[3], a[3], b[3];
+    for (int k = 0; k < 3; ++k) lo[k] = any_double(in), hi[k] = any_double(in);
+    for (int k = 0; k < 3; ++k) a[k] = any_double(in), b[k] = any_double(in);
+    int64_t nodes = 0;
+    if (p) nd_problem_get_node_count(p, &nodes);
+    int dim = 1;
+    if (m) nd_mesh_get_dimension(m, &dim);
+    switch (in.ConsumeIntegralInRange<int>(0, 33)) {
+      case 0:
+        nd_mesh_destroy(&m);
+        if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
+        break;
+      case 1:
+        nd_mesh_destroy(&m);
+        if (CALL(nd_mesh_create_rectangle, any_count(in, 5), any_count(in, 5), lo, hi, &m) != ND_OK && m) violated("rectangle", 0, "handle");
+        break;
+      case 2:
+        nd_mesh_destroy(&m);
+        if (CALL(nd_mesh_create_box, any_count(in, 2), any_count(in, 2), any_count(in, 2), lo, hi, &m) != ND_OK && m) violated("box", 0, "handle");
+        break;
+      case 3: {  // a raw mesh, counts possibly lying about the arrays only when they must be refused
+        const int d = in.ConsumeIntegralInRange<int>(0, 4);
+        const int64_t nv = in.ConsumeIntegralInRange<int64_t>(0, 8), nc = in.ConsumeIntegralInRange<int64_t>(0, 6);
+        std::vector<double> x(static_cast<size_t>(nv * 3 + 1));
+        std::vector<int64_t> c(static_cast<size_t>(nc * 4 + 1));
+        for (auto &v : x) v = any_double(in);
+        for (auto &v : c) v = in.ConsumeIntegralInRange<int64_t>(-1, 9);
+        const bool huge = in.ConsumeBool();
+        nd_mesh_destroy(&m);
+        CALL(nd_mesh_create, d, huge ? INT64_MAX / 3 + 1 : nv, x.data(), huge ? int64_t(1) << 62 : nc, c.data(), &m);
+        break;
+      }
+      case 4:
+        if (m) CALL(nd_mesh_mark_boundary_box, m, in.ConsumeIntegralInRange<int>(-1, 3), lo, hi);
+        break;
+      case 5: {
+        std::vector<int64_t> f(static_cast<size_t>(3 * 3));
+        for (auto &v : f) v = in.ConsumeIntegralInRange<int64_t>(-1, 10);
+        if (m) CALL(nd_mesh_set_region, m, in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeIntegralInRange<int64_t>(-1, 3), f.data());
+        break;
+      }
+      case 6: {
+        int64_t n;
+        if (m) CALL(nd_mesh_get_region_size, m, in.ConsumeIntegralInRange<int>(-2, 3), &n);
+        if (m) CALL(nd_mesh_get_vertex_count, m, &n);
+        break;
+      }
+      case 7:
+        nd_problem_destroy(&p);
+        if (m) CALL(nd_problem_create, m, in.ConsumeIntegralInRange<int>(0, 3), &p);
+        break;
+      case 8:
+        if (p) CALL(nd_problem_set_material, p, any_double(in), any_double(in), any_double(in));
+        break;
+      case 9:
+        if (p) CALL(nd_problem_set_dirichlet, p, in.ConsumeIntegralInRange<int>(-1, 3));
+        break;
+      case 10:
+        if (p) CALL(nd_problem_set_body_force, p, a);
+        break;
+      case 11:
+        if (p) CALL(nd_problem_set_neumann, p, in.ConsumeIntegralInRange<int>(-1, 3), a);
+        break;
+      case 12:
+        if (p) CALL(nd_problem_set_contact_plane, p, in.ConsumeIntegralInRange<int>(-1, 3), a, b);
+        break;
+      case 13:
+        if (p) CALL(nd_problem_set_nitsche, p, any_double(in), any_double(in));
+        break;
+      case 14:
+        if (p) CALL(nd_problem_set_scheme, p, in.ConsumeIntegralInRange<int>(0, 5), a);
+        break;
+      case 15:
+        if (p) {
+          buf.assign(static_cast<size_t>(nodes * 3 + 1), 0.0);
+          for (auto &v : buf) v = any_double(in);
+          CALL(nd_problem_set_nodal_forces, p, in.ConsumeBool() ? nodes : any_count(in, 4), buf.data());
+        }
+        break;
+      case 16:
+        if (p) CALL(nd_problem_set_newton, p, any_double(in), any_double(in), in.ConsumeIntegralInRange<int>(-1, 20));
+        break;
+      case 17:
+        if (p) CALL(nd_problem_set_mass_lumping, p, in.ConsumeIntegralInRange<int>(-1, 2));
+        break;
+      case 18:
+        if (p) CALL(nd_problem_set_linear_solver, p, in.ConsumeIntegralInRange<int>(-1, 6));
+        break;
+      case 19:
+        if (p) CALL(nd_problem_set_timestep, p, any_double(in));
+        break;
+      case 20:
+        if (p) {
+          buf.assign(static_cast<size_t>(nodes * 3 + 1), 0.0);
+          buf2.assign(buf.size(), 0.0);
+          for (auto &v : buf) v = any_double(in);
+          CALL(nd_problem_set_initial_state, p, nodes, in.ConsumeBool() ? buf.data() : nullptr, buf2.data());
+        }
+        break;
+      case 21:
+        if (p) CALL(nd_problem_setup, p);
+        break;
+      case 22:
+      case 23:
+        if (p && steps < 24) {
+          ++steps;
+          const int st = CALL(nd_step, p);
+          if (st == ND_MONITOR_STOP && !stop_flag) violated("nd_step", st, "stopped without the monitor asking");
+        }
+        break;
+      case 24:
+        if (p) {
+          buf.assign(static_cast<size_t>(nodes * 3 + 1), 0.0);
+          CALL(nd_get_field, p, in.ConsumeIntegralInRange<int>(0, 4), nodes, buf.data());
+        }
+        break;
+      case 25:
+        if (p) {
+          double x;
+          CALL(nd_get_scalar, p, in.ConsumeIntegralInRange<int>(0, 13), &x);
+        }
+        break;
+      case 26:
+        if (p) {
+          int64_t nq = 0;
+          if (CALL(nd_problem_get_contact_point_count, p, &nq) == ND_OK && nq >= 0 && nq < 100000) {
+            buf.assign(static_cast<size_t>(nq * 3 + 1), 0.0);
+            buf2.assign(static_cast<size_t>(nq + 1), 0.0);
+            CALL(nd_problem_get_contact_points, p, nq, buf.data(), buf2.data());
+            CALL(nd_get_contact_pressure, p, nq, buf2.data());
+          }
+        }
+        break;
+      case 27:
+        if (p) {
+          stop_flag = in.ConsumeBool();
+          CALL(nd_problem_set_monitor, p, in.ConsumeBool() ? monitor : nullptr, &stop_flag);
+        }
+        break;
+      case 28:
+        nd_mesh_destroy(&m);
+        break;
+      case 29:
+        nd_problem_destroy(&p);
+        break;
+      case 30:
+        if (p) {
+          buf.assign(static_cast<size_t>(nodes * 3 + 1), 0.0);
+          CALL(nd_problem_get_node_coordinates, p, nodes, buf.data());
+        }
+        break;
+      case 31: {
+        const char *names[2] = {"a<b&c\"d'.vtu", "tab\there.vtu"};
+        double t[2] = {any_double(in), 1.0};
+        char path[64];
+        std::snprintf(path, sizeof path, "/proc/self/fd/%d", -1);  // never writable: ND_ERR_IO
+        CALL(nd_write_pvd, path, in.ConsumeIntegralInRange<int64_t>(-1, 2), names, t);
+        break;
+      }
+      case 32:
+        (void)dim;
+        CALL(nd_mesh_create_interval, any_count(in, 4), any_double(in), any_double(in), nullptr);
+        break;
+      default: {
+        int mj, mn, pt;
+        CALL(nd_version, &mj, &mn, &pt);
+      }
+    }
+  }
+  for (auto &p : problems) nd_problem_destroy(&p);
+  for (auto &m : meshes) nd_mesh_destroy(&m);
+  return 0;
+}
