@@ -220,6 +220,10 @@ ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coo
    than in the first nd_step (which calls it when needed): to time the set-up
    apart, or to learn of an ill-posed step before stepping. */
 ND_EXPORT int nd_problem_setup(nd_problem p);
+/* The critical time step of an explicit scheme: limit/omega_max, omega_max
+   the highest frequency with every contact point active (Lanczos), limit the
+   scheme's (2 for the central difference; 2 when the scheme set is implicit). */
+ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c);
 ND_EXPORT int nd_step(nd_problem p);
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out);
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);

@@ -42,6 +42,7 @@ module nitschedyn
             nd_problem_set_guard
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
+  public :: nd_problem_estimate_critical_timestep
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
   public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
   public :: nd_problem_write_vtu, nd_write_pvd
@@ -394,6 +395,14 @@ module nitschedyn
     end function nd_problem_get_contact_points
 
     ! ---- time stepping -------------------------------------------------------
+    function nd_problem_estimate_critical_timestep(p, tau_c) result(status) &
+        bind(C, name='nd_problem_estimate_critical_timestep')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), intent(out) :: tau_c
+      integer(c_int) :: status
+    end function nd_problem_estimate_critical_timestep
+
     function nd_problem_setup(p) result(status) bind(C, name='nd_problem_setup')
       import :: c_int, c_ptr
       type(c_ptr), value :: p

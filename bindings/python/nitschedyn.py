@@ -143,6 +143,7 @@ _PROTOTYPES = {
     "nd_problem_get_contact_point_count": (_int, [_ptr, _pi64]),
     "nd_problem_get_contact_points": (_int, [_ptr, _i64, _pdbl, _pdbl]),
     "nd_problem_setup": (_int, [_ptr]),
+    "nd_problem_estimate_critical_timestep": (_int, [_ptr, _pdbl]),
     "nd_step": (_int, [_ptr]),
     "nd_get_field": (_int, [_ptr, _int, _i64, _pdbl]),
     "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
@@ -487,6 +488,12 @@ class Problem(_Handle):
         return x, w
 
     # time stepping
+    def critical_timestep(self):
+        """The explicit critical time step limit/omega_max (nd_problem_estimate_critical_timestep)."""
+        x = ctypes.c_double()
+        _check(lib.nd_problem_estimate_critical_timestep(self._h, ctypes.byref(x)))
+        return x.value
+
     def setup(self):
         """Assemble, factorize and compute the initial acceleration now
         (step() does it when needed). Raises Error when that fails."""

@@ -86,6 +86,15 @@ ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out) {
   });
 }
 
+ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c) {
+  return nd::guarded("nd_problem_estimate_critical_timestep", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(tau_c, "tau_c");
+    *tau_c = pr.critical_timestep();
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
   return nd::guarded("nd_problem_get_state_size", [&] {
     nd::Problem &pr = nd::problem_of(p);

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common/format.hpp"
+#include "monitor/critical_step.hpp"
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
 #include "problem/checkpoint.hpp"
@@ -235,6 +236,12 @@ void Problem::setup() {
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
                           "gamma >= 1/2, or allow it with the unstable-scheme guard for a study");
   if (def_.guards.coercivity) check_coercivity(d, def_.solver);
+  const double limit = in.scheme->stability_limit();
+  if (def_.guards.critical_timestep && std::isfinite(limit) && def_.tau * omega_max() > limit)
+    fail(ND_ERR_UNSTABLE, "the time step " + num(def_.tau) + " exceeds the scheme's critical step " +
+                              num(limit / omega_max()) + " (" + num(limit) + "/omega_max, the highest frequency with " +
+                              "every contact point active): lower the time step, use an implicit scheme, or raise "
+                              "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
   state();
   if (state_.n == 0) guard_initial_state(d, def_.guards, state_);
   setup_done_ = true;
@@ -247,6 +254,21 @@ void Problem::step() {
   State next = advance(*integrator_, *disc_, def_, state_, current_load());
   guard_step(*disc_, def_.guards, state_, next);
   state_ = std::move(next);
+}
+
+double Problem::omega_max() {
+  Discretization &d = discretization_();
+  if (!(d.omega_max > 0)) d.omega_max = estimate_omega_max(d, def_.solver).omega_max;
+  return d.omega_max;
+}
+
+double Problem::critical_timestep() {
+  double limit = 2;  // the central difference's
+  if (def_.given & kScheme) {
+    const double l = make_scheme(def_.scheme, def_.scheme_params)->stability_limit();
+    if (std::isfinite(l)) limit = l;
+  }
+  return limit / omega_max();
 }
 
 void Problem::overwrite_state(const double *u, const double *v) {

@@ -40,6 +40,10 @@ class Problem {
   // carries it, and the energy guard counts the change as energy put in.
   void overwrite_state(const double *u, const double *v);
 
+  // The critical step of the scheme if it is conditionally stable, else of
+  // the central difference: limit / omega_max (monitor/critical_step.hpp).
+  double critical_timestep();
+
   // ---- checkpoint (problem/checkpoint.hpp)
   std::vector<unsigned char> save_state();
   void load_state(const unsigned char *buf, int64_t nbytes);  // all or nothing
@@ -64,6 +68,7 @@ class Problem {
   Discretization &discretization_();
   const std::vector<double> &constant_load_();
   Integrator &integrator_or_build();
+  double omega_max();
   const State &state();
   std::vector<double> current_load();
   void require_region(int region, const char *what) const;

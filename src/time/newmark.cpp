@@ -1,5 +1,7 @@
 // Newmark (paper eq. (16)); beta = 0 is its explicit variant
 // (U^{n+1} = U^n + tau V^n + tau^2/2 A^n, then A^{n+1} from the equilibrium).
+#include <cmath>
+
 #include "nitschedyn.h"
 #include "time/newmark_update.hpp"
 #include "time/scheme.hpp"
@@ -13,6 +15,11 @@ class Newmark : public TimeScheme {
   bool is_explicit() const override { return beta_ == 0; }
   // gamma < 1/2 is negative numerical damping: growth at every step size
   bool always_unstable() const override { return gamma_ < 0.5; }
+  // gamma >= 1/2: unconditionally stable for 2 beta >= gamma, else for
+  // omega tau <= (gamma/2 - beta)^(-1/2) (2 for the central difference)
+  double stability_limit() const override {
+    return 2 * beta_ >= gamma_ ? INFINITY : 1 / std::sqrt(0.5 * gamma_ - beta_);
+  }
   StepCoefficients coefficients(double tau) const override { return {1 / (beta_ * tau * tau), 1}; }
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
     const double c = coefficients(tau).c;

@@ -6,6 +6,7 @@
 // where phi is the scheme's contact term. An explicit step predicts U^{n+1},
 // then solves M A^{n+1} = F^{n+1} - K_Theta U^{n+1} - N(U^{n+1}).
 #pragma once
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,8 @@ class TimeScheme {
   // Amplifies every undamped oscillation whatever the step (theta < 1/2,
   // Newmark gamma < 1/2): refused unless the caller insists.
   virtual bool always_unstable() const { return false; }
+  // Stable for omega tau up to this limit (infinite: unconditionally stable).
+  virtual double stability_limit() const { return INFINITY; }
   // Does the state carry A^n (Remark 3.2 at t^0)? The hybrid scheme needs none.
   virtual bool uses_acceleration() const { return true; }
   virtual StepCoefficients coefficients(double tau) const = 0;  // implicit schemes

@@ -1,0 +1,81 @@
+#include "monitor/critical_step.hpp"
+
+#include <lapacke.h>
+
+#include <cmath>
+#include <vector>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+namespace {
+
+// y = (K_Theta + T_c) x
+void apply(const Discretization &d, const std::vector<double> &x, std::vector<double> &y) {
+  d.K_theta.multiply(x.data(), y.data());
+  const ContactPoints &cp = d.contact;
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const SparseRow &a = cp.a[q], &s = cp.s[q];
+    double bx = 0, px = 0;
+    for (size_t k = 0; k < a.idx.size(); ++k) {
+      const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
+      bx += b * x[a.idx[k]];
+      px += p * x[a.idx[k]];
+    }
+    const double f = 0.5 * cp.w[q] / cp.gamma[q];  // sym(b p^T) x = (b (p.x) + p (b.x))/2
+    for (size_t k = 0; k < a.idx.size(); ++k) {
+      const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
+      y[a.idx[k]] += f * (b * px + p * bx);
+    }
+  }
+}
+
+double m_dot(const Csr &M, const std::vector<double> &x, const std::vector<double> &y, std::vector<double> &tmp) {
+  M.multiply(y.data(), tmp.data());
+  return dot(static_cast<int64_t>(x.size()), x.data(), tmp.data());
+}
+
+}  // namespace
+
+CriticalStep estimate_omega_max(Discretization &d, int solver) {
+  const size_t n = static_cast<size_t>(d.dofs.n_free);
+  const int max_iter = static_cast<int>(std::min<size_t>(n, 80));
+  std::vector<std::vector<double>> Q;  // M-orthonormal Lanczos vectors
+  std::vector<double> alpha, beta, w(n), z(n), tmp(n), r(n);
+  // a fixed start that excites every mode (no symmetry of the mesh cancels it)
+  for (size_t i = 0; i < n; ++i) r[i] = 1.0 + 0.5 * std::sin(1.7 * static_cast<double>(i) + 0.3);
+  double b = std::sqrt(m_dot(d.M, r, r, tmp)), theta_max = 0, bound = 0, previous = -1;
+  int j = 0;
+  for (; j < max_iter; ++j) {
+    for (double &v : r) v /= b;
+    Q.push_back(r);
+    apply(d, Q[j], z);
+    alpha.push_back(dot(static_cast<int64_t>(n), Q[j].data(), z.data()));
+    w = z;
+    d.mass_solve(w.data(), solver);  // w = M^-1 (K + T) q_j
+    for (int pass = 0; pass < 2; ++pass)  // full reorthogonalization, twice is enough
+      for (const auto &q : Q) {
+        const double c = m_dot(d.M, q, w, tmp);
+        for (size_t i = 0; i < n; ++i) w[i] -= c * q[i];
+      }
+    b = std::sqrt(std::max(0.0, m_dot(d.M, w, w, tmp)));
+    // the largest Ritz value and its residual bound b |s_last|
+    const int m = j + 1;
+    std::vector<double> diag(alpha), off(beta), vec(static_cast<size_t>(m * m));
+    if (LAPACKE_dstev(LAPACK_COL_MAJOR, 'V', m, diag.data(), off.data(), vec.data(), m) != 0)
+      fail(ND_ERR_INTERNAL, "the Lanczos tridiagonal eigenproblem failed");
+    theta_max = diag[m - 1];
+    bound = b * std::fabs(vec[static_cast<size_t>((m - 1) * m + (m - 1))]);
+    if (!(b > 1e-14 * std::fabs(theta_max)) || (std::fabs(theta_max - previous) <= 1e-10 * theta_max && bound <= 1e-6 * theta_max))
+      break;
+    previous = theta_max;
+    beta.push_back(b);
+    r = w;
+  }
+  if (!(theta_max > 0) || !std::isfinite(theta_max))
+    fail(ND_ERR_INTERNAL, "the critical step estimate failed (largest Ritz value " + std::to_string(theta_max) + ")");
+  return CriticalStep{std::sqrt(theta_max + bound), j + 1};
+}
+
+}  // namespace nd

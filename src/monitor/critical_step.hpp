@@ -1,0 +1,20 @@
+// The critical time step of the explicit schemes (DESIGN §3b.4): they are
+// stable for omega_max tau below a limit of the scheme (2 for the central
+// difference), omega_max^2 the largest eigenvalue of
+//   (K_Theta + T_c) x = lambda M x,   T_c = sum_q (w_q/gamma_q) sym(b_q p_q^T),
+// T_c the contact tangent with every point active (its symmetric part when
+// Theta != 1, where b_q != p_q). Estimated by Lanczos in the M inner product
+// with full reorthogonalization, from a fixed start vector.
+#pragma once
+#include "problem/discretization.hpp"
+
+namespace nd {
+
+struct CriticalStep {
+  double omega_max;  // the estimate of sqrt(lambda_max): Ritz value plus its residual bound
+  int iterations;
+};
+
+CriticalStep estimate_omega_max(Discretization &d, int solver);
+
+}  // namespace nd
