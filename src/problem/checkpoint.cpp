@@ -62,7 +62,7 @@ class Reader {
                               std::to_string(expected));
     need(n * sizeof(double));
     std::vector<double> v(n);
-    std::memcpy(v.data(), p_ + at_, n * sizeof(double));
+    if (n > 0) std::memcpy(v.data(), p_ + at_, n * sizeof(double));
     at_ += n * sizeof(double);
     return v;
   }
