@@ -289,6 +289,19 @@ int run(const Options &opt) {
   return 0;
 }
 
+// A CLI11 check: a finite number above (strict) or at least lo.
+CLI::Validator number_at_least(double lo, bool strict) {
+  return CLI::Validator(
+      [lo, strict](std::string &text) -> std::string {
+        char *end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(x) || x < lo || (strict && x == lo))
+          return text + " is not " + (strict ? "a positive number" : "a number >= " + CLI::detail::to_string(lo));
+        return std::string();
+      },
+      strict ? "POSITIVE" : "NUMBER>=0");
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -303,8 +316,8 @@ int main(int argc, char **argv) {
              "scene file.");
   Options opt;
   app.add_option("scene", opt.scene, "the scene file (TOML)");
-  app.add_option("--T", opt.T, "final time (overrides time.T)")->check(CLI::NonNegativeNumber);
-  app.add_option("--tau", opt.tau, "time step (overrides time.tau)")->check(CLI::PositiveNumber);
+  app.add_option("--T", opt.T, "final time (overrides time.T)")->check(number_at_least(0, false));
+  app.add_option("--tau", opt.tau, "time step (overrides time.tau)")->check(number_at_least(0, true));
   app.add_option("--out", opt.out, "directory of the outputs (default: the current directory)");
   app.add_flag("--quiet,-q", opt.quiet, "print the summary line only (and errors)");
   app.add_flag("--progress", opt.progress, "show progress on stderr even when it is not a terminal");

@@ -324,7 +324,9 @@ Scene read_scene(const std::string &path) {
     root = toml::parse_file(path);
   } catch (const toml::parse_error &e) {
     std::ostringstream os;
-    os << path << ':' << e.source().begin.line << ':' << e.source().begin.column << ": " << e.description();
+    std::string what(e.description());
+    for (size_t i = 0; (i = what.find('\n', i)) != std::string::npos;) what.replace(i, 1, "\\n");
+    os << path << ':' << e.source().begin.line << ':' << e.source().begin.column << ": " << what;
     throw SceneError(os.str());
   }
   Reader r(path);
