@@ -108,6 +108,13 @@ grep -q '^nitschedyn [0-9]*\.[0-9]*\.[0-9]* (libnitschedyn [0-9.]*)$' version.ou
 "$driver" nowhere.toml > noscene.out 2>&1
 [ $? -eq 2 ] && grep -q 'nowhere.toml: no such scene file' noscene.out || fail "missing scene: $(cat noscene.out)"
 echo "ok: --help, --version, no scene, missing scene"
+# not a terminal: no progress bar, unless --progress (then a line every 10 %)
+"$driver" base.toml --quiet > quiet.out 2> quiet.err || fail "--quiet: $(cat quiet.err)"
+[ ! -s quiet.err ] && [ "$(wc -l < quiet.out)" -eq 1 ] || fail "--quiet: $(cat quiet.out quiet.err)"
+"$driver" base.toml --quiet --progress > progress.out 2> progress.err || fail "--progress: $(cat progress.err)"
+[ "$(grep -c '^progress: ' progress.err)" -eq 11 ] && grep -q '^progress: 100%  step 20/20' progress.err ||
+  fail "--progress: $(cat progress.err)"
+echo "ok: --quiet, --progress"
 
 # generated meshes: the 1D bar of DESIGN §7 falling with speed 1/2 on x = 0
 # (clamped at x = 1), and a 2D block with a traction on its top
