@@ -1,6 +1,6 @@
 # Install rules of the C library: the shared library (versioned, with its
 # SONAME and development symlinks), the header, the manual pages with one
-# alias per extra function name, the pkg-config file nitschedyn.pc and the
+# alias per extra function name (and section 1), the driver bin/nitschedyn, the pkg-config file nitschedyn.pc and the
 # CMake package nitschedyn (target nitschedyn::nitschedyn).
 # `make install PREFIX=...` runs `cmake --install build --prefix ...`: both
 # install exactly these files.
@@ -47,6 +47,14 @@ foreach(page IN LISTS ND_MAN3)
   endforeach()
 endforeach()
 install(FILES ${ND_MAN3} ${ND_MAN_ALIAS_FILES} DESTINATION ${CMAKE_INSTALL_MANDIR}/man3)
+# section 1: the command-line driver nitschedyn(1)
+file(GLOB ND_MAN1 CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/man/*.1)
+install(FILES ${ND_MAN1} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+
+# --- the command-line driver (tools/cli), found through its rpath $ORIGIN/../lib
+if(TARGET nitschedyn_cli)
+  install(TARGETS nitschedyn_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 
 # --- pkg-config: nitschedyn.pc from cmake/nitschedyn.pc.in. The prefix is
 #     found relative to the file (${pcfiledir}), so that an installed tree,

@@ -8,7 +8,7 @@
 set -e
 need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy"
+pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy libtomlplusplus-dev libcli11-dev"
 [ "${1:-}" = report ] && pkgs="$pkgs python3 python3-matplotlib python3-getfem"
 [ "${1:-}" = fuzz ] && pkgs="$pkgs clang libclang-rt-dev"
 for pkg in $pkgs; do

@@ -8,7 +8,7 @@
 #   WORK_DIR    scratch directory
 #
 # Checks, each reported as "FAIL: ..." (exit status 1 if any fails):
-#  1. mandoc -Tlint -Wwarning is silent on every page;
+#  1. mandoc -Tlint -Wwarning is silent on every page (sections 1 and 3);
 #  2. every function declared in the header and every nd_* symbol the library
 #     exports has a page or an alias (an .Nm of a NAME section: that is how
 #     cmake/install.cmake installs the aliases), and every nd_* name in a NAME
@@ -67,8 +67,8 @@ cut -f1 "$work/status.txt" | sort -u > "$work/status_names.txt"
 [ -s "$work/header_functions.txt" ] || fail "no function found in $header"
 [ -s "$work/status.txt" ] || fail "ND_STATUS_LIST not found in $header"
 
-# ---- 1. lint -------------------------------------------------------------
-for p in $pages; do
+# ---- 1. lint (also the section 1 pages: nitschedyn(1)) ----------------------
+for p in $pages $(ls "$man"/*.1 2>/dev/null); do
   out=$(mandoc -Tlint -Wwarning "$p" 2>&1) || true
   [ -z "$out" ] || fail "mandoc -Tlint -Wwarning $(basename "$p"):
 $out"

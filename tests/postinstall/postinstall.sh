@@ -8,7 +8,10 @@
 #                    `pkg-config --cflags --libs nitschedyn`
 #         cmake      the same through find_package(nitschedyn) in
 #                    tests/postinstall/cmake_consumer
-#         man        `man -M PREFIX/MANDIR` finds a page for every function
+#         man        `man -M PREFIX/MANDIR` finds a page for every function,
+#                    and nitschedyn(1)
+#         driver     the installed bin/nitschedyn runs the disk scene with the
+#                    installed library (its rpath), without LD_LIBRARY_PATH
 #   LIBDIR, INCLUDEDIR, MANDIR are CMAKE_INSTALL_LIBDIR, ..._INCLUDEDIR,
 #   ..._MANDIR (relative to the prefix); VERSION is major.minor.patch.
 # Exit status 0: passed, 1: failed, 77: skipped (a tool is missing).
@@ -35,6 +38,10 @@ cmp -s "$src/include/nitschedyn.h" "$prefix/$includedir/nitschedyn.h" ||
 for page in "$src"/man/*.3; do
   cmp -s "$page" "$prefix/$mandir/man3/$(basename "$page")" || fail "$mandir/man3/$(basename "$page") is missing or differs"
 done
+for page in "$src"/man/*.1; do
+  cmp -s "$page" "$prefix/$mandir/man1/$(basename "$page")" || fail "$mandir/man1/$(basename "$page") is missing or differs"
+done
+[ -x "$prefix/bin/nitschedyn" ] || fail "no bin/nitschedyn"
 [ -f "$lib/pkgconfig/nitschedyn.pc" ] || fail "no $libdir/pkgconfig/nitschedyn.pc"
 for f in nitschedynConfig.cmake nitschedynConfigVersion.cmake nitschedynTargets.cmake; do
   [ -f "$lib/cmake/nitschedyn/$f" ] || fail "no $libdir/cmake/nitschedyn/$f"
@@ -113,6 +120,15 @@ man)
     n=$((n + 1))
   done
   echo "man: all $n functions of the header have a page"
+  show 1 nitschedyn | grep -q 'run a dynamic contact scene' || fail "man 1 nitschedyn does not show nitschedyn(1)"
+  echo "man: nitschedyn(1)"
+  ;;
+driver)
+  uses_installed "$prefix/bin/nitschedyn"
+  (unset LD_LIBRARY_PATH; "$prefix/bin/nitschedyn" --version) || fail "bin/nitschedyn --version"
+  (unset LD_LIBRARY_PATH; "$prefix/bin/nitschedyn" "$src/examples/scenes/disk.toml" --T 2 --out "$work/run" --quiet) ||
+    fail "bin/nitschedyn on examples/scenes/disk.toml"
+  [ "$(wc -l < "$work/run/disk_history.csv")" -eq 42 ] || fail "the history has not 41 rows"
   ;;
 *)
   fail "unknown mode $mode"

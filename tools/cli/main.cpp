@@ -1,0 +1,355 @@
+// nitschedyn(1): runs a scene file (TOML) through libnitschedyn's public C
+// API only, and writes the energy/force history (CSV) and a ParaView series.
+//   exit 0  success
+//   exit 1  the library failed (nd_last_error()), or an output could not be written
+//   exit 2  usage error, or the scene file is invalid (file:line:col: key and reason)
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nitschedyn.h"
+#include "scene.hpp"
+
+namespace fs = std::filesystem;
+using ndcli::Scene;
+using ndcli::SceneError;
+
+namespace {
+
+// The library failed: exit status 1.
+struct LibError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void call(int status, const std::string &what) {
+  if (status < 0) throw LibError(what + ": " + nd_last_error());
+}
+
+// A call that takes values from the scene file: when the library refuses a
+// value, the scene is wrong, and the message names where the value is written.
+void scene_call(int status, const std::string &at, const std::string &what) {
+  if (status >= 0) return;
+  switch (status) {
+  case ND_ERR_DIMENSION: case ND_ERR_SIZE: case ND_ERR_INDEX: case ND_ERR_NONFINITE: case ND_ERR_DEGREE:
+  case ND_ERR_MATERIAL: case ND_ERR_NITSCHE: case ND_ERR_TIMESTEP: case ND_ERR_SCHEME: case ND_ERR_KEY:
+  case ND_ERR_REGION: case ND_ERR_VALUE:
+    throw SceneError(at + ": " + what + ": " + nd_last_error());
+  default:
+    throw LibError(what + ": " + nd_last_error());
+  }
+}
+
+struct Mesh {
+  nd_mesh m = nullptr;
+  ~Mesh() { nd_mesh_destroy(&m); }
+};
+struct Problem {
+  nd_problem p = nullptr;
+  ~Problem() { nd_problem_destroy(&p); }
+};
+
+double scalar(nd_problem p, int key) {
+  double x = 0;
+  call(nd_get_scalar(p, key, &x), "nd_get_scalar");
+  return x;
+}
+
+struct Setup {
+  int dim = 0;
+  int64_t nodes = 0;
+};
+
+// The problem of the scene, defined and set up (assembled, factorized, the
+// initial acceleration computed: nd_problem_setup).
+Setup build(const Scene &s, Problem &prob) {
+  Setup out;
+  Mesh mesh;
+  if (!s.gmsh.empty()) {
+    const int st = nd_mesh_read_gmsh(s.gmsh.c_str(), &mesh.m);
+    if (st < 0) throw LibError(s.gmsh_at + ": reading the mesh: " + nd_last_error());
+  } else if (s.generate == "interval") {
+    scene_call(nd_mesh_create_interval(s.cells[0], s.lo[0], s.hi[0], &mesh.m), s.mesh_at, "[mesh]");
+  } else if (s.generate == "rectangle") {
+    scene_call(nd_mesh_create_rectangle(s.cells[0], s.cells[1], s.lo.data(), s.hi.data(), &mesh.m), s.mesh_at, "[mesh]");
+  } else {
+    scene_call(nd_mesh_create_box(s.cells[0], s.cells[1], s.cells[2], s.lo.data(), s.hi.data(), &mesh.m), s.mesh_at,
+               "[mesh]");
+  }
+  call(nd_mesh_get_dimension(mesh.m, &out.dim), "nd_mesh_get_dimension");
+  ndcli::check_dimension(s, out.dim);
+  for (const auto &b : s.boxes)
+    scene_call(nd_mesh_mark_boundary_box(mesh.m, b.id, b.lo.data(), b.hi.data()), b.at, "[regions] " + b.name);
+  // every region the scene uses has facets
+  auto facets = [&](const ndcli::RegionRef &r, const char *use) {
+    const int id = ndcli::region_id(s, r);
+    int64_t n = 0;
+    call(nd_mesh_get_region_size(mesh.m, id, &n), "nd_mesh_get_region_size");
+    if (n == 0)
+      throw SceneError(r.at + ": region " + (r.name.empty() ? "" : "'" + r.name + "' = ") + std::to_string(id) +
+                       " (" + use + ") has no facet in the mesh" +
+                       (s.gmsh.empty() ? "" : " (no such Gmsh physical group, and no box of [regions] marks it)"));
+    return id;
+  };
+  for (const auto &o : s.obstacles) facets(o.region, "obstacle.region");
+  for (const auto &t : s.tractions) facets(t.region, "loads.traction.region");
+  for (const auto &c : s.clamped) facets(c, "dirichlet.regions");
+
+  call(nd_problem_create(mesh.m, s.degree, &prob.p), "nd_problem_create");
+  nd_problem p = prob.p;
+  scene_call(nd_problem_set_material(p, s.young, s.poisson, s.density), s.material_at, "[material]");
+  for (const auto &c : s.clamped) scene_call(nd_problem_set_dirichlet(p, ndcli::region_id(s, c)), c.at, "dirichlet");
+  if (!s.body_force.empty())
+    scene_call(nd_problem_set_body_force(p, s.body_force.data()), s.body_force_at, "loads.body_force");
+  for (const auto &t : s.tractions)
+    scene_call(nd_problem_set_neumann(p, ndcli::region_id(s, t.region), t.value.data()), t.at, "loads.traction");
+  for (const auto &o : s.obstacles)
+    scene_call(nd_problem_set_contact_plane(p, ndcli::region_id(s, o.region), o.point.data(), o.normal.data()), o.at,
+               "[obstacle]");
+  scene_call(nd_problem_set_nitsche(p, s.Theta, s.gamma0), s.nitsche_at.empty() ? s.file : s.nitsche_at, "[nitsche]");
+  scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
+             "[scheme]");
+  scene_call(nd_problem_set_timestep(p, s.tau), s.tau_at.empty() ? "--tau" : s.tau_at, "time.tau");
+  const std::string solver_at = s.solver_at.empty() ? s.file : s.solver_at;
+  scene_call(nd_problem_set_linear_solver(p, s.solver_id), solver_at, "solver.linear");
+  if (s.newton_given)
+    scene_call(nd_problem_set_newton(p, s.newton_rtol, s.newton_atol, (int)s.newton_max_iter), solver_at,
+               "solver.newton_*");
+  if (s.mass_lumping) scene_call(nd_problem_set_mass_lumping(p, 1), solver_at, "solver.mass_lumping");
+  call(nd_problem_get_node_count(p, &out.nodes), "nd_problem_get_node_count");
+  if (!s.u0.empty() || !s.v0.empty()) {  // uniform vectors at every node
+    std::vector<double> u, v;
+    for (int64_t i = 0; i < out.nodes; ++i)
+      for (int k = 0; k < out.dim; ++k) {
+        if (!s.u0.empty()) u.push_back(s.u0[k]);
+        if (!s.v0.empty()) v.push_back(s.v0[k]);
+      }
+    scene_call(nd_problem_set_initial_state(p, out.nodes, u.empty() ? nullptr : u.data(), v.empty() ? nullptr : v.data()),
+               s.u0.empty() ? s.v0_at : s.u0_at, "[initial]");
+  }
+  call(nd_problem_setup(p), "setting up the problem (nd_problem_setup)");
+  return out;
+}
+
+// A progress bar on stderr: redrawn in place on a terminal; when forced
+// (--progress) on something else, one line every 10 %.
+class Progress {
+ public:
+  Progress(bool on, int64_t steps) : on_(on && steps > 0), tty_(isatty(STDERR_FILENO) != 0), steps_(steps) {}
+  void update(int64_t k, double t) {
+    if (!on_) return;
+    const int percent = (int)(100 * k / steps_);
+    if (tty_) {
+      if (percent == last_ && k != steps_) return;
+      last_ = percent;
+      const int width = 30, full = width * percent / 100;
+      std::fprintf(stderr, "\r[%s%s] %3d%%  step %" PRId64 "/%" PRId64 "  t = %-10.5g", std::string(full, '#').c_str(),
+                   std::string(width - full, '.').c_str(), percent, k, steps_, t);
+    } else {
+      if (percent / 10 == last_ / 10 && last_ >= 0) return;
+      last_ = percent;
+      std::fprintf(stderr, "progress: %3d%%  step %" PRId64 "/%" PRId64 "  t = %g\n", percent, k, steps_, t);
+    }
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (on_ && tty_) std::fputs("\n", stderr);
+    on_ = false;
+  }
+  ~Progress() { finish(); }
+
+ private:
+  bool on_, tty_;
+  int64_t steps_;
+  int last_ = -1;
+};
+
+struct File {
+  std::FILE *f = nullptr;
+  ~File() {
+    if (f) std::fclose(f);
+  }
+};
+
+void make_parent(const fs::path &p) {
+  std::error_code ec;
+  if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
+  if (ec) throw LibError("cannot create the directory " + p.parent_path().string() + ": " + ec.message());
+}
+
+struct Options {
+  std::string scene, out;
+  double T = -1, tau = -1;
+  bool quiet = false, progress = false, check = false, list_keys = false;
+};
+
+int run(const Options &opt) {
+  Scene s = ndcli::read_scene(opt.scene);
+  if (opt.tau > 0) s.tau = opt.tau, s.tau_given = true, s.tau_at = "--tau";
+  if (opt.T >= 0) s.T = opt.T, s.T_given = true, s.T_at = "--T";
+  if (!s.tau_given) throw SceneError(s.file + ": no 'time.tau' (required unless --tau is given)");
+  if (!s.T_given) throw SceneError(s.file + ": no 'time.T' (required unless --T is given)");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  Problem prob;
+  const Setup su = build(s, prob);
+  nd_problem p = prob.p;
+  const int64_t steps = (int64_t)(s.T / s.tau + 0.5);
+  const int64_t every = s.interval > 0 ? std::max<int64_t>(1, (int64_t)(s.interval / s.tau + 0.5)) : 1;
+
+  if (!opt.quiet) {
+    const double gamma0 = scalar(p, ND_GAMMA0), limit = scalar(p, ND_GAMMA0_LIMIT);
+    std::printf("%s%s%s: %dD, P%d, %" PRId64 " nodes (%" PRId64 " unknowns), %s scheme, Theta = %g, gamma0 = %g (%s"
+                "coercive up to %g), tau = %g, T = %g: %" PRId64 " steps\n",
+                s.file.c_str(), s.title.empty() ? "" : ": ", s.title.c_str(), su.dim, s.degree, su.nodes,
+                su.nodes * su.dim, s.scheme.c_str(), s.Theta, gamma0, s.gamma0 == 0 ? "automatic; " : "", limit, s.tau,
+                steps * s.tau, steps);
+    std::fflush(stdout);
+  }
+  if (opt.check) {
+    std::printf("%s: the scene is valid and the problem is set up\n", s.file.c_str());
+    return 0;
+  }
+
+  const fs::path out = opt.out.empty() ? fs::path() : fs::path(opt.out);
+  File history;
+  fs::path history_path;
+  if (!s.history.empty()) {
+    history_path = out / s.history;
+    make_parent(history_path);
+    history.f = std::fopen(history_path.c_str(), "w");
+    if (!history.f) throw LibError("cannot write the history " + history_path.string());
+    std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations\n", history.f);
+  }
+  fs::path prefix;
+  std::vector<std::string> frames;
+  std::vector<double> times;
+  if (!s.paraview.empty()) {
+    prefix = out / s.paraview;
+    make_parent(prefix);
+  }
+
+  Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
+  const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
+  double max_force = 0, max_pen = 0, newton = 0;
+  for (int64_t k = 0; k <= steps; ++k) {
+    if (k > 0) {
+      const int st = nd_step(p);
+      if (st < 0) {
+        bar.finish();
+        throw LibError("step " + std::to_string(k) + " from t = " + std::to_string(scalar(p, ND_TIME)) + ": " +
+                       nd_last_error());
+      }
+      newton += scalar(p, ND_NEWTON_ITERATIONS);
+    }
+    const double t = scalar(p, ND_TIME), force = scalar(p, ND_CONTACT_FORCE), pen = scalar(p, ND_MAX_PENETRATION);
+    max_force = std::max(max_force, force);
+    max_pen = std::max(max_pen, pen);
+    if (history.f) {
+      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f\n", k, t,
+                   scalar(p, ND_ENERGY_MECHANICAL), scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK), force,
+                   scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0);
+      if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
+    }
+    if (!prefix.empty() && (k % every == 0 || k == steps)) {
+      char name[32];
+      std::snprintf(name, sizeof name, "_%04zu.vtu", frames.size());
+      const fs::path vtu = prefix.string() + name;
+      call(nd_problem_write_vtu(p, vtu.c_str()), "nd_problem_write_vtu");
+      frames.push_back(vtu.filename().string());  // relative to the .pvd, which is beside it
+      times.push_back(t);
+    }
+    bar.update(k, t);
+  }
+  bar.finish();
+  if (!prefix.empty()) {
+    std::vector<const char *> names;
+    for (const auto &f : frames) names.push_back(f.c_str());
+    const std::string pvd = prefix.string() + ".pvd";
+    call(nd_write_pvd(pvd.c_str(), (int64_t)names.size(), names.data(), times.data()), "nd_write_pvd");
+  }
+  if (history.f) {
+    const bool bad = std::fclose(history.f) != 0;
+    history.f = nullptr;
+    if (bad) throw LibError("cannot write the history " + history_path.string());
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %" PRId64 " steps to t = %g; E_Theta %.8g -> %.8g, W %.8g; max contact force %.6g, max "
+              "penetration %.4e; mean Newton iterations %.3f; %.2f s\n",
+              s.file.c_str(), steps, scalar(p, ND_TIME), E0, scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK),
+              max_force, max_pen, steps > 0 ? newton / (double)steps : 0.0, seconds);
+  return 0;
+}
+
+// A CLI11 check: a finite number above (strict) or at least lo.
+CLI::Validator number_at_least(double lo, bool strict) {
+  return CLI::Validator(
+      [lo, strict](std::string &text) -> std::string {
+        char *end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(x) || x < lo || (strict && x == lo))
+          return text + " is not " + (strict ? "a positive number" : "a number >= " + CLI::detail::to_string(lo));
+        return std::string();
+      },
+      strict ? "POSITIVE" : "NUMBER>=0");
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  int major = 0, minor = 0, patch = 0;
+  nd_version(&major, &minor, &patch);
+  const std::string version = "nitschedyn " ND_VERSION_STRING " (libnitschedyn " + std::to_string(major) + "." +
+                              std::to_string(minor) + "." + std::to_string(patch) + ")";
+  CLI::App app{"Runs a dynamic contact scene (a TOML scene file) with libnitschedyn: writes the energy and "
+               "contact-force history as CSV and a ParaView series.",
+               "nitschedyn"};
+  app.footer("Exit status: 0 success, 1 the library failed, 2 usage or scene error.\nSee nitschedyn(1) for the "
+             "scene file.");
+  Options opt;
+  app.add_option("scene", opt.scene, "the scene file (TOML)");
+  app.add_option("--T", opt.T, "final time (overrides time.T)")->check(number_at_least(0, false));
+  app.add_option("--tau", opt.tau, "time step (overrides time.tau)")->check(number_at_least(0, true));
+  app.add_option("--out", opt.out, "directory of the outputs (default: the current directory)");
+  app.add_flag("--quiet,-q", opt.quiet, "print the summary line only (and errors)");
+  app.add_flag("--progress", opt.progress, "show progress on stderr even when it is not a terminal");
+  app.add_flag("--check", opt.check, "read the scene and set the problem up, then stop");
+  app.add_flag("--list-keys", opt.list_keys, "list the keys of the scene file")->group("");
+  app.set_version_flag("--version", version);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError &e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  if (opt.list_keys) {
+    for (const auto &k : ndcli::documented_keys()) std::printf("%s\n", k.c_str());
+    return 0;
+  }
+  if (opt.scene.empty()) {
+    std::fprintf(stderr, "nitschedyn: no scene file (usage: nitschedyn SCENE.toml [options]; see --help)\n");
+    return 2;
+  }
+  try {
+    return run(opt);
+  } catch (const SceneError &e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "nitschedyn: %s\n", e.what());
+    return 2;
+  } catch (const LibError &e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "nitschedyn: %s\n", e.what());
+    return 1;
+  } catch (const std::exception &e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "nitschedyn: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,518 @@
+// Reading a scene file (TOML, toml++): every table has a fixed set of keys,
+// an unknown key is an error, and every error names the file, the line and
+// the key.
+#include "scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "nitschedyn.h"
+
+namespace ndcli {
+namespace {
+
+// The keys of every table (the regions table has names chosen by the user).
+const std::map<std::string, std::vector<std::string>> &table_keys() {
+  static const std::map<std::string, std::vector<std::string>> keys = {
+      {"", {"title", "mesh", "regions", "material", "loads", "dirichlet", "obstacle", "nitsche", "scheme", "time",
+            "solver", "initial", "output"}},
+      {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
+      {"regions.NAME", {"id", "lo", "hi"}},
+      {"material", {"E", "nu", "rho"}},
+      {"loads", {"body_force", "traction"}},
+      {"loads.traction", {"region", "value"}},
+      {"dirichlet", {"regions"}},
+      {"obstacle", {"region", "point", "normal"}},
+      {"nitsche", {"Theta", "gamma0"}},
+      {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
+      {"time", {"tau", "T"}},
+      {"solver", {"linear", "newton_rtol", "newton_atol", "newton_max_iter", "mass_lumping"}},
+      {"initial", {"displacement", "velocity"}},
+      {"output", {"history", "paraview", "interval"}},
+  };
+  return keys;
+}
+
+const char *type_name(const toml::node &n) {
+  switch (n.type()) {
+  case toml::node_type::string: return "a string";
+  case toml::node_type::integer: return "an integer";
+  case toml::node_type::floating_point: return "a floating-point number";
+  case toml::node_type::boolean: return "a boolean";
+  case toml::node_type::date: return "a date";
+  case toml::node_type::time: return "a time";
+  case toml::node_type::date_time: return "a date-time";
+  case toml::node_type::array: return "an array";
+  case toml::node_type::table: return "a table";
+  default: return "nothing";
+  }
+}
+
+// One table of the scene and its dotted name ("loads.traction[2]").
+class Reader {
+ public:
+  Reader(std::string file) : file_(std::move(file)) {}
+
+  std::string where(const toml::source_region &src) const {
+    std::ostringstream os;
+    os << file_;
+    if (src.begin.line > 0) os << ':' << src.begin.line << ':' << src.begin.column;
+    return os.str();
+  }
+  [[noreturn]] void fail(const toml::source_region &src, const std::string &msg) const {
+    throw SceneError(where(src) + ": " + msg);
+  }
+  static std::string dotted(const std::string &table, const std::string &key) {
+    return table.empty() ? key : table + "." + key;
+  }
+  static std::string header(const std::string &table) { return table.empty() ? "the top level" : "[" + table + "]"; }
+
+  // Unknown keys are errors: the first one is reported at its line.
+  void check_keys(const toml::table &t, const std::string &name, const std::string &kind) const {
+    const auto &allowed = table_keys().at(kind);
+    for (auto &&[k, v] : t) {
+      bool ok = false;
+      for (const auto &a : allowed) ok = ok || a == k.str();
+      if (!ok) {
+        std::string list;
+        for (const auto &a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(k.source(), "unknown key '" + dotted(name, std::string(k.str())) + "' (the keys of " + header(name) +
+                             " are: " + list + ")");
+      }
+    }
+  }
+
+  const toml::node *find(const toml::table &t, const std::string &key) const { return t.get(key); }
+
+  [[noreturn]] void missing(const toml::table &t, const std::string &table, const std::string &key,
+                            const std::string &what) const {
+    fail(t.source(), header(table) + " has no key '" + key + "' (required: " + what + ")");
+  }
+  [[noreturn]] void wrong_type(const toml::node &n, const std::string &table, const std::string &key,
+                               const std::string &want) const {
+    fail(n.source(), "'" + dotted(table, key) + "' must be " + want + ", not " + type_name(n));
+  }
+
+  double number(const toml::node &n, const std::string &table, const std::string &key) const {
+    if (!n.is_number()) wrong_type(n, table, key, "a number");
+    const double x = *n.value<double>();
+    if (!std::isfinite(x) && !allow_infinite_) fail(n.source(), "'" + dotted(table, key) + "' must be finite");
+    return x;
+  }
+  double number(const toml::table &t, const std::string &table, const std::string &key, const double *fallback,
+                const std::string &what = "a number") const {
+    const toml::node *n = find(t, key);
+    if (!n) {
+      if (!fallback) missing(t, table, key, what);
+      return *fallback;
+    }
+    return number(*n, table, key);
+  }
+  int64_t integer(const toml::node &n, const std::string &table, const std::string &key) const {
+    if (!n.is_integer()) wrong_type(n, table, key, "an integer");
+    return *n.value<int64_t>();
+  }
+  std::string string(const toml::node &n, const std::string &table, const std::string &key) const {
+    if (!n.is_string()) wrong_type(n, table, key, "a string");
+    return *n.value<std::string>();
+  }
+  std::vector<double> vector(const toml::node &n, const std::string &table, const std::string &key) const {
+    const toml::array *a = n.as_array();
+    if (!a) wrong_type(n, table, key, "an array of numbers");
+    if (a->empty() || a->size() > 3)
+      fail(n.source(), "'" + dotted(table, key) + "' must have 1 to 3 components, not " + std::to_string(a->size()));
+    std::vector<double> v;
+    for (size_t i = 0; i < a->size(); ++i) v.push_back(number((*a)[i], table, key + "[" + std::to_string(i) + "]"));
+    return v;
+  }
+  std::vector<double> vector(const toml::table &t, const std::string &table, const std::string &key,
+                             const std::string &what) const {
+    const toml::node *n = find(t, key);
+    if (!n) missing(t, table, key, what);
+    return vector(*n, table, key);
+  }
+  const toml::table &table(const toml::node &n, const std::string &parent, const std::string &key) const {
+    const toml::table *t = n.as_table();
+    if (!t) wrong_type(n, parent, key, "a table");
+    return *t;
+  }
+  RegionRef region(const toml::node &n, const std::string &table, const std::string &key) const {
+    RegionRef r;
+    r.at = where(n.source());
+    if (n.is_integer()) {
+      const int64_t id = *n.value<int64_t>();
+      if (id < 0 || id > 1000000000) fail(n.source(), "'" + dotted(table, key) + "' must be a region number >= 0");
+      r.id = (int)id;
+    } else if (n.is_string()) {
+      r.name = *n.value<std::string>();
+    } else {
+      wrong_type(n, table, key, "a region number or the name of a region of [regions]");
+    }
+    return r;
+  }
+
+  void allow_infinite(bool on) { allow_infinite_ = on; }
+
+ private:
+  std::string file_;
+  bool allow_infinite_ = false;
+};
+
+void read_mesh(const Reader &r, const toml::table &t, Scene &s) {
+  r.check_keys(t, "mesh", "mesh");
+  s.mesh_at = r.where(t.source());
+  const toml::node *gmsh = t.get("gmsh"), *gen = t.get("generate");
+  if (gmsh && gen) r.fail(gen->source(), "[mesh] names a Gmsh file and a generated mesh: keep one");
+  if (!gmsh && !gen)
+    r.fail(t.source(), "[mesh] has neither 'gmsh' (a Gmsh file) nor 'generate' (interval, rectangle or box)");
+  if (gmsh) {
+    for (const char *k : {"cells", "lo", "hi"})
+      if (const toml::node *n = t.get(k)) r.fail(n->source(), std::string("'mesh.") + k + "' is for a generated mesh");
+    const std::filesystem::path p = r.string(*gmsh, "mesh", "gmsh");
+    if (p.empty()) r.fail(gmsh->source(), "'mesh.gmsh' is empty");
+    s.gmsh_at = r.where(gmsh->source());
+    s.gmsh = p.is_absolute() ? p.string() : (std::filesystem::path(s.file).parent_path() / p).lexically_normal().string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(s.gmsh, ec))
+      r.fail(gmsh->source(), "'mesh.gmsh': no mesh file " + s.gmsh + " (a path relative to the scene file)");
+  } else {
+    s.generate = r.string(*gen, "mesh", "generate");
+    s.dim = s.generate == "interval" ? 1 : s.generate == "rectangle" ? 2 : s.generate == "box" ? 3 : 0;
+    if (s.dim == 0)
+      r.fail(gen->source(), "'mesh.generate' is \"" + s.generate + "\": use interval, rectangle or box");
+    const toml::node *cells = t.get("cells");
+    if (!cells) r.missing(t, "mesh", "cells", "the number of cells in each direction");
+    const toml::array *a = cells->as_array();
+    if (!a) r.wrong_type(*cells, "mesh", "cells", "an array of integers");
+    if ((int)a->size() != s.dim)
+      r.fail(cells->source(), "'mesh.cells' has " + std::to_string(a->size()) + " entries; a " + s.generate +
+                                  " needs " + std::to_string(s.dim));
+    for (size_t i = 0; i < a->size(); ++i) {
+      const int64_t n = r.integer((*a)[i], "mesh", "cells[" + std::to_string(i) + "]");
+      if (n < 1) r.fail((*a)[i].source(), "'mesh.cells' must be positive");
+      s.cells.push_back(n);
+    }
+    s.lo = r.vector(t, "mesh", "lo", "the lower corner of the mesh");
+    s.hi = r.vector(t, "mesh", "hi", "the upper corner of the mesh");
+    for (const auto *v : {&s.lo, &s.hi})
+      if ((int)v->size() != s.dim)
+        r.fail(t.get(v == &s.lo ? "lo" : "hi")->source(),
+               std::string("'mesh.") + (v == &s.lo ? "lo" : "hi") + "' must have " + std::to_string(s.dim) +
+                   " components for a " + s.generate);
+    for (int k = 0; k < s.dim; ++k)
+      if (!(s.lo[k] < s.hi[k])) r.fail(t.get("hi")->source(), "'mesh.hi' must exceed 'mesh.lo' in every component");
+  }
+  if (const toml::node *d = t.get("degree")) {
+    const int64_t deg = r.integer(*d, "mesh", "degree");
+    if (deg != 1 && deg != 2) r.fail(d->source(), "'mesh.degree' must be 1 or 2");
+    s.degree = (int)deg;
+  }
+}
+
+void read_regions(Reader &r, const toml::table &t, Scene &s) {
+  for (auto &&[k, v] : t) {
+    const std::string name(k.str());
+    const std::string key = "regions." + name;
+    if (v.is_integer()) {  // a name for a region of the mesh (a Gmsh physical group)
+      const RegionRef ref = r.region(v, "regions", name);
+      s.names.emplace_back(name, ref.id);
+      continue;
+    }
+    if (!v.is_table()) r.wrong_type(v, "regions", name, "a region number or a table { id, lo, hi }");
+    const toml::table &b = *v.as_table();
+    r.check_keys(b, key, "regions.NAME");
+    const toml::node *id = b.get("id");
+    if (!id) r.missing(b, key, "id", "the region number");
+    RegionBox box;
+    box.name = name;
+    box.id = r.region(*id, key, "id").id;
+    r.allow_infinite(true);  // a box may be a half-space or a slab
+    box.lo = r.vector(b, key, "lo", "the lower corner of the box");
+    box.hi = r.vector(b, key, "hi", "the upper corner of the box");
+    r.allow_infinite(false);
+    if (box.lo.size() != box.hi.size())
+      r.fail(b.get("hi")->source(), "'" + key + ".lo' and '" + key + ".hi' differ in length");
+    box.at = r.where(b.source());
+    s.boxes.push_back(box);
+    s.names.emplace_back(name, box.id);
+  }
+}
+
+int scheme_id(const std::string &name) {
+  return name == "hybrid" ? ND_SCHEME_HYBRID : name == "newmark" ? ND_SCHEME_NEWMARK
+       : name == "theta"  ? ND_SCHEME_THETA  : name == "galpha"  ? ND_SCHEME_GENERALIZED_ALPHA : 0;
+}
+
+void read_scheme(const Reader &r, const toml::table &t, Scene &s) {
+  r.check_keys(t, "scheme", "scheme");
+  s.scheme_at = r.where(t.source());
+  const toml::node *n = t.get("name");
+  if (!n) r.missing(t, "scheme", "name", "hybrid, newmark, theta or galpha");
+  s.scheme = r.string(*n, "scheme", "name");
+  s.scheme_id = scheme_id(s.scheme);
+  if (!s.scheme_id) r.fail(n->source(), "'scheme.name' is \"" + s.scheme + "\": use hybrid, newmark, theta or galpha");
+  // the parameters of the scheme, and no other
+  const std::map<std::string, std::vector<std::string>> params = {
+      {"hybrid", {}}, {"newmark", {"beta", "gamma"}}, {"theta", {"theta"}}, {"galpha", {"rho_inf"}}};
+  for (auto &&[k, v] : t) {
+    const std::string key(k.str());
+    if (key == "name") continue;
+    bool ok = false;
+    for (const auto &p : params.at(s.scheme)) ok = ok || p == key;
+    if (!ok) r.fail(k.source(), "'scheme." + key + "' is not a parameter of the " + s.scheme + " scheme");
+  }
+  const double beta = 0.25, gamma = 0.5, theta = 0.5, rho_inf = 0.8;
+  if (s.scheme == "newmark") s.params = {{r.number(t, "scheme", "beta", &beta), r.number(t, "scheme", "gamma", &gamma)}};
+  if (s.scheme == "theta") s.params = {{r.number(t, "scheme", "theta", &theta), 0}};
+  if (s.scheme == "galpha") s.params = {{r.number(t, "scheme", "rho_inf", &rho_inf), 0}};
+}
+
+const char *const solver_names[] = {"auto", "dense", "banded", "cholmod", "umfpack", "klu"};
+
+void read_solver(const Reader &r, const toml::table &t, Scene &s) {
+  r.check_keys(t, "solver", "solver");
+  s.solver_at = r.where(t.source());
+  if (const toml::node *n = t.get("linear")) {
+    s.linear = r.string(*n, "solver", "linear");
+    s.solver_id = -1;
+    for (int k = 0; k < 6; ++k)
+      if (s.linear == solver_names[k]) s.solver_id = k;
+    if (s.solver_id < 0)
+      r.fail(n->source(), "'solver.linear' is \"" + s.linear + "\": use auto, dense, banded, cholmod, umfpack or klu");
+  }
+  const double rtol = s.newton_rtol, atol = s.newton_atol;
+  s.newton_given = t.get("newton_rtol") || t.get("newton_atol") || t.get("newton_max_iter");
+  s.newton_rtol = r.number(t, "solver", "newton_rtol", &rtol);
+  s.newton_atol = r.number(t, "solver", "newton_atol", &atol);
+  if (const toml::node *n = t.get("newton_max_iter")) s.newton_max_iter = r.integer(*n, "solver", "newton_max_iter");
+  if (const toml::node *n = t.get("mass_lumping")) {
+    if (!n->is_boolean()) r.wrong_type(*n, "solver", "mass_lumping", "true or false");
+    s.mass_lumping = *n->value<bool>();
+  }
+}
+
+void read_output(const Reader &r, const toml::table &t, Scene &s) {
+  r.check_keys(t, "output", "output");
+  s.output_at = r.where(t.source());
+  if (const toml::node *n = t.get("history")) {
+    s.history = r.string(*n, "output", "history");
+    if (s.history.empty()) r.fail(n->source(), "'output.history' is empty");
+  }
+  if (const toml::node *n = t.get("paraview")) {
+    s.paraview = r.string(*n, "output", "paraview");
+    if (s.paraview.empty() || s.paraview.back() == '/')
+      r.fail(n->source(), "'output.paraview' must be a file prefix (such as \"vtu/disk\")");
+  }
+  if (const toml::node *n = t.get("interval")) {
+    s.interval = r.number(*n, "output", "interval");
+    if (s.interval < 0) r.fail(n->source(), "'output.interval' must be >= 0 (0: every step)");
+  }
+}
+
+}  // namespace
+
+Scene read_scene(const std::string &path) {
+  Scene s;
+  s.file = path;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(path + ": no such scene file");
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error &e) {
+    std::ostringstream os;
+    std::string what(e.description());
+    for (size_t i = 0; (i = what.find('\n', i)) != std::string::npos;) what.replace(i, 1, "\\n");
+    os << path << ':' << e.source().begin.line << ':' << e.source().begin.column << ": " << what;
+    throw SceneError(os.str());
+  }
+  Reader r(path);
+  r.check_keys(root, "", "");
+
+  if (const toml::node *n = root.get("title")) s.title = r.string(*n, "", "title");
+
+  const toml::node *mesh = root.get("mesh");
+  if (!mesh) throw SceneError(path + ": no [mesh] table (required: 'gmsh' = a Gmsh file, or 'generate' = ...)");
+  read_mesh(r, r.table(*mesh, "", "mesh"), s);
+
+  if (const toml::node *n = root.get("regions")) read_regions(r, r.table(*n, "", "regions"), s);
+
+  const toml::node *mat = root.get("material");
+  if (!mat) throw SceneError(path + ": no [material] table (required: E, nu, rho)");
+  {
+    const toml::table &t = r.table(*mat, "", "material");
+    r.check_keys(t, "material", "material");
+    s.material_at = r.where(t.source());
+    s.young = r.number(t, "material", "E", nullptr, "Young's modulus");
+    s.density = r.number(t, "material", "rho", nullptr, "the density");
+    s.poisson_given = t.get("nu") != nullptr;
+    const double zero = 0;
+    s.poisson = r.number(t, "material", "nu", &zero);
+    if (!s.poisson_given && s.dim > 1) r.missing(t, "material", "nu", "Poisson's ratio");
+  }
+
+  if (const toml::node *n = root.get("loads")) {
+    const toml::table &t = r.table(*n, "", "loads");
+    r.check_keys(t, "loads", "loads");
+    if (const toml::node *b = t.get("body_force")) {
+      s.body_force = r.vector(*b, "loads", "body_force");
+      s.body_force_at = r.where(b->source());
+    }
+    if (const toml::node *tr = t.get("traction")) {
+      const toml::array *a = tr->as_array();
+      if (!a) r.wrong_type(*tr, "loads", "traction", "an array of tables { region, value }");
+      for (size_t i = 0; i < a->size(); ++i) {
+        const std::string name = "loads.traction[" + std::to_string(i) + "]";
+        const toml::table &e = r.table((*a)[i], "loads", "traction[" + std::to_string(i) + "]");
+        r.check_keys(e, name, "loads.traction");
+        const toml::node *reg = e.get("region");
+        if (!reg) r.missing(e, name, "region", "the region the traction acts on");
+        Traction tt;
+        tt.region = r.region(*reg, name, "region");
+        tt.value = r.vector(e, name, "value", "the traction vector");
+        tt.at = r.where(e.source());
+        s.tractions.push_back(tt);
+      }
+    }
+  }
+
+  if (const toml::node *n = root.get("dirichlet")) {
+    const toml::table &t = r.table(*n, "", "dirichlet");
+    r.check_keys(t, "dirichlet", "dirichlet");
+    if (const toml::node *regs = t.get("regions")) {
+      const toml::array *a = regs->as_array();
+      if (!a) r.wrong_type(*regs, "dirichlet", "regions", "an array of regions");
+      for (size_t i = 0; i < a->size(); ++i)
+        s.clamped.push_back(r.region((*a)[i], "dirichlet", "regions[" + std::to_string(i) + "]"));
+    }
+  }
+
+  if (const toml::node *n = root.get("obstacle")) {
+    std::vector<const toml::table *> planes;
+    if (const toml::array *a = n->as_array()) {
+      for (size_t i = 0; i < a->size(); ++i)
+        planes.push_back(&r.table((*a)[i], "", "obstacle[" + std::to_string(i) + "]"));
+    } else {
+      planes.push_back(&r.table(*n, "", "obstacle"));
+    }
+    for (const toml::table *t : planes) {
+      r.check_keys(*t, "obstacle", "obstacle");
+      const toml::node *reg = t->get("region");
+      if (!reg) r.missing(*t, "obstacle", "region", "the contact region");
+      Obstacle o;
+      o.region = r.region(*reg, "obstacle", "region");
+      o.point = r.vector(*t, "obstacle", "point", "a point of the plane");
+      o.normal = r.vector(*t, "obstacle", "normal", "the plane's normal, from the obstacle towards the body");
+      o.at = r.where(t->source());
+      s.obstacles.push_back(o);
+    }
+  }
+
+  if (const toml::node *n = root.get("nitsche")) {
+    const toml::table &t = r.table(*n, "", "nitsche");
+    r.check_keys(t, "nitsche", "nitsche");
+    s.nitsche_at = r.where(t.source());
+    const double one = 1;
+    s.Theta = r.number(t, "nitsche", "Theta", &one);
+    if (const toml::node *g = t.get("gamma0")) {
+      if (g->is_string()) {
+        if (*g->value<std::string>() != "auto")
+          r.fail(g->source(), "'nitsche.gamma0' must be a number >= 0 or \"auto\"");
+        s.gamma0 = 0;
+      } else {
+        s.gamma0 = r.number(*g, "nitsche", "gamma0");
+        if (s.gamma0 < 0) r.fail(g->source(), "'nitsche.gamma0' must be >= 0 (0 or \"auto\": automatic)");
+      }
+    }
+  }
+
+  if (const toml::node *n = root.get("scheme")) read_scheme(r, r.table(*n, "", "scheme"), s);
+  else s.scheme_id = ND_SCHEME_HYBRID;
+
+  if (const toml::node *n = root.get("time")) {
+    const toml::table &t = r.table(*n, "", "time");
+    r.check_keys(t, "time", "time");
+    if (const toml::node *tau = t.get("tau")) {
+      s.tau = r.number(*tau, "time", "tau");
+      s.tau_given = true;
+      s.tau_at = r.where(tau->source());
+      if (!(s.tau > 0)) r.fail(tau->source(), "'time.tau' must be positive");
+    }
+    if (const toml::node *T = t.get("T")) {
+      s.T = r.number(*T, "time", "T");
+      s.T_given = true;
+      s.T_at = r.where(T->source());
+      if (s.T < 0) r.fail(T->source(), "'time.T' must be >= 0");
+    }
+  }
+
+  if (const toml::node *n = root.get("solver")) read_solver(r, r.table(*n, "", "solver"), s);
+  else s.solver_id = ND_SOLVER_AUTO;
+
+  if (const toml::node *n = root.get("initial")) {
+    const toml::table &t = r.table(*n, "", "initial");
+    r.check_keys(t, "initial", "initial");
+    if (const toml::node *u = t.get("displacement")) {
+      s.u0 = r.vector(*u, "initial", "displacement");
+      s.u0_at = r.where(u->source());
+    }
+    if (const toml::node *v = t.get("velocity")) {
+      s.v0 = r.vector(*v, "initial", "velocity");
+      s.v0_at = r.where(v->source());
+    }
+  }
+
+  if (const toml::node *n = root.get("output")) read_output(r, r.table(*n, "", "output"), s);
+
+  // every name used is defined
+  auto check_ref = [&](const RegionRef &ref) { region_id(s, ref); };
+  for (const auto &t : s.tractions) check_ref(t.region);
+  for (const auto &c : s.clamped) check_ref(c);
+  for (const auto &o : s.obstacles) check_ref(o.region);
+  if (s.dim > 0) check_dimension(s, s.dim);
+  return s;
+}
+
+int region_id(const Scene &s, const RegionRef &r) {
+  if (r.name.empty()) return r.id;
+  for (const auto &n : s.names)
+    if (n.first == r.name) return n.second;
+  std::string list;
+  for (const auto &n : s.names) list += (list.empty() ? "" : ", ") + n.first;
+  throw SceneError(r.at + ": no region named '" + r.name + "' in [regions]" +
+                   (list.empty() ? std::string(" (there is no [regions] table)") : " (defined: " + list + ")"));
+}
+
+void check_dimension(const Scene &s, int dim) {
+  auto check = [&](const std::vector<double> &v, const std::string &at, const std::string &key) {
+    if (!v.empty() && (int)v.size() != dim)
+      throw SceneError(at + ": '" + key + "' has " + std::to_string(v.size()) + " components; the mesh is " +
+                       std::to_string(dim) + "D");
+  };
+  check(s.body_force, s.body_force_at, "loads.body_force");
+  check(s.u0, s.u0_at, "initial.displacement");
+  check(s.v0, s.v0_at, "initial.velocity");
+  for (const auto &t : s.tractions) check(t.value, t.at, "loads.traction.value");
+  for (const auto &o : s.obstacles) {
+    check(o.point, o.at, "obstacle.point");
+    check(o.normal, o.at, "obstacle.normal");
+  }
+  for (const auto &b : s.boxes) {
+    check(b.lo, b.at, "regions." + b.name + ".lo");
+    check(b.hi, b.at, "regions." + b.name + ".hi");
+  }
+  if (dim > 1 && !s.poisson_given) throw SceneError(s.material_at + ": [material] has no key 'nu' (required in " +
+                                                    std::to_string(dim) + "D: Poisson's ratio)");
+}
+
+std::vector<std::string> documented_keys() {
+  std::vector<std::string> out;
+  for (const auto &[table, keys] : table_keys())
+    for (const auto &k : keys) out.push_back(table.empty() ? k : table + "." + k);
+  return out;
+}
+
+}  // namespace ndcli

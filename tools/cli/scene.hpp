@@ -1,0 +1,118 @@
+// The scene file of the command-line driver nitschedyn(1): a TOML file read
+// into a Scene, validated as far as it can be without the library (keys,
+// types, sizes, ranges). Every value keeps where it came from ("file:line:col")
+// so that the library's later refusal of a value can still name its line.
+#ifndef ND_CLI_SCENE_HPP
+#define ND_CLI_SCENE_HPP
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ndcli {
+
+// A scene that cannot be used: the message starts with "file:line:col: "
+// when the place is known. Exit status 2.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A reference to a region: a number, or a name defined in [regions].
+struct RegionRef {
+  int id = -1;
+  std::string name;  // empty for a number
+  std::string at;    // where the reference is written
+};
+
+struct RegionBox {  // [regions] name = { id = N, lo = [...], hi = [...] }
+  std::string name;
+  int id = 0;
+  std::vector<double> lo, hi;
+  std::string at;
+};
+
+struct Traction {
+  RegionRef region;
+  std::vector<double> value;
+  std::string at;
+};
+
+struct Obstacle {
+  RegionRef region;
+  std::vector<double> point, normal;
+  std::string at;
+};
+
+struct Scene {
+  std::string file;   // the scene file as given
+  std::string title;  // optional
+  // [mesh]: a Gmsh file or a generated mesh
+  std::string gmsh;   // resolved against the scene file's directory
+  std::string gmsh_at;
+  std::string generate;  // "interval", "rectangle", "box" or empty
+  std::vector<int64_t> cells;
+  std::vector<double> lo, hi;
+  int dim = 0;  // known after reading the mesh when it comes from Gmsh
+  int degree = 1;
+  std::string mesh_at;
+  // [regions]
+  std::vector<RegionBox> boxes;
+  std::vector<std::pair<std::string, int>> names;  // every named region
+  // [material]
+  double young = 0, poisson = 0, density = 0;
+  bool poisson_given = false;
+  std::string material_at;
+  // [loads]
+  std::vector<double> body_force;
+  std::string body_force_at;
+  std::vector<Traction> tractions;
+  // [dirichlet]
+  std::vector<RegionRef> clamped;
+  // [obstacle] or [[obstacle]]
+  std::vector<Obstacle> obstacles;
+  // [nitsche]
+  double Theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
+  std::string nitsche_at;
+  // [scheme]
+  std::string scheme = "hybrid";
+  int scheme_id = 0;
+  std::array<double, 2> params{{0, 0}};
+  std::string scheme_at;
+  // [time]
+  double tau = 0, T = 0;
+  bool tau_given = false, T_given = false;
+  std::string tau_at, T_at;
+  // [solver]
+  std::string linear = "auto";
+  int solver_id = 0;
+  double newton_rtol = 1e-10, newton_atol = 0;
+  int64_t newton_max_iter = 50;
+  bool newton_given = false;
+  bool mass_lumping = false;
+  std::string solver_at;
+  // [initial]
+  std::vector<double> u0, v0;
+  std::string u0_at, v0_at;
+  // [output]
+  std::string history;      // CSV path, empty: none
+  std::string paraview;     // VTU/PVD prefix, empty: none
+  double interval = 0;      // time between ParaView frames; 0: every step
+  std::string output_at;
+};
+
+// Reads and validates a scene file. Throws SceneError.
+Scene read_scene(const std::string &path);
+
+// Checks what needs the space dimension (vector lengths), once it is known.
+void check_dimension(const Scene &s, int dim);
+
+// The number of a region reference (a name is looked up). Throws SceneError.
+int region_id(const Scene &s, const RegionRef &r);
+
+// The documented keys of every table, for the manual page's test.
+std::vector<std::string> documented_keys();
+
+}  // namespace ndcli
+#endif
