@@ -94,6 +94,9 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   Writer payload;
   payload.value(s.t);
   payload.value(s.n);
+  payload.value(s.t_ref);
+  payload.value(s.tau_ref);
+  payload.value(s.n_ref);
   payload.vec(s.U);
   payload.vec(s.V);
   payload.vec(s.A);
@@ -141,6 +144,9 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   State s;
   s.t = r.value<double>();
   s.n = r.value<int64_t>();
+  s.t_ref = r.value<double>();
+  s.tau_ref = r.value<double>();
+  s.n_ref = r.value<int64_t>();
   s.U = r.vec(n_free, false, "displacement");
   s.V = r.vec(n_free, false, "velocity");
   s.A = r.vec(n_free, false, "acceleration");

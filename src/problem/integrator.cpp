@@ -50,8 +50,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   const double tau = in.tau;
   const size_t n = old.U.size();
   State next;
-  next.t = old.t + tau;
   next.n = old.n + 1;
+  next.t_ref = old.t_ref, next.n_ref = old.n_ref, next.tau_ref = old.tau_ref;
+  if (old.tau_ref != tau) next.t_ref = old.t, next.n_ref = old.n, next.tau_ref = tau;
+  next.t = next.t_ref + static_cast<double>(next.n - next.n_ref) * tau;
   next.F = F_new;
   // an empty load vector means no load; both ends of the step need one if either has
   if (next.F.empty() && !old.F.empty()) next.F.assign(n, 0.0);  // nodal forces withdrawn

@@ -14,6 +14,10 @@ struct GuardState {
 struct State {
   double t = 0;
   int64_t n = 0;
+  // t = t_ref + (n - n_ref) tau_ref: times as products, not running sums
+  // (8e-06, not 7.9999999999999962e-06), from the last change of tau
+  double t_ref = 0, tau_ref = 0;
+  int64_t n_ref = 0;
   std::vector<double> U, V, A;
   std::vector<double> F;  // the load F^n of the last step (empty: no load)
   bool A_valid = false;   // schemes without acceleration (hybrid) compute it on demand
