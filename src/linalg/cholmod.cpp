@@ -50,18 +50,22 @@ class Cholmod : public Factorization {
     }
     def_ = Definiteness::PositiveDefinite;
   }
-  void solve(double *x) const override {
+  void solve(double *x) const override { solve_many(x, n_, 1); }
+  // one call for all columns: the supernodal solve works on blocks of them
+  void solve_many(double *X, int64_t n, int64_t nrhs) const override {
+    if (nrhs <= 0) return;
     cholmod_dense b;
     std::memset(&b, 0, sizeof b);
     b.nrow = static_cast<size_t>(n_);
-    b.ncol = 1;
-    b.nzmax = b.d = static_cast<size_t>(n_);
-    b.x = x;
+    b.ncol = static_cast<size_t>(nrhs);
+    b.d = static_cast<size_t>(n_);
+    b.nzmax = b.d * b.ncol;
+    b.x = X;
     b.xtype = CHOLMOD_REAL;
     b.dtype = CHOLMOD_DOUBLE;
     cholmod_dense *r = cholmod_l_solve(CHOLMOD_A, L_, &b, &c_);
     if (!r) fail(ND_ERR_NOMEM, "CHOLMOD solve failed");
-    std::memcpy(x, r->x, sizeof(double) * static_cast<size_t>(n_));
+    std::memcpy(X, r->x, sizeof(double) * static_cast<size_t>(n_ * nrhs));
     cholmod_l_free_dense(&r, &c_);
   }
   Definiteness definiteness() const override { return def_; }

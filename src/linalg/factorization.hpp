@@ -21,6 +21,11 @@ class Factorization {
   // not positive definite) or ND_ERR_SINGULAR.
   virtual void factor(const Csr &A, Structure s) = 0;
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
+  // in place, nrhs right-hand sides, column j at X + j n (the low-rank
+  // tangent's columns A^{-1} b_q); one solve() each unless a backend does better
+  virtual void solve_many(double *X, int64_t n, int64_t nrhs) const {
+    for (int64_t j = 0; j < nrhs; ++j) solve(X + j * n);
+  }
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
 };

@@ -35,6 +35,11 @@ class Problem {
   void set_timestep(double tau);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
   void set_guard(int guard, double value);  // an ND_GUARD_* and its value
+  // white-box (tests, benchmarks): the Newton tangent solver; drops the integrator
+  void set_tangent(TangentChoice t) {
+    def_.tangent = t;
+    integrator_.reset();
+  }
 
   // ---- queries
   const Space &space() const { return space_; }

@@ -1,0 +1,170 @@
+// The low-rank tangent solver (DESIGN §4, the dense/sparse Newton step): the
+// factor of A = c M + K_Theta is reused through contact and T = A + B D P^T is
+// solved by the Woodbury identity over the k active points,
+//   T^{-1} x = y - Z w,  (I + D G) w = D P^T y,  y = A^{-1} x,  Z = A^{-1} B,  G = P^T Z.
+// The scaled capacitance I + D G (non-symmetric unless Theta = 1) needs no
+// 1/D and is solved by LAPACK's LU. det T = det A det(I + D G), so it is
+// singular exactly when T is.
+//
+// Cached for the solver's lifetime (A is fixed per step size): Z_q = A^{-1} b_q
+// per point, computed on first activation (one multi-column solve for all the
+// new ones), and G over the last active set, of which the entries of points
+// that stay active are kept. A Newton iteration in persistent contact costs
+// one solve with A's factor, k sparse dot products, the k x k LU and n k for
+// Z w. Only D changes between iterations (the slopes), so only I + D G is rebuilt.
+#include <lapacke.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+#include "solve/tangent_solver.hpp"
+
+namespace nd {
+namespace {
+
+class LowRankTangent : public TangentSolver {
+ public:
+  LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank)
+      : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank) {}
+
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+    ++stats.calls;
+    if (!any_active) {
+      A_factor_.solve(x);
+      return;
+    }
+    bind(law);
+    const ContactPoints &cp = *law.cp;
+    active_.clear();
+    d_.clear();
+    for (size_t q = 0; q < cp.size(); ++q) {
+      double value, slope;
+      law.law(q, law.P(q, U), value, slope);
+      if (slope == 0) continue;
+      active_.push_back(static_cast<int64_t>(q));
+      d_.push_back(kappa * cp.w[q] / cp.gamma[q] * slope);
+    }
+    const int64_t k = static_cast<int64_t>(active_.size());
+    stats.max_rank = std::max(stats.max_rank, k);
+    if (k == 0) {
+      A_factor_.solve(x);
+      return;
+    }
+    if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
+      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_);
+      fallback_->solve(law, kappa, U, true, x);
+      ++stats.refactorizations;
+      return;
+    }
+    ++stats.lowrank;
+    compute_columns(cp);
+    update_G(cp);
+    A_factor_.solve(x);  // y
+    // (I + D G) w = D P^T y
+    C_.assign(static_cast<size_t>(k * k), 0.0);
+    w_.resize(static_cast<size_t>(k));
+    for (int64_t j = 0; j < k; ++j)
+      for (int64_t i = 0; i < k; ++i) C_[i + j * k] = d_[i] * G_[i + j * k] + (i == j ? 1.0 : 0.0);
+    for (int64_t i = 0; i < k; ++i) w_[i] = d_[i] * p_dot(cp, active_[i], x);
+    ipiv_.resize(static_cast<size_t>(k));
+    const lapack_int info = LAPACKE_dgesv(LAPACK_COL_MAJOR, static_cast<lapack_int>(k), 1, C_.data(),
+                                          static_cast<lapack_int>(k), ipiv_.data(), w_.data(),
+                                          static_cast<lapack_int>(k));
+    if (info > 0)
+      fail(ND_ERR_SINGULAR, "the Newton tangent is singular (capacitance pivot " + std::to_string(info) + " of " +
+                                std::to_string(k) + " active contact points is zero)");
+    if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgesv: argument " + std::to_string(-info));
+    const int64_t n = A_.n;
+    for (int64_t j = 0; j < k; ++j) {
+      const double *z = Z_[static_cast<size_t>(active_[j])].data(), wj = w_[j];
+      for (int64_t i = 0; i < n; ++i) x[i] -= wj * z[i];
+    }
+  }
+  const char *name() const override { return "lowrank"; }
+
+ private:
+  // The cache holds for one set of contact rows and one Theta.
+  void bind(const ContactLaw &law) {
+    if (law.cp == cp_ && law.theta == theta_) return;
+    cp_ = law.cp;
+    theta_ = law.theta;
+    Z_.assign(cp_->size(), {});
+    last_.clear();
+    G_.clear();
+    position_.assign(cp_->size(), -1);
+  }
+  static double p_dot(const ContactPoints &cp, int64_t q, const double *v) {
+    const SparseRow &a = cp.a[q], &s = cp.s[q];
+    const double g = cp.gamma[q];
+    double sum = 0;
+    for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
+    return sum;
+  }
+  // Z_q = A^{-1} b_q for the active points that have none yet, in one solve
+  void compute_columns(const ContactPoints &cp) {
+    missing_.clear();
+    for (int64_t q : active_)
+      if (Z_[q].empty()) missing_.push_back(q);
+    if (missing_.empty()) return;
+    const int64_t n = A_.n, m = static_cast<int64_t>(missing_.size());
+    block_.assign(static_cast<size_t>(n * m), 0.0);
+    for (int64_t j = 0; j < m; ++j) {
+      const int64_t q = missing_[j];
+      const SparseRow &a = cp.a[q], &s = cp.s[q];
+      const double tg = theta_ * cp.gamma[q];
+      for (size_t i = 0; i < a.idx.size(); ++i) block_[a.idx[i] + j * n] += a.val[i] - tg * s.val[i];
+    }
+    A_factor_.solve_many(block_.data(), n, m);
+    for (int64_t j = 0; j < m; ++j) Z_[missing_[j]].assign(block_.begin() + j * n, block_.begin() + (j + 1) * n);
+    stats.columns += m;
+    block_.clear();
+    block_.shrink_to_fit();
+  }
+  // G = P^T Z over the active set, the entries of the last set kept
+  void update_G(const ContactPoints &cp) {
+    if (active_ == last_) return;
+    const int64_t k = static_cast<int64_t>(active_.size()), k_old = static_cast<int64_t>(last_.size());
+    for (int64_t i = 0; i < k_old; ++i) position_[last_[i]] = i;
+    G_new_.resize(static_cast<size_t>(k * k));
+    for (int64_t j = 0; j < k; ++j) {
+      const int64_t oj = position_[active_[j]];
+      const double *z = Z_[active_[j]].data();
+      for (int64_t i = 0; i < k; ++i) {
+        const int64_t oi = position_[active_[i]];
+        G_new_[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : p_dot(cp, active_[i], z);
+      }
+    }
+    for (int64_t q : last_) position_[q] = -1;
+    G_.swap(G_new_);
+    last_ = active_;
+  }
+
+  const Csr &A_;
+  const Factorization &A_factor_;
+  int solver_;
+  Structure structure_;
+  int64_t max_rank_;
+  std::unique_ptr<TangentSolver> fallback_;
+  const ContactPoints *cp_ = nullptr;
+  double theta_ = 0;
+  std::vector<std::vector<double>> Z_;  // per point; empty until first active
+  std::vector<int64_t> active_, last_, missing_, position_;
+  std::vector<double> d_, G_, G_new_, C_, w_, block_;
+  std::vector<lapack_int> ipiv_;
+};
+
+}  // namespace
+
+std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
+                                                    Structure structure, int64_t max_rank) {
+  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank);
+}
+
+int64_t lowrank_rank_limit(int64_t n, const ContactPoints &cp) {
+  return -1;  // TODO: measured
+}
+
+}  // namespace nd
