@@ -148,7 +148,8 @@ END_TEST
 
 // The solvers alone, on random states whose active sets grow, shrink and
 // jump (the cached G of the last set reused in part), Theta = 1 and -1,
-// with the scheme's contact law: x = T^{-1} r to 1e-12 relative.
+// with the scheme's contact law: x = T^{-1} r to 1e-12 relative; and with a
+// rank limit, above which the solver refactors and past which it drops columns.
 START_TEST(random_active_sets) {
   for (double theta : {1.0, -1.0}) {
     nd_problem p = scene(3, 2, kSchemes[3], theta);
@@ -166,6 +167,10 @@ START_TEST(random_active_sets) {
     auto fast = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
                                          theta == 1 ? nd::Structure::SymmetricPositiveDefinite
                                                     : nd::Structure::General, -1);
+    // a rank limit of 12: larger sets refactor, and at most 24 columns are kept
+    auto limited = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
+                                            theta == 1 ? nd::Structure::SymmetricPositiveDefinite
+                                                       : nd::Structure::General, 12);
     unsigned seed = 12345;
     auto rnd = [&seed] {  // in [-1, 1)
       seed = seed * 1103515245u + 12345u;
@@ -191,10 +196,16 @@ START_TEST(random_active_sets) {
       fast->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
       ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "Theta = %g, trial %d, k = %lld: %g", theta, trial,
                     static_cast<long long>(k), rel_diff(x2, x1));
+      x2 = r;
+      limited->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
+      ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "limited, Theta = %g, trial %d, k = %lld: %g", theta, trial,
+                    static_cast<long long>(k), rel_diff(x2, x1));
     }
     ck_assert_int_gt(changes, 10);
     ck_assert_int_eq(fast->stats.refactorizations, 0);
     ck_assert_int_le(fast->stats.columns, static_cast<int64_t>(Q));
+    ck_assert_int_gt(limited->stats.refactorizations, 0);
+    ck_assert_int_gt(limited->stats.lowrank, 0);
     nd_problem_destroy(&p);
   }
 }

@@ -15,6 +15,7 @@
 #include <lapacke.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,7 @@ class LowRankTangent : public TangentSolver {
     cp_ = law.cp;
     theta_ = law.theta;
     Z_.assign(cp_->size(), {});
+    cached_ = 0;
     last_.clear();
     G_.clear();
     position_.assign(cp_->size(), -1);
@@ -109,6 +111,14 @@ class LowRankTangent : public TangentSolver {
     for (int64_t q : active_)
       if (Z_[q].empty()) missing_.push_back(q);
     if (missing_.empty()) return;
+    // the memory bound: past 2 max_rank columns, drop those of inactive points
+    if (max_rank_ >= 0 && cached_ + static_cast<int64_t>(missing_.size()) > 2 * max_rank_) {
+      std::vector<char> keep(Z_.size(), 0);
+      for (int64_t q : active_) keep[q] = 1;
+      for (size_t q = 0; q < Z_.size(); ++q)
+        if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), --cached_;
+      last_.clear();  // G's entries of dropped points are gone with them
+    }
     const int64_t n = A_.n, m = static_cast<int64_t>(missing_.size());
     block_.assign(static_cast<size_t>(n * m), 0.0);
     for (int64_t j = 0; j < m; ++j) {
@@ -120,6 +130,7 @@ class LowRankTangent : public TangentSolver {
     A_factor_.solve_many(block_.data(), n, m);
     for (int64_t j = 0; j < m; ++j) Z_[missing_[j]].assign(block_.begin() + j * n, block_.begin() + (j + 1) * n);
     stats.columns += m;
+    cached_ += m;
     block_.clear();
     block_.shrink_to_fit();
   }
@@ -151,6 +162,7 @@ class LowRankTangent : public TangentSolver {
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
   std::vector<std::vector<double>> Z_;  // per point; empty until first active
+  int64_t cached_ = 0;                  // columns held
   std::vector<int64_t> active_, last_, missing_, position_;
   std::vector<double> d_, G_, G_new_, C_, w_, block_;
   std::vector<lapack_int> ipiv_;
@@ -163,8 +175,25 @@ std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factoriz
   return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank);
 }
 
+// Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,
+// one BLAS thread, 2 cores): one solve with k active points, in solves with
+// A's factor (the floor), columns cached:
+//                       k:      571    891   1113   1738   2172   2715   3393
+//   ball_h4 P1, n =  2,097  lowrank   32     92    168
+//                           refactor 131    131    146
+//   ball_h4 P2, n = 14,115  lowrank                        17     30     56    102
+//                           refactor                       44     54     56     55
+// On the disks every contact point active (k = 32 ... 192, n = 246 ... 12,498)
+// costs 2.2-5.2 floors against 15-62 for the refactorization. The k x k LU
+// (2/3 k^3) overtakes the refactorization near k = 1,000 = 0.48 n at n = 2,097
+// and k = 2,700 = 0.19 n at n = 14,115, i.e. k* ~ 22-23 sqrt(n): the limit
+// 20 sqrt(n) (916, 2,376) stays below both. The cached columns take n doubles
+// each; at most 2 max_rank are kept, and max_rank <= 2^24 / n keeps them
+// under 256 MB (on ball_h4 P2 this bound, 1,188, is the one that applies).
 int64_t lowrank_rank_limit(int64_t n, const ContactPoints &cp) {
-  return -1;  // TODO: measured
+  const double by_time = 20.0 * std::sqrt(static_cast<double>(n));
+  const double by_memory = static_cast<double>(int64_t(1) << 24) / static_cast<double>(std::max<int64_t>(n, 1));
+  return std::max<int64_t>(1, static_cast<int64_t>(std::min(by_time, by_memory)));
 }
 
 }  // namespace nd
