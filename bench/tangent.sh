@@ -12,7 +12,7 @@ out=${2:-bench/results}
 meshes=examples/meshes
 mkdir -p "$out"
 cross=$out/tangent_crossover.csv
-echo "dim,mesh,degree,unknowns,contact_points,blas_threads,k,floor_ms,refactor_over_floor,lowrank_warm_over_floor,lowrank_one_point_changed_over_floor,column_cost_per_point_over_floor" > "$cross"
+echo "dim,mesh,degree,unknowns,contact_points,blas_threads,k,floor_ms,refactor_over_floor,lowrank_warm_over_floor,lowrank_one_point_changed_over_floor,column_cost_per_point_over_floor,lowrank_back_to_back_over_floor,two_solves_back_to_back_over_floor" > "$cross"
 for m in disk_h4 disk_h2 disk_h1; do
   for d in 1 2; do OPENBLAS_NUM_THREADS=1 "$build/tangent_bench" crossover 2 "$meshes/$m.msh" $d >> "$cross"; done
 done

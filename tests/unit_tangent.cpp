@@ -149,7 +149,8 @@ END_TEST
 // The solvers alone, on random states whose active sets grow, shrink and
 // jump (the cached G of the last set reused in part), Theta = 1 and -1,
 // with the scheme's contact law: x = T^{-1} r to 1e-12 relative; and with a
-// rank limit, above which the solver refactors and past which it drops columns.
+// rank limit, above which the solver refactors and past which it drops
+// columns; and with the second solve in place of Z w.
 START_TEST(random_active_sets) {
   for (double theta : {1.0, -1.0}) {
     nd_problem p = scene(3, 2, kSchemes[3], theta);
@@ -171,13 +172,17 @@ START_TEST(random_active_sets) {
     auto limited = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
                                             theta == 1 ? nd::Structure::SymmetricPositiveDefinite
                                                        : nd::Structure::General, 12);
+    // the second-solve variant above rank 5
+    auto two = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
+                                        theta == 1 ? nd::Structure::SymmetricPositiveDefinite
+                                                   : nd::Structure::General, -1, 5);
     unsigned seed = 12345;
     auto rnd = [&seed] {  // in [-1, 1)
       seed = seed * 1103515245u + 12345u;
       return static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
     };
     std::vector<double> U(static_cast<size_t>(n)), r(U.size()), x1, x2;
-    int64_t last_k = -1, changes = 0;
+    int64_t last_k = -1, changes = 0, above_five = 0;
     for (int trial = 0; trial < 40; ++trial) {
       const double shift = 0.05 * rnd();  // moves the body up or down: fewer or more active points
       for (auto &u : U) u = 0.01 * rnd() - shift;
@@ -200,8 +205,14 @@ START_TEST(random_active_sets) {
       limited->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
       ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "limited, Theta = %g, trial %d, k = %lld: %g", theta, trial,
                     static_cast<long long>(k), rel_diff(x2, x1));
+      x2 = r;
+      two->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
+      ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "two solves, Theta = %g, trial %d, k = %lld: %g", theta, trial,
+                    static_cast<long long>(k), rel_diff(x2, x1));
+      if (k > 5) ++above_five;
     }
     ck_assert_int_gt(changes, 10);
+    ck_assert_int_gt(above_five, 5);
     ck_assert_int_eq(fast->stats.refactorizations, 0);
     ck_assert_int_le(fast->stats.columns, static_cast<int64_t>(Q));
     ck_assert_int_gt(limited->stats.refactorizations, 0);

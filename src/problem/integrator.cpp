@@ -47,7 +47,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
       in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s,
                                          def.tangent == TangentChoice::LowRank
                                              ? -1
-                                             : lowrank_rank_limit(in->A.n, d.contact));
+                                             : lowrank_rank_limit(in->A.n, d.contact),
+                                         kLowRankTwoSolveRank);
   }
   return in;
 }

@@ -28,8 +28,10 @@ namespace {
 
 class LowRankTangent : public TangentSolver {
  public:
-  LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank)
-      : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank) {}
+  LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank,
+                 int64_t two_solve_rank)
+      : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank),
+        two_solve_rank_(two_solve_rank) {}
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
@@ -63,6 +65,8 @@ class LowRankTangent : public TangentSolver {
     ++stats.lowrank;
     compute_columns(cp);
     update_G(cp);
+    const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
+    if (two_solves) x0_.assign(x, x + A_.n);
     A_factor_.solve(x);  // y
     // (I + D G) w = D P^T y
     C_.assign(static_cast<size_t>(k * k), 0.0);
@@ -79,6 +83,17 @@ class LowRankTangent : public TangentSolver {
                                 std::to_string(k) + " active contact points is zero)");
     if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgesv: argument " + std::to_string(-info));
     const int64_t n = A_.n;
+    if (two_solves) {  // x = A^{-1} (x0 - B w): a second solve instead of the n k of Z w
+      for (int64_t j = 0; j < k; ++j) {
+        const int64_t q = active_[j];
+        const SparseRow &a = cp.a[q], &s = cp.s[q];
+        const double tg = theta_ * cp.gamma[q], wj = w_[j];
+        for (size_t i = 0; i < a.idx.size(); ++i) x0_[a.idx[i]] -= wj * (a.val[i] - tg * s.val[i]);
+      }
+      std::copy(x0_.begin(), x0_.end(), x);
+      A_factor_.solve(x);
+      return;
+    }
     for (int64_t j = 0; j < k; ++j) {
       const double *z = Z_[static_cast<size_t>(active_[j])].data(), wj = w_[j];
       for (int64_t i = 0; i < n; ++i) x[i] -= wj * z[i];
@@ -157,22 +172,23 @@ class LowRankTangent : public TangentSolver {
   const Factorization &A_factor_;
   int solver_;
   Structure structure_;
-  int64_t max_rank_;
+  int64_t max_rank_, two_solve_rank_;
   std::unique_ptr<TangentSolver> fallback_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
   std::vector<std::vector<double>> Z_;  // per point; empty until first active
   int64_t cached_ = 0;                  // columns held
   std::vector<int64_t> active_, last_, missing_, position_;
-  std::vector<double> d_, G_, G_new_, C_, w_, block_;
+  std::vector<double> d_, G_, G_new_, C_, w_, block_, x0_;
   std::vector<lapack_int> ipiv_;
 };
 
 }  // namespace
 
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
-                                                    Structure structure, int64_t max_rank) {
-  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank);
+                                                    Structure structure, int64_t max_rank,
+                                                    int64_t two_solve_rank) {
+  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank);
 }
 
 // Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,

@@ -48,9 +48,18 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
 
 // The low-rank solver. Calls with more than max_rank active points are
 // solved by a refactoring tangent held inside (made on first need); a
-// negative max_rank: no limit.
+// negative max_rank: no limit. With more than two_solve_rank active points
+// (negative: never) T^{-1} x = A^{-1}(x - B w) replaces y - Z w: a second
+// solve with A's factor instead of n k multiply-adds.
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
-                                                    Structure structure, int64_t max_rank);
+                                                    Structure structure, int64_t max_rank,
+                                                    int64_t two_solve_rank = -1);
+
+// The rank above which the second solve beats Z w (bench/tangent_bench
+// crossover, back to back, one BLAS thread): k = 78-97 on disk_h1 P1
+// (n = 3,190) and P2 (n = 12,498), k = 121-151 on ball_h4 P1 (n = 2,097);
+// within 10 % of either variant for 60 <= k <= 150.
+constexpr int64_t kLowRankTwoSolveRank = 100;
 
 // The measured rank above which refactoring T beats the low-rank update
 // (bench/tangent_bench, bench/results/tangent_crossover.csv), for n unknowns
