@@ -192,22 +192,23 @@ std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factoriz
 }
 
 // Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,
-// one BLAS thread, 2 cores): one solve with k active points, in solves with
-// A's factor (the floor), columns cached:
+// one BLAS thread, 2 cores, two runs): one solve with k active points, in
+// solves with A's factor (the floor), columns cached:
 //                       k:      571    891   1113   1738   2172   2715   3393
-//   ball_h4 P1, n =  2,097  lowrank   32     92    168
-//                           refactor 131    131    146
-//   ball_h4 P2, n = 14,115  lowrank                        17     30     56    102
-//                           refactor                       44     54     56     55
+//   ball_h4 P1, n =  2,097  lowrank   32-35  92-98  168-171
+//                           refactor 131-168  98-131  99-146
+//   ball_h4 P2, n = 14,115  lowrank                       17-20  30-32  56-58  102-105
+//                           refactor                      40-44  41-54  40-56   41-55
 // On the disks every contact point active (k = 32 ... 192, n = 246 ... 12,498)
-// costs 2.2-5.2 floors against 15-62 for the refactorization. The k x k LU
-// (2/3 k^3) overtakes the refactorization near k = 1,000 = 0.48 n at n = 2,097
-// and k = 2,700 = 0.19 n at n = 14,115, i.e. k* ~ 22-23 sqrt(n): the limit
-// 20 sqrt(n) (916, 2,376) stays below both. The cached columns take n doubles
-// each; at most 2 max_rank are kept, and max_rank <= 2^24 / n keeps them
-// under 256 MB (on ball_h4 P2 this bound, 1,188, is the one that applies).
+// costs 3-6 floors against 19-50 for the refactorization. The k x k LU
+// (2/3 k^3) overtakes the refactorization at k = 890-1,000 (19.5-21.8 sqrt(n))
+// for n = 2,097 and k = 2,000-2,700 (16.8-22.7 sqrt(n)) for n = 14,115: the
+// limit 16 sqrt(n) (733, 1,901) stays below every measured crossover. The
+// cached columns take n doubles each; at most 2 max_rank are kept, and
+// max_rank <= 2^24 / n keeps them under 256 MB (on ball_h4 P2 this bound,
+// 1,188, is the one that applies).
 int64_t lowrank_rank_limit(int64_t n, const ContactPoints &cp) {
-  const double by_time = 20.0 * std::sqrt(static_cast<double>(n));
+  const double by_time = 16.0 * std::sqrt(static_cast<double>(n));
   const double by_memory = static_cast<double>(int64_t(1) << 24) / static_cast<double>(std::max<int64_t>(n, 1));
   return std::max<int64_t>(1, static_cast<int64_t>(std::min(by_time, by_memory)));
 }
