@@ -4,7 +4,7 @@
 #     refactorization against the low-rank update (the rule of lowrank_rank_limit)
 #   bench/results/tangent_steps.csv      the whole bounce of the disk with each
 #     path, step costs as ratios to the floor, with one BLAS thread and with
-#     the BLAS default
+#     the BLAS default; the ball_h4 P1 bounce with one thread
 # usage: sh bench/tangent.sh BUILD_DIR [OUT_DIR]
 set -eu
 build=${1:-build}
@@ -31,4 +31,6 @@ for threads in 1 default; do
     done
   done
 done
+# the ball (P1): up to ~900 active points, near the rank limit
+OPENBLAS_NUM_THREADS=1 "$build/tangent_bench" run 3 "$meshes/ball_h4.msh" 1 >> "$steps"
 echo "written: $steps"
