@@ -31,3 +31,5 @@ for degree in 1 2; do
   "$build/guard_cost" "$meshes/disk_h1.msh" "$degree" >> "$guards"
 done
 cat "$guards"
+# the Newton tangent solvers: the low-rank update against the refactorization
+sh bench/tangent.sh "$build" "$(dirname "$out")"

@@ -53,6 +53,8 @@ struct Definition {
   NewtonOptions newton;
   bool lumped = false;
   int solver = ND_SOLVER_AUTO;
+  // the Newton tangent solver (white-box, not in the C API: tests and benchmarks)
+  TangentChoice tangent = TangentChoice::Auto;
   std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
   Guards guards;
   unsigned given = 0;                 // the aspects set so far

@@ -39,8 +39,17 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
                                 num(def.theta) + ", gamma0 = " + num(def.gamma0) + " and tau = " + num(def.tau) +
                                 " the step is not well posed: lower gamma0 or the time step");
   }
-  if (!d.contact.a.empty())
-    in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, tangent_structure(def.theta));
+  if (!d.contact.a.empty()) {  // the low-rank update of A's factor; refactoring T is the reference
+    const Structure s = tangent_structure(def.theta);
+    if (def.tangent == TangentChoice::Refactor)
+      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s);
+    else
+      in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s,
+                                         def.tangent == TangentChoice::LowRank
+                                             ? -1
+                                             : lowrank_rank_limit(in->A.n, d.contact),
+                                         kLowRankTwoSolveRank);
+  }
   return in;
 }
 

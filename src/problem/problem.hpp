@@ -47,6 +47,11 @@ class Problem {
   // ---- checkpoint (problem/checkpoint.hpp)
   std::vector<unsigned char> save_state();
   void load_state(const unsigned char *buf, int64_t nbytes);  // all or nothing
+  // white-box (tests, benchmarks): the Newton tangent solver; drops the integrator
+  void set_tangent(TangentChoice t) {
+    def_.tangent = t;
+    integrator_.reset();
+  }
 
   // ---- queries
   const Space &space() const { return space_; }

@@ -10,6 +10,7 @@ class RefactoringTangent : public TangentSolver {
   RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s)
       : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s)) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+    ++stats.calls;
     if (!any_active) {
       A_factor_.solve(x);
       return;
@@ -17,6 +18,7 @@ class RefactoringTangent : public TangentSolver {
     T_.val = A_.val;  // same size: no allocation
     law.add_tangent(U, kappa, T_);
     T_factor_->factor(T_, structure_);
+    ++stats.refactorizations;
     T_factor_->solve(x);
   }
   const char *name() const override { return "refactor"; }

@@ -1,9 +1,14 @@
 // The seam between Newton and the factorizations: solves with the Newton
 // tangent T(U) = A + kappa N'(U), A = c M + K_Theta factored once per time
-// step size. Today's implementation refactors T numerically (the symbolic
-// analysis of A's pattern reused); a low-rank update of A's factor over the
-// active points (DESIGN §4) slots in beside it.
+// step size. Two implementations: the reference refactors T numerically at
+// every Newton iteration with an active point (the symbolic analysis of A's
+// pattern reused); the low-rank one (DESIGN §4) never refactors: with B, P the
+// columns b_q, p_q of the k active points and D = diag(kappa w_q/gamma_q phi'_q),
+// T = A + B D P^T and (Woodbury, scaled capacitance)
+//   T^{-1} x = y - Z (I + D P^T Z)^{-1} D P^T y,  y = A^{-1} x,  Z = A^{-1} B,
+// the columns Z_q cached for the solver's lifetime, the k x k system dense (LAPACK LU).
 #pragma once
+#include <cstdint>
 #include <memory>
 
 #include "linalg/factorization.hpp"
@@ -11,17 +16,54 @@
 
 namespace nd {
 
+// What a tangent solver did, for tests and benchmarks.
+struct TangentStats {
+  int64_t calls = 0;             // solve() calls
+  int64_t refactorizations = 0;  // numeric factorizations of T
+  int64_t lowrank = 0;           // calls solved by the Woodbury update (k >= 1)
+  int64_t columns = 0;           // columns Z_q = A^{-1} b_q computed (each one solve with A's factor)
+  int64_t max_rank = 0;          // the largest k seen
+};
+
 class TangentSolver {
  public:
   virtual ~TangentSolver() = default;
   // x <- T(U)^{-1} x; with no active point T(U) = A
   virtual void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) = 0;
   virtual const char *name() const = 0;
+  TangentStats stats;
+};
+
+// Which tangent solver make_integrator builds (white-box: tests, benchmarks).
+enum class TangentChoice {
+  Auto,      // low-rank, refactoring above the measured rank limit (lowrank_rank_limit)
+  Refactor,  // the reference
+  LowRank,   // low-rank at every rank
 };
 
 // A and its factor must outlive the solver. solver: ND_SOLVER_* for the
 // tangent, structure: the tangent's (symmetric positive definite iff Theta = 1).
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                         Structure structure);
+
+// The low-rank solver. Calls with more than max_rank active points are
+// solved by a refactoring tangent held inside (made on first need); a
+// negative max_rank: no limit. With more than two_solve_rank active points
+// (negative: never) T^{-1} x = A^{-1}(x - B w) replaces y - Z w: a second
+// solve with A's factor instead of n k multiply-adds.
+std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
+                                                    Structure structure, int64_t max_rank,
+                                                    int64_t two_solve_rank = -1);
+
+// The rank above which the second solve beats Z w (bench/tangent_bench
+// crossover, back to back, one BLAS thread): k = 78-97 on disk_h1 P1
+// (n = 3,190) and P2 (n = 12,498), k = 121-151 on ball_h4 P1 (n = 2,097);
+// within 10 % of either variant for 60 <= k <= 150.
+constexpr int64_t kLowRankTwoSolveRank = 100;
+
+// The measured rank above which refactoring T beats the low-rank update
+// (bench/tangent_bench, bench/results/tangent_crossover.csv), for n unknowns
+// and the contact points cp.
+int64_t lowrank_rank_limit(int64_t n, const ContactPoints &cp);
 
 }  // namespace nd

@@ -1,0 +1,220 @@
+// The low-rank tangent solver (DESIGN §4, the dense/sparse Newton step): the
+// factor of A = c M + K_Theta is reused through contact and T = A + B D P^T is
+// solved by the Woodbury identity over the k active points,
+//   T^{-1} x = y - Z w,  (I + D G) w = D P^T y,  y = A^{-1} x,  Z = A^{-1} B,  G = P^T Z.
+// The scaled capacitance I + D G (non-symmetric unless Theta = 1) needs no
+// 1/D and is solved by LAPACK's LU. det T = det A det(I + D G), so it is
+// singular exactly when T is.
+//
+// Cached for the solver's lifetime (A is fixed per step size): Z_q = A^{-1} b_q
+// per point, computed on first activation (one multi-column solve for all the
+// new ones), and G over the last active set, of which the entries of points
+// that stay active are kept. A Newton iteration in persistent contact costs
+// one solve with A's factor, k sparse dot products, the k x k LU and n k for
+// Z w. Only D changes between iterations (the slopes), so only I + D G is rebuilt.
+#include <lapacke.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+#include "solve/tangent_solver.hpp"
+
+namespace nd {
+namespace {
+
+class LowRankTangent : public TangentSolver {
+ public:
+  LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank,
+                 int64_t two_solve_rank)
+      : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank),
+        two_solve_rank_(two_solve_rank) {}
+
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+    ++stats.calls;
+    if (!any_active) {
+      A_factor_.solve(x);
+      return;
+    }
+    bind(law);
+    const ContactPoints &cp = *law.cp;
+    active_.clear();
+    d_.clear();
+    for (size_t q = 0; q < cp.size(); ++q) {
+      double value, slope;
+      law.law(q, law.P(q, U), value, slope);
+      if (slope == 0) continue;
+      active_.push_back(static_cast<int64_t>(q));
+      d_.push_back(kappa * cp.w[q] / cp.gamma[q] * slope);
+    }
+    const int64_t k = static_cast<int64_t>(active_.size());
+    stats.max_rank = std::max(stats.max_rank, k);
+    if (k == 0) {
+      A_factor_.solve(x);
+      return;
+    }
+    if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
+      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_);
+      fallback_->solve(law, kappa, U, true, x);
+      ++stats.refactorizations;
+      return;
+    }
+    ++stats.lowrank;
+    compute_columns(cp);
+    update_G(cp);
+    const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
+    if (two_solves) x0_.assign(x, x + A_.n);
+    A_factor_.solve(x);  // y
+    // (I + D G) w = D P^T y
+    C_.assign(static_cast<size_t>(k * k), 0.0);
+    w_.resize(static_cast<size_t>(k));
+    for (int64_t j = 0; j < k; ++j)
+      for (int64_t i = 0; i < k; ++i) C_[i + j * k] = d_[i] * G_[i + j * k] + (i == j ? 1.0 : 0.0);
+    for (int64_t i = 0; i < k; ++i) w_[i] = d_[i] * p_dot(cp, active_[i], x);
+    ipiv_.resize(static_cast<size_t>(k));
+    const lapack_int info = LAPACKE_dgesv(LAPACK_COL_MAJOR, static_cast<lapack_int>(k), 1, C_.data(),
+                                          static_cast<lapack_int>(k), ipiv_.data(), w_.data(),
+                                          static_cast<lapack_int>(k));
+    if (info > 0)
+      fail(ND_ERR_SINGULAR, "the Newton tangent is singular (capacitance pivot " + std::to_string(info) + " of " +
+                                std::to_string(k) + " active contact points is zero)");
+    if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgesv: argument " + std::to_string(-info));
+    const int64_t n = A_.n;
+    if (two_solves) {  // x = A^{-1} (x0 - B w): a second solve instead of the n k of Z w
+      for (int64_t j = 0; j < k; ++j) {
+        const int64_t q = active_[j];
+        const SparseRow &a = cp.a[q], &s = cp.s[q];
+        const double tg = theta_ * cp.gamma[q], wj = w_[j];
+        for (size_t i = 0; i < a.idx.size(); ++i) x0_[a.idx[i]] -= wj * (a.val[i] - tg * s.val[i]);
+      }
+      std::copy(x0_.begin(), x0_.end(), x);
+      A_factor_.solve(x);
+      return;
+    }
+    for (int64_t j = 0; j < k; ++j) {
+      const double *z = Z_[static_cast<size_t>(active_[j])].data(), wj = w_[j];
+      for (int64_t i = 0; i < n; ++i) x[i] -= wj * z[i];
+    }
+  }
+  const char *name() const override { return "lowrank"; }
+
+ private:
+  // The cache holds for one set of contact rows and one Theta.
+  void bind(const ContactLaw &law) {
+    if (law.cp == cp_ && law.theta == theta_) return;
+    cp_ = law.cp;
+    theta_ = law.theta;
+    Z_.assign(cp_->size(), {});
+    cached_ = 0;
+    last_.clear();
+    G_.clear();
+    position_.assign(cp_->size(), -1);
+  }
+  static double p_dot(const ContactPoints &cp, int64_t q, const double *v) {
+    const SparseRow &a = cp.a[q], &s = cp.s[q];
+    const double g = cp.gamma[q];
+    double sum = 0;
+    for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
+    return sum;
+  }
+  // Z_q = A^{-1} b_q for the active points that have none yet, in one solve
+  void compute_columns(const ContactPoints &cp) {
+    missing_.clear();
+    for (int64_t q : active_)
+      if (Z_[q].empty()) missing_.push_back(q);
+    if (missing_.empty()) return;
+    // the memory bound: past 2 max_rank columns, drop those of inactive points
+    if (max_rank_ >= 0 && cached_ + static_cast<int64_t>(missing_.size()) > 2 * max_rank_) {
+      std::vector<char> keep(Z_.size(), 0);
+      for (int64_t q : active_) keep[q] = 1;
+      for (size_t q = 0; q < Z_.size(); ++q)
+        if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), --cached_;
+      last_.clear();  // G's entries of dropped points are gone with them
+    }
+    const int64_t n = A_.n, m = static_cast<int64_t>(missing_.size());
+    block_.assign(static_cast<size_t>(n * m), 0.0);
+    for (int64_t j = 0; j < m; ++j) {
+      const int64_t q = missing_[j];
+      const SparseRow &a = cp.a[q], &s = cp.s[q];
+      const double tg = theta_ * cp.gamma[q];
+      for (size_t i = 0; i < a.idx.size(); ++i) block_[a.idx[i] + j * n] += a.val[i] - tg * s.val[i];
+    }
+    // one column at a time: a column's bits must not depend on which other
+    // points became active with it (CHOLMOD's multi-column solve rounds
+    // differently), or a run resumed from a checkpoint, whose cache starts
+    // empty, would not be bitwise the uninterrupted one
+    for (int64_t j = 0; j < m; ++j) A_factor_.solve(block_.data() + j * n);
+    for (int64_t j = 0; j < m; ++j) Z_[missing_[j]].assign(block_.begin() + j * n, block_.begin() + (j + 1) * n);
+    stats.columns += m;
+    cached_ += m;
+    block_.clear();
+    block_.shrink_to_fit();
+  }
+  // G = P^T Z over the active set, the entries of the last set kept
+  void update_G(const ContactPoints &cp) {
+    if (active_ == last_) return;
+    const int64_t k = static_cast<int64_t>(active_.size()), k_old = static_cast<int64_t>(last_.size());
+    for (int64_t i = 0; i < k_old; ++i) position_[last_[i]] = i;
+    G_new_.resize(static_cast<size_t>(k * k));
+    for (int64_t j = 0; j < k; ++j) {
+      const int64_t oj = position_[active_[j]];
+      const double *z = Z_[active_[j]].data();
+      for (int64_t i = 0; i < k; ++i) {
+        const int64_t oi = position_[active_[i]];
+        G_new_[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : p_dot(cp, active_[i], z);
+      }
+    }
+    for (int64_t q : last_) position_[q] = -1;
+    G_.swap(G_new_);
+    last_ = active_;
+  }
+
+  const Csr &A_;
+  const Factorization &A_factor_;
+  int solver_;
+  Structure structure_;
+  int64_t max_rank_, two_solve_rank_;
+  std::unique_ptr<TangentSolver> fallback_;
+  const ContactPoints *cp_ = nullptr;
+  double theta_ = 0;
+  std::vector<std::vector<double>> Z_;  // per point; empty until first active
+  int64_t cached_ = 0;                  // columns held
+  std::vector<int64_t> active_, last_, missing_, position_;
+  std::vector<double> d_, G_, G_new_, C_, w_, block_, x0_;
+  std::vector<lapack_int> ipiv_;
+};
+
+}  // namespace
+
+std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
+                                                    Structure structure, int64_t max_rank,
+                                                    int64_t two_solve_rank) {
+  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank);
+}
+
+// Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,
+// one BLAS thread, 2 cores, two runs): one solve with k active points, in
+// solves with A's factor (the floor), columns cached:
+//                       k:      571    891   1113   1738   2172   2715   3393
+//   ball_h4 P1, n =  2,097  lowrank   32-35  92-98  168-171
+//                           refactor 131-168  98-131  99-146
+//   ball_h4 P2, n = 14,115  lowrank                       17-20  30-32  56-58  102-105
+//                           refactor                      40-44  41-54  40-56   41-55
+// On the disks every contact point active (k = 32 ... 192, n = 246 ... 12,498)
+// costs 3-6 floors against 19-50 for the refactorization. The k x k LU
+// (2/3 k^3) overtakes the refactorization at k = 890-1,000 (19.5-21.8 sqrt(n))
+// for n = 2,097 and k = 2,000-2,700 (16.8-22.7 sqrt(n)) for n = 14,115: the
+// limit 16 sqrt(n) (733, 1,901) stays below every measured crossover. The
+// cached columns take n doubles each; at most 2 max_rank are kept, and
+// max_rank <= 2^24 / n keeps them under 256 MB (on ball_h4 P2 this bound,
+// 1,188, is the one that applies).
+int64_t lowrank_rank_limit(int64_t n, const ContactPoints &cp) {
+  const double by_time = 16.0 * std::sqrt(static_cast<double>(n));
+  const double by_memory = static_cast<double>(int64_t(1) << 24) / static_cast<double>(std::max<int64_t>(n, 1));
+  return std::max<int64_t>(1, static_cast<int64_t>(std::min(by_time, by_memory)));
+}
+
+}  // namespace nd

@@ -1,0 +1,250 @@
+// The low-rank Newton tangent (Woodbury over the active points, the factor
+// of A = c M + K_Theta reused) against the reference that refactors the
+// tangent: the same trajectories to 1e-10 relative and the same Newton
+// iteration counts, for every implicit scheme, Theta = 1, 0, -1, P1/P2, in
+// 1D (the bar), 2D (a rectangle dropped on a plane) and 3D (a box dropped on
+// a plane). Each run also shows that the path it names was taken.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "testutil.h"
+
+namespace {
+
+struct SchemeCase {
+  int scheme;
+  std::vector<double> params;
+  const char *name;
+};
+
+const SchemeCase kSchemes[] = {
+    {ND_SCHEME_THETA, {0.5}, "theta 0.5"},
+    {ND_SCHEME_THETA, {1.0}, "theta 1"},
+    {ND_SCHEME_NEWMARK, {0.25, 0.5}, "newmark"},
+    {ND_SCHEME_HYBRID, {}, "hybrid"},
+    {ND_SCHEME_GENERALIZED_ALPHA, {0.8}, "generalized-alpha 0.8"},
+};
+const double kThetas[] = {1.0, 0.0, -1.0};
+
+// A body of dimension dim (1: the bar of testutil) that moves into the
+// plane below it and stays in contact for part of the run.
+nd_problem scene(int dim, int degree, const SchemeCase &sc, double theta) {
+  const double *params = sc.params.empty() ? nullptr : sc.params.data();
+  if (dim == 1) return nd_test_bar(10, degree, sc.scheme, params, theta, 0.0, 0.025);
+  nd_mesh m = nullptr;
+  nd_problem p = nullptr;
+  const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1};
+  if (dim == 2)
+    ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 2, lo, hi, &m));
+  else
+    ND_OK_OR_FAIL(nd_mesh_create_box(2, 1, 1, lo, hi, &m));
+  // the bottom facets (y = 0 in 2D, z = 0 in 3D)
+  const double blo[3] = {-1, dim == 2 ? -0.1 : -1, -0.1}, bhi[3] = {3, dim == 2 ? 0.1 : 2, 0.1};
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 10.0, 0.3, 1.0));
+  const double plane[3] = {0, dim == 2 ? -0.02 : 0, dim == 3 ? -0.02 : 0};
+  const double up[3] = {0, dim == 2 ? 1.0 : 0, dim == 3 ? 1.0 : 0};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, plane, up));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, 0.0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, sc.scheme, params));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  int64_t nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  std::vector<double> x(static_cast<size_t>(nodes * dim)), v0(x.size(), 0.0);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nodes, x.data()));
+  for (int64_t i = 0; i < nodes; ++i)  // falling and turning: the active set grows from x = 2
+    v0[i * dim + dim - 1] = -0.1 - 0.6 * x[i * dim] + 0.1 * x[i * dim + dim - 1];
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nodes, nullptr, v0.data()));
+  return p;
+}
+
+double rel_diff(const std::vector<double> &a, const std::vector<double> &b) {
+  double d = 0, s = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]), s += b[i] * b[i];
+  return std::sqrt(d) / std::max(std::sqrt(s), 1e-300);
+}
+
+std::vector<double> field(nd_problem p, int which, int64_t nodes, int dim) {
+  std::vector<double> f(static_cast<size_t>(nodes * dim));
+  ND_OK_OR_FAIL(nd_get_field(p, which, nodes, f.data()));
+  return f;
+}
+
+// Runs the scene with the reference and with choice `other`.
+void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::TangentChoice other, int steps) {
+  nd_problem ref = scene(dim, degree, sc, theta), fast = scene(dim, degree, sc, theta);
+  ref->problem.set_tangent(nd::TangentChoice::Refactor);
+  fast->problem.set_tangent(other);
+  int64_t nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(ref, &nodes));
+  double worst = 0;
+  int iteration_mismatch = 0;
+  for (int k = 0; k < steps; ++k) {
+    ND_OK_OR_FAIL(nd_step(ref));
+    ND_OK_OR_FAIL(nd_step(fast));
+    for (int which : {ND_FIELD_DISPLACEMENT, ND_FIELD_VELOCITY}) {
+      const double r = rel_diff(field(fast, which, nodes, dim), field(ref, which, nodes, dim));
+      worst = std::max(worst, r);
+    }
+    double it_ref = 0, it_fast = 0;
+    ND_OK_OR_FAIL(nd_get_scalar(ref, ND_NEWTON_ITERATIONS, &it_ref));
+    ND_OK_OR_FAIL(nd_get_scalar(fast, ND_NEWTON_ITERATIONS, &it_fast));
+    if (it_ref != it_fast) ++iteration_mismatch;
+  }
+  const nd::TangentStats &sr = ref->problem.integrator()->tangent->stats,
+                         &sf = fast->problem.integrator()->tangent->stats;
+  if (std::getenv("ND_TANGENT_TEST_VERBOSE"))
+    std::fprintf(stderr, "%dD P%d %s Theta=%g: %.2e, %lld contact solves, %lld columns, rank <= %lld\n", dim, degree,
+                 sc.name, theta, worst, static_cast<long long>(sr.refactorizations),
+                 static_cast<long long>(sf.columns), static_cast<long long>(sf.max_rank));
+  const std::string what = std::to_string(dim) + "D P" + std::to_string(degree) + " " + sc.name +
+                           " Theta=" + std::to_string(theta);
+  ck_assert_msg(worst <= 1e-10, "%s: trajectories differ by %g relative", what.c_str(), worst);
+  ck_assert_msg(iteration_mismatch == 0, "%s: Newton iteration counts differ at %d steps", what.c_str(),
+                iteration_mismatch);
+  ck_assert_msg(sr.refactorizations > 0, "%s: the scene never came into contact", what.c_str());
+  ck_assert_msg(std::string(fast->problem.integrator()->tangent->name()) == "lowrank", "%s", what.c_str());
+  if (other == nd::TangentChoice::LowRank) {
+    ck_assert_msg(sf.refactorizations == 0 && sf.lowrank == sr.refactorizations,
+                  "%s: low-rank %lld calls, %lld refactorizations; reference %lld", what.c_str(),
+                  static_cast<long long>(sf.lowrank), static_cast<long long>(sf.refactorizations),
+                  static_cast<long long>(sr.refactorizations));
+    // each point's column once, whatever the number of iterations
+    int64_t points = 0;
+    ND_OK_OR_FAIL(nd_problem_get_contact_point_count(ref, &points));
+    ck_assert_msg(sf.columns <= points, "%s: %lld columns for %lld points", what.c_str(),
+                  static_cast<long long>(sf.columns), static_cast<long long>(points));
+  }
+  nd_problem_destroy(&ref);
+  nd_problem_destroy(&fast);
+}
+
+void all_cases(int dim, int degree, int steps) {
+  for (const SchemeCase &sc : kSchemes)
+    for (double theta : kThetas) compare(dim, degree, sc, theta, nd::TangentChoice::LowRank, steps);
+}
+
+}  // namespace
+
+START_TEST(bar_p1) { all_cases(1, 1, 60); }
+END_TEST
+START_TEST(bar_p2) { all_cases(1, 2, 60); }
+END_TEST
+START_TEST(rectangle_p1) { all_cases(2, 1, 30); }
+END_TEST
+START_TEST(rectangle_p2) { all_cases(2, 2, 30); }
+END_TEST
+START_TEST(box_p1) { all_cases(3, 1, 30); }
+END_TEST
+START_TEST(box_p2) { all_cases(3, 2, 30); }
+END_TEST
+
+// The solvers alone, on random states whose active sets grow, shrink and
+// jump (the cached G of the last set reused in part), Theta = 1 and -1,
+// with the scheme's contact law: x = T^{-1} r to 1e-12 relative; and with a
+// rank limit, above which the solver refactors and past which it drops
+// columns; and with the second solve in place of Z w.
+START_TEST(random_active_sets) {
+  for (double theta : {1.0, -1.0}) {
+    nd_problem p = scene(3, 2, kSchemes[3], theta);
+    ND_OK_OR_FAIL(nd_step(p));
+    nd::Problem &pb = p->problem;
+    const nd::Integrator &in = *pb.integrator();
+    const nd::Discretization &d = pb.discretization();
+    const int64_t n = in.A.n;
+    const size_t Q = d.contact.size();
+    std::vector<double> Pn(Q, 0.0);
+    nd::ContactLaw law{&d.contact, d.theta, in.scheme.get(), &Pn};
+    auto ref = nd::make_refactoring_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
+                                            theta == 1 ? nd::Structure::SymmetricPositiveDefinite
+                                                       : nd::Structure::General);
+    auto fast = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
+                                         theta == 1 ? nd::Structure::SymmetricPositiveDefinite
+                                                    : nd::Structure::General, -1);
+    // a rank limit of 12: larger sets refactor, and at most 24 columns are kept
+    auto limited = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
+                                            theta == 1 ? nd::Structure::SymmetricPositiveDefinite
+                                                       : nd::Structure::General, 12);
+    // the second-solve variant above rank 5
+    auto two = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
+                                        theta == 1 ? nd::Structure::SymmetricPositiveDefinite
+                                                   : nd::Structure::General, -1, 5);
+    unsigned seed = 12345;
+    auto rnd = [&seed] {  // in [-1, 1)
+      seed = seed * 1103515245u + 12345u;
+      return static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+    };
+    std::vector<double> U(static_cast<size_t>(n)), r(U.size()), x1, x2;
+    int64_t last_k = -1, changes = 0, above_five = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+      const double shift = 0.05 * rnd();  // moves the body up or down: fewer or more active points
+      for (auto &u : U) u = 0.01 * rnd() - shift;
+      for (auto &v : r) v = rnd();
+      int64_t k = 0;
+      for (size_t q = 0; q < Q; ++q) {
+        double value, slope;
+        law.law(q, law.P(q, U.data()), value, slope);
+        k += slope != 0;
+      }
+      if (k != last_k) ++changes;
+      last_k = k;
+      x1 = r;
+      x2 = r;
+      ref->solve(law, in.coef.kappa, U.data(), k > 0, x1.data());
+      fast->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
+      ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "Theta = %g, trial %d, k = %lld: %g", theta, trial,
+                    static_cast<long long>(k), rel_diff(x2, x1));
+      x2 = r;
+      limited->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
+      ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "limited, Theta = %g, trial %d, k = %lld: %g", theta, trial,
+                    static_cast<long long>(k), rel_diff(x2, x1));
+      x2 = r;
+      two->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
+      ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "two solves, Theta = %g, trial %d, k = %lld: %g", theta, trial,
+                    static_cast<long long>(k), rel_diff(x2, x1));
+      if (k > 5) ++above_five;
+    }
+    ck_assert_int_gt(changes, 10);
+    ck_assert_int_gt(above_five, 5);
+    ck_assert_int_eq(fast->stats.refactorizations, 0);
+    ck_assert_int_le(fast->stats.columns, static_cast<int64_t>(Q));
+    ck_assert_int_gt(limited->stats.refactorizations, 0);
+    ck_assert_int_gt(limited->stats.lowrank, 0);
+    nd_problem_destroy(&p);
+  }
+}
+END_TEST
+
+// The automatic choice is the low-rank solver; with a rank limit of 0 it
+// hands every contact solve to the refactoring inside and still agrees.
+START_TEST(automatic_choice) {
+  compare(2, 2, kSchemes[3], 1.0, nd::TangentChoice::Auto, 30);
+  nd_problem p = scene(2, 1, kSchemes[3], 1.0);
+  ND_OK_OR_FAIL(nd_step(p));
+  ck_assert_str_eq(p->problem.integrator()->tangent->name(), "lowrank");
+  nd_problem_destroy(&p);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("tangent");
+  TCase *tc = tcase_create("lowrank_vs_refactor");
+  tcase_set_timeout(tc, 600);
+  tcase_add_test(tc, bar_p1);
+  tcase_add_test(tc, bar_p2);
+  tcase_add_test(tc, rectangle_p1);
+  tcase_add_test(tc, rectangle_p2);
+  tcase_add_test(tc, box_p1);
+  tcase_add_test(tc, box_p2);
+  tcase_add_test(tc, random_active_sets);
+  tcase_add_test(tc, automatic_choice);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
