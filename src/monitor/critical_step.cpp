@@ -2,6 +2,7 @@
 
 #include <lapacke.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -67,8 +68,12 @@ CriticalStep estimate_omega_max(Discretization &d, int solver) {
       fail(ND_ERR_INTERNAL, "the Lanczos tridiagonal eigenproblem failed");
     theta_max = diag[m - 1];
     bound = b * std::fabs(vec[static_cast<size_t>((m - 1) * m + (m - 1))]);
-    if (!(b > 1e-14 * std::fabs(theta_max)) || (std::fabs(theta_max - previous) <= 1e-10 * theta_max && bound <= 1e-6 * theta_max))
-      break;
+    // at least min(n, 30) steps: a start vector poor in the top mode can
+    // make the Ritz value settle on the second one for a while, with a small
+    // residual (seen on a 4 x 4 rectangle)
+    const bool settled = j + 1 >= std::min<int>(max_iter, 30) && std::fabs(theta_max - previous) <= 1e-10 * theta_max &&
+                         bound <= 1e-6 * theta_max;
+    if (!(b > 1e-14 * std::fabs(theta_max)) || settled) break;
     previous = theta_max;
     beta.push_back(b);
     r = w;
