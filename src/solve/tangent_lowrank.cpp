@@ -105,13 +105,16 @@ class LowRankTangent : public TangentSolver {
   // The cache holds for one set of contact rows and one Theta.
   void bind(const ContactLaw &law) {
     if (law.cp == cp_ && law.theta == theta_) return;
-    cp_ = law.cp;
-    theta_ = law.theta;
-    Z_.assign(cp_->size(), {});
+    // allocate first, commit after: out of memory here leaves the solver unbound
+    std::vector<std::vector<double>> Z(law.cp->size());
+    std::vector<int64_t> position(law.cp->size(), -1);
+    Z_.swap(Z);
+    position_.swap(position);
     cached_ = 0;
     last_.clear();
     G_.clear();
-    position_.assign(cp_->size(), -1);
+    cp_ = law.cp;
+    theta_ = law.theta;
   }
   static double p_dot(const ContactPoints &cp, int64_t q, const double *v) {
     const SparseRow &a = cp.a[q], &s = cp.s[q];
@@ -147,9 +150,12 @@ class LowRankTangent : public TangentSolver {
     // differently), or a run resumed from a checkpoint, whose cache starts
     // empty, would not be bitwise the uninterrupted one
     for (int64_t j = 0; j < m; ++j) A_factor_.solve(block_.data() + j * n);
-    for (int64_t j = 0; j < m; ++j) Z_[missing_[j]].assign(block_.begin() + j * n, block_.begin() + (j + 1) * n);
+    for (int64_t j = 0; j < m; ++j) {
+      Z_[missing_[j]].assign(block_.begin() + j * n, block_.begin() + (j + 1) * n);
+      ++cached_;
+    }
     stats.columns += m;
-    cached_ += m;
+
     block_.clear();
     block_.shrink_to_fit();
   }
@@ -157,8 +163,9 @@ class LowRankTangent : public TangentSolver {
   void update_G(const ContactPoints &cp) {
     if (active_ == last_) return;
     const int64_t k = static_cast<int64_t>(active_.size()), k_old = static_cast<int64_t>(last_.size());
+    G_new_.resize(static_cast<size_t>(k * k));  // what may throw, before anything changes
+    std::vector<int64_t> last(active_);
     for (int64_t i = 0; i < k_old; ++i) position_[last_[i]] = i;
-    G_new_.resize(static_cast<size_t>(k * k));
     for (int64_t j = 0; j < k; ++j) {
       const int64_t oj = position_[active_[j]];
       const double *z = Z_[active_[j]].data();
@@ -169,7 +176,7 @@ class LowRankTangent : public TangentSolver {
     }
     for (int64_t q : last_) position_[q] = -1;
     G_.swap(G_new_);
-    last_ = active_;
+    last_.swap(last);
   }
 
   const Csr &A_;
