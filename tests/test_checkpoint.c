@@ -124,10 +124,12 @@ START_TEST(resumes_in_another_process) {
     if (nd_problem_get_state_size(p, &nbytes) != ND_OK) _exit(1);
     unsigned char *buf = malloc((size_t)nbytes);
     FILE *f = fopen(path, "wb");
-    if (!f || nd_problem_save_state(p, nbytes, buf) != ND_OK || fwrite(buf, 1, (size_t)nbytes, f) != (size_t)nbytes)
-      _exit(1);
-    fclose(f);
-    _exit(0);
+    const int ok = f && nd_problem_save_state(p, nbytes, buf) == ND_OK &&
+                   fwrite(buf, 1, (size_t)nbytes, f) == (size_t)nbytes;
+    if (f) fclose(f);
+    free(buf); /* the child is checked for leaks too (valgrind follows the fork) */
+    nd_problem_destroy(&p);
+    _exit(ok ? 0 : 1);
   }
   int status = 0;
   waitpid(pid, &status, 0);
