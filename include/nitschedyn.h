@@ -85,7 +85,9 @@ extern "C" {
 #define ND_FIELD_LIST(X)                                                               \
   X(ND_FIELD_DISPLACEMENT, 1, "displacement u")                                        \
   X(ND_FIELD_VELOCITY, 2, "velocity v")                                                \
-  X(ND_FIELD_ACCELERATION, 3, "acceleration a")
+  X(ND_FIELD_ACCELERATION, 3, "acceleration a")                                        \
+  X(ND_FIELD_CONTACT_FORCE, 4, "nodal contact force, obstacle on body")                \
+  X(ND_FIELD_REACTION, 5, "reactions on the clamped DOFs, support on body (0 elsewhere)")
 
 /* Scalars for nd_get_scalar: X(name, value, description) */
 #define ND_SCALAR_LIST(X)                                                              \
@@ -102,7 +104,8 @@ extern "C" {
   X(ND_NEWTON_ITERATIONS_TOTAL, 11, "Newton iterations of all accepted steps")         \
   X(ND_TIMESTEP, 12, "the time step tau")                                             \
   X(ND_GAMMA0, 13, "gamma0 in use (the automatic value when 0 was set)")               \
-  X(ND_GAMMA0_LIMIT, 14, "largest gamma0 keeping K_Theta >= 0 (element bound; inf if Theta <= 0)")
+  X(ND_GAMMA0_LIMIT, 14, "largest gamma0 keeping K_Theta >= 0 (element bound; inf if Theta <= 0)") \
+  X(ND_WORK_OBSTACLE, 15, "work of the moving obstacle on the body since t = 0")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -180,7 +183,9 @@ ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson
 ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region);
 ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f);
 ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
-/* normal points from the obstacle towards the body */
+/* normal points from the obstacle towards the body; a region's plane is
+   replaced. Same normal, new point: the obstacle moves (nothing is rebuilt;
+   after nd_problem_setup the point is where it is at the next step's end) */
 ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
                                            const double *normal);
 /* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet);

@@ -13,7 +13,8 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
   // exact for the polynomial part of every contact integrand.
   const int degree = 2 * sp.degree;
   std::vector<double> phi(nb), gref(nb * d), g(nb * d);
-  for (const ContactPlane &pl : planes) {
+  for (size_t ip = 0; ip < planes.size(); ++ip) {
+    const ContactPlane &pl = planes[ip];
     double n[3];
     for (int k = 0; k < 3; ++k) n[k] = -pl.normal[k];
     for (int64_t b : sp.mesh->regions.at(pl.region)) {
@@ -25,34 +26,48 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
         sp.basis.values(fp.xi, phi.data());
         sp.basis.gradients(fp.xi, gref.data());
         for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
-        SparseRow a, s;
+        SparseRow a, s, af, sf;
         for (int i = 0; i < nb; ++i) {
           double gn = 0;  // grad phi_i . n
           for (int k = 0; k < d; ++k) gn += g[i * d + k] * n[k];
           for (int c = 0; c < d; ++c) {
-            const int64_t r = dofs.free[nodes[i] * d + c];
-            if (r < 0) continue;
+            const int64_t dof = nodes[i] * d + c, r = dofs.free[dof];
+            SparseRow &ar = r < 0 ? af : a, &sr = r < 0 ? sf : s;
             // u = phi_i e_c: u_n = phi_i n_c; sigma_n = lambda d_c phi_i + 2 mu n_c (grad phi_i . n)
-            a.idx.push_back(r);
-            a.val.push_back(phi[i] * n[c]);
-            s.idx.push_back(r);
-            s.val.push_back(lam * g[i * d + c] + 2 * mu * n[c] * gn);
+            ar.idx.push_back(r < 0 ? dof : r);
+            ar.val.push_back(phi[i] * n[c]);
+            sr.idx.push_back(r < 0 ? dof : r);
+            sr.val.push_back(lam * g[i * d + c] + 2 * mu * n[c] * gn);
           }
         }
-        double gap = 0;
-        for (int k = 0; k < d; ++k) gap += (fp.x[k] - pl.point[k]) * pl.normal[k];
         cp.a.push_back(std::move(a));
         cp.s.push_back(std::move(s));
+        cp.a_fixed.push_back(std::move(af));
+        cp.s_fixed.push_back(std::move(sf));
+        cp.plane.push_back(static_cast<int>(ip));
         cp.w.push_back(fp.weight);
         cp.gamma.push_back(gamma0 * h);
         cp.h.push_back(h);
-        cp.gap.push_back(gap);
         cp.facet.push_back(b);
         for (int k = 0; k < d; ++k) cp.x.push_back(fp.x[k]);
       }
     }
   }
+  cp.gap = contact_gaps(cp, planes);
   return cp;
+}
+
+std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes) {
+  const size_t nq = cp.size();
+  const size_t d = nq ? cp.x.size() / nq : 0;
+  std::vector<double> gap(nq);
+  for (size_t q = 0; q < nq; ++q) {
+    const ContactPlane &pl = planes[cp.plane[q]];
+    double g = 0;
+    for (size_t k = 0; k < d; ++k) g += (cp.x[q * d + k] - pl.point[k]) * pl.normal[k];
+    gap[q] = g;
+  }
+  return gap;
 }
 
 }  // namespace nd

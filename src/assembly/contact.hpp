@@ -31,11 +31,19 @@ struct ContactPlane {
 
 struct ContactPoints {
   std::vector<SparseRow> a, s;
+  // the same rows on the clamped DOFs (full DOF indices): the nodal contact
+  // force and the reactions need them, the step does not
+  std::vector<SparseRow> a_fixed, s_fixed;
+  std::vector<int> plane;                // index into the definition's planes
   std::vector<double> w, gamma, gap, x;  // x: n * dim
   std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
   std::vector<int64_t> facet;            // index into Mesh::boundary
   size_t size() const { return w.size(); }
 };
+
+// g_q = (x_q - point) . nu_o with the current point of each point's plane
+// (the point may move in time; the rows and weights do not).
+std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes);
 
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
                                const std::vector<ContactPlane> &planes, double gamma0);

@@ -82,7 +82,7 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
     nd::need(normal, "normal");
     nd::need_finite(point, pr.space().dim, "point");
     nd::need_finite(normal, pr.space().dim, "normal");
-    pr.add_contact_plane(region, point, normal);
+    pr.set_contact_plane(region, point, normal);
     return ND_OK;
   });
 }

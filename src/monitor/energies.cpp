@@ -6,6 +6,10 @@
 
 namespace nd {
 
+ContactLaw state_contact_law(const Discretization &d, const State &s) {
+  return ContactLaw{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
+}
+
 double mechanical_energy(const Discretization &d, const State &s) {
   // M and K share one pattern (lumped M included): one pass over it
   const Csr &M = d.M, &K = d.K;
@@ -24,7 +28,7 @@ double mechanical_energy(const Discretization &d, const State &s) {
 
 double nitsche_energy(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
-  ContactLaw law{&cp, d.theta};
+  const ContactLaw law = state_contact_law(d, s);
   double R = 0;
   for (size_t q = 0; q < cp.size(); ++q) {
     const double P = law.P(q, s.U.data()), Pp = P > 0 ? P : 0;
@@ -35,7 +39,7 @@ double nitsche_energy(const Discretization &d, const State &s) {
 }
 
 std::vector<double> contact_pressure(const Discretization &d, const State &s) {
-  ContactLaw law{&d.contact, d.theta};
+  const ContactLaw law = state_contact_law(d, s);
   std::vector<double> lam(d.contact.size());
   for (size_t q = 0; q < lam.size(); ++q) {
     const double P = law.P(q, s.U.data());
@@ -45,7 +49,7 @@ std::vector<double> contact_pressure(const Discretization &d, const State &s) {
 }
 
 double contact_force(const Discretization &d, const State &s) {
-  ContactLaw law{&d.contact, d.theta};
+  const ContactLaw law = state_contact_law(d, s);
   double F = 0;
   for (size_t q = 0; q < d.contact.size(); ++q) {
     const double P = law.P(q, s.U.data());
@@ -55,15 +59,16 @@ double contact_force(const Discretization &d, const State &s) {
 }
 
 int64_t active_points(const Discretization &d, const State &s) {
-  ContactLaw law{&d.contact, d.theta};
+  const ContactLaw law = state_contact_law(d, s);
   int64_t k = 0;
   for (size_t q = 0; q < d.contact.size(); ++q) k += law.P(q, s.U.data()) > 0;
   return k;
 }
 
 double max_penetration(const Discretization &d, const State &s) {
+  const ContactLaw law = state_contact_law(d, s);
   double m = 0;
-  for (size_t q = 0; q < d.contact.size(); ++q) m = std::max(m, d.contact.a[q].dot(s.U.data()) - d.contact.gap[q]);
+  for (size_t q = 0; q < d.contact.size(); ++q) m = std::max(m, d.contact.a[q].dot(s.U.data()) - law.g(q));
   return m;
 }
 

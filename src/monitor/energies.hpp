@@ -5,10 +5,13 @@
 #include <vector>
 
 #include "problem/discretization.hpp"
+#include "solve/contact_law.hpp"
 #include "time/state.hpp"
 
 namespace nd {
 
+// [P]_+ with the obstacle where it is at the state's time
+ContactLaw state_contact_law(const Discretization &d, const State &s);
 // E = 1/2 V'MV + 1/2 U'KU
 double mechanical_energy(const Discretization &d, const State &s);
 // R = 1/2 sum_q w_q (gamma_q (s_q.U)^2 - [P_q]_+^2/gamma_q)

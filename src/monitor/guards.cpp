@@ -14,9 +14,10 @@ constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 // the deepest point relative to its cell size: (penetration / h, index)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
+  const ContactLaw law = state_contact_law(d, s);
   std::pair<double, size_t> worst{-INFINITY, 0};
   for (size_t q = 0; q < cp.size(); ++q) {
-    const double r = (cp.a[q].dot(s.U.data()) - cp.gap[q]) / cp.h[q];
+    const double r = (cp.a[q].dot(s.U.data()) - law.g(q)) / cp.h[q];
     if (r > worst.first) worst = {r, q};
   }
   return worst;
@@ -49,7 +50,7 @@ void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
 void guard_step(const Discretization &d, const Guards &g, const State &old, State &next) {
   GuardState &gs = next.guard;
   gs = old.guard;
-  gs.budget = std::max(gs.budget, gs.E0 + next.W);
+  gs.budget = std::max(gs.budget, gs.E0 + next.W + next.W_obstacle);  // a moving obstacle puts energy in too
   if (g.penetration > 0 && d.contact.size() > 0) {
     const auto [r, q] = deepest(d, next);
     if (r > g.penetration)
@@ -67,7 +68,7 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   if (E > g.energy * gs.budget)
     fail(ND_ERR_ENERGY_GROWTH,
          "the step to t = " + num(next.t) + " raises the mechanical energy to " + num(E) + ", more than " +
-             num(g.energy) + " times the energy put in (E^0 + W = " + num(gs.budget) +
+             num(g.energy) + " times the energy put in (E^0 + W + W_obstacle = " + num(gs.budget) +
              "): the scheme is unstable here. Lower the time step (explicit schemes: below the critical step), "
              "lower gamma0 (gamma0 = 0 chooses a safe one), or use a dissipative or the hybrid scheme; "
              "the step was not taken");

@@ -13,7 +13,7 @@ namespace nd {
 void guard_initial_state(const Discretization &d, const Guards &g, State &s);
 
 // After a step old -> next: penetration deeper than the guard's fraction of
-// h_K (ND_ERR_PENETRATION); mechanical energy above f (E^0 + max_k W^k)
+// h_K (ND_ERR_PENETRATION); mechanical energy above f (E^0 + max_k (W^k + W_obstacle^k))
 // (ND_ERR_ENERGY_GROWTH) or not finite (ND_ERR_NONFINITE_STATE), evaluated
 // at every step: a sparser schedule (when |U| or |V| grew by 10 %, and every
 // 16 steps) let the stability suite accept steps up to x2.4 past the limit.

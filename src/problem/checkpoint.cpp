@@ -11,7 +11,7 @@ namespace nd {
 namespace {
 
 constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: the obstacle (gaps, work), the clamped load and the reactions
 
 struct Hash {  // FNV-1a, 64 bits
   uint64_t h = 1469598103934665603ull;
@@ -107,6 +107,10 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   payload.value(s.total_iterations);
   payload.value(s.guard.E0);
   payload.value(s.guard.budget);
+  payload.vec(s.F_fixed);
+  payload.vec(s.gap);
+  payload.value(s.W_obstacle);
+  payload.vec(s.reaction);
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(kVersion);
@@ -120,7 +124,8 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   return std::move(w.out);
 }
 
-void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, int64_t n_free, State &out) {
+void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out) {
+  const int64_t n_free = sizes.n_free;
   if (nbytes < static_cast<int64_t>(sizeof kMagic) || std::memcmp(buf, kMagic, sizeof kMagic) != 0)
     fail(ND_ERR_FORMAT, "not a checkpoint of this library (bad magic number)");
   Reader r(buf, static_cast<size_t>(nbytes));
@@ -157,6 +162,10 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.total_iterations = r.value<int64_t>();
   s.guard.E0 = r.value<double>();
   s.guard.budget = r.value<double>();
+  s.F_fixed = r.vec(sizes.n_clamped, true, "load on the clamped DOFs");
+  s.gap = r.vec(sizes.n_contact, true, "obstacle gaps");
+  s.W_obstacle = r.value<double>();
+  s.reaction = r.vec(sizes.n_clamped, true, "reactions");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
   out = std::move(s);
 }

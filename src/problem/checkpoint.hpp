@@ -21,6 +21,10 @@ uint64_t state_fingerprint(const Space &s, const Discretization &d);
 std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint);
 // Throws ND_ERR_FORMAT (truncated, corrupted, another version) or ND_ERR_STATE
 // (another problem); `out` is written only on success.
-void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, int64_t n_free, State &out);
+// n_free unknowns, n_clamped clamped DOFs, n_contact contact points
+struct StateSizes {
+  int64_t n_free, n_clamped, n_contact;
+};
+void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out);
 
 }  // namespace nd

@@ -30,11 +30,12 @@ enum Aspect : unsigned {
   kInitial = 1u << 9,   // u0, v0
   kNewton = 1u << 10,
   kGuards = 1u << 12,
+  kObstacle = 1u << 13,  // a plane's point moved (same normal): only the gaps change
 };
 
 // What the library checks (DESIGN §3b); nd_problem_set_guard sets them.
 struct Guards {
-  double energy = 2;         // E <= f (E^0 + max_k W^k); 0: off
+  double energy = 2;         // E <= f (E^0 + max_k (W^k + W_obstacle^k)); 0: off
   double penetration = 0.5;  // u_n - g0 <= f h_K; 0: off
   bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
 };

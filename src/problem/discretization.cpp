@@ -7,6 +7,7 @@
 #include "assembly/coercivity.hpp"
 #include "common/format.hpp"
 #include "assembly/nitsche.hpp"
+#include "problem/forces.hpp"
 #include "solve/contact_law.hpp"
 
 namespace nd {
@@ -35,6 +36,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
   }
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
+  if (d->dofs.n_free < space.n_dofs()) d->clamped = std::make_unique<ClampedRows>(clamped_rows(space, d->dofs, def.material));
   return d;
 }
 
@@ -89,6 +91,7 @@ void Discretization::equilibrium_acceleration(State &s, int solver) {
   std::vector<double> rhs(n);
   K_theta.multiply(s.U.data(), rhs.data());
   ContactLaw law{&contact, theta};
+  if (!s.gap.empty()) law.gap = s.gap.data();
   law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
   for (size_t i = 0; i < n; ++i) rhs[i] = (s.F.empty() ? 0.0 : s.F[i]) - rhs[i];
   mass_solve(rhs.data(), solver);

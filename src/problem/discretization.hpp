@@ -14,6 +14,13 @@
 
 namespace nd {
 
+// The clamped DOFs and their rows of K and of the consistent mass on the free
+// columns (problem/forces.hpp): what the reactions need.
+struct ClampedRows {
+  std::vector<int64_t> dofs;  // full DOF indices, in row order
+  Csr K, M;
+};
+
 struct Discretization {
   Discretization(DofMap d, bool lump) : dofs(std::move(d)), lumped(lump) {}
   DofMap dofs;
@@ -28,6 +35,7 @@ struct Discretization {
   bool coercive = false;    // K_Theta checked positive semi-definite
   double omega_max = 0;     // the explicit schemes' highest frequency, once estimated
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
+  std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
 
   void mass_solve(double *x, int solver);
   // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/format.hpp"
+#include "problem/forces.hpp"
 #include "solve/newton.hpp"
 
 namespace nd {
@@ -53,8 +54,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   return in;
 }
 
-State advance(Integrator &in, Discretization &d, const Definition &def, const State &old,
-              const std::vector<double> &F_new) {
+State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new) {
+  const std::vector<double> &F_new = at_new.F;
   const TimeScheme &scheme = *in.scheme;
   const double tau = in.tau;
   const size_t n = old.U.size();
@@ -68,6 +69,15 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   if (next.F.empty() && !old.F.empty()) next.F.assign(n, 0.0);  // nodal forces withdrawn
   const std::vector<double> F_old =
       !next.F.empty() && old.F.empty() ? std::vector<double>(n, 0.0) : old.F;
+  next.F_fixed = at_new.F_fixed;
+  next.gap = at_new.gap;
+  // the contact term of the step: P^n with the obstacle where it was at t^n,
+  // P(U) with it where it is at t^{n+1} (DESIGN §8)
+  ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data()};
+  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data()};
+  std::vector<double> Pn(d.contact.size());
+  for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = old_law.P(q, old.U.data());
+  law.Pn = &Pn;
   scheme.predict(tau, old, next.U);
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
@@ -80,10 +90,6 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.A_factor->solve(next.U.data());
       next.last_iterations = 1;
     } else {
-      ContactLaw law{&d.contact, d.theta, &scheme, nullptr};
-      std::vector<double> Pn(d.contact.size());
-      for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = law.P(q, old.U.data());
-      law.Pn = &Pn;
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
       const NewtonResult res = newton_solve(sys, r, def.newton, next.U);
       if (!res.converged)
@@ -101,6 +107,22 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   if (!next.F.empty())  // trapezoidal work of the loads
     for (size_t i = 0; i < n; ++i) next.W += 0.5 * (next.F[i] + F_old[i]) * (next.U[i] - old.U[i]);
   next.total_iterations = old.total_iterations + next.last_iterations;
+  // The step's contact term phi_q: the obstacle moving by dg_q against the
+  // mean pressure -phi_q/gamma_q does the work -sum_q (w_q/gamma_q) phi_q dg_q
+  // (for the hybrid scheme with Theta = 1 exactly what E_Theta gains besides W)
+  std::vector<double> phi(d.contact.size());
+  next.W_obstacle = old.W_obstacle;
+  for (size_t q = 0; q < phi.size(); ++q) {
+    double slope;
+    law.law(q, law.P(q, next.U.data()), phi[q], slope);
+    next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
+  }
+  if (d.clamped) {
+    const double a = scheme.mean_weight();
+    std::vector<double> Abar;
+    scheme.mean_acceleration(tau, old, next, Abar);
+    next.reaction = clamped_residual(d, Abar, step_mean(next.U, old.U, a), phi, step_mean(next.F_fixed, old.F_fixed, a));
+  }
   return next;
 }
 

@@ -26,9 +26,15 @@ struct Integrator {
 // step is not well posed.
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def);
 
-// The state at t^{n+1} from `old` with the load F_new at t^{n+1} (empty: none).
-// Throws (and changes nothing) when the step fails.
-State advance(Integrator &in, Discretization &d, const Definition &def, const State &old,
-              const std::vector<double> &F_new);
+// What is prescribed at t^{n+1}: the load on the free DOFs and on the clamped
+// ones (empty: none), and the gaps g_q of the obstacle where it is then.
+struct StepData {
+  const std::vector<double> &F, &F_fixed, &gap;
+};
+
+// The state at t^{n+1} from `old` with the data at t^{n+1}; also the
+// obstacle's work and the reactions of the step. Throws (and changes
+// nothing) when the step fails.
+State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new);
 
 }  // namespace nd

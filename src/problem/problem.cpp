@@ -10,6 +10,7 @@
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
 #include "problem/checkpoint.hpp"
+#include "problem/forces.hpp"
 
 namespace nd {
 
@@ -21,7 +22,7 @@ constexpr unsigned kIntegratorDeps = kDiscretizationDeps | kScheme | kTimestep |
 // Before the first step the state at t^0 (its load F^0 and acceleration A^0)
 // is derived from the definition; later the state is the history and stays
 // (a changed load enters as F^{n+1}); new initial values always replace it.
-constexpr unsigned kInitialStateDeps = kLoadDeps | kNodal | kInitial;
+constexpr unsigned kInitialStateDeps = kLoadDeps | kNodal | kObstacle | kInitial;
 
 Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
     : mesh_(std::move(mesh)), space_(mesh_, degree) {}
@@ -31,9 +32,11 @@ void Problem::changed(unsigned aspects) {
   if (aspects & kDiscretizationDeps) disc_.reset();
   if (disc_ && (aspects & kMassFactorDeps)) disc_->M_factor.reset();
   if (aspects & kLoadDeps) load_.reset();
+  if (aspects & (kLoadDeps | kNodal)) load_fixed_.reset();
+  if (aspects & kContact) obstacle_redefined_ = true;
   if (aspects & kIntegratorDeps) integrator_.reset();
   // after setup a load is F^{n+1} of the next step, also at n = 0
-  const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal : 0u);
+  const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal | kObstacle : 0u);
   if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
     state_ready_ = false;
     setup_done_ = false;
@@ -82,7 +85,7 @@ void Problem::add_neumann(int region, const double *g) {
   changed(kLoads);
 }
 
-void Problem::add_contact_plane(int region, const double *point, const double *normal) {
+void Problem::set_contact_plane(int region, const double *point, const double *normal) {
   require_region(region, "contact");
   ContactPlane pl{region, {0, 0, 0}, {0, 0, 0}};
   // scale by the largest component first, so that the length neither
@@ -97,8 +100,17 @@ void Problem::add_contact_plane(int region, const double *point, const double *n
     pl.point[k] = point[k];
     pl.normal[k] = normal[k] / big / len;
   }
-  def_.planes.push_back(pl);
-  changed(kContact);
+  auto it = std::find_if(def_.planes.begin(), def_.planes.end(), [&](const ContactPlane &x) { return x.region == region; });
+  if (it == def_.planes.end()) {
+    def_.planes.push_back(pl);
+    changed(kContact);
+  } else if (std::equal(pl.normal, pl.normal + 3, it->normal)) {
+    *it = pl;  // a prescribed translation: the rows stay, the gaps follow the point
+    changed(kObstacle);
+  } else {
+    *it = pl;
+    changed(kContact);
+  }
 }
 
 void Problem::set_nitsche(double theta, double gamma0) {
@@ -186,8 +198,21 @@ void Problem::set_guard(int guard, double value) {
 
 Discretization &Problem::discretization_() {
   if (!disc_) disc_ = discretize(space_, def_);
+  // another obstacle (not a motion of this one): its gaps hold from t^n on
+  if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
+  obstacle_redefined_ = false;
   return *disc_;
 }
+
+const std::vector<double> &Problem::clamped_load_() {
+  Discretization &d = discretization_();
+  if (!load_fixed_)
+    load_fixed_ = std::make_unique<std::vector<double>>(d.clamped ? clamped_load(space_, *d.clamped, def_)
+                                                                  : std::vector<double>());
+  return *load_fixed_;
+}
+
+std::vector<double> Problem::current_gaps() { return contact_gaps(discretization_().contact, def_.planes); }
 
 const std::vector<double> &Problem::constant_load_() {
   if (!load_) load_ = std::make_unique<std::vector<double>>(constant_load(space_, discretization_(), def_));
@@ -219,6 +244,8 @@ const State &Problem::state() {
     if (!def_.u0.empty()) d.dofs.restrict_to_free(def_.u0.data(), s.U.data());
     if (!def_.v0.empty()) d.dofs.restrict_to_free(def_.v0.data(), s.V.data());
     s.F = current_load();
+    s.F_fixed = clamped_load_();
+    s.gap = current_gaps();
     state_ = std::move(s);
     state_ready_ = true;
   }
@@ -251,7 +278,8 @@ void Problem::setup() {
 
 void Problem::step() {
   setup();
-  State next = advance(*integrator_, *disc_, def_, state_, current_load());
+  const std::vector<double> F = current_load(), gap = current_gaps();
+  State next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
   guard_step(*disc_, def_.guards, state_, next);
   state_ = std::move(next);
 }
@@ -278,6 +306,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   if (u) d.dofs.restrict_to_free(u, s.U.data());
   if (v) d.dofs.restrict_to_free(v, s.V.data());
   s.A_valid = false;
+  s.reaction.clear();  // no step led here: the equilibrium's, on demand
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
   s.guard.E0 += dE;
@@ -293,7 +322,9 @@ std::vector<unsigned char> Problem::save_state() {
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   Discretization &d = discretization_();
   State s;
-  decode_state(buf, nbytes, state_fingerprint(space_, d), d.dofs.n_free, s);
+  const StateSizes sizes{d.dofs.n_free, d.clamped ? static_cast<int64_t>(d.clamped->dofs.size()) : 0,
+                         static_cast<int64_t>(d.contact.size())};
+  decode_state(buf, nbytes, state_fingerprint(space_, d), sizes, s);
   state_ = std::move(s);
   state_ready_ = true;
   setup_done_ = state_.n > 0;
@@ -301,8 +332,33 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
 
 // ---- monitors ----------------------------------------------------------------------
 
+std::vector<double> Problem::reaction_at_equilibrium(const State &s) {
+  Discretization &d = discretization_();
+  State e = s;  // Remark 3.2: M A = F - K_Theta U - N(U) at this state
+  if (!e.A_valid) d.equilibrium_acceleration(e, def_.solver);
+  const ContactLaw law = state_contact_law(d, e);
+  std::vector<double> phi(d.contact.size());
+  for (size_t q = 0; q < phi.size(); ++q) {
+    double slope;
+    law.law(q, law.P(q, e.U.data()), phi[q], slope);
+  }
+  return clamped_residual(d, e.A, e.U, phi, e.F_fixed);
+}
+
 void Problem::field(int which, double *full) {
   const State &s = state();
+  if (which == ND_FIELD_CONTACT_FORCE) {
+    contact_force_field(discretization_(), s, full);
+    return;
+  }
+  if (which == ND_FIELD_REACTION) {
+    Discretization &d = discretization_();
+    std::fill(full, full + space_.n_dofs(), 0.0);
+    if (!d.clamped) return;
+    const std::vector<double> R = s.reaction.empty() ? reaction_at_equilibrium(s) : s.reaction;
+    for (size_t r = 0; r < R.size(); ++r) full[d.clamped->dofs[r]] = R[r];
+    return;
+  }
   if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
   const std::vector<double> &v = which == ND_FIELD_DISPLACEMENT ? s.U : which == ND_FIELD_VELOCITY ? s.V : s.A;
   discretization_().dofs.extend_to_full(v.data(), full);
@@ -325,6 +381,8 @@ double Problem::scalar(int key) {
       return static_cast<double>(state().total_iterations);
     case ND_WORK:
       return state().W;
+    case ND_WORK_OBSTACLE:
+      return state().W_obstacle;
     case ND_TIMESTEP:
       return def_.tau;
     case ND_GAMMA0:

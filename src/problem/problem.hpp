@@ -24,7 +24,10 @@ class Problem {
   void add_dirichlet(int region);
   void set_body_force(const double *f);
   void add_neumann(int region, const double *g);
-  void add_contact_plane(int region, const double *point, const double *normal);
+  // Sets the region's plane: replaces the one it has. With the same normal
+  // only the point moves (the gaps change, nothing is rebuilt); after setup
+  // the new point is where the obstacle is at t^{n+1} of the next step.
+  void set_contact_plane(int region, const double *point, const double *normal);
   void set_nitsche(double theta, double gamma0);
   // params: scheme_parameter_count(scheme) values, checked by the scheme
   void set_scheme(int scheme, const std::vector<double> &params);
@@ -76,6 +79,9 @@ class Problem {
   double omega_max();
   const State &state();
   std::vector<double> current_load();
+  const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)
+  std::vector<double> current_gaps();          // g_q with the planes where the definition has them
+  std::vector<double> reaction_at_equilibrium(const State &s);
   void require_region(int region, const char *what) const;
 
   std::shared_ptr<const Mesh> mesh_;
@@ -84,7 +90,9 @@ class Problem {
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
   std::unique_ptr<std::vector<double>> load_;  // the constant load on the free DOFs
+  std::unique_ptr<std::vector<double>> load_fixed_;  // clamped_load_()
   std::unique_ptr<Integrator> integrator_;
+  bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
   State state_;
   bool state_ready_ = false;
   bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (DESIGN §8)

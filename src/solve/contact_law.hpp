@@ -19,10 +19,10 @@ struct ContactLaw {
   double theta = 1;                         // Nitsche's Theta
   const TimeScheme *scheme = nullptr;       // the step's contact term; nullptr: [P]_+
   const std::vector<double> *Pn = nullptr;  // P_q(U^n), needed with a scheme
+  const double *gap = nullptr;              // the gaps in force (moving obstacle); nullptr: cp->gap
 
-  double P(size_t q, const double *U) const {
-    return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - cp->gap[q];
-  }
+  double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
+  double P(size_t q, const double *U) const { return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - g(q); }
   // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given

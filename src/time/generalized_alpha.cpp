@@ -52,6 +52,12 @@ class GeneralizedAlpha : public TimeScheme {
   void update(double tau, const State &old, State &next) const override {
     newmark_update(beta_, gamma_, tau, old, next);
   }
+  // the balance at t^{n+1-alpha}: A at the alpha_m point, U and F at the alpha_f point
+  double mean_weight() const override { return af_; }
+  void mean_acceleration(double, const State &old, const State &next, std::vector<double> &A) const override {
+    A.resize(old.A.size());
+    for (size_t i = 0; i < A.size(); ++i) A[i] = (1 - am_) * next.A[i] + am_ * old.A[i];
+  }
 
  private:
   double am_, af_, gamma_, beta_;

@@ -43,6 +43,12 @@ class Hybrid : public TimeScheme {
     next.A_valid = false;
     for (size_t i = 0; i < n; ++i) next.V[i] = 2 * (next.U[i] - old.U[i]) / tau - old.V[i];
   }
+  // M (V^{n+1} - V^n)/tau + K_Theta U^{n+1/2} + N_hyb = F^{n+1/2} (G divided by kappa = 2)
+  double mean_weight() const override { return 0.5; }
+  void mean_acceleration(double tau, const State &old, const State &next, std::vector<double> &A) const override {
+    A.resize(old.V.size());
+    for (size_t i = 0; i < A.size(); ++i) A[i] = (next.V[i] - old.V[i]) / tau;
+  }
 };
 
 }  // namespace

@@ -48,6 +48,15 @@ class TimeScheme {
   }
   // Implicit: V^{n+1}, A^{n+1} from U^{n+1}. Explicit: V^{n+1} from A^{n+1}.
   virtual void update(double tau, const State &old, State &next) const = 0;
+  // The equation a step satisfies on the free DOFs, M Abar + K_Theta Ubar +
+  // Nbar = Fbar, with Ubar = (1-a) U^{n+1} + a U^n, Fbar likewise (a =
+  // mean_weight()), Nbar from the scheme's contact term and Abar from
+  // mean_acceleration(). The reactions and the obstacle's work come from it.
+  virtual double mean_weight() const { return 0; }
+  virtual void mean_acceleration(double tau, const State &old, const State &next, std::vector<double> &A) const {
+    (void)tau, (void)old;
+    A = next.A;
+  }
 };
 
 // The registry: how many parameters an ND_SCHEME_* id reads (throws

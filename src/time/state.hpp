@@ -8,7 +8,7 @@ namespace nd {
 // What the energy guard carries from step to step (src/monitor/guards.hpp).
 struct GuardState {
   double E0 = 0;      // mechanical energy at t^0
-  double budget = 0;  // E^0 + max_k W^k: the most energy the loads have put in
+  double budget = 0;  // E^0 + max_k (W^k + W_obstacle^k): the most energy loads and obstacle put in
 };
 
 struct State {
@@ -20,8 +20,16 @@ struct State {
   int64_t n_ref = 0;
   std::vector<double> U, V, A;
   std::vector<double> F;  // the load F^n of the last step (empty: no load)
+  std::vector<double> F_fixed;  // its part on the clamped DOFs (ClampedRows order)
   bool A_valid = false;   // schemes without acceleration (hybrid) compute it on demand
   double W = 0;
+  // the obstacle at t^n: its gaps g_q (empty: the assembled ones) and the work
+  // it has done on the body since t = 0 (a moving plane pushes)
+  std::vector<double> gap;
+  double W_obstacle = 0;
+  // the reactions on the clamped DOFs of the step that led here (DESIGN §8;
+  // empty: not computed yet, e.g. at t^0)
+  std::vector<double> reaction;
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;

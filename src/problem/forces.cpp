@@ -1,0 +1,128 @@
+#include "problem/forces.hpp"
+
+#include <algorithm>
+
+#include "assembly/bulk.hpp"
+#include "monitor/energies.hpp"
+
+namespace nd {
+
+ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat) {
+  ClampedRows cr;
+  std::vector<int64_t> row_of(dofs.free.size(), -1);
+  for (size_t k = 0; k < dofs.free.size(); ++k)
+    if (dofs.free[k] < 0) {
+      row_of[k] = static_cast<int64_t>(cr.dofs.size());
+      cr.dofs.push_back(static_cast<int64_t>(k));
+    }
+  const int nb = s.basis.n, d = s.dim;
+  std::vector<std::vector<int64_t>> cols(cr.dofs.size());
+  for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    const int64_t *nodes = s.nodes_of(c);
+    for (int i = 0; i < nb * d; ++i) {
+      const int64_t r = row_of[nodes[i / d] * d + i % d];
+      if (r < 0) continue;
+      for (int j = 0; j < nb * d; ++j) {
+        const int64_t col = dofs.free[nodes[j / d] * d + j % d];
+        if (col >= 0) cols[r].push_back(col);
+      }
+    }
+  }
+  cr.K = csr_from_rows(std::move(cols));
+  cr.M = cr.K.zeros_like();
+  ElementMatrices em(s, mat);
+  for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    const int64_t *nodes = s.nodes_of(c);
+    bool any = false;
+    for (int i = 0; i < nb * d && !any; ++i) any = row_of[nodes[i / d] * d + i % d] >= 0;
+    if (!any) continue;
+    em.compute(c);
+    for (int i = 0; i < nb; ++i)
+      for (int a = 0; a < d; ++a) {
+        const int64_t r = row_of[nodes[i] * d + a];
+        if (r < 0) continue;
+        for (int j = 0; j < nb; ++j)
+          for (int b = 0; b < d; ++b) {
+            const int64_t col = dofs.free[nodes[j] * d + b];
+            if (col < 0) continue;
+            const int64_t k = cr.K.find(r, col);
+            cr.K.val[k] += em.ke[(i * d + a) * nb * d + j * d + b];
+            if (a == b) cr.M.val[k] += em.me[i * nb + j];
+          }
+      }
+  }
+  return cr;
+}
+
+std::vector<double> clamped_load(const Space &s, const ClampedRows &rows, const Definition &def) {
+  const DofMap all(s, {});  // every DOF free: the load on all of them
+  std::vector<double> full = assemble_load(s, all, def.has_body_force ? def.body_force : nullptr, def.neumann);
+  if (full.empty() && def.nodal.empty()) return {};
+  std::vector<double> F(rows.dofs.size(), 0.0);
+  for (size_t r = 0; r < F.size(); ++r) {
+    const int64_t k = rows.dofs[r];
+    if (!full.empty()) F[r] += full[k];
+    if (!def.nodal.empty()) F[r] += def.nodal[k];
+  }
+  return F;
+}
+
+std::vector<double> step_mean(const std::vector<double> &x_new, const std::vector<double> &x_old, double a) {
+  if (x_new.empty() && x_old.empty()) return {};
+  std::vector<double> m(std::max(x_new.size(), x_old.size()));
+  for (size_t i = 0; i < m.size(); ++i)
+    m[i] = (1 - a) * (x_new.empty() ? 0.0 : x_new[i]) + (a == 0 || x_old.empty() ? 0.0 : a * x_old[i]);
+  return m;
+}
+
+std::vector<double> clamped_residual(const Discretization &d, const std::vector<double> &Abar,
+                                     const std::vector<double> &Ubar, const std::vector<double> &phi,
+                                     const std::vector<double> &Fbar_D) {
+  const ClampedRows &cr = *d.clamped;
+  const size_t nD = cr.dofs.size();
+  std::vector<double> R(nD, 0.0), MA(nD, 0.0);
+  cr.K.multiply(Ubar.data(), R.data());
+  if (!d.lumped) {  // a lumped (diagonal) mass couples no clamped row to a free DOF
+    cr.M.multiply(Abar.data(), MA.data());
+    for (size_t r = 0; r < nD; ++r) R[r] += MA[r];
+  }
+  // the contact rows on clamped DOFs are keyed by full DOF index
+  std::vector<int64_t> row_of_dof;
+  if (!d.contact.a_fixed.empty()) {
+    row_of_dof.assign(d.dofs.free.size(), -1);
+    for (size_t r = 0; r < nD; ++r) row_of_dof[cr.dofs[r]] = static_cast<int64_t>(r);
+  }
+  const ContactPoints &cp = d.contact;
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const SparseRow &af = cp.a_fixed[q], &sf = cp.s_fixed[q];
+    if (af.idx.empty()) continue;
+    // K_Theta's Nitsche part and the contact term N's b_q = a_q - Theta gamma_q s_q
+    const double sn = cp.s[q].dot(Ubar.data()), f = cp.w[q] / cp.gamma[q] * phi[q], tg = d.theta * cp.gamma[q];
+    for (size_t k = 0; k < af.idx.size(); ++k)
+      R[row_of_dof[af.idx[k]]] += -d.theta * cp.w[q] * cp.gamma[q] * sf.val[k] * sn + f * (af.val[k] - tg * sf.val[k]);
+  }
+  if (!Fbar_D.empty())
+    for (size_t r = 0; r < nD; ++r) R[r] -= Fbar_D[r];
+  return R;
+}
+
+void contact_force_field(const Discretization &d, const State &s, double *full) {
+  const ContactPoints &cp = d.contact;
+  const ContactLaw law = state_contact_law(d, s);
+  std::vector<double> f(s.U.size(), 0.0);
+  std::fill(full, full + d.dofs.free.size(), 0.0);
+  std::vector<double> wl(cp.size());
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const double P = law.P(q, s.U.data());
+    wl[q] = P > 0 ? -cp.w[q] * P / cp.gamma[q] : 0.0;  // w_q lambda_q
+    const SparseRow &a = cp.a[q];
+    for (size_t k = 0; k < a.idx.size(); ++k) f[a.idx[k]] += wl[q] * a.val[k];
+  }
+  d.dofs.extend_to_full(f.data(), full);
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const SparseRow &af = cp.a_fixed[q];
+    for (size_t k = 0; k < af.idx.size(); ++k) full[af.idx[k]] += wl[q] * af.val[k];
+  }
+}
+
+}  // namespace nd
