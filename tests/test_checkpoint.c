@@ -13,21 +13,21 @@
 
 #include "testutil.h"
 
-enum { N_SCALARS = 12 };
+enum { N_FIELDS = 5, N_SCALARS = ND_WORK_OBSTACLE };
 
 typedef struct {
   int64_t n;
-  double *f; /* u, v, a per DOF, then the first scalars */
+  double *f; /* u, v, a, contact force, reaction per DOF, then the first scalars */
 } snap;
 
 static snap take(nd_problem p, int dim) {
   snap s;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &s.n));
   const int64_t len = s.n * dim;
-  s.f = malloc(sizeof(double) * (size_t)(3 * len + N_SCALARS));
-  for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT + k, s.n, s.f + k * len));
-  for (int k = 0; k < N_SCALARS; ++k) ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME + k, s.f + 3 * len + k));
-  s.n = 3 * len + N_SCALARS;
+  s.f = malloc(sizeof(double) * (size_t)(N_FIELDS * len + N_SCALARS));
+  for (int k = 0; k < N_FIELDS; ++k) ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT + k, s.n, s.f + k * len));
+  for (int k = 0; k < N_SCALARS; ++k) ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME + k, s.f + N_FIELDS * len + k));
+  s.n = N_FIELDS * len + N_SCALARS;
   return s;
 }
 
@@ -102,6 +102,55 @@ START_TEST(resumed_runs_are_bitwise_the_uninterrupted_ones) {
           ND_OK_OR_FAIL(nd_problem_destroy(&a));
           ND_OK_OR_FAIL(nd_problem_destroy(&b));
         }
+      }
+}
+END_TEST
+
+/* the obstacle's point at step k: moves every step along the normal */
+static void move_plane(nd_problem p, int dim, int k) {
+  double o[3] = {0, 0, 0}, nu[3] = {0, 0, 0};
+  nu[dim == 1 ? 0 : 1] = 1;
+  o[dim == 1 ? 0 : 1] = 0.004 * sin(0.3 * k);
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, nu));
+}
+
+/* with a moving obstacle: its gaps at t^n and its work are in the checkpoint
+   (the caller sets the point of the next step, as it sets the next load) */
+START_TEST(moving_obstacle_resumes_bitwise) {
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (int s = 0; s < N_SCHEMES; ++s) {
+        const int at = 30, then = 40;
+        nd_problem a = scene(dim, degree, schemes[s].scheme, schemes[s].params);
+        for (int k = 0; k < at; ++k) {
+          move_plane(a, dim, k + 1);
+          ND_OK_OR_FAIL(nd_step(a));
+        }
+        int64_t nbytes = 0;
+        unsigned char *buf = save(a, &nbytes);
+        for (int k = at; k < at + then; ++k) {
+          move_plane(a, dim, k + 1);
+          ND_OK_OR_FAIL(nd_step(a));
+        }
+        nd_problem b = scene(dim, degree, schemes[s].scheme, schemes[s].params);
+        ND_OK_OR_FAIL(nd_problem_load_state(b, nbytes, buf));
+        for (int k = at; k < at + then; ++k) {
+          move_plane(b, dim, k + 1);
+          ND_OK_OR_FAIL(nd_step(b));
+        }
+        snap sa = take(a, dim), sb = take(b, dim);
+        ck_assert_msg(same(sa, sb), "%dD P%d scheme %d: the resumed run with a moving obstacle differs", dim, degree,
+                      schemes[s].scheme);
+        double wo = 0;
+        ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_OBSTACLE, &wo));
+        /* (the explicit run's 70 small steps end before the impact) */
+        const int expl = schemes[s].scheme == ND_SCHEME_NEWMARK && schemes[s].params[0] == 0;
+        ck_assert_msg(expl || wo != 0, "%dD P%d scheme %d: the obstacle did no work", dim, degree, schemes[s].scheme);
+        free(sa.f);
+        free(sb.f);
+        free(buf);
+        ND_OK_OR_FAIL(nd_problem_destroy(&a));
+        ND_OK_OR_FAIL(nd_problem_destroy(&b));
       }
 }
 END_TEST
@@ -283,6 +332,7 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, resumed_runs_are_bitwise_the_uninterrupted_ones);
   tcase_add_test(tc, resumes_in_another_process);
+  tcase_add_test(tc, moving_obstacle_resumes_bitwise);
   tcase_add_test(tc, bad_checkpoints_are_refused_and_change_nothing);
   tcase_add_test(tc, coupling_iteration_restores_and_retries);
   tcase_add_test(tc, set_state_keeps_time_and_work);
