@@ -511,7 +511,8 @@ class Problem(_Handle):
         return status
 
     def field(self, which=_constants.ND_FIELD_DISPLACEMENT):
-        """ND_FIELD_DISPLACEMENT, _VELOCITY or _ACCELERATION: (n_nodes, dim)."""
+        """ND_FIELD_DISPLACEMENT, _VELOCITY, _ACCELERATION, _CONTACT_FORCE
+        (obstacle on body) or _REACTION (support on body, clamped DOFs): (n_nodes, dim)."""
         n = self.node_count
         out = np.empty((n, self.dim))
         _check(lib.nd_get_field(self._h, which, n, _dptr(out)))

@@ -186,7 +186,7 @@ def test_constants():
 
 def test_checkpoint():
     """save_state/load_state from Python: the resumed run is bitwise the uninterrupted one."""
-    p, _ = make_bar(20, 2)
+    p, x = make_bar(20, 2)
     with p:
         for _ in range(30):
             p.step()
@@ -194,6 +194,12 @@ def test_checkpoint():
         for _ in range(20):
             p.step()
         u_ref = p.field(nd.ND_FIELD_DISPLACEMENT).copy()
+        c = p.field(nd.ND_FIELD_CONTACT_FORCE)
+        check(abs(c.sum() - p.scalar(nd.ND_CONTACT_FORCE)) <= 1e-13 * abs(c).sum(),
+              "the nodal contact forces sum to ND_CONTACT_FORCE (Python)")
+        r = p.field(nd.ND_FIELD_REACTION)[:, 0]
+        check(np.all(r[x != 1.0] == 0) and np.any(r[x == 1.0] != 0), "reactions on the clamped DOF only (Python)")
+        check(p.scalar(nd.ND_WORK_OBSTACLE) == 0, "a fixed plane does no work (Python)")
         p.load_state(blob)
         for _ in range(20):
             p.step()

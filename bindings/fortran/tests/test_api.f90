@@ -226,6 +226,12 @@ contains
     end do
     if (status == ND_OK) status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u_ref)
     call check(status == ND_OK, '20 more steps')
+    call check(nd_get_field(p, ND_FIELD_CONTACT_FORCE, n, v) == ND_OK, 'nd_get_field(ND_FIELD_CONTACT_FORCE)')
+    call check(nd_get_scalar(p, ND_CONTACT_FORCE, t) == ND_OK, 'nd_get_scalar(ND_CONTACT_FORCE)')
+    call check(abs(sum(v) - t) <= 1e-13_c_double * sum(abs(v)), 'the nodal contact forces sum to ND_CONTACT_FORCE')
+    call check(nd_get_field(p, ND_FIELD_REACTION, n, v) == ND_OK, 'nd_get_field(ND_FIELD_REACTION)')
+    call check(nd_get_scalar(p, ND_WORK_OBSTACLE, t) == ND_OK, 'nd_get_scalar(ND_WORK_OBSTACLE)')
+    call check(abs(t) <= 0, 'a fixed plane does no work')
     call check(nd_problem_load_state(p, nbytes, buf) == ND_OK, 'nd_problem_load_state')
     call check(nd_get_scalar(p, ND_TIME, t) == ND_OK, 'nd_get_scalar(ND_TIME)')
     call check(abs(t - 30 * 0.025_c_double) < 1e-12_c_double, 'the time is back at step 30')
