@@ -280,6 +280,28 @@ START_TEST(galilean_invariance) {
 }
 END_TEST
 
+/* A body at rest on a plane that then lifts it: E^0 = 0 and no load, so
+   only the obstacle's work lets the energy guard accept the energy the
+   push puts in. */
+START_TEST(energy_guard_counts_the_obstacle_work) {
+  nd_problem p = block(1, 1, 0.0);
+  const double up = 1, tau = 0.01;
+  double x0 = 0;
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, &x0, &up));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
+  ND_OK_OR_FAIL(nd_problem_setup(p)); /* from now on a point is the next step's */
+  for (int k = 1; k <= 100; ++k) {
+    x0 = 0.5 * tau * (k < 20 ? k : 20); /* up at speed 0.5, then still */
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, &x0, &up));
+    ND_OK_OR_FAIL(nd_step(p));
+  }
+  const double E = scalar(p, ND_ENERGY_MECHANICAL), Wo = scalar(p, ND_WORK_OBSTACLE);
+  ck_assert_msg(E > 0 && Wo > 0 && E <= 2 * Wo, "E = %g, W_obstacle = %g", E, Wo);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("forces");
   TCase *tc = tcase_create("forces");
@@ -288,6 +310,7 @@ int main(void) {
   tcase_add_test(tc, a_plane_is_replaced_not_added);
   tcase_add_test(tc, hybrid_energy_identity_with_a_moving_plane);
   tcase_add_test(tc, galilean_invariance);
+  tcase_add_test(tc, energy_guard_counts_the_obstacle_work);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
