@@ -42,3 +42,9 @@ nd_problem nd_test_bar_at(int nx, int degree, int scheme, const double *params, 
   free(u0);
   return p;
 }
+
+const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES] = {
+    {ND_SCHEME_THETA, {0.5, 0}},   {ND_SCHEME_THETA, {1, 0}},  {ND_SCHEME_NEWMARK, {0.25, 0.5}},
+    {ND_SCHEME_NEWMARK, {0, 0.5}}, {ND_SCHEME_HYBRID, {0, 0}}, {ND_SCHEME_GENERALIZED_ALPHA, {0.8, 0}}};
+
+int nd_test_is_explicit(const nd_test_scheme *s) { return s->scheme == ND_SCHEME_NEWMARK && s->params[0] == 0; }

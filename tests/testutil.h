@@ -22,6 +22,17 @@ nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, dou
 nd_problem nd_test_bar_at(int nx, int degree, int scheme, const double *params, double theta,
                           double gamma0, double tau, double plane_x, const double *body_force);
 
+/* The schemes the whole-run tests go through: theta = 1/2 and 1,
+   Newmark(1/4, 1/2), explicit Newmark(0, 1/2), hybrid, generalized-alpha 0.8. */
+typedef struct {
+  int scheme;
+  double params[2];
+} nd_test_scheme;
+enum { ND_TEST_N_SCHEMES = 6 };
+extern const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES];
+/* explicit Newmark (beta = 0): lumped mass and small steps */
+int nd_test_is_explicit(const nd_test_scheme *s);
+
 #ifdef __cplusplus
 }
 #endif
