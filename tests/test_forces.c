@@ -151,7 +151,7 @@ START_TEST(a_plane_is_replaced_not_added) {
 }
 END_TEST
 
-/* Hybrid, Theta = 1 (derivation in src/problem/integrator.cpp): per step
+/* Hybrid, Theta = 1 (derived in src/problem/integrator.cpp, advance()): per step
      E_Theta^{n+1} - E_Theta^n = (W^{n+1} - W^n) + (Wo^{n+1} - Wo^n) - D,
    D = sum_q (w/gamma)(Phi_q dP_q - ([P^{n+1}]_+^2 - [P^n]_+^2)/2) >= 0,
    and D = 0 when no point changed sides (persistent contact or flight).

@@ -108,8 +108,11 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     for (size_t i = 0; i < n; ++i) next.W += 0.5 * (next.F[i] + F_old[i]) * (next.U[i] - old.U[i]);
   next.total_iterations = old.total_iterations + next.last_iterations;
   // The step's contact term phi_q: the obstacle moving by dg_q against the
-  // mean pressure -phi_q/gamma_q does the work -sum_q (w_q/gamma_q) phi_q dg_q
-  // (for the hybrid scheme with Theta = 1 exactly what E_Theta gains besides W)
+  // mean pressure -phi_q/gamma_q does the work -sum_q (w_q/gamma_q) phi_q dg_q.
+  // Hybrid, Theta = 1: the step times dU = U^{n+1} - U^n, with p_q.dU = dP_q + dg_q
+  // (P^n with g^n, P^{n+1} with g^{n+1}), gives
+  //   dE_Theta = F^{n+1/2}.dU - sum_q (w_q/gamma_q) phi_q dg_q - D,
+  //   D = sum_q (w_q/gamma_q) (phi_q dP_q - d([P_q]_+^2)/2) >= 0, 0 unless a point changes sides.
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
   for (size_t q = 0; q < phi.size(); ++q) {
