@@ -15,6 +15,7 @@ constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
   std::pair<double, size_t> worst{-INFINITY, 0};
+  count(d.counters, &Counters::contact_evaluations);
   for (size_t q = 0; q < cp.size(); ++q) {
     const double r = (cp.a[q].dot(s.U.data()) - cp.gap[q]) / cp.h[q];
     if (r > worst.first) worst = {r, q};

@@ -29,8 +29,9 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   in->tau = def.tau;
   if (in->scheme->is_explicit()) return in;
   in->coef = in->scheme->coefficients(def.tau);
+  count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
-  in->A_factor = make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite);
+  in->A_factor = make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters);
   try {
     in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
@@ -42,13 +43,13 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   if (!d.contact.a.empty()) {  // the low-rank update of A's factor; refactoring T is the reference
     const Structure s = tangent_structure(def.theta);
     if (def.tangent == TangentChoice::Refactor)
-      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s);
+      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters);
     else
       in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s,
                                          def.tangent == TangentChoice::LowRank
                                              ? -1
                                              : lowrank_rank_limit(in->A.n, d.contact),
-                                         kLowRankTwoSolveRank);
+                                         kLowRankTwoSolveRank, d.counters);
   }
   return in;
 }
@@ -74,14 +75,15 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     d.equilibrium_acceleration(next, def.solver);
   } else {
     std::vector<double> r;
-    scheme.rhs(StepInputs{d.M, d.K_theta, F_old, next.F}, tau, old, r);
+    scheme.rhs(StepInputs{d.M, d.K_theta, F_old, next.F, d.counters}, tau, old, r);
     if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
       next.U = r;
       in.A_factor->solve(next.U.data());
       next.last_iterations = 1;
     } else {
-      ContactLaw law{&d.contact, d.theta, &scheme, nullptr};
+      ContactLaw law{&d.contact, d.theta, &scheme, nullptr, d.counters};
       std::vector<double> Pn(d.contact.size());
+      count(d.counters, &Counters::contact_evaluations);
       for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = law.P(q, old.U.data());
       law.Pn = &Pn;
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};

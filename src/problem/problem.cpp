@@ -31,6 +31,7 @@ void Problem::changed(unsigned aspects) {
   if (aspects & kDiscretizationDeps) disc_.reset();
   if (disc_ && (aspects & kMassFactorDeps)) disc_->M_factor.reset();
   if (aspects & kLoadDeps) load_.reset();
+  if (aspects & (kLoadDeps | kNodal)) step_load_.reset();
   if (aspects & kIntegratorDeps) integrator_.reset();
   // after setup a load is F^{n+1} of the next step, also at n = 0
   const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal : 0u);
@@ -185,7 +186,7 @@ void Problem::set_guard(int guard, double value) {
 // ---- derived objects ------------------------------------------------------------
 
 Discretization &Problem::discretization_() {
-  if (!disc_) disc_ = discretize(space_, def_);
+  if (!disc_) disc_ = discretize(space_, def_, counters_.get());
   return *disc_;
 }
 
@@ -199,13 +200,20 @@ Integrator &Problem::integrator_or_build() {
   return *integrator_;
 }
 
-std::vector<double> Problem::current_load() {
+// built once per change of a load, not every step (DESIGN §4)
+const std::vector<double> &Problem::current_load() {
+  if (step_load_) return *step_load_;
   const std::vector<double> &F_const = constant_load_();
-  if (def_.nodal.empty()) return F_const;
-  std::vector<double> F(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
-  disc_->dofs.restrict_to_free(def_.nodal.data(), F.data());
-  for (size_t i = 0; i < F_const.size(); ++i) F[i] += F_const[i];
-  return F;
+  if (def_.nodal.empty()) {
+    step_load_ = std::make_unique<std::vector<double>>(F_const);
+    return *step_load_;
+  }
+  count(counters_.get(), &Counters::load_assemblies);
+  auto F = std::make_unique<std::vector<double>>(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
+  disc_->dofs.restrict_to_free(def_.nodal.data(), F->data());
+  for (size_t i = 0; i < F_const.size(); ++i) (*F)[i] += F_const[i];
+  step_load_ = std::move(F);
+  return *step_load_;
 }
 
 const State &Problem::state() {
@@ -329,6 +337,22 @@ double Problem::scalar(int key) {
       return def_.tau;
     case ND_GAMMA0:
       return discretization_().gamma0;
+    case ND_STAT_FACTORIZATIONS:
+      return static_cast<double>(counters_->factorizations);
+    case ND_STAT_SYMBOLIC_ANALYSES:
+      return static_cast<double>(counters_->symbolic_analyses);
+    case ND_STAT_SOLVES:
+      return static_cast<double>(counters_->solves);
+    case ND_STAT_MATRIX_ASSEMBLIES:
+      return static_cast<double>(counters_->matrix_assemblies);
+    case ND_STAT_LOAD_ASSEMBLIES:
+      return static_cast<double>(counters_->load_assemblies);
+    case ND_STAT_TANGENT_UPDATES:
+      return static_cast<double>(counters_->tangent_updates);
+    case ND_STAT_CONTACT_EVALUATIONS:
+      return static_cast<double>(counters_->contact_evaluations);
+    case ND_STAT_SPMV:
+      return static_cast<double>(counters_->spmv);
     case ND_GAMMA0_LIMIT: {
       const Discretization &d = discretization_();
       return d.theta > 0 ? d.gamma0_limit / d.theta : std::numeric_limits<double>::infinity();

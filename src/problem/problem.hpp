@@ -58,6 +58,7 @@ class Problem {
   const Discretization &discretization() { return discretization_(); }
   // the integrator once built (benchmarks time its solve: the floor of a step)
   const Integrator *integrator() const { return integrator_.get(); }
+  const Counters &counters() const { return *counters_; }
   void field(int which, double *full);  // n_dofs values
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
@@ -75,7 +76,7 @@ class Problem {
   Integrator &integrator_or_build();
   double omega_max();
   const State &state();
-  std::vector<double> current_load();
+  const std::vector<double> &current_load();
   void require_region(int region, const char *what) const;
 
   std::shared_ptr<const Mesh> mesh_;
@@ -83,7 +84,10 @@ class Problem {
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
-  std::unique_ptr<std::vector<double>> load_;  // the constant load on the free DOFs
+  std::unique_ptr<std::vector<double>> load_;  // body force and tractions on the free DOFs
+  std::unique_ptr<std::vector<double>> step_load_;  // with the nodal forces: F^{n+1}
+  // the work counters (ND_STAT_*), since creation; a stable address the derived objects keep
+  std::unique_ptr<Counters> counters_ = std::make_unique<Counters>();
   std::unique_ptr<Integrator> integrator_;
   State state_;
   bool state_ready_ = false;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "assembly/contact.hpp"
+#include "common/counters.hpp"
 #include "linalg/csr.hpp"
 #include "time/scheme.hpp"
 
@@ -19,6 +20,7 @@ struct ContactLaw {
   double theta = 1;                         // Nitsche's Theta
   const TimeScheme *scheme = nullptr;       // the step's contact term; nullptr: [P]_+
   const std::vector<double> *Pn = nullptr;  // P_q(U^n), needed with a scheme
+  Counters *counters = nullptr;             // the problem's (ND_STAT_*), or none
 
   double P(size_t q, const double *U) const {
     return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - cp->gap[q];

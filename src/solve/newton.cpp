@@ -13,6 +13,7 @@ namespace {
 // G = A U + kappa N(U) - r; returns ||G||, fills the active set
 double residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                 std::vector<double> &G, std::vector<char> &active) {
+  count(sys.law->counters, &Counters::spmv);
   sys.A->multiply(U.data(), G.data());
   sys.law->add_force(U.data(), sys.kappa, G.data(), &active);
   for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
@@ -41,6 +42,7 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     previous.swap(active);
     res.residual = residual(sys, r, U, G, active);
     res.iterations = it;
+    count(sys.law->counters, &Counters::spmv);
     sys.M->multiply(U.data(), MU.data());
     const double u_norm = norm2(n, U.data());
     res.tolerance = opt.rtol * (r_norm + sys.c * norm2(n, MU.data())) + opt.atol;

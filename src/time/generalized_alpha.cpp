@@ -32,8 +32,8 @@ class GeneralizedAlpha : public TimeScheme {
     for (size_t i = 0; i < n; ++i)
       y[i] = (1 - am_) * (old.U[i] / (beta_ * tau * tau) + old.V[i] / (beta_ * tau) + (0.5 / beta_ - 1) * old.A[i]) -
              am_ * old.A[i];
-    mass_times(in.M, y, r);
-    in.K_theta.multiply(old.U.data(), KtU.data());
+    mass_times(in, y, r);
+    in.k_theta_times(old.U.data(), KtU.data());
     const bool has_load = !in.F_new.empty();
     for (size_t i = 0; i < n; ++i) {
       double ri = r[i] - af_ * KtU[i];

@@ -18,8 +18,8 @@ class Hybrid : public TimeScheme {
     const double c = coefficients(tau).c;
     std::vector<double> y(n), KtU(n);
     for (size_t i = 0; i < n; ++i) y[i] = c * old.U[i] + 4 / tau * old.V[i];
-    mass_times(in.M, y, r);
-    in.K_theta.multiply(old.U.data(), KtU.data());
+    mass_times(in, y, r);
+    in.k_theta_times(old.U.data(), KtU.data());
     const bool has_load = !in.F_new.empty();
     for (size_t i = 0; i < n; ++i) {
       r[i] -= KtU[i];
