@@ -22,7 +22,8 @@ Structure tangent_structure(double theta) {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def) {
+std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
+                                            std::unique_ptr<Factorization> reuse) {
   require_complete(def.missing_for_step());
   auto in = std::make_unique<Integrator>();
   in->scheme = make_scheme(def.scheme, def.scheme_params);
@@ -31,7 +32,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   in->coef = in->scheme->coefficients(def.tau);
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
-  in->A_factor = make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters);
+  in->A_factor = reuse ? std::move(reuse)
+                       : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters);
   try {
     in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {

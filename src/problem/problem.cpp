@@ -32,13 +32,20 @@ void Problem::changed(unsigned aspects) {
   if (disc_ && (aspects & kMassFactorDeps)) disc_->M_factor.reset();
   if (aspects & kLoadDeps) load_.reset();
   if (aspects & (kLoadDeps | kNodal)) step_load_.reset();
-  if (aspects & kIntegratorDeps) integrator_.reset();
+  if (aspects & kIntegratorDeps) {
+    // a new tau or scheme refactors A = c M + K_Theta on the same pattern:
+    // its symbolic analysis is kept for the next integrator
+    if (integrator_ && integrator_->A_factor) spare_A_factor_ = std::move(integrator_->A_factor);
+    integrator_.reset();
+  }
+  if (aspects & (kDiscretizationDeps | kSolver)) spare_A_factor_.reset();
   // after setup a load is F^{n+1} of the next step, also at n = 0
   const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal : 0u);
   if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
     state_ready_ = false;
     setup_done_ = false;
   }
+  if (!state_ready_ || (aspects & (kGuards | kDiscretizationDeps))) initial_guarded_ = false;
 }
 
 // ---- definition -------------------------------------------------------------
@@ -196,7 +203,7 @@ const std::vector<double> &Problem::constant_load_() {
 }
 
 Integrator &Problem::integrator_or_build() {
-  if (!integrator_) integrator_ = make_integrator(discretization_(), def_);
+  if (!integrator_) integrator_ = make_integrator(discretization_(), def_, std::move(spare_A_factor_));
   return *integrator_;
 }
 
@@ -251,7 +258,8 @@ void Problem::setup() {
                               "every contact point active): lower the time step, use an implicit scheme, or raise "
                               "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
   state();
-  if (state_.n == 0) guard_initial_state(d, def_.guards, state_);
+  if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_);
+  initial_guarded_ = true;  // checked once, not again at every step
   setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) d.equilibrium_acceleration(state_, def_.solver);
@@ -291,6 +299,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   s.guard.E0 += dE;
   s.guard.budget += dE;
   state_ = std::move(s);
+  initial_guarded_ = false;  // at n = 0 the next step checks the new initial state, as before
 }
 
 std::vector<unsigned char> Problem::save_state() {
@@ -305,6 +314,7 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   state_ = std::move(s);
   state_ready_ = true;
   setup_done_ = state_.n > 0;
+  initial_guarded_ = false;
 }
 
 // ---- monitors ----------------------------------------------------------------------

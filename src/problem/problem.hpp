@@ -89,8 +89,10 @@ class Problem {
   // the work counters (ND_STAT_*), since creation; a stable address the derived objects keep
   std::unique_ptr<Counters> counters_ = std::make_unique<Counters>();
   std::unique_ptr<Integrator> integrator_;
+  std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
   State state_;
   bool state_ready_ = false;
+  bool initial_guarded_ = false;  // the initial state passed guard_initial_state
   bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (DESIGN §8)
 };
 
