@@ -43,9 +43,8 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
   // (to the solve's round-off): Newton's first iteration would only repeat it.
   if (opt.max_iter >= 1 && contact_free(*sys.law, U.data())) {
-    std::vector<double> x(r);
-    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, x.data());
-    U.swap(x);
+    U = r;  // the predictor's storage, no allocation
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data());
     res.iterations = 1;
     if (contact_free(*sys.law, U.data())) {
       res.converged = true;

@@ -26,10 +26,11 @@ struct StepInputs {
   const Csr &M, &K_theta;
   const std::vector<double> &F_old, &F_new;
   Counters *counters = nullptr;  // the problem's (ND_STAT_*), or none
-  // y = K_Theta x, counted
-  void k_theta_times(const double *x, double *y) const {
+  // f(i, (M y)_i, (K_Theta u)_i) in one pass over their shared pattern, counted once
+  template <class F>
+  void mass_and_k_theta_times(const double *y, const double *u, F &&f) const {
     count(counters, &Counters::spmv);
-    K_theta.multiply(x, y);
+    multiply_pair(M, y, K_theta, u, f);
   }
 };
 
