@@ -331,7 +331,27 @@ std::vector<double> Problem::contact_pressure() {
   return nd::contact_pressure(discretization_(), s);
 }
 
+namespace {
+// the ND_STAT_* keys and the counters they read
+struct StatKey {
+  int key;
+  int64_t Counters::*field;
+};
+constexpr StatKey kStatKeys[] = {
+    {ND_STAT_FACTORIZATIONS, &Counters::factorizations},
+    {ND_STAT_SYMBOLIC_ANALYSES, &Counters::symbolic_analyses},
+    {ND_STAT_SOLVES, &Counters::solves},
+    {ND_STAT_MATRIX_ASSEMBLIES, &Counters::matrix_assemblies},
+    {ND_STAT_LOAD_ASSEMBLIES, &Counters::load_assemblies},
+    {ND_STAT_TANGENT_UPDATES, &Counters::tangent_updates},
+    {ND_STAT_CONTACT_EVALUATIONS, &Counters::contact_evaluations},
+    {ND_STAT_SPMV, &Counters::spmv},
+};
+}  // namespace
+
 double Problem::scalar(int key) {
+  for (const StatKey &k : kStatKeys)
+    if (k.key == key) return static_cast<double>(counters_.get()->*k.field);
   switch (key) {
     case ND_TIME:
       return state().t;
@@ -347,22 +367,6 @@ double Problem::scalar(int key) {
       return def_.tau;
     case ND_GAMMA0:
       return discretization_().gamma0;
-    case ND_STAT_FACTORIZATIONS:
-      return static_cast<double>(counters_->factorizations);
-    case ND_STAT_SYMBOLIC_ANALYSES:
-      return static_cast<double>(counters_->symbolic_analyses);
-    case ND_STAT_SOLVES:
-      return static_cast<double>(counters_->solves);
-    case ND_STAT_MATRIX_ASSEMBLIES:
-      return static_cast<double>(counters_->matrix_assemblies);
-    case ND_STAT_LOAD_ASSEMBLIES:
-      return static_cast<double>(counters_->load_assemblies);
-    case ND_STAT_TANGENT_UPDATES:
-      return static_cast<double>(counters_->tangent_updates);
-    case ND_STAT_CONTACT_EVALUATIONS:
-      return static_cast<double>(counters_->contact_evaluations);
-    case ND_STAT_SPMV:
-      return static_cast<double>(counters_->spmv);
     case ND_GAMMA0_LIMIT: {
       const Discretization &d = discretization_();
       return d.theta > 0 ? d.gamma0_limit / d.theta : std::numeric_limits<double>::infinity();
