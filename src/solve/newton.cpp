@@ -10,11 +10,15 @@ namespace nd {
 
 namespace {
 
-// G = A U + kappa N(U) - r; returns ||G||, fills the active set
+// G = A U + kappa N(U) - r; returns ||G||, fills the active set, and MU = M U
+// from the same pass over the pattern A and M share
 double residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
-                std::vector<double> &G, std::vector<char> &active) {
+                std::vector<double> &G, std::vector<char> &active, std::vector<double> &MU) {
   count(sys.law->counters, &Counters::spmv);
-  sys.A->multiply(U.data(), G.data());
+  multiply_pair(*sys.A, U.data(), *sys.M, U.data(), [&](int64_t i, double AU, double MUi) {
+    G[i] = AU;
+    MU[i] = MUi;
+  });
   sys.law->add_force(U.data(), sys.kappa, G.data(), &active);
   for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
   return norm2(static_cast<int64_t>(G.size()), G.data());
@@ -55,7 +59,7 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
   std::vector<double> G(U.size()), MU(U.size());
   std::vector<char> active, previous;
   const double r_norm = norm2(n, r.data());
-  res.residual = residual(sys, r, U, G, active);
+  res.residual = residual(sys, r, U, G, active, MU);
   for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))
       fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
@@ -66,10 +70,8 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2(n, G.data());
     previous.swap(active);
-    res.residual = residual(sys, r, U, G, active);
+    res.residual = residual(sys, r, U, G, active, MU);
     res.iterations = it;
-    count(sys.law->counters, &Counters::spmv);
-    sys.M->multiply(U.data(), MU.data());
     const double u_norm = norm2(n, U.data());
     res.tolerance = opt.rtol * (r_norm + sys.c * norm2(n, MU.data())) + opt.atol;
     if (active == previous &&
