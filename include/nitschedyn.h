@@ -105,7 +105,15 @@ extern "C" {
   X(ND_TIMESTEP, 12, "the time step tau")                                             \
   X(ND_GAMMA0, 13, "gamma0 in use (the automatic value when 0 was set)")               \
   X(ND_GAMMA0_LIMIT, 14, "largest gamma0 keeping K_Theta >= 0 (element bound; inf if Theta <= 0)") \
-  X(ND_WORK_OBSTACLE, 15, "work of the moving obstacle on the body since t = 0")
+  X(ND_WORK_OBSTACLE, 15, "work of the moving obstacle on the body since t = 0")       \
+  X(ND_STAT_FACTORIZATIONS, 16, "numeric factorizations of any matrix since nd_problem_create")       \
+  X(ND_STAT_SYMBOLIC_ANALYSES, 17, "symbolic analyses (orderings) of a pattern since creation")         \
+  X(ND_STAT_SOLVES, 18, "forward/backward solves with a factor, one per right-hand side")                \
+  X(ND_STAT_MATRIX_ASSEMBLIES, 19, "matrices assembled (M, K, K_Theta, A = c M + K_Theta)")            \
+  X(ND_STAT_LOAD_ASSEMBLIES, 20, "load vectors built (body force and tractions, nodal forces)")        \
+  X(ND_STAT_TANGENT_UPDATES, 21, "Newton tangents: low-rank capacitance builds or tangent assemblies") \
+  X(ND_STAT_CONTACT_EVALUATIONS, 22, "passes evaluating P_q over all contact points")                  \
+  X(ND_STAT_SPMV, 23, "sparse matrix-vector products (the energy's fused M, K pass counts once)")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \

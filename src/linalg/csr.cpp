@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
 namespace nd {
 
 void Csr::multiply(const double *x, double *y) const {
@@ -11,6 +14,11 @@ void Csr::multiply(const double *x, double *y) const {
     for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k) s += val[k] * x[col[k]];
     y[i] = s;
   }
+}
+
+void require_same_pattern(const Csr &A, const Csr &B) {
+  if (B.n != A.n || B.val.size() != A.val.size())
+    fail(ND_ERR_INTERNAL, "two operators that should share a pattern do not");
 }
 
 int64_t Csr::find(int64_t i, int64_t j) const {

@@ -28,6 +28,25 @@ struct Csr {
 
 // A pattern from unsorted, possibly repeated column lists per row.
 Csr csr_from_rows(std::vector<std::vector<int64_t>> rows);
+// throws ND_ERR_INTERNAL unless A and B have the same shape (operators of one problem share their pattern)
+void require_same_pattern(const Csr &A, const Csr &B);
+// f(i, (A x)_i, (B y)_i) for every row, in one pass over the pattern A and
+// B share; each product summed in the order of Csr::multiply (the same bits
+// as two products), without storing either
+template <class F>
+void multiply_pair(const Csr &A, const double *x, const Csr &B, const double *y, F &&f) {
+  require_same_pattern(A, B);
+  const double *a = A.val.data(), *b = B.val.data();
+  const int64_t *col = A.col.data(), *ptr = A.ptr.data();
+  for (int64_t i = 0; i < A.n; ++i) {
+    double s = 0, t = 0;
+    for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k) {
+      s += a[k] * x[col[k]];
+      t += b[k] * y[col[k]];
+    }
+    f(i, s, t);
+  }
+}
 // c = a*A + b*B on one pattern
 void csr_combine(double a, const Csr &A, double b, const Csr &B, Csr &C);
 

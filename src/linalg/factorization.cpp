@@ -51,14 +51,38 @@ int backend_for(int solver, const Csr &pattern, Structure s) {
   return solver;
 }
 
+// A backend with its work counted (ND_STAT_*).
+class Counted : public Factorization {
+ public:
+  Counted(std::unique_ptr<Factorization> f, Counters *c) : f_(std::move(f)), c_(c) {}
+  void factor(const Csr &A, Structure s) override {
+    ++c_->factorizations;  // counted when tried: a failed factorization is work too
+    f_->factor(A, s);
+  }
+  void solve(double *x) const override {
+    ++c_->solves;
+    f_->solve(x);
+  }
+  Definiteness definiteness() const override { return f_->definiteness(); }
+  const char *name() const override { return f_->name(); }
+
+ private:
+  std::unique_ptr<Factorization> f_;
+  Counters *c_;
+};
+
 }  // namespace
 
 bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_backend(solver); }
 
-std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s) {
+std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s,
+                                                  Counters *counters) {
   const Backend *b = find_backend(backend_for(solver, pattern, s));
   if (!b) fail(ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
-  return b->make(pattern);
+  std::unique_ptr<Factorization> f = b->make(pattern);
+  if (!counters) return f;
+  ++counters->symbolic_analyses;
+  return std::make_unique<Counted>(std::move(f), counters);
 }
 
 void fail_not_positive_definite(Definiteness &def, const std::string &why) {

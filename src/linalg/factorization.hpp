@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 
+#include "common/counters.hpp"
 #include "linalg/csr.hpp"
 
 namespace nd {
@@ -27,8 +28,11 @@ class Factorization {
 
 // solver: an ND_SOLVER_* value; s: the structure of the matrices it will
 // factor. AUTO picks by size and bandwidth, CHOLMOD falls back to UMFPACK
-// for non-symmetric matrices. Any other id throws ND_ERR_KEY.
-std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s);
+// for non-symmetric matrices. Any other id throws ND_ERR_KEY. With
+// counters, the making (symbolic analysis), every factor() and every solve()
+// are counted there.
+std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s,
+                                                  Counters *counters = nullptr);
 // whether make_factorization accepts this id (AUTO or a registered backend)
 bool linear_solver_known(int solver);
 

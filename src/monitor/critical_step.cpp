@@ -14,6 +14,7 @@ namespace {
 
 // y = (K_Theta + T_c) x
 void apply(const Discretization &d, const std::vector<double> &x, std::vector<double> &y) {
+  count(d.counters, &Counters::spmv);
   d.K_theta.multiply(x.data(), y.data());
   const ContactPoints &cp = d.contact;
   for (size_t q = 0; q < cp.size(); ++q) {
@@ -32,8 +33,10 @@ void apply(const Discretization &d, const std::vector<double> &x, std::vector<do
   }
 }
 
-double m_dot(const Csr &M, const std::vector<double> &x, const std::vector<double> &y, std::vector<double> &tmp) {
-  M.multiply(y.data(), tmp.data());
+double m_dot(const Discretization &d, const std::vector<double> &x, const std::vector<double> &y,
+             std::vector<double> &tmp) {
+  count(d.counters, &Counters::spmv);
+  d.M.multiply(y.data(), tmp.data());
   return dot(static_cast<int64_t>(x.size()), x.data(), tmp.data());
 }
 
@@ -46,7 +49,7 @@ CriticalStep estimate_omega_max(Discretization &d, int solver) {
   std::vector<double> alpha, beta, w(n), z(n), tmp(n), r(n);
   // a fixed start that excites every mode (no symmetry of the mesh cancels it)
   for (size_t i = 0; i < n; ++i) r[i] = 1.0 + 0.5 * std::sin(1.7 * static_cast<double>(i) + 0.3);
-  double b = std::sqrt(m_dot(d.M, r, r, tmp)), theta_max = 0, bound = 0, previous = -1;
+  double b = std::sqrt(m_dot(d, r, r, tmp)), theta_max = 0, bound = 0, previous = -1;
   int j = 0;
   for (; j < max_iter; ++j) {
     for (double &v : r) v /= b;
@@ -57,10 +60,10 @@ CriticalStep estimate_omega_max(Discretization &d, int solver) {
     d.mass_solve(w.data(), solver);  // w = M^-1 (K + T) q_j
     for (int pass = 0; pass < 2; ++pass)  // full reorthogonalization, twice is enough
       for (const auto &q : Q) {
-        const double c = m_dot(d.M, q, w, tmp);
+        const double c = m_dot(d, q, w, tmp);
         for (size_t i = 0; i < n; ++i) w[i] -= c * q[i];
       }
-    b = std::sqrt(std::max(0.0, m_dot(d.M, w, w, tmp)));
+    b = std::sqrt(std::max(0.0, m_dot(d, w, w, tmp)));
     // the largest Ritz value and its residual bound b |s_last|
     const int m = j + 1;
     std::vector<double> diag(alpha), off(beta), vec(static_cast<size_t>(m * m));

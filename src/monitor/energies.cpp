@@ -13,6 +13,7 @@ ContactLaw state_contact_law(const Discretization &d, const State &s) {
 double mechanical_energy(const Discretization &d, const State &s) {
   // M and K share one pattern (lumped M included): one pass over it
   const Csr &M = d.M, &K = d.K;
+  count(d.counters, &Counters::spmv);
   double kinetic = 0, strain = 0;
   for (int64_t i = 0; i < K.n; ++i) {
     double mv = 0, ku = 0;

@@ -16,6 +16,7 @@ std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
   const ContactLaw law = state_contact_law(d, s);
   std::pair<double, size_t> worst{-INFINITY, 0};
+  count(d.counters, &Counters::contact_evaluations);
   for (size_t q = 0; q < cp.size(); ++q) {
     const double r = (cp.a[q].dot(s.U.data()) - law.g(q)) / cp.h[q];
     if (r > worst.first) worst = {r, q};

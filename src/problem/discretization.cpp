@@ -12,9 +12,11 @@
 
 namespace nd {
 
-std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def) {
+std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters) {
   require_complete(def.missing_for_operators());
   auto d = std::make_unique<Discretization>(DofMap(space, def.dirichlet), def.lumped);
+  d->counters = counters;
+  count(counters, &Counters::matrix_assemblies, 2);  // M and K in one pass
   BulkOperators bulk = assemble_bulk(space, d->dofs, def.material);
   d->K = std::move(bulk.K);
   if (def.lumped) {
@@ -35,12 +37,14 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     d->gamma0 = kAutomaticGamma0Fraction * d->gamma0_limit / std::max(def.theta, 1.0);
     for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
   }
+  count(counters, &Counters::matrix_assemblies);
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
   if (d->dofs.n_free < space.n_dofs()) d->clamped = std::make_unique<ClampedRows>(clamped_rows(space, d->dofs, def.material));
   return d;
 }
 
 std::vector<double> constant_load(const Space &space, const Discretization &d, const Definition &def) {
+  if (def.has_body_force || !def.neumann.empty()) count(d.counters, &Counters::load_assemblies);
   return assemble_load(space, d.dofs, def.has_body_force ? def.body_force : nullptr, def.neumann);
 }
 
@@ -58,8 +62,9 @@ void check_coercivity(Discretization &d, int solver) {
     mmax = std::max(mmax, d.M.val[d.M.find(i, i)]);
   }
   Csr A;
+  count(d.counters, &Counters::matrix_assemblies);
   csr_combine(1.0, d.K_theta, 1e-10 * kmax / mmax, d.M, A);
-  auto f = make_factorization(solver, A, Structure::SymmetricPositiveDefinite);
+  auto f = make_factorization(solver, A, Structure::SymmetricPositiveDefinite, d.counters);
   try {
     f->factor(A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
@@ -79,7 +84,7 @@ void Discretization::mass_solve(double *x, int solver) {
     return;
   }
   if (!M_factor) {
-    auto f = make_factorization(solver, M, Structure::SymmetricPositiveDefinite);
+    auto f = make_factorization(solver, M, Structure::SymmetricPositiveDefinite, counters);
     f->factor(M, Structure::SymmetricPositiveDefinite);
     M_factor = std::move(f);  // kept only once factored: a failure leaves nothing half-built
   }
@@ -89,8 +94,9 @@ void Discretization::mass_solve(double *x, int solver) {
 void Discretization::equilibrium_acceleration(State &s, int solver) {
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
+  count(counters, &Counters::spmv);
   K_theta.multiply(s.U.data(), rhs.data());
-  ContactLaw law{&contact, theta};
+  ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
   if (!s.gap.empty()) law.gap = s.gap.data();
   law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
   for (size_t i = 0; i < n; ++i) rhs[i] = (s.F.empty() ? 0.0 : s.F[i]) - rhs[i];

@@ -36,6 +36,7 @@ struct Discretization {
   double omega_max = 0;     // the explicit schemes' highest frequency, once estimated
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
   std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
+  Counters *counters = nullptr;             // the problem's (ND_STAT_*)
 
   void mass_solve(double *x, int solver);
   // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
@@ -45,7 +46,7 @@ struct Discretization {
 // The automatic gamma0: this fraction of gamma0*/max(Theta, 1).
 constexpr double kAutomaticGamma0Fraction = 0.5;
 
-std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def);
+std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters);
 // With Theta > 0 and Theta gamma0 above the element bound, the exact check:
 // K_Theta + delta M must factor as positive definite (ND_ERR_NOT_COERCIVE).
 void check_coercivity(Discretization &d, int solver);

@@ -23,15 +23,18 @@ Structure tangent_structure(double theta) {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def) {
+std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
+                                            std::unique_ptr<Factorization> reuse) {
   require_complete(def.missing_for_step());
   auto in = std::make_unique<Integrator>();
   in->scheme = make_scheme(def.scheme, def.scheme_params);
   in->tau = def.tau;
   if (in->scheme->is_explicit()) return in;
   in->coef = in->scheme->coefficients(def.tau);
+  count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
-  in->A_factor = make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite);
+  in->A_factor = reuse ? std::move(reuse)
+                       : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters);
   try {
     in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
@@ -43,13 +46,13 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   if (!d.contact.a.empty()) {  // the low-rank update of A's factor; refactoring T is the reference
     const Structure s = tangent_structure(def.theta);
     if (def.tangent == TangentChoice::Refactor)
-      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s);
+      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters);
     else
       in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s,
                                          def.tangent == TangentChoice::LowRank
                                              ? -1
                                              : lowrank_rank_limit(in->A.n, d.contact),
-                                         kLowRankTwoSolveRank);
+                                         kLowRankTwoSolveRank, d.counters);
   }
   return in;
 }
@@ -73,10 +76,13 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   next.gap = at_new.gap;
   // the contact term of the step: P^n with the obstacle where it was at t^n,
   // P(U) with it where it is at t^{n+1} (DESIGN §8)
-  ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data()};
-  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data()};
-  std::vector<double> Pn(d.contact.size());
-  for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = old_law.P(q, old.U.data());
+  ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
+  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
+  std::vector<double> Pn(d.contact.size());  // read by the implicit schemes' contact terms only
+  if (!Pn.empty() && !scheme.is_explicit()) {
+    count(d.counters, &Counters::contact_evaluations);
+    for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = old_law.P(q, old.U.data());
+  }
   law.Pn = &Pn;
   scheme.predict(tau, old, next.U);
   if (scheme.is_explicit()) {
@@ -84,7 +90,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     d.equilibrium_acceleration(next, def.solver);
   } else {
     std::vector<double> r;
-    scheme.rhs(StepInputs{d.M, d.K_theta, F_old, next.F}, tau, old, r);
+    scheme.rhs(StepInputs{d.M, d.K_theta, F_old, next.F, d.counters}, tau, old, r);
     if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
       next.U = r;
       in.A_factor->solve(next.U.data());
@@ -113,12 +119,18 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // (P^n with g^n, P^{n+1} with g^{n+1}), gives
   //   dE_Theta = F^{n+1/2}.dU - sum_q (w_q/gamma_q) phi_q dg_q - D,
   //   D = sum_q (w_q/gamma_q) (phi_q dP_q - d([P_q]_+^2)/2) >= 0, 0 unless a point changes sides.
-  std::vector<double> phi(d.contact.size());
+  // Only a moving obstacle or contact rows on clamped DOFs need phi: skip the pass otherwise.
+  std::vector<double> phi(d.contact.size(), 0.0);
   next.W_obstacle = old.W_obstacle;
-  for (size_t q = 0; q < phi.size(); ++q) {
-    double slope;
-    law.law(q, law.P(q, next.U.data()), phi[q], slope);
-    next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
+  bool need_phi = d.clamped && d.contact.has_fixed_rows();
+  for (size_t q = 0; q < phi.size() && !need_phi; ++q) need_phi = law.g(q) != old_law.g(q);
+  if (need_phi) {
+    count(d.counters, &Counters::contact_evaluations);
+    for (size_t q = 0; q < phi.size(); ++q) {
+      double slope;
+      law.law(q, law.P(q, next.U.data()), phi[q], slope);
+      next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
+    }
   }
   if (d.clamped) {
     const double a = scheme.mean_weight();

@@ -23,8 +23,10 @@ struct Integrator {
 };
 
 // Factorizes A for an implicit scheme: throws ND_ERR_INDEFINITE when the
-// step is not well posed.
-std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def);
+// step is not well posed. reuse: a factorization made for A's pattern (of
+// this discretization and solver), or none: its symbolic analysis is reused.
+std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
+                                            std::unique_ptr<Factorization> reuse = nullptr);
 
 // What is prescribed at t^{n+1}: the load on the free DOFs and on the clamped
 // ones (empty: none), and the gaps g_q of the obstacle where it is then.

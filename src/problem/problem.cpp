@@ -32,15 +32,25 @@ void Problem::changed(unsigned aspects) {
   if (aspects & kDiscretizationDeps) disc_.reset();
   if (disc_ && (aspects & kMassFactorDeps)) disc_->M_factor.reset();
   if (aspects & kLoadDeps) load_.reset();
-  if (aspects & (kLoadDeps | kNodal)) load_fixed_.reset();
+  if (aspects & (kLoadDeps | kNodal)) {
+    load_fixed_.reset();
+    step_load_.reset();
+  }
   if (aspects & kContact) obstacle_redefined_ = true;
-  if (aspects & kIntegratorDeps) integrator_.reset();
+  if (aspects & kIntegratorDeps) {
+    // a new tau or scheme refactors A = c M + K_Theta on the same pattern:
+    // its symbolic analysis is kept for the next integrator
+    if (integrator_ && integrator_->A_factor) spare_A_factor_ = std::move(integrator_->A_factor);
+    integrator_.reset();
+  }
+  if (aspects & (kDiscretizationDeps | kSolver)) spare_A_factor_.reset();
   // after setup a load is F^{n+1} of the next step, also at n = 0
   const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal | kObstacle : 0u);
   if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
     state_ready_ = false;
     setup_done_ = false;
   }
+  if (!state_ready_ || (aspects & (kGuards | kDiscretizationDeps))) initial_guarded_ = false;
 }
 
 // ---- definition -------------------------------------------------------------
@@ -197,7 +207,7 @@ void Problem::set_guard(int guard, double value) {
 // ---- derived objects ------------------------------------------------------------
 
 Discretization &Problem::discretization_() {
-  if (!disc_) disc_ = discretize(space_, def_);
+  if (!disc_) disc_ = discretize(space_, def_, counters_.get());
   // another obstacle (not a motion of this one): its gaps hold from t^n on
   if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
   obstacle_redefined_ = false;
@@ -220,17 +230,24 @@ const std::vector<double> &Problem::constant_load_() {
 }
 
 Integrator &Problem::integrator_or_build() {
-  if (!integrator_) integrator_ = make_integrator(discretization_(), def_);
+  if (!integrator_) integrator_ = make_integrator(discretization_(), def_, std::move(spare_A_factor_));
   return *integrator_;
 }
 
-std::vector<double> Problem::current_load() {
+// built once per change of a load, not every step (DESIGN §4)
+const std::vector<double> &Problem::current_load() {
+  if (step_load_) return *step_load_;
   const std::vector<double> &F_const = constant_load_();
-  if (def_.nodal.empty()) return F_const;
-  std::vector<double> F(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
-  disc_->dofs.restrict_to_free(def_.nodal.data(), F.data());
-  for (size_t i = 0; i < F_const.size(); ++i) F[i] += F_const[i];
-  return F;
+  if (def_.nodal.empty()) {
+    step_load_ = std::make_unique<std::vector<double>>(F_const);
+    return *step_load_;
+  }
+  count(counters_.get(), &Counters::load_assemblies);
+  auto F = std::make_unique<std::vector<double>>(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
+  disc_->dofs.restrict_to_free(def_.nodal.data(), F->data());
+  for (size_t i = 0; i < F_const.size(); ++i) (*F)[i] += F_const[i];
+  step_load_ = std::move(F);
+  return *step_load_;
 }
 
 const State &Problem::state() {
@@ -270,7 +287,8 @@ void Problem::setup() {
                               "every contact point active): lower the time step, use an implicit scheme, or raise "
                               "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
   state();
-  if (state_.n == 0) guard_initial_state(d, def_.guards, state_);
+  if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_);
+  initial_guarded_ = true;  // checked once, not again at every step
   setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) d.equilibrium_acceleration(state_, def_.solver);
@@ -312,6 +330,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   s.guard.E0 += dE;
   s.guard.budget += dE;
   state_ = std::move(s);
+  initial_guarded_ = false;  // at n = 0 the next step checks the new initial state, as before
 }
 
 std::vector<unsigned char> Problem::save_state() {
@@ -328,6 +347,7 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   state_ = std::move(s);
   state_ready_ = true;
   setup_done_ = state_.n > 0;
+  initial_guarded_ = false;
 }
 
 // ---- monitors ----------------------------------------------------------------------
@@ -369,7 +389,27 @@ std::vector<double> Problem::contact_pressure() {
   return nd::contact_pressure(discretization_(), s);
 }
 
+namespace {
+// the ND_STAT_* keys and the counters they read
+struct StatKey {
+  int key;
+  int64_t Counters::*field;
+};
+constexpr StatKey kStatKeys[] = {
+    {ND_STAT_FACTORIZATIONS, &Counters::factorizations},
+    {ND_STAT_SYMBOLIC_ANALYSES, &Counters::symbolic_analyses},
+    {ND_STAT_SOLVES, &Counters::solves},
+    {ND_STAT_MATRIX_ASSEMBLIES, &Counters::matrix_assemblies},
+    {ND_STAT_LOAD_ASSEMBLIES, &Counters::load_assemblies},
+    {ND_STAT_TANGENT_UPDATES, &Counters::tangent_updates},
+    {ND_STAT_CONTACT_EVALUATIONS, &Counters::contact_evaluations},
+    {ND_STAT_SPMV, &Counters::spmv},
+};
+}  // namespace
+
 double Problem::scalar(int key) {
+  for (const StatKey &k : kStatKeys)
+    if (k.key == key) return static_cast<double>(counters_.get()->*k.field);
   switch (key) {
     case ND_TIME:
       return state().t;

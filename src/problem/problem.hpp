@@ -61,6 +61,7 @@ class Problem {
   const Discretization &discretization() { return discretization_(); }
   // the integrator once built (benchmarks time its solve: the floor of a step)
   const Integrator *integrator() const { return integrator_.get(); }
+  const Counters &counters() const { return *counters_; }
   void field(int which, double *full);  // n_dofs values
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
@@ -78,7 +79,7 @@ class Problem {
   Integrator &integrator_or_build();
   double omega_max();
   const State &state();
-  std::vector<double> current_load();
+  const std::vector<double> &current_load();
   const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)
   std::vector<double> current_gaps();          // g_q with the planes where the definition has them
   std::vector<double> reaction_at_equilibrium(const State &s);
@@ -89,12 +90,17 @@ class Problem {
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
-  std::unique_ptr<std::vector<double>> load_;  // the constant load on the free DOFs
+  std::unique_ptr<std::vector<double>> load_;  // body force and tractions on the free DOFs
+  std::unique_ptr<std::vector<double>> step_load_;  // with the nodal forces: F^{n+1}
   std::unique_ptr<std::vector<double>> load_fixed_;  // clamped_load_()
+  // the work counters (ND_STAT_*), since creation; a stable address the derived objects keep
+  std::unique_ptr<Counters> counters_ = std::make_unique<Counters>();
   std::unique_ptr<Integrator> integrator_;
+  std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
   State state_;
   bool state_ready_ = false;
+  bool initial_guarded_ = false;  // the initial state passed guard_initial_state
   bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (DESIGN §8)
 };
 

@@ -13,6 +13,8 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
 
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
+  if (cp->size() == 0) return;
+  count(counters, &Counters::contact_evaluations);
   for (size_t q = 0; q < cp->size(); ++q) {
     double value, slope;
     law(q, P(q, U), value, slope);
@@ -25,6 +27,8 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
 }
 
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T) const {
+  count(counters, &Counters::contact_evaluations);
+  count(counters, &Counters::tangent_updates);
   std::vector<double> b, p;
   for (size_t q = 0; q < cp->size(); ++q) {
     double value, slope;

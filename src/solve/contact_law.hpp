@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "assembly/contact.hpp"
+#include "common/counters.hpp"
 #include "linalg/csr.hpp"
 #include "time/scheme.hpp"
 
@@ -20,6 +21,7 @@ struct ContactLaw {
   const TimeScheme *scheme = nullptr;       // the step's contact term; nullptr: [P]_+
   const std::vector<double> *Pn = nullptr;  // P_q(U^n), needed with a scheme
   const double *gap = nullptr;              // the gaps in force (moving obstacle); nullptr: cp->gap
+  Counters *counters = nullptr;             // the problem's (ND_STAT_*), or none
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   double P(size_t q, const double *U) const { return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - g(q); }

@@ -10,13 +10,29 @@ namespace nd {
 
 namespace {
 
-// G = A U + kappa N(U) - r; returns ||G||, fills the active set
+// G = A U + kappa N(U) - r; returns ||G||, fills the active set, and MU = M U
+// from the same pass over the pattern A and M share
 double residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
-                std::vector<double> &G, std::vector<char> &active) {
-  sys.A->multiply(U.data(), G.data());
+                std::vector<double> &G, std::vector<char> &active, std::vector<double> &MU) {
+  count(sys.law->counters, &Counters::spmv);
+  multiply_pair(*sys.A, U.data(), *sys.M, U.data(), [&](int64_t i, double AU, double MUi) {
+    G[i] = AU;
+    MU[i] = MUi;
+  });
   sys.law->add_force(U.data(), sys.kappa, G.data(), &active);
   for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
   return norm2(static_cast<int64_t>(G.size()), G.data());
+}
+
+// Does the contact term vanish with its slope at every point (N(U) = 0, N'(U) = 0)?
+bool contact_free(const ContactLaw &law, const double *U) {
+  count(law.counters, &Counters::contact_evaluations);
+  for (size_t q = 0; q < law.cp->size(); ++q) {
+    double value, slope;
+    law.law(q, law.P(q, U), value, slope);
+    if (value != 0 || slope != 0) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -24,12 +40,27 @@ double residual(const NewtonSystem &sys, const std::vector<double> &r, const std
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
                           const NewtonOptions &opt, std::vector<double> &U) {
   const int64_t n = static_cast<int64_t>(U.size());
+  NewtonResult res;
+  int first = 1;
+  // DESIGN §4: no point active at the predictor, so none can start unless the
+  // linear step says so: one solve U = A^{-1} r and one check. Where no point
+  // is active at U either, N vanishes there and U solves G(U) = 0 exactly
+  // (to the solve's round-off): Newton's first iteration would only repeat it.
+  if (opt.max_iter >= 1 && contact_free(*sys.law, U.data())) {
+    U = r;  // the predictor's storage, no allocation
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data());
+    res.iterations = 1;
+    if (contact_free(*sys.law, U.data())) {
+      res.converged = true;
+      return res;
+    }
+    first = 2;  // contact starts within the step: Newton from the linear step
+  }
   std::vector<double> G(U.size()), MU(U.size());
   std::vector<char> active, previous;
   const double r_norm = norm2(n, r.data());
-  NewtonResult res;
-  res.residual = residual(sys, r, U, G, active);
-  for (int it = 1; it <= opt.max_iter; ++it) {
+  res.residual = residual(sys, r, U, G, active, MU);
+  for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))
       fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
     bool any_active = false;
@@ -39,9 +70,8 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2(n, G.data());
     previous.swap(active);
-    res.residual = residual(sys, r, U, G, active);
+    res.residual = residual(sys, r, U, G, active, MU);
     res.iterations = it;
-    sys.M->multiply(U.data(), MU.data());
     const double u_norm = norm2(n, U.data());
     res.tolerance = opt.rtol * (r_norm + sys.c * norm2(n, MU.data())) + opt.atol;
     if (active == previous &&

@@ -29,9 +29,9 @@ namespace {
 class LowRankTangent : public TangentSolver {
  public:
   LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank,
-                 int64_t two_solve_rank)
+                 int64_t two_solve_rank, Counters *counters)
       : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank),
-        two_solve_rank_(two_solve_rank) {}
+        two_solve_rank_(two_solve_rank), counters_(counters) {}
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
@@ -43,6 +43,7 @@ class LowRankTangent : public TangentSolver {
     const ContactPoints &cp = *law.cp;
     active_.clear();
     d_.clear();
+    count(law.counters, &Counters::contact_evaluations);
     for (size_t q = 0; q < cp.size(); ++q) {
       double value, slope;
       law.law(q, law.P(q, U), value, slope);
@@ -57,12 +58,13 @@ class LowRankTangent : public TangentSolver {
       return;
     }
     if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
-      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_);
+      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_);
       fallback_->solve(law, kappa, U, true, x);
       ++stats.refactorizations;
       return;
     }
     ++stats.lowrank;
+    count(law.counters, &Counters::tangent_updates);  // the capacitance I + D G
     compute_columns(cp);
     update_G(cp);
     const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
@@ -184,6 +186,7 @@ class LowRankTangent : public TangentSolver {
   int solver_;
   Structure structure_;
   int64_t max_rank_, two_solve_rank_;
+  Counters *counters_;
   std::unique_ptr<TangentSolver> fallback_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
@@ -198,8 +201,8 @@ class LowRankTangent : public TangentSolver {
 
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                     Structure structure, int64_t max_rank,
-                                                    int64_t two_solve_rank) {
-  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank);
+                                                    int64_t two_solve_rank, Counters *counters) {
+  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank, counters);
 }
 
 // Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,

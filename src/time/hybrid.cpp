@@ -16,15 +16,14 @@ class Hybrid : public TimeScheme {
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
     const size_t n = old.U.size();
     const double c = coefficients(tau).c;
-    std::vector<double> y(n), KtU(n);
+    std::vector<double> y(n);
     for (size_t i = 0; i < n; ++i) y[i] = c * old.U[i] + 4 / tau * old.V[i];
-    mass_times(in.M, y, r);
-    in.K_theta.multiply(old.U.data(), KtU.data());
+    r.resize(n);
     const bool has_load = !in.F_new.empty();
-    for (size_t i = 0; i < n; ++i) {
-      r[i] -= KtU[i];
+    in.mass_and_k_theta_times(y.data(), old.U.data(), [&](int64_t i, double My, double KtU) {
+      r[i] = My - KtU;
       if (has_load) r[i] += in.F_old[i] + in.F_new[i];
-    }
+    });
   }
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, false, U);

@@ -26,7 +26,7 @@ class Newmark : public TimeScheme {
     std::vector<double> y(old.U.size());
     for (size_t i = 0; i < y.size(); ++i)
       y[i] = c * old.U[i] + old.V[i] / (beta_ * tau) + (0.5 / beta_ - 1) * old.A[i];
-    mass_times(in.M, y, r);
+    mass_times(in, y, r);
     if (!in.F_new.empty())
       for (size_t i = 0; i < r.size(); ++i) r[i] += in.F_new[i];
   }

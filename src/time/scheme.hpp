@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/counters.hpp"
 #include "linalg/csr.hpp"
 #include "time/state.hpp"
 
@@ -24,6 +25,13 @@ struct StepCoefficients {
 struct StepInputs {
   const Csr &M, &K_theta;
   const std::vector<double> &F_old, &F_new;
+  Counters *counters = nullptr;  // the problem's (ND_STAT_*), or none
+  // f(i, (M y)_i, (K_Theta u)_i) in one pass over their shared pattern, counted once
+  template <class F>
+  void mass_and_k_theta_times(const double *y, const double *u, F &&f) const {
+    count(counters, &Counters::spmv);
+    multiply_pair(M, y, K_theta, u, f);
+  }
 };
 
 class TimeScheme {
@@ -74,8 +82,8 @@ std::unique_ptr<TimeScheme> make_generalized_alpha_scheme(const std::vector<doub
 // U = U^n + tau V^n (+ tau^2/2 A^n when with_acceleration and A^n is known):
 // the Taylor predictor the schemes share.
 void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U);
-// r = M y (+ F): the part of every right-hand side that goes through the mass.
-void mass_times(const Csr &M, const std::vector<double> &y, std::vector<double> &r);
+// r = M y: the part of every right-hand side that goes through the mass (counted).
+void mass_times(const StepInputs &in, const std::vector<double> &y, std::vector<double> &r);
 
 // A parameter check shared by the schemes: lo <= x <= hi (NaN fails).
 void require_parameter(double x, double lo, double hi, const char *what);

@@ -1,0 +1,27 @@
+// Per-problem work counters (ND_STAT_* scalars): one struct owned by the
+// problem and passed down to where the work happens. No globals: distinct
+// handles may step in distinct threads. They count work done, failed steps
+// included, since the problem was created; they are not part of the state
+// (a checkpoint neither saves nor restores them).
+#pragma once
+#include <cstdint>
+
+namespace nd {
+
+struct Counters {
+  int64_t factorizations = 0;       // numeric factorizations of any matrix
+  int64_t symbolic_analyses = 0;    // factorization objects made for a pattern
+  int64_t solves = 0;               // forward/backward solves, per right-hand side
+  int64_t matrix_assemblies = 0;    // M, K, K_Theta, A (and c M + K_Theta for checks)
+  int64_t load_assemblies = 0;      // load vectors built
+  int64_t tangent_updates = 0;      // capacitance builds or tangent assemblies
+  int64_t contact_evaluations = 0;  // passes over all contact points
+  int64_t spmv = 0;                 // sparse matrix-vector products (fused passes count once)
+};
+
+// c->*field += by when there is a counter struct (unit tests pass none)
+inline void count(Counters *c, int64_t Counters::*field, int64_t by = 1) {
+  if (c) c->*field += by;
+}
+
+}  // namespace nd
