@@ -247,6 +247,11 @@ ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
 ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes);
 ND_EXPORT int nd_problem_save_state(nd_problem p, int64_t nbytes, void *buf);
 ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *buf);
+/* The same block in a file: written atomically (a temporary file in the same
+   directory, synced, renamed; an earlier file at path survives a failure);
+   read with the checks of nd_problem_load_state. */
+ND_EXPORT int nd_problem_save_state_file(nd_problem p, const char *path);
+ND_EXPORT int nd_problem_load_state_file(nd_problem p, const char *path);
 /* Overwrites u, v (per FE node, n*dim values; NULL keeps one) at the current
    time, e.g. after a coupled code's own sub-cycling: t, n and W stay, the
    acceleration is re-derived. */

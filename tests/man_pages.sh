@@ -24,12 +24,16 @@
 #     SEE ALSO of libnitschedyn(3) names every page of the C API;
 #  7. the status table of nd_last_error(3) is ND_STATUS_LIST, value and text;
 #  8. the EXAMPLES program of libnitschedyn(3) compiles with -Wall -Wextra
-#     -Werror and runs; the EXAMPLES fragment of every other C page compiles
-#     (-c) as a translation unit after <math.h>, <stdio.h>, <stdlib.h> and
-#     <nitschedyn.h>.
-# Examples are extracted from the mdoc source: the first .Bd -literal ... .Ed
-# of the EXAMPLES section, with \e read as a backslash and \& dropped; any
-# other escape in an example is an error.
+#     -Werror and runs; every other .Bd -literal block of the EXAMPLES of a C
+#     page compiles as pasted (-fsyntax-only, the same warnings): it includes
+#     what it uses. A block that is intentionally partial says so on its
+#     first line, "/* assumes: DECLARATIONS */", and only DECLARATIONS are
+#     put before it (a line "\&..." inside a block stands for elided code:
+#     such a block is not compiled, and must say "/* assumes: ... */" too);
+#  9. every page (sections 1 and 3) renders with mandoc -Tutf8 -Owidth=80
+#     with no line longer than 80 columns.
+# Examples are extracted from the mdoc source, with \e read as a backslash
+# and \& dropped; any other escape in an example is an error.
 set -u
 src=$1 lib=$2 cc=$3 work=$4
 man="$src/man"
@@ -201,23 +205,25 @@ $(diff "$work/status.txt" "$work/status_table.txt")"
 fi
 
 # ---- 8. examples ---------------------------------------------------------
-extract_example() { # page -> C source on stdout; status 1 if none or bad escape
-  awk '/^\.Sh / { sec = $0; next }
-       sec == ".Sh EXAMPLES" && !done && /^\.Bd -literal/ { on = 1; next }
-       on && /^\.Ed/ { on = 0; done = 1; next }
-       on { print }' "$1" > "$work/raw_example"
-  [ -s "$work/raw_example" ] || return 1
-  sed -e 's/\\e/\\/g' -e 's/\\&//g' "$work/raw_example" > "$work/unescaped_example"
+unescape_example() { # raw block on stdin -> C source on stdout; status 2 on a bad escape
+  sed -e 's/\\e/\\/g' -e 's/\\&//g' > "$work/unescaped_example"
   # after unescaping, a remaining roff escape (\ followed by one of ( * f s [)
   # would be printed differently from the source
-  if grep -n '\\[(*fs[]' "$work/unescaped_example" | grep -v '^$' >/dev/null; then
-    grep -n '\\[(*fs[]' "$work/unescaped_example" >&2
-    return 2
-  fi
+  if grep -n '\\[(*fs[]' "$work/unescaped_example" >&2; then return 2; fi
   cat "$work/unescaped_example"
 }
+# the literal blocks of a page's EXAMPLES, into $work/block_N.raw; prints N
+split_examples() {
+  rm -f "$work"/block_*.raw
+  awk -v out="$work/block_" '/^\.Sh / { sec = $0; next }
+       sec == ".Sh EXAMPLES" && /^\.Bd -literal/ { on = 1; n++; printf "" > (out n ".raw"); next }
+       on && /^\.Ed/ { on = 0; close(out n ".raw"); next }
+       on { print > (out n ".raw") }
+       END { print n + 0 }' "$1"
+}
 libdir=$(dirname "$lib")
-if extract_example "$man/libnitschedyn.3" > "$work/overview_example.c"; then
+split_examples "$man/libnitschedyn.3" > /dev/null
+if [ -s "$work/block_1.raw" ] && unescape_example < "$work/block_1.raw" > "$work/overview_example.c"; then
   if "$cc" -std=c11 -Wall -Wextra -Werror -I"$src/include" "$work/overview_example.c" \
        -L"$libdir" -lnitschedyn -lm -Wl,-rpath,"$libdir" -o "$work/overview_example" 2> "$work/cc.log"; then
     (cd "$work" && ./overview_example) > "$work/run.log" 2>&1 ||
@@ -229,25 +235,46 @@ if extract_example "$man/libnitschedyn.3" > "$work/overview_example.c"; then
 else
   fail "libnitschedyn.3: no EXAMPLES program (or a roff escape in it)"
 fi
+n_fragments=0
 for p in $pages; do
   is_c_page "$p" || continue
   page=$(basename "$p" .3)
   [ "$page" = libnitschedyn ] && continue
-  if extract_example "$p" > "$work/frag_body.c"; then
-    { printf '#include <math.h>\n#include <stdio.h>\n#include <stdlib.h>\n#include <nitschedyn.h>\n'
-      cat "$work/frag_body.c"; } > "$work/example_$page.c"
-    "$cc" -std=c11 -Wall -Wextra -Werror -Wno-unused-function -I"$src/include" -c \
-      "$work/example_$page.c" -o "$work/example_$page.o" 2> "$work/cc.log" ||
-      fail "$page.3: the EXAMPLES fragment does not compile: $(cat "$work/cc.log")"
-  else
-    fail "$page.3: no EXAMPLES fragment (or a roff escape in it)"
-  fi
+  n=$(split_examples "$p")
+  [ "$n" -gt 0 ] || fail "$page.3: no EXAMPLES block"
+  i=1
+  while [ "$i" -le "$n" ]; do
+    c="$work/example_${page}_$i.c"
+    if ! unescape_example < "$work/block_$i.raw" > "$c.body"; then
+      fail "$page.3: EXAMPLES block $i has a roff escape"
+    else
+      assumes=$(sed -n '1s|^/\* assumes: \(.*\) \*/$|\1|p' "$c.body")
+      if grep -q '^ *\.\.\.$' "$c.body"; then # elided code: only checked for its marker
+        [ -n "$assumes" ] || fail "$page.3: EXAMPLES block $i elides code without an /* assumes: */ line"
+      else
+        { [ -z "$assumes" ] || printf '%s\n' "$assumes"; cat "$c.body"; } > "$c"
+        "$cc" -std=c11 -Wall -Wextra -Werror -Wno-unused-function -I"$src/include" -fsyntax-only \
+          "$c" 2> "$work/cc.log" ||
+          fail "$page.3: EXAMPLES block $i does not compile as pasted: $(cat "$work/cc.log")"
+        n_fragments=$((n_fragments + 1))
+      fi
+    fi
+    i=$((i + 1))
+  done
+done
+
+# ---- 9. width ------------------------------------------------------------
+for p in $pages $(ls "$man"/*.1 2>/dev/null); do
+  mandoc -Tutf8 -Owidth=80 "$p" | sed 's/.\x08//g' > "$work/rendered.txt"
+  wide=$(LC_ALL=C.UTF-8 grep -nE '^.{81,}' "$work/rendered.txt")
+  [ -z "$wide" ] || fail "$(basename "$p"): lines longer than 80 columns (mandoc -Tutf8 -Owidth=80):
+$wide"
 done
 
 n_pages=$(echo "$pages" | wc -w)
 n_names=$(wc -l < "$work/resolvable.txt")
 if [ $fails -eq 0 ]; then
-  echo "ok: $n_pages pages, $n_names names; $(wc -l < "$work/header_functions.txt") functions, $(wc -l < "$work/exported.txt") exported symbols documented"
+  echo "ok: $n_pages pages, $n_names names, $n_fragments C fragments compiled as pasted; $(wc -l < "$work/header_functions.txt") functions, $(wc -l < "$work/exported.txt") exported symbols documented"
   exit 0
 fi
 echo "$fails check(s) failed"

@@ -3,11 +3,16 @@
  * across a process boundary; truncated, corrupted, other-version and
  * other-problem checkpoints are refused with their codes and change nothing;
  * an implicitly coupled code can save, step, restore and step again with
- * another load; nd_problem_set_state overwrites U and V at the current time. */
+ * another load; nd_problem_set_state overwrites U and V at the current time.
+ * The file variant (nd_problem_save_state_file) holds the same block, is
+ * written atomically and is read with the same checks. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -291,6 +296,201 @@ START_TEST(set_state_keeps_time_and_work) {
 }
 END_TEST
 
+/* a fresh directory for the file tests; removed with its files by rm_dir */
+static void make_dir(char *dir) { ck_assert_ptr_nonnull(mkdtemp(dir)); }
+static void rm_dir(const char *dir) {
+  char cmd[256];
+  snprintf(cmd, sizeof cmd, "chmod -R u+w '%s' && rm -rf '%s'", dir, dir);
+  ck_assert_int_eq(system(cmd), 0);
+}
+static unsigned char *slurp(const char *path, int64_t *nbytes) {
+  FILE *f = fopen(path, "rb");
+  ck_assert_ptr_nonnull(f);
+  fseek(f, 0, SEEK_END);
+  *nbytes = ftell(f);
+  rewind(f);
+  unsigned char *buf = malloc((size_t)*nbytes + 1);
+  ck_assert_uint_eq(fread(buf, 1, (size_t)*nbytes, f), (size_t)*nbytes);
+  fclose(f);
+  return buf;
+}
+static void spit(const char *path, const unsigned char *buf, int64_t nbytes) {
+  FILE *f = fopen(path, "wb");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_uint_eq(fwrite(buf, 1, (size_t)nbytes, f), (size_t)nbytes);
+  fclose(f);
+}
+
+/* the file holds exactly the buffer's block, and a run resumed from it is
+   bitwise the uninterrupted one (P1/P2, 2D/3D, implicit and explicit) */
+START_TEST(resumes_from_a_file) {
+  char dir[] = "/tmp/nd_ckfile_XXXXXX", path[64];
+  make_dir(dir);
+  snprintf(path, sizeof path, "%s/state.ndck", dir);
+  const int picks[3] = {0, 2, 4}; /* theta = 1/2, Newmark(1/4, 1/2), hybrid: see testutil.c */
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (int i = 0; i < 3; ++i) {
+        const nd_test_scheme *sc = &schemes[picks[i]];
+        nd_problem a = scene(dim, degree, sc->scheme, sc->params), b = scene(dim, degree, sc->scheme, sc->params);
+        for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(a));
+        ND_OK_OR_FAIL(nd_problem_save_state_file(a, path));
+        int64_t nbytes = 0, nfile = 0;
+        unsigned char *buf = save(a, &nbytes), *file = slurp(path, &nfile);
+        ck_assert(nbytes == nfile && memcmp(buf, file, (size_t)nbytes) == 0);
+        for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(a));
+        ND_OK_OR_FAIL(nd_problem_load_state_file(b, path));
+        for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(b));
+        snap sa = take(a, dim), sb = take(b, dim);
+        ck_assert_msg(same(sa, sb), "%dD P%d scheme %d: the run resumed from a file differs", dim, degree, sc->scheme);
+        free(sa.f);
+        free(sb.f);
+        free(buf);
+        free(file);
+        ND_OK_OR_FAIL(nd_problem_destroy(&a));
+        ND_OK_OR_FAIL(nd_problem_destroy(&b));
+      }
+  rm_dir(dir);
+}
+END_TEST
+
+/* a child process writes the checkpoint file, this one resumes from it */
+START_TEST(resumes_from_a_file_in_another_process) {
+  const double nm[2] = {0.25, 0.5};
+  char dir[] = "/tmp/nd_ckfile_XXXXXX", path[64];
+  make_dir(dir);
+  snprintf(path, sizeof path, "%s/state.ndck", dir);
+  const pid_t pid = fork();
+  ck_assert_int_ge(pid, 0);
+  if (pid == 0) {
+    nd_problem p = scene(3, 2, ND_SCHEME_NEWMARK, nm);
+    int ok = 1;
+    for (int k = 0; k < 25 && ok; ++k) ok = nd_step(p) == ND_OK;
+    ok = ok && nd_problem_save_state_file(p, path) == ND_OK;
+    nd_problem_destroy(&p);
+    _exit(ok ? 0 : 1);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ck_assert(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  nd_problem a = scene(3, 2, ND_SCHEME_NEWMARK, nm), b = scene(3, 2, ND_SCHEME_NEWMARK, nm);
+  for (int k = 0; k < 50; ++k) ND_OK_OR_FAIL(nd_step(a));
+  ND_OK_OR_FAIL(nd_problem_load_state_file(b, path));
+  for (int k = 0; k < 25; ++k) ND_OK_OR_FAIL(nd_step(b));
+  snap sa = take(a, 3), sb = take(b, 3);
+  ck_assert(same(sa, sb));
+  free(sa.f);
+  free(sb.f);
+  ND_OK_OR_FAIL(nd_problem_destroy(&a));
+  ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  rm_dir(dir);
+}
+END_TEST
+
+/* every refusal of the file path has the buffer path's code and changes
+   nothing; a failed save keeps the earlier file and leaves no temporary */
+START_TEST(bad_checkpoint_files_are_refused_and_change_nothing) {
+  const double nm[2] = {0.25, 0.5};
+  char dir[] = "/tmp/nd_ckfile_XXXXXX", path[64], bad[64], sub[64], inner[80];
+  make_dir(dir);
+  snprintf(path, sizeof path, "%s/good.ndck", dir);
+  snprintf(bad, sizeof bad, "%s/bad.ndck", dir);
+  nd_problem p = scene(2, 1, ND_SCHEME_NEWMARK, nm);
+  for (int k = 0; k < 10; ++k) ND_OK_OR_FAIL(nd_step(p));
+  ND_OK_OR_FAIL(nd_problem_save_state_file(p, path));
+  int64_t nbytes = 0;
+  unsigned char *good = slurp(path, &nbytes), *b = malloc((size_t)nbytes + 64);
+  for (int k = 0; k < 5; ++k) ND_OK_OR_FAIL(nd_step(p));
+  snap before = take(p, 2);
+  snprintf(inner, sizeof inner, "%s/missing.ndck", dir);
+  ck_assert_int_eq(nd_problem_load_state_file(p, inner), ND_ERR_IO);
+  ck_assert_ptr_nonnull(strstr(nd_last_error(), "missing.ndck"));
+  ck_assert_int_eq(nd_problem_load_state_file(p, dir), ND_ERR_IO); /* a directory */
+  ck_assert_int_eq(nd_problem_load_state_file(p, NULL), ND_ERR_NULL);
+  ck_assert_int_eq(nd_problem_save_state_file(p, NULL), ND_ERR_NULL);
+  spit(bad, good, 0);
+  ck_assert_int_eq(nd_problem_load_state_file(p, bad), ND_ERR_FORMAT); /* empty */
+  for (int64_t len = 1; len < nbytes; len += 11) {                    /* truncated */
+    spit(bad, good, len);
+    ck_assert_int_eq(nd_problem_load_state_file(p, bad), ND_ERR_FORMAT);
+  }
+  for (int64_t i = 0; i < nbytes; i += 13) { /* corrupted */
+    memcpy(b, good, (size_t)nbytes);
+    b[i] ^= 0x04;
+    spit(bad, b, nbytes);
+    ck_assert_int_eq(nd_problem_load_state_file(p, bad), ND_ERR_FORMAT);
+  }
+  memcpy(b, good, (size_t)nbytes);
+  b[8] = 99; /* version 99 */
+  spit(bad, b, nbytes);
+  ck_assert_int_eq(nd_problem_load_state_file(p, bad), ND_ERR_FORMAT);
+  ck_assert_ptr_nonnull(strstr(nd_last_error(), "version 99"));
+  memcpy(b, good, (size_t)nbytes); /* trailing bytes: larger than any checkpoint of p */
+  memset(b + nbytes, 0, 64);
+  spit(bad, b, nbytes + 64);
+  ck_assert_int_eq(nd_problem_load_state_file(p, bad), ND_ERR_FORMAT);
+  /* another problem: P2 (a larger block, refused from its header) and the bar */
+  nd_problem q = scene(2, 2, ND_SCHEME_NEWMARK, nm), r = scene(1, 1, ND_SCHEME_NEWMARK, nm);
+  ck_assert_int_eq(nd_problem_load_state_file(q, path), ND_ERR_STATE);
+  ck_assert_int_eq(nd_problem_load_state_file(r, path), ND_ERR_STATE);
+  snprintf(inner, sizeof inner, "%s/p2.ndck", dir);
+  ND_OK_OR_FAIL(nd_problem_save_state_file(q, inner));
+  ck_assert_int_eq(nd_problem_load_state_file(p, inner), ND_ERR_STATE);
+  /* an unwritable directory: ND_ERR_IO, the earlier file kept, no temporary left */
+  snprintf(sub, sizeof sub, "%s/ro", dir);
+  ck_assert_int_eq(mkdir(sub, 0700), 0);
+  snprintf(inner, sizeof inner, "%s/state.ndck", sub);
+  spit(inner, good, nbytes);
+  ck_assert_int_eq(chmod(sub, 0500), 0);
+  if (access(sub, W_OK) != 0) { /* (root writes anyway) */
+    ck_assert_int_eq(nd_problem_save_state_file(p, inner), ND_ERR_IO);
+    int64_t n2 = 0;
+    unsigned char *kept = slurp(inner, &n2);
+    ck_assert(n2 == nbytes && memcmp(kept, good, (size_t)nbytes) == 0);
+    free(kept);
+  }
+  ck_assert_int_eq(chmod(sub, 0700), 0);
+  /* a full disk (also as root): a child whose files may not exceed 100 bytes
+     fails to write the temporary file; the earlier file is kept */
+  const pid_t pid = fork();
+  ck_assert_int_ge(pid, 0);
+  if (pid == 0) {
+    const struct rlimit small = {100, 100};
+    signal(SIGXFSZ, SIG_IGN);
+    const int st = setrlimit(RLIMIT_FSIZE, &small) == 0 ? nd_problem_save_state_file(p, inner) : 0;
+    _exit(st == ND_ERR_IO ? 0 : 1);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ck_assert(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  {
+    int64_t n2 = 0;
+    unsigned char *kept = slurp(inner, &n2);
+    ck_assert(n2 == nbytes && memcmp(kept, good, (size_t)nbytes) == 0);
+    free(kept);
+  }
+  /* a directory in the way: the rename fails, the directory stays */
+  ck_assert_int_eq(nd_problem_save_state_file(p, sub), ND_ERR_IO);
+  snprintf(inner, sizeof inner, "%s/no/such/dir/state.ndck", dir);
+  ck_assert_int_eq(nd_problem_save_state_file(p, inner), ND_ERR_IO);
+  snap after = take(p, 2);
+  ck_assert(same(before, after));
+  ND_OK_OR_FAIL(nd_problem_load_state_file(p, path)); /* and the good one still loads */
+  /* only the files this test wrote are in the directory: no temporary left */
+  char cmd[160];
+  snprintf(cmd, sizeof cmd, "test $(ls -A '%s' | wc -l) -eq 4 && test $(ls -A '%s' | wc -l) -eq 1", dir, sub);
+  ck_assert_int_eq(system(cmd), 0);
+  free(before.f);
+  free(after.f);
+  free(good);
+  free(b);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  ND_OK_OR_FAIL(nd_problem_destroy(&r));
+  rm_dir(dir);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("checkpoint");
   TCase *tc = tcase_create("checkpoint");
@@ -300,6 +500,9 @@ int main(void) {
   tcase_add_test(tc, bad_checkpoints_are_refused_and_change_nothing);
   tcase_add_test(tc, coupling_iteration_restores_and_retries);
   tcase_add_test(tc, set_state_keeps_time_and_work);
+  tcase_add_test(tc, resumes_from_a_file);
+  tcase_add_test(tc, resumes_from_a_file_in_another_process);
+  tcase_add_test(tc, bad_checkpoint_files_are_refused_and_change_nothing);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -45,6 +45,8 @@ module nitschedyn
   public :: nd_problem_estimate_critical_timestep
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
   public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
+  public :: nd_problem_save_state_file, nd_problem_load_state_file
+  public :: nd_problem_save_state_file_f, nd_problem_load_state_file_f
   public :: nd_problem_write_vtu, nd_write_pvd
   ! ---- the monitor's interface and the Fortran string wrappers --------------
   public :: nd_monitor_fn
@@ -340,6 +342,21 @@ module nitschedyn
       integer(c_int) :: status
     end function nd_problem_load_state
 
+    ! path NUL-terminated, or use the *_f wrappers
+    function nd_problem_save_state_file(p, path) result(status) bind(C, name='nd_problem_save_state_file')
+      import :: c_int, c_char, c_ptr
+      type(c_ptr), value :: p
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: status
+    end function nd_problem_save_state_file
+
+    function nd_problem_load_state_file(p, path) result(status) bind(C, name='nd_problem_load_state_file')
+      import :: c_int, c_char, c_ptr
+      type(c_ptr), value :: p
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: status
+    end function nd_problem_load_state_file
+
     function nd_problem_set_state(p, n, u, v) result(status) bind(C, name='nd_problem_set_state')
       import :: c_int, c_int64_t, c_double, c_ptr
       type(c_ptr), value :: p
@@ -520,6 +537,21 @@ contains
     integer(c_int) :: status
     status = nd_mesh_read_gmsh(trim(path)//c_null_char, out)
   end function nd_mesh_read_gmsh_f
+
+  ! the checkpoint files with a Fortran path (trailing blanks are ignored)
+  function nd_problem_save_state_file_f(p, path) result(status)
+    type(c_ptr), value :: p
+    character(len=*), intent(in) :: path
+    integer(c_int) :: status
+    status = nd_problem_save_state_file(p, trim(path)//c_null_char)
+  end function nd_problem_save_state_file_f
+
+  function nd_problem_load_state_file_f(p, path) result(status)
+    type(c_ptr), value :: p
+    character(len=*), intent(in) :: path
+    integer(c_int) :: status
+    status = nd_problem_load_state_file(p, trim(path)//c_null_char)
+  end function nd_problem_load_state_file_f
 
   ! nd_problem_write_vtu with a Fortran path (trailing blanks are ignored).
   function nd_problem_write_vtu_f(p, path) result(status)

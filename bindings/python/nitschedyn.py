@@ -136,6 +136,8 @@ _PROTOTYPES = {
     "nd_problem_get_state_size": (_int, [_ptr, ctypes.POINTER(ctypes.c_int64)]),
     "nd_problem_save_state": (_int, [_ptr, _i64, ctypes.c_void_p]),
     "nd_problem_load_state": (_int, [_ptr, _i64, ctypes.c_void_p]),
+    "nd_problem_save_state_file": (_int, [_ptr, _str]),
+    "nd_problem_load_state_file": (_int, [_ptr, _str]),
     "nd_problem_set_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
     "nd_problem_set_monitor": (_int, [_ptr, MONITOR, _ptr]),
     "nd_problem_get_node_count": (_int, [_ptr, _pi64]),
@@ -436,6 +438,14 @@ class Problem(_Handle):
         """Restores a checkpoint of save_state() (all or nothing)."""
         data = bytes(data)
         _check(lib.nd_problem_load_state(self._h, len(data), ctypes.c_char_p(data)))
+
+    def save_state_file(self, path):
+        """The checkpoint of save_state() written atomically to a file."""
+        _check(lib.nd_problem_save_state_file(self._h, os.fsencode(path)))
+
+    def load_state_file(self, path):
+        """Restores a checkpoint file of save_state_file() (all or nothing)."""
+        _check(lib.nd_problem_load_state_file(self._h, os.fsencode(path)))
 
     def set_state(self, u=None, v=None):
         """Overwrites u and/or v (per node) at the current time; t, n and W stay."""

@@ -21,6 +21,7 @@ import argparse
 import csv
 import os
 import subprocess
+import tempfile
 import sys
 
 import numpy as np
@@ -204,6 +205,23 @@ def test_checkpoint():
         for _ in range(20):
             p.step()
         check(np.array_equal(p.field(nd.ND_FIELD_DISPLACEMENT), u_ref), "resumed run bitwise equal (Python)")
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "state.ndck")
+            p.load_state(blob)
+            p.save_state_file(path)
+            with open(path, "rb") as f:
+                check(f.read() == blob, "the checkpoint file holds the save_state() block (Python)")
+            for _ in range(3):
+                p.step()
+            p.load_state_file(path)
+            for _ in range(20):
+                p.step()
+            check(np.array_equal(p.field(nd.ND_FIELD_DISPLACEMENT), u_ref), "resumed from a file bitwise (Python)")
+            try:
+                p.load_state_file(os.path.join(d, "missing.ndck"))
+                check(False, "a missing checkpoint file is refused")
+            except nd.Error as e:
+                check(e.name == "ND_ERR_IO", "a missing checkpoint file is refused with ND_ERR_IO")
         bad = bytearray(blob)
         bad[len(bad) // 2] ^= 0xFF
         try:

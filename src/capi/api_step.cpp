@@ -125,6 +125,24 @@ ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *bu
   });
 }
 
+ND_EXPORT int nd_problem_save_state_file(nd_problem p, const char *path) {
+  return nd::guarded("nd_problem_save_state_file", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(path, "path");
+    pr.save_state_file(path);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_load_state_file(nd_problem p, const char *path) {
+  return nd::guarded("nd_problem_load_state_file", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(path, "path");
+    pr.load_state_file(path);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v) {
   return nd::guarded("nd_problem_set_state", [&] {
     nd::Problem &pr = nd::problem_of(p);

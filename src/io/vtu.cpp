@@ -1,94 +1,21 @@
 #include "io/vtu.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <map>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "common/c_locale.hpp"
 #include "common/checked.hpp"
 #include "common/error.hpp"
+#include "io/atomic_file.hpp"
 #include "nitschedyn.h"
 #include "problem/problem.hpp"
 
 namespace nd {
 namespace {
-
-// A file written atomically: the text goes to a temporary file in the same
-// directory, which is flushed, synced and renamed over `path` only when
-// everything was written. A failure (a full disk, an exception) removes the
-// temporary file and leaves a previous file at `path` untouched.
-// mkstemp makes the file 0600: give it the mode of the file it replaces, or
-// the one a plain fopen would (0666 & ~umask; the umask read without
-// umask(), which would change it for every thread for a moment).
-mode_t file_mode(const std::string &path) {
-  struct stat st;
-  if (stat(path.c_str(), &st) == 0) return st.st_mode & 07777;
-  mode_t mask = 022;
-  if (FILE *f = std::fopen("/proc/self/status", "r")) {
-    char line[128];
-    unsigned m;
-    while (std::fgets(line, sizeof line, f))
-      if (std::sscanf(line, "Umask: %o", &m) == 1) mask = static_cast<mode_t>(m);
-    std::fclose(f);
-  }
-  return 0666 & ~mask;
-}
-
-class AtomicFile {
- public:
-  explicit AtomicFile(const char *path) : path_(path), tmp_(path_ + ".tmp.XXXXXX") {
-    const int fd = mkstemp(&tmp_[0]);
-    if (fd < 0) fail(ND_ERR_IO, "cannot create a temporary file next to '" + path_ + "': " + std::strerror(errno));
-    f_ = fdopen(fd, "w");
-    if (!f_) {
-      const int err = errno;
-      close(fd);
-      unlink(tmp_.c_str());
-      fail(ND_ERR_IO, "cannot open '" + tmp_ + "' for writing: " + std::strerror(err));
-    }
-    fchmod(fd, file_mode(path_));
-  }
-  ~AtomicFile() {  // not committed: an error on the way
-    if (f_) std::fclose(f_);
-    if (!committed_) unlink(tmp_.c_str());
-  }
-  AtomicFile(const AtomicFile &) = delete;
-  AtomicFile &operator=(const AtomicFile &) = delete;
-  FILE *get() const { return f_; }
-  void commit() {
-    const bool bad = std::fflush(f_) != 0 || std::ferror(f_) != 0 || fsync(fileno(f_)) != 0;
-    const int err = errno;
-    const bool close_bad = std::fclose(f_) != 0;
-    f_ = nullptr;
-    if (bad || close_bad) fail(ND_ERR_IO, "error writing '" + path_ + "': " + std::strerror(err));
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
-      fail(ND_ERR_IO, "cannot rename '" + tmp_ + "' to '" + path_ + "': " + std::strerror(errno));
-    committed_ = true;
-    // make the rename itself durable (best effort: not every file system can)
-    const size_t slash = path_.rfind('/');
-    const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path_.substr(0, slash);
-    const int dfd = open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-    if (dfd >= 0) {
-      fsync(dfd);
-      close(dfd);
-    }
-  }
-
- private:
-  std::string path_, tmp_;
-  FILE *f_ = nullptr;
-  bool committed_ = false;
-};
 
 // XML attribute text: markup characters escaped, tab, newline and carriage
 // return as character references; the other control characters cannot be

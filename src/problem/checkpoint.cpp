@@ -124,18 +124,51 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   return std::move(w.out);
 }
 
-void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out) {
-  const int64_t n_free = sizes.n_free;
+namespace {
+struct Header {
+  uint64_t fingerprint, payload_size;
+};
+// magic and version checked; the rest unchecked until the checksum is
+Header read_header(Reader &r, const unsigned char *buf, int64_t nbytes) {
   if (nbytes < static_cast<int64_t>(sizeof kMagic) || std::memcmp(buf, kMagic, sizeof kMagic) != 0)
     fail(ND_ERR_FORMAT, "not a checkpoint of this library (bad magic number)");
-  Reader r(buf, static_cast<size_t>(nbytes));
   r.value<std::array<char, 8>>();
   const uint32_t version = r.value<uint32_t>();
   if (version != kVersion)
     fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads version " +
                             std::to_string(kVersion));
   r.value<uint32_t>();
-  const uint64_t print = r.value<uint64_t>(), size = r.value<uint64_t>();
+  Header h;
+  h.fingerprint = r.value<uint64_t>();
+  h.payload_size = r.value<uint64_t>();
+  return h;
+}
+}  // namespace
+
+void refuse_oversized_state(const unsigned char *head, int64_t nbytes, uint64_t fingerprint, uint64_t size,
+                            uint64_t max_size) {
+  Reader r(head, static_cast<size_t>(nbytes));
+  if (read_header(r, head, nbytes).fingerprint != fingerprint)
+    fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs or contact points differ)");
+  fail(ND_ERR_FORMAT, "the checkpoint has " + std::to_string(size) + " bytes, more than the " +
+                          std::to_string(max_size) + " of any checkpoint of this problem");
+}
+
+int64_t max_state_size(const StateSizes &sizes) {
+  State s;  // every vector at its full length: the layout's size, without a second copy of it
+  s.U.resize(static_cast<size_t>(sizes.n_free));
+  s.V = s.A = s.F = s.U;
+  s.F_fixed.resize(static_cast<size_t>(sizes.n_clamped));
+  s.reaction = s.F_fixed;
+  s.gap.resize(static_cast<size_t>(sizes.n_contact));
+  return static_cast<int64_t>(encode_state(s, 0).size());
+}
+
+void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out) {
+  const int64_t n_free = sizes.n_free;
+  Reader r(buf, static_cast<size_t>(nbytes));
+  const Header head = read_header(r, buf, nbytes);
+  const uint64_t print = head.fingerprint, size = head.payload_size;
   const size_t end = r.at() + size;
   if (size > static_cast<uint64_t>(nbytes) || end + sizeof(uint64_t) != static_cast<size_t>(nbytes))
     fail(ND_ERR_FORMAT, "the checkpoint is truncated or has trailing bytes (" + std::to_string(nbytes) + " bytes)");

@@ -26,5 +26,13 @@ struct StateSizes {
   int64_t n_free, n_clamped, n_contact;
 };
 void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out);
+// The largest checkpoint of a problem of these sizes (every load present).
+int64_t max_state_size(const StateSizes &sizes);
+// A checkpoint file of `size` bytes > max_size, of which `head` holds the
+// first nbytes: throws ND_ERR_STATE when its header names another problem,
+// else ND_ERR_FORMAT (bad magic, version, or too large).
+constexpr int64_t kStateHeaderSize = 32;
+[[noreturn]] void refuse_oversized_state(const unsigned char *head, int64_t nbytes, uint64_t fingerprint,
+                                         uint64_t size, uint64_t max_size);
 
 }  // namespace nd

@@ -9,6 +9,7 @@
 #include "monitor/critical_step.hpp"
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
+#include "io/atomic_file.hpp"
 #include "problem/checkpoint.hpp"
 #include "problem/forces.hpp"
 
@@ -338,16 +339,34 @@ std::vector<unsigned char> Problem::save_state() {
   return encode_state(s, state_fingerprint(space_, *disc_));
 }
 
+StateSizes Problem::state_sizes() {
+  Discretization &d = discretization_();
+  return {d.dofs.n_free, d.clamped ? static_cast<int64_t>(d.clamped->dofs.size()) : 0,
+          static_cast<int64_t>(d.contact.size())};
+}
+
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   Discretization &d = discretization_();
   State s;
-  const StateSizes sizes{d.dofs.n_free, d.clamped ? static_cast<int64_t>(d.clamped->dofs.size()) : 0,
-                         static_cast<int64_t>(d.contact.size())};
-  decode_state(buf, nbytes, state_fingerprint(space_, d), sizes, s);
+  decode_state(buf, nbytes, state_fingerprint(space_, d), state_sizes(), s);
   state_ = std::move(s);
   state_ready_ = true;
   setup_done_ = state_.n > 0;
   initial_guarded_ = false;
+}
+
+void Problem::save_state_file(const char *path) { write_file_atomically(path, save_state()); }
+
+void Problem::load_state_file(const char *path) {
+  // a file larger than any checkpoint of this problem is refused from its header
+  const int64_t max_size = max_state_size(state_sizes());
+  uint64_t size = 0;
+  const std::vector<unsigned char> bytes = read_file_prefix(path, static_cast<uint64_t>(max_size), size);
+  if (size > static_cast<uint64_t>(max_size))
+    refuse_oversized_state(bytes.data(), std::min<int64_t>(kStateHeaderSize, max_size),
+                           state_fingerprint(space_, discretization_()), size, static_cast<uint64_t>(max_size));
+  if (bytes.empty()) fail(ND_ERR_FORMAT, std::string("'") + path + "' is empty");
+  load_state(bytes.data(), static_cast<int64_t>(bytes.size()));
 }
 
 // ---- monitors ----------------------------------------------------------------------

@@ -10,6 +10,7 @@
 
 #include "fem/space.hpp"
 #include "problem/definition.hpp"
+#include "problem/checkpoint.hpp"
 #include "problem/discretization.hpp"
 #include "problem/integrator.hpp"
 
@@ -50,6 +51,9 @@ class Problem {
   // ---- checkpoint (problem/checkpoint.hpp)
   std::vector<unsigned char> save_state();
   void load_state(const unsigned char *buf, int64_t nbytes);  // all or nothing
+  // the same block in a file, written atomically (io/atomic_file.hpp)
+  void save_state_file(const char *path);
+  void load_state_file(const char *path);
   // white-box (tests, benchmarks): the Newton tangent solver; drops the integrator
   void set_tangent(TangentChoice t) {
     def_.tangent = t;
@@ -79,6 +83,7 @@ class Problem {
   Integrator &integrator_or_build();
   double omega_max();
   const State &state();
+  StateSizes state_sizes();
   const std::vector<double> &current_load();
   const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)
   std::vector<double> current_gaps();          // g_q with the planes where the definition has them

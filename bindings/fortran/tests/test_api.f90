@@ -221,6 +221,7 @@ contains
     call check(nd_problem_get_state_size(p, nbytes) == ND_OK, 'nd_problem_get_state_size')
     allocate(buf(nbytes))
     call check(nd_problem_save_state(p, nbytes, buf) == ND_OK, 'nd_problem_save_state into integer(c_signed_char) buf(:)')
+    call check(nd_problem_save_state_file_f(p, 'nd_fortran_state.ndck  ') == ND_OK, 'nd_problem_save_state_file_f')
     do k = 1, 20
       if (status == ND_OK) status = nd_step(p)
     end do
@@ -241,6 +242,15 @@ contains
     if (status == ND_OK) status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u)
     call check(status == ND_OK, 'the same 20 steps again')
     call check(maxval(abs(u - u_ref)) <= 0, 'the resumed run is bitwise the uninterrupted one')
+    call check(nd_problem_load_state_file_f(p, 'nd_fortran_state.ndck') == ND_OK, 'nd_problem_load_state_file_f')
+    do k = 1, 20
+      if (status == ND_OK) status = nd_step(p)
+    end do
+    if (status == ND_OK) status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u)
+    call check(status == ND_OK .and. maxval(abs(u - u_ref)) <= 0, 'the run resumed from the file is bitwise the same')
+    call check(nd_problem_load_state_file_f(p, 'nd_fortran_no_such.ndck') == ND_ERR_IO, 'a missing file: ND_ERR_IO')
+    open(newunit=k, file='nd_fortran_state.ndck')
+    close(k, status='delete')
     buf(nbytes / 2) = not(buf(nbytes / 2))
     call check(nd_problem_load_state(p, nbytes, buf) == ND_ERR_FORMAT, 'a corrupted checkpoint: ND_ERR_FORMAT')
     status = nd_get_scalar(p, ND_WORK, w0)
