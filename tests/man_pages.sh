@@ -31,7 +31,9 @@
 #     put before it (a line "\&..." inside a block stands for elided code:
 #     such a block is not compiled, and must say "/* assumes: ... */" too);
 #  9. every page (sections 1 and 3) renders with mandoc -Tutf8 -Owidth=80
-#     with no line longer than 80 columns.
+#     with no line longer than 80 columns;
+# 10. neither the pages nor the library's strings (its messages) cite
+#     DESIGN.md, which is not installed: they name a manual page instead.
 # Examples are extracted from the mdoc source, with \e read as a backslash
 # and \& dropped; any other escape in an example is an error.
 set -u
@@ -270,6 +272,14 @@ for p in $pages $(ls "$man"/*.1 2>/dev/null); do
   [ -z "$wide" ] || fail "$(basename "$p"): lines longer than 80 columns (mandoc -Tutf8 -Owidth=80):
 $wide"
 done
+
+# ---- 10. no citation of DESIGN.md -------------------------------------------
+cited=$(grep -n 'DESIGN' $pages $(ls "$man"/*.1 2>/dev/null))
+[ -z "$cited" ] || fail "a page cites DESIGN, which is not installed:
+$cited"
+cited=$(strings "$lib" | grep 'DESIGN')
+[ -z "$cited" ] || fail "a string of the library cites DESIGN, which is not installed:
+$cited"
 
 n_pages=$(echo "$pages" | wc -w)
 n_names=$(wc -l < "$work/resolvable.txt")

@@ -236,6 +236,26 @@ START_TEST(mesh_create_indices) {
   EXPECT_ERR(nd_mesh_create(2, 4, square_xy, 2, tri_rep, &m), ND_ERR_INDEX, "nd_mesh_create",
              "cell 1");
   ck_assert_ptr_null(m);
+
+  /* 1-based connectivity of a 3x3-node grid: shifted by one, cell 2 becomes
+     {2, 3, 6}, inverted, before cell 6 names vertex 9; the index is reported,
+     with the hint, not the inversion */
+  double grid[18];
+  int64_t tris[24], tris1[24];
+  for (int k = 0; k < 9; ++k) grid[2 * k] = k % 3, grid[2 * k + 1] = k / 3;
+  for (int j = 0, c = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i, c += 2) {
+      const int64_t a = 3 * j + i, t[6] = {a, a + 1, a + 4, a, a + 4, a + 3};
+      for (int k = 0; k < 6; ++k) tris[3 * c + k] = t[k], tris1[3 * c + k] = t[k] + 1;
+    }
+  EXPECT_OK(nd_mesh_create(2, 9, grid, 8, tris, &m));
+  EXPECT_OK(nd_mesh_destroy(&m));
+  EXPECT_ERR(nd_mesh_create(2, 9, grid, 8, tris1, &m), ND_ERR_INDEX, "nd_mesh_create", "cell 6 names vertex 9");
+  ck_assert(contains(nd_last_error(), "0-based") && contains(nd_last_error(), "1-based"));
+  ck_assert_ptr_null(m);
+  /* a single index out of range: 0-based is said, 1-based not suspected */
+  EXPECT_ERR(nd_mesh_create(1, 3, x, 2, too_big, &m), ND_ERR_INDEX, "nd_mesh_create", "0-based");
+  ck_assert(!contains(nd_last_error(), "1-based"));
 }
 END_TEST
 

@@ -119,16 +119,24 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
       fail(ND_ERR_NONFINITE, where + "coords[" + std::to_string(i) + "] (coordinate " +
                                  std::to_string(i % dim) + " of node " + std::to_string(i / dim) +
                                  ") is not finite");
+  // Every index before any geometry: 1-based connectivity (a common slip
+  // from Fortran or Gmsh) would otherwise surface as an inverted or flat cell.
+  const auto [lowest, highest] = std::minmax_element(m.cells.begin(), m.cells.end());
   for (int64_t c = 0; c < n_cells; ++c) {
     const int64_t *v = m.cell(c);
     for (int i = 0; i <= dim; ++i) {
       if (v[i] < 0 || v[i] >= n_vertices)
-        fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " names vertex " +
-                               std::to_string(v[i]) + ", outside [0, " + std::to_string(n_vertices) + ")");
+        fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " names vertex " + std::to_string(v[i]) +
+                               ", outside [0, " + std::to_string(n_vertices) + "): vertex indices are 0-based" +
+                               (*lowest == 1 && *highest == n_vertices
+                                    ? " (the indices run from 1 to n_nodes: 1-based? subtract 1)"
+                                    : ""));
       for (int j = 0; j < i; ++j)
         if (v[j] == v[i])
           fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
     }
+  }
+  for (int64_t c = 0; c < n_cells; ++c) {
     double J[9];
     m.cell_jacobian(c, J);
     const double det = determinant(dim, J);
