@@ -262,7 +262,9 @@ ND_EXPORT int nd_problem_destroy(nd_problem *p);
 
 /* ---- output ------------------------------------------------------------ */
 /* VTK XML unstructured grid of the current state: displacement, velocity
-   (per FE vertex node) and the contact pressure on the contact facets. */
+   (per FE vertex node), the contact pressure on the contact facets, the
+   Cauchy stress per cell (at its centroid) and the time and step index
+   (FieldData TIME, CYCLE). */
 ND_EXPORT int nd_problem_write_vtu(nd_problem p, const char *path);
 /* A ParaView time series: n VTU files (paths as written in the .pvd) and times. */
 ND_EXPORT int nd_write_pvd(const char *path, int64_t n, const char *const *vtu_files,

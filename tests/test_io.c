@@ -153,6 +153,99 @@ START_TEST(writes_vtu_and_pvd) {
 }
 END_TEST
 
+/* the number after the first '>' that follows `name` in text (a FieldData
+   value), or the start of the values of the DataArray called `name` */
+static const char *values_of(const char *text, const char *name) {
+  char key[64];
+  snprintf(key, sizeof key, "Name=\"%s\"", name);
+  const char *at = strstr(text, key);
+  ck_assert_msg(at != NULL, "no DataArray %s", name);
+  at = strchr(at, '>');
+  ck_assert_ptr_nonnull(at);
+  return at + 1;
+}
+
+/* An affine displacement u = G x has the constant stress sigma(G) =
+   lambda tr(G) I + mu (G + G^T) (2D plane strain: sigma_zz = lambda tr G;
+   1D: E G): every cell's stress in the VTU (at its centroid) equals it to
+   round-off, P1 and P2, 1D-3D. The FieldData holds ND_TIME and ND_STEP_INDEX
+   (printed with 17 digits: read back exactly). */
+START_TEST(vtu_has_time_cycle_and_stress) {
+  const double E = 10, nu = 0.3, lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  const double Gall[9] = {0.3, -0.2, 0.1, 0.5, -0.4, 0.25, -0.15, 0.05, 0.2};
+  const double lo[3] = {0, 0, 0}, hi[3] = {1, 0.5, 0.75};
+  char vtu[256];
+  snprintf(vtu, sizeof vtu, "/tmp/nd_test_io_stress_%d.vtu", (int)getpid());
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree) {
+      nd_mesh m = NULL;
+      nd_problem p = NULL;
+      if (dim == 1) ND_OK_OR_FAIL(nd_mesh_create_interval(5, 0, 1, &m));
+      if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle(3, 2, lo, hi, &m));
+      if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box(2, 2, 1, lo, hi, &m));
+      int64_t n_cells = 0;
+      ND_OK_OR_FAIL(nd_mesh_get_cell_count(m, &n_cells));
+      ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+      ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+      ND_OK_OR_FAIL(nd_problem_set_material(p, E, nu, 1));
+      ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+      ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+      int64_t n = 0;
+      ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+      double *x = malloc(sizeof(double) * (size_t)(n * dim)), *u = malloc(sizeof(double) * (size_t)(n * dim));
+      ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+      double G[9] = {0}, want[9] = {0}, gmax = 0;
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) G[3 * i + j] = Gall[3 * i + j], gmax = fmax(gmax, fabs(G[3 * i + j]));
+      for (int64_t a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i) {
+          u[a * dim + i] = 0;
+          for (int j = 0; j < dim; ++j) u[a * dim + i] += G[3 * i + j] * x[a * dim + j];
+        }
+      const double tr = G[0] + G[4] + G[8];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) want[3 * i + j] = mu * (G[3 * i + j] + G[3 * j + i]) + (i == j ? lambda * tr : 0);
+      if (dim == 1) want[0] = E * G[0];
+      /* a few steps from rest, then u = G x at the current time */
+      for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
+      ND_OK_OR_FAIL(nd_problem_set_state(p, n, u, NULL));
+      ND_OK_OR_FAIL(nd_problem_write_vtu(p, vtu));
+      FILE *f = fopen(vtu, "r");
+      ck_assert_ptr_nonnull(f);
+      static char text[1 << 20];
+      const size_t len = fread(text, 1, sizeof text - 1, f);
+      text[len] = 0;
+      fclose(f);
+      ck_assert_uint_lt(len, sizeof text - 1);
+      double t = 0, steps = 0;
+      ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME, &t));
+      ND_OK_OR_FAIL(nd_get_scalar(p, ND_STEP_INDEX, &steps));
+      ck_assert(steps == 3);
+      ck_assert_msg(strtod(values_of(text, "TIME"), NULL) == t, "TIME differs from ND_TIME");
+      ck_assert_msg(strtod(values_of(text, "CYCLE"), NULL) == steps, "CYCLE differs from ND_STEP_INDEX");
+      ck_assert(strstr(text, "<FieldData>") < strstr(text, "<Piece"));
+      const int n_comp = dim == 1 ? 1 : 9;
+      const char *at = values_of(text, "stress");
+      double worst = 0;
+      for (int64_t c = 0; c < n_cells; ++c)
+        for (int k = 0; k < n_comp; ++k) {
+          char *end = NULL;
+          const double v = strtod(at, &end);
+          ck_assert_msg(end != at, "cell %lld: stress component %d missing", (long long)c, k);
+          at = end;
+          worst = fmax(worst, fabs(v - want[k]));
+        }
+      /* the gradient of an interpolated affine field: sums of O(1/h) terms,
+         a few hundred ulps of E |G| at most */
+      ck_assert_msg(worst <= 1e-12 * E * gmax, "%dD P%d: stress off by %g", dim, degree, worst);
+      free(x);
+      free(u);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+  remove(vtu);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("io");
   TCase *tc = tcase_create("files");
@@ -160,6 +253,7 @@ int main(void) {
   tcase_add_test(tc, reads_the_committed_meshes);
   tcase_add_test(tc, malformed_files_are_refused_with_file_and_line);
   tcase_add_test(tc, writes_vtu_and_pvd);
+  tcase_add_test(tc, vtu_has_time_cycle_and_stress);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

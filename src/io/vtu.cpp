@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "assembly/stress.hpp"
 #include "common/c_locale.hpp"
 #include "common/checked.hpp"
 #include "common/error.hpp"
@@ -88,7 +89,13 @@ void write_vtu(Problem &p, const char *path) {
   AtomicFile f(path);
   FILE *o = f.get();
   std::fprintf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
-  std::fprintf(o, "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n",
+  // the time and step index, as ParaView and VisIt read them from FieldData
+  std::fprintf(o, "  <UnstructuredGrid>\n    <FieldData>\n");
+  std::fprintf(o, "      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">%.17g</DataArray>\n",
+               p.scalar(ND_TIME));
+  std::fprintf(o, "      <DataArray type=\"Int64\" Name=\"CYCLE\" NumberOfTuples=\"1\" format=\"ascii\">%lld</DataArray>\n",
+               static_cast<long long>(p.scalar(ND_STEP_INDEX)));
+  std::fprintf(o, "    </FieldData>\n    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n",
                static_cast<long long>(s.n_nodes), static_cast<long long>(n_cells + n_facets));
   std::fprintf(o, "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
   for (int64_t i = 0; i < s.n_nodes; ++i)
@@ -112,12 +119,24 @@ void write_vtu(Problem &p, const char *path) {
   std::fprintf(o, "        </DataArray>\n      </Cells>\n      <PointData Vectors=\"displacement\">\n");
   write_vector_field(o, "displacement", U, d, s.n_nodes);
   write_vector_field(o, "velocity", V, d, s.n_nodes);
-  std::fprintf(o, "      </PointData>\n      <CellData Scalars=\"contact_pressure\">\n");
+  std::fprintf(o, "      </PointData>\n      <CellData Scalars=\"contact_pressure\"%s>\n", d == 1 ? "" : " Tensors=\"stress\"");
   std::fprintf(o, "        <DataArray type=\"Float64\" Name=\"contact_pressure\" format=\"ascii\">\n");
   for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "0\n");
   for (auto &fp : facet_pressure) std::fprintf(o, "%.17g\n", fp.second.first / fp.second.second);
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"contact_facet\" format=\"ascii\">\n");
   for (int64_t c = 0; c < n_cells + n_facets; ++c) std::fprintf(o, "%d\n", c >= n_cells ? 1 : 0);
+  // the Cauchy stress at each cell's centroid (constant on a P1 cell); the
+  // contact facets get zeros. 1D: sigma_xx alone; 2D/3D: 3x3, row-major.
+  const int n_comp = d == 1 ? 1 : 9;
+  std::fprintf(o, "        </DataArray>\n        <DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"%d\" format=\"ascii\">\n", n_comp);
+  std::vector<double> centroid(static_cast<size_t>(d), 1.0 / (d + 1));
+  for (int64_t c = 0; c < n_cells; ++c) {
+    double sigma[9];
+    cell_stress(s, p.material(), U.data(), c, centroid.data(), sigma);
+    for (int k = 0; k < n_comp; ++k) std::fprintf(o, "%.17g%c", sigma[k], k + 1 == n_comp ? '\n' : ' ');
+  }
+  for (int64_t k = 0; k < n_facets; ++k)
+    for (int j = 0; j < n_comp; ++j) std::fprintf(o, "0%c", j + 1 == n_comp ? '\n' : ' ');
   std::fprintf(o, "        </DataArray>\n      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
   f.commit();
 }

@@ -62,6 +62,7 @@ class Problem {
 
   // ---- queries
   const Space &space() const { return space_; }
+  const Material &material() const { return def_.material; }
   const Discretization &discretization() { return discretization_(); }
   // the integrator once built (benchmarks time its solve: the floor of a step)
   const Integrator *integrator() const { return integrator_.get(); }
