@@ -105,6 +105,7 @@ Setup build(const Scene &s, Problem &prob) {
 
   call(nd_problem_create(mesh.m, s.degree, &prob.p), "nd_problem_create");
   nd_problem p = prob.p;
+  for (const auto &g : s.guards) scene_call(nd_problem_set_guard(p, g.id, g.value), g.at, g.key);
   scene_call(nd_problem_set_material(p, s.young, s.poisson, s.density), s.material_at, "[material]");
   for (const auto &c : s.clamped) scene_call(nd_problem_set_dirichlet(p, ndcli::region_id(s, c)), c.at, "dirichlet");
   if (!s.body_force.empty())
@@ -186,7 +187,7 @@ void make_parent(const fs::path &p) {
 }
 
 struct Options {
-  std::string scene, out;
+  std::string scene, out, restart;
   double T = -1, tau = -1;
   bool quiet = false, progress = false, check = false, list_keys = false;
 };
@@ -237,11 +238,23 @@ int run(const Options &opt) {
     make_parent(prefix);
   }
 
+  // a restart continues the run from its step: the outputs hold this part
+  int64_t first = 0;
+  if (!opt.restart.empty()) {
+    call(nd_problem_load_state_file(p, opt.restart.c_str()), "--restart " + opt.restart);
+    first = (int64_t)scalar(p, ND_STEP_INDEX);
+    if (first > steps)
+      throw SceneError("--restart " + opt.restart + ": the checkpoint is at step " + std::to_string(first) +
+                       ", after the last step " + std::to_string(steps) + " of the scene");
+  }
+  const fs::path checkpoint = s.checkpoint.empty() ? fs::path() : out / s.checkpoint;
+  if (!checkpoint.empty()) make_parent(checkpoint);
+  const size_t frame0 = (size_t)((first + every - 1) / every);
   Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
   const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
   double max_force = 0, max_pen = 0, newton = 0;
-  for (int64_t k = 0; k <= steps; ++k) {
-    if (k > 0) {
+  for (int64_t k = first; k <= steps; ++k) {
+    if (k > first) {
       const int st = nd_step(p);
       if (st < 0) {
         bar.finish();
@@ -249,6 +262,8 @@ int run(const Options &opt) {
                        nd_last_error());
       }
       newton += scalar(p, ND_NEWTON_ITERATIONS);
+      if (!checkpoint.empty() && (k == steps || (s.checkpoint_every > 0 && k % s.checkpoint_every == 0)))
+        call(nd_problem_save_state_file(p, checkpoint.c_str()), "writing the checkpoint " + checkpoint.string());
     }
     const double t = scalar(p, ND_TIME), force = scalar(p, ND_CONTACT_FORCE), pen = scalar(p, ND_MAX_PENETRATION);
     max_force = std::max(max_force, force);
@@ -261,7 +276,7 @@ int run(const Options &opt) {
     }
     if (!prefix.empty() && (k % every == 0 || k == steps)) {
       char name[32];
-      std::snprintf(name, sizeof name, "_%04zu.vtu", frames.size());
+      std::snprintf(name, sizeof name, "_%04zu.vtu", frame0 + frames.size());
       const fs::path vtu = prefix.string() + name;
       call(nd_problem_write_vtu(p, vtu.c_str()), "nd_problem_write_vtu");
       frames.push_back(vtu.filename().string());  // relative to the .pvd, which is beside it
@@ -284,8 +299,8 @@ int run(const Options &opt) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%s: %" PRId64 " steps to t = %g; E_Theta %.8g -> %.8g, W %.8g; max contact force %.6g, max "
               "penetration %.4e; mean Newton iterations %.3f; %.2f s\n",
-              s.file.c_str(), steps, scalar(p, ND_TIME), E0, scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK),
-              max_force, max_pen, steps > 0 ? newton / (double)steps : 0.0, seconds);
+              s.file.c_str(), steps - first, scalar(p, ND_TIME), E0, scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK),
+              max_force, max_pen, steps > first ? newton / (double)(steps - first) : 0.0, seconds);
   return 0;
 }
 
@@ -319,6 +334,7 @@ int main(int argc, char **argv) {
   app.add_option("--T", opt.T, "final time (overrides time.T)")->check(number_at_least(0, false));
   app.add_option("--tau", opt.tau, "time step (overrides time.tau)")->check(number_at_least(0, true));
   app.add_option("--out", opt.out, "directory of the outputs (default: the current directory)");
+  app.add_option("--restart", opt.restart, "resume from a checkpoint file ([checkpoint]) of the same scene");
   app.add_flag("--quiet,-q", opt.quiet, "print the summary line only (and errors)");
   app.add_flag("--progress", opt.progress, "show progress on stderr even when it is not a terminal");
   app.add_flag("--check", opt.check, "read the scene and set the problem up, then stop");

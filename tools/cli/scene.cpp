@@ -18,7 +18,7 @@ namespace {
 const std::map<std::string, std::vector<std::string>> &table_keys() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"", {"title", "mesh", "regions", "material", "loads", "dirichlet", "obstacle", "nitsche", "scheme", "time",
-            "solver", "initial", "output"}},
+            "solver", "initial", "output", "guards", "checkpoint"}},
       {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
       {"regions.NAME", {"id", "lo", "hi"}},
       {"material", {"E", "nu", "rho"}},
@@ -32,6 +32,9 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"solver", {"linear", "newton_rtol", "newton_atol", "newton_max_iter", "mass_lumping"}},
       {"initial", {"displacement", "velocity"}},
       {"output", {"history", "paraview", "interval"}},
+      {"guards", {"energy", "penetration", "critical_timestep", "unstable_scheme", "coercivity",
+                  "initial_penetration"}},
+      {"checkpoint", {"file", "every"}},
   };
   return keys;
 }
@@ -312,6 +315,51 @@ void read_output(const Reader &r, const toml::table &t, Scene &s) {
   }
 }
 
+// [guards]: factors (numbers >= 0, 0 off) and switches (true/false)
+void read_guards(const Reader &r, const toml::table &t, Scene &s) {
+  r.check_keys(t, "guards", "guards");
+  struct Kind {
+    const char *key;
+    int id;
+    bool factor;
+  };
+  static const Kind kinds[] = {{"energy", ND_GUARD_ENERGY, true},
+                               {"penetration", ND_GUARD_PENETRATION, true},
+                               {"critical_timestep", ND_GUARD_CRITICAL_TIMESTEP, false},
+                               {"unstable_scheme", ND_GUARD_UNSTABLE_SCHEME, false},
+                               {"coercivity", ND_GUARD_COERCIVITY, false},
+                               {"initial_penetration", ND_GUARD_INITIAL_PENETRATION, false}};
+  for (const Kind &k : kinds) {
+    const toml::node *n = t.get(k.key);
+    if (!n) continue;
+    Guard g;
+    g.id = k.id;
+    g.key = std::string("guards.") + k.key;
+    g.at = r.where(n->source());
+    if (k.factor) {
+      g.value = r.number(*n, "guards", k.key);
+      if (!(g.value >= 0)) r.fail(n->source(), "'" + g.key + "' must be >= 0 (0: off)");
+    } else {
+      if (!n->is_boolean()) r.wrong_type(*n, "guards", k.key, "true or false");
+      g.value = *n->value<bool>() ? 1 : 0;
+    }
+    s.guards.push_back(g);
+  }
+}
+
+void read_checkpoint(const Reader &r, const toml::table &t, Scene &s) {
+  r.check_keys(t, "checkpoint", "checkpoint");
+  s.checkpoint_at = r.where(t.source());
+  const toml::node *f = t.get("file");
+  if (!f) r.missing(t, "checkpoint", "file", "the checkpoint file");
+  s.checkpoint = r.string(*f, "checkpoint", "file");
+  if (s.checkpoint.empty() || s.checkpoint.back() == '/') r.fail(f->source(), "'checkpoint.file' must be a file name");
+  if (const toml::node *n = t.get("every")) {
+    s.checkpoint_every = r.integer(*n, "checkpoint", "every");
+    if (s.checkpoint_every < 0) r.fail(n->source(), "'checkpoint.every' must be >= 0 (0: at the end only)");
+  }
+}
+
 }  // namespace
 
 Scene read_scene(const std::string &path) {
@@ -466,6 +514,8 @@ Scene read_scene(const std::string &path) {
   }
 
   if (const toml::node *n = root.get("output")) read_output(r, r.table(*n, "", "output"), s);
+  if (const toml::node *n = root.get("guards")) read_guards(r, r.table(*n, "", "guards"), s);
+  if (const toml::node *n = root.get("checkpoint")) read_checkpoint(r, r.table(*n, "", "checkpoint"), s);
 
   // every name used is defined
   auto check_ref = [&](const RegionRef &ref) { region_id(s, ref); };

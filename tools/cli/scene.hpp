@@ -45,6 +45,12 @@ struct Obstacle {
   std::string at;
 };
 
+struct Guard {  // [guards]: an nd_problem_set_guard call
+  int id = 0;
+  double value = 0;
+  std::string key, at;
+};
+
 struct Scene {
   std::string file;   // the scene file as given
   std::string title;  // optional
@@ -100,6 +106,12 @@ struct Scene {
   std::string paraview;     // VTU/PVD prefix, empty: none
   double interval = 0;      // time between ParaView frames; 0: every step
   std::string output_at;
+  // [guards], in the order written
+  std::vector<Guard> guards;
+  // [checkpoint]: nd_problem_save_state_file at the end and every K steps
+  std::string checkpoint;   // path (under --out), empty: none
+  int64_t checkpoint_every = 0;  // 0: at the end only
+  std::string checkpoint_at;
 };
 
 // Reads and validates a scene file. Throws SceneError.

@@ -202,5 +202,39 @@ else
   fail "block: $(cat block.out)"
 fi
 
+# [guards]: bad values name their line and key; good ones are applied
+expect 2 guard_negative 'guards.energy' 's/^\[time\]/[guards]\nenergy = -1.0\n[time]/'
+expect 2 guard_not_bool 'guards.coercivity' 's/^\[time\]/[guards]\ncoercivity = 1\n[time]/'
+expect 2 guard_unknown "unknown key 'guards.energi'" 's/^\[time\]/[guards]\nenergi = 2.0\n[time]/'
+expect 0 guards_valid '' 's/^\[time\]/[guards]\nenergy = 3.0\npenetration = 0.0\ncritical_timestep = true\n[time]/'
+grep -q ':1[0-9]:[0-9]*: ' guard_negative.err || fail "guard_negative: no file:line:col in $(cat guard_negative.err)"
+expect 2 checkpoint_no_file "[checkpoint] has no key 'file'" 's/^\[time\]/[checkpoint]\nevery = 2\n[time]/'
+expect 2 checkpoint_negative 'checkpoint.every' 's/^\[time\]/[checkpoint]\nfile = "c.ndck"\nevery = -2\n[time]/'
+
+# [checkpoint] and --restart: the second half of the bar's run (through the
+# impact, steps 2-80) resumed from the checkpoint of its first half has the same history
+# rows, digit for digit, and ends with the same checkpoint
+{ sed 's|^history = .*|history = "h.csv"|' bar.toml; printf '[checkpoint]\nfile = "state.ndck"\nevery = 40\n'; } > ck.toml
+if "$driver" ck.toml --quiet --out ck_full > ck.out 2>&1 && "$driver" ck.toml --quiet --T 0.75 --out ck_half >> ck.out 2>&1 &&
+   "$driver" ck.toml --quiet --restart ck_half/state.ndck --out ck_rest >> ck.out 2>&1; then
+  awk -F, 'NR > 1 && $1 >= 60' ck_full/h.csv > ck_full.rows
+  tail -n +2 ck_rest/h.csv > ck_rest.rows
+  if [ "$(wc -l < ck_rest.rows)" -eq 181 ] && cmp -s ck_full.rows ck_rest.rows; then
+    echo "ok: restart from step 60 reproduces steps 60-240"
+  else
+    fail "restart: the resumed history differs: $(diff ck_full.rows ck_rest.rows | head -5)"
+  fi
+  awk -F, 'NR > 1 && $6 > 0 { c++ } END { exit c == 0 }' ck_rest/h.csv || fail "restart: never in contact"
+  cmp -s ck_full/state.ndck ck_rest/state.ndck || fail "restart: the final checkpoints differ"
+else
+  fail "checkpoint/restart: $(cat ck.out)"
+fi
+expect 1 restart_missing 'no_such.ndck' 's/^$//' --restart no_such.ndck
+{ cat base.toml; printf '[checkpoint]\nfile = "disk.ndck"\n'; } > disk_ck.toml
+"$driver" disk_ck.toml --quiet --T 0.1 > /dev/null 2>&1 || fail "disk_ck: no checkpoint written"
+"$driver" bar.toml --quiet --restart disk.ndck > bar_restart.out 2>&1
+[ $? -eq 1 ] && grep -q 'another problem' bar_restart.out ||
+  fail "restart from another scene's checkpoint: $(cat bar_restart.out)"
+
 [ $fails -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }
 echo "all scene checks passed"
