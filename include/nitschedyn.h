@@ -198,6 +198,11 @@ ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *para
 ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f);
 ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter);
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
+/* on = 1: the FE nodes of the contact facets get no mass, each cell touching
+   them gives its mass to its other nodes keeping the total mass (and the
+   first and second moments where its nodes allow); implicit schemes only.
+   Default 0. */
+ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on);
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
 /* u0, v0 per FE node (n*dim values each); NULL means zero. Values at clamped

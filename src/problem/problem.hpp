@@ -34,6 +34,7 @@ class Problem {
   void set_nodal_forces(const double *f);  // n_dofs values
   void set_newton(const NewtonOptions &o);
   void set_mass_lumping(bool lumped);
+  void set_mass_redistribution(bool on);
   void set_linear_solver(int solver);
   void set_timestep(double tau);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
