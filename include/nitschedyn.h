@@ -105,7 +105,8 @@ extern "C" {
   X(ND_TIMESTEP, 12, "the time step tau")                                             \
   X(ND_GAMMA0, 13, "gamma0 in use (the automatic value when 0 was set)")               \
   X(ND_GAMMA0_LIMIT, 14, "largest gamma0 keeping K_Theta >= 0 (element bound; inf if Theta <= 0)") \
-  X(ND_WORK_OBSTACLE, 15, "work of the moving obstacle on the body since t = 0")
+  X(ND_WORK_OBSTACLE, 15, "work of the moving obstacle on the body since t = 0") \
+  X(ND_CONTACT_FORCE_APPLIED, 24, "sum_q w_q phi_q/gamma_q, resultant contact force the last step applied")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -250,6 +251,10 @@ ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *bu
 ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v);
 /* lambda_q = -[P_q]_+/gamma_q at each contact point (<= 0: compression) */
 ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out);
+/* -phi_q/gamma_q: the pressure the last step applied (its contact term phi_q:
+   the hybrid's Phi_q, generalized-alpha's at the alpha_f point, the end-of-step
+   [P_q]_+ for the theta-scheme and Newmark); lambda_q before the first step */
+ND_EXPORT int nd_get_contact_pressure_applied(nd_problem p, int64_t n, double *out);
 ND_EXPORT int nd_problem_destroy(nd_problem *p);
 
 /* ---- output ------------------------------------------------------------ */

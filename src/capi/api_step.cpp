@@ -86,6 +86,17 @@ ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out) {
   });
 }
 
+ND_EXPORT int nd_get_contact_pressure_applied(nd_problem p, int64_t n, double *out) {
+  return nd::guarded("nd_get_contact_pressure_applied", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    need_count(n, contact_count(pr), "contact points");
+    nd::need(out, "out");
+    const std::vector<double> lam = pr.contact_pressure_applied();
+    std::copy(lam.begin(), lam.end(), out);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c) {
   return nd::guarded("nd_problem_estimate_critical_timestep", [&] {
     nd::Problem &pr = nd::problem_of(p);

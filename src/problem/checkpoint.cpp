@@ -11,7 +11,8 @@ namespace nd {
 namespace {
 
 constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
-constexpr uint32_t kVersion = 2;  // 2: the obstacle (gaps, work), the clamped load and the reactions
+constexpr uint32_t kVersion = 3;  // 2: the obstacle (gaps, work), the clamped load and the reactions
+                                 // 3: the applied contact term (version 2 is still read)
 
 struct Hash {  // FNV-1a, 64 bits
   uint64_t h = 1469598103934665603ull;
@@ -113,6 +114,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   payload.vec(s.gap);
   payload.value(s.W_obstacle);
   payload.vec(s.reaction);
+  payload.vec(s.phi);
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(kVersion);
@@ -133,7 +135,7 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   Reader r(buf, static_cast<size_t>(nbytes));
   r.value<std::array<char, 8>>();
   const uint32_t version = r.value<uint32_t>();
-  if (version != kVersion)
+  if (version != kVersion && version != 2)
     fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads version " +
                             std::to_string(kVersion));
   r.value<uint32_t>();
@@ -147,7 +149,7 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   std::memcpy(&sum, buf + end, sizeof sum);
   if (sum != h.h) fail(ND_ERR_FORMAT, "the checkpoint is corrupted (checksum mismatch)");
   if (print != fingerprint)
-    fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs or contact points differ)");
+    fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs, contact points or mass redistribution differ)");
   State s;
   s.t = r.value<double>();
   s.n = r.value<int64_t>();
@@ -168,6 +170,7 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.gap = r.vec(sizes.n_contact, true, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   s.reaction = r.vec(sizes.n_clamped, true, "reactions");
+  if (version >= 3) s.phi = r.vec(sizes.n_contact, true, "applied contact term");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
   out = std::move(s);
 }

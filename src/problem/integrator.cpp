@@ -126,6 +126,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     scheme.mean_acceleration(tau, old, next, Abar);
     next.reaction = clamped_residual(d, Abar, step_mean(next.U, old.U, a), phi, step_mean(next.F_fixed, old.F_fixed, a));
   }
+  next.phi = std::move(phi);
   return next;
 }
 

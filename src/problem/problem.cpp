@@ -315,6 +315,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   if (v) d.dofs.restrict_to_free(v, s.V.data());
   s.A_valid = false;
   s.reaction.clear();  // no step led here: the equilibrium's, on demand
+  s.phi.clear();
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
   s.guard.E0 += dE;
@@ -377,6 +378,15 @@ std::vector<double> Problem::contact_pressure() {
   return nd::contact_pressure(discretization_(), s);
 }
 
+std::vector<double> Problem::contact_pressure_applied() {
+  const State &s = state();
+  if (s.phi.empty()) return contact_pressure();  // no step yet: the state's own
+  const ContactPoints &cp = discretization_().contact;
+  std::vector<double> lam(cp.size());
+  for (size_t q = 0; q < lam.size(); ++q) lam[q] = -s.phi[q] / cp.gamma[q];
+  return lam;
+}
+
 double Problem::scalar(int key) {
   switch (key) {
     case ND_TIME:
@@ -413,6 +423,12 @@ double Problem::scalar(int key) {
       return mechanical_energy(d, s) - d.theta * nitsche_energy(d, s);
     case ND_CONTACT_FORCE:
       return contact_force(d, s);
+    case ND_CONTACT_FORCE_APPLIED: {
+      if (s.phi.empty()) return contact_force(d, s);
+      double F = 0;
+      for (size_t q = 0; q < s.phi.size(); ++q) F += d.contact.w[q] * s.phi[q] / d.contact.gamma[q];
+      return F;
+    }
     case ND_ACTIVE_POINTS:
       return static_cast<double>(active_points(d, s));
     case ND_MAX_PENETRATION:

@@ -65,6 +65,8 @@ class Problem {
   void field(int which, double *full);  // n_dofs values
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
+  // -phi_q/gamma_q: the pressure the last step applied (lambda_q before any step)
+  std::vector<double> contact_pressure_applied();
 
   // Discretization, integrator, initial state: what the first step needs;
   // done once until the definition changes.
