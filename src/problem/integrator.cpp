@@ -100,6 +100,15 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     }
   }
   scheme.update(tau, old, next);
+  // Massless DOFs (mass redistribution): no equation holds their V and A, and
+  // the schemes' recursions for them are at best neutral (the hybrid's
+  // V^{n+1} = 2 dU/tau - V^n keeps every error). They feed nothing back (M's
+  // columns are zero there): difference quotients, first order, bounded.
+  for (size_t i = 0; i < d.massless.size(); ++i)
+    if (d.massless[i]) {
+      next.V[i] = (next.U[i] - old.U[i]) / tau;
+      if (next.A_valid) next.A[i] = (next.V[i] - old.V[i]) / tau;
+    }
   if (!all_finite(next.U) || !all_finite(next.V) || !all_finite(next.A))
     fail(ND_ERR_NONFINITE_STATE,
          "the step to t = " + num(next.t) + " produced non-finite values; the step was not taken");
