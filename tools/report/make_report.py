@@ -562,6 +562,15 @@ def sec_disk(disk, force):
     md.append("\nRates: slope of log(error) against log(h) over all non-reference runs of each curve:\n\n")
     md.append(table(["scheme", "P", "fit range"] + [n for _, n in DISK_ERR], rows) if rows else
               "Fewer than 2 non-reference runs per curve: no rates.\n")
+    red = curves([r for r in disk if ok(r) and r["scheme"] == "hybrid+redistributed"])
+    if red:
+        md.append("\nThe `hybrid+redistributed` runs (issue 16) use mass redistribution and record the force the "
+                  "step applied (ND_CONTACT_FORCE_APPLIED); their errors are against the same reference (without "
+                  "redistribution, the force at tⁿ), so they include the difference of the two mass matrices. Their "
+                  "force errors under refinement: %s; without redistribution (hybrid): %s.\n" % (
+                      "; ".join("P%d %s" % (d, ", ".join(g3(r["e_force_l2"]) for r in rs)) for (s, d), rs in red.items()),
+                      "; ".join("P%d %s" % (d, ", ".join(g3(r["e_force_l2"]) for r in rs))
+                                for (s, d), rs in curves([r for r in disk if ok(r) and r["scheme"] == "hybrid"]).items())))
     return md
 
 
