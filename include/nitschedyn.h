@@ -113,7 +113,8 @@ extern "C" {
   X(ND_STAT_LOAD_ASSEMBLIES, 20, "load vectors built (body force and tractions, nodal forces)")        \
   X(ND_STAT_TANGENT_UPDATES, 21, "Newton tangents: low-rank capacitance builds or tangent assemblies") \
   X(ND_STAT_CONTACT_EVALUATIONS, 22, "passes evaluating P_q over all contact points")                  \
-  X(ND_STAT_SPMV, 23, "sparse matrix-vector products (the energy's fused M, K pass counts once)")
+  X(ND_STAT_SPMV, 23, "sparse matrix-vector products (the energy's fused M, K pass counts once)")      \
+  X(ND_CONTACT_FORCE_APPLIED, 24, "sum_q w_q phi_q/gamma_q, resultant contact force the last step applied")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -206,6 +207,11 @@ ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *para
 ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f);
 ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter);
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
+/* on = 1: the FE nodes of the contact facets get no mass, each cell touching
+   them gives its mass to its other nodes keeping the total mass (and the
+   first and second moments where its nodes allow); implicit schemes only.
+   Default 0. */
+ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on);
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
 /* u0, v0 per FE node (n*dim values each); NULL means zero. Values at clamped
@@ -258,6 +264,10 @@ ND_EXPORT int nd_problem_load_state_file(nd_problem p, const char *path);
 ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v);
 /* lambda_q = -[P_q]_+/gamma_q at each contact point (<= 0: compression) */
 ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out);
+/* -phi_q/gamma_q: the pressure the last step applied (its contact term phi_q:
+   the hybrid's Phi_q, generalized-alpha's at the alpha_f point, the end-of-step
+   [P_q]_+ for the theta-scheme and Newmark); lambda_q before the first step */
+ND_EXPORT int nd_get_contact_pressure_applied(nd_problem p, int64_t n, double *out);
 ND_EXPORT int nd_problem_destroy(nd_problem *p);
 
 /* ---- output ------------------------------------------------------------ */

@@ -37,13 +37,14 @@ module nitschedyn
   public :: nd_problem_create, nd_problem_set_material, nd_problem_set_dirichlet, &
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
-            nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_linear_solver, &
+            nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_mass_redistribution, nd_problem_set_linear_solver, &
             nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor, &
             nd_problem_set_guard
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
   public :: nd_problem_estimate_critical_timestep
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
+  public :: nd_get_contact_pressure_applied
   public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
   public :: nd_problem_save_state_file, nd_problem_load_state_file
   public :: nd_problem_save_state_file_f, nd_problem_load_state_file_f
@@ -293,6 +294,14 @@ module nitschedyn
       integer(c_int) :: status
     end function nd_problem_set_mass_lumping
 
+    function nd_problem_set_mass_redistribution(p, on) result(status) &
+        bind(C, name='nd_problem_set_mass_redistribution')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: on
+      integer(c_int) :: status
+    end function nd_problem_set_mass_redistribution
+
     function nd_problem_set_linear_solver(p, solver) result(status) &
         bind(C, name='nd_problem_set_linear_solver')
       import :: c_int, c_ptr
@@ -457,6 +466,15 @@ module nitschedyn
       real(c_double), intent(out) :: out(*)
       integer(c_int) :: status
     end function nd_get_contact_pressure
+
+    function nd_get_contact_pressure_applied(p, n, out) result(status) &
+        bind(C, name='nd_get_contact_pressure_applied')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: status
+    end function nd_get_contact_pressure_applied
 
     ! Sets p to c_null_ptr; harmless on c_null_ptr (safe twice).
     function nd_problem_destroy(p) result(status) bind(C, name='nd_problem_destroy')

@@ -130,6 +130,7 @@ _PROTOTYPES = {
     "nd_problem_set_newton": (_int, [_ptr, _dbl, _dbl, _int]),
     "nd_problem_set_guard": (_int, [_ptr, _int, _dbl]),
     "nd_problem_set_mass_lumping": (_int, [_ptr, _int]),
+    "nd_problem_set_mass_redistribution": (_int, [_ptr, _int]),
     "nd_problem_set_linear_solver": (_int, [_ptr, _int]),
     "nd_problem_set_timestep": (_int, [_ptr, _dbl]),
     "nd_problem_set_initial_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
@@ -150,6 +151,7 @@ _PROTOTYPES = {
     "nd_get_field": (_int, [_ptr, _int, _i64, _pdbl]),
     "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
     "nd_get_contact_pressure": (_int, [_ptr, _i64, _pdbl]),
+    "nd_get_contact_pressure_applied": (_int, [_ptr, _i64, _pdbl]),
     "nd_problem_destroy": (_int, [_pptr]),
     "nd_problem_write_vtu": (_int, [_ptr, _str]),
     "nd_write_pvd": (_int, [_str, _i64, ctypes.POINTER(_str), _pdbl]),
@@ -415,6 +417,9 @@ class Problem(_Handle):
     def set_mass_lumping(self, lumped):
         _check(lib.nd_problem_set_mass_lumping(self._h, int(bool(lumped))))
 
+    def set_mass_redistribution(self, on):
+        _check(lib.nd_problem_set_mass_redistribution(self._h, int(bool(on))))
+
     def set_linear_solver(self, solver):
         _check(lib.nd_problem_set_linear_solver(self._h, solver))
 
@@ -539,6 +544,13 @@ class Problem(_Handle):
         n = self.contact_point_count
         out = np.empty(n)
         _check(lib.nd_get_contact_pressure(self._h, n, _dptr(out)))
+        return out
+
+    def contact_pressure_applied(self):
+        """-phi_q/gamma_q: the pressure the last step applied at each contact point."""
+        n = self.contact_point_count
+        out = np.empty(n)
+        _check(lib.nd_get_contact_pressure_applied(self._h, n, _dptr(out)))
         return out
 
     def write_vtu(self, path):

@@ -236,6 +236,27 @@ def test_checkpoint():
         p.step()
 
 
+def test_pressure_applied():
+    """Mass redistribution and the applied pressure: the hybrid's E_Theta does
+    not grow (M stays symmetric positive semi-definite), the pressures are <= 0,
+    and before the first step the applied pressure is lambda_q."""
+    p, _ = make_bar(20, 2, 0.025)
+    with p:
+        p.set_mass_redistribution(True)
+        check(np.array_equal(p.contact_pressure_applied(), p.contact_pressure()), "applied = lambda at t = 0")
+        E = p.scalar(nd.ND_ENERGY_AUGMENTED)
+        grew, positive = False, False
+        for _ in range(120):
+            p.step()
+            E1 = p.scalar(nd.ND_ENERGY_AUGMENTED)
+            grew = grew or E1 > E + 1e-13
+            E = E1
+            positive = positive or bool((p.contact_pressure_applied() > 0).any())
+        check(not grew, "E_Theta non-increasing with mass redistribution")
+        check(not positive, "applied pressure <= 0")
+        check(p.scalar(nd.ND_CONTACT_FORCE_APPLIED) >= 0, "ND_CONTACT_FORCE_APPLIED >= 0")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bar1d", required=True)
@@ -253,6 +274,7 @@ def main():
     test_monitor()
     test_constants()
     test_checkpoint()
+    test_pressure_applied()
     print("%d passed, %d failed" % (passed, failed))
     return 1 if failed else 0
 

@@ -1,4 +1,5 @@
 #include "assembly/bulk.hpp"
+#include "assembly/redistribution.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -70,7 +71,7 @@ void ElementMatrices::compute(int64_t c) {
   }
 }
 
-BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat) {
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat, const std::vector<char> *contact_nodes) {
   BulkOperators ops;
   ops.M = operator_pattern(s, dofs);
   ops.K = ops.M.zeros_like();
@@ -81,6 +82,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
   const std::vector<double> &me = em.me, &ke = em.ke;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     em.compute(c);
+    if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
     // HRZ lumping: the consistent diagonal scaled to the element's mass
     double diag = 0;
     for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
@@ -115,7 +117,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
   if (!all_finite(ops.M.val) || !all_finite(ops.M_lumped))
     fail(ND_ERR_MATERIAL, "the mass matrix overflows with density " + num(rho) + " on this mesh: rescale the units");
   for (double m : ops.M_lumped)
-    if (!(m > 0) || !std::isnormal(m))
+    if (!(m > 0 || (contact_nodes && m == 0)) || !(m == 0 || std::isnormal(m)))
       fail(ND_ERR_MATERIAL, "the mass matrix underflows with density " + num(rho) + " on this mesh: rescale the units");
   return ops;
 }

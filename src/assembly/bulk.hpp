@@ -37,7 +37,11 @@ struct BulkOperators {
   Csr M, K;
   std::vector<double> M_lumped;  // diagonal, HRZ (row sums for P1)
 };
-BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat);
+// With `contact_nodes` (assembly/redistribution.hpp; nullptr: off) the mass
+// of those nodes is redistributed; the lumped mass is then the HRZ lumping of
+// the redistributed element mass (the mass is kept, the moments are not).
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat,
+                            const std::vector<char> *contact_nodes = nullptr);
 
 // Constant load: body force f (dim values, or nullptr) and Neumann tractions.
 // Returns an empty vector when there is no load at all.

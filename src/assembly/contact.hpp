@@ -39,11 +39,6 @@ struct ContactPoints {
   std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
   std::vector<int64_t> facet;            // index into Mesh::boundary
   size_t size() const { return w.size(); }
-  bool has_fixed_rows() const {
-    for (const SparseRow &r : a_fixed)
-      if (!r.idx.empty()) return true;
-    return false;
-  }
 };
 
 // g_q = (x_q - point) . nu_o with the current point of each point's plane

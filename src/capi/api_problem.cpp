@@ -141,6 +141,13 @@ ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped) {
   });
 }
 
+ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on) {
+  return nd::guarded("nd_problem_set_mass_redistribution", [&] {
+    nd::problem_of(p).set_mass_redistribution(on != 0);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
   return nd::guarded("nd_problem_set_linear_solver", [&] {
     nd::Problem &pr = nd::problem_of(p);

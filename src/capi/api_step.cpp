@@ -75,15 +75,27 @@ ND_EXPORT int nd_problem_get_contact_points(nd_problem p, int64_t n, double *coo
   });
 }
 
-ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out) {
-  return nd::guarded("nd_get_contact_pressure", [&] {
+namespace {
+// one value per contact point, from a Problem getter
+int copy_pressure(const char *name, nd_problem p, int64_t n, double *out,
+                  std::vector<double> (nd::Problem::*get)()) {
+  return nd::guarded(name, [&] {
     nd::Problem &pr = nd::problem_of(p);
     need_count(n, contact_count(pr), "contact points");
     nd::need(out, "out");
-    const std::vector<double> lam = pr.contact_pressure();
+    const std::vector<double> lam = (pr.*get)();
     std::copy(lam.begin(), lam.end(), out);
     return ND_OK;
   });
+}
+}  // namespace
+
+ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out) {
+  return copy_pressure("nd_get_contact_pressure", p, n, out, &nd::Problem::contact_pressure);
+}
+
+ND_EXPORT int nd_get_contact_pressure_applied(nd_problem p, int64_t n, double *out) {
+  return copy_pressure("nd_get_contact_pressure_applied", p, n, out, &nd::Problem::contact_pressure_applied);
 }
 
 ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c) {

@@ -11,7 +11,8 @@ namespace nd {
 namespace {
 
 constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
-constexpr uint32_t kVersion = 2;  // 2: the obstacle (gaps, work), the clamped load and the reactions
+constexpr uint32_t kVersion = 3;  // 2: the obstacle (gaps, work), the clamped load and the reactions; 3: phi
+                                 // 3: the applied contact term (version 2 is still read)
 
 struct Hash {  // FNV-1a, 64 bits
   uint64_t h = 1469598103934665603ull;
@@ -87,6 +88,8 @@ uint64_t state_fingerprint(const Space &s, const Discretization &d) {
   h.vec(d.dofs.free);
   h.vec(d.contact.w);
   h.vec(d.contact.x);
+  // the mass: only when redistributed, so that older checkpoints still match
+  if (!d.massless.empty()) h.value(uint8_t{1});
   return h.h;
 }
 
@@ -111,6 +114,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   payload.vec(s.gap);
   payload.value(s.W_obstacle);
   payload.vec(s.reaction);
+  payload.vec(s.phi);
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(kVersion);
@@ -161,6 +165,7 @@ int64_t max_state_size(const StateSizes &sizes) {
   s.F_fixed.resize(static_cast<size_t>(sizes.n_clamped));
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
+  s.phi = s.gap;
   return static_cast<int64_t>(encode_state(s, 0).size());
 }
 
@@ -178,7 +183,7 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   std::memcpy(&sum, buf + end, sizeof sum);
   if (sum != h.h) fail(ND_ERR_FORMAT, "the checkpoint is corrupted (checksum mismatch)");
   if (print != fingerprint)
-    fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs or contact points differ)");
+    fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs, contact points or mass redistribution differ)");
   State s;
   s.t = r.value<double>();
   s.n = r.value<int64_t>();
@@ -199,6 +204,7 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.gap = r.vec(sizes.n_contact, true, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   s.reaction = r.vec(sizes.n_clamped, true, "reactions");
+  s.phi = r.vec(sizes.n_contact, true, "applied contact term");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
   out = std::move(s);
 }

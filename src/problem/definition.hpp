@@ -53,6 +53,7 @@ struct Definition {
   double tau = 0;
   NewtonOptions newton;
   bool lumped = false;
+  bool redistributed = false;  // mass redistribution away from the contact nodes
   int solver = ND_SOLVER_AUTO;
   // the Newton tangent solver (white-box, not in the C API: tests and benchmarks)
   TangentChoice tangent = TangentChoice::Auto;

@@ -7,6 +7,7 @@
 #include "assembly/coercivity.hpp"
 #include "common/format.hpp"
 #include "assembly/nitsche.hpp"
+#include "assembly/redistribution.hpp"
 #include "problem/forces.hpp"
 #include "solve/contact_law.hpp"
 
@@ -17,7 +18,18 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   auto d = std::make_unique<Discretization>(DofMap(space, def.dirichlet), def.lumped);
   d->counters = counters;
   count(counters, &Counters::matrix_assemblies, 2);  // M and K in one pass
-  BulkOperators bulk = assemble_bulk(space, d->dofs, def.material);
+  std::vector<char> on_contact;
+  if (def.redistributed) {
+    on_contact = contact_nodes(space, def.planes);
+    d->massless.assign(static_cast<size_t>(d->dofs.n_free), 0);
+    for (int64_t node = 0; node < space.n_nodes; ++node)
+      for (int a = 0; a < space.dim; ++a) {
+        const int64_t r = d->dofs.free[node * space.dim + a];
+        if (on_contact[node] && r >= 0) d->massless[r] = 1;
+      }
+    if (std::find(d->massless.begin(), d->massless.end(), 1) == d->massless.end()) d->massless.clear();
+  }
+  BulkOperators bulk = assemble_bulk(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr);
   d->K = std::move(bulk.K);
   if (def.lumped) {
     d->M = d->K.zeros_like();
@@ -80,14 +92,20 @@ void check_coercivity(Discretization &d, int solver) {
 
 void Discretization::mass_solve(double *x, int solver) {
   if (lumped) {  // explicit steps with lumped mass: no solve at all
-    for (size_t i = 0; i < M_lumped.size(); ++i) x[i] /= M_lumped[i];
+    for (size_t i = 0; i < M_lumped.size(); ++i) x[i] = M_lumped[i] == 0 ? 0.0 : x[i] / M_lumped[i];
     return;
   }
   if (!M_factor) {
-    auto f = make_factorization(solver, M, Structure::SymmetricPositiveDefinite, counters);
-    f->factor(M, Structure::SymmetricPositiveDefinite);
+    // massless DOFs: M + diag(massless) is block diagonal, a unit block on them
+    Csr Mf = M;
+    for (size_t i = 0; i < massless.size(); ++i)
+      if (massless[i]) Mf.val[Mf.find(static_cast<int64_t>(i), static_cast<int64_t>(i))] = 1;
+    auto f = make_factorization(solver, Mf, Structure::SymmetricPositiveDefinite, counters);
+    f->factor(Mf, Structure::SymmetricPositiveDefinite);
     M_factor = std::move(f);  // kept only once factored: a failure leaves nothing half-built
   }
+  for (size_t i = 0; i < massless.size(); ++i)
+    if (massless[i]) x[i] = 0;
   M_factor->solve(x);
 }
 

@@ -27,6 +27,9 @@ struct Discretization {
   Csr M;  // the scheme's mass: consistent, or lumped (diagonal) on the same pattern
   bool lumped;
   std::vector<double> M_lumped;  // the lumped diagonal (empty when consistent)
+  // mass redistribution: 1 for the free DOFs of the contact nodes, whose rows
+  // and columns of M are zero (empty when off)
+  std::vector<char> massless;
   Csr K, K_theta;                // K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
   ContactPoints contact;
   double theta = 1;
@@ -38,6 +41,7 @@ struct Discretization {
   std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
   Counters *counters = nullptr;             // the problem's (ND_STAT_*)
 
+  // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others)
   void mass_solve(double *x, int solver);
   // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
   void equilibrium_acceleration(State &s, int solver);

@@ -106,6 +106,15 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     }
   }
   scheme.update(tau, old, next);
+  // Massless DOFs (mass redistribution): no equation holds their V and A, and
+  // the schemes' recursions for them are at best neutral (the hybrid's
+  // V^{n+1} = 2 dU/tau - V^n keeps every error). They feed nothing back (M's
+  // columns are zero there): difference quotients, first order, bounded.
+  for (size_t i = 0; i < d.massless.size(); ++i)
+    if (d.massless[i]) {
+      next.V[i] = (next.U[i] - old.U[i]) / tau;
+      if (next.A_valid) next.A[i] = (next.V[i] - old.V[i]) / tau;
+    }
   if (!all_finite(next.U) || !all_finite(next.V) || !all_finite(next.A))
     fail(ND_ERR_NONFINITE_STATE,
          "the step to t = " + num(next.t) + " produced non-finite values; the step was not taken");
@@ -119,18 +128,14 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // (P^n with g^n, P^{n+1} with g^{n+1}), gives
   //   dE_Theta = F^{n+1/2}.dU - sum_q (w_q/gamma_q) phi_q dg_q - D,
   //   D = sum_q (w_q/gamma_q) (phi_q dP_q - d([P_q]_+^2)/2) >= 0, 0 unless a point changes sides.
-  // Only a moving obstacle or contact rows on clamped DOFs need phi: skip the pass otherwise.
-  std::vector<double> phi(d.contact.size(), 0.0);
+  // One pass over the points: phi is also the applied pressure (kept in the state).
+  std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
-  bool need_phi = d.clamped && d.contact.has_fixed_rows();
-  for (size_t q = 0; q < phi.size() && !need_phi; ++q) need_phi = law.g(q) != old_law.g(q);
-  if (need_phi) {
-    count(d.counters, &Counters::contact_evaluations);
-    for (size_t q = 0; q < phi.size(); ++q) {
-      double slope;
-      law.law(q, law.P(q, next.U.data()), phi[q], slope);
-      next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
-    }
+  if (!phi.empty()) count(d.counters, &Counters::contact_evaluations);
+  for (size_t q = 0; q < phi.size(); ++q) {
+    double slope;
+    law.law(q, law.P(q, next.U.data()), phi[q], slope);
+    next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
   }
   if (d.clamped) {
     const double a = scheme.mean_weight();
@@ -138,6 +143,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     scheme.mean_acceleration(tau, old, next, Abar);
     next.reaction = clamped_residual(d, Abar, step_mean(next.U, old.U, a), phi, step_mean(next.F_fixed, old.F_fixed, a));
   }
+  next.phi = std::move(phi);
   return next;
 }
 

@@ -152,6 +152,11 @@ void Problem::set_mass_lumping(bool lumped) {
   changed(kLumping);
 }
 
+void Problem::set_mass_redistribution(bool on) {
+  def_.redistributed = on;
+  changed(kLumping);  // the mass aspect
+}
+
 void Problem::set_linear_solver(int solver) {
   def_.solver = solver;
   changed(kSolver);
@@ -280,6 +285,9 @@ void Problem::setup() {
     fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
                           "gamma >= 1/2, or allow it with the unstable-scheme guard for a study");
+  if (!d.massless.empty() && in.scheme->is_explicit())
+    fail(ND_ERR_SCHEME, "mass redistribution leaves the contact nodes without mass, and an explicit scheme "
+                        "cannot advance massless DOFs: choose an implicit scheme or switch the redistribution off");
   if (def_.guards.coercivity) check_coercivity(d, def_.solver);
   const double limit = in.scheme->stability_limit();
   if (def_.guards.critical_timestep && std::isfinite(limit) && def_.tau * omega_max() > limit)
@@ -326,6 +334,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   if (v) d.dofs.restrict_to_free(v, s.V.data());
   s.A_valid = false;
   s.reaction.clear();  // no step led here: the equilibrium's, on demand
+  s.phi.clear();
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
   s.guard.E0 += dE;
@@ -408,6 +417,15 @@ std::vector<double> Problem::contact_pressure() {
   return nd::contact_pressure(discretization_(), s);
 }
 
+std::vector<double> Problem::contact_pressure_applied() {
+  const State &s = state();
+  if (s.phi.empty()) return contact_pressure();  // no step yet: the state's own
+  const ContactPoints &cp = discretization_().contact;
+  std::vector<double> lam(cp.size());
+  for (size_t q = 0; q < lam.size(); ++q) lam[q] = -s.phi[q] / cp.gamma[q];
+  return lam;
+}
+
 namespace {
 // the ND_STAT_* keys and the counters they read
 struct StatKey {
@@ -464,6 +482,12 @@ double Problem::scalar(int key) {
       return mechanical_energy(d, s) - d.theta * nitsche_energy(d, s);
     case ND_CONTACT_FORCE:
       return contact_force(d, s);
+    case ND_CONTACT_FORCE_APPLIED: {
+      if (s.phi.empty()) return contact_force(d, s);
+      double F = 0;
+      for (size_t q = 0; q < s.phi.size(); ++q) F += d.contact.w[q] * s.phi[q] / d.contact.gamma[q];
+      return F;
+    }
     case ND_ACTIVE_POINTS:
       return static_cast<double>(active_points(d, s));
     case ND_MAX_PENETRATION:

@@ -35,6 +35,7 @@ class Problem {
   void set_nodal_forces(const double *f);  // n_dofs values
   void set_newton(const NewtonOptions &o);
   void set_mass_lumping(bool lumped);
+  void set_mass_redistribution(bool on);
   void set_linear_solver(int solver);
   void set_timestep(double tau);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
@@ -70,6 +71,8 @@ class Problem {
   void field(int which, double *full);  // n_dofs values
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
+  // -phi_q/gamma_q: the pressure the last step applied (lambda_q before any step)
+  std::vector<double> contact_pressure_applied();
 
   // Discretization, integrator, initial state: what the first step needs;
   // done once until the definition changes.

@@ -30,6 +30,9 @@ struct State {
   // the reactions on the clamped DOFs of the step that led here (DESIGN §8;
   // empty: not computed yet, e.g. at t^0)
   std::vector<double> reaction;
+  // the contact term phi_q that step applied (TimeScheme::mean_weight's
+  // equation; empty: none yet): the applied pressure is -phi_q/gamma_q
+  std::vector<double> phi;
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;

@@ -125,6 +125,8 @@ Setup build(const Scene &s, Problem &prob) {
     scene_call(nd_problem_set_newton(p, s.newton_rtol, s.newton_atol, (int)s.newton_max_iter), solver_at,
                "solver.newton_*");
   if (s.mass_lumping) scene_call(nd_problem_set_mass_lumping(p, 1), solver_at, "solver.mass_lumping");
+  if (s.mass_redistribution)
+    scene_call(nd_problem_set_mass_redistribution(p, 1), solver_at, "solver.mass_redistribution");
   call(nd_problem_get_node_count(p, &out.nodes), "nd_problem_get_node_count");
   if (!s.u0.empty() || !s.v0.empty()) {  // uniform vectors at every node
     std::vector<double> u, v;
@@ -228,7 +230,7 @@ int run(const Options &opt) {
     make_parent(history_path);
     history.f = std::fopen(history_path.c_str(), "w");
     if (!history.f) throw LibError("cannot write the history " + history_path.string());
-    std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations\n", history.f);
+    std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied\n", history.f);
   }
   fs::path prefix;
   std::vector<std::string> frames;
@@ -269,9 +271,10 @@ int run(const Options &opt) {
     max_force = std::max(max_force, force);
     max_pen = std::max(max_pen, pen);
     if (history.f) {
-      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f\n", k, t,
+      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g\n", k, t,
                    scalar(p, ND_ENERGY_MECHANICAL), scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK), force,
-                   scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0);
+                   scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0,
+                   scalar(p, ND_CONTACT_FORCE_APPLIED));
       if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
     }
     if (!prefix.empty() && (k % every == 0 || k == steps)) {

@@ -29,7 +29,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
       {"time", {"tau", "T"}},
-      {"solver", {"linear", "newton_rtol", "newton_atol", "newton_max_iter", "mass_lumping"}},
+      {"solver", {"linear", "newton_rtol", "newton_atol", "newton_max_iter", "mass_lumping", "mass_redistribution"}},
       {"initial", {"displacement", "velocity"}},
       {"output", {"history", "paraview", "interval"}},
       {"guards", {"energy", "penetration", "critical_timestep", "unstable_scheme", "coercivity",
@@ -294,6 +294,10 @@ void read_solver(const Reader &r, const toml::table &t, Scene &s) {
   if (const toml::node *n = t.get("mass_lumping")) {
     if (!n->is_boolean()) r.wrong_type(*n, "solver", "mass_lumping", "true or false");
     s.mass_lumping = *n->value<bool>();
+  }
+  if (const toml::node *n = t.get("mass_redistribution")) {
+    if (!n->is_boolean()) r.wrong_type(*n, "solver", "mass_redistribution", "true or false");
+    s.mass_redistribution = *n->value<bool>();
   }
 }
 

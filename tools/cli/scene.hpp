@@ -97,6 +97,7 @@ struct Scene {
   int64_t newton_max_iter = 50;
   bool newton_given = false;
   bool mass_lumping = false;
+  bool mass_redistribution = false;  // nd_problem_set_mass_redistribution
   std::string solver_at;
   // [initial]
   std::vector<double> u0, v0;

@@ -41,9 +41,10 @@ EXPLICIT_TAU_OVER_DX = 0.25  # explicit Newmark, lumped: tau = dx/4, dx = h/degr
 def plan(quick):
     if quick:
         return dict(nx=[20, 40, 80, 160], nx_t12_max=160, tau_ladder_nx=160, tau_ladder_k=4, repeat=3,
-                    getfem_nx=[20, 40, 80], disk="quick")
+                    getfem_nx=[20, 40, 80], disk="quick", pressure_nx=[20, 40, 80, 160], pressure_repeat=1)
     return dict(nx=[20, 40, 80, 160, 320, 640, 1280, 2560], nx_t12_max=640, tau_ladder_nx=1280,
-                tau_ladder_k=6, repeat=3, getfem_nx=[20, 40, 80, 160, 320], disk="full")
+                tau_ladder_k=6, repeat=3, getfem_nx=[20, 40, 80, 160, 320], disk="full",
+                pressure_nx=[20, 40, 80, 160, 320, 640], pressure_repeat=3)
 
 
 def bar_argv(build, scheme_args, degree, Theta, nx, tau, T, repeat, row, study, at=None):
@@ -58,9 +59,9 @@ def bar_jobs(build, p, rows_dir):
     """(cost estimate, argv) of every bar1d run."""
     jobs = []
 
-    def add(study, scheme_args, degree, Theta, nx, tau, T, at):
+    def add(study, scheme_args, degree, Theta, nx, tau, T, at, repeat=None):
         row = os.path.join(rows_dir, "bar_%05d.csv" % len(jobs))
-        argv = bar_argv(build, scheme_args, degree, Theta, nx, tau, T, p["repeat"], row, study, at)
+        argv = bar_argv(build, scheme_args, degree, Theta, nx, tau, T, repeat or p["repeat"], row, study, at)
         jobs.append((T / tau * nx * degree, argv))
 
     # the mesh ladder, tau tied to h; T = 12 runs also summarize at T = 3
@@ -88,6 +89,20 @@ def bar_jobs(build, p, rows_dir):
                 else:
                     tau = TAU_OVER_H * h * 2 ** k
                 add("tau-ladder", args, degree, 1, nx, tau, 3, None)
+    # the contact pressure (issue 16): with and without mass redistribution,
+    # lambda at t^n or the pressure the step applied; Theta = 1, T = 3. The
+    # explicit scheme refuses redistribution (massless DOFs).
+    for label, args, explicit in SCHEMES:
+        for degree in (1, 2):
+            for red in (0, 1):
+                for pressure in ("end", "applied"):
+                    if explicit and red:
+                        continue
+                    for nx in p["pressure_nx"]:
+                        h = 1.0 / nx
+                        tau = EXPLICIT_TAU_OVER_DX * h / degree if explicit else TAU_OVER_H * h
+                        add("pressure", args + ["--redistribute", str(red), "--pressure", pressure], degree, 1, nx,
+                            tau, 3, None, p["pressure_repeat"])
     return jobs
 
 

@@ -333,6 +333,9 @@ contains
     call check(nd_step(p) == ND_OK, 'a step')
     status = nd_get_contact_pressure(p, nc, lam)
     call check(status == ND_OK .and. lam(1) <= 0, 'the contact pressure is <= 0')
+    status = nd_get_contact_pressure_applied(p, nc, lam)
+    call check(status == ND_OK .and. lam(1) <= 0, 'the applied contact pressure is <= 0')
+    call check(nd_problem_set_mass_redistribution(p, 1_c_int) == ND_OK, 'nd_problem_set_mass_redistribution')
     call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
 
     ! a general mesh: three vertices, two cells, 0-based indices, int64

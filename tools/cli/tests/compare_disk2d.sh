@@ -29,7 +29,7 @@ g_example=$(sed -n 's/.*gamma0 = \([^ ]*\) (automatic.*/\1/p' "$work/example.log
 [ -n "$g_driver" ] && [ "$g_driver" = "$g_example" ] || fail "gamma0: driver '$g_driver', example '$g_example'"
 
 csv=$(ls "$work"/*_history.csv)
-[ "$(head -1 "$csv")" = "step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations" ] ||
+[ "$(head -1 "$csv")" = "step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied" ] ||
   fail "$csv: unexpected header $(head -1 "$csv")"
 rows=$(($(wc -l < "$csv") - 1))
 [ "$rows" -eq $((T * 20 + 1)) ] || fail "$csv has $rows rows, not $((T * 20 + 1))"
