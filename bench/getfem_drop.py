@@ -23,7 +23,7 @@ Matching our formulation (DESIGN §1-2):
   curved boundary). So the Neumann term given to the brick is
   G = (n . sigma(u) n) n: then GetFEM's terms are exactly DESIGN §1's.
 - The obstacle: the signed distance y (2D) or z (3D), n = -e_y or -e_z.
-- Quadrature: IM_TRIANGLE/IM_TETRAHEDRON of degree 2p, whose face rules are
+- Quadrature: IM_TRIANGLE(2p) / IM_TETRAHEDRON(2 or 5), whose face rules are
   exact for the polynomial parts, as ours; the points differ in 3D (the
   integrand [P]_+ is not polynomial), a difference of the discretization size.
 - Newton stops when ||G||_1 <= rtol (||r||_1 + ||c M U^n||_1) (GetFEM's max_res
@@ -32,6 +32,7 @@ Matching our formulation (DESIGN §1-2):
   M A0 = F = M g: A0 = g exactly.
 
 usage: getfem_drop.py MESH.msh DIM DEGREE TAU T HISTORY.csv
+       getfem_drop.py --check-brick MESH.msh DIM DEGREE   (the brick against DESIGN §1)
 Prints one CSV row (--header for the header). The mesh is converted to Gmsh's
 format 2.2 (GetFEM 5.4's reader) with gmsh in a temporary directory.
 """
@@ -87,8 +88,9 @@ class Drop:
         m = load_mesh(mesh, dim)
         self.mf = gf.MeshFem(m, dim)
         self.mf.set_classical_fem(degree)
-        simplex = "IM_TRIANGLE" if dim == 2 else "IM_TETRAHEDRON"
-        self.mim = gf.MeshIm(m, gf.Integ("%s(%d)" % (simplex, 2 * degree)))
+        # exact for degree 2p (GetFEM has no IM_TETRAHEDRON(4): 5 for P2 in 3D)
+        rule = "IM_TRIANGLE(%d)" % (2 * degree) if dim == 2 else "IM_TETRAHEDRON(%d)" % (2 if degree == 1 else 5)
+        self.mim = gf.MeshIm(m, gf.Integ(rule))
         n = self.mf.nbdof()
         self.n = n
 
@@ -162,9 +164,33 @@ class Drop:
         return float(gf.asm_generic(self.mim, 0, expr, CONTACT, self.md))
 
 
+def check_brick(mesh, dim, degree):
+    """GetFEM's contact residual (the whole model's minus elasticity and mass)
+    against DESIGN §1's Nitsche terms assembled by GWFL, at a state pushed
+    into the plane with random noise; prints the largest relative difference."""
+    d = Drop(mesh, dim, degree, 0.05)
+    U = np.random.default_rng(1).standard_normal(d.n) * 0.3
+    U[dim - 1::dim] -= 7.0  # 2 into the plane at the bottom: part of the boundary in contact
+    d.md.set_variable("u", U)
+    d.md.assembly("build_rhs")
+    R = -np.array(d.md.rhs()) - np.asarray(d.K.mult(U)) - d.c * np.asarray(d.M.mult(U))
+    G = "(element_size/gamma0_getfem)"
+    sv = "(((lambda*Trace(Grad_Test_u)*Id(%d) + mu*(Grad_Test_u + Grad_Test_u')) * %s).%s)" % (dim, d.nc, d.nc)
+    P = "(u.%s - obstacle - %s*%s)" % (d.nc, G, d.sigma_n)
+    expr = "-%g*%s*%s*%s + pos_part(%s)/%s*(Test_u.%s - %g*%s*%s)" % (THETA, G, d.sigma_n, sv, P, G, d.nc, THETA, G, sv)
+    Rp = np.asarray(gf.asm_generic(d.mim, 1, expr, CONTACT, d.md))
+    print("check-brick %s P%d: max |GetFEM - DESIGN| / max |DESIGN| = %.2e (contact force %.6g)"
+          % (os.path.basename(mesh), degree, np.abs(R - Rp).max() / np.abs(Rp).max(), d.contact_force()))
+
+
 def main(argv):
     if len(argv) == 2 and argv[1] == "--header":
         print(HEADER)
+        return 0
+    if len(argv) == 5 and argv[1] == "--check-brick":
+        gf.util_trace_level(0)
+        gf.util_warning_level(0)
+        check_brick(argv[2], int(argv[3]), int(argv[4]))
         return 0
     if len(argv) != 7:
         sys.stderr.write(__doc__)
