@@ -101,7 +101,8 @@ stability-quick: all
 
 # Regenerate the committed reference meshes (needs Debian's gmsh).
 MESHES = examples/meshes
-meshes: bench-deps
+meshes:
+	@sh scripts/install-deps.sh meshes
 	for h in 4 2 1; do \
 	  gmsh -2 -setnumber h $$h -format msh41 $(MESHES)/disk.geo -o $(MESHES)/disk_h$$h.msh || exit 1; \
 	  gmsh -3 -setnumber h $$h -format msh41 $(MESHES)/ball.geo -o $(MESHES)/ball_h$$h.msh || exit 1; \
