@@ -10,6 +10,7 @@
 #   make bench      the benchmarks against GetFEM (bench/run.sh, about 15 min on
 #                   2 cores): bench/results/*.csv and report/PERFORMANCE.md
 #   make bench-quick  the same, small (< 3 min, CI): $(BUILD)/bench-quick/
+#   make bench-tangent  the Newton tangent paths (bench/tangent.sh): bench/results/tangent_*.csv
 #   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
 #   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
@@ -22,7 +23,7 @@ CMAKE_FLAGS ?=
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps meshes bench bench-quick bench-deps report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps meshes bench bench-quick bench-tangent bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -77,6 +78,9 @@ bench: all bench-deps
 
 bench-quick: all bench-deps
 	sh bench/run.sh $(BUILD) quick
+
+bench-tangent: all
+	sh bench/tangent.sh $(BUILD)
 
 # The work-precision report (tools/report): runs, then plots and REPORT.md.
 # Debian's python3 (/usr/bin/python3) with matplotlib and GetFEM.

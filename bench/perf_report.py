@@ -69,9 +69,24 @@ def main():
                 machine.setdefault(k, v)
     ours = read_csv(os.path.join(R, "ours.csv"))
     gf = {(r["dim"], r["mesh"], r["degree"]): r for r in read_csv(os.path.join(R, "getfem.csv"))}
-    one = {(r["dim"], r["mesh"], r["degree"]): r for r in ours if r["blas_threads"] == "1"}
-    dflt = {(r["dim"], r["mesh"], r["degree"]): r for r in ours if r["blas_threads"] == "default"}
-    keys = list(one)
+    # one row per mesh and thread setting: the first with a history (one
+    # thread), the faster of the alternating repetitions for the comparison
+    one, dflt, keys = {}, {}, []
+    for r in ours:
+        k = (r["dim"], r["mesh"], r["degree"])
+        if k not in keys:
+            keys.append(k)
+        if r["blas_threads"] == "1":
+            one.setdefault(k, r)
+        best = dflt if r["blas_threads"] == "default" else None
+        if best is not None and (k not in best or float(r["loop_s"]) < float(best[k]["loop_s"])):
+            best[k] = r
+    one_best = {}
+    for r in ours:
+        k = (r["dim"], r["mesh"], r["degree"])
+        if r["blas_threads"] == "1" and (k not in one_best or float(r["loop_s"]) < float(one_best[k]["loop_s"])):
+            one_best[k] = r
+    keys = [k for k in keys if k in one]
 
     rows = []
     for k in keys:
@@ -97,7 +112,8 @@ def main():
             "step_ratio_contact": (f(g["contact_median_ms"]) / f(o["contact_median_ms"])
                                    if g and f(o["contact_median_ms"]) > 0 and f(g["contact_median_ms"]) > 0 else None),
             "mem_ratio": f(o["peak_rss_mb"]) / f(g["peak_rss_mb"]) if g else None,
-            "blas": f(d["loop_s"]) / f(o["loop_s"]) if d else None,
+            "one_best": one_best[k],
+            "blas": f(d["loop_s"]) / f(one_best[k]["loop_s"]) if d else None,
         })
 
     L = []
@@ -176,13 +192,15 @@ def main():
     w("## BLAS threads")
     w("")
     w("Our whole time loop with the BLAS default (no `OPENBLAS_NUM_THREADS`: OpenBLAS's pthread build uses every "
-      "core) against one thread, measured in the same run:")
+      "core) against one thread, measured in the same run, alternating (one thread, default, one thread, default); "
+      "the faster run of each setting (the machine is shared with other jobs, so single runs are noisy; "
+      "`ours.csv` holds every repetition).")
     w("")
     w("| body | P | h | unknowns | loop s, 1 thread | loop s, default | default / 1 | contact step ms, 1 / default |")
     w("|---|---|---|---|---|---|---|---|")
     worst = None
     for r in rows:
-        o, d = r["o"], r["d"]
+        o, d = r["one_best"], r["d"]
         if not d:
             continue
         worst = max(worst or 0, r["blas"])

@@ -3,8 +3,9 @@
 # P1 and P2, Newmark(1/4, 1/2), Theta = 1, gamma0 = 1e-3, tau = 0.05, ours
 # (bench/disk_bench) and GetFEM's (bench/getfem_drop.py, Debian's
 # python3-getfem, same mesh and formulation) run one after the other for each
-# mesh, so that both see the same machine state; ours once more with the BLAS
-# default threads (no OPENBLAS_NUM_THREADS). Then report/PERFORMANCE.md.
+# mesh, so that both see the same machine state; ours again with the BLAS
+# default threads (no OPENBLAS_NUM_THREADS) and one thread, alternating.
+# Then report/PERFORMANCE.md.
 #   sh bench/run.sh BUILD_DIR          make bench (full, well under 30 min on 2 cores)
 #   sh bench/run.sh BUILD_DIR quick    make bench-quick (< 3 min): BUILD_DIR/bench-quick/
 set -eu
@@ -56,6 +57,9 @@ EOF
     "$out/history/ours_$tag.csv" >> "$ours"
   OPENBLAS_NUM_THREADS=1 $py bench/getfem_drop.py "$meshes/$mesh.msh" "$dim" "$degree" 0.05 "$T" \
     "$out/history/getfem_$tag.csv" >> "$getfem"
+  # the BLAS comparison: alternating, twice each (bench/perf_report.py keeps the faster)
+  env -u OPENBLAS_NUM_THREADS "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
+  OPENBLAS_NUM_THREADS=1 "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
   env -u OPENBLAS_NUM_THREADS "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
   echo "$tag: $(tail -2 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $(tail -1 "$getfem" | cut -d, -f7,8,11)"
 done
@@ -67,8 +71,7 @@ if [ "$mode" != quick ]; then
   for degree in 1 2; do
     OPENBLAS_NUM_THREADS=1 "$build/guard_cost" "$meshes/disk_h1.msh" "$degree" >> "$guards"
   done
-  # the Newton tangent solvers: the low-rank update against the refactorization
-  sh bench/tangent.sh "$build" "$out"
+  # (the Newton tangent paths, bench/tangent.sh, take longer: make bench-tangent)
 fi
 $py bench/perf_report.py --results "$out" --out "$report"
 echo "written: $out/*.csv, $report"
