@@ -7,7 +7,10 @@
 #   make fuzz       the libFuzzer targets (clang), $(FUZZ_TIME) s each on their seed corpora
 #   CMAKE_FLAGS=... (re)configures $(BUILD) with these flags, e.g. CI's
 #                   make check CMAKE_FLAGS=-DND_WERROR=ON
-#   make bench      run the benchmarks (bench/run.sh), results in bench/results/
+#   make bench      the benchmarks against GetFEM (bench/run.sh, about 15 min on
+#                   2 cores): bench/results/*.csv and report/PERFORMANCE.md
+#   make bench-quick  the same, small (< 3 min, CI): $(BUILD)/bench-quick/
+#   make bench-tangent  the Newton tangent paths (bench/tangent.sh): bench/results/tangent_*.csv
 #   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
 #   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
@@ -20,7 +23,7 @@ CMAKE_FLAGS ?=
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps meshes bench report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps meshes bench bench-quick bench-tangent bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -66,9 +69,18 @@ fuzz: fuzz-deps
 abi-update: all
 	cmake --build $(BUILD) --target abi-update
 
-# Benchmarks (not tests): bench/results/*.csv
-bench: all
+# Benchmarks (not tests): ours and GetFEM's (Debian's python3-getfem, gmsh)
+bench-deps:
+	@sh scripts/install-deps.sh bench
+
+bench: all bench-deps
 	sh bench/run.sh $(BUILD)
+
+bench-quick: all bench-deps
+	sh bench/run.sh $(BUILD) quick
+
+bench-tangent: all
+	sh bench/tangent.sh $(BUILD)
 
 # The work-precision report (tools/report): runs, then plots and REPORT.md.
 # Debian's python3 (/usr/bin/python3) with matplotlib and GetFEM.
@@ -94,10 +106,12 @@ stability-quick: all
 # Regenerate the committed reference meshes (needs Debian's gmsh).
 MESHES = examples/meshes
 meshes:
+	@sh scripts/install-deps.sh meshes
 	for h in 4 2 1; do \
 	  gmsh -2 -setnumber h $$h -format msh41 $(MESHES)/disk.geo -o $(MESHES)/disk_h$$h.msh || exit 1; \
 	  gmsh -3 -setnumber h $$h -format msh41 $(MESHES)/ball.geo -o $(MESHES)/ball_h$$h.msh || exit 1; \
 	done
+	gmsh -2 -setnumber h 0.5 -format msh41 $(MESHES)/disk.geo -o $(MESHES)/disk_h0.5.msh
 
 clean:
 	rm -rf $(BUILD) build-sanitize $(FUZZ_BUILD)

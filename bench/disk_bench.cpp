@@ -1,16 +1,22 @@
 // Benchmark (not a test): the 2D disk or 3D ball of DESIGN §7, one
 // configuration per process so that the peak memory is its own. Prints one
-// CSV row: the setup time, the first step (assembly and factorization), the
-// median and mean time per step, Newton iterations per step, the cost of the
-// physical floor of a step (one solve with the cached factor of c M + K_Theta,
-// timed in the same run) and the median step as a ratio to it, peak memory.
-//   disk_bench DIM MESH DEGREE TAU T SOLVER
+// CSV row (the header: disk_bench --header): the setup time, the first step
+// (assembly and factorization), the median step of each kind (free flight:
+// no contact before or after; impact: the first step with contact; contact:
+// contact before and after), Newton iterations, the physical floor of a step
+// (one solve with the cached factor of c M + K_Theta, timed in the same run)
+// and each median as a ratio to it, nnz(L) of CHOLMOD's AMD analysis of A
+// (what the library's CHOLMOD backend computes), peak memory (RSS high-water
+// mark). With HISTORY, writes t, E, contact force, Newton iterations and the
+// step's time per step, to compare with another code (bench/getfem_drop.py).
+//   disk_bench DIM MESH DEGREE TAU T SOLVER [SCHEME [HISTORY]]
+//   SCHEME: hybrid (default) | newmark (Newmark(1/4, 1/2))
 #include <sys/resource.h>
+#include <cholmod.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "capi/handles.hpp"
@@ -20,23 +26,83 @@
 using ndbench::median;
 using ndbench::seconds;
 
+namespace {
+
+const char *kHeader =
+    "dim,mesh,degree,scheme,unknowns,nnz_L,steps,solver,blas_threads,setup_s,first_step_s,loop_s,floor_ms,"
+    "free_steps,free_median_ms,impact_steps,impact_median_ms,contact_steps,contact_median_ms,"
+    "newton_per_contact_step,contact_per_newton_ms,free_over_floor,impact_over_floor,contact_over_floor,"
+    "contact_per_newton_over_floor,peak_rss_mb";
+
+// nnz(L) of CHOLMOD's analysis of A's pattern with one AMD ordering, as the
+// library's backend does (src/linalg/cholmod.cpp); 0 if the analysis fails.
+long long nnz_L(const nd::Csr &A) {
+  cholmod_common c;
+  cholmod_l_start(&c);
+  c.print = 0;
+  c.nmethods = 1;
+  c.method[0].ordering = CHOLMOD_AMD;
+  c.postorder = 1;
+  long long lnz = 0;
+  cholmod_sparse *S = cholmod_l_allocate_sparse(A.n, A.n, A.col.size(), 1, 1, 1, CHOLMOD_PATTERN, &c);
+  if (S) {
+    std::memcpy(S->p, A.ptr.data(), sizeof(int64_t) * A.ptr.size());
+    std::memcpy(S->i, A.col.data(), sizeof(int64_t) * A.col.size());
+    cholmod_factor *L = cholmod_l_analyze(S, &c);
+    if (L) lnz = static_cast<long long>(c.lnz);
+    cholmod_l_free_factor(&L, &c);
+  }
+  cholmod_l_free_sparse(&S, &c);
+  cholmod_l_finish(&c);
+  return lnz;
+}
+
+double get(nd_problem p, int key) {
+  double x = 0;
+  nd_get_scalar(p, key, &x);
+  return x;
+}
+
+}  // namespace
+
 int main(int argc, char **argv) {
-  if (argc != 7) {
-    std::fprintf(stderr, "usage: %s DIM MESH DEGREE TAU T SOLVER\n", argv[0]);
+  if (argc == 2 && !std::strcmp(argv[1], "--header")) {
+    std::puts(kHeader);
+    return 0;
+  }
+  if (argc < 7 || argc > 9) {
+    std::fprintf(stderr, "usage: %s DIM MESH DEGREE TAU T SOLVER [hybrid|newmark [HISTORY.csv]] | --header\n",
+                 argv[0]);
     return 2;
   }
   const int dim = std::atoi(argv[1]), degree = std::atoi(argv[3]), solver = std::atoi(argv[6]);
   const double tau = std::atof(argv[4]), T = std::atof(argv[5]);
+  const char *scheme_name = argc > 7 ? argv[7] : "hybrid";
+  const bool newmark = !std::strcmp(scheme_name, "newmark");
+  if (!newmark && std::strcmp(scheme_name, "hybrid")) {
+    std::fprintf(stderr, "unknown scheme %s\n", scheme_name);
+    return 2;
+  }
+  const double newmark_params[2] = {0.25, 0.5};
+  FILE *history = nullptr;
+  if (argc > 8 && !(history = std::fopen(argv[8], "w"))) {
+    std::perror(argv[8]);
+    return 1;
+  }
   nd_problem p = nullptr;
   double t0 = seconds();
-  if (drop_scene_create(dim, argv[2], degree, ND_SCHEME_HYBRID, nullptr, 1.0, 1e-3, tau, solver, &p) != ND_OK) {
+  if (drop_scene_create(dim, argv[2], degree, newmark ? ND_SCHEME_NEWMARK : ND_SCHEME_HYBRID,
+                        newmark ? newmark_params : nullptr, 1.0, 1e-3, tau, solver, &p) != ND_OK) {
     std::fprintf(stderr, "%s\n", nd_last_error());
     return 1;
   }
   const double setup = seconds() - t0;
   const int steps = static_cast<int>(T / tau + 0.5);
-  std::vector<double> times;
-  double newton = 0, first = 0;
+  std::vector<double> free_flight, impact, contact, per_newton;
+  double newton_contact = 0, first = 0, loop = 0;
+  if (history) std::fprintf(history, "t,E,contact_force,newton,step_s\n%.10g,%.12g,%.12g,0,0\n", 0.0,
+                            get(p, ND_ENERGY_MECHANICAL), get(p, ND_CONTACT_FORCE));
+  double force_before = 0;
   for (int k = 0; k < steps; ++k) {
     t0 = seconds();
     if (nd_step(p) != ND_OK) {
@@ -44,34 +110,46 @@ int main(int argc, char **argv) {
       return 1;
     }
     const double dt = seconds() - t0;
-    if (k == 0)
+    loop += dt;
+    const double it = get(p, ND_NEWTON_ITERATIONS), force = get(p, ND_CONTACT_FORCE);
+    if (k == 0) {
       first = dt;  // includes assembly and the factorization of c M + K_Theta
-    else
-      times.push_back(dt);
-    double it = 0;
-    nd_get_scalar(p, ND_NEWTON_ITERATIONS, &it);
-    newton += it;
+    } else if (force_before == 0 && force == 0) {
+      free_flight.push_back(dt);
+    } else if (force_before == 0) {
+      impact.push_back(dt);
+    } else if (force > 0) {
+      contact.push_back(dt);
+      per_newton.push_back(dt / it);
+      newton_contact += it;
+    }  // release steps (contact before, none after) are few: not reported
+    force_before = force;
+    if (history)
+      std::fprintf(history, "%.10g,%.12g,%.12g,%.0f,%.9f\n", get(p, ND_TIME), get(p, ND_ENERGY_MECHANICAL), force,
+                   it, dt);
   }
+  if (history) std::fclose(history);
   // the floor: one forward/backward solve with the cached factor
   const nd::Integrator *so = p->problem.integrator();
   std::vector<double> x(static_cast<size_t>(so->A.n), 1.0), floor_times;
-  for (int r = 0; r < 21; ++r) {
+  for (int r = 0; r < 31; ++r) {
     t0 = seconds();
     so->A_factor->solve(x.data());
     floor_times.push_back(seconds() - t0);
   }
+  const double fl = median(floor_times);
   struct rusage ru;
   getrusage(RUSAGE_SELF, &ru);
-  int64_t nodes = 0;
-  nd_problem_get_node_count(p, &nodes);
-  const double med = median(times), mean = [&] {
-    double s = 0;
-    for (double v : times) s += v;
-    return times.empty() ? 0 : s / static_cast<double>(times.size());
-  }();
-  std::printf("%d,%s,%d,%lld,%d,%s,%.6f,%.6f,%.6f,%.6f,%.4f,%.6f,%.2f,%.1f\n", dim, argv[2], degree,
-              static_cast<long long>(nodes * dim), steps, so->A_factor->name(), setup, first, 1e3 * med, 1e3 * mean,
-              newton / steps, 1e3 * median(floor_times), med / median(floor_times), ru.ru_maxrss / 1024.0);
+  const double peak_mb = ru.ru_maxrss / 1024.0;  // before the analysis below allocates
+  const char *threads = std::getenv("OPENBLAS_NUM_THREADS");
+  const char *mesh = std::strrchr(argv[2], '/') ? std::strrchr(argv[2], '/') + 1 : argv[2];
+  std::printf("%d,%s,%d,%s,%lld,%lld,%d,%s,%s,%.6f,%.6f,%.6f,%.6f,%zu,%.6f,%zu,%.6f,%zu,%.6f,%.4f,%.6f,%.3f,%.3f,%.3f,"
+              "%.3f,%.1f\n",
+              dim, mesh, degree, scheme_name, static_cast<long long>(so->A.n), nnz_L(so->A), steps,
+              so->A_factor->name(), threads ? threads : "default", setup, first, loop, 1e3 * fl, free_flight.size(),
+              1e3 * median(free_flight), impact.size(), 1e3 * median(impact), contact.size(), 1e3 * median(contact),
+              contact.empty() ? 0.0 : newton_contact / static_cast<double>(contact.size()), 1e3 * median(per_newton),
+              median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb);
   nd_problem_destroy(&p);
   return 0;
 }

@@ -1,35 +1,77 @@
 #!/bin/sh
-# Benchmark of the 2D disk (not a test): P1 and P2 on the committed meshes
-# h = 4, 2, 1 (and 0.5 when gmsh is there to make it), hybrid scheme,
-# Theta = 1, gamma0 = 1e-3, tau = 0.05, T = 32 (the whole bounce).
-# usage: sh bench/run.sh BUILD_DIR [OUT.csv]   (make bench)
+# Benchmarks (not tests), issue 12: the disk (2D) and ball (3D) of DESIGN §7,
+# P1 and P2, Newmark(1/4, 1/2), Theta = 1, gamma0 = 1e-3, tau = 0.05, ours
+# (bench/disk_bench) and GetFEM's (bench/getfem_drop.py, Debian's
+# python3-getfem, same mesh and formulation) run one after the other for each
+# mesh, so that both see the same machine state; ours again with the BLAS
+# default threads (no OPENBLAS_NUM_THREADS) and one thread, alternating.
+# Then report/PERFORMANCE.md.
+#   sh bench/run.sh BUILD_DIR          make bench (full, well under 30 min on 2 cores)
+#   sh bench/run.sh BUILD_DIR quick    make bench-quick (< 3 min): BUILD_DIR/bench-quick/
 set -eu
 build=${1:-build}
-out=${2:-bench/results/disk.csv}
+mode=${2:-full}
 meshes=examples/meshes
-export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
-list="$meshes/disk_h4.msh:4 $meshes/disk_h2.msh:2 $meshes/disk_h1.msh:1"
-if command -v gmsh >/dev/null 2>&1; then
-  gmsh -2 -setnumber h 0.5 -format msh41 "$meshes/disk.geo" -o "$build/disk_h0.5.msh" >/dev/null
-  list="$list $build/disk_h0.5.msh:0.5"
+py=/usr/bin/python3
+if [ "$mode" = quick ]; then
+  out=$build/bench-quick
+  report=$out/PERFORMANCE.md
+  # mesh dim degree T
+  plan="disk_h4:2:1:32 disk_h4:2:2:32 disk_h2:2:1:32 ball_h4:3:1:12"
+else
+  out=bench/results
+  report=report/PERFORMANCE.md
+  # the whole bounce (T = 32) where GetFEM's run stays short; T = 12 (the
+  # impact at t = 10 and 2 time units of contact) or 11 on the biggest meshes.
+  # Not here: ball_h2 P2 and ball_h1 (our P1 run to T = 11 took more than
+  # 10 min and 4.8 GB: the low-rank tangent over thousands of active points)
+  plan="disk_h4:2:1:32 disk_h4:2:2:32 disk_h2:2:1:32 disk_h2:2:2:32 disk_h1:2:1:32 disk_h1:2:2:32
+        disk_h0.5:2:1:12 disk_h0.5:2:2:11 ball_h4:3:1:32 ball_h4:3:2:11 ball_h2:3:1:11"
 fi
-mkdir -p "$(dirname "$out")"
-echo "dim,mesh,h,degree,unknowns,steps,solver,setup_s,first_step_s,median_step_ms,mean_step_ms,newton_per_step,floor_solve_ms,median_over_floor,peak_rss_mb" > "$out"
-for entry in $list; do
-  mesh=${entry%%:*} h=${entry##*:}
+mkdir -p "$out/history"
+[ -f "$meshes/disk_h0.5.msh" ] || gmsh -2 -setnumber h 0.5 -format msh41 "$meshes/disk.geo" -o "$meshes/disk_h0.5.msh" >/dev/null
+ours=$out/ours.csv getfem=$out/getfem.csv
+"$build/disk_bench" --header > "$ours"
+$py bench/getfem_drop.py --header > "$getfem"
+{ echo "date=$(date -u +%Y-%m-%dT%H:%MZ)"
+  echo "cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
+  echo "cores=$(nproc)"
+  echo "load=$(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "getfem=$(dpkg-query -W -f='${Version}' python3-getfem 2>/dev/null || echo unknown)"
+  echo "blas=$(readlink -f /etc/alternatives/libblas.so.3-x86_64-linux-gnu 2>/dev/null || echo unknown)"
+  echo "mode=$mode"; } > "$out/machine.txt"
+# GetFEM's Nitsche brick, as configured, against DESIGN §1's terms
+: > "$out/check_brick.txt"
+for c in disk_h4:2:1 disk_h4:2:2 ball_h4:3:1 ball_h4:3:2; do
+  IFS=: read -r mesh dim degree <<EOF
+$c
+EOF
+  $py bench/getfem_drop.py --check-brick "$meshes/$mesh.msh" "$dim" "$degree" >> "$out/check_brick.txt"
+done
+for entry in $plan; do
+  IFS=: read -r mesh dim degree T <<EOF
+$entry
+EOF
+  tag=${mesh}_P$degree
+  OPENBLAS_NUM_THREADS=1 "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark \
+    "$out/history/ours_$tag.csv" >> "$ours"
+  OPENBLAS_NUM_THREADS=1 $py bench/getfem_drop.py "$meshes/$mesh.msh" "$dim" "$degree" 0.05 "$T" \
+    "$out/history/getfem_$tag.csv" >> "$getfem"
+  # the BLAS comparison: alternating, twice each (bench/perf_report.py keeps the faster)
+  env -u OPENBLAS_NUM_THREADS "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
+  OPENBLAS_NUM_THREADS=1 "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
+  env -u OPENBLAS_NUM_THREADS "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
+  echo "$tag: $(tail -2 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $(tail -1 "$getfem" | cut -d, -f7,8,11)"
+done
+echo "load=$(cut -d' ' -f1-3 /proc/loadavg) (end)" >> "$out/machine.txt"
+if [ "$mode" != quick ]; then
+  # what the guards cost a free-flight step (DESIGN §3b: at most 5 %)
+  guards=$out/guard_cost.csv
+  echo "degree,unknowns,median_step_ms_guarded,median_step_ms_unguarded,relative_cost,energy_evaluation_over_step" > "$guards"
   for degree in 1 2; do
-    row=$("$build/disk_bench" 2 "$mesh" "$degree" 0.05 32 0)
-    echo "$row" | awk -F, -v h="$h" 'BEGIN{OFS=","} {n=split($2,a,"/"); $2=a[n]; print $1,$2,h,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,$13,$14}' >> "$out"
-    tail -1 "$out"
+    OPENBLAS_NUM_THREADS=1 "$build/guard_cost" "$meshes/disk_h1.msh" "$degree" >> "$guards"
   done
-done
-echo "written: $out"
-# what the guards cost a free-flight step (DESIGN §3b: at most 5 %)
-guards=$(dirname "$out")/guard_cost.csv
-echo "degree,unknowns,median_step_ms_guarded,median_step_ms_unguarded,relative_cost,energy_evaluation_over_step" > "$guards"
-for degree in 1 2; do
-  "$build/guard_cost" "$meshes/disk_h1.msh" "$degree" >> "$guards"
-done
-cat "$guards"
-# the Newton tangent solvers: the low-rank update against the refactorization
-sh bench/tangent.sh "$build" "$(dirname "$out")"
+  # (the Newton tangent paths, bench/tangent.sh, take longer: make bench-tangent)
+fi
+$py bench/perf_report.py --results "$out" --out "$report"
+echo "written: $out/*.csv, $report"

@@ -3,6 +3,8 @@
 # missing and we are root; otherwise says what to install. Safe to run twice.
 #   install-deps.sh          the build and the tests
 #   install-deps.sh report   also the work-precision report (matplotlib, GetFEM)
+#   install-deps.sh meshes   also gmsh (make meshes)
+#   install-deps.sh bench    also gmsh and GetFEM (make bench, make bench-quick)
 #   install-deps.sh fuzz     also clang and libFuzzer (make fuzz; libclang-rt-dev is
 #                            Debian's libclang-rt-N-dev of the default clang, -14- on bookworm)
 set -e
@@ -10,6 +12,8 @@ need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy libtomlplusplus-dev libcli11-dev"
 [ "${1:-}" = report ] && pkgs="$pkgs python3 python3-matplotlib python3-getfem"
+[ "${1:-}" = meshes ] && pkgs="$pkgs gmsh"
+[ "${1:-}" = bench ] && pkgs="$pkgs python3 python3-numpy python3-getfem gmsh"
 [ "${1:-}" = fuzz ] && pkgs="$pkgs clang libclang-rt-dev"
 for pkg in $pkgs; do
   have_pkg "$pkg" || need="$need $pkg"
