@@ -11,6 +11,8 @@
 // step's time per step, to compare with another code (bench/getfem_drop.py).
 //   disk_bench DIM MESH DEGREE TAU T SOLVER [SCHEME [HISTORY]]
 //   SCHEME: hybrid (default) | newmark (Newmark(1/4, 1/2))
+// ND_BENCH_BLAS_LIMIT=N in the environment: nd_set_blas_threads(N) first (the
+// column blas_threads then reads "unlimited" for 0 without OPENBLAS_NUM_THREADS).
 #include <sys/resource.h>
 #include <cholmod.h>
 
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"
+#include "linalg/blas_threads.hpp"
 #include "drop_scene.h"
 #include "timing.hpp"
 
@@ -89,6 +92,11 @@ int main(int argc, char **argv) {
     std::perror(argv[8]);
     return 1;
   }
+  const char *limit = std::getenv("ND_BENCH_BLAS_LIMIT");
+  if (limit && nd_set_blas_threads(std::atoi(limit)) != ND_OK) {
+    std::fprintf(stderr, "%s\n", nd_last_error());
+    return 1;
+  }
   nd_problem p = nullptr;
   double t0 = seconds();
   if (drop_scene_create(dim, argv[2], degree, newmark ? ND_SCHEME_NEWMARK : ND_SCHEME_HYBRID,
@@ -132,6 +140,7 @@ int main(int argc, char **argv) {
   // the floor: one forward/backward solve with the cached factor
   const nd::Integrator *so = p->problem.integrator();
   std::vector<double> x(static_cast<size_t>(so->A.n), 1.0), floor_times;
+  nd::BlasThreadScope blas;  // the library's BLAS policy, as inside its calls
   for (int r = 0; r < 31; ++r) {
     t0 = seconds();
     so->A_factor->solve(x.data());
@@ -142,6 +151,7 @@ int main(int argc, char **argv) {
   getrusage(RUSAGE_SELF, &ru);
   const double peak_mb = ru.ru_maxrss / 1024.0;  // before the analysis below allocates
   const char *threads = std::getenv("OPENBLAS_NUM_THREADS");
+  if (!threads && limit && std::atoi(limit) == 0) threads = "unlimited";
   const char *mesh = std::strrchr(argv[2], '/') ? std::strrchr(argv[2], '/') + 1 : argv[2];
   std::printf("%d,%s,%d,%s,%lld,%lld,%d,%s,%s,%.6f,%.6f,%.6f,%.6f,%zu,%.6f,%zu,%.6f,%zu,%.6f,%.4f,%.6f,%.3f,%.3f,%.3f,"
               "%.3f,%.1f\n",

@@ -4,7 +4,9 @@
 # (bench/disk_bench) and GetFEM's (bench/getfem_drop.py, Debian's
 # python3-getfem, same mesh and formulation) run one after the other for each
 # mesh, so that both see the same machine state; ours again with the BLAS
-# default threads (no OPENBLAS_NUM_THREADS) and one thread, alternating.
+# default threads (no OPENBLAS_NUM_THREADS: the library's own limit, one
+# thread inside its calls), the same without the library's limit
+# (nd_set_blas_threads(0)) and one thread, alternating.
 # Then report/PERFORMANCE.md.
 #   sh bench/run.sh BUILD_DIR          make bench (full, well under 30 min on 2 cores)
 #   sh bench/run.sh BUILD_DIR quick    make bench-quick (< 3 min): BUILD_DIR/bench-quick/
@@ -58,10 +60,13 @@ EOF
   OPENBLAS_NUM_THREADS=1 $py bench/getfem_drop.py "$meshes/$mesh.msh" "$dim" "$degree" 0.05 "$T" \
     "$out/history/getfem_$tag.csv" >> "$getfem"
   # the BLAS comparison: alternating, twice each (bench/perf_report.py keeps the faster)
-  env -u OPENBLAS_NUM_THREADS "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
-  OPENBLAS_NUM_THREADS=1 "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
-  env -u OPENBLAS_NUM_THREADS "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark >> "$ours"
-  echo "$tag: $(tail -2 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $(tail -1 "$getfem" | cut -d, -f7,8,11)"
+  run="$build/disk_bench $dim $meshes/$mesh.msh $degree 0.05 $T 0 newmark"
+  env -u OPENBLAS_NUM_THREADS $run >> "$ours"
+  env -u OPENBLAS_NUM_THREADS ND_BENCH_BLAS_LIMIT=0 $run >> "$ours"
+  OPENBLAS_NUM_THREADS=1 $run >> "$ours"
+  env -u OPENBLAS_NUM_THREADS $run >> "$ours"
+  env -u OPENBLAS_NUM_THREADS ND_BENCH_BLAS_LIMIT=0 $run >> "$ours"
+  echo "$tag: $(tail -3 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $(tail -1 "$getfem" | cut -d, -f7,8,11)"
 done
 echo "load=$(cut -d' ' -f1-3 /proc/loadavg) (end)" >> "$out/machine.txt"
 if [ "$mode" != quick ]; then

@@ -154,6 +154,11 @@ typedef int (*nd_monitor_fn)(nd_problem p, void *userdata);
 ND_EXPORT int nd_version(int *major, int *minor, int *patch);
 ND_EXPORT const char *nd_last_error(void);
 ND_EXPORT const char *nd_strerror(int code);
+/* BLAS threads used inside the library's calls (process-wide; default 1):
+   n >= 1 limits the BLAS to n threads during each call and restores the
+   caller's count on return; 0 leaves the BLAS as the caller set it. */
+ND_EXPORT int nd_set_blas_threads(int threads);
+ND_EXPORT int nd_get_blas_threads(int *threads);
 
 /* ---- mesh -------------------------------------------------------------- */
 /* coords node-major (n_nodes*dim); cells are simplices, dim+1 0-based vertex

@@ -30,7 +30,7 @@ module nitschedyn
   include 'nitschedyn_constants.inc'
 
   ! ---- the C functions, under their C names --------------------------------
-  public :: nd_version, nd_last_error, nd_strerror
+  public :: nd_version, nd_last_error, nd_strerror, nd_set_blas_threads, nd_get_blas_threads
   public :: nd_mesh_create, nd_mesh_create_interval, nd_mesh_create_rectangle, nd_mesh_create_box, &
             nd_mesh_read_gmsh, nd_mesh_set_region, nd_mesh_mark_boundary_box, nd_mesh_get_dimension, &
             nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy
@@ -86,6 +86,20 @@ module nitschedyn
       integer(c_int), value :: code
       type(c_ptr) :: message
     end function nd_strerror
+
+    ! BLAS threads inside the library's calls (process-wide; default 1; 0:
+    ! leave the BLAS as the caller set it).
+    function nd_set_blas_threads(threads) result(status) bind(C, name='nd_set_blas_threads')
+      import :: c_int
+      integer(c_int), value :: threads
+      integer(c_int) :: status
+    end function nd_set_blas_threads
+
+    function nd_get_blas_threads(threads) result(status) bind(C, name='nd_get_blas_threads')
+      import :: c_int
+      integer(c_int), intent(out) :: threads
+      integer(c_int) :: status
+    end function nd_get_blas_threads
 
     ! ---- mesh -----------------------------------------------------------------
     ! coords(dim, n_nodes), cells(dim+1, n_cells) of 0-based vertex indices

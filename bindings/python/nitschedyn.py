@@ -106,6 +106,8 @@ _PROTOTYPES = {
     "nd_version": (_int, [_pint, _pint, _pint]),
     "nd_last_error": (_str, []),
     "nd_strerror": (_str, [_int]),
+    "nd_set_blas_threads": (_int, [_int]),
+    "nd_get_blas_threads": (_int, [_pint]),
     "nd_mesh_create": (_int, [_int, _i64, _pdbl, _i64, _pi64, _pptr]),
     "nd_mesh_create_interval": (_int, [_i64, _dbl, _dbl, _pptr]),
     "nd_mesh_create_rectangle": (_int, [_i64, _i64, _pdbl, _pdbl, _pptr]),
@@ -208,6 +210,19 @@ def _check(status):
     if status < 0:
         raise Error(status, last_error())
     return status
+
+
+def set_blas_threads(threads):
+    """nd_set_blas_threads(threads): the BLAS threads inside the library's
+    calls (process-wide; default 1; 0 leaves the BLAS as the caller set it)."""
+    _check(lib.nd_set_blas_threads(threads))
+
+
+def get_blas_threads():
+    """nd_get_blas_threads(): the library's BLAS thread limit."""
+    n = _int()
+    _check(lib.nd_get_blas_threads(ctypes.byref(n)))
+    return n.value
 
 
 def _doubles(values, count=None, what="array"):

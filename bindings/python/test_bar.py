@@ -180,6 +180,16 @@ def test_monitor():
 
 def test_constants():
     check(nd.version()[0] == nd.ND_VERSION_MAJOR, "nd.version() agrees with ND_VERSION_MAJOR")
+    check(nd.get_blas_threads() == 1, "nd.get_blas_threads(): default 1")
+    nd.set_blas_threads(2)
+    check(nd.get_blas_threads() == 2, "nd.set_blas_threads(2) round-trips")
+    try:
+        nd.set_blas_threads(-1)
+        check(False, "nd.set_blas_threads(-1) raises")
+    except nd.Error as e:
+        check(e.code == nd.ND_ERR_VALUE and nd.get_blas_threads() == 2,
+              "nd.set_blas_threads(-1) raises ND_ERR_VALUE, the setting unchanged")
+    nd.set_blas_threads(1)
     bad = [name for name, (value, text) in nd.STATUS.items() if nd.strerror(value) != text]
     check(not bad, "nd_strerror(code) is the header's text for every generated status code %s" % bad)
     check(nd.ND_ERR_FORMAT == -24 and len(nd.STATUS) >= 25, "the status list is complete")

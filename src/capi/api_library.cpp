@@ -73,4 +73,21 @@ ND_EXPORT const char *nd_strerror(int code) {
   return "unknown status code";
 }
 
+ND_EXPORT int nd_set_blas_threads(int threads) {
+  return nd::guarded("nd_set_blas_threads", [&] {
+    if (threads < 0)
+      nd::fail(ND_ERR_VALUE, "threads = " + std::to_string(threads) + " is negative (0: leave the BLAS alone)");
+    nd::set_blas_thread_limit(threads);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_get_blas_threads(int *threads) {
+  return nd::guarded("nd_get_blas_threads", [&] {
+    nd::need(threads, "threads");
+    *threads = nd::blas_thread_limit();
+    return ND_OK;
+  });
+}
+
 }  // extern "C"

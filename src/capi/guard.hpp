@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "linalg/blas_threads.hpp"
 #include "nitschedyn.h"
 #include "problem/definition.hpp"
 
@@ -29,9 +30,12 @@ inline void set_last_error(const char *fn, const char *message) noexcept {
   append_last_error(message);
 }
 
+// It also holds the BLAS to the library's thread limit for the call
+// (linalg/blas_threads.hpp): every call may factorize or solve.
 template <class Body>
 int guarded(const char *fn, Body &&body) noexcept {
   clear_last_error();
+  BlasThreadScope blas;
   try {
     return body();
   } catch (const Incomplete &e) {

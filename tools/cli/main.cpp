@@ -191,10 +191,12 @@ void make_parent(const fs::path &p) {
 struct Options {
   std::string scene, out, restart;
   double T = -1, tau = -1;
+  int blas_threads = 1;
   bool quiet = false, progress = false, check = false, list_keys = false;
 };
 
 int run(const Options &opt) {
+  call(nd_set_blas_threads(opt.blas_threads), "--blas-threads");
   Scene s = ndcli::read_scene(opt.scene);
   if (opt.tau > 0) s.tau = opt.tau, s.tau_given = true, s.tau_at = "--tau";
   if (opt.T >= 0) s.T = opt.T, s.T_given = true, s.T_at = "--T";
@@ -338,6 +340,9 @@ int main(int argc, char **argv) {
   app.add_option("--tau", opt.tau, "time step (overrides time.tau)")->check(number_at_least(0, true));
   app.add_option("--out", opt.out, "directory of the outputs (default: the current directory)");
   app.add_option("--restart", opt.restart, "resume from a checkpoint file ([checkpoint]) of the same scene");
+  app.add_option("--blas-threads", opt.blas_threads,
+                 "BLAS threads inside the library's calls (default 1; 0: as the environment sets them)")
+      ->check(CLI::Range(0, 4096));
   app.add_flag("--quiet,-q", opt.quiet, "print the summary line only (and errors)");
   app.add_flag("--progress", opt.progress, "show progress on stderr even when it is not a terminal");
   app.add_flag("--check", opt.check, "read the scene and set the problem up, then stop");

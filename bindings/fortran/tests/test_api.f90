@@ -280,6 +280,19 @@ contains
     write (version, '(i0, ".", i0, ".", i0)') major, minor, patch
     call check(trim(version) == ND_VERSION_STRING, 'ND_VERSION_STRING is ' // trim(version))
 
+    ! the BLAS thread setting: default 1, round trip, a negative one refused
+    status = nd_get_blas_threads(i)
+    call check(status == ND_OK .and. i == 1, 'nd_get_blas_threads: default 1')
+    status = nd_set_blas_threads(3_c_int)
+    call check(status == ND_OK, 'nd_set_blas_threads(3)')
+    status = nd_get_blas_threads(i)
+    call check(status == ND_OK .and. i == 3, 'nd_set_blas_threads(3) round-trips')
+    status = nd_set_blas_threads(-1_c_int)
+    call check(status == ND_ERR_VALUE, 'nd_set_blas_threads(-1) is refused')
+    status = nd_get_blas_threads(i)
+    call check(status == ND_OK .and. i == 3, 'the setting unchanged')
+    call check(nd_set_blas_threads(1_c_int) == ND_OK, 'nd_set_blas_threads(1)')
+
     ! every generated status code is one the library knows
     bad = 0
     do i = 1, size(ND_STATUS_VALUES)
