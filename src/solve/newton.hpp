@@ -1,7 +1,8 @@
 // Semi-smooth Newton for G(U) = A U + kappa N(U) - r = 0 (DESIGN §3).
 // Converged when the active set did not change in the last iteration and
 // either ||G|| <= rtol (||r|| + ||cMU||) + atol or the update is at the
-// round-off level of U.
+// round-off level of U; or when both hold (points at P_q = 0 to round-off
+// may flip forever without moving U).
 #pragma once
 #include <vector>
 
