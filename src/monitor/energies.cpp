@@ -10,21 +10,73 @@ ContactLaw state_contact_law(const Discretization &d, const State &s) {
   return ContactLaw{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
 }
 
-double mechanical_energy(const Discretization &d, const State &s) {
-  // M and K share one pattern (lumped M included): one pass over it
+namespace {
+
+// The pass behind compute_products and mechanical_energy: each product
+// summed in the order of Csr::multiply, V.MV and U.KU row by row, so that
+// the energy has the same bits whether or not the products are stored
+template <bool store>
+void products_pass(const Discretization &d, const State &s, Products &p) {
   const Csr &M = d.M, &K = d.K;
+  require_same_pattern(K, M);
   count(d.counters, &Counters::spmv);
+  const bool acc = store && s.A_valid;
+  if (store) {
+    p.MU.resize(s.U.size());
+    p.MV.resize(s.U.size());
+    p.KU.resize(s.U.size());
+    if (acc) p.MA.resize(s.U.size());
+    else p.MA.clear();
+  }
+  const double *m = M.val.data(), *k = K.val.data(), *U = s.U.data(), *V = s.V.data(), *A = s.A.data();
+  const int64_t *col = K.col.data(), *ptr = K.ptr.data();
   double kinetic = 0, strain = 0;
   for (int64_t i = 0; i < K.n; ++i) {
-    double mv = 0, ku = 0;
-    for (int64_t k = K.ptr[i]; k < K.ptr[i + 1]; ++k) {
-      mv += M.val[k] * s.V[K.col[k]];
-      ku += K.val[k] * s.U[K.col[k]];
+    double mu = 0, mv = 0, ma = 0, ku = 0;
+    for (int64_t j = ptr[i]; j < ptr[i + 1]; ++j) {
+      const int64_t c = col[j];
+      mv += m[j] * V[c];
+      ku += k[j] * U[c];
+      if (store) mu += m[j] * U[c];
+      if (acc) ma += m[j] * A[c];
     }
-    kinetic += s.V[i] * mv;
-    strain += s.U[i] * ku;
+    kinetic += V[i] * mv;
+    strain += U[i] * ku;
+    if (store) {
+      p.MU[i] = mu, p.MV[i] = mv, p.KU[i] = ku;
+      if (acc) p.MA[i] = ma;
+    }
   }
-  return 0.5 * kinetic + 0.5 * strain;
+  p.kinetic = kinetic;
+  p.strain = strain;
+}
+
+}  // namespace
+
+void compute_products(const Discretization &d, State &s) {
+  s.products.of = 0;  // stays 0 if anything below throws
+  products_pass<true>(d, s, s.products);
+  const ContactLaw law = state_contact_law(d, s);
+  s.products.P.resize(d.contact.size());
+  if (!s.products.P.empty()) count(d.counters, &Counters::contact_evaluations);
+  for (size_t q = 0; q < s.products.P.size(); ++q) s.products.P[q] = law.P(q, s.U.data());
+  s.products.of = d.id;
+}
+
+const Products &products_of(const Discretization &d, const State &s, Products &scratch) {
+  if (s.products.of == d.id) return s.products;
+  State copy;  // the same pass as compute_products, on a state we may not change
+  copy.U = s.U, copy.V = s.V, copy.A = s.A, copy.A_valid = s.A_valid, copy.gap = s.gap;
+  compute_products(d, copy);
+  scratch = std::move(copy.products);
+  return scratch;
+}
+
+double mechanical_energy(const Discretization &d, const State &s) {
+  if (s.products.of == d.id) return 0.5 * s.products.kinetic + 0.5 * s.products.strain;
+  Products sums;
+  products_pass<false>(d, s, sums);
+  return 0.5 * sums.kinetic + 0.5 * sums.strain;
 }
 
 double nitsche_energy(const Discretization &d, const State &s) {

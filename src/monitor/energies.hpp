@@ -12,7 +12,13 @@ namespace nd {
 
 // [P]_+ with the obstacle where it is at the state's time
 ContactLaw state_contact_law(const Discretization &d, const State &s);
-// E = 1/2 V'MV + 1/2 U'KU
+// s.products: M U, M V, M A (when s.A_valid), K U and the energy's sums, in
+// one pass over the pattern M and K share (one ND_STAT_SPMV), and P_q(U)
+// (one contact evaluation, none without contact points)
+void compute_products(const Discretization &d, State &s);
+// s.products if they are valid for d, else the same pass into `scratch`
+const Products &products_of(const Discretization &d, const State &s, Products &scratch);
+// E = 1/2 V'MV + 1/2 U'KU (the sums of s.products when valid: the same bits)
 double mechanical_energy(const Discretization &d, const State &s);
 // R = 1/2 sum_q w_q (gamma_q (s_q.U)^2 - [P_q]_+^2/gamma_q)
 double nitsche_energy(const Discretization &d, const State &s);

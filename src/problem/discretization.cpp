@@ -1,5 +1,7 @@
 #include "problem/discretization.hpp"
 
+#include <atomic>
+
 #include <algorithm>
 #include <cmath>
 
@@ -109,7 +111,15 @@ void Discretization::mass_solve(double *x, int solver) {
   M_factor->solve(x);
 }
 
+namespace {
+std::atomic<uint64_t> last_discretization_id{0};
+}  // namespace
+
+Discretization::Discretization(DofMap d, bool lump)
+    : id(++last_discretization_id), dofs(std::move(d)), lumped(lump) {}
+
 void Discretization::equilibrium_acceleration(State &s, int solver) {
+  s.products.of = 0;  // A changes under them
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
   count(counters, &Counters::spmv);

@@ -22,7 +22,9 @@ struct ClampedRows {
 };
 
 struct Discretization {
-  Discretization(DofMap d, bool lump) : dofs(std::move(d)), lumped(lump) {}
+  Discretization(DofMap d, bool lump);
+  // unique per discretization made in this process: what a State's Products are valid for
+  const uint64_t id;
   DofMap dofs;
   Csr M;  // the scheme's mass: consistent, or lumped (diagonal) on the same pattern
   bool lumped;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/format.hpp"
+#include "monitor/energies.hpp"
 #include "problem/forces.hpp"
 #include "solve/newton.hpp"
 
@@ -78,19 +79,18 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // P(U) with it where it is at t^{n+1} (DESIGN §8)
   ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
   ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
-  std::vector<double> Pn(d.contact.size());  // read by the implicit schemes' contact terms only
-  if (!Pn.empty() && !scheme.is_explicit()) {
-    count(d.counters, &Counters::contact_evaluations);
-    for (size_t q = 0; q < Pn.size(); ++q) Pn[q] = old_law.P(q, old.U.data());
-  }
-  law.Pn = &Pn;
+  // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
+  // contact terms read them) and what the right-hand side is made of
+  Products scratch;  // only when the state has none (restart, new state): the same pass
+  const Products &old_products = products_of(d, old, scratch);
+  law.Pn = &old_products.P;
   scheme.predict(tau, old, next.U);
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
     d.equilibrium_acceleration(next, def.solver);
   } else {
     std::vector<double> r;
-    scheme.rhs(StepInputs{d.M, d.K_theta, F_old, next.F, d.counters}, tau, old, r);
+    scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);
     if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
       next.U = r;
       in.A_factor->solve(next.U.data());
@@ -129,12 +129,14 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   //   dE_Theta = F^{n+1/2}.dU - sum_q (w_q/gamma_q) phi_q dg_q - D,
   //   D = sum_q (w_q/gamma_q) (phi_q dP_q - d([P_q]_+^2)/2) >= 0, 0 unless a point changes sides.
   // One pass over the points: phi is also the applied pressure (kept in the state).
+  // (the products of the new state: its energy for the guard, its P_q for
+  // phi and for the next step, and the next right-hand side)
+  compute_products(d, next);
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
-  if (!phi.empty()) count(d.counters, &Counters::contact_evaluations);
   for (size_t q = 0; q < phi.size(); ++q) {
     double slope;
-    law.law(q, law.P(q, next.U.data()), phi[q], slope);
+    law.law(q, next.products.P[q], phi[q], slope);
     next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
   }
   if (d.clamped) {

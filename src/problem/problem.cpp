@@ -301,6 +301,8 @@ void Problem::setup() {
   setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) d.equilibrium_acceleration(state_, def_.solver);
+  // the products the first step's right-hand side reads (each step leaves its own)
+  if (state_.products.of != d.id) compute_products(d, state_);
 }
 
 void Problem::step() {
@@ -333,6 +335,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   if (u) d.dofs.restrict_to_free(u, s.U.data());
   if (v) d.dofs.restrict_to_free(v, s.V.data());
   s.A_valid = false;
+  s.products.of = 0;   // of the state it replaces
   s.reaction.clear();  // no step led here: the equilibrium's, on demand
   s.phi.clear();
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);

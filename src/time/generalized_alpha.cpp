@@ -27,18 +27,17 @@ class GeneralizedAlpha : public TimeScheme {
   // r = [F^{n+1-af} - af K_Theta U^n - am M A^n
   //      + (1-am) M (U^n/(beta tau^2) + V^n/(beta tau) + (1/(2 beta) - 1) A^n)] / (1-af)
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
-    const size_t n = old.U.size();
-    std::vector<double> y(n);
-    for (size_t i = 0; i < n; ++i)
-      y[i] = (1 - am_) * (old.U[i] / (beta_ * tau * tau) + old.V[i] / (beta_ * tau) + (0.5 / beta_ - 1) * old.A[i]) -
-             am_ * old.A[i];
-    r.resize(n);
+    // M y, y = (1 - alpha_m) (U^n/(beta tau^2) + V^n/(beta tau) + (1/(2 beta) - 1) A^n) - alpha_m A^n
+    in.mass_combination((1 - am_) / (beta_ * tau * tau), (1 - am_) / (beta_ * tau),
+                        (1 - am_) * (0.5 / beta_ - 1) - am_, r);
+    std::vector<double> KtU;
+    in.k_theta_u(old.U, KtU);
     const bool has_load = !in.F_new.empty();
-    in.mass_and_k_theta_times(y.data(), old.U.data(), [&](int64_t i, double My, double KtU) {
-      double ri = My - af_ * KtU;
+    for (size_t i = 0; i < r.size(); ++i) {
+      double ri = r[i] - af_ * KtU[i];
       if (has_load) ri += (1 - af_) * in.F_new[i] + af_ * in.F_old[i];
       r[i] = ri / (1 - af_);
-    });
+    }
   }
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, true, U);

@@ -14,16 +14,14 @@ class Hybrid : public TimeScheme {
   StepCoefficients coefficients(double tau) const override { return {4 / (tau * tau), 2}; }
   // 2 F^{n+1/2} - K_Theta U^n + M (c U^n + 4/tau V^n), F^{n+1/2} = (F^n + F^{n+1})/2
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
-    const size_t n = old.U.size();
-    const double c = coefficients(tau).c;
-    std::vector<double> y(n);
-    for (size_t i = 0; i < n; ++i) y[i] = c * old.U[i] + 4 / tau * old.V[i];
-    r.resize(n);
+    in.mass_combination(coefficients(tau).c, 4 / tau, 0, r);  // M y
+    std::vector<double> KtU;
+    in.k_theta_u(old.U, KtU);
     const bool has_load = !in.F_new.empty();
-    in.mass_and_k_theta_times(y.data(), old.U.data(), [&](int64_t i, double My, double KtU) {
-      r[i] = My - KtU;
+    for (size_t i = 0; i < r.size(); ++i) {
+      r[i] -= KtU[i];
       if (has_load) r[i] += in.F_old[i] + in.F_new[i];
-    });
+    }
   }
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, false, U);

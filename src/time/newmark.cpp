@@ -21,12 +21,9 @@ class Newmark : public TimeScheme {
     return 2 * beta_ >= gamma_ ? INFINITY : 1 / std::sqrt(0.5 * gamma_ - beta_);
   }
   StepCoefficients coefficients(double tau) const override { return {1 / (beta_ * tau * tau), 1}; }
-  void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
-    const double c = coefficients(tau).c;
-    std::vector<double> y(old.U.size());
-    for (size_t i = 0; i < y.size(); ++i)
-      y[i] = c * old.U[i] + old.V[i] / (beta_ * tau) + (0.5 / beta_ - 1) * old.A[i];
-    mass_times(in, y, r);
+  // F^{n+1} + M [c U^n + V^n/(beta tau) + (1/(2 beta) - 1) A^n]
+  void rhs(const StepInputs &in, double tau, const State &, std::vector<double> &r) const override {
+    in.mass_combination(coefficients(tau).c, 1 / (beta_ * tau), 0.5 / beta_ - 1, r);  // M y
     if (!in.F_new.empty())
       for (size_t i = 0; i < r.size(); ++i) r[i] += in.F_new[i];
   }

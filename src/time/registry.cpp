@@ -57,10 +57,24 @@ void predict_taylor(double tau, const State &old, bool with_acceleration, std::v
     U[i] = old.U[i] + tau * old.V[i] + (acc ? 0.5 * tau * tau * old.A[i] : 0.0);
 }
 
-void mass_times(const StepInputs &in, const std::vector<double> &y, std::vector<double> &r) {
-  r.resize(y.size());
-  count(in.counters, &Counters::spmv);
-  in.M.multiply(y.data(), r.data());
+void StepInputs::mass_combination(double a, double b, double e, std::vector<double> &r) const {
+  const size_t n = old.MU.size();
+  r.resize(n);
+  if (e != 0 && old.MA.size() == n) {
+    for (size_t i = 0; i < n; ++i) r[i] = a * old.MU[i] + b * old.MV[i] + e * old.MA[i];
+  } else {
+    for (size_t i = 0; i < n; ++i) r[i] = a * old.MU[i] + b * old.MV[i];
+  }
+}
+
+void StepInputs::k_theta_u(const std::vector<double> &U, std::vector<double> &out) const {
+  out = old.KU;
+  if (theta == 0) return;  // K_Theta = K
+  for (size_t q = 0; q < contact.size(); ++q) {
+    const SparseRow &s = contact.s[q];
+    const double f = theta * contact.w[q] * contact.gamma[q] * s.dot(U.data());
+    for (size_t k = 0; k < s.idx.size(); ++k) out[s.idx[k]] -= f * s.val[k];
+  }
 }
 
 }  // namespace nd

@@ -10,8 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "common/counters.hpp"
-#include "linalg/csr.hpp"
+#include "assembly/contact.hpp"
 #include "time/state.hpp"
 
 namespace nd {
@@ -20,18 +19,20 @@ struct StepCoefficients {
   double c, kappa;
 };
 
-// What a right-hand side may read: the operators and the loads at both ends
-// of the step (F_old, F_new both empty when there is no load).
+// What a right-hand side may read: the products of the state at t^n (M U^n,
+// M V^n, M A^n, K U^n, from the pass that also gave its energy: a
+// right-hand side needs no product of its own), the contact rows for
+// K_Theta U^n, and the loads at both ends of the step (F_old, F_new both
+// empty when there is no load).
 struct StepInputs {
-  const Csr &M, &K_theta;
+  const Products &old;
+  const ContactPoints &contact;
+  double theta;  // Nitsche's Theta
   const std::vector<double> &F_old, &F_new;
-  Counters *counters = nullptr;  // the problem's (ND_STAT_*), or none
-  // f(i, (M y)_i, (K_Theta u)_i) in one pass over their shared pattern, counted once
-  template <class F>
-  void mass_and_k_theta_times(const double *y, const double *u, F &&f) const {
-    count(counters, &Counters::spmv);
-    multiply_pair(M, y, K_theta, u, f);
-  }
+  // r = a M U^n + b M V^n + e M A^n (e = 0 when A^n is not valid)
+  void mass_combination(double a, double b, double e, std::vector<double> &r) const;
+  // K_Theta U^n = K U^n - Theta sum_q w_q gamma_q (s_q.U^n) s_q
+  void k_theta_u(const std::vector<double> &U, std::vector<double> &out) const;
 };
 
 class TimeScheme {
@@ -82,8 +83,6 @@ std::unique_ptr<TimeScheme> make_generalized_alpha_scheme(const std::vector<doub
 // U = U^n + tau V^n (+ tau^2/2 A^n when with_acceleration and A^n is known):
 // the Taylor predictor the schemes share.
 void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U);
-// r = M y: the part of every right-hand side that goes through the mass (counted).
-void mass_times(const StepInputs &in, const std::vector<double> &y, std::vector<double> &r);
 
 // A parameter check shared by the schemes: lo <= x <= hi (NaN fails).
 void require_parameter(double x, double lo, double hi, const char *what);

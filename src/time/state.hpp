@@ -11,6 +11,22 @@ struct GuardState {
   double budget = 0;  // E^0 + max_k (W^k + W_obstacle^k): the most energy loads and obstacle put in
 };
 
+// M U, M V, M A (when A is valid), K U and the two sums of the mechanical
+// energy (V.MV, U.KU) of one state, from one fused pass over the pattern M
+// and K share, and P_q(U) from one pass over the contact points
+// (compute_products, src/monitor/energies.hpp). The next step's
+// right-hand side is formed from them (no product of its own) and the energy
+// guard reads the sums. A cache, not checkpointed: the same pass over the
+// same U, V, A gives the same bits after a restart. Valid for the
+// discretization whose id `of` holds (0: not computed); whoever writes U, V
+// or A in place resets it.
+struct Products {
+  uint64_t of = 0;
+  std::vector<double> MU, MV, MA, KU;  // MA empty when A is not valid
+  double kinetic = 0, strain = 0;      // V.MV and U.KU
+  std::vector<double> P;               // P_q(U) with the state's gaps: the next step's P^n
+};
+
 struct State {
   double t = 0;
   int64_t n = 0;
@@ -36,6 +52,7 @@ struct State {
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;
+  Products products;
 };
 
 }  // namespace nd

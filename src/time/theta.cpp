@@ -14,12 +14,9 @@ class Theta : public TimeScheme {
   // |1 + (1-theta) i w tau| > |1 - theta i w tau| for every w tau > 0
   bool always_unstable() const override { return th_ < 0.5; }
   StepCoefficients coefficients(double tau) const override { return {1 / (tau * tau * th_ * th_), 1}; }
-  void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
-    const double c = coefficients(tau).c;
-    std::vector<double> y(old.U.size());
-    for (size_t i = 0; i < y.size(); ++i)
-      y[i] = c * old.U[i] + old.V[i] / (tau * th_ * th_) + (1 - th_) / th_ * old.A[i];
-    mass_times(in, y, r);
+  // F^{n+1} + M [c U^n + V^n/(tau theta^2) + (1 - theta)/theta A^n]
+  void rhs(const StepInputs &in, double tau, const State &, std::vector<double> &r) const override {
+    in.mass_combination(coefficients(tau).c, 1 / (tau * th_ * th_), (1 - th_) / th_, r);  // M y
     if (!in.F_new.empty())
       for (size_t i = 0; i < r.size(); ++i) r[i] += in.F_new[i];
   }
