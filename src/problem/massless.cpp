@@ -1,5 +1,8 @@
 #include "problem/massless.hpp"
 
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
 #include <string>
 
 #include "common/error.hpp"
@@ -81,16 +84,28 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver) : theta_(d.t
 int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F, const std::vector<double> &gap,
                           double t, std::vector<double> &U) {
   // r = F_m - (K_Theta)_mf U_f; the gaps seen by x: g_q - p_q,f . U_f
+  double scale2 = 0;  // the size of r's terms: its round-off
   for (size_t i = 0; i < dofs_.size(); ++i) {
-    double s = F.empty() ? 0.0 : F[static_cast<size_t>(dofs_[i])];
-    for (int64_t k = cptr_[i]; k < cptr_[i + 1]; ++k) s -= cval_[static_cast<size_t>(k)] * U[static_cast<size_t>(ccol_[k])];
+    double s = F.empty() ? 0.0 : F[static_cast<size_t>(dofs_[i])], a = std::fabs(s);
+    for (int64_t k = cptr_[i]; k < cptr_[i + 1]; ++k) {
+      const double term = cval_[static_cast<size_t>(k)] * U[static_cast<size_t>(ccol_[k])];
+      s -= term;
+      a += std::fabs(term);
+    }
     r_[i] = s;
+    scale2 += a * a;
     x_[i] = U[static_cast<size_t>(dofs_[i])];
   }
   for (size_t q = 0; q < gap_.size(); ++q) gap_[q] = (gap.empty() ? cp_.gap[q] : gap[point_[q]]) - pf_[q].dot(U.data());
   ContactLaw law{&cp_, theta_, nullptr, nullptr, gap_.data(), counters_};
   NewtonSystem sys{&A_, tangent_.get(), &M0_, 0.0, 1.0, &law};
-  const NewtonResult res = newton_solve(sys, r_, opt, x_);
+  // Newton's rules, with atol at least the round-off of r: U_m can be exactly
+  // 0 (the bar's contact node in contact, Theta = 1), where the rule "update
+  // at the round-off of U" cannot hold and rtol = atol = 0 would ask for less
+  // than round-off (DESIGN §3)
+  NewtonOptions o = opt;
+  o.atol = std::max(opt.atol, 64 * DBL_EPSILON * std::sqrt(scale2));
+  const NewtonResult res = newton_solve(sys, r_, o, x_);
   if (!res.converged)
     fail(ND_ERR_NEWTON, "Newton on the massless contact DOFs (mass redistribution) did not converge in " +
                             std::to_string(res.iterations) + " iterations at t = " + num(t) + " (residual " +

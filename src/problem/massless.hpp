@@ -9,7 +9,8 @@
 //   their gaps shifted by p_q,f . U_f (P_q is linear in U),
 // a small semi-smooth system solved by newton_solve (its stopping rule, c = 0:
 // ||G|| <= rtol ||r|| + atol or an update at round-off, with the active set
-// unchanged). A is a principal submatrix of K_Theta: positive definite when
+// unchanged; atol raised to the round-off of r's terms, since U_m may be
+// exactly 0 where "an update at the round-off of U" cannot hold). A is a principal submatrix of K_Theta: positive definite when
 // K_Theta is positive semi-definite with only rigid motions in its kernel
 // (none vanishes on the non-contact nodes). It is factored once, here; a
 // Newton iteration with active points refactors the tangent A + N~'(x)
