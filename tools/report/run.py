@@ -99,7 +99,7 @@ def pressure_jobs(build, p, rows_dir, prefix="pressure_"):
     explicit scheme (lumped) without redistribution at its usual tau = dx/4;
     with it (the massless contact node found from its static equilibrium each
     step) at tau = h/2 like the implicit schemes and at tau = h (CFL 1, where
-    the P1 interior scheme is exact at the nodes; the critical-step guard off,
+    the P1 interior stencil is exact at the nodes; the critical-step guard off,
     its estimate being a little below the exact step h/cos(pi/2NX)) for P1,
     and at dx/4 for P2 (tau = h/2 is above P2's critical step, about 0.41 h)."""
     jobs = []
