@@ -211,6 +211,38 @@ START_TEST(checkpoints_know_the_mass_and_the_applied_pressure) {
 }
 END_TEST
 
+/* The explicit scheme with redistribution keeps nothing between steps but
+   the state: a restart from a checkpoint in contact continues bitwise. */
+START_TEST(redistributed_explicit_restarts_bitwise) {
+  const double params[2] = {0, 0.5};
+  nd_problem p = nd_test_bar(NX, 1, ND_SCHEME_NEWMARK, params, 1.0, 0.2, 0.5 / NX);
+  ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+  for (int k = 0; k < 45; ++k) ND_OK_OR_FAIL(nd_step(p)); /* t = 1.125: in contact */
+  ck_assert(scalar(p, ND_CONTACT_FORCE) > 0);
+  int64_t nb = 0;
+  ND_OK_OR_FAIL(nd_problem_get_state_size(p, &nb));
+  unsigned char *buf = malloc((size_t)nb);
+  ND_OK_OR_FAIL(nd_problem_save_state(p, nb, buf));
+  double u1[NX + 1], u2[NX + 1], a1[NX + 1], a2[NX + 1];
+  for (int k = 0; k < 40; ++k) ND_OK_OR_FAIL(nd_step(p));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, NX + 1, u1));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, NX + 1, a1));
+  nd_problem q = nd_test_bar(NX, 1, ND_SCHEME_NEWMARK, params, 1.0, 0.2, 0.5 / NX);
+  ND_OK_OR_FAIL(nd_problem_set_mass_lumping(q, 1));
+  ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(q, 1));
+  ND_OK_OR_FAIL(nd_problem_load_state(q, nb, buf));
+  for (int k = 0; k < 40; ++k) ND_OK_OR_FAIL(nd_step(q));
+  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_DISPLACEMENT, NX + 1, u2));
+  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, NX + 1, a2));
+  ck_assert(memcmp(u1, u2, sizeof u1) == 0);
+  ck_assert(memcmp(a1, a2, sizeof a1) == 0);
+  free(buf);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("pressure");
   TCase *tc = tcase_create("pressure");
@@ -221,6 +253,7 @@ int main(void) {
   tcase_add_test(tc, redistributed_hybrid_energy_does_not_grow);
   tcase_add_test(tc, redistributed_explicit_momentum_is_the_applied_force);
   tcase_add_test(tc, checkpoints_know_the_mass_and_the_applied_pressure);
+  tcase_add_test(tc, redistributed_explicit_restarts_bitwise);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
