@@ -41,6 +41,7 @@ typedef struct {
   int repeat;
   double at; /* <= 0: none */
   const char *row, *study;
+  int critical_guard; /* refuse an explicit step above the estimated critical step */
 } options;
 
 static void usage(FILE *f, const char *prog) {
@@ -62,6 +63,9 @@ static void usage(FILE *f, const char *prog) {
           "  --redistribute 0|1  mass redistribution off the contact node (default 0)\n"
           "  --pressure end|applied  the contact stress: lambda at t^n (default) or\n"
           "                    the pressure the step applied\n"
+          "  --critical-guard 0|1  refuse an explicit step above the estimated critical\n"
+          "                    step (default 1; 0 runs e.g. CFL 1, tau = h, where the\n"
+          "                    estimate's safety margin is below the exact step)\n"
           "  --csv FILE        write t,u(0),v(0),contact_stress,E,E_Theta per time level\n"
           "  --quiet           print the summary only\n"
           "  --repeat K        run K times: errors from the first, median times (default 1)\n"
@@ -98,7 +102,7 @@ static int parse_scheme(const char *s, int *scheme) {
 /* Returns 0 to run, 1 after --help, 2 on a usage error. */
 static int parse_args(int argc, char **argv, options *o) {
   double theta = 0.5, beta = 0.25, gamma = 0.5, rho_inf = 0.8;
-  *o = (options){ND_SCHEME_HYBRID, {0, 0}, 1, 1.0, 0.2, 40, 0.0, 3.0, 0, 0, 0, 0, NULL, 1, 0.0, NULL, "bar"};
+  *o = (options){ND_SCHEME_HYBRID, {0, 0}, 1, 1.0, 0.2, 40, 0.0, 3.0, 0, 0, 0, 0, NULL, 1, 0.0, NULL, "bar", 1};
   for (int i = 1; i < argc; ++i) {
     const char *arg = argv[i];
     if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
@@ -164,6 +168,9 @@ static int parse_args(int argc, char **argv, options *o) {
     } else if (strcmp(key, "--redistribute") == 0) {
       ok = parse_int(val, &iv) && (iv == 0 || iv == 1);
       o->redistribute = (int)iv;
+    } else if (strcmp(key, "--critical-guard") == 0) {
+      ok = parse_int(val, &iv) && (iv == 0 || iv == 1);
+      o->critical_guard = (int)iv;
     } else if (strcmp(key, "--pressure") == 0) {
       ok = strcmp(val, "end") == 0 || strcmp(val, "applied") == 0;
       o->applied = strcmp(val, "applied") == 0;
@@ -225,7 +232,8 @@ static int setup(const options *o, nd_problem *p, grid *g) {
       check(nd_problem_set_nitsche(*p, o->Theta, o->gamma0)) ||
       check(nd_problem_set_scheme(*p, o->scheme, o->params)) ||
       check(nd_problem_set_mass_lumping(*p, o->lumped)) ||
-      check(nd_problem_set_mass_redistribution(*p, o->redistribute)) || check(nd_problem_set_timestep(*p, o->tau)))
+      check(nd_problem_set_mass_redistribution(*p, o->redistribute)) || check(nd_problem_set_timestep(*p, o->tau)) ||
+      check(nd_problem_set_guard(*p, ND_GUARD_CRITICAL_TIMESTEP, o->critical_guard)))
     return 1;
 
   int64_t n_nodes = 0;

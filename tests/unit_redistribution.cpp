@@ -2,6 +2,8 @@
 // of M are zero, M stays symmetric (to round-off) and positive definite on the other DOFs,
 // the total mass is kept, and with P2 (every cell's other nodes span R^d) all
 // moments of order 0, 1, 2 are kept: p^T M' q = p^T M q for p, q in {1, x_k}.
+// The clamped rows that the reactions read (problem/forces.hpp) hold the same
+// redistributed mass as the free ones.
 #include <cmath>
 #include <limits>
 
@@ -9,6 +11,7 @@
 #include "assembly/redistribution.hpp"
 #include "common/error.hpp"  // before check.h, which defines fail
 #include "linalg/factorization.hpp"
+#include "problem/forces.hpp"
 #include "testutil.h"
 #include "unit_fixtures.hpp"
 
@@ -96,6 +99,37 @@ START_TEST(moments_kernel_and_symmetry) {
 }
 END_TEST
 
+START_TEST(clamped_rows_hold_the_redistributed_mass) {
+  // clamped on x = 0, in contact on y = 0 (the corner node is both)
+  auto m = with_contact(ndtest::irregular_rectangle(4), 0.0);
+  const double inf = std::numeric_limits<double>::infinity(), lo[3] = {0, -inf, -inf}, hi[3] = {0, inf, inf};
+  nd::add_region_box(*m, 2, lo, hi);
+  for (int degree = 1; degree <= 2; ++degree) {
+    nd::Space s(m, degree);
+    const nd::DofMap dofs(s, {2}), all(s, {});
+    const std::vector<char> on = nd::contact_nodes(s, {{1, {0, 0, 0}, {0, 1, 0}}});
+    const nd::ClampedRows cr = nd::clamped_rows(s, dofs, steel_like, &on);
+    const nd::Csr full = nd::assemble_bulk(s, all, steel_like, &on).M;  // every DOF free: full = DOF index
+    std::vector<int64_t> dof_of(static_cast<size_t>(dofs.n_free));
+    for (size_t k = 0; k < dofs.free.size(); ++k)
+      if (dofs.free[k] >= 0) dof_of[dofs.free[k]] = static_cast<int64_t>(k);
+    double mmax = 0, worst = 0;
+    for (double x : full.val) mmax = std::max(mmax, std::fabs(x));
+    int touched = 0;  // clamped rows that redistribution changed
+    const nd::ClampedRows plain = nd::clamped_rows(s, dofs, steel_like);
+    for (int64_t r = 0; r < cr.M.n; ++r)
+      for (int64_t k = cr.M.ptr[r]; k < cr.M.ptr[r + 1]; ++k) {
+        const int64_t f = full.find(cr.dofs[r], dof_of[cr.M.col[k]]);
+        const double ref = f >= 0 ? full.val[f] : 0.0;
+        worst = std::max(worst, std::fabs(cr.M.val[k] - ref));
+        touched += std::fabs(plain.M.val[k] - cr.M.val[k]) > 1e-12 * mmax;
+      }
+    ck_assert_msg(worst <= 1e-14 * mmax, "P%d: clamped mass rows off by %g", degree, worst);
+    ck_assert_int_gt(touched, 0);  // the scene does test something
+  }
+}
+END_TEST
+
 START_TEST(a_cell_with_only_contact_nodes_is_refused) {
   auto m = with_contact(std::make_shared<nd::Mesh>(nd::make_interval(1, 0.0, 1.0)), 0.0);
   const double lo[1] = {1}, hi[1] = {1};
@@ -117,6 +151,7 @@ int main(void) {
   TCase *tc = tcase_create("mass");
   tcase_add_test(tc, moments_kernel_and_symmetry);
   tcase_add_test(tc, a_cell_with_only_contact_nodes_is_refused);
+  tcase_add_test(tc, clamped_rows_hold_the_redistributed_mass);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -53,7 +53,9 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   }
   count(counters, &Counters::matrix_assemblies);
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
-  if (d->dofs.n_free < space.n_dofs()) d->clamped = std::make_unique<ClampedRows>(clamped_rows(space, d->dofs, def.material));
+  if (d->dofs.n_free < space.n_dofs())
+    d->clamped = std::make_unique<ClampedRows>(
+        clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));
   return d;
 }
 

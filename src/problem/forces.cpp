@@ -3,11 +3,13 @@
 #include <algorithm>
 
 #include "assembly/bulk.hpp"
+#include "assembly/redistribution.hpp"
 #include "monitor/energies.hpp"
 
 namespace nd {
 
-ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat) {
+ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat,
+                         const std::vector<char> *contact_nodes) {
   ClampedRows cr;
   std::vector<int64_t> row_of(dofs.free.size(), -1);
   for (size_t k = 0; k < dofs.free.size(); ++k)
@@ -37,6 +39,7 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat
     for (int i = 0; i < nb * d && !any; ++i) any = row_of[nodes[i / d] * d + i % d] >= 0;
     if (!any) continue;
     em.compute(c);
+    if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) {
         const int64_t r = row_of[nodes[i] * d + a];

@@ -11,7 +11,10 @@ namespace nd {
 
 // The clamped DOFs' rows of K and of the consistent mass, on the free
 // columns (U and A vanish on the clamped DOFs): n = number of clamped DOFs.
-ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat);
+// contact_nodes (mass redistribution, nullptr: off): the mass is the
+// redistributed one, as in the free rows (assembly/bulk.hpp).
+ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat,
+                         const std::vector<char> *contact_nodes = nullptr);
 
 // The load on the clamped DOFs (body force, tractions, nodal forces), in
 // ClampedRows::dofs order; empty when there is no load.

@@ -30,7 +30,10 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   auto in = std::make_unique<Integrator>();
   in->scheme = make_scheme(def.scheme, def.scheme_params);
   in->tau = def.tau;
-  if (in->scheme->is_explicit()) return in;
+  if (in->scheme->is_explicit()) {
+    if (!d.massless.empty()) in->massless = std::make_unique<MasslessSolver>(d, def.solver);
+    return in;
+  }
   in->coef = in->scheme->coefficients(def.tau);
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
@@ -87,6 +90,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   scheme.predict(tau, old, next.U);
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
+    // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
+    if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.F, next.gap, next.t, next.U);
     d.equilibrium_acceleration(next, def.solver);
   } else {
     std::vector<double> r;

@@ -8,6 +8,7 @@
 #include "linalg/factorization.hpp"
 #include "problem/definition.hpp"
 #include "problem/discretization.hpp"
+#include "problem/massless.hpp"
 #include "solve/tangent_solver.hpp"
 #include "time/scheme.hpp"
 
@@ -20,10 +21,11 @@ struct Integrator {
   Csr A;  // c M + K_Theta (implicit schemes)
   std::unique_ptr<Factorization> A_factor;
   std::unique_ptr<TangentSolver> tangent;  // when there are contact points
+  std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)
 };
 
-// Factorizes A for an implicit scheme: throws ND_ERR_INDEFINITE when the
-// step is not well posed. reuse: a factorization made for A's pattern (of
+// Factorizes A for an implicit scheme, or (K_Theta)_mm for an explicit one
+// with massless DOFs: throws ND_ERR_INDEFINITE when the step is not well posed. reuse: a factorization made for A's pattern (of
 // this discretization and solver), or none: its symbolic analysis is reused.
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
                                             std::unique_ptr<Factorization> reuse = nullptr);

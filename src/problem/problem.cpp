@@ -285,9 +285,6 @@ void Problem::setup() {
     fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
                           "gamma >= 1/2, or allow it with the unstable-scheme guard for a study");
-  if (!d.massless.empty() && in.scheme->is_explicit())
-    fail(ND_ERR_SCHEME, "mass redistribution leaves the contact nodes without mass, and an explicit scheme "
-                        "cannot advance massless DOFs: choose an implicit scheme or switch the redistribution off");
   if (def_.guards.coercivity) check_coercivity(d, def_.solver);
   const double limit = in.scheme->stability_limit();
   if (def_.guards.critical_timestep && std::isfinite(limit) && def_.tau * omega_max() > limit)

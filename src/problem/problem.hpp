@@ -65,6 +65,8 @@ class Problem {
   const Space &space() const { return space_; }
   const Material &material() const { return def_.material; }
   const Discretization &discretization() { return discretization_(); }
+  // white-box (tests): the state at t^n in free DOFs, with its load and gaps
+  const State &current_state() { return state(); }
   // the integrator once built (benchmarks time its solve: the floor of a step)
   const Integrator *integrator() const { return integrator_.get(); }
   const Counters &counters() const { return *counters_; }

@@ -89,21 +89,60 @@ def bar_jobs(build, p, rows_dir):
                 else:
                     tau = TAU_OVER_H * h * 2 ** k
                 add("tau-ladder", args, degree, 1, nx, tau, 3, None)
-    # the contact pressure (issue 16): with and without mass redistribution,
-    # lambda at t^n or the pressure the step applied; Theta = 1, T = 3. The
-    # explicit scheme refuses redistribution (massless DOFs).
+    jobs += pressure_jobs(build, p, rows_dir, "bar_p")
+    return jobs
+
+
+def pressure_jobs(build, p, rows_dir, prefix="pressure_"):
+    """The contact pressure (issue 16): with and without mass redistribution,
+    lambda at t^n or the pressure the step applied; Theta = 1, T = 3. The
+    explicit scheme (lumped) without redistribution at its usual tau = dx/4;
+    with it (the massless contact node found from its static equilibrium each
+    step) at tau = h/2 like the implicit schemes and at tau = h (CFL 1, where
+    the P1 interior stencil is exact at the nodes; the critical-step guard off,
+    its estimate being a little below the exact step h/cos(pi/2NX)) for P1,
+    and at dx/4 for P2 (tau = h/2 is above P2's critical step, about 0.41 h)."""
+    jobs = []
+
+    def add(args, degree, nx, tau):
+        row = os.path.join(rows_dir, "%s%05d.csv" % (prefix, len(jobs)))
+        argv = bar_argv(build, args, degree, 1, nx, tau, 3, p["pressure_repeat"], row, "pressure")
+        jobs.append((3 / tau * nx * degree, argv))
+
     for label, args, explicit in SCHEMES:
         for degree in (1, 2):
             for red in (0, 1):
                 for pressure in ("end", "applied"):
-                    if explicit and red:
-                        continue
-                    for nx in p["pressure_nx"]:
-                        h = 1.0 / nx
-                        tau = EXPLICIT_TAU_OVER_DX * h / degree if explicit else TAU_OVER_H * h
-                        add("pressure", args + ["--redistribute", str(red), "--pressure", pressure], degree, 1, nx,
-                            tau, 3, None, p["pressure_repeat"])
+                    a = args + ["--redistribute", str(red), "--pressure", pressure]
+                    if not explicit:
+                        steps = [(TAU_OVER_H, [])]
+                    elif not red or degree == 2:
+                        steps = [(EXPLICIT_TAU_OVER_DX / degree, [])]
+                    else:
+                        steps = [(TAU_OVER_H, []), (1.0, ["--critical-guard", "0"])]
+                    for tau_over_h, extra in steps:
+                        for nx in p["pressure_nx"]:
+                            add(a + extra, degree, nx, tau_over_h / nx)
     return jobs
+
+
+def merge_rows(rows_dir, prefix, out, study):
+    """Replaces the rows of `study` in the CSV file out by the new ones."""
+    new = os.path.join(rows_dir, "_new.csv")
+    n = concat(rows_dir, prefix, new)
+    with open(new) as fh:
+        new_lines = fh.read().splitlines()
+    if not os.path.exists(out):
+        os.replace(new, out)
+        return n
+    with open(out) as fh:
+        old = fh.read().splitlines()
+    header = old[0] if old else new_lines[0]
+    col = header.split(",").index("study")
+    kept = [l for l in old[1:] if l.strip() and l.split(",")[col] != study]
+    with open(out, "w") as fh:
+        fh.write("".join(l + "\n" for l in [header] + kept + new_lines[1:]))
+    return n
 
 
 def run_one(argv):
@@ -172,8 +211,9 @@ def main():
     g.add_argument("--quick", action="store_true", help="the CI plan (NX = 20..160, about a minute)")
     g.add_argument("--full", action="store_true", help="the report's plan (NX = 20..2560, default)")
     ap.add_argument("--jobs", type=int, default=2, help="runs at a time (default 2)")
-    ap.add_argument("--only", choices=["bar", "getfem", "disk", "energy"], action="append",
-                    help="run only these parts (repeatable); default all")
+    ap.add_argument("--only", choices=["bar", "pressure", "getfem", "disk", "energy"], action="append",
+                    help="run only these parts (repeatable); default all. pressure: the bar's pressure study "
+                         "alone (part of bar), its rows replacing those of bar.csv in OUT/data")
     a = ap.parse_args()
     # one thread per run: the runs are small, and two of them share the machine
     os.environ["OPENBLAS_NUM_THREADS"] = "1"
@@ -184,12 +224,19 @@ def main():
     os.makedirs(data, exist_ok=True)
     t_start = time.time()
     failures = 0
-    with tempfile.TemporaryDirectory() as rows, open(os.path.join(data, "runs.log"), "w") as log:
+    alone = parts == ["pressure"]  # a re-run of the pressure study into an existing data directory
+    log_name = "runs_pressure.log" if alone else "runs.log"
+    with tempfile.TemporaryDirectory() as rows, open(os.path.join(data, log_name), "w") as log:
         if "bar" in parts:
             t0 = time.time()
             failures += run_all(bar_jobs(a.build, p, rows), a.jobs, log)
             n = concat(rows, "bar_", os.path.join(data, "bar.csv"))
             print("bar: %d rows in %.0f s" % (n, time.time() - t0), flush=True)
+        elif "pressure" in parts:  # the pressure study alone: its rows replace those in bar.csv
+            t0 = time.time()
+            failures += run_all(pressure_jobs(a.build, p, rows), a.jobs, log)
+            n = merge_rows(rows, "pressure_", os.path.join(data, "bar.csv"), "pressure")
+            print("pressure: %d rows in %.0f s" % (n, time.time() - t0), flush=True)
         if "energy" in parts:  # energy histories, P1, NX = 80, T = 12, Theta = 1
             t0 = time.time()
             jobs = []
@@ -228,10 +275,16 @@ def main():
                     "--repeat", str(p["repeat"])]
             failures += run_all([(1, argv)], 1, log)
             print("disk in %.0f s" % (time.time() - t0), flush=True)
-    with open(os.path.join(data, "machine.txt"), "w") as fh:
-        fh.write("machine: %s\ndate: %s\nplan: %s\njobs: %d\nwall time of the runs: %.0f s\n" %
-                 (machine(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "quick" if a.quick else "full",
-                  a.jobs, time.time() - t_start))
+    if alone:  # the other parts' machine and date stay; this re-run is recorded beside them
+        with open(os.path.join(data, "machine.txt"), "a") as fh:
+            fh.write("pressure study re-run (--only pressure): %s, %s, plan %s, jobs %d, wall time %.0f s\n" %
+                     (machine(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "quick" if a.quick else "full",
+                      a.jobs, time.time() - t_start))
+    else:
+        with open(os.path.join(data, "machine.txt"), "w") as fh:
+            fh.write("machine: %s\ndate: %s\nplan: %s\njobs: %d\nwall time of the runs: %.0f s\n" %
+                     (machine(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "quick" if a.quick else "full",
+                      a.jobs, time.time() - t_start))
     print("runs done in %.0f s (%d failed)" % (time.time() - t_start, failures))
     return 1 if failures else 0
 

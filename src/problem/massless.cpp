@@ -1,0 +1,117 @@
+#include "problem/massless.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+#include "common/format.hpp"
+#include "nitschedyn.h"
+#include "solve/contact_law.hpp"
+
+namespace nd {
+
+MasslessSolver::MasslessSolver(const Discretization &d, int solver) : theta_(d.theta), counters_(d.counters) {
+  const int64_t n = d.K_theta.n;
+  std::vector<int64_t> local(static_cast<size_t>(n), -1);
+  for (int64_t i = 0; i < n; ++i)
+    if (d.massless[static_cast<size_t>(i)]) {
+      local[static_cast<size_t>(i)] = static_cast<int64_t>(dofs_.size());
+      dofs_.push_back(i);
+    }
+  const int64_t m = static_cast<int64_t>(dofs_.size());
+  // (K_Theta)_mm and (K_Theta)_mf, row by row (local numbering keeps the columns sorted)
+  const Csr &K = d.K_theta;
+  A_.n = m;
+  A_.ptr.assign(1, 0);
+  cptr_.assign(1, 0);
+  for (int64_t i : dofs_) {
+    for (int64_t k = K.ptr[i]; k < K.ptr[i + 1]; ++k) {
+      const int64_t j = local[static_cast<size_t>(K.col[k])];
+      if (j >= 0) {
+        A_.col.push_back(j);
+        A_.val.push_back(K.val[k]);
+      } else {
+        ccol_.push_back(K.col[k]);
+        cval_.push_back(K.val[k]);
+      }
+    }
+    A_.ptr.push_back(static_cast<int64_t>(A_.col.size()));
+    cptr_.push_back(static_cast<int64_t>(ccol_.size()));
+  }
+  M0_ = A_.zeros_like();
+  // the points whose rows reach m; a_q and s_q share their index list
+  const ContactPoints &cp = d.contact;
+  for (size_t q = 0; q < cp.size(); ++q) {
+    SparseRow a, s, pf;
+    for (size_t k = 0; k < cp.a[q].idx.size(); ++k) {
+      const int64_t i = cp.a[q].idx[k], j = local[static_cast<size_t>(i)];
+      if (j >= 0) {
+        a.idx.push_back(j), a.val.push_back(cp.a[q].val[k]);
+        s.idx.push_back(j), s.val.push_back(cp.s[q].val[k]);
+      } else {
+        pf.idx.push_back(i), pf.val.push_back(cp.a[q].val[k] - cp.gamma[q] * cp.s[q].val[k]);
+      }
+    }
+    if (a.idx.empty()) continue;  // N_m does not see it, nor does it see U_m
+    cp_.a.push_back(std::move(a));
+    cp_.s.push_back(std::move(s));
+    cp_.w.push_back(cp.w[q]);
+    cp_.gamma.push_back(cp.gamma[q]);
+    cp_.gap.push_back(cp.gap[q]);
+    pf_.push_back(std::move(pf));
+    point_.push_back(q);
+  }
+  r_.resize(static_cast<size_t>(m));
+  x_.resize(static_cast<size_t>(m));
+  gap_.resize(cp_.size());
+  // factored once: a step without active points is one solve with it
+  factor_ = make_factorization(solver, A_, Structure::SymmetricPositiveDefinite, counters_);
+  try {
+    factor_->factor(A_, Structure::SymmetricPositiveDefinite);
+  } catch (const Error &e) {
+    if (e.code() != ND_ERR_INDEFINITE) throw;
+    fail(ND_ERR_INDEFINITE, "K_Theta on the massless contact DOFs (mass redistribution, explicit scheme): " +
+                                std::string(e.what()) + "; with Theta = " + num(d.theta) + " and gamma0 = " +
+                                num(d.gamma0) + " their static equilibrium is not well posed: lower gamma0");
+  }
+  // the tangent (K_Theta)_mm + N~'(x): symmetric, and positive definite, iff Theta = 1
+  const Structure ts = theta_ == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+  tangent_ = make_refactoring_tangent(A_, *factor_, solver, ts, counters_);
+}
+
+int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F, const std::vector<double> &gap,
+                          double t, std::vector<double> &U) {
+  // r = F_m - (K_Theta)_mf U_f; the gaps seen by x: g_q - p_q,f . U_f
+  double scale2 = 0;  // the size of r's terms: its round-off
+  for (size_t i = 0; i < dofs_.size(); ++i) {
+    double s = F.empty() ? 0.0 : F[static_cast<size_t>(dofs_[i])], a = std::fabs(s);
+    for (int64_t k = cptr_[i]; k < cptr_[i + 1]; ++k) {
+      const double term = cval_[static_cast<size_t>(k)] * U[static_cast<size_t>(ccol_[k])];
+      s -= term;
+      a += std::fabs(term);
+    }
+    r_[i] = s;
+    scale2 += a * a;
+    x_[i] = U[static_cast<size_t>(dofs_[i])];
+  }
+  for (size_t q = 0; q < gap_.size(); ++q) gap_[q] = (gap.empty() ? cp_.gap[q] : gap[point_[q]]) - pf_[q].dot(U.data());
+  ContactLaw law{&cp_, theta_, nullptr, nullptr, gap_.data(), counters_};
+  NewtonSystem sys{&A_, tangent_.get(), &M0_, 0.0, 1.0, &law};
+  // Newton's rules, with atol at least the round-off of r: U_m can be exactly
+  // 0 (the bar's contact node in contact, Theta = 1), where the rule "update
+  // at the round-off of U" cannot hold and rtol = atol = 0 would ask for less
+  // than round-off (DESIGN §3)
+  NewtonOptions o = opt;
+  o.atol = std::max(opt.atol, 64 * DBL_EPSILON * std::sqrt(scale2));
+  const NewtonResult res = newton_solve(sys, r_, o, x_);
+  if (!res.converged)
+    fail(ND_ERR_NEWTON, "Newton on the massless contact DOFs (mass redistribution) did not converge in " +
+                            std::to_string(res.iterations) + " iterations at t = " + num(t) + " (residual " +
+                            num(res.residual) + ", tolerance " + num(res.tolerance) + "); the step was not taken");
+  for (size_t i = 0; i < dofs_.size(); ++i) U[static_cast<size_t>(dofs_[i])] = x_[i];
+  return res.iterations;
+}
+
+}  // namespace nd
