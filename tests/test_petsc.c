@@ -21,6 +21,14 @@
  *     error; it took the same in every scene here). Measured: 1.2e-9 at most
  *     (bar, contact force), 30 to 170 times below the bound.
  *
+ * The host's own MPI or PETSc (separate processes, CTest test_petsc_host_*):
+ *   test_petsc host-mpi    the program calls MPI_Init, steps with MUMPS, and
+ *                          calls MPI_Finalize: the library initialized PETSc
+ *                          only, and finalized it inside MPI_Finalize;
+ *   test_petsc host-petsc  the program calls PetscInitialize and PetscFinalize
+ *                          around a run with GAMG; afterwards a PETSc solver
+ *                          is refused (ND_ERR_STATE), nothing crashes.
+ *
  * Built without PETSc: both ids are refused by nd_problem_set_linear_solver
  * with ND_ERR_KEY and a message naming ND_WITH_PETSC, and the problem is
  * unchanged and steps with the default solver. */
@@ -30,6 +38,9 @@
 #include <string.h>
 
 #include "testutil.h"
+#ifdef ND_HAVE_PETSC
+#include <petscsys.h>
+#endif
 
 static double scalar(nd_problem p, int key) {
   double x = 0;
@@ -170,6 +181,55 @@ START_TEST(mumps_reports_an_indefinite_step) {
 }
 END_TEST
 
+/* A short bar run with `solver`; the status of the first failing call. */
+static int bar_run(int solver) {
+  nd_problem p = nd_test_bar(40, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 1.0 / 80);
+  int status = nd_problem_set_linear_solver(p, solver);
+  for (int k = 0; k < 40 && status == ND_OK; ++k) status = nd_step(p);
+  if (status != ND_OK) fprintf(stderr, "bar with solver %d: %s\n", solver, nd_last_error());
+  nd_problem_destroy(&p);
+  return status;
+}
+
+/* These two run in the test's own process (CK_NOFORK: MPI once per process). */
+START_TEST(host_mpi) {
+  ck_assert(MPI_Init(NULL, NULL) == MPI_SUCCESS);
+  ck_assert_int_eq(bar_run(ND_SOLVER_PETSC_MUMPS), ND_OK);
+  PetscBool petsc = PETSC_FALSE;
+  ck_assert(PetscInitialized(&petsc) == 0 && petsc); /* by the library */
+  ck_assert(!PetscBeganMPI);                         /* MPI stays the host's */
+  int rank = -1;
+  ck_assert(MPI_Comm_rank(MPI_COMM_WORLD, &rank) == MPI_SUCCESS && rank == 0);
+  ck_assert(MPI_Finalize() == MPI_SUCCESS);
+  ck_assert(PetscFinalized(&petsc) == 0 && petsc); /* inside MPI_Finalize */
+  printf("host-mpi: the library initialized PETSc in the host's MPI and finalized it in MPI_Finalize\n");
+}
+END_TEST
+
+START_TEST(host_petsc) {
+  ck_assert(PetscInitialize(NULL, NULL, NULL, NULL) == 0);
+  ck_assert_int_eq(bar_run(ND_SOLVER_PETSC_GAMG), ND_OK);
+  ck_assert_int_eq(bar_run(ND_SOLVER_PETSC_MUMPS), ND_OK);
+  ck_assert(PetscFinalize() == 0);
+  ck_assert_int_eq(bar_run(ND_SOLVER_PETSC_MUMPS), ND_ERR_STATE); /* after the host's PetscFinalize */
+  ck_assert_int_eq(bar_run(ND_SOLVER_CHOLMOD), ND_OK);
+  printf("host-petsc: the library used the host's PETSc and refused to run after its PetscFinalize\n");
+}
+END_TEST
+
+static int run_alone(const TTest *test) {
+  Suite *s = suite_create("petsc-host");
+  TCase *tc = tcase_create("host");
+  tcase_add_test(tc, test);
+  suite_add_tcase(s, tc);
+  SRunner *sr = srunner_create(s);
+  srunner_set_fork_status(sr, CK_NOFORK);
+  srunner_run_all(sr, CK_NORMAL);
+  const int failed = srunner_ntests_failed(sr);
+  srunner_free(sr);
+  return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+
 #else
 
 START_TEST(petsc_ids_are_refused_cleanly) {
@@ -191,7 +251,13 @@ END_TEST
 
 #endif
 
-int main(void) {
+int main(int argc, char **argv) {
+#ifdef ND_HAVE_PETSC
+  if (argc > 1 && !strcmp(argv[1], "host-mpi")) return run_alone(host_mpi);
+  if (argc > 1 && !strcmp(argv[1], "host-petsc")) return run_alone(host_petsc);
+#else
+  (void)argc, (void)argv;
+#endif
   Suite *s = suite_create("petsc");
   TCase *tc = tcase_create("petsc");
   tcase_set_timeout(tc, 300);
