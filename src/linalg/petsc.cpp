@@ -21,6 +21,15 @@
 // -nd_pc_gamg_threshold 0.01 -nd_mat_mumps_icntl_14 50". Nothing unprefixed
 // applies to them.
 //
+// Next (issue 15, distribution): a communicator per problem (nd_problem_set_comm
+// taking an MPI_Comm, and nd_problem_set_comm_f for Fortran's integer handle
+// via MPI_Comm_f2c; PETSC_COMM_SELF stays the default so that serial callers
+// change nothing), the DOFs partitioned by cell ownership, MATMPIAIJ with
+// MatMPIAIJSetPreallocationCSR on the owned rows, the near-null space from the
+// owned DOFs' coordinates, and MUMPS's INFOG(12) (ICNTL(13) = 1 is already set
+// so that the inertia stays exact when MUMPS would use ScaLAPACK). The
+// Factorization interface's solve(double *) then takes the owned part.
+//
 // PETSc is global to the process: every PETSc call of the library runs under
 // one mutex (so that handles used from distinct threads stay safe), with an
 // error handler that records PETSc's message instead of printing it; every
