@@ -5,6 +5,8 @@
 #   make install    install into $(PREFIX)
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
 #   make fuzz       the libFuzzer targets (clang), $(FUZZ_TIME) s each on their seed corpora
+#   make check-petsc  a build with the PETSc solvers in $(PETSC_BUILD) (-DND_WITH_PETSC=ON,
+#                   warnings as errors) and its tests labelled petsc (mpi: under mpiexec -n 1)
 #   CMAKE_FLAGS=... (re)configures $(BUILD) with these flags, e.g. CI's
 #                   make check CMAKE_FLAGS=-DND_WERROR=ON
 #   make bench      the benchmarks against GetFEM (bench/run.sh, about 15 min on
@@ -22,8 +24,9 @@ JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
+PETSC_BUILD ?= build-petsc
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps meshes bench bench-quick bench-tangent bench-deps report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps check-petsc meshes bench bench-quick bench-tangent bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -64,6 +67,16 @@ fuzz: fuzz-deps
 	  -DND_TESTS=OFF -DND_FORTRAN=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
 	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_gmsh fuzz_api
 	sh scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_TIME)
+
+# The PETSc linear solvers (ND_SOLVER_PETSC_*): Debian's petsc-dev (MPI, MUMPS)
+petsc-deps:
+	@sh scripts/install-deps.sh petsc
+
+check-petsc: petsc-deps
+	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ] || [ -n "$(CMAKE_FLAGS)" ]; then \
+	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
+	cmake --build $(PETSC_BUILD) -j $(JOBS)
+	cd $(PETSC_BUILD) && ctest --output-on-failure -L petsc -j $(JOBS)
 
 # Record the public ABI (abi/nitschedyn.abi) after a deliberate change of the API.
 abi-update: all
@@ -114,4 +127,4 @@ meshes:
 	gmsh -2 -setnumber h 0.5 -format msh41 $(MESHES)/disk.geo -o $(MESHES)/disk_h0.5.msh
 
 clean:
-	rm -rf $(BUILD) build-sanitize $(FUZZ_BUILD)
+	rm -rf $(BUILD) build-sanitize $(FUZZ_BUILD) $(PETSC_BUILD)

@@ -123,7 +123,9 @@ extern "C" {
   X(ND_SOLVER_BANDED, 2, "LAPACK banded Cholesky / LU after reverse Cuthill-McKee")   \
   X(ND_SOLVER_CHOLMOD, 3, "SuiteSparse CHOLMOD (symmetric positive definite)")          \
   X(ND_SOLVER_UMFPACK, 4, "SuiteSparse UMFPACK (general sparse LU)")                    \
-  X(ND_SOLVER_KLU, 5, "SuiteSparse KLU (general sparse LU)")
+  X(ND_SOLVER_KLU, 5, "SuiteSparse KLU (general sparse LU)")                      \
+  X(ND_SOLVER_PETSC_MUMPS, 6, "PETSc + MUMPS Cholesky (LDL^T) / LU (builds with ND_WITH_PETSC)") \
+  X(ND_SOLVER_PETSC_GAMG, 7, "PETSc CG / GMRES + GAMG, rigid-body near-null space (ND_WITH_PETSC)")
 
 /* Guards for nd_problem_set_guard: X(name, value, description) */
 #define ND_GUARD_LIST(X)                                                                \

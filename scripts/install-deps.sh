@@ -7,6 +7,8 @@
 #   install-deps.sh bench    also gmsh and GetFEM (make bench, make bench-quick)
 #   install-deps.sh fuzz     also clang and libFuzzer (make fuzz; libclang-rt-dev is
 #                            Debian's libclang-rt-N-dev of the default clang, -14- on bookworm)
+#   install-deps.sh petsc    also PETSc with MPI, MUMPS and hypre (make check-petsc,
+#                            -DND_WITH_PETSC=ON; bookworm: PETSc 3.18, OpenMPI)
 set -e
 need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
@@ -15,6 +17,7 @@ pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthrea
 [ "${1:-}" = meshes ] && pkgs="$pkgs gmsh"
 [ "${1:-}" = bench ] && pkgs="$pkgs python3 python3-numpy python3-getfem gmsh"
 [ "${1:-}" = fuzz ] && pkgs="$pkgs clang libclang-rt-dev"
+[ "${1:-}" = petsc ] && pkgs="$pkgs petsc-dev"
 for pkg in $pkgs; do
   have_pkg "$pkg" || need="$need $pkg"
 done

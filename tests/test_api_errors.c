@@ -783,7 +783,7 @@ START_TEST(problem_newton_solver) {
              "max_iter");
   EXPECT_OK(nd_problem_set_newton(p, 0, 0, 1));
 
-  EXPECT_ERR(nd_problem_set_linear_solver(p, ND_SOLVER_KLU + 1), ND_ERR_KEY,
+  EXPECT_ERR(nd_problem_set_linear_solver(p, ND_SOLVER_PETSC_GAMG + 1), ND_ERR_KEY,
              "nd_problem_set_linear_solver", "solver");
   EXPECT_ERR(nd_problem_set_linear_solver(p, -1), ND_ERR_KEY, "nd_problem_set_linear_solver",
              "solver");

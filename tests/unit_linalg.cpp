@@ -1,12 +1,20 @@
-// The linear-solver seam: every ND_SOLVER_* id is registered and nothing
-// else is; every backend solves, refactors numerically, and says when a
-// matrix requested as SPD is not positive definite.
+// The linear-solver seam: every ND_SOLVER_* id is registered (or, for an
+// optional backend this build lacks, refused with ND_ERR_KEY and the reason)
+// and nothing else is; every backend solves, refactors numerically, and says
+// when a matrix requested as SPD is not positive definite.
+//
+//   unit_linalg          the whole suite, PETSc backends included when built
+//   unit_linalg petsc    the PETSc backends only (CTest: unit_linalg_petsc);
+//                        exit status 77, "skipped", in a build without PETSc
 #include "common/error.hpp"  // before check.h, whose fail() macro would clash with nd::fail
 #include <check.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "assembly/bulk.hpp"
 #include "linalg/factorization.hpp"
@@ -18,7 +26,14 @@ namespace {
 #define ND_ID_(name, value, text) name,
 const int kSolverIds[] = {ND_SOLVER_LIST(ND_ID_)};
 #undef ND_ID_
-const int kBackends[] = {ND_SOLVER_DENSE, ND_SOLVER_BANDED, ND_SOLVER_CHOLMOD, ND_SOLVER_UMFPACK, ND_SOLVER_KLU};
+// the direct backends: exact to round-off, and they certify definiteness
+const std::vector<int> kBackends = {ND_SOLVER_DENSE, ND_SOLVER_BANDED, ND_SOLVER_CHOLMOD, ND_SOLVER_UMFPACK,
+                                    ND_SOLVER_KLU,
+#ifdef ND_HAVE_PETSC
+                                    ND_SOLVER_PETSC_MUMPS
+#endif
+};
+const int kPetscIds[] = {ND_SOLVER_PETSC_MUMPS, ND_SOLVER_PETSC_GAMG};
 using nd::Definiteness;
 using nd::Structure;
 
@@ -75,9 +90,28 @@ int error_code_of_factor(nd::Factorization &f, const nd::Csr &A, Structure s) {
 
 }  // namespace
 
+// Thrown by make_factorization (ND_OK if none).
+static int error_code_of_make(int id, const nd::Csr &A, Structure s, std::string *what = nullptr) {
+  try {
+    nd::make_factorization(id, A, s);
+  } catch (const nd::Error &e) {
+    if (what) *what = e.what();
+    return e.code();
+  }
+  return ND_OK;
+}
+
 START_TEST(every_solver_id_is_registered) {
   const nd::Csr A = spd_matrix(3);
   for (int id : kSolverIds) {
+    if (const char *why = nd::linear_solver_unavailable(id)) {  // optional, not in this build
+      ck_assert(!nd::linear_solver_known(id));
+      std::string what;
+      ck_assert_int_eq(error_code_of_make(id, A, Structure::SymmetricPositiveDefinite, &what), ND_ERR_KEY);
+      ck_assert_str_eq(what.c_str(), why);
+      std::printf("unit_linalg: ND_SOLVER %d not built, refused as it should: %s\n", id, why);
+      continue;
+    }
     ck_assert_msg(nd::linear_solver_known(id), "ND_SOLVER %d has no backend", id);
     auto f = nd::make_factorization(id, A, Structure::SymmetricPositiveDefinite);
     f->factor(A, Structure::SymmetricPositiveDefinite);
@@ -88,7 +122,8 @@ END_TEST
 
 START_TEST(unknown_solver_ids_are_errors) {
   const nd::Csr A = spd_matrix(3);
-  for (int id : {-1, 6, 99, 42}) {
+  for (int id : {-1, 8, 99, 42}) {
+    ck_assert(!nd::linear_solver_unavailable(id));
     ck_assert(!nd::linear_solver_known(id));
     for (Structure s : {Structure::SymmetricPositiveDefinite, Structure::General}) {
       try {
@@ -146,14 +181,137 @@ START_TEST(every_backend_solves_nonsymmetric) {
 }
 END_TEST
 
-int main(void) {
+START_TEST(petsc_ids_are_refused_or_solve) {
+  const nd::Csr A = spd_matrix(10);
+  for (int id : kPetscIds) {
+#ifdef ND_HAVE_PETSC
+    ck_assert(nd::linear_solver_known(id) && !nd::linear_solver_unavailable(id));
+    auto f = nd::make_factorization(id, A, Structure::SymmetricPositiveDefinite);
+    f->factor(A, Structure::SymmetricPositiveDefinite);
+    ck_assert_msg(solve_error(*f, A) <= (id == ND_SOLVER_PETSC_GAMG ? 1e-9 : 1e-10), "%s: off by %g", f->name(),
+                  solve_error(*f, A));
+#else
+    ck_assert(!nd::linear_solver_known(id));
+    ck_assert_ptr_nonnull(nd::linear_solver_unavailable(id));
+    for (Structure s : {Structure::SymmetricPositiveDefinite, Structure::General}) {
+      std::string what;
+      ck_assert_int_eq(error_code_of_make(id, A, s, &what), ND_ERR_KEY);
+      ck_assert_msg(what.find("ND_WITH_PETSC") != std::string::npos, "%s", what.c_str());
+    }
+#endif
+  }
+}
+END_TEST
+
+#ifdef ND_HAVE_PETSC
+// MUMPS: SPD certified (LDL^T inertia), indefinite refused, LU for the rest;
+// each after a failure as well (a failed factorization is not reused).
+START_TEST(petsc_mumps_conformance) {
+  const nd::Csr A = spd_matrix(10), B = indefinite_like(A), N = nonsymmetric_like(A);
+  const Structure spd = Structure::SymmetricPositiveDefinite, gen = Structure::General;
+  auto f = nd::make_factorization(ND_SOLVER_PETSC_MUMPS, A, spd);
+  ck_assert_str_eq(f->name(), "petsc-mumps");
+  ck_assert_int_eq(error_code_of_factor(*f, B, spd), ND_ERR_INDEFINITE);
+  ck_assert(f->definiteness() == Definiteness::NotPositiveDefinite);
+  f->factor(A, spd);
+  ck_assert(f->definiteness() == Definiteness::PositiveDefinite);
+  ck_assert_double_le(solve_error(*f, A), 1e-10);
+  f->factor(N, gen);  // the same object, analysed again for LU
+  ck_assert(f->definiteness() == Definiteness::Unknown);
+  ck_assert_double_le(solve_error(*f, N), 1e-10);
+  f->factor(B, gen);  // indefinite is fine as General
+  ck_assert_double_le(solve_error(*f, B), 1e-8);
+  // a structurally fine but singular matrix: a zero row and column
+  nd::Csr S = A;
+  for (int64_t k = S.ptr[3]; k < S.ptr[4]; ++k) S.val[k] = 0;
+  for (int64_t i = 0; i < S.n; ++i)
+    if (int64_t k = S.find(i, 3); k >= 0) S.val[k] = 0;
+  ck_assert_int_eq(error_code_of_factor(*f, S, gen), ND_ERR_SINGULAR);
+  ck_assert_int_eq(error_code_of_factor(*f, S, spd), ND_ERR_INDEFINITE);
+  nd::Csr bad = A;
+  bad.val[5] = NAN;
+  ck_assert_int_eq(error_code_of_factor(*f, bad, spd), ND_ERR_NONFINITE_STATE);
+  f->factor(A, spd);
+  ck_assert_double_le(solve_error(*f, A), 1e-10);
+}
+END_TEST
+
+// GAMG: solves to the Krylov tolerance (rtol 1e-12 on the true residual: the
+// error is within cond(A) 1e-12), with CG for SPD and GMRES otherwise, with and
+// without the rigid-body near-null space; an indefinite matrix requested as
+// SPD is refused when CG meets negative curvature (factor() cannot tell).
+START_TEST(petsc_gamg_conformance) {
+  const nd::Csr A = spd_matrix(10), B = indefinite_like(A), N = nonsymmetric_like(A);
+  const Structure spd = Structure::SymmetricPositiveDefinite, gen = Structure::General;
+  nd::Space s(ndtest::irregular_rectangle(10), 1);
+  nd::DofGeometry g;
+  g.dim = 2;
+  g.x.resize(static_cast<size_t>(2 * A.n));
+  g.component.resize(static_cast<size_t>(A.n));
+  for (int64_t i = 0; i < A.n; ++i) {
+    g.component[i] = static_cast<int>(i % 2);
+    g.x[2 * i] = s.node_coords[2 * (i / 2)], g.x[2 * i + 1] = s.node_coords[2 * (i / 2) + 1];
+  }
+  const nd::DofGeometry *geometries[] = {nullptr, &g};
+  for (const nd::DofGeometry *geometry : geometries) {
+    auto f = nd::make_factorization(ND_SOLVER_PETSC_GAMG, A, spd, nullptr, geometry);
+    ck_assert_str_eq(f->name(), "petsc-gamg");
+    f->factor(A, spd);
+    ck_assert(f->definiteness() == Definiteness::Unknown);
+    ck_assert_double_le(solve_error(*f, A), 1e-9);
+    f->factor(N, gen);
+    ck_assert_double_le(solve_error(*f, N), 1e-9);
+    int code = error_code_of_factor(*f, B, spd);
+    if (code == ND_OK) try {
+        std::vector<double> x(static_cast<size_t>(A.n), 1.0);
+        f->solve(x.data());
+      } catch (const nd::Error &e) {
+        code = e.code();
+      }
+    std::string what;
+    if (code != ND_ERR_INDEFINITE) try {
+        f->factor(B, spd);
+        std::vector<double> x(static_cast<size_t>(A.n), 1.0);
+        f->solve(x.data());
+      } catch (const nd::Error &e) {
+        what = e.what();
+      }
+    ck_assert_msg(code == ND_ERR_INDEFINITE, "GAMG on an indefinite matrix: %d (%s)", code, what.c_str());
+    ck_assert(f->definiteness() == Definiteness::NotPositiveDefinite);
+    f->factor(A, spd);
+    ck_assert_double_le(solve_error(*f, A), 1e-9);
+    std::vector<double> zero(static_cast<size_t>(A.n), 0.0);  // a zero right-hand side: x = 0
+    f->solve(zero.data());
+    for (double z : zero) ck_assert(z == 0);
+  }
+}
+END_TEST
+#endif
+
+
+int main(int argc, char **argv) {
   Suite *s = suite_create("linalg");
   TCase *tc = tcase_create("factorization");
-  tcase_add_test(tc, every_solver_id_is_registered);
-  tcase_add_test(tc, unknown_solver_ids_are_errors);
-  tcase_add_test(tc, auto_choice);
-  tcase_add_test(tc, every_backend_reports_indefinite);
-  tcase_add_test(tc, every_backend_solves_nonsymmetric);
+  const bool petsc_only = argc > 1 && std::strcmp(argv[1], "petsc") == 0;
+  if (!petsc_only) {
+    tcase_add_test(tc, every_solver_id_is_registered);
+    tcase_add_test(tc, unknown_solver_ids_are_errors);
+    tcase_add_test(tc, auto_choice);
+    tcase_add_test(tc, every_backend_reports_indefinite);
+    tcase_add_test(tc, every_backend_solves_nonsymmetric);
+  }
+  tcase_add_test(tc, petsc_ids_are_refused_or_solve);
+#ifdef ND_HAVE_PETSC
+  tcase_add_test(tc, petsc_mumps_conformance);
+  tcase_add_test(tc, petsc_gamg_conformance);
+#else
+  if (petsc_only) {
+    std::printf("unit_linalg petsc: skipped, this build has no PETSc (configure with -DND_WITH_PETSC=ON)\n");
+    suite_add_tcase(s, tc);
+    const int status = nd_test_run(s);
+    return status == EXIT_SUCCESS ? 77 : status;  // CTest: SKIP_RETURN_CODE 77, once the refusal holds
+  }
+#endif
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

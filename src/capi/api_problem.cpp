@@ -151,6 +151,7 @@ ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on) {
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
   return nd::guarded("nd_problem_set_linear_solver", [&] {
     nd::Problem &pr = nd::problem_of(p);
+    if (const char *why = nd::linear_solver_unavailable(solver)) nd::fail(ND_ERR_KEY, std::string("solver ") + why);
     nd::need_member(nd::linear_solver_known(solver), ND_ERR_KEY, "solver", solver, "ND_SOLVER_*");
     pr.set_linear_solver(solver);
     return ND_OK;

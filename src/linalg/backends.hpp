@@ -11,6 +11,11 @@ std::unique_ptr<Factorization> make_banded_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_klu_factorization(const Csr &pattern);
+#ifdef ND_HAVE_PETSC
+// linalg/petsc.cpp (ND_WITH_PETSC)
+std::unique_ptr<Factorization> make_petsc_mumps_factorization(const Csr &pattern);
+std::unique_ptr<Factorization> make_petsc_gamg_factorization(const Csr &pattern, const DofGeometry *geometry);
+#endif
 
 // Shared by the backends that factor with SPD requested; each sets the
 // backend's verdict `def` (NotPositiveDefinite before it throws).

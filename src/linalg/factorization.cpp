@@ -17,11 +17,28 @@ namespace {
 struct Backend {
   int id;
   std::unique_ptr<Factorization> (*make)(const Csr &pattern);
+  // a backend that uses the DofGeometry has this instead
+  std::unique_ptr<Factorization> (*make_geometric)(const Csr &pattern, const DofGeometry *geometry) = nullptr;
 };
 constexpr Backend kBackends[] = {
     {ND_SOLVER_DENSE, make_dense_factorization},     {ND_SOLVER_BANDED, make_banded_factorization},
     {ND_SOLVER_CHOLMOD, make_cholmod_factorization}, {ND_SOLVER_UMFPACK, make_umfpack_factorization},
     {ND_SOLVER_KLU, make_klu_factorization},
+#ifdef ND_HAVE_PETSC
+    {ND_SOLVER_PETSC_MUMPS, make_petsc_mumps_factorization}, {ND_SOLVER_PETSC_GAMG, nullptr, make_petsc_gamg_factorization},
+#endif
+};
+
+// Ids of the public list whose backend is optional at build time.
+struct Optional {
+  int id;
+  const char *why;
+};
+constexpr Optional kOptional[] = {
+    {ND_SOLVER_PETSC_MUMPS, "ND_SOLVER_PETSC_MUMPS (6) needs PETSc, and this build of libnitschedyn has none "
+                            "(configure with -DND_WITH_PETSC=ON)"},
+    {ND_SOLVER_PETSC_GAMG, "ND_SOLVER_PETSC_GAMG (7) needs PETSc, and this build of libnitschedyn has none "
+                           "(configure with -DND_WITH_PETSC=ON)"},
 };
 
 const Backend *find_backend(int id) {
@@ -75,11 +92,21 @@ class Counted : public Factorization {
 
 bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_backend(solver); }
 
+const char *linear_solver_unavailable(int solver) {
+  if (find_backend(solver)) return nullptr;
+  for (const Optional &o : kOptional)
+    if (o.id == solver) return o.why;
+  return nullptr;
+}
+
 std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s,
-                                                  Counters *counters) {
+                                                  Counters *counters, const DofGeometry *geometry) {
   const Backend *b = find_backend(backend_for(solver, pattern, s));
-  if (!b) fail(ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
-  std::unique_ptr<Factorization> f = b->make(pattern);
+  if (!b) {
+    if (const char *why = linear_solver_unavailable(solver)) fail(ND_ERR_KEY, why);
+    fail(ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
+  }
+  std::unique_ptr<Factorization> f = b->make_geometric ? b->make_geometric(pattern, geometry) : b->make(pattern);
   if (!counters) return f;
   ++counters->symbolic_analyses;
   return std::make_unique<Counted>(std::move(f), counters);

@@ -3,6 +3,7 @@
 // matrix of that pattern numerically, as often as needed.
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "common/counters.hpp"
 #include "linalg/csr.hpp"
@@ -26,14 +27,28 @@ class Factorization {
   virtual const char *name() const = 0;
 };
 
+// Where the unknowns sit: for each unknown (free DOF) its node's coordinates
+// and its component. Algebraic multigrid (ND_SOLVER_PETSC_GAMG) builds the
+// rigid-body modes from it (its near-null space); the direct solvers ignore it.
+struct DofGeometry {
+  int dim = 0;
+  std::vector<double> x;         // dim per unknown
+  std::vector<int> component;    // 0 .. dim-1 per unknown
+};
+
 // solver: an ND_SOLVER_* value; s: the structure of the matrices it will
 // factor. AUTO picks by size and bandwidth, CHOLMOD falls back to UMFPACK
-// for non-symmetric matrices. Any other id throws ND_ERR_KEY. With
+// for non-symmetric matrices. Any other id throws ND_ERR_KEY, and so does a
+// known id whose backend this build lacks (linear_solver_unavailable). With
 // counters, the making (symbolic analysis), every factor() and every solve()
-// are counted there.
+// are counted there. geometry (may be null): see DofGeometry.
 std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s,
-                                                  Counters *counters = nullptr);
+                                                  Counters *counters = nullptr,
+                                                  const DofGeometry *geometry = nullptr);
 // whether make_factorization accepts this id (AUTO or a registered backend)
 bool linear_solver_known(int solver);
+// For an ND_SOLVER_* id of a backend this build does not have (the PETSc ones
+// without ND_WITH_PETSC): why, naming the id; otherwise nullptr.
+const char *linear_solver_unavailable(int solver);
 
 }  // namespace nd

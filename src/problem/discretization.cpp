@@ -31,6 +31,15 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
       }
     if (std::find(d->massless.begin(), d->massless.end(), 1) == d->massless.end()) d->massless.clear();
   }
+  d->geometry.dim = space.dim;
+  d->geometry.x.resize(static_cast<size_t>(d->dofs.n_free * space.dim));
+  d->geometry.component.resize(static_cast<size_t>(d->dofs.n_free));
+  for (int64_t node = 0; node < space.n_nodes; ++node)
+    for (int a = 0; a < space.dim; ++a)
+      if (const int64_t r = d->dofs.free[node * space.dim + a]; r >= 0) {
+        std::copy_n(&space.node_coords[node * space.dim], space.dim, &d->geometry.x[r * space.dim]);
+        d->geometry.component[r] = a;
+      }
   BulkOperators bulk = assemble_bulk(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr);
   d->K = std::move(bulk.K);
   if (def.lumped) {
@@ -80,7 +89,7 @@ void check_coercivity(Discretization &d, int solver) {
   Csr A;
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(1.0, d.K_theta, 1e-10 * kmax / mmax, d.M, A);
-  auto f = make_factorization(solver, A, Structure::SymmetricPositiveDefinite, d.counters);
+  auto f = make_factorization(solver, A, Structure::SymmetricPositiveDefinite, d.counters, &d.geometry);
   try {
     f->factor(A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
@@ -104,7 +113,7 @@ void Discretization::mass_solve(double *x, int solver) {
     Csr Mf = M;
     for (size_t i = 0; i < massless.size(); ++i)
       if (massless[i]) Mf.val[Mf.find(static_cast<int64_t>(i), static_cast<int64_t>(i))] = 1;
-    auto f = make_factorization(solver, Mf, Structure::SymmetricPositiveDefinite, counters);
+    auto f = make_factorization(solver, Mf, Structure::SymmetricPositiveDefinite, counters, &geometry);
     f->factor(Mf, Structure::SymmetricPositiveDefinite);
     M_factor = std::move(f);  // kept only once factored: a failure leaves nothing half-built
   }

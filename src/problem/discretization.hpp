@@ -42,6 +42,7 @@ struct Discretization {
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
   std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
   Counters *counters = nullptr;             // the problem's (ND_STAT_*)
+  DofGeometry geometry;                     // node coordinates and component of each free DOF (for AMG)
 
   // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others)
   void mass_solve(double *x, int solver);

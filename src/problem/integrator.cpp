@@ -38,7 +38,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
   in->A_factor = reuse ? std::move(reuse)
-                       : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters);
+                       : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters,
+                                                            &d.geometry);
   try {
     in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
@@ -50,13 +51,13 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   if (!d.contact.a.empty()) {  // the low-rank update of A's factor; refactoring T is the reference
     const Structure s = tangent_structure(def.theta);
     if (def.tangent == TangentChoice::Refactor)
-      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters);
+      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
     else
       in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s,
                                          def.tangent == TangentChoice::LowRank
                                              ? -1
                                              : lowrank_rank_limit(in->A.n, d.contact),
-                                         kLowRankTwoSolveRank, d.counters);
+                                         kLowRankTwoSolveRank, d.counters, &d.geometry);
   }
   return in;
 }

@@ -30,9 +30,9 @@ namespace {
 class LowRankTangent : public TangentSolver {
  public:
   LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank,
-                 int64_t two_solve_rank, Counters *counters)
+                 int64_t two_solve_rank, Counters *counters, const DofGeometry *geometry)
       : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank),
-        two_solve_rank_(two_solve_rank), counters_(counters) {}
+        two_solve_rank_(two_solve_rank), counters_(counters), geometry_(geometry) {}
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
@@ -59,7 +59,7 @@ class LowRankTangent : public TangentSolver {
       return;
     }
     if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
-      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_);
+      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_, geometry_);
       fallback_->solve(law, kappa, U, true, x);
       ++stats.refactorizations;
       return;
@@ -217,6 +217,7 @@ class LowRankTangent : public TangentSolver {
   Structure structure_;
   int64_t max_rank_, two_solve_rank_;
   Counters *counters_;
+  const DofGeometry *geometry_;
   std::unique_ptr<TangentSolver> fallback_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
@@ -235,8 +236,10 @@ class LowRankTangent : public TangentSolver {
 
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                     Structure structure, int64_t max_rank,
-                                                    int64_t two_solve_rank, Counters *counters) {
-  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank, counters);
+                                                    int64_t two_solve_rank, Counters *counters,
+                                                    const DofGeometry *geometry) {
+  return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank, counters,
+                                          geometry);
 }
 
 // Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,

@@ -7,8 +7,9 @@ namespace {
 
 class RefactoringTangent : public TangentSolver {
  public:
-  RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, Counters *c)
-      : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c)) {}
+  RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, Counters *c,
+                     const DofGeometry *g)
+      : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
     if (!any_active) {
@@ -34,8 +35,9 @@ class RefactoringTangent : public TangentSolver {
 }  // namespace
 
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
-                                                        Structure structure, Counters *counters) {
-  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure, counters);
+                                                        Structure structure, Counters *counters,
+                                                        const DofGeometry *geometry) {
+  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure, counters, geometry);
 }
 
 }  // namespace nd

@@ -45,8 +45,10 @@ enum class TangentChoice {
 // tangent, structure: the tangent's (symmetric positive definite iff Theta = 1).
 // counters: where the tangent's own factorizations are counted (or none); the
 // contact evaluations and tangent updates go to the ContactLaw's.
+// geometry (may be null): for the tangent's factorizations (DofGeometry).
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
-                                                        Structure structure, Counters *counters = nullptr);
+                                                        Structure structure, Counters *counters = nullptr,
+                                                        const DofGeometry *geometry = nullptr);
 
 // The low-rank solver. Calls with more than max_rank active points are
 // solved by a refactoring tangent held inside (made on first need); a
@@ -55,7 +57,8 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
 // solve with A's factor instead of n k multiply-adds.
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                     Structure structure, int64_t max_rank,
-                                                    int64_t two_solve_rank = -1, Counters *counters = nullptr);
+                                                    int64_t two_solve_rank = -1, Counters *counters = nullptr,
+                                                    const DofGeometry *geometry = nullptr);
 
 // The rank above which the second solve beats Z w (bench/tangent_bench
 // crossover, back to back, one BLAS thread): k = 78-97 on disk_h1 P1

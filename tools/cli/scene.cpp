@@ -273,7 +273,8 @@ void read_scheme(const Reader &r, const toml::table &t, Scene &s) {
   if (s.scheme == "galpha") s.params = {{r.number(t, "scheme", "rho_inf", &rho_inf), 0}};
 }
 
-const char *const solver_names[] = {"auto", "dense", "banded", "cholmod", "umfpack", "klu"};
+// indexed by ND_SOLVER_* value
+const char *const solver_names[] = {"auto", "dense", "banded", "cholmod", "umfpack", "klu", "petsc_mumps", "petsc_gamg"};
 
 void read_solver(const Reader &r, const toml::table &t, Scene &s) {
   r.check_keys(t, "solver", "solver");
@@ -284,7 +285,8 @@ void read_solver(const Reader &r, const toml::table &t, Scene &s) {
     for (int k = 0; k < 6; ++k)
       if (s.linear == solver_names[k]) s.solver_id = k;
     if (s.solver_id < 0)
-      r.fail(n->source(), "'solver.linear' is \"" + s.linear + "\": use auto, dense, banded, cholmod, umfpack or klu");
+      r.fail(n->source(), "'solver.linear' is \"" + s.linear + "\": use auto, dense, banded, cholmod, umfpack, klu, "
+                                "petsc_mumps or petsc_gamg");
   }
   const double rtol = s.newton_rtol, atol = s.newton_atol;
   s.newton_given = t.get("newton_rtol") || t.get("newton_atol") || t.get("newton_max_iter");
