@@ -8,11 +8,19 @@
 
 namespace nd {
 
+// Two sums per row: the latency of the dependent adds, not memory, bounded
+// the single sum on these patterns (10-40 entries a row).
 void Csr::multiply(const double *x, double *y) const {
   for (int64_t i = 0; i < n; ++i) {
-    double s = 0;
-    for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k) s += val[k] * x[col[k]];
-    y[i] = s;
+    double s = 0, s1 = 0;
+    const int64_t e = ptr[i + 1];
+    int64_t k = ptr[i];
+    for (; k + 1 < e; k += 2) {
+      s += val[k] * x[col[k]];
+      s1 += val[k + 1] * x[col[k + 1]];
+    }
+    if (k < e) s += val[k] * x[col[k]];
+    y[i] = s + s1;
   }
 }
 
