@@ -1,8 +1,19 @@
 // The 2D disk of DESIGN §7 (dropped on a plane, impact at t = 10) on the
-// committed meshes, P1/P2, hybrid and Newmark (1/4, 1/2), and the hybrid with
-// mass redistribution and the applied force (issue 16), against the finest
-// run: displacement at t = 12 and t = 14 in L2 and in the energy norm, and
-// the contact force history in L2(0, T), versus the wall time of the steps.
+// committed meshes, P1/P2, hybrid and Newmark (1/4, 1/2), and with mass
+// redistribution and the applied force (issue 16) the hybrid and the explicit
+// central difference (Newmark (0, 1/2), lumped mass, tau = 0.9 of its critical
+// step rounded down to a divisor of 2), against the finest run: displacement
+// at t = 12 and t = 14 in L2 and in the energy norm, and the contact force
+// history in L2(0, T), versus the wall time of the steps.
+//
+// Two references: the hybrid P2 on the finest mesh of the ladder with half its
+// step (every error column), and, for the contact force of the redistributed
+// model, the explicit redistributed P2 one mesh finer (disk_h0.5.msh in the
+// full plan; the finest mesh of the ladder in the quick plan): the column
+// e_force_l2_red of every run. d_force_coarser needs no reference: the
+// difference ||F_2h - F_h|| / ||F_h|| in L2(0, T) to the same curve's run on
+// the next coarser mesh. Histories on different time grids are compared at
+// the coarser run's times, the finer one interpolated linearly in time.
 //
 // The runs go through the public API (examples/drop_scene.c); only the
 // comparison of fields on different meshes uses the library's internals
@@ -34,11 +45,14 @@ constexpr double kLambda = 20, kMu = 20;  // the scene's Lame coefficients
 constexpr double kGamma0 = 1e-3;          // safe for P1 and P2 (DESIGN §7)
 constexpr double kTauOverH = 1.0 / 40;    // tau tied to h: 0.1 at h = 4
 constexpr double kT = 14, kSnap1 = 12, kSnap2 = 14;
+// the explicit step: kCflFraction of the critical step, rounded down so that
+// kTauDivides / tau is an integer (2 divides kSnap1, kSnap2 and kT)
+constexpr double kCflFraction = 0.9, kTauDivides = 2;
 
 struct Spec {
-  std::string scheme;  // "hybrid", "newmark(0.25,0.5)" or "hybrid+redistributed"
+  std::string scheme;  // "hybrid", "newmark(0.25,0.5)", "hybrid+redistributed" or "explicit+redistributed"
   int degree;
-  double h, tau;
+  double h, tau;  // explicit: tau <= 0, chosen from the critical step
   bool reference;
   std::string label() const {
     char b[96];
@@ -54,6 +68,7 @@ struct Run {
   std::vector<double> force;         // ND_CONTACT_FORCE (redistributed: _APPLIED) at every time level
   int64_t unknowns = 0, steps = 0;
   double setup_s = 0, loop_s = 0, newton = 0;
+  double tau_c = 0;  // the critical step estimate (explicit runs)
   int repeats = 0;
   std::string status = "ok";
 };
@@ -81,20 +96,31 @@ std::string march(Run &r, bool keep, double &setup_s, double &loop_s) {
   // "+redistributed": mass redistribution, and the force the step applied
   const bool redistributed = s.scheme.find("+redistributed") != std::string::npos;
   const bool hybrid = s.scheme.compare(0, 6, "hybrid") == 0;
-  const double nm[2] = {0.25, 0.5};
+  // the central difference: Newmark (0, 1/2) with the lumped mass
+  const bool expl = s.scheme.compare(0, 8, "explicit") == 0;
+  const double nm[2] = {expl ? 0.0 : 0.25, 0.5};
   nd_problem p = nullptr;
   double t0 = now();
   int st = drop_scene_create(2, mesh_path(s.h).c_str(), s.degree, hybrid ? ND_SCHEME_HYBRID : ND_SCHEME_NEWMARK,
-                             nm, 1.0, kGamma0, s.tau, ND_SOLVER_AUTO, &p);
+                             nm, 1.0, kGamma0, expl ? 1.0 : s.tau, ND_SOLVER_AUTO, &p);
+  if (st == ND_OK && expl) st = nd_problem_set_mass_lumping(p, 1);
   if (st == ND_OK && redistributed) st = nd_problem_set_mass_redistribution(p, 1);
+  if (st == ND_OK && expl) {  // the step from the critical one, everything else set (counted in the set-up)
+    st = nd_problem_estimate_critical_timestep(p, &r.tau_c);
+    if (st == ND_OK) {
+      r.spec.tau = kTauDivides / std::ceil(kTauDivides / (kCflFraction * r.tau_c));
+      st = nd_problem_set_timestep(p, r.spec.tau);
+    }
+  }
   if (st == ND_OK) st = nd_problem_setup(p);
   setup_s = now() - t0;
   loop_s = 0;
   std::string error;
   int64_t n_nodes = 0;
   if (st == ND_OK) st = nd_problem_get_node_count(p, &n_nodes);
-  const int64_t n1 = std::llround(kSnap1 / s.tau), n2 = std::llround(kSnap2 / s.tau);
-  r.steps = std::llround(kT / s.tau);
+  const double tau = s.tau > 0 ? s.tau : 2 * kT;  // no estimate (a failed set-up): no steps
+  const int64_t n1 = std::llround(kSnap1 / tau), n2 = std::llround(kSnap2 / tau);
+  r.steps = std::llround(kT / tau);
   if (keep) {
     r.force.assign(r.steps + 1, 0.0);
     r.newton = 0;
@@ -148,9 +174,9 @@ void run(Run &r, int repeat) {
   r.repeats = static_cast<int>(loop.size());
   r.setup_s = median(setup);
   r.loop_s = median(loop);
-  std::fprintf(stderr, "%-36s %6lld unknowns %5lld steps  setup %.3f s  loop %.3f s  %s\n", r.spec.label().c_str(),
-               static_cast<long long>(r.unknowns), static_cast<long long>(r.steps), r.setup_s, r.loop_s,
-               r.status.c_str());
+  std::fprintf(stderr, "%-46s %6lld unknowns %5lld steps (tau %.6g)  setup %.3f s  loop %.3f s  %s\n",
+               r.spec.label().c_str(), static_cast<long long>(r.unknowns), static_cast<long long>(r.steps), r.spec.tau,
+               r.setup_s, r.loop_s, r.status.c_str());
 }
 
 // ---- fields on non-nested meshes --------------------------------------------------
@@ -271,19 +297,35 @@ void field_errors(const Run &ref, const std::vector<double> &ur, const Run &run,
   energy = std::sqrt(e_en / r_en);
 }
 
-// L2(0,T) error of the force history, trapezoidal at the coarse run's times
-// (the reference's step divides the coarse one).
-double force_error(const Run &ref, const Run &run) {
-  const int64_t k = std::llround(run.spec.tau / ref.spec.tau);
+// The force history of a run at time t in [0, T]: its value at a time level
+// (t within 1e-9 steps of it), linear in between.
+double force_at(const Run &r, double t) {
+  const double x = t / r.spec.tau;
+  const double nearest = std::round(x);
+  if (std::abs(x - nearest) < 1e-9) return r.force[static_cast<size_t>(std::clamp<double>(nearest, 0, r.steps))];
+  const int64_t n = std::clamp<int64_t>(static_cast<int64_t>(std::floor(x)), 0, r.steps - 1);
+  const double a = x - static_cast<double>(n);
+  return (1 - a) * r.force[n] + a * r.force[n + 1];
+}
+
+// ||F_a - F_b|| / ||F_b|| in L2(0,T), trapezoidal at the time levels of the
+// run with the larger step, the other run's history taken there by force_at
+// (where the smaller step divides the larger, its own values: the earlier
+// comparison with the reference, whose step divides the coarse one).
+double force_difference(const Run &a, const Run &b) {
+  const Run &grid = a.spec.tau >= b.spec.tau ? a : b;
   double e = 0, r = 0;
-  for (int64_t n = 0; n <= run.steps; ++n) {
-    const double w = (n == 0 || n == run.steps) ? 0.5 : 1.0;
-    const double fr = ref.force[n * k], d = run.force[n] - fr;
-    e += w * d * d;
-    r += w * fr * fr;
+  for (int64_t n = 0; n <= grid.steps; ++n) {
+    const double w = (n == 0 || n == grid.steps) ? 0.5 : 1.0, t = static_cast<double>(n) * grid.spec.tau;
+    const double fa = &grid == &a ? a.force[n] : force_at(a, t), fb = &grid == &b ? b.force[n] : force_at(b, t);
+    e += w * (fa - fb) * (fa - fb);
+    r += w * fb * fb;
   }
   return std::sqrt(e / r);
 }
+
+// L2(0,T) error of a run's force history against a reference's
+double force_error(const Run &ref, const Run &run) { return force_difference(run, ref); }
 
 }  // namespace
 
@@ -303,26 +345,43 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "usage: disk_study --plan quick|full --out DIR [--repeat K]\n");
     return 2;
   }
-  // the ladder; the reference is the finest mesh in P2 with half its time step
-  const std::vector<double> hs = plan == "quick" ? std::vector<double>{4, 2} : std::vector<double>{4, 2, 1};
-  const double h_ref = hs.back();
+  // the ladder; the reference is the finest mesh in P2 with half its time
+  // step; the redistributed model's reference the explicit redistributed P2
+  // one mesh finer (full plan) or on the finest mesh (quick plan)
+  const bool quick = plan == "quick";
+  const std::vector<double> hs = quick ? std::vector<double>{4, 2} : std::vector<double>{4, 2, 1};
+  const double h_ref = hs.back(), h_ref_red = quick ? h_ref : h_ref / 2;
+  const char *const kExplicit = "explicit+redistributed";
   std::vector<Run> runs;
-  Run ref;
+  Run ref, ref_red;
   ref.spec = {"hybrid", 2, h_ref, 0.5 * kTauOverH * h_ref, true};
-  run(ref, 1);
-  if (ref.status != "ok") {
-    std::fprintf(stderr, "disk_study: the reference run failed: %s\n", ref.status.c_str());
-    return 1;
+  ref_red.spec = {kExplicit, 2, h_ref_red, 0, true};
+  for (Run *r : {&ref, &ref_red}) {
+    run(*r, 1);
+    if (r->status != "ok") {
+      std::fprintf(stderr, "disk_study: the reference run %s failed: %s\n", r->spec.label().c_str(),
+                   r->status.c_str());
+      return 1;
+    }
   }
-  for (const char *scheme : {"hybrid", "newmark(0.25,0.5)", "hybrid+redistributed"})
+  for (const char *scheme : {"hybrid", "newmark(0.25,0.5)", "hybrid+redistributed", kExplicit})
     for (int degree : {1, 2})
       for (double h : hs) {
-        if (plan == "quick" && degree == 2 && h == h_ref) continue;
+        if (quick && degree == 2 && h == h_ref) continue;
         Run r;
-        r.spec = {scheme, degree, h, kTauOverH * h, false};
+        r.spec = {scheme, degree, h, std::strcmp(scheme, kExplicit) ? kTauOverH * h : 0.0, false};
         run(r, repeat);
         runs.push_back(std::move(r));
       }
+  // the successive differences: each run (and the redistributed reference)
+  // against the same curve's run on the mesh twice as coarse
+  auto coarser = [&](const Run &r) -> const Run * {
+    for (const Run &c : runs)
+      if (c.spec.scheme == r.spec.scheme && c.spec.degree == r.spec.degree && c.spec.h == 2 * r.spec.h &&
+          c.status == "ok" && r.status == "ok")
+        return &c;
+    return nullptr;
+  };
 
   const std::string csv = out + "/disk.csv", fcsv = out + "/disk_force.csv";
   FILE *f = std::fopen(csv.c_str(), "w"), *ff = std::fopen(fcsv.c_str(), "w");
@@ -331,17 +390,28 @@ int main(int argc, char **argv) {
     return 1;
   }
   std::fprintf(f, "code,scheme,degree,h,unknowns,tau,T,steps,setup_s,loop_s,repeats,newton_its,e_l2_u_t12,"
-                  "e_energy_u_t12,e_l2_u_t14,e_energy_u_t14,e_force_l2,status\n");
+                  "e_energy_u_t12,e_l2_u_t14,e_energy_u_t14,e_force_l2,e_force_l2_red,d_force_coarser,tau_c,status\n");
   std::fprintf(ff, "run,t,force\n");
+  // errors: the five columns against the reference; then the force against
+  // the redistributed reference, the successive difference and tau_c
   auto row = [&](const Run &r, const std::string &errors) {
-    std::fprintf(f, "nitschedyn,\"%s\",%d,%g,%lld,%.10g,%g,%lld,%.6g,%.6g,%d,%.0f,%s,%s\n", r.spec.scheme.c_str(),
+    std::string extra;
+    char b[64];
+    if (!r.spec.reference && r.status == "ok") std::snprintf(b, sizeof b, "%.6g", force_error(ref_red, r)), extra = b;
+    const Run *c = &r == &ref ? nullptr : coarser(r);
+    std::snprintf(b, sizeof b, ",%.6g", c ? force_difference(*c, r) : NAN);
+    extra += c ? b : ",";
+    std::snprintf(b, sizeof b, ",%.10g", r.tau_c);
+    extra += r.tau_c > 0 ? b : ",";
+    std::fprintf(f, "nitschedyn,\"%s\",%d,%g,%lld,%.10g,%g,%lld,%.6g,%.6g,%d,%.0f,%s,%s,%s\n", r.spec.scheme.c_str(),
                  r.spec.degree, r.spec.h, static_cast<long long>(r.unknowns), r.spec.tau, kT,
                  static_cast<long long>(r.steps), r.setup_s, r.loop_s, r.repeats, r.newton, errors.c_str(),
-                 r.spec.reference ? "reference" : r.status.c_str());
+                 extra.c_str(), r.spec.reference ? "reference" : r.status.c_str());
     for (size_t n = 0; n < r.force.size(); ++n)
       std::fprintf(ff, "\"%s\",%.10g,%.10g\n", r.spec.label().c_str(), static_cast<double>(n) * r.spec.tau, r.force[n]);
   };
   row(ref, ",,,,");
+  row(ref_red, ",,,,");
   {  // the transfer itself: the reference against itself through the locator is exact
     const Locator loc(*ref.space->mesh);
     double l2, en;

@@ -30,11 +30,12 @@ WP = [("e_l2_l2_u", "u_l2l2"), ("e_l2_l2_v", "v_l2l2"), ("e_l2_stress", "stress"
 TARGETS = [("e_l2_stress", "contact-stress", [1e-1, 5e-2, 2e-2, 1e-2]), ("e_l2_l2_u", "u L²L²", [1e-2, 1e-3, 1e-4]),
            ("e_l2_l2_v", "v L²L²", [1e-1, 5e-2, 2e-2])]
 DISK_ERR = [("e_l2_u_t12", "u L² t=12"), ("e_energy_u_t12", "u energy t=12"), ("e_l2_u_t14", "u L² t=14"),
-            ("e_energy_u_t14", "u energy t=14"), ("e_force_l2", "force L²(0,T)")]
+            ("e_energy_u_t14", "u energy t=14"), ("e_force_l2", "force L²(0,T)"),
+            ("e_force_l2_red", "force L²(0,T) vs redistributed ref")]
 TEXT = ["code", "study", "scheme", "status", "run", "pressure"]
 PNGS = {"bar": ["bar_wp_%s_T%d.png" % (s, T) for T in (3, 12) for _, s in WP] +
         ["bar_wp_theta_T3.png", "bar_conv_T3.png", "bar_tau_ladder.png"],
-        "energy": ["bar_energy.png"], "disk": ["disk_wp.png", "disk_force.png"],
+        "energy": ["bar_energy.png"], "disk": ["disk_wp.png", "disk_force.png", "disk_force_conv.png"],
         "pressure": ["bar_pressure_conv.png", "bar_pressure_wp.png"]}
 
 
@@ -232,15 +233,34 @@ def plot_energy(energy, out, written):
 def plot_disk(disk, force, out, written):
     cs = curves([r for r in disk or [] if ok(r)])
     if cs:
-        fig, axs = plt.subplots(1, 3, figsize=(17, 4.8))
-        fig.subplots_adjust(left=0.06, right=0.86, bottom=0.11, top=0.93, wspace=0.28)
-        for ax, key in zip(axs, ("e_l2_u_t14", "e_energy_u_t14", "e_force_l2")):
+        keys = ["e_l2_u_t14", "e_energy_u_t14", "e_force_l2"]
+        if any(math.isfinite(r.get("e_force_l2_red", math.nan)) for rs in cs.values() for r in rs):
+            keys.append("e_force_l2_red")
+        fig, axs = plt.subplots(1, len(keys), figsize=(5.2 * len(keys) + 1.4, 4.8))
+        fig.subplots_adjust(left=0.05, right=0.88, bottom=0.11, top=0.93, wspace=0.28)
+        for ax, key in zip(axs, keys):
             for (s, d), rows in cs.items():
                 plot_xy(ax, rows, lambda r: r["loop_s"], key, label=label(rows[0]), **style(s, d))
             ax.set(xlabel="time loop (s)", ylabel="error relative to the reference run", title=dict(DISK_ERR)[key])
             ax.grid(True, which="both", alpha=0.3)
-        axs[2].legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
+        axs[-1].legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
         save(fig, out, "disk_wp.png", written)
+    succ = disk_successive(disk)
+    if any(len(v) >= 1 for v in succ.values()):
+        fig, axs = plt.subplots(1, 2, figsize=(13, 4.8))
+        fig.subplots_adjust(left=0.07, right=0.8, bottom=0.11, top=0.93, wspace=0.25)
+        for (s, d), pts in succ.items():
+            if pts:
+                axs[0].loglog([p[0] for p in pts], [p[1] for p in pts], label="%s P%d" % (s, d), **style(s, d))
+        axs[0].set(xlabel="h (the finer mesh of the pair)", ylabel="‖F_2h − F_h‖ / ‖F_h‖ in L²(0,T)",
+                   title="disk: successive differences of the force history")
+        for (s, d), rows in cs.items():
+            plot_xy(axs[1], rows, lambda r: r["h"], "e_force_l2_red", label=label(rows[0]), **style(s, d))
+        axs[1].set(xlabel="h", ylabel="relative error", title="force L²(0,T) vs the redistributed reference")
+        for ax in axs:
+            ax.grid(True, which="both", alpha=0.3)
+        axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
+        save(fig, out, "disk_force_conv.png", written)
     if force:
         runs = {}
         for r in force:
@@ -250,7 +270,8 @@ def plot_disk(disk, force, out, written):
         fig, ax = plt.subplots(figsize=(12, 5))
         fig.subplots_adjust(left=0.07, right=0.74, bottom=0.1, top=0.93)
         # labels look like "hybrid P2 h=1": one colour map per scheme, darker for later (finer) runs, P2 dashed
-        maps = {"hybrid": plt.cm.Purples, "newmark(0.25,0.5)": plt.cm.Greens}
+        maps = {"hybrid": plt.cm.Purples, "newmark(0.25,0.5)": plt.cm.Greens, "hybrid+redistributed": plt.cm.Oranges,
+                "explicit+redistributed": plt.cm.Blues}
         family = {}
         for name in runs:
             family.setdefault(name.split(" ")[0], []).append(name)
@@ -258,7 +279,7 @@ def plot_disk(disk, force, out, written):
             ref = "reference" in name
             fam = family[name.split(" ")[0]]
             cmap = maps.get(name.split(" ")[0], plt.cm.Oranges)
-            ax.plot(t, f, label=name, color="k" if ref else cmap(0.35 + 0.6 * fam.index(name) / max(len(fam) - 1, 1)),
+            ax.plot(t, f, label=name, color=("navy" if "redistributed" in name else "k") if ref else cmap(0.35 + 0.6 * fam.index(name) / max(len(fam) - 1, 1)),
                     lw=2.5 if ref else 1.0, ls="--" if " P2 " in name + " " and not ref else "-", zorder=3 if ref else 2)
         ax.set(xlabel="t", ylabel="contact force", title="disk: contact force histories")
         ax.grid(True, alpha=0.3)
@@ -310,8 +331,10 @@ def sec_setup(bar, energy, disk, machine):
                   % (g3(dt), g3(e["t"][-1])))
     if disk:
         md.append("\n**2D disk** (DESIGN §7: radius 20, gap 5, λ = μ = 20, gravity 0.1, impact at t = 10). Errors are "
-                  "relative to the finest run (status `reference`), not to an exact solution: displacement at "
-                  "t = 12 and t = 14 in L² and in the energy norm, and the L²(0,T) error of the contact force. "
+                  "relative to the finest run (status `reference`, the hybrid P2), not to an exact solution: displacement at "
+                  "t = 12 and t = 14 in L² and in the energy norm, and the L²(0,T) error of the contact force; the "
+                  "contact force also against the explicit redistributed P2 reference and, with no reference, as "
+                  "successive differences between meshes. "
                   "h = %s, T = %s.\n" % (", ".join(g3(h) for h in sorted({r["h"] for r in disk}, reverse=True)),
                                          ", ".join(sorted({g3(r["T"]) for r in disk}))))
     return md
@@ -539,26 +562,125 @@ def sec_getfem(bar, getfem, pairs):
     return md
 
 
-def sec_disk(disk, force):
+def disk_successive(disk):
+    """{(scheme, degree): [(h, ||F_2h - F_h|| / ||F_h||)] by decreasing h}, the runs and the redistributed
+    reference (d_force_coarser: against the same curve's run on the mesh twice as coarse)."""
+    out = {}
+    for r in disk or []:
+        if r["status"] in ("ok", "reference"):
+            d = r.get("d_force_coarser", math.nan)
+            if math.isfinite(d):
+                out.setdefault((r["scheme"], int(r["degree"])), []).append((r["h"], d))
+    return {k: sorted(out[k], key=lambda p: -p[0]) for k in sorted(out, key=lambda k: (rank(k[0]), k[1]))}
+
+
+def last_pair(pts):
+    """The rate of the last halving when there are more than two differences."""
+    if len(pts) < 3:
+        return ""
+    return " (last halving %s)" % frate(math.log2(pts[-2][1] / pts[-1][1]))
+
+
+CONVERGE_RATE = 0.25  # successive differences falling at least like h^0.25 at every halving: "converging"
+
+
+def verdict(pts):
+    """(word, rate) for successive differences [(h, d)]: converge / do not converge, least-squares rate."""
+    if len(pts) < 2:
+        return "undecided (one difference only)", math.nan
+    ratios = [a[1] / b[1] for a, b in zip(pts, pts[1:])]
+    r = rate([p[0] for p in pts], [p[1] for p in pts])
+    if all(q >= 2 ** CONVERGE_RATE for q in ratios):
+        return "converge", r
+    if all(q > 1 for q in ratios):
+        return "decrease too slowly to show convergence", r
+    return "do not converge", r
+
+
+def sec_disk_convergence(disk):
+    md = []
+    succ = disk_successive(disk)
+    if not succ:
+        return md
+    hs = sorted({p[0] for v in succ.values() for p in v}, reverse=True)
+    rows = []
+    for (s, d), pts in succ.items():
+        by_h = dict(pts)
+        ratios = ["%.2f" % (a[1] / b[1]) for a, b in zip(pts, pts[1:])]
+        rows.append([s, "P%d" % d] + [g3(by_h.get(h, math.nan)) for h in hs] +
+                    [", ".join(ratios) or "–", frate(rate([p[0] for p in pts], [p[1] for p in pts]))])
+    md.append("\n**Convergence of the contact-force history without a reference.** The successive differences "
+              "‖F_2h − F_h‖ / ‖F_h‖ in L²(0,T) of each curve (F_h the run on mesh h; histories on different time "
+              "grids compared at the coarser step's times, the finer one interpolated linearly in time), their "
+              "ratios (coarser pair over finer pair; 2^p for a rate p) and the observed rate (slope of "
+              "log(difference) against log(h), h the finer mesh of each pair). The explicit redistributed P2 "
+              "includes its reference run (one mesh finer) as the last pair. \n\n")
+    md.append(table(["scheme", "P"] + ["%s→%s" % (g3(2 * h), g3(h)) for h in hs] + ["ratios", "rate"], rows))
+    red = {k: v for k, v in succ.items() if "redistributed" in k[0]}
+    if red:
+        verdicts = {k: verdict(v) for k, v in red.items()}
+        words = {w for w, _ in verdicts.values()}
+        refs = [r for r in disk if r["status"] == "reference" and "redistributed" in r["scheme"]]
+        err = curves([r for r in disk if ok(r) and "redistributed" in r["scheme"]
+                      and math.isfinite(r.get("e_force_l2_red", math.nan))])
+        heads = {"converge": "The redistributed contact-force histories converge under refinement",
+                 "do not converge": "The redistributed contact-force histories do not converge under refinement"}
+        w = words.pop() if len(words) == 1 else None
+        head = "**%s**" % (heads.get(w) or (
+            "The redistributed contact-force histories decrease under refinement, but too slowly to show convergence"
+            if w and w.startswith("decrease") else
+            "Whether the redistributed contact-force histories converge under refinement is not decided by this "
+            "plan (one successive difference per curve)" if w else
+            "The redistributed contact-force histories do not all converge under refinement"))
+        md.append("\n%s (criterion: every successive difference at most 2^−%g of the one before, i.e. an observed "
+                  "rate of at least %g at each halving of h): %s." % (
+                      head, CONVERGE_RATE, CONVERGE_RATE,
+                      "; ".join("%s P%d: %s, differences %s (h = %s), rate %s" % (
+                          s, d, w, ", ".join(g3(p[1]) for p in red[(s, d)]),
+                          ", ".join(g3(p[0]) for p in red[(s, d)]), frate(r) + last_pair(red[(s, d)]))
+                          for (s, d), (w, r) in verdicts.items())))
+        md[-1] += (" These rest on %s meshes per curve (h = %s), so the rates are observed, not asymptotic." % (
+            "/".join(sorted({str(len(v) + 1) for v in red.values()})), ", ".join(g3(h) for h in [2 * hs[0]] + hs)))
+        plain = {k: verdict(v) for k, v in succ.items() if "redistributed" not in k[0]}
+        if plain:
+            md[-1] += " Without redistribution (the force at tⁿ): %s." % "; ".join(
+                "%s P%d %s (rate %s)" % (s, d, w, frate(r)) for (s, d), (w, r) in plain.items())
+        if refs and err:
+            ref = refs[0]
+            md[-1] += (" Against the redistributed reference (%s P%d, h = %s, τ = %s) the force errors are %s." % (
+                ref["scheme"], ref["degree"], g3(ref["h"]), g3(ref["tau"]),
+                "; ".join("%s P%d %s (h = %s, rate %s)" % (
+                    s, d, ", ".join(g3(r["e_force_l2_red"]) for r in rs), ", ".join(g3(r["h"]) for r in rs),
+                    frate(rate([r["h"] for r in rs], [r["e_force_l2_red"] for r in rs])))
+                    for (s, d), rs in err.items())))
+        md[-1] += "\n"
+    return md
+
+
+def sec_disk(disk, force, machine=None):
     md = ["## 2D disk\n"]
     if disk is None:
         return md + ["The disk study was not run (no disk.csv).\n"]
+    rerun = [v for k, v in (machine or {}).items() if k.startswith("disk study re-run")]
+    if rerun:
+        md.append("This part was re-run alone (run.py --only disk): %s.\n" % rerun[-1])
     md.append(("![disk work-precision](disk_wp.png)\n\n" if any(ok(r) for r in disk) else "") +
-              ("![disk force](disk_force.png)\n\n" if force else "No force histories (disk_force.csv missing).\n\n"))
+              ("![disk force](disk_force.png)\n\n" if force else "No force histories (disk_force.csv missing).\n\n") +
+              ("![disk force convergence](disk_force_conv.png)\n\n" if disk_successive(disk) else ""))
     rows = []
     for rs in curves([r for r in disk if r["status"] in ("ok", "reference")]).values():
         for r in rs:
             rows.append([r["code"], r["scheme"], "P%d" % r["degree"], g3(r["h"]), int(r["unknowns"]), g3(r["tau"]),
                          int(r["steps"]), ftime(r["setup_s"]), ftime(r["loop_s"]),
                          g3(r["newton_its"] / r["steps"] if r["steps"] else math.nan)] +
-                        [g3(r[k]) for k, _ in DISK_ERR] + [r["status"]])
+                        [g3(r.get(k)) for k, _ in DISK_ERR] + [g3(r.get("d_force_coarser")), r["status"]])
     md.append(table(["code", "scheme", "P", "h", "unknowns", "τ", "steps", "setup", "loop", "Newton its/step"] +
-                    [n for _, n in DISK_ERR] + ["status"], rows))
+                    [n for _, n in DISK_ERR] + ["‖F_2h − F_h‖/‖F_h‖", "status"], rows))
     rows = []
     for (s, d), rs in curves([r for r in disk if ok(r)]).items():
         if len(rs) >= 2:
             rows.append([s, "P%d" % d, "h %s–%s" % (g3(rs[0]["h"]), g3(rs[-1]["h"]))] +
-                        [frate(rate([r["h"] for r in rs], [r[k] for r in rs])) for k, _ in DISK_ERR])
+                        [frate(rate([r["h"] for r in rs], [r.get(k, math.nan) for r in rs])) for k, _ in DISK_ERR])
     md.append("\nRates: slope of log(error) against log(h) over all non-reference runs of each curve:\n\n")
     md.append(table(["scheme", "P", "fit range"] + [n for _, n in DISK_ERR], rows) if rows else
               "Fewer than 2 non-reference runs per curve: no rates.\n")
@@ -566,11 +688,26 @@ def sec_disk(disk, force):
     if red:
         md.append("\nThe `hybrid+redistributed` runs (issue 16) use mass redistribution and record the force the "
                   "step applied (ND_CONTACT_FORCE_APPLIED); their errors are against the same reference (without "
-                  "redistribution, the force at tⁿ), so they include the difference of the two mass matrices. Their "
-                  "force errors under refinement: %s; without redistribution (hybrid): %s.\n" % (
+                  "redistribution, the force at tⁿ), so they include the difference of the two mass matrices (the column "
+                  "*force L²(0,T) vs redistributed ref* and the successive differences below do not). Their "
+                  "force errors against the hybrid reference under refinement: %s; without redistribution (hybrid): %s.\n" % (
                       "; ".join("P%d %s" % (d, ", ".join(g3(r["e_force_l2"]) for r in rs)) for (s, d), rs in red.items()),
                       "; ".join("P%d %s" % (d, ", ".join(g3(r["e_force_l2"]) for r in rs))
                                 for (s, d), rs in curves([r for r in disk if ok(r) and r["scheme"] == "hybrid"]).items())))
+    ex = [r for r in disk if r["scheme"] == "explicit+redistributed" and r["status"] in ("ok", "reference")]
+    if ex:
+        md.append("\nThe `explicit+redistributed` runs (issue 16) are the central difference (Newmark β = 0, γ = ½, "
+                  "lumped mass) with mass redistribution, the massless contact DOFs solved from their static "
+                  "equilibrium each step, and the force the step applied (ND_CONTACT_FORCE_APPLIED; for this scheme "
+                  "the force at tⁿ); τ = 2/⌈2/(0.9 τ_c)⌉ with τ_c from `nd_problem_estimate_critical_timestep` "
+                  "(with the redistributed lumped mass; the snapshot times 12, 14 and T are multiples of τ; the setup time "
+                  "includes the estimate): %s. "
+                  "The column *force L²(0,T) vs redistributed ref* compares every run's force with the "
+                  "explicit redistributed P2 reference (status `reference`), a model with the same (redistributed) "
+                  "mass up to the lumping; the other error columns are against the hybrid reference.\n" % "; ".join(
+                      "P%d h = %s: τ_c = %s, τ = %s" % (r["degree"], g3(r["h"]), g3(r.get("tau_c")), g3(r["tau"]))
+                      for r in sorted(ex, key=lambda r: (r["degree"], -r["h"]))))
+    md += sec_disk_convergence(disk)
     return md
 
 
@@ -614,6 +751,8 @@ DESCR = {"bar.csv": "bar runs: h-ladder and τ-ladder, one row per run (and per 
          "disk_force.csv": "contact force history of every disk run", "machine.txt": "machine, date, plan, jobs",
          "runs.log": "command line, exit code and stderr of every run",
          "runs_pressure.log": "the same for a re-run of the pressure study alone (run.py --only pressure)",
+         "runs_disk.log": "the same for a re-run of the disk study alone (run.py --only disk)",
+         "disk_force_conv.png": "disk force: successive differences and error vs the redistributed reference, vs h",
          "getfem_pair.csv": "nitschedyn runs of the GetFEM cases, made right after them",
          "bar_wp_theta_T3.png": "stress and u L²L² error vs loop time, hybrid and Newmark(1/4,1/2), Θ = 1, 0, −1",
          "bar_conv_T3.png": "the seven errors vs h, Θ = 1, T = 3", "bar_tau_ladder.png": "u L²L² and stress error vs τ",
@@ -829,7 +968,7 @@ def main():
     else:
         md.append("## 1D bar\n\nThe bar study was not run (no bar.csv): no rates, work–precision or cheapest-choice "
                   "results.\n")
-    md += sec_energy(bar, energy) + sec_getfem(bar, getfem, pairs) + sec_disk(disk, force)
+    md += sec_energy(bar, energy) + sec_getfem(bar, getfem, pairs) + sec_disk(disk, force, machine)
     md += sec_failed([("bar.csv", bar), ("getfem.csv", getfem), ("disk.csv", disk)])
     md += sec_files(a.data, data_rel, written)
     with open(os.path.join(a.out, "REPORT.md"), "w") as fh:

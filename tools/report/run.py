@@ -213,7 +213,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=2, help="runs at a time (default 2)")
     ap.add_argument("--only", choices=["bar", "pressure", "getfem", "disk", "energy"], action="append",
                     help="run only these parts (repeatable); default all. pressure: the bar's pressure study "
-                         "alone (part of bar), its rows replacing those of bar.csv in OUT/data")
+                         "alone (part of bar), its rows replacing those of bar.csv in OUT/data. pressure and disk "
+                         "alone keep OUT/data's other files (their log goes to runs_pressure.log or "
+                         "runs_disk.log, machine.txt gains a line)")
     a = ap.parse_args()
     # one thread per run: the runs are small, and two of them share the machine
     os.environ["OPENBLAS_NUM_THREADS"] = "1"
@@ -224,8 +226,10 @@ def main():
     os.makedirs(data, exist_ok=True)
     t_start = time.time()
     failures = 0
-    alone = parts == ["pressure"]  # a re-run of the pressure study into an existing data directory
-    log_name = "runs_pressure.log" if alone else "runs.log"
+    # a re-run of the pressure or the disk study alone into an existing data
+    # directory: its own log; the other parts' log, machine and date stay
+    alone = set(parts) <= {"pressure", "disk"}
+    log_name = "runs_%s.log" % "_".join(sorted(set(parts))) if alone else "runs.log"
     with tempfile.TemporaryDirectory() as rows, open(os.path.join(data, log_name), "w") as log:
         if "bar" in parts:
             t0 = time.time()
@@ -277,8 +281,8 @@ def main():
             print("disk in %.0f s" % (time.time() - t0), flush=True)
     if alone:  # the other parts' machine and date stay; this re-run is recorded beside them
         with open(os.path.join(data, "machine.txt"), "a") as fh:
-            fh.write("pressure study re-run (--only pressure): %s, %s, plan %s, jobs %d, wall time %.0f s\n" %
-                     (machine(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "quick" if a.quick else "full",
+            fh.write("%s study re-run (--only %s): %s, %s, plan %s, jobs %d, wall time %.0f s\n" %
+                     (" and ".join(sorted(set(parts))), " --only ".join(sorted(set(parts))), machine(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "quick" if a.quick else "full",
                       a.jobs, time.time() - t_start))
     else:
         with open(os.path.join(data, "machine.txt"), "w") as fh:
