@@ -216,8 +216,8 @@ ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int 
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
 /* on = 1: the FE nodes of the contact facets get no mass, each cell touching
    them gives its mass to its other nodes keeping the total mass (and the
-   first and second moments where its nodes allow); implicit schemes only.
-   Default 0. */
+   first and second moments where its nodes allow); with an explicit scheme
+   their DOFs are found each step from their static equilibrium. Default 0. */
 ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on);
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);

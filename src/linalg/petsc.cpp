@@ -94,6 +94,16 @@ void check(PetscErrorCode code, const char *what) {
   if (code) fail_petsc(code, what);
 }
 
+// A solve in place: b <- x (a copy), and xv wraps x's storage for the solution
+// (the caller resets xv after the solve)
+void place_rhs(Vec b, Vec xv, double *x, PetscInt n) {
+  PetscScalar *a = nullptr;
+  check(VecGetArrayWrite(b, &a), "VecGetArrayWrite");
+  std::copy(x, x + n, a);
+  check(VecRestoreArrayWrite(b, &a), "VecRestoreArrayWrite");
+  check(VecPlaceArray(xv, x), "VecPlaceArray");
+}
+
 // ---- initialization -----------------------------------------------------------
 //
 // The library initializes PETSc on first use when the host has not (and PETSc
@@ -299,11 +309,7 @@ class PetscMumps : public Factorization {
   void solve(double *x) const override {
     if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
     Session session;
-    PetscScalar *b = nullptr;
-    check(VecGetArrayWrite(b_, &b), "VecGetArrayWrite");
-    std::copy(x, x + n_, b);
-    check(VecRestoreArrayWrite(b_, &b), "VecRestoreArrayWrite");
-    check(VecPlaceArray(x_, x), "VecPlaceArray");
+    place_rhs(b_, x_, x, n_);
     const PetscErrorCode code = MatSolve(F_, b_, x_);
     VecResetArray(x_);
     check(code, "MatSolve (MUMPS)");
@@ -472,11 +478,7 @@ class PetscGamg : public Factorization {
   void solve(double *x) const override {
     if (!ready_) fail(ND_ERR_INTERNAL, "PETSc GAMG: solve before a successful set-up");
     Session session;
-    PetscScalar *b = nullptr;
-    check(VecGetArrayWrite(b_, &b), "VecGetArrayWrite");
-    std::copy(x, x + n_, b);
-    check(VecRestoreArrayWrite(b_, &b), "VecRestoreArrayWrite");
-    check(VecPlaceArray(x_, x), "VecPlaceArray");
+    place_rhs(b_, x_, x, n_);
     PetscErrorCode code = KSPSolve(ksp_, b_, x_);
     KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
     PetscInt its = 0;
