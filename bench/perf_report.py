@@ -81,11 +81,16 @@ def main():
         best = {"default": dflt, "unlimited": unlim}.get(r["blas_threads"])
         if best is not None and (k not in best or float(r["loop_s"]) < float(best[k]["loop_s"])):
             best[k] = r
-    one_best = {}
+    one_best, loops = {}, {}
     for r in ours:
         k = (r["dim"], r["mesh"], r["degree"])
+        loops.setdefault((k, r["blas_threads"]), []).append(float(r["loop_s"]))
         if r["blas_threads"] == "1" and (k not in one_best or float(r["loop_s"]) < float(one_best[k]["loop_s"])):
             one_best[k] = r
+    # the noise of the machine: slower over faster of two runs of one setting
+    # (one thread, or the default; not the unlimited threads, whose spread is their own)
+    spreads = [max(v) / min(v) for (k, t), v in loops.items() if t in ("1", "default") and len(v) >= 2 and min(v) > 0]
+    noise = max(spreads) if spreads else 1.0
     keys = [k for k in keys if k in one]
 
     rows = []
@@ -267,8 +272,9 @@ def main():
     if r:
         w("- Peak memory ≤ 1.5× GetFEM's: %s (worst %s×, %s)." % (verdict(v <= 1.5), fmt(v), name(r)))
     if worst is not None:
-        w("- BLAS default not slower than one thread on any size: %s (worst default / 1 = %s; "
-          "see README \"BLAS threads\")." % (verdict(worst <= 1.05), fmt(worst)))
+        w("- BLAS default not slower than one thread on any size: %s (worst default / 1 = %s; two runs of one "
+          "setting differ by up to %s× in this run, so a ratio below that is noise; see README \"BLAS threads\")."
+          % (verdict(worst <= max(1.05, noise)), fmt(worst), fmt(noise)))
     w("- Equal results: 2D histories agree to the Newton tolerance; 3D within the facet quadrature difference "
       "(table above).")
     w("")

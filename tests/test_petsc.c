@@ -181,6 +181,23 @@ START_TEST(mumps_reports_an_indefinite_step) {
 }
 END_TEST
 
+/* GAMG decides nothing about definiteness, so the coercivity check of
+   K_Theta uses a direct factorization whatever the linear solver: the bar at
+   1.01 times its exact limit gamma0* = 1/E (Theta = 1, P1) is refused with
+   GAMG as with CHOLMOD, and just below it is accepted. */
+START_TEST(gamg_keeps_the_coercivity_check) {
+  const double limit = 1.0; /* 1/E, E = 1 */
+  for (int k = 0; k < 2; ++k) {
+    nd_problem p = nd_test_bar(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, (k ? 1.01 : 0.999) * limit, 1.0 / 40);
+    ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, ND_SOLVER_PETSC_GAMG));
+    const int status = nd_problem_setup(p);
+    ck_assert_msg(status == (k ? ND_ERR_NOT_COERCIVE : ND_OK), "gamma0 = %g gamma0*: setup returned %d (%s)",
+                  k ? 1.01 : 0.999, status, nd_last_error());
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
 /* A short bar run with `solver`; the status of the first failing call. */
 static int bar_run(int solver) {
   nd_problem p = nd_test_bar(40, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 1.0 / 80);
@@ -266,6 +283,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, disk_matches_cholmod);
   tcase_add_test(tc, ball_matches_cholmod);
   tcase_add_test(tc, mumps_reports_an_indefinite_step);
+  tcase_add_test(tc, gamg_keeps_the_coercivity_check);
 #else
   tcase_add_test(tc, petsc_ids_are_refused_cleanly);
 #endif

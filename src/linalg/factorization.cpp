@@ -92,6 +92,10 @@ class Counted : public Factorization {
 
 bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_backend(solver); }
 
+// A Krylov backend proves nothing about the matrix's inertia (negative
+// curvature met during CG is evidence, its absence is not).
+bool linear_solver_certifies_definiteness(int solver) { return solver != ND_SOLVER_PETSC_GAMG; }
+
 const char *linear_solver_unavailable(int solver) {
   if (find_backend(solver)) return nullptr;
   for (const Optional &o : kOptional)

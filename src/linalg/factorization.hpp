@@ -47,6 +47,10 @@ std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern
                                                   const DofGeometry *geometry = nullptr);
 // whether make_factorization accepts this id (AUTO or a registered backend)
 bool linear_solver_known(int solver);
+// whether this backend's factor() decides positive definiteness (a direct
+// factorization does; an iterative solver does not): the checks that must
+// decide it (check_coercivity) use AUTO's direct choice when it does not
+bool linear_solver_certifies_definiteness(int solver);
 // For an ND_SOLVER_* id of a backend this build does not have (the PETSc ones
 // without ND_WITH_PETSC): why, naming the id; otherwise nullptr.
 const char *linear_solver_unavailable(int solver);

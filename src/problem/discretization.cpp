@@ -89,7 +89,8 @@ void check_coercivity(Discretization &d, int solver) {
   Csr A;
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(1.0, d.K_theta, 1e-10 * kmax / mmax, d.M, A);
-  auto f = make_factorization(solver, A, Structure::SymmetricPositiveDefinite, d.counters, &d.geometry);
+  const int checker = linear_solver_certifies_definiteness(solver) ? solver : ND_SOLVER_AUTO;
+  auto f = make_factorization(checker, A, Structure::SymmetricPositiveDefinite, d.counters, &d.geometry);
   try {
     f->factor(A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
