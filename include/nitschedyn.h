@@ -113,7 +113,7 @@ extern "C" {
   X(ND_STAT_LOAD_ASSEMBLIES, 20, "load vectors built (body force and tractions, nodal forces)")        \
   X(ND_STAT_TANGENT_UPDATES, 21, "Newton tangents: low-rank capacitance builds or tangent assemblies") \
   X(ND_STAT_CONTACT_EVALUATIONS, 22, "passes evaluating P_q over all contact points")                  \
-  X(ND_STAT_SPMV, 23, "sparse matrix-vector products (the energy's fused M, K pass counts once)")      \
+  X(ND_STAT_SPMV, 23, "sparse matrix-vector products (a step's one pass over M and K counts once)")   \
   X(ND_CONTACT_FORCE_APPLIED, 24, "sum_q w_q phi_q/gamma_q, resultant contact force the last step applied")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
