@@ -1,7 +1,8 @@
 // The low-rank Newton tangent (Woodbury over the active points, the factor
-// of A = c M + K_Theta reused) against the reference that refactors the
-// tangent: the same trajectories to 1e-10 relative and the same Newton
-// iteration counts, for every implicit scheme, Theta = 1, 0, -1, P1/P2, in
+// of A = c M + K_Theta reused) and the condensed Newton (on the contact
+// points alone, solve/newton_condensed.hpp) against the reference that
+// refactors the tangent: the same trajectories to 1e-10 relative and the
+// same Newton iteration counts, for every implicit scheme, Theta = 1, 0, -1, P1/P2, in
 // 1D (the bar), 2D (a rectangle dropped on a plane) and 3D (a box dropped on
 // a plane). Each run also shows that the path it names was taken.
 #include <algorithm>
@@ -111,6 +112,15 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
                 iteration_mismatch);
   ck_assert_msg(sr.refactorizations > 0, "%s: the scene never came into contact", what.c_str());
   ck_assert_msg(std::string(fast->problem.integrator()->tangent->name()) == "lowrank", "%s", what.c_str());
+  if (other == nd::TangentChoice::Condensed) {  // no full Newton at all, each point's column once
+    const nd::CondensedCache *cols = fast->problem.integrator()->columns.get();
+    int64_t points = 0;
+    ND_OK_OR_FAIL(nd_problem_get_contact_point_count(ref, &points));
+    ck_assert_msg(cols && sf.calls == 0 && cols->computed() > 0 && cols->computed() <= points,
+                  "%s: condensed: %lld tangent calls, %lld columns for %lld points", what.c_str(),
+                  static_cast<long long>(sf.calls), static_cast<long long>(cols ? cols->computed() : -1),
+                  static_cast<long long>(points));
+  }
   if (other == nd::TangentChoice::LowRank) {
     ck_assert_msg(sf.refactorizations == 0 && sf.lowrank == sr.refactorizations,
                   "%s: low-rank %lld calls, %lld refactorizations; reference %lld", what.c_str(),
@@ -128,7 +138,9 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
 
 void all_cases(int dim, int degree, int steps) {
   for (const SchemeCase &sc : kSchemes)
-    for (double theta : kThetas) compare(dim, degree, sc, theta, nd::TangentChoice::LowRank, steps);
+    for (double theta : kThetas)
+      for (nd::TangentChoice other : {nd::TangentChoice::LowRank, nd::TangentChoice::Condensed})
+        compare(dim, degree, sc, theta, other, steps);
 }
 
 }  // namespace

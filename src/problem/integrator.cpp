@@ -52,12 +52,15 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     const Structure s = tangent_structure(def.theta);
     if (def.tangent == TangentChoice::Refactor)
       in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
-    else
-      in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s,
-                                         def.tangent == TangentChoice::LowRank
-                                             ? -1
-                                             : lowrank_rank_limit(in->A.n, d.contact),
-                                         kLowRankTwoSolveRank, d.counters, &d.geometry);
+    else {
+      in->max_rank = def.tangent == TangentChoice::Auto ? lowrank_rank_limit(in->A.n, d.contact) : -1;
+      in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s, in->max_rank, kLowRankTwoSolveRank,
+                                         d.counters, &d.geometry);
+      // the condensed Newton's columns: at most twice the rank limit held (the low-rank memory bound)
+      if (def.tangent != TangentChoice::LowRank)
+        in->columns = std::make_unique<CondensedCache>(
+            *in->A_factor, in->A.n, in->max_rank >= 0 ? 2 * in->max_rank : static_cast<int64_t>(d.contact.size()));
+    }
   }
   return in;
 }
@@ -103,7 +106,18 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       next.last_iterations = 1;
     } else {
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
-      const NewtonResult res = newton_solve(sys, r, def.newton, next.U);
+      NewtonResult res;
+      if (in.columns) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
+        const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.columns, in.max_rank, r, def.newton, next.U);
+        res = cr.newton;
+        if (!res.converged) {
+          const int before = res.iterations;
+          res = newton_solve(sys, r, def.newton, next.U);
+          res.iterations += before;
+        }
+      } else {
+        res = newton_solve(sys, r, def.newton, next.U);
+      }
       if (!res.converged)
         fail(ND_ERR_NEWTON, "Newton did not converge in " + std::to_string(res.iterations) + " iterations at t = " +
                                 num(next.t) + " (residual " + num(res.residual) + ", tolerance " +

@@ -9,6 +9,7 @@
 #include "problem/definition.hpp"
 #include "problem/discretization.hpp"
 #include "problem/massless.hpp"
+#include "solve/newton_condensed.hpp"
 #include "solve/tangent_solver.hpp"
 #include "time/scheme.hpp"
 
@@ -21,6 +22,9 @@ struct Integrator {
   Csr A;  // c M + K_Theta (implicit schemes)
   std::unique_ptr<Factorization> A_factor;
   std::unique_ptr<TangentSolver> tangent;  // when there are contact points
+  // the condensed Newton's columns A^{-1} b_q (not with the refactoring reference)
+  std::unique_ptr<CondensedCache> columns;
+  int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)
 };
 

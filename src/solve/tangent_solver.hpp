@@ -36,9 +36,11 @@ class TangentSolver {
 
 // Which tangent solver make_integrator builds (white-box: tests, benchmarks).
 enum class TangentChoice {
-  Auto,      // low-rank, refactoring above the measured rank limit (lowrank_rank_limit)
-  Refactor,  // the reference
-  LowRank,   // low-rank at every rank
+  Auto,       // the condensed Newton (solve/newton_condensed.hpp); past the measured rank
+              // limit (lowrank_rank_limit) the full Newton with the low-rank tangent, refactoring
+  Refactor,   // the reference: the full Newton, T refactored
+  LowRank,    // the full Newton with the low-rank tangent at every rank
+  Condensed,  // the condensed Newton at every rank
 };
 
 // A and its factor must outlive the solver. solver: ND_SOLVER_* for the

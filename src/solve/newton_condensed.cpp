@@ -1,0 +1,267 @@
+#include "solve/newton_condensed.hpp"
+
+#include <lapacke.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+
+namespace {
+
+// p_q . v, p_q = a_q - gamma_q s_q (the row of P_q)
+double p_dot(const ContactPoints &cp, int64_t q, const double *v) {
+  const SparseRow &a = cp.a[q], &s = cp.s[q];
+  const double g = cp.gamma[q];
+  double sum = 0;
+  for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
+  return sum;
+}
+
+}  // namespace
+
+// G_ij = p_i . Z_j over S, the entries of pairs of the last S kept (they
+// do not change while the columns do not)
+const std::vector<double> &CondensedCache::G(const std::vector<int64_t> &S) {
+  if (S == G_S_) return G_;
+  const int64_t k = static_cast<int64_t>(S.size()), k_old = static_cast<int64_t>(G_S_.size());
+  std::vector<double> Gn(static_cast<size_t>(k * k));  // what may throw, before anything changes
+  std::vector<int64_t> S_copy(S);
+  if (position_.size() != Z_.size()) position_.assign(Z_.size(), -1);
+  for (int64_t i = 0; i < k_old; ++i) position_[G_S_[i]] = i;
+  for (int64_t j = 0; j < k; ++j) {
+    const int64_t oj = position_[S[j]];
+    const double *z = column(S[j]);
+    for (int64_t i = 0; i < k; ++i) {
+      const int64_t oi = position_[S[i]];
+      Gn[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : p_dot(*cp_, S[i], z);
+    }
+  }
+  for (int64_t q : G_S_) position_[q] = -1;
+  G_.swap(Gn);
+  G_S_.swap(S_copy);
+  return G_;
+}
+
+struct CondensedCache::Lu {
+  bool valid = false;
+  std::vector<int64_t> S;
+  std::vector<double> slope, LU;
+  std::vector<lapack_int> ipiv;
+};
+
+CondensedCache::CondensedCache(const Factorization &A_factor, int64_t n, int64_t max_columns)
+    : A_factor_(A_factor), n_(n), max_columns_(max_columns) {}
+CondensedCache::~CondensedCache() = default;
+
+CondensedCache::Lu &CondensedCache::lu() {
+  if (!lu_) lu_ = std::make_unique<Lu>();
+  return *lu_;
+}
+
+void CondensedCache::bind(const ContactPoints &cp, double theta) {
+  if (&cp == cp_ && theta == theta_) return;
+  std::vector<std::vector<double>> Z(cp.size());  // allocate first, commit after
+  Z_.swap(Z);
+  held_ = 0;
+  if (lu_) lu_->valid = false;
+  G_S_.clear();
+  G_.clear();
+  position_.clear();
+  cp_ = &cp;
+  theta_ = theta;
+}
+
+void CondensedCache::require(const std::vector<int64_t> &S) {
+  int64_t missing = 0;
+  for (int64_t q : S) missing += Z_[q].empty();
+  if (missing == 0) return;
+  if (held_ + missing > max_columns_) {  // drop the columns of the points off S
+    std::vector<char> keep(Z_.size(), 0);
+    for (int64_t q : S) keep[q] = 1;
+    for (size_t q = 0; q < Z_.size(); ++q)
+      if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), --held_;
+  }
+  const ContactPoints &cp = *cp_;
+  for (int64_t q : S) {
+    if (!Z_[q].empty()) continue;
+    std::vector<double> z(static_cast<size_t>(n_), 0.0);
+    const SparseRow &a = cp.a[q], &s = cp.s[q];
+    const double tg = theta_ * cp.gamma[q];
+    for (size_t i = 0; i < a.idx.size(); ++i) z[a.idx[i]] += a.val[i] - tg * s.val[i];  // b_q
+    A_factor_.solve(z.data());
+    Z_[q].swap(z);
+    ++held_;
+    ++computed_;
+  }
+}
+
+namespace {
+
+
+// U = y0 - sum_{j in S} c_j phi_j Z_j
+void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const std::vector<double> &phi,
+            const std::vector<double> &c, const CondensedCache &columns, std::vector<double> &U) {
+  U = y0;
+  const int64_t n = static_cast<int64_t>(U.size());
+  for (size_t j = 0; j < S.size(); ++j) {
+    if (phi[j] == 0) continue;
+    const double *__restrict z = columns.column(S[j]);
+    const double f = c[S[j]] * phi[j];
+    double *__restrict u = U.data();
+    for (int64_t i = 0; i < n; ++i) u[i] -= f * z[i];
+  }
+}
+
+}  // namespace
+
+CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &columns,
+                                 int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
+                                 std::vector<double> &U) {
+  const ContactLaw &law = *sys.law;
+  const ContactPoints &cp = *law.cp;
+  const int64_t n = static_cast<int64_t>(U.size()), nq = static_cast<int64_t>(cp.size());
+  columns.bind(cp, law.theta);
+  CondensedResult out;
+  NewtonResult &res = out.newton;
+
+  // S: the points active at the predictor; their P start there
+  std::vector<double> P(nq);
+  std::vector<int64_t> S;
+  std::vector<char> active(static_cast<size_t>(nq), 0), previous;
+  count(law.counters, &Counters::contact_evaluations);
+  for (int64_t q = 0; q < nq; ++q) {
+    double v, s;
+    P[q] = law.P(q, U.data());
+    law.law(q, P[q], v, s);
+    if (s != 0) S.push_back(q), active[q] = 1;
+  }
+  // many points active already: the set will likely outgrow max_rank, and the
+  // full Newton's tangent (refactoring there) does better; nothing done yet
+  if (max_rank >= 0 && 2 * static_cast<int64_t>(S.size()) > max_rank) {
+    out.too_large = true;
+    return out;
+  }
+  std::vector<double> y0 = r;
+  A_factor.solve(y0.data());
+  std::vector<double> P0(nq), c(nq);
+  count(law.counters, &Counters::contact_evaluations);
+  for (int64_t q = 0; q < nq; ++q) {
+    P0[q] = law.P(q, y0.data());
+    c[q] = sys.kappa * cp.w[q] / cp.gamma[q];
+  }
+  if (S.empty())  // no point active at the predictor: the linear step's P
+    for (int64_t q = 0; q < nq; ++q) P[q] = P0[q];
+
+  std::vector<double> F, phi, slope, dP;
+  std::vector<double> Ut;
+  std::vector<char> in_S(static_cast<size_t>(nq), 0);
+  for (int64_t q : S) in_S[q] = 1;
+  for (int it = 1; it <= opt.max_iter; ++it) {
+    res.iterations = it;
+    const int64_t k = static_cast<int64_t>(S.size());
+    if (max_rank >= 0 && k > max_rank) {
+      out.too_large = true;
+      return out;
+    }
+    columns.require(S);
+    const std::vector<double> &G = columns.G(S);
+    phi.resize(k), slope.resize(k), F.resize(k);
+    for (int64_t j = 0; j < k; ++j) law.law(S[j], P[S[j]], phi[j], slope[j]);
+    for (int64_t i = 0; i < k; ++i) {
+      double sum = P[S[i]] - P0[S[i]];
+      for (int64_t j = 0; j < k; ++j) sum += G[i + j * k] * c[S[j]] * phi[j];
+      F[i] = sum;
+    }
+    // J dP = -F, J = I + G C diag(slope); its LU kept while S and the slopes stay
+    dP.resize(k);
+    for (int64_t i = 0; i < k; ++i) dP[i] = -F[i];
+    if (k > 0) {
+      CondensedCache::Lu &lu = columns.lu();
+      if (!(lu.valid && lu.S == S && lu.slope == slope)) {
+        lu.valid = false;  // stays false if anything below throws
+        count(law.counters, &Counters::tangent_updates);
+        lu.LU.resize(static_cast<size_t>(k * k));
+        for (int64_t j = 0; j < k; ++j)
+          for (int64_t i = 0; i < k; ++i)
+            lu.LU[i + j * k] = G[i + j * k] * c[S[j]] * slope[j] + (i == j ? 1.0 : 0.0);
+        lu.ipiv.resize(static_cast<size_t>(k));
+        const lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, static_cast<lapack_int>(k),
+                                                    static_cast<lapack_int>(k), lu.LU.data(),
+                                                    static_cast<lapack_int>(k), lu.ipiv.data());
+        if (info > 0)
+          fail(ND_ERR_SINGULAR, "the Newton tangent is singular (condensed pivot " + std::to_string(info) + " of " +
+                                    std::to_string(k) + " contact points is zero)");
+        if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgetrf: argument " + std::to_string(-info));
+        lu.S = S;
+        lu.slope = slope;
+        lu.valid = true;
+      }
+      const lapack_int info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', static_cast<lapack_int>(k), 1,
+                                                  lu.LU.data(), static_cast<lapack_int>(k), lu.ipiv.data(),
+                                                  dP.data(), static_cast<lapack_int>(k));
+      if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgetrs: argument " + std::to_string(-info));
+    }
+    for (int64_t i = 0; i < k; ++i) P[S[i]] += dP[i];
+    // every point at the new iterate: on S as iterated, off S through G
+    for (int64_t j = 0; j < k; ++j) law.law(S[j], P[S[j]], phi[j], slope[j]);
+    previous.swap(active);
+    active.assign(static_cast<size_t>(nq), 0);
+    for (int64_t j = 0; j < k; ++j) active[S[j]] = slope[j] != 0;
+    bool grew = false;
+    // off S: through G's rows (12 k each) or, when that is more, through U
+    bool any_force = false;
+    for (int64_t j = 0; j < k; ++j) any_force |= phi[j] != 0;
+    if (any_force) count(law.counters, &Counters::contact_evaluations);  // (none: P0's pass above)
+    const bool through_U = any_force && (nq - k) * 24 > n;  // (no force: P = P0 off S)
+    if (through_U) form_U(y0, S, phi, c, columns, Ut);
+    for (int64_t q = 0; q < nq; ++q) {
+      if (in_S[q]) continue;
+      double Pq = P0[q];
+      if (through_U) {
+        Pq = law.P(q, Ut.data());
+      } else if (any_force) {
+        for (int64_t j = 0; j < k; ++j)
+          if (phi[j] != 0) Pq -= p_dot(cp, q, columns.column(S[j])) * c[S[j]] * phi[j];
+      }
+      P[q] = Pq;
+      double v, s;
+      law.law(q, Pq, v, s);
+      if (s != 0) {
+        S.push_back(q);
+        in_S[q] = 1;
+        active[q] = 1;
+        grew = true;
+      }
+    }
+    if (grew || active != previous) continue;
+    // the set held through an iteration: F is linear there and the step solved it
+    if (!any_force) U.swap(y0);  // no contact force: U = A^{-1} r
+    else if (through_U) U.swap(Ut);
+    else form_U(y0, S, phi, c, columns, U);
+    if (!any_force) {  // U = A^{-1} r with N(U) = 0: exact to the solve's round-off
+      res.converged = true;
+      return out;
+    }
+    // the full residual, DESIGN §3's test
+    std::vector<double> Gr(U.size()), MU(U.size());
+    count(law.counters, &Counters::spmv);
+    multiply_pair(*sys.A, U.data(), *sys.M, U.data(), [&](int64_t i, double AU, double MUi) {
+      Gr[i] = AU - r[i];
+      MU[i] = MUi;
+    });
+    law.add_force(U.data(), sys.kappa, Gr.data(), nullptr);
+    res.residual = norm2(n, Gr.data());
+    res.tolerance = opt.rtol * (norm2(n, r.data()) + sys.c * norm2(n, MU.data())) + opt.atol;
+    res.converged = res.residual <= res.tolerance;
+    return out;
+  }
+  return out;
+}
+
+}  // namespace nd
