@@ -113,12 +113,12 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
   ck_assert_msg(sr.refactorizations > 0, "%s: the scene never came into contact", what.c_str());
   ck_assert_msg(std::string(fast->problem.integrator()->tangent->name()) == "lowrank", "%s", what.c_str());
   if (other == nd::TangentChoice::Condensed) {  // no full Newton at all, each point's column once
-    const nd::CondensedCache *cols = fast->problem.integrator()->columns.get();
+    const nd::CondensedCache *cols = fast->problem.integrator()->condensed.get();
     int64_t points = 0;
     ND_OK_OR_FAIL(nd_problem_get_contact_point_count(ref, &points));
-    ck_assert_msg(cols && sf.calls == 0 && cols->computed() > 0 && cols->computed() <= points,
+    ck_assert_msg(cols && sf.calls == 0 && cols->columns.computed() > 0 && cols->columns.computed() <= points,
                   "%s: condensed: %lld tangent calls, %lld columns for %lld points", what.c_str(),
-                  static_cast<long long>(sf.calls), static_cast<long long>(cols ? cols->computed() : -1),
+                  static_cast<long long>(sf.calls), static_cast<long long>(cols ? cols->columns.computed() : -1),
                   static_cast<long long>(points));
   }
   if (other == nd::TangentChoice::LowRank) {

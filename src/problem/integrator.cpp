@@ -58,7 +58,7 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
                                          d.counters, &d.geometry);
       // the condensed Newton's columns: at most twice the rank limit held (the low-rank memory bound)
       if (def.tangent != TangentChoice::LowRank)
-        in->columns = std::make_unique<CondensedCache>(
+        in->condensed = std::make_unique<CondensedCache>(
             *in->A_factor, in->A.n, in->max_rank >= 0 ? 2 * in->max_rank : static_cast<int64_t>(d.contact.size()));
     }
   }
@@ -107,8 +107,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     } else {
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
       NewtonResult res;
-      if (in.columns) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
-        const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.columns, in.max_rank, r, def.newton, next.U);
+      if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
+        const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton, next.U);
         res = cr.newton;
         if (!res.converged) {
           const int before = res.iterations;

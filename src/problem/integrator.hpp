@@ -22,8 +22,8 @@ struct Integrator {
   Csr A;  // c M + K_Theta (implicit schemes)
   std::unique_ptr<Factorization> A_factor;
   std::unique_ptr<TangentSolver> tangent;  // when there are contact points
-  // the condensed Newton's columns A^{-1} b_q (not with the refactoring reference)
-  std::unique_ptr<CondensedCache> columns;
+  // what the condensed Newton keeps (not with the refactoring reference, nor the forced low-rank path)
+  std::unique_ptr<CondensedCache> condensed;
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)
 };

@@ -11,6 +11,20 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
   slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
 }
 
+double p_dot(const ContactPoints &cp, size_t q, const double *v) {
+  const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
+  const double g = cp.gamma[q];
+  double sum = 0;
+  for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
+  return sum;
+}
+
+void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y) {
+  const SparseRow &a = cp.a[q], &s = cp.s[q];
+  const double tg = theta * cp.gamma[q];
+  for (size_t k = 0; k < a.idx.size(); ++k) y[a.idx[k]] += f * (a.val[k] - tg * s.val[k]);
+}
+
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
   if (cp->size() == 0) return;
@@ -20,9 +34,7 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
     law(q, P(q, U), value, slope);
     if (active) (*active)[q] = slope != 0;
     if (value == 0) continue;
-    const double f = kappa * cp->w[q] / cp->gamma[q] * value, tg = theta * cp->gamma[q];
-    const SparseRow &a = cp->a[q], &s = cp->s[q];
-    for (size_t k = 0; k < a.idx.size(); ++k) y[a.idx[k]] += f * (a.val[k] - tg * s.val[k]);
+    add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
   }
 }
 

@@ -15,6 +15,11 @@
 
 namespace nd {
 
+// p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap)
+double p_dot(const ContactPoints &cp, size_t q, const double *v);
+// y += f b_q, b_q = a_q - Theta gamma_q s_q
+void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y);
+
 struct ContactLaw {
   const ContactPoints *cp = nullptr;
   double theta = 1;                         // Nitsche's Theta

@@ -8,21 +8,24 @@
 
 namespace nd {
 
-namespace {
-
-// G = A U + kappa N(U) - r; returns ||G||, fills the active set, and MU = M U
-// from the same pass over the pattern A and M share
-double residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
-                std::vector<double> &G, std::vector<char> &active, std::vector<double> &MU) {
+double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
+                       std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU) {
   count(sys.law->counters, &Counters::spmv);
   multiply_pair(*sys.A, U.data(), *sys.M, U.data(), [&](int64_t i, double AU, double MUi) {
     G[i] = AU;
     MU[i] = MUi;
   });
-  sys.law->add_force(U.data(), sys.kappa, G.data(), &active);
+  sys.law->add_force(U.data(), sys.kappa, G.data(), active);
   for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
   return norm2(static_cast<int64_t>(G.size()), G.data());
 }
+
+double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
+                        const std::vector<double> &MU) {
+  return opt.rtol * (r_norm + sys.c * norm2(static_cast<int64_t>(MU.size()), MU.data())) + opt.atol;
+}
+
+namespace {
 
 // Does the contact term vanish with its slope at every point (N(U) = 0, N'(U) = 0)?
 bool contact_free(const ContactLaw &law, const double *U) {
@@ -59,7 +62,7 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
   std::vector<double> G(U.size()), MU(U.size());
   std::vector<char> active, previous;
   const double r_norm = norm2(n, r.data());
-  res.residual = residual(sys, r, U, G, active, MU);
+  res.residual = newton_residual(sys, r, U, G, &active, MU);
   for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))
       fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
@@ -70,10 +73,10 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2(n, G.data());
     previous.swap(active);
-    res.residual = residual(sys, r, U, G, active, MU);
+    res.residual = newton_residual(sys, r, U, G, &active, MU);
     res.iterations = it;
     const double u_norm = norm2(n, U.data());
-    res.tolerance = opt.rtol * (r_norm + sys.c * norm2(n, MU.data())) + opt.atol;
+    res.tolerance = newton_tolerance(sys, opt, r_norm, MU);
     // A point whose P_q sits at zero to round-off can flip at every
     // iteration without changing G or U (measured: the 3D block of
     // test_checkpoint on AMD EPYC, P_q = +-5e-18, 50 iterations): a small

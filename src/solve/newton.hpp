@@ -30,6 +30,14 @@ struct NewtonResult {
   double residual = 0, tolerance = 0;
 };
 
+// G = A U + kappa N(U) - r; returns ||G||, fills the active set (if given)
+// and MU = M U from the same pass over the pattern A and M share
+double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
+                       std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU);
+// rtol (||r|| + c ||M U||) + atol
+double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
+                        const std::vector<double> &MU);
+
 // U holds the initial guess on entry and the solution on exit.
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
                           const NewtonOptions &opt, std::vector<double> &U);

@@ -2,51 +2,12 @@
 
 #include <lapacke.h>
 
-#include <algorithm>
-#include <cfloat>
-#include <cmath>
 #include <string>
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
-
-namespace {
-
-// p_q . v, p_q = a_q - gamma_q s_q (the row of P_q)
-double p_dot(const ContactPoints &cp, int64_t q, const double *v) {
-  const SparseRow &a = cp.a[q], &s = cp.s[q];
-  const double g = cp.gamma[q];
-  double sum = 0;
-  for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
-  return sum;
-}
-
-}  // namespace
-
-// G_ij = p_i . Z_j over S, the entries of pairs of the last S kept (they
-// do not change while the columns do not)
-const std::vector<double> &CondensedCache::G(const std::vector<int64_t> &S) {
-  if (S == G_S_) return G_;
-  const int64_t k = static_cast<int64_t>(S.size()), k_old = static_cast<int64_t>(G_S_.size());
-  std::vector<double> Gn(static_cast<size_t>(k * k));  // what may throw, before anything changes
-  std::vector<int64_t> S_copy(S);
-  if (position_.size() != Z_.size()) position_.assign(Z_.size(), -1);
-  for (int64_t i = 0; i < k_old; ++i) position_[G_S_[i]] = i;
-  for (int64_t j = 0; j < k; ++j) {
-    const int64_t oj = position_[S[j]];
-    const double *z = column(S[j]);
-    for (int64_t i = 0; i < k; ++i) {
-      const int64_t oi = position_[S[i]];
-      Gn[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : p_dot(*cp_, S[i], z);
-    }
-  }
-  for (int64_t q : G_S_) position_[q] = -1;
-  G_.swap(Gn);
-  G_S_.swap(S_copy);
-  return G_;
-}
 
 struct CondensedCache::Lu {
   bool valid = false;
@@ -56,7 +17,7 @@ struct CondensedCache::Lu {
 };
 
 CondensedCache::CondensedCache(const Factorization &A_factor, int64_t n, int64_t max_columns)
-    : A_factor_(A_factor), n_(n), max_columns_(max_columns) {}
+    : columns(A_factor, n, max_columns) {}
 CondensedCache::~CondensedCache() = default;
 
 CondensedCache::Lu &CondensedCache::lu() {
@@ -64,49 +25,11 @@ CondensedCache::Lu &CondensedCache::lu() {
   return *lu_;
 }
 
-void CondensedCache::bind(const ContactPoints &cp, double theta) {
-  if (&cp == cp_ && theta == theta_) return;
-  std::vector<std::vector<double>> Z(cp.size());  // allocate first, commit after
-  Z_.swap(Z);
-  held_ = 0;
-  if (lu_) lu_->valid = false;
-  G_S_.clear();
-  G_.clear();
-  position_.clear();
-  cp_ = &cp;
-  theta_ = theta;
-}
-
-void CondensedCache::require(const std::vector<int64_t> &S) {
-  int64_t missing = 0;
-  for (int64_t q : S) missing += Z_[q].empty();
-  if (missing == 0) return;
-  if (held_ + missing > max_columns_) {  // drop the columns of the points off S
-    std::vector<char> keep(Z_.size(), 0);
-    for (int64_t q : S) keep[q] = 1;
-    for (size_t q = 0; q < Z_.size(); ++q)
-      if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), --held_;
-  }
-  const ContactPoints &cp = *cp_;
-  for (int64_t q : S) {
-    if (!Z_[q].empty()) continue;
-    std::vector<double> z(static_cast<size_t>(n_), 0.0);
-    const SparseRow &a = cp.a[q], &s = cp.s[q];
-    const double tg = theta_ * cp.gamma[q];
-    for (size_t i = 0; i < a.idx.size(); ++i) z[a.idx[i]] += a.val[i] - tg * s.val[i];  // b_q
-    A_factor_.solve(z.data());
-    Z_[q].swap(z);
-    ++held_;
-    ++computed_;
-  }
-}
-
 namespace {
-
 
 // U = y0 - sum_{j in S} c_j phi_j Z_j
 void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const std::vector<double> &phi,
-            const std::vector<double> &c, const CondensedCache &columns, std::vector<double> &U) {
+            const std::vector<double> &c, const ContactColumns &columns, std::vector<double> &U) {
   U = y0;
   const int64_t n = static_cast<int64_t>(U.size());
   for (size_t j = 0; j < S.size(); ++j) {
@@ -120,13 +43,14 @@ void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const 
 
 }  // namespace
 
-CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &columns,
+CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
                                  int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
                                  std::vector<double> &U) {
   const ContactLaw &law = *sys.law;
   const ContactPoints &cp = *law.cp;
   const int64_t n = static_cast<int64_t>(U.size()), nq = static_cast<int64_t>(cp.size());
-  columns.bind(cp, law.theta);
+  ContactColumns &columns = cache.columns;
+  if (columns.bind(cp, law.theta)) cache.lu().valid = false;
   CondensedResult out;
   NewtonResult &res = out.newton;
 
@@ -182,7 +106,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     dP.resize(k);
     for (int64_t i = 0; i < k; ++i) dP[i] = -F[i];
     if (k > 0) {
-      CondensedCache::Lu &lu = columns.lu();
+      CondensedCache::Lu &lu = cache.lu();
       if (!(lu.valid && lu.S == S && lu.slope == slope)) {
         lu.valid = false;  // stays false if anything below throws
         count(law.counters, &Counters::tangent_updates);
@@ -227,7 +151,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
         Pq = law.P(q, Ut.data());
       } else if (any_force) {
         for (int64_t j = 0; j < k; ++j)
-          if (phi[j] != 0) Pq -= p_dot(cp, q, columns.column(S[j])) * c[S[j]] * phi[j];
+          if (phi[j] != 0) Pq -= p_dot(cp, static_cast<size_t>(q), columns.column(S[j])) * c[S[j]] * phi[j];
       }
       P[q] = Pq;
       double v, s;
@@ -250,14 +174,8 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     }
     // the full residual, DESIGN §3's test
     std::vector<double> Gr(U.size()), MU(U.size());
-    count(law.counters, &Counters::spmv);
-    multiply_pair(*sys.A, U.data(), *sys.M, U.data(), [&](int64_t i, double AU, double MUi) {
-      Gr[i] = AU - r[i];
-      MU[i] = MUi;
-    });
-    law.add_force(U.data(), sys.kappa, Gr.data(), nullptr);
-    res.residual = norm2(n, Gr.data());
-    res.tolerance = opt.rtol * (norm2(n, r.data()) + sys.c * norm2(n, MU.data())) + opt.atol;
+    res.residual = newton_residual(sys, r, U, Gr, nullptr, MU);
+    res.tolerance = newton_tolerance(sys, opt, norm2(n, r.data()), MU);
     res.converged = res.residual <= res.tolerance;
     return out;
   }

@@ -21,42 +21,25 @@
 #include <vector>
 
 #include "linalg/factorization.hpp"
+#include "solve/contact_columns.hpp"
 #include "solve/newton.hpp"
 
 namespace nd {
 
 // What the condensed Newton keeps across iterations and steps: the columns
-// Z_q = A^{-1} b_q, computed one solve each on first need (a column's bits do
-// not depend on which others were computed with it: a run resumed from a
-// checkpoint, whose cache starts empty, is bitwise the uninterrupted one),
-// held for the factor's lifetime, at most max_columns (past that the columns
-// of the points outside the current set are dropped); and the LU of the last
-// k x k Jacobian with the set and slopes it was made for (the same matrix
-// gives the same LU: reusing it changes no bit).
+// and G (solve/contact_columns.hpp), and the LU of the last k x k Jacobian
+// with the set and slopes it was made for (the same matrix gives the same
+// LU: reusing it changes no bit).
 class CondensedCache {
  public:
   CondensedCache(const Factorization &A_factor, int64_t n, int64_t max_columns);
-  // binds to one set of contact rows and one Theta (a new set clears the cache)
-  void bind(const ContactPoints &cp, double theta);
-  // Z_q for every q of S (the columns off S may be dropped for them)
-  void require(const std::vector<int64_t> &S);
-  const double *column(int64_t q) const { return Z_[static_cast<size_t>(q)].data(); }
-  int64_t computed() const { return computed_; }  // columns computed (each one solve)
-  // G_ij = p_i . Z_j for i, j in S (the columns of S required)
-  const std::vector<double> &G(const std::vector<int64_t> &S);
-  struct Lu;  // the last Jacobian's LU (newton_condensed.cpp: LAPACK's types stay there)
-  Lu &lu();
   ~CondensedCache();
+  ContactColumns columns;
+  struct Lu;  // newton_condensed.cpp: LAPACK's types stay there
+  Lu &lu();
 
  private:
-  const Factorization &A_factor_;
-  int64_t n_, max_columns_, held_ = 0, computed_ = 0;
-  const ContactPoints *cp_ = nullptr;
-  double theta_ = 0;
-  std::vector<std::vector<double>> Z_;
   std::unique_ptr<Lu> lu_;
-  std::vector<int64_t> G_S_, position_;  // the S that G_ was built for; a point's place in it (-1: none)
-  std::vector<double> G_;
 };
 
 struct CondensedResult {
@@ -69,7 +52,7 @@ struct CondensedResult {
 // max_rank: the most points S may hold (negative: no limit), past which the
 // caller's tangent solver (refactoring) takes over; with more than half of it
 // active at the predictor the condensed Newton does not start (too_large).
-CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &columns,
+CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
                                  int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
                                  std::vector<double> &U);
 

@@ -6,10 +6,10 @@
 // 1/D and is solved by LAPACK's LU. det T = det A det(I + D G), so it is
 // singular exactly when T is.
 //
-// Cached for the solver's lifetime (A is fixed per step size): Z_q = A^{-1} b_q
-// per point, computed on first activation (one multi-column solve for all the
-// new ones), and G over the last active set, of which the entries of points
-// that stay active are kept. A Newton iteration in persistent contact costs
+// Cached for the solver's lifetime (A is fixed per step size, solve/
+// contact_columns.hpp): Z_q = A^{-1} b_q per point, made on first activation,
+// and G over the last active set, of which the entries of points that stay
+// active are kept. A Newton iteration in persistent contact costs
 // one solve with A's factor, k sparse dot products, the k x k triangular solves
 // with the capacitance's LU (kept while the active set and D stay) and n k for
 // Z w. Only D changes between iterations (the slopes), so only I + D G is rebuilt.
@@ -17,11 +17,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "solve/contact_columns.hpp"
 #include "solve/tangent_solver.hpp"
 
 namespace nd {
@@ -32,7 +34,9 @@ class LowRankTangent : public TangentSolver {
   LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank,
                  int64_t two_solve_rank, Counters *counters, const DofGeometry *geometry)
       : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank),
-        two_solve_rank_(two_solve_rank), counters_(counters), geometry_(geometry) {}
+        two_solve_rank_(two_solve_rank), counters_(counters), geometry_(geometry),
+        // the memory bound: past 2 max_rank columns, those of inactive points are dropped
+        columns_(A_factor, A.n, max_rank >= 0 ? 2 * max_rank : INT64_MAX) {}
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
@@ -40,7 +44,8 @@ class LowRankTangent : public TangentSolver {
       A_factor_.solve(x);
       return;
     }
-    bind(law);
+    if (columns_.bind(*law.cp, law.theta)) lu_valid_ = false;
+    theta_ = law.theta;
     const ContactPoints &cp = *law.cp;
     active_.clear();
     d_.clear();
@@ -65,15 +70,15 @@ class LowRankTangent : public TangentSolver {
       return;
     }
     ++stats.lowrank;
-    compute_columns(cp);
-    update_G(cp);
+    columns_.require(active_);
+    stats.columns = columns_.computed();
     const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
     if (two_solves) x0_.assign(x, x + A_.n);
     A_factor_.solve(x);  // y
     // (I + D G) w = D P^T y; its LU is kept while the active set and D stay
     // (persistent contact: the slopes are piecewise constant), so such an
     // iteration pays k^2, not 2/3 k^3; the same LU gives the same bits
-    factor_capacitance(k);
+    factor_capacitance(k, columns_.G(active_));
     w_.resize(static_cast<size_t>(k));
     for (int64_t i = 0; i < k; ++i) w_[i] = d_[i] * p_dot(cp, active_[i], x);
     const lapack_int info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', static_cast<lapack_int>(k), 1, C_.data(),
@@ -82,12 +87,7 @@ class LowRankTangent : public TangentSolver {
     if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgetrs: argument " + std::to_string(-info));
     const int64_t n = A_.n;
     if (two_solves) {  // x = A^{-1} (x0 - B w): a second solve instead of the n k of Z w
-      for (int64_t j = 0; j < k; ++j) {
-        const int64_t q = active_[j];
-        const SparseRow &a = cp.a[q], &s = cp.s[q];
-        const double tg = theta_ * cp.gamma[q], wj = w_[j];
-        for (size_t i = 0; i < a.idx.size(); ++i) x0_[a.idx[i]] -= wj * (a.val[i] - tg * s.val[i]);
-      }
+      for (int64_t j = 0; j < k; ++j) add_b(cp, theta_, static_cast<size_t>(active_[j]), -w_[j], x0_.data());
       std::copy(x0_.begin(), x0_.end(), x);
       A_factor_.solve(x);
       return;
@@ -97,88 +97,32 @@ class LowRankTangent : public TangentSolver {
   const char *name() const override { return "lowrank"; }
 
  private:
-  // The cache holds for one set of contact rows and one Theta.
-  void bind(const ContactLaw &law) {
-    if (law.cp == cp_ && law.theta == theta_) return;
-    // allocate first, commit after: out of memory here leaves the solver unbound
-    std::vector<std::vector<double>> Z(law.cp->size());
-    std::vector<int64_t> position(law.cp->size(), -1);
-    Z_.swap(Z);
-    position_.swap(position);
-    cached_ = 0;
-    last_.clear();
-    G_.clear();
-    cp_ = law.cp;
-    theta_ = law.theta;
-  }
-  static double p_dot(const ContactPoints &cp, int64_t q, const double *v) {
-    const SparseRow &a = cp.a[q], &s = cp.s[q];
-    const double g = cp.gamma[q];
-    double sum = 0;
-    for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
-    return sum;
-  }
-  // Z_q = A^{-1} b_q for the active points that have none yet, in one solve
-  void compute_columns(const ContactPoints &cp) {
-    missing_.clear();
-    for (int64_t q : active_)
-      if (Z_[q].empty()) missing_.push_back(q);
-    if (missing_.empty()) return;
-    // the memory bound: past 2 max_rank columns, drop those of inactive points
-    if (max_rank_ >= 0 && cached_ + static_cast<int64_t>(missing_.size()) > 2 * max_rank_) {
-      std::vector<char> keep(Z_.size(), 0);
-      for (int64_t q : active_) keep[q] = 1;
-      for (size_t q = 0; q < Z_.size(); ++q)
-        if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), --cached_;
-      last_.clear();  // G's entries of dropped points are gone with them
-    }
-    const int64_t n = A_.n, m = static_cast<int64_t>(missing_.size());
-    block_.assign(static_cast<size_t>(n * m), 0.0);
-    for (int64_t j = 0; j < m; ++j) {
-      const int64_t q = missing_[j];
-      const SparseRow &a = cp.a[q], &s = cp.s[q];
-      const double tg = theta_ * cp.gamma[q];
-      for (size_t i = 0; i < a.idx.size(); ++i) block_[a.idx[i] + j * n] += a.val[i] - tg * s.val[i];
-    }
-    // one column at a time: a column's bits must not depend on which other
-    // points became active with it (CHOLMOD's multi-column solve rounds
-    // differently), or a run resumed from a checkpoint, whose cache starts
-    // empty, would not be bitwise the uninterrupted one
-    for (int64_t j = 0; j < m; ++j) A_factor_.solve(block_.data() + j * n);
-    for (int64_t j = 0; j < m; ++j) {
-      Z_[missing_[j]].assign(block_.begin() + j * n, block_.begin() + (j + 1) * n);
-      ++cached_;
-    }
-    stats.columns += m;
-
-    block_.clear();
-    block_.shrink_to_fit();
-  }
   // x -= Z w over the active columns, four at a time: Z is read once and x
   // once per four columns (the n k of this product is the iteration's
   // largest cost after the solve)
   void subtract_Zw(int64_t n, int64_t k, double *__restrict x) const {
     int64_t j = 0;
     for (; j + 4 <= k; j += 4) {
-      const double *__restrict z0 = Z_[active_[j]].data(), *__restrict z1 = Z_[active_[j + 1]].data(),
-                               *__restrict z2 = Z_[active_[j + 2]].data(), *__restrict z3 = Z_[active_[j + 3]].data();
+      const double *__restrict z0 = columns_.column(active_[j]), *__restrict z1 = columns_.column(active_[j + 1]),
+                               *__restrict z2 = columns_.column(active_[j + 2]),
+                               *__restrict z3 = columns_.column(active_[j + 3]);
       const double w0 = w_[j], w1 = w_[j + 1], w2 = w_[j + 2], w3 = w_[j + 3];
       for (int64_t i = 0; i < n; ++i) x[i] -= (w0 * z0[i] + w1 * z1[i]) + (w2 * z2[i] + w3 * z3[i]);
     }
     for (; j < k; ++j) {
-      const double *__restrict z = Z_[active_[j]].data();
+      const double *__restrict z = columns_.column(active_[j]);
       const double wj = w_[j];
       for (int64_t i = 0; i < n; ++i) x[i] -= wj * z[i];
     }
   }
   // the LU of I + D G into C_, ipiv_, unless it is that of this active set and D
-  void factor_capacitance(int64_t k) {
+  void factor_capacitance(int64_t k, const std::vector<double> &G) {
     if (lu_valid_ && lu_active_ == active_ && lu_d_ == d_) return;
     lu_valid_ = false;  // stays false if anything below throws
     count(counters_, &Counters::tangent_updates);  // a capacitance build
     C_.resize(static_cast<size_t>(k * k));  // every entry is written below
     for (int64_t j = 0; j < k; ++j)
-      for (int64_t i = 0; i < k; ++i) C_[i + j * k] = d_[i] * G_[i + j * k] + (i == j ? 1.0 : 0.0);
+      for (int64_t i = 0; i < k; ++i) C_[i + j * k] = d_[i] * G[i + j * k] + (i == j ? 1.0 : 0.0);
     ipiv_.resize(static_cast<size_t>(k));
     // the _work variants skip LAPACKE's NaN scan of the k x k input (1.6 % of
     // a ball bounce); a NaN would reach Newton's residual, which is checked
@@ -192,27 +136,6 @@ class LowRankTangent : public TangentSolver {
     lu_d_ = d_;
     lu_valid_ = true;
   }
-  // G = P^T Z over the active set, the entries of the last set kept
-  void update_G(const ContactPoints &cp) {
-    if (active_ == last_) return;
-    lu_valid_ = false;  // G changes under the LU (also when a point's column was dropped and remade)
-    const int64_t k = static_cast<int64_t>(active_.size()), k_old = static_cast<int64_t>(last_.size());
-    G_new_.resize(static_cast<size_t>(k * k));  // what may throw, before anything changes
-    std::vector<int64_t> last(active_);
-    for (int64_t i = 0; i < k_old; ++i) position_[last_[i]] = i;
-    for (int64_t j = 0; j < k; ++j) {
-      const int64_t oj = position_[active_[j]];
-      const double *z = Z_[active_[j]].data();
-      for (int64_t i = 0; i < k; ++i) {
-        const int64_t oi = position_[active_[i]];
-        G_new_[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : p_dot(cp, active_[i], z);
-      }
-    }
-    for (int64_t q : last_) position_[q] = -1;
-    G_.swap(G_new_);
-    last_.swap(last);
-  }
-
   const Csr &A_;
   const Factorization &A_factor_;
   int solver_;
@@ -221,12 +144,10 @@ class LowRankTangent : public TangentSolver {
   Counters *counters_;
   const DofGeometry *geometry_;
   std::unique_ptr<TangentSolver> fallback_;
-  const ContactPoints *cp_ = nullptr;
+  ContactColumns columns_;
   double theta_ = 0;
-  std::vector<std::vector<double>> Z_;  // per point; empty until first active
-  int64_t cached_ = 0;                  // columns held
-  std::vector<int64_t> active_, last_, missing_, position_;
-  std::vector<double> d_, G_, G_new_, C_, w_, block_, x0_;
+  std::vector<int64_t> active_;
+  std::vector<double> d_, C_, w_, x0_;
   std::vector<lapack_int> ipiv_;
   // the capacitance LU in C_, ipiv_ holds for this active set and D
   bool lu_valid_ = false;
