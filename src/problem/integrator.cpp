@@ -48,18 +48,21 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
                                 num(def.theta) + ", gamma0 = " + num(def.gamma0) + " and tau = " + num(def.tau) +
                                 " the step is not well posed: lower gamma0 or the time step");
   }
-  if (!d.contact.a.empty()) {  // the low-rank update of A's factor; refactoring T is the reference
+  // Newton with contact: condensed on the points (the default), the full
+  // Newton with the low-rank update of A's factor past its rank limit, both on
+  // one column cache; refactoring T is the reference
+  if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta);
-    if (def.tangent == TangentChoice::Refactor)
+    if (def.tangent == TangentChoice::Refactor) {
       in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
-    else {
+    } else {
       in->max_rank = def.tangent == TangentChoice::Auto ? lowrank_rank_limit(in->A.n, d.contact) : -1;
+      // at most twice the rank limit held (the memory bound of lowrank_rank_limit)
+      in->columns = std::make_unique<ContactColumns>(
+          *in->A_factor, in->A.n, in->max_rank >= 0 ? 2 * in->max_rank : static_cast<int64_t>(d.contact.size()));
       in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s, in->max_rank, kLowRankTwoSolveRank,
-                                         d.counters, &d.geometry);
-      // the condensed Newton's columns: at most twice the rank limit held (the low-rank memory bound)
-      if (def.tangent != TangentChoice::LowRank)
-        in->condensed = std::make_unique<CondensedCache>(
-            *in->A_factor, in->A.n, in->max_rank >= 0 ? 2 * in->max_rank : static_cast<int64_t>(d.contact.size()));
+                                         d.counters, &d.geometry, in->columns.get());
+      if (def.tangent != TangentChoice::LowRank) in->condensed = std::make_unique<CondensedCache>(*in->columns);
     }
   }
   return in;

@@ -21,8 +21,12 @@ struct Integrator {
   StepCoefficients coef{0, 0};
   Csr A;  // c M + K_Theta (implicit schemes)
   std::unique_ptr<Factorization> A_factor;
-  std::unique_ptr<TangentSolver> tangent;  // when there are contact points
-  // what the condensed Newton keeps (not with the refactoring reference, nor the forced low-rank path)
+  // the columns A^{-1} b_q of both fast paths (before them: they hold it),
+  // the low-rank or refactoring tangent when there are contact points, and
+  // what the condensed Newton keeps (not with the refactoring reference, nor
+  // the forced low-rank path)
+  std::unique_ptr<ContactColumns> columns;
+  std::unique_ptr<TangentSolver> tangent;
   std::unique_ptr<CondensedCache> condensed;
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)

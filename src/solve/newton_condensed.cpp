@@ -16,8 +16,7 @@ struct CondensedCache::Lu {
   std::vector<lapack_int> ipiv;
 };
 
-CondensedCache::CondensedCache(const Factorization &A_factor, int64_t n, int64_t max_columns)
-    : columns(A_factor, n, max_columns) {}
+CondensedCache::CondensedCache(ContactColumns &c) : columns(c) {}
 CondensedCache::~CondensedCache() = default;
 
 CondensedCache::Lu &CondensedCache::lu() {

@@ -32,9 +32,9 @@ namespace nd {
 // LU: reusing it changes no bit).
 class CondensedCache {
  public:
-  CondensedCache(const Factorization &A_factor, int64_t n, int64_t max_columns);
+  explicit CondensedCache(ContactColumns &c);
   ~CondensedCache();
-  ContactColumns columns;
+  ContactColumns &columns;  // the integrator's, shared with the low-rank tangent
   struct Lu;  // newton_condensed.cpp: LAPACK's types stay there
   Lu &lu();
 

@@ -32,11 +32,13 @@ namespace {
 class LowRankTangent : public TangentSolver {
  public:
   LowRankTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, int64_t max_rank,
-                 int64_t two_solve_rank, Counters *counters, const DofGeometry *geometry)
+                 int64_t two_solve_rank, Counters *counters, const DofGeometry *geometry, ContactColumns *shared)
       : A_(A), A_factor_(A_factor), solver_(solver), structure_(s), max_rank_(max_rank),
-        two_solve_rank_(two_solve_rank), counters_(counters), geometry_(geometry),
-        // the memory bound: past 2 max_rank columns, those of inactive points are dropped
-        columns_(A_factor, A.n, max_rank >= 0 ? 2 * max_rank : INT64_MAX) {}
+        two_solve_rank_(two_solve_rank), counters_(counters), geometry_(geometry) {
+    if (!shared)  // the memory bound: past 2 max_rank columns, those of inactive points are dropped
+      own_columns_ = std::make_unique<ContactColumns>(A_factor, A.n, max_rank >= 0 ? 2 * max_rank : INT64_MAX);
+    columns_ = shared ? shared : own_columns_.get();
+  }
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
@@ -44,7 +46,7 @@ class LowRankTangent : public TangentSolver {
       A_factor_.solve(x);
       return;
     }
-    if (columns_.bind(*law.cp, law.theta)) lu_valid_ = false;
+    if (columns_->bind(*law.cp, law.theta)) lu_valid_ = false;
     theta_ = law.theta;
     const ContactPoints &cp = *law.cp;
     active_.clear();
@@ -70,15 +72,15 @@ class LowRankTangent : public TangentSolver {
       return;
     }
     ++stats.lowrank;
-    columns_.require(active_);
-    stats.columns = columns_.computed();
+    columns_->require(active_);
+    stats.columns = columns_->computed();
     const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
     if (two_solves) x0_.assign(x, x + A_.n);
     A_factor_.solve(x);  // y
     // (I + D G) w = D P^T y; its LU is kept while the active set and D stay
     // (persistent contact: the slopes are piecewise constant), so such an
     // iteration pays k^2, not 2/3 k^3; the same LU gives the same bits
-    factor_capacitance(k, columns_.G(active_));
+    factor_capacitance(k, columns_->G(active_));
     w_.resize(static_cast<size_t>(k));
     for (int64_t i = 0; i < k; ++i) w_[i] = d_[i] * p_dot(cp, active_[i], x);
     const lapack_int info = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', static_cast<lapack_int>(k), 1, C_.data(),
@@ -103,14 +105,14 @@ class LowRankTangent : public TangentSolver {
   void subtract_Zw(int64_t n, int64_t k, double *__restrict x) const {
     int64_t j = 0;
     for (; j + 4 <= k; j += 4) {
-      const double *__restrict z0 = columns_.column(active_[j]), *__restrict z1 = columns_.column(active_[j + 1]),
-                               *__restrict z2 = columns_.column(active_[j + 2]),
-                               *__restrict z3 = columns_.column(active_[j + 3]);
+      const double *__restrict z0 = columns_->column(active_[j]), *__restrict z1 = columns_->column(active_[j + 1]),
+                               *__restrict z2 = columns_->column(active_[j + 2]),
+                               *__restrict z3 = columns_->column(active_[j + 3]);
       const double w0 = w_[j], w1 = w_[j + 1], w2 = w_[j + 2], w3 = w_[j + 3];
       for (int64_t i = 0; i < n; ++i) x[i] -= (w0 * z0[i] + w1 * z1[i]) + (w2 * z2[i] + w3 * z3[i]);
     }
     for (; j < k; ++j) {
-      const double *__restrict z = columns_.column(active_[j]);
+      const double *__restrict z = columns_->column(active_[j]);
       const double wj = w_[j];
       for (int64_t i = 0; i < n; ++i) x[i] -= wj * z[i];
     }
@@ -144,7 +146,8 @@ class LowRankTangent : public TangentSolver {
   Counters *counters_;
   const DofGeometry *geometry_;
   std::unique_ptr<TangentSolver> fallback_;
-  ContactColumns columns_;
+  std::unique_ptr<ContactColumns> own_columns_;
+  ContactColumns *columns_;  // own_columns_, or the integrator's (shared with the condensed Newton)
   double theta_ = 0;
   std::vector<int64_t> active_;
   std::vector<double> d_, C_, w_, x0_;
@@ -160,9 +163,9 @@ class LowRankTangent : public TangentSolver {
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                     Structure structure, int64_t max_rank,
                                                     int64_t two_solve_rank, Counters *counters,
-                                                    const DofGeometry *geometry) {
+                                                    const DofGeometry *geometry, ContactColumns *columns) {
   return std::make_unique<LowRankTangent>(A, A_factor, solver, structure, max_rank, two_solve_rank, counters,
-                                          geometry);
+                                          geometry, columns);
 }
 
 // Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,

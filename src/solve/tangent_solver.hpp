@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "linalg/factorization.hpp"
+#include "solve/contact_columns.hpp"
 #include "solve/contact_law.hpp"
 
 namespace nd {
@@ -56,11 +57,14 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
 // solved by a refactoring tangent held inside (made on first need); a
 // negative max_rank: no limit. With more than two_solve_rank active points
 // (negative: never) T^{-1} x = A^{-1}(x - B w) replaces y - Z w: a second
-// solve with A's factor instead of n k multiply-adds.
+// solve with A's factor instead of n k multiply-adds. columns: a column
+// cache made for A's factor to share (with the condensed Newton), or none:
+// the solver keeps its own.
 std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                     Structure structure, int64_t max_rank,
                                                     int64_t two_solve_rank = -1, Counters *counters = nullptr,
-                                                    const DofGeometry *geometry = nullptr);
+                                                    const DofGeometry *geometry = nullptr,
+                                                    ContactColumns *columns = nullptr);
 
 // The rank above which the second solve beats Z w (bench/tangent_bench
 // crossover, back to back, one BLAS thread): k = 78-97 on disk_h1 P1
