@@ -6,13 +6,15 @@
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "solve/tangent_solver.hpp"
 
 namespace nd {
 namespace {
 
 constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
-constexpr uint32_t kVersion = 3;  // 2: the obstacle (gaps, work), the clamped load and the reactions; 3: phi
-                                 // 3: the applied contact term (version 2 is still read)
+// 2: the obstacle (gaps, work), the clamped load and the reactions; 3: the
+// applied contact term phi; 4: the tangent's history (version 3 is still read)
+constexpr uint32_t kVersion = 4;
 
 struct Hash {  // FNV-1a, 64 bits
   uint64_t h = 1469598103934665603ull;
@@ -36,10 +38,11 @@ class Writer {
     const unsigned char *p = reinterpret_cast<const unsigned char *>(&x);
     out.insert(out.end(), p, p + sizeof x);
   }
-  void vec(const std::vector<double> &v) {
+  template <class T>
+  void vec(const std::vector<T> &v) {
     value(static_cast<uint64_t>(v.size()));
     const unsigned char *p = reinterpret_cast<const unsigned char *>(v.data());
-    out.insert(out.end(), p, p + v.size() * sizeof(double));
+    out.insert(out.end(), p, p + v.size() * sizeof(T));
   }
   std::vector<unsigned char> out;
 };
@@ -65,6 +68,19 @@ class Reader {
     std::vector<double> v(n);
     if (n > 0) std::memcpy(v.data(), p_ + at_, n * sizeof(double));
     at_ += n * sizeof(double);
+    return v;
+  }
+  // a vector of at most `most` values of T
+  template <class T>
+  std::vector<T> bounded(uint64_t most, const char *what) {
+    const uint64_t n = value<uint64_t>();
+    if (n > most)
+      fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has " + std::to_string(n) +
+                              " values, more than the " + std::to_string(most) + " it can have");
+    need(n * sizeof(T));
+    std::vector<T> v(n);
+    if (n > 0) std::memcpy(v.data(), p_ + at_, n * sizeof(T));
+    at_ += n * sizeof(T);
     return v;
   }
   size_t at() const { return at_; }
@@ -115,6 +131,8 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   payload.value(s.W_obstacle);
   payload.vec(s.reaction);
   payload.vec(s.phi);
+  payload.vec(s.tangent_log.i);
+  payload.vec(s.tangent_log.x);
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(kVersion);
@@ -130,6 +148,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
 
 namespace {
 struct Header {
+  uint32_t version;
   uint64_t fingerprint, payload_size;
 };
 // magic and version checked; the rest unchecked until the checksum is
@@ -138,11 +157,12 @@ Header read_header(Reader &r, const unsigned char *buf, int64_t nbytes) {
     fail(ND_ERR_FORMAT, "not a checkpoint of this library (bad magic number)");
   r.value<std::array<char, 8>>();
   const uint32_t version = r.value<uint32_t>();
-  if (version != kVersion)
-    fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads version " +
+  if (version != kVersion && version != 3)
+    fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads versions 3 and " +
                             std::to_string(kVersion));
   r.value<uint32_t>();
   Header h;
+  h.version = version;
   h.fingerprint = r.value<uint64_t>();
   h.payload_size = r.value<uint64_t>();
   return h;
@@ -166,6 +186,8 @@ int64_t max_state_size(const StateSizes &sizes) {
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
   s.phi = s.gap;
+  s.tangent_log.i.resize(static_cast<size_t>(1 + sizes.n_contact + 2 * kUpdownMaxUpdates));
+  s.tangent_log.x.resize(static_cast<size_t>(sizes.n_contact + kUpdownMaxUpdates));
   return static_cast<int64_t>(encode_state(s, 0).size());
 }
 
@@ -205,6 +227,14 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.W_obstacle = r.value<double>();
   s.reaction = r.vec(sizes.n_clamped, true, "reactions");
   s.phi = r.vec(sizes.n_contact, true, "applied contact term");
+  if (head.version >= 4) {
+    s.tangent_log.i = r.bounded<int64_t>(static_cast<uint64_t>(1 + sizes.n_contact + 2 * kUpdownMaxUpdates),
+                                         "tangent history");
+    s.tangent_log.x = r.bounded<double>(static_cast<uint64_t>(sizes.n_contact + kUpdownMaxUpdates),
+                                        "tangent history");
+    if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
+      fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
+  }
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
   out = std::move(s);
 }

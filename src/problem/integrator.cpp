@@ -50,11 +50,22 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   }
   // Newton with contact: condensed on the points (the default), the full
   // Newton with the low-rank update of A's factor past its rank limit, both on
-  // one column cache; refactoring T is the reference
+  // one column cache, and the updated factor of T past that where it applies;
+  // in 3D the updated factor from the start: a column A^{-1} b_q costs a
+  // solve with a factor of 148-463 entries per column there (ball_h4, ball_h2,
+  // P1 and P2), against 17-85 on the disks, and a bounce activates hundreds of
+  // points (bench/disk_bench, Newmark: per Newton iteration of a contact step
+  // 6-8 solves against 8-18 with the columns; on the disks the columns win,
+  // 1.5-2.4 against 2.1-6.1). Refactoring T is the reference.
   if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta);
+    const bool updown = updown_tangent_applies(def.solver, s) &&
+                        (def.tangent == TangentChoice::Updown ||
+                         (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
     if (def.tangent == TangentChoice::Refactor) {
       in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
+    } else if (updown) {
+      in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
     } else {
       in->max_rank = def.tangent == TangentChoice::Auto ? lowrank_rank_limit(in->A.n, d.contact) : -1;
       // at most twice the rank limit held (the memory bound of lowrank_rank_limit)
@@ -109,6 +120,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       next.last_iterations = 1;
     } else {
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
+      in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
         const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton, next.U);
@@ -126,8 +138,11 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
                                 num(next.t) + " (residual " + num(res.residual) + ", tolerance " +
                                 num(res.tolerance) + "); the step was not taken");
       next.last_iterations = res.iterations;
+      const TangentLog *history = in.tangent->log();
+      if (history) next.tangent_log = *history;
     }
   }
+  if (next.tangent_log.i.empty()) next.tangent_log = old.tangent_log;  // no contact solve: the history stays
   scheme.update(tau, old, next);
   // Massless DOFs (mass redistribution): no equation holds their V and A, and
   // the schemes' recursions for them are at best neutral (the hybrid's

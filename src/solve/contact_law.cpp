@@ -38,23 +38,27 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
   }
 }
 
+void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T) {
+  const double g = cp.gamma[q];
+  const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
+  thread_local std::vector<double> b, p;
+  b.resize(a.idx.size());
+  p.resize(a.idx.size());
+  for (size_t i = 0; i < a.idx.size(); ++i) {
+    b[i] = a.val[i] - theta * g * s.val[i];
+    p[i] = a.val[i] - g * s.val[i];
+  }
+  T.add_outer(a.idx, b.data(), p.data(), f);
+}
+
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T) const {
   count(counters, &Counters::contact_evaluations);
   count(counters, &Counters::tangent_updates);
-  std::vector<double> b, p;
   for (size_t q = 0; q < cp->size(); ++q) {
     double value, slope;
     law(q, P(q, U), value, slope);
     if (slope == 0) continue;
-    const double g = cp->gamma[q];
-    const SparseRow &a = cp->a[q], &s = cp->s[q];  // same index lists
-    b.resize(a.idx.size());
-    p.resize(a.idx.size());
-    for (size_t i = 0; i < a.idx.size(); ++i) {
-      b[i] = a.val[i] - theta * g * s.val[i];
-      p[i] = a.val[i] - g * s.val[i];
-    }
-    T.add_outer(a.idx, b.data(), p.data(), kappa * cp->w[q] / cp->gamma[q] * slope);
+    add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T);
   }
 }
 

@@ -19,6 +19,8 @@ namespace nd {
 double p_dot(const ContactPoints &cp, size_t q, const double *v);
 // y += f b_q, b_q = a_q - Theta gamma_q s_q
 void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y);
+// T += f b_q p_q^T (T has the operator pattern)
+void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T);
 
 struct ContactLaw {
   const ContactPoints *cp = nullptr;

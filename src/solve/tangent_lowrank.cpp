@@ -6,6 +6,9 @@
 // 1/D and is solved by LAPACK's LU. det T = det A det(I + D G), so it is
 // singular exactly when T is.
 //
+// Past its rank limit, T is solved by the updated factor (make_updown_tangent)
+// where it applies, else refactored.
+//
 // Cached for the solver's lifetime (A is fixed per step size, solve/
 // contact_columns.hpp): Z_q = A^{-1} b_q per point, made on first activation,
 // and G over the last active set, of which the entries of points that stay
@@ -66,9 +69,15 @@ class LowRankTangent : public TangentSolver {
       return;
     }
     if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
-      if (!fallback_) fallback_ = make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_, geometry_);
+      if (!fallback_) {
+        fallback_ = updown_tangent_applies(solver_, structure_)
+                        ? make_updown_tangent(A_, A_factor_, counters_)
+                        : make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_, geometry_);
+        fallback_->begin_step(committed_);
+      }
+      const int64_t before = fallback_->stats.refactorizations;
       fallback_->solve(law, kappa, U, true, x);
-      ++stats.refactorizations;
+      stats.refactorizations += fallback_->stats.refactorizations - before;
       return;
     }
     ++stats.lowrank;
@@ -97,6 +106,12 @@ class LowRankTangent : public TangentSolver {
     subtract_Zw(n, k, x);
   }
   const char *name() const override { return "lowrank"; }
+  // the history is the fallback's (the updated factor's), kept for it until it is made
+  void begin_step(const TangentLog &committed) override {
+    if (fallback_) fallback_->begin_step(committed);
+    else if (committed != committed_) committed_ = committed;
+  }
+  const TangentLog *log() const override { return fallback_ ? fallback_->log() : &committed_; }
 
  private:
   // x -= Z w over the active columns, four at a time: Z is read once and x
@@ -146,6 +161,7 @@ class LowRankTangent : public TangentSolver {
   Counters *counters_;
   const DofGeometry *geometry_;
   std::unique_ptr<TangentSolver> fallback_;
+  TangentLog committed_;  // the step's starting history, until fallback_ is made
   std::unique_ptr<ContactColumns> own_columns_;
   ContactColumns *columns_;  // own_columns_, or the integrator's (shared with the condensed Newton)
   double theta_ = 0;

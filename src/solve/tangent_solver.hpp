@@ -14,6 +14,7 @@
 #include "linalg/factorization.hpp"
 #include "solve/contact_columns.hpp"
 #include "solve/contact_law.hpp"
+#include "time/state.hpp"
 
 namespace nd {
 
@@ -32,6 +33,13 @@ class TangentSolver {
   // x <- T(U)^{-1} x; with no active point T(U) = A
   virtual void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) = 0;
   virtual const char *name() const = 0;
+  // The step starts from a state whose tangent history is `committed`
+  // (TangentLog, time/state.hpp); log(): the history after the step's
+  // solves, for the next state (nullptr: this solver keeps none). Only the
+  // updated factor (make_updown_tangent) has one; the others' bits depend on
+  // nothing but U.
+  virtual void begin_step(const TangentLog &committed) { (void)committed; }
+  virtual const TangentLog *log() const { return nullptr; }
   TangentStats stats;
 };
 
@@ -42,6 +50,7 @@ enum class TangentChoice {
   Refactor,   // the reference: the full Newton, T refactored
   LowRank,    // the full Newton with the low-rank tangent at every rank
   Condensed,  // the condensed Newton at every rank
+  Updown,     // the full Newton with the updated factor of T at every rank (Theta = 1)
 };
 
 // A and its factor must outlive the solver. solver: ND_SOLVER_* for the
@@ -53,8 +62,29 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
                                                         Structure structure, Counters *counters = nullptr,
                                                         const DofGeometry *geometry = nullptr);
 
+// The updated factor (Theta = 1, T symmetric positive definite): a
+// simplicial LDL^T of T kept from solve to solve and from step to step,
+// changed by rank updates and downdates as points enter and leave the active
+// set (solve/tangent_updown.cpp); refactored when the changes since its last
+// factorization outgrow a bound.
+// At most this many columns updated since the factorization (the bound of
+// a TangentLog: 1 + points + 2 kUpdownMaxUpdates indices, points +
+// kUpdownMaxUpdates coefficients).
+constexpr int64_t kUpdownMaxUpdates = 256;
+std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor,
+                                                   Counters *counters = nullptr);
+// Whether a history (from a checkpoint) has the form the updated factor
+// writes for n_points contact points: indices in range and increasing within
+// the base and each update, coefficients finite and positive, at most
+// kUpdownMaxUpdates columns updated.
+bool tangent_log_well_formed(const TangentLog &log, int64_t n_points);
+// Whether the updated factor serves this solver and tangent structure: the
+// symmetric tangent, with the library's choice of direct solver or CHOLMOD.
+bool updown_tangent_applies(int solver, Structure structure);
+
 // The low-rank solver. Calls with more than max_rank active points are
-// solved by a refactoring tangent held inside (made on first need); a
+// solved by the updated factor where updown_tangent_applies, else by a
+// refactoring tangent, held inside (made on first need); a
 // negative max_rank: no limit. With more than two_solve_rank active points
 // (negative: never) T^{-1} x = A^{-1}(x - B w) replaces y - Z w: a second
 // solve with A's factor instead of n k multiply-adds. columns: a column

@@ -27,6 +27,22 @@ struct Products {
   std::vector<double> P;               // P_q(U) with the state's gaps: the next step's P^n
 };
 
+// The history that fixes the bits of the Newton tangent's updated factor
+// (solve/tangent_updown.cpp): a base set of contact points with their
+// coefficients (the factorization of A + sum_q d_q p_q p_q^T), then the rank
+// updates applied to it since, in order. Replaying it on A gives the factor
+// bit for bit, so a run resumed from a checkpoint, or a step retried after a
+// failed one, is bitwise the uninterrupted run. Layout:
+//   i = [nb, q_1 .. q_nb, then per update: +-m (+ update, - downdate), q_1 .. q_m]
+//   x = [d_1 .. d_nb, then per update its m coefficients c_j (column sqrt(c_j) p_q)]
+// Empty: no such factor.
+struct TangentLog {
+  std::vector<int64_t> i;
+  std::vector<double> x;
+  bool operator==(const TangentLog &o) const { return i == o.i && x == o.x; }
+  bool operator!=(const TangentLog &o) const { return !(*this == o); }
+};
+
 struct State {
   double t = 0;
   int64_t n = 0;
@@ -52,6 +68,7 @@ struct State {
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;
+  TangentLog tangent_log;
   Products products;
 };
 

@@ -1,0 +1,47 @@
+// A sparse LDL^T factor that is modified in place by rank updates and
+// downdates (CHOLMOD's Modify module): L D L^T +/- C C^T for a few sparse
+// columns C costs what the columns' paths in the elimination tree touch, a
+// small part of a factorization. Simplicial (not supernodal), which updates
+// need. The Newton tangent of the symmetric contact problem (Theta = 1)
+// changes by such terms as contact points come and go (solve/tangent_updown.cpp).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "common/counters.hpp"
+#include "linalg/csr.hpp"
+
+namespace nd {
+
+// Sparse columns: column j has rows idx[ptr[j] .. ptr[j+1]) (free DOF
+// numbers, any order, no repeats) with the values val[...].
+struct SparseColumns {
+  std::vector<int64_t> ptr{0}, idx;
+  std::vector<double> val;
+  int64_t count() const { return static_cast<int64_t>(ptr.size()) - 1; }
+};
+
+class UpdatableCholesky {
+ public:
+  // the symbolic analysis of the pattern (one AMD ordering); counted as an
+  // analysis, each factor() as a factorization and each solve() as a solve
+  UpdatableCholesky(const Csr &pattern, Counters *counters);
+  ~UpdatableCholesky();
+  // numeric LDL^T of T (its pattern the constructor's); throws ND_ERR_INDEFINITE
+  // when a pivot is not positive
+  void factor(const Csr &T);
+  // L D L^T <- L D L^T + C C^T (add) or - C C^T; C's columns must lie in the
+  // pattern's rows/columns so that L's structure is unchanged. false (the
+  // factor then no longer valid: factor again) when a pivot of the result is
+  // not positive and finite.
+  bool modify(bool add, const SparseColumns &C);
+  void solve(double *x) const;
+
+ private:
+  struct Impl;  // CHOLMOD's types stay in cholmod.cpp
+  std::unique_ptr<Impl> impl_;
+  Counters *counters_;
+};
+
+}  // namespace nd

@@ -1,0 +1,238 @@
+// The updated factor of the Newton tangent (Theta = 1): T = A + sum_{q in S}
+// d_q p_q p_q^T, d_q = kappa w_q/gamma_q phi'_q, is symmetric positive
+// definite, and a point entering or leaving S (or changing its slope)
+// changes it by +-c p_q p_q^T: a rank-one update or downdate of T's LDL^T
+// (linalg/updatable_cholesky.hpp), about half a solve with A's factor per
+// point on the ball (n = 2,097), against 100-200 solves for a refactorization.
+// Where hundreds of points are active (the ball presses a whole cap on the
+// plane) and a few change per step, the low-rank tangent's k x k capacitance
+// (2/3 k^3 per new set) and the refactoring tangent both cost 50-200 solves
+// per Newton iteration; this costs one solve plus the changes.
+//
+// The factor is kept across steps, so its bits depend on the updates made
+// since its last factorization: they are written to the state
+// (TangentLog) and replayed when the factor does not hold the history the
+// step starts from (a restored checkpoint, a step after a failed one, a new
+// time step size), so that every run is bitwise the uninterrupted one. The
+// history is bounded: past kMaxUpdates columns since the factorization, or
+// more than kMaxBatch changes at once, T is factored anew at the current set.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "linalg/updatable_cholesky.hpp"
+#include "nitschedyn.h"
+#include "solve/tangent_solver.hpp"
+
+namespace nd {
+namespace {
+
+// Measured on ball_h4 P1 (n = 2,097, one BLAS thread): a simplicial
+// factorization of T costs 190 solves with A's factor, an update or downdate
+// 0.5-0.6 per column. So 256 columns since the factorization cost about as
+// much as one more factorization, the bound of a replay's cost (at most two
+// factorizations) and of the history's size in a checkpoint.
+constexpr int64_t kMaxUpdates = kUpdownMaxUpdates;
+constexpr int64_t kMaxBatch = kMaxUpdates / 2;
+
+class UpdownTangent : public TangentSolver {
+ public:
+  UpdownTangent(const Csr &A, const Factorization &A_factor, Counters *counters)
+      : A_(A), A_factor_(A_factor), counters_(counters), T_(A) {}
+
+  void begin_step(const TangentLog &committed) override {
+    if (committed == log_) return;
+    log_ = committed;  // the factor no longer holds it: replayed at the first need
+    synced_ = false;
+  }
+  const TangentLog *log() const override { return &log_; }
+
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+    ++stats.calls;
+    if (law.theta != 1) fail(ND_ERR_INTERNAL, "the updated tangent factor needs Theta = 1");
+    const ContactPoints &cp = *law.cp;
+    d_new_.assign(cp.size(), 0.0);
+    int64_t k = 0;
+    if (any_active) {
+      count(law.counters, &Counters::contact_evaluations);
+      for (size_t q = 0; q < cp.size(); ++q) {
+        double value, slope;
+        law.law(q, law.P(q, U), value, slope);
+        if (slope != 0) d_new_[q] = kappa * cp.w[q] / cp.gamma[q] * slope, ++k;
+      }
+    }
+    stats.max_rank = std::max(stats.max_rank, k);
+    if (k == 0) {
+      A_factor_.solve(x);
+      return;
+    }
+    if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_);
+    if (!synced_) replay(cp);
+    update_to(cp, d_new_);
+    ++stats.lowrank;
+    factor_->solve(x);
+  }
+  const char *name() const override { return "updown"; }
+
+ private:
+  // the factor of A + sum_q d_q p_q p_q^T, and the history that starts there
+  void factor_at(const ContactPoints &cp, const std::vector<double> &d) {
+    synced_ = false;  // until the factorization succeeds
+    T_.val = A_.val;  // same size: no allocation
+    TangentLog base;
+    base.i.assign(1, 0);
+    for (size_t q = 0; q < d.size(); ++q) {
+      if (d[q] == 0) continue;
+      add_point_tangent(cp, 1.0, q, d[q], T_);
+      base.i.push_back(static_cast<int64_t>(q));
+      base.x.push_back(d[q]);
+    }
+    base.i[0] = static_cast<int64_t>(base.x.size());
+    count(counters_, &Counters::tangent_updates);
+    factor_->factor(T_);
+    ++stats.refactorizations;
+    log_.i.swap(base.i);
+    log_.x.swap(base.x);
+    d_ = d;
+    updates_ = 0;
+    synced_ = true;
+  }
+  // one rank update (add) or downdate of the columns sqrt(c_j) p_{q_j}
+  bool modify(const ContactPoints &cp, bool add, const std::vector<int64_t> &q, const std::vector<double> &c) {
+    C_.ptr.assign(1, 0);
+    C_.idx.clear();
+    C_.val.clear();
+    for (size_t j = 0; j < q.size(); ++j) {
+      const SparseRow &a = cp.a[q[j]], &s = cp.s[q[j]];
+      const double r = std::sqrt(c[j]), g = cp.gamma[q[j]];
+      for (size_t e = 0; e < a.idx.size(); ++e) {
+        C_.idx.push_back(a.idx[e]);
+        C_.val.push_back(r * (a.val[e] - g * s.val[e]));
+      }
+      C_.ptr.push_back(static_cast<int64_t>(C_.idx.size()));
+    }
+    count(counters_, &Counters::tangent_updates);
+    updates_ += static_cast<int64_t>(q.size());
+    return factor_->modify(add, C_);
+  }
+  // from the factor's set to d: updates first (T stays further from
+  // singular on the way), then downdates; each recorded
+  void update_to(const ContactPoints &cp, const std::vector<double> &d) {
+    up_q_.clear(), up_c_.clear(), down_q_.clear(), down_c_.clear();
+    for (size_t q = 0; q < d.size(); ++q) {
+      const double change = d[q] - d_[q];
+      if (change > 0) up_q_.push_back(static_cast<int64_t>(q)), up_c_.push_back(change);
+      if (change < 0) down_q_.push_back(static_cast<int64_t>(q)), down_c_.push_back(-change);
+    }
+    const int64_t changes = static_cast<int64_t>(up_q_.size() + down_q_.size());
+    if (changes == 0) return;
+    if (changes > kMaxBatch || updates_ + changes > kMaxUpdates) {
+      factor_at(cp, d);
+      return;
+    }
+    synced_ = false;  // until both succeed
+    for (int pass = 0; pass < 2; ++pass) {
+      const bool add = pass == 0;
+      const std::vector<int64_t> &q = add ? up_q_ : down_q_;
+      const std::vector<double> &c = add ? up_c_ : down_c_;
+      if (q.empty()) continue;
+      if (!modify(cp, add, q, c)) {  // a pivot lost to round-off: factor anew
+        factor_at(cp, d);
+        return;
+      }
+      log_.i.push_back(add ? static_cast<int64_t>(q.size()) : -static_cast<int64_t>(q.size()));
+      log_.i.insert(log_.i.end(), q.begin(), q.end());
+      log_.x.insert(log_.x.end(), c.begin(), c.end());
+    }
+    d_ = d;
+    synced_ = true;
+  }
+  // the factor that log_ describes (checkpoint::decode_state checked its form)
+  void replay(const ContactPoints &cp) {
+    const TangentLog history = log_;
+    std::vector<double> d(cp.size(), 0.0);
+    if (history.i.empty()) {  // no history: the first factor starts one
+      factor_at(cp, d_new_);
+      return;
+    }
+    const int64_t nb = history.i[0];
+    for (int64_t j = 0; j < nb; ++j) d[history.i[1 + j]] = history.x[j];
+    factor_at(cp, d);
+    size_t at = 1 + static_cast<size_t>(nb), xat = static_cast<size_t>(nb);
+    std::vector<int64_t> q;
+    std::vector<double> c;
+    while (at < history.i.size()) {
+      const int64_t m = history.i[at++];
+      const size_t count = static_cast<size_t>(m > 0 ? m : -m);
+      q.assign(history.i.begin() + at, history.i.begin() + at + count);
+      c.assign(history.x.begin() + xat, history.x.begin() + xat + count);
+      at += count, xat += count;
+      for (size_t j = 0; j < count; ++j) d[q[j]] += m > 0 ? c[j] : -c[j];
+      if (!modify(cp, m > 0, q, c)) {  // not the factor that was recorded (another A): start anew
+        factor_at(cp, d);
+        return;
+      }
+    }
+    log_ = history;
+    d_ = d;
+    synced_ = true;
+  }
+
+  const Csr &A_;
+  const Factorization &A_factor_;
+  Counters *counters_;
+  Csr T_;
+  std::unique_ptr<UpdatableCholesky> factor_;
+  TangentLog log_;          // the factor's history (or, !synced_, the one to replay)
+  bool synced_ = false;     // the factor holds log_
+  std::vector<double> d_;   // the coefficients the factor holds, per point
+  int64_t updates_ = 0;     // columns updated since the factorization
+  std::vector<double> d_new_, up_c_, down_c_;
+  std::vector<int64_t> up_q_, down_q_;
+  SparseColumns C_;
+};
+
+}  // namespace
+
+std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor, Counters *counters) {
+  return std::make_unique<UpdownTangent>(A, A_factor, counters);
+}
+
+namespace {
+// q[0 .. m) increasing in [0, n) and c[0 .. m) finite and positive
+bool increasing_points(const int64_t *q, const double *c, int64_t m, int64_t n) {
+  for (int64_t j = 0; j < m; ++j) {
+    if (q[j] < 0 || q[j] >= n || (j > 0 && q[j] <= q[j - 1])) return false;
+    if (!(c[j] > 0) || !std::isfinite(c[j])) return false;
+  }
+  return true;
+}
+}  // namespace
+
+bool tangent_log_well_formed(const TangentLog &log, int64_t n_points) {
+  const std::vector<int64_t> &i = log.i;
+  const std::vector<double> &x = log.x;
+  if (i.empty()) return x.empty();
+  const int64_t ni = static_cast<int64_t>(i.size()), nx = static_cast<int64_t>(x.size());
+  const int64_t nb = i[0];
+  if (nb < 0 || nb > n_points || nb > ni - 1 || nb > nx) return false;
+  if (!increasing_points(i.data() + 1, x.data(), nb, n_points)) return false;
+  int64_t at = 1 + nb, xat = nb, updated = 0;
+  while (at < ni) {
+    const int64_t v = i[at++];
+    if (v == 0 || v < -kUpdownMaxUpdates || v > kUpdownMaxUpdates) return false;
+    const int64_t m = v > 0 ? v : -v;
+    if (m > ni - at || m > nx - xat || m > kUpdownMaxUpdates - updated) return false;
+    if (!increasing_points(i.data() + at, x.data() + xat, m, n_points)) return false;
+    at += m, xat += m, updated += m;
+  }
+  return xat == nx;
+}
+
+bool updown_tangent_applies(int solver, Structure structure) {
+  return structure == Structure::SymmetricPositiveDefinite && (solver == ND_SOLVER_AUTO || solver == ND_SOLVER_CHOLMOD);
+}
+
+}  // namespace nd
