@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -111,7 +112,13 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
   ck_assert_msg(iteration_mismatch == 0, "%s: Newton iteration counts differ at %d steps", what.c_str(),
                 iteration_mismatch);
   ck_assert_msg(sr.refactorizations > 0, "%s: the scene never came into contact", what.c_str());
-  ck_assert_msg(std::string(fast->problem.integrator()->tangent->name()) == "lowrank", "%s", what.c_str());
+  const bool updown = other == nd::TangentChoice::Updown;
+  ck_assert_msg(std::string(fast->problem.integrator()->tangent->name()) == (updown ? "updown" : "lowrank"), "%s",
+                what.c_str());
+  if (updown)  // factored far less often than the reference, the rest by rank updates
+    ck_assert_msg(sf.refactorizations > 0 && sf.refactorizations < sr.refactorizations,
+                  "%s: updated factor: %lld factorizations, reference %lld", what.c_str(),
+                  static_cast<long long>(sf.refactorizations), static_cast<long long>(sr.refactorizations));
   if (other == nd::TangentChoice::Condensed) {  // no full Newton at all, each point's column once
     const nd::CondensedCache *cols = fast->problem.integrator()->condensed.get();
     int64_t points = 0;
@@ -139,8 +146,10 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
 void all_cases(int dim, int degree, int steps) {
   for (const SchemeCase &sc : kSchemes)
     for (double theta : kThetas)
-      for (nd::TangentChoice other : {nd::TangentChoice::LowRank, nd::TangentChoice::Condensed})
-        compare(dim, degree, sc, theta, other, steps);
+      for (nd::TangentChoice other :
+           {nd::TangentChoice::LowRank, nd::TangentChoice::Condensed, nd::TangentChoice::Updown})
+        if (other != nd::TangentChoice::Updown || theta == 1)  // (symmetric T only)
+          compare(dim, degree, sc, theta, other, steps);
 }
 
 }  // namespace
@@ -188,6 +197,8 @@ START_TEST(random_active_sets) {
     auto two = nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO,
                                         theta == 1 ? nd::Structure::SymmetricPositiveDefinite
                                                    : nd::Structure::General, -1, 5);
+    // the updated factor (Theta = 1), from set to set by rank updates
+    auto updated = nd::make_updown_tangent(in.A, *in.A_factor);
     unsigned seed = 12345;
     auto rnd = [&seed] {  // in [-1, 1)
       seed = seed * 1103515245u + 12345u;
@@ -221,8 +232,19 @@ START_TEST(random_active_sets) {
       two->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
       ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "two solves, Theta = %g, trial %d, k = %lld: %g", theta, trial,
                     static_cast<long long>(k), rel_diff(x2, x1));
+      if (theta == 1) {
+        x2 = r;
+        updated->solve(law, in.coef.kappa, U.data(), k > 0, x2.data());
+        ck_assert_msg(rel_diff(x2, x1) <= 1e-12, "updated factor, trial %d, k = %lld: %g", trial,
+                      static_cast<long long>(k), rel_diff(x2, x1));
+      }
       if (k > 5) ++above_five;
     }
+    if (theta == 1)  // mostly updated, not factored
+      ck_assert_msg(updated->stats.refactorizations > 0 && 4 * updated->stats.refactorizations < updated->stats.lowrank,
+                    "updated factor: %lld factorizations in %lld solves",
+                    static_cast<long long>(updated->stats.refactorizations),
+                    static_cast<long long>(updated->stats.lowrank));
     ck_assert_int_gt(changes, 10);
     ck_assert_int_gt(above_five, 5);
     ck_assert_int_eq(fast->stats.refactorizations, 0);
@@ -245,6 +267,79 @@ START_TEST(automatic_choice) {
 }
 END_TEST
 
+// The updated factor's bits depend on its history (the state's TangentLog):
+// a run resumed from a checkpoint taken in contact, with updates in its
+// history, and a run that retries steps after failing them (Newton limited
+// to one iteration: the failed step changed the factor), are bitwise the
+// uninterrupted run. The 3D default (Theta = 1) is the updated factor.
+START_TEST(updated_factor_history) {
+  const SchemeCase &sc = kSchemes[0];  // theta 0.5: steps of two Newton iterations in this scene
+  const int first = 30, then = 30;
+  auto bits = [](nd_problem p) {
+    const nd::State &st = p->problem.current_state();
+    std::vector<double> b(st.U);
+    b.insert(b.end(), st.V.begin(), st.V.end());
+    return b;
+  };
+  nd_problem a = scene(3, 2, sc, 1.0), retry = scene(3, 2, sc, 1.0);
+  for (int k = 0; k < first; ++k) ND_OK_OR_FAIL(nd_step(a));
+  ck_assert_str_eq(a->problem.integrator()->tangent->name(), "updown");
+  const nd::TangentLog &log = a->problem.current_state().tangent_log;
+  ck_assert_msg(!log.i.empty() && static_cast<int64_t>(log.i.size()) > 1 + log.i[0],
+                "no update in the history at the checkpoint (%zu entries)", log.i.size());
+  ck_assert(nd::tangent_log_well_formed(log, static_cast<int64_t>(a->problem.discretization().contact.size())));
+  const std::vector<unsigned char> saved = a->problem.save_state();
+  for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(a));
+  nd_problem b = scene(3, 2, sc, 1.0);
+  ND_OK_OR_FAIL(nd_problem_load_state(b, static_cast<int64_t>(saved.size()), saved.data()));
+  for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(b));
+  ck_assert_msg(bits(a) == bits(b), "the resumed run differs");
+
+  const nd::NewtonOptions defaults;
+  int failed = 0, diverged = 0;
+  for (int k = 0; k < first + then; ++k) {
+    ND_OK_OR_FAIL(nd_problem_set_newton(retry, defaults.rtol, defaults.atol, 1));
+    const int status = nd_step(retry);
+    if (status != ND_OK) {
+      ck_assert_int_eq(status, ND_ERR_NEWTON);
+      ++failed;
+      const nd::TangentSolver &t = *retry->problem.integrator()->tangent;
+      diverged += t.log() && *t.log() != retry->problem.current_state().tangent_log;
+      ND_OK_OR_FAIL(nd_problem_set_newton(retry, defaults.rtol, defaults.atol, defaults.max_iter));
+      ND_OK_OR_FAIL(nd_step(retry));
+    }
+  }
+  ck_assert_msg(failed > 0 && diverged > 0, "%d failed steps, %d of them changed the factor", failed, diverged);
+  ck_assert_msg(bits(a) == bits(retry), "the run with failed and retried steps differs");
+  nd_problem_destroy(&a);
+  nd_problem_destroy(&b);
+  nd_problem_destroy(&retry);
+}
+END_TEST
+
+// What a checkpoint's history must look like before it is replayed.
+START_TEST(malformed_histories) {
+  const int64_t points = 10;
+  nd::TangentLog ok;
+  ok.i = {2, 1, 4, 3, 0, 5, 7, -1, 4};
+  ok.x = {1.5, 2.0, 0.5, 0.25, 1.0, 2.0};
+  ck_assert(nd::tangent_log_well_formed(ok, points));
+  ck_assert(nd::tangent_log_well_formed(nd::TangentLog{}, points));
+  std::vector<nd::TangentLog> bad(9, ok);
+  bad[0].i[0] = 11;                  // more base points than points
+  bad[1].i[2] = 1;                   // base not increasing
+  bad[2].i[3] = 4;                   // an update longer than what follows
+  bad[3].i[4] = 10;                  // a point out of range
+  bad[4].x[3] = -0.25;               // a negative coefficient
+  bad[5].x[5] = NAN;                 // a NaN
+  bad[6].x.pop_back();               // coefficients missing
+  bad[7].i[7] = INT64_MIN;           // a count that cannot be negated
+  bad[8].i.push_back(0);             // an empty update
+  for (size_t k = 0; k < bad.size(); ++k)
+    ck_assert_msg(!nd::tangent_log_well_formed(bad[k], points), "malformed history %zu accepted", k);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("tangent");
   TCase *tc = tcase_create("lowrank_vs_refactor");
@@ -257,6 +352,8 @@ int main(void) {
   tcase_add_test(tc, box_p2);
   tcase_add_test(tc, random_active_sets);
   tcase_add_test(tc, automatic_choice);
+  tcase_add_test(tc, updated_factor_history);
+  tcase_add_test(tc, malformed_histories);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
