@@ -44,6 +44,13 @@ class Writer {
     const unsigned char *p = reinterpret_cast<const unsigned char *>(v.data());
     out.insert(out.end(), p, p + v.size() * sizeof(T));
   }
+  // v's size, its values, then zeros up to `most` values: a field whose
+  // bytes do not depend on its length (the checkpoint's size is the problem's)
+  template <class T>
+  void padded(const std::vector<T> &v, uint64_t most) {
+    vec(v);
+    out.insert(out.end(), (most - v.size()) * sizeof(T), 0);
+  }
   std::vector<unsigned char> out;
 };
 
@@ -83,6 +90,15 @@ class Reader {
     at_ += n * sizeof(T);
     return v;
   }
+  // what Writer::padded wrote
+  template <class T>
+  std::vector<T> padded(uint64_t most, const char *what) {
+    std::vector<T> v = bounded<T>(most, what);
+    const uint64_t pad = (most - v.size()) * sizeof(T);
+    need(pad);
+    at_ += pad;
+    return v;
+  }
   size_t at() const { return at_; }
 
  private:
@@ -109,7 +125,13 @@ uint64_t state_fingerprint(const Space &s, const Discretization &d) {
   return h.h;
 }
 
-std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
+namespace {
+// the most values a TangentLog of n_contact points holds (tangent_solver.hpp)
+uint64_t log_indices(int64_t n_contact) { return static_cast<uint64_t>(1 + n_contact + 2 * kUpdownMaxUpdates); }
+uint64_t log_values(int64_t n_contact) { return static_cast<uint64_t>(n_contact + kUpdownMaxUpdates); }
+}  // namespace
+
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, int64_t n_contact) {
   Writer payload;
   payload.value(s.t);
   payload.value(s.n);
@@ -131,8 +153,8 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint) {
   payload.value(s.W_obstacle);
   payload.vec(s.reaction);
   payload.vec(s.phi);
-  payload.vec(s.tangent_log.i);
-  payload.vec(s.tangent_log.x);
+  payload.padded(s.tangent_log.i, log_indices(n_contact));
+  payload.padded(s.tangent_log.x, log_values(n_contact));
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(kVersion);
@@ -186,9 +208,7 @@ int64_t max_state_size(const StateSizes &sizes) {
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
   s.phi = s.gap;
-  s.tangent_log.i.resize(static_cast<size_t>(1 + sizes.n_contact + 2 * kUpdownMaxUpdates));
-  s.tangent_log.x.resize(static_cast<size_t>(sizes.n_contact + kUpdownMaxUpdates));
-  return static_cast<int64_t>(encode_state(s, 0).size());
+  return static_cast<int64_t>(encode_state(s, 0, sizes.n_contact).size());
 }
 
 void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out) {
@@ -228,10 +248,8 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.reaction = r.vec(sizes.n_clamped, true, "reactions");
   s.phi = r.vec(sizes.n_contact, true, "applied contact term");
   if (head.version >= 4) {
-    s.tangent_log.i = r.bounded<int64_t>(static_cast<uint64_t>(1 + sizes.n_contact + 2 * kUpdownMaxUpdates),
-                                         "tangent history");
-    s.tangent_log.x = r.bounded<double>(static_cast<uint64_t>(sizes.n_contact + kUpdownMaxUpdates),
-                                        "tangent history");
+    s.tangent_log.i = r.padded<int64_t>(log_indices(sizes.n_contact), "tangent history");
+    s.tangent_log.x = r.padded<double>(log_values(sizes.n_contact), "tangent history");
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }

@@ -18,7 +18,9 @@
 namespace nd {
 
 uint64_t state_fingerprint(const Space &s, const Discretization &d);
-std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint);
+// n_contact: the problem's contact points (the tangent's history takes the
+// room of its longest form, so that the size does not change from step to step)
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, int64_t n_contact);
 // Throws ND_ERR_FORMAT (truncated, corrupted, another version) or ND_ERR_STATE
 // (another problem); `out` is written only on success.
 // n_free unknowns, n_clamped clamped DOFs, n_contact contact points
