@@ -282,11 +282,13 @@ START_TEST(updated_factor_history) {
     return b;
   };
   nd_problem a = scene(3, 2, sc, 1.0), retry = scene(3, 2, sc, 1.0);
-  int64_t size0 = 0, size1 = 0;
-  ND_OK_OR_FAIL(nd_problem_get_state_size(a, &size0));
-  for (int k = 0; k < first; ++k) ND_OK_OR_FAIL(nd_step(a));
-  ND_OK_OR_FAIL(nd_problem_get_state_size(a, &size1));
-  ck_assert_int_eq(size0, size1);  // the history takes its longest form's room: the size is the problem's
+  int64_t size1 = 0, size2 = 0;
+  for (int k = 0; k < first; ++k) {
+    ND_OK_OR_FAIL(nd_step(a));
+    if (k == 0) ND_OK_OR_FAIL(nd_problem_get_state_size(a, &size1));
+  }
+  ND_OK_OR_FAIL(nd_problem_get_state_size(a, &size2));
+  ck_assert_int_eq(size1, size2);  // the history takes its longest form's room: no change as it grows
   ck_assert_str_eq(a->problem.integrator()->tangent->name(), "updown");
   const nd::TangentLog &log = a->problem.current_state().tangent_log;
   ck_assert_msg(!log.i.empty() && static_cast<int64_t>(log.i.size()) > 1 + log.i[0],
