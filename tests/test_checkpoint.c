@@ -126,6 +126,27 @@ START_TEST(resumed_runs_are_bitwise_the_uninterrupted_ones) {
 }
 END_TEST
 
+/* nd_problem_get_state_size is fixed for a problem: at t = 0 (no load, no
+   reaction, no applied contact term yet) as after steps in contact with a
+   load and a moving obstacle, so that a caller allocates the buffer once */
+START_TEST(checkpoint_size_is_fixed) {
+  for (int dim = 1; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree) {
+      nd_problem p = scene(dim, degree, schemes[0].scheme, schemes[0].params);
+      int64_t before = 0, after = 0, at_max = 0;
+      ND_OK_OR_FAIL(nd_problem_get_state_size(p, &before));
+      for (int k = 0; k < 40; ++k) step_moving(p, dim, 1, k + 1);
+      ND_OK_OR_FAIL(nd_problem_get_state_size(p, &after));
+      ck_assert_msg(before == after, "%dD P%d: %lld bytes at t = 0, %lld after 40 steps", dim, degree,
+                    (long long)before, (long long)after);
+      unsigned char *buf = save(p, &at_max);
+      ck_assert_int_eq(at_max, before);
+      free(buf);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+}
+END_TEST
+
 /* the checkpoint crosses a process boundary: a child process runs the first
    part and writes the bytes to a file, this process resumes from them */
 START_TEST(resumes_in_another_process) {
@@ -505,6 +526,7 @@ int main(void) {
   TCase *tc = tcase_create("checkpoint");
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, resumed_runs_are_bitwise_the_uninterrupted_ones);
+  tcase_add_test(tc, checkpoint_size_is_fixed);
   tcase_add_test(tc, resumes_in_another_process);
   tcase_add_test(tc, bad_checkpoints_are_refused_and_change_nothing);
   tcase_add_test(tc, coupling_iteration_restores_and_retries);

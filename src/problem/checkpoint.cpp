@@ -13,7 +13,9 @@ namespace {
 
 constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // 2: the obstacle (gaps, work), the clamped load and the reactions; 3: the
-// applied contact term phi; 4: the tangent's history (version 3 is still read)
+// applied contact term phi; 4: the tangent's history, and every vector that
+// may be absent in its full room, so that a problem's checkpoints have one
+// size (version 3 is still read)
 constexpr uint32_t kVersion = 4;
 
 struct Hash {  // FNV-1a, 64 bits
@@ -48,6 +50,7 @@ class Writer {
   // bytes do not depend on its length (the checkpoint's size is the problem's)
   template <class T>
   void padded(const std::vector<T> &v, uint64_t most) {
+    if (v.size() > most) fail(ND_ERR_INTERNAL, "a checkpoint field is longer than its room");
     vec(v);
     out.insert(out.end(), (most - v.size()) * sizeof(T), 0);
   }
@@ -131,7 +134,9 @@ uint64_t log_indices(int64_t n_contact) { return static_cast<uint64_t>(1 + n_con
 uint64_t log_values(int64_t n_contact) { return static_cast<uint64_t>(n_contact + kUpdownMaxUpdates); }
 }  // namespace
 
-std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, int64_t n_contact) {
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, const StateSizes &sizes) {
+  const int64_t n_contact = sizes.n_contact;
+  const uint64_t n_free = static_cast<uint64_t>(sizes.n_free), n_clamped = static_cast<uint64_t>(sizes.n_clamped);
   Writer payload;
   payload.value(s.t);
   payload.value(s.n);
@@ -141,18 +146,18 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, in
   payload.vec(s.U);
   payload.vec(s.V);
   payload.vec(s.A);
-  payload.vec(s.F);
+  payload.padded(s.F, n_free);
   payload.value(static_cast<uint8_t>(s.A_valid));
   payload.value(s.W);
   payload.value(static_cast<int64_t>(s.last_iterations));
   payload.value(s.total_iterations);
   payload.value(s.guard.E0);
   payload.value(s.guard.budget);
-  payload.vec(s.F_fixed);
-  payload.vec(s.gap);
+  payload.padded(s.F_fixed, n_clamped);
+  payload.padded(s.gap, static_cast<uint64_t>(n_contact));
   payload.value(s.W_obstacle);
-  payload.vec(s.reaction);
-  payload.vec(s.phi);
+  payload.padded(s.reaction, n_clamped);
+  payload.padded(s.phi, static_cast<uint64_t>(n_contact));
   payload.padded(s.tangent_log.i, log_indices(n_contact));
   payload.padded(s.tangent_log.x, log_values(n_contact));
   Writer w;
@@ -208,7 +213,7 @@ int64_t max_state_size(const StateSizes &sizes) {
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
   s.phi = s.gap;
-  return static_cast<int64_t>(encode_state(s, 0, sizes.n_contact).size());
+  return static_cast<int64_t>(encode_state(s, 0, sizes).size());
 }
 
 void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out) {
@@ -226,6 +231,15 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   if (sum != h.h) fail(ND_ERR_FORMAT, "the checkpoint is corrupted (checksum mismatch)");
   if (print != fingerprint)
     fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs, contact points or mass redistribution differ)");
+  // a vector that may be absent: since version 4 in its full room (padded)
+  auto optional = [&](int64_t expected, const char *what) {
+    if (head.version < 4) return r.vec(expected, true, what);
+    std::vector<double> v = r.padded<double>(static_cast<uint64_t>(expected), what);
+    if (!v.empty() && static_cast<int64_t>(v.size()) != expected)
+      fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has " + std::to_string(v.size()) +
+                              " values, expected " + std::to_string(expected));
+    return v;
+  };
   State s;
   s.t = r.value<double>();
   s.n = r.value<int64_t>();
@@ -235,18 +249,18 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.U = r.vec(n_free, false, "displacement");
   s.V = r.vec(n_free, false, "velocity");
   s.A = r.vec(n_free, false, "acceleration");
-  s.F = r.vec(n_free, true, "load");
+  s.F = optional(n_free, "load");
   s.A_valid = r.value<uint8_t>() != 0;
   s.W = r.value<double>();
   s.last_iterations = static_cast<int>(r.value<int64_t>());
   s.total_iterations = r.value<int64_t>();
   s.guard.E0 = r.value<double>();
   s.guard.budget = r.value<double>();
-  s.F_fixed = r.vec(sizes.n_clamped, true, "load on the clamped DOFs");
-  s.gap = r.vec(sizes.n_contact, true, "obstacle gaps");
+  s.F_fixed = optional(sizes.n_clamped, "load on the clamped DOFs");
+  s.gap = optional(sizes.n_contact, "obstacle gaps");
   s.W_obstacle = r.value<double>();
-  s.reaction = r.vec(sizes.n_clamped, true, "reactions");
-  s.phi = r.vec(sizes.n_contact, true, "applied contact term");
+  s.reaction = optional(sizes.n_clamped, "reactions");
+  s.phi = optional(sizes.n_contact, "applied contact term");
   if (head.version >= 4) {
     s.tangent_log.i = r.padded<int64_t>(log_indices(sizes.n_contact), "tangent history");
     s.tangent_log.x = r.padded<double>(log_values(sizes.n_contact), "tangent history");

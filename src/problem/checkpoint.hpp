@@ -18,17 +18,18 @@
 namespace nd {
 
 uint64_t state_fingerprint(const Space &s, const Discretization &d);
-// n_contact: the problem's contact points (the tangent's history takes the
-// room of its longest form, so that the size does not change from step to step)
-std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, int64_t n_contact);
-// Throws ND_ERR_FORMAT (truncated, corrupted, another version) or ND_ERR_STATE
-// (another problem); `out` is written only on success.
 // n_free unknowns, n_clamped clamped DOFs, n_contact contact points
 struct StateSizes {
   int64_t n_free, n_clamped, n_contact;
 };
+// Every field that may be absent or grow (the load, the reactions, the
+// tangent's history) takes the room of its longest form: a problem's
+// checkpoints all have max_state_size(sizes) bytes.
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, const StateSizes &sizes);
+// Throws ND_ERR_FORMAT (truncated, corrupted, another version) or ND_ERR_STATE
+// (another problem); `out` is written only on success.
 void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out);
-// The largest checkpoint of a problem of these sizes (every load present).
+// The size of every checkpoint of a problem of these sizes.
 int64_t max_state_size(const StateSizes &sizes);
 // A checkpoint file of `size` bytes > max_size, of which `head` holds the
 // first nbytes: throws ND_ERR_STATE when its header names another problem,

@@ -345,7 +345,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
 
 std::vector<unsigned char> Problem::save_state() {
   const State &s = state();
-  return encode_state(s, state_fingerprint(space_, *disc_), static_cast<int64_t>(disc_->contact.size()));
+  return encode_state(s, state_fingerprint(space_, *disc_), state_sizes());
 }
 
 StateSizes Problem::state_sizes() {
