@@ -6,7 +6,7 @@
  *    serial CHOLMOD solve of the same scene in the same process;
  *  - a load refused on the last rank only: nd_step fails on every rank with
  *    the same code and no rank's state moves;
- *  - checkpoint/restart over the ranks restores bitwise;
+ *  - checkpoint/restart over the same ranks restores the state bitwise;
  *  - bad input: MPI_COMM_NULL, a communicator after the set-up.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
  * this process, on every rank. */
@@ -155,6 +155,13 @@ static int same_snapshot(const snapshot *a, const snapshot *b) {
          memcmp(a->v, b->v, bytes) == 0;
 }
 
+/* the largest difference of the displacements relative to the largest displacement */
+static double snapshot_gap(const snapshot *a, const snapshot *b) {
+  double d = 0, m = 0;
+  for (int64_t i = 0; i < 2 * a->n; ++i) d = fmax(d, fabs(a->u[i] - b->u[i])), m = fmax(m, fabs(a->u[i]));
+  return d / m;
+}
+
 static void drop(snapshot *s) {
   free(s->u);
   free(s->v);
@@ -198,30 +205,50 @@ START_TEST(a_load_refused_on_one_rank_fails_the_step_everywhere) {
 }
 END_TEST
 
+/* A checkpoint restores the state bitwise on every rank. The run resumed from
+ * it is bitwise the uninterrupted one on one rank; on several, MUMPS's and
+ * PETSc's parallel reductions add contributions in the order messages arrive
+ * (MUMPS schedules dynamically), so two runs of the same steps may differ in
+ * the last bits, and the resumed run is held to the bound of the histories:
+ * 1e-8 for MUMPS, the Krylov bound for GAMG. */
 START_TEST(checkpoint_restores_bitwise) {
   for (int solver = ND_SOLVER_PETSC_MUMPS; solver <= ND_SOLVER_PETSC_GAMG; ++solver) {
     nd_problem p = scene(2, solver, 1);
     for (int k = 0; k < 36; ++k) ND_OK_OR_FAIL(nd_step(p));
     int64_t nbytes = 0;
     ND_OK_OR_FAIL(nd_problem_get_state_size(p, &nbytes));
-    unsigned char *buf = malloc((size_t)nbytes);
+    unsigned char *buf = malloc((size_t)nbytes), *again = malloc((size_t)nbytes);
     ND_OK_OR_FAIL(nd_problem_save_state(p, nbytes, buf));
     ck_assert_msg(same_on_all_ranks(buf, (int)nbytes), "the checkpoints of the ranks differ");
+    snapshot saved = take(p);
     for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(p)); /* through the impact at t = 10 */
     snapshot straight = take(p);
-    ND_OK_OR_FAIL(nd_problem_load_state(p, nbytes, buf));
-    for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(p));
-    snapshot resumed = take(p);
-    ck_assert_msg(same_snapshot(&straight, &resumed), "solver %d: the resumed run differs", solver);
+    const double solves = scalar(p, ND_STAT_SOLVES);
+    const double bound = solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(p, 2, solves);
 
-    /* and in a new problem on the same ranks */
+    /* in the same problem and in a new one on the same ranks */
     nd_problem q = scene(2, solver, 1);
-    ND_OK_OR_FAIL(nd_problem_load_state(q, nbytes, buf));
-    for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(q));
-    snapshot fresh = take(q);
-    ck_assert_msg(same_snapshot(&straight, &fresh), "solver %d: a new problem resumed differently", solver);
-    drop(&straight), drop(&resumed), drop(&fresh);
-    free(buf);
+    nd_problem targets[2] = {p, q};
+    for (int which = 0; which < 2; ++which) {
+      nd_problem r = targets[which];
+      ND_OK_OR_FAIL(nd_problem_load_state(r, nbytes, buf));
+      snapshot loaded = take(r);
+      ck_assert_msg(same_snapshot(&saved, &loaded), "solver %d, problem %d: the loaded state differs", solver, which);
+      ND_OK_OR_FAIL(nd_problem_save_state(r, nbytes, again));
+      ck_assert_msg(memcmp(buf, again, (size_t)nbytes) == 0, "solver %d: saved again, the checkpoint differs", solver);
+      for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(r));
+      snapshot resumed = take(r);
+      const double gap = snapshot_gap(&straight, &resumed);
+      if (g_size == 1)
+        ck_assert_msg(same_snapshot(&straight, &resumed), "solver %d, problem %d: the resumed run differs (%.3g)",
+                      solver, which, gap);
+      else
+        ck_assert_msg(resumed.t == straight.t && gap <= bound, "solver %d, problem %d: resumed %.3g off (bound %.3g)",
+                      solver, which, gap, bound);
+      drop(&loaded), drop(&resumed);
+    }
+    drop(&saved), drop(&straight);
+    free(buf), free(again);
     ND_OK_OR_FAIL(nd_problem_destroy(&q));
     ND_OK_OR_FAIL(nd_problem_destroy(&p));
   }
