@@ -7,7 +7,8 @@
  *  - a load refused on the last rank only: nd_step fails on every rank with
  *    the same code and no rank's state moves;
  *  - checkpoint/restart over the same ranks restores the state bitwise;
- *  - bad input: MPI_COMM_NULL, a communicator after the set-up.
+ *  - bad input: MPI_COMM_NULL, a communicator after the set-up, another mesh
+ *    on one rank.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
  * this process, on every rank. */
 #include <math.h>
@@ -272,6 +273,18 @@ START_TEST(bad_communicators) {
   ND_OK_OR_FAIL(nd_step(p));
   ck_assert(scalar(p, ND_TIME) == kTau);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+  /* another mesh on the last rank: no rank steps (nothing was set up: the ranks compare first) */
+  if (g_size > 1) {
+    char mesh[512];
+    snprintf(mesh, sizeof mesh, "%s/disk_%s.msh", ND_MESH_DIR, g_rank == g_size - 1 ? "h2" : "h4");
+    ND_OK_OR_FAIL(drop_scene_create(2, mesh, 1, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, kTau, ND_SOLVER_PETSC_MUMPS, &p));
+    ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+    ck_assert_int_eq(nd_step(p), ND_ERR_STATE);
+    ck_assert_msg(strstr(nd_last_error(), "the ranks' problems differ") != NULL, "%s", nd_last_error());
+    ck_assert(scalar(p, ND_STEP_INDEX) == 0);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
 }
 END_TEST
 

@@ -29,8 +29,22 @@ constexpr unsigned kIntegratorDeps = kDiscretizationDeps | kScheme | kTimestep |
 // (a changed load enters as F^{n+1}); new initial values always replace it.
 constexpr unsigned kInitialStateDeps = kLoadDeps | kNodal | kObstacle | kInitial;
 
+namespace {
+// the mesh and the space, for the ranks' agreement (Problem::inputs_digest)
+uint64_t mesh_digest(const Mesh &m, const Space &s) {
+  Hash h;
+  h.value(s.dim), h.value(s.degree);
+  h.vec(m.coords), h.vec(m.cells);
+  for (const auto &[region, facets] : m.regions) {
+    h.value(region);
+    for (int64_t f : facets) h.value(f);
+  }
+  return h.h;
+}
+}  // namespace
+
 Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
-    : mesh_(std::move(mesh)), space_(mesh_, degree) {}
+    : mesh_(std::move(mesh)), space_(mesh_, degree), mesh_digest_(mesh_digest(*mesh_, space_)) {}
 
 void Problem::changed(unsigned aspects) {
   def_.given |= aspects;
@@ -347,11 +361,12 @@ void Problem::step() {
   state_ = std::move(next);
 }
 
-// What a step reads that the caller gives: the definition and the state at
-// t^n. The ranks of a communicator must give the same (the mesh is in the
-// fingerprint of the discretization, checked with the checkpoints).
+// What a step reads that the caller gives: the mesh, the definition and the
+// state at t^n; the ranks of a communicator must give the same. Raw inputs
+// only: nothing here may fail on one rank before the ranks compare.
 uint64_t Problem::inputs_digest() const {
   Hash h;
+  h.value(mesh_digest_);
   const Definition &d = def_;
   h.value(d.given);
   for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
@@ -369,7 +384,6 @@ uint64_t Problem::inputs_digest() const {
   h.vec(d.nodal), h.vec(d.u0), h.vec(d.v0);
   h.value(state_ready_);
   if (state_ready_) h.value(state_.t), h.value(state_.n), h.vec(state_.U), h.vec(state_.V);
-  h.value(space_.n_dofs());
   return h.h;
 }
 

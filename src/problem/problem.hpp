@@ -108,6 +108,7 @@ class Problem {
 
   std::shared_ptr<const Mesh> mesh_;
   Space space_;
+  uint64_t mesh_digest_;  // of the mesh and the space (inputs_digest)
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
