@@ -13,6 +13,9 @@
 #                   2 cores): bench/results/*.csv and report/PERFORMANCE.md
 #   make bench-quick  the same, small (< 3 min, CI): $(BUILD)/bench-quick/
 #   make bench-tangent  the Newton tangent paths (bench/tangent.sh): bench/results/tangent_*.csv
+#   make bench-scaling  strong and weak scaling on 1 and 2 MPI ranks in $(PETSC_BUILD)
+#                   (bench/scaling.sh, ~3 min on a quiet machine): bench/results/scaling.csv
+#                   and the tables of report/SCALING.md on stdout
 #   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
 #   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
@@ -26,7 +29,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 PETSC_BUILD ?= build-petsc
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps check-petsc meshes bench bench-quick bench-tangent bench-deps report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps check-petsc meshes bench bench-quick bench-tangent bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -94,6 +97,12 @@ bench-quick: all bench-deps
 
 bench-tangent: all
 	sh bench/tangent.sh $(BUILD)
+
+bench-scaling: petsc-deps
+	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ]; then \
+	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
+	cmake --build $(PETSC_BUILD) -j $(JOBS) --target scaling_bench
+	sh bench/scaling.sh $(PETSC_BUILD)
 
 # The work-precision report (tools/report): runs, then plots and REPORT.md.
 # Debian's python3 (/usr/bin/python3) with matplotlib and GetFEM.

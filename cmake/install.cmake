@@ -12,6 +12,9 @@ set(ND_CMAKE_PACKAGE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/nitschedyn)
 # (the target's INSTALL_INTERFACE include directory goes into the export)
 install(TARGETS nitschedyn EXPORT nitschedynTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/include/nitschedyn.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+if(ND_WITH_PETSC)  # nd_problem_set_comm, exported by these builds only
+  install(FILES ${PROJECT_SOURCE_DIR}/include/nitschedyn_mpi.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endif()
 
 # --- manual pages: man/*.3, and for every further name in the NAME section
 #     of a page (.Nm) a page that is only `.so man3/<page>.3`, so that

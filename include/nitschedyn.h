@@ -3,7 +3,8 @@
  *
  * Nitsche's method for dynamic frictionless unilateral contact of a linear
  * elastic body with a rigid obstacle (Chouly, Hild, Renard, M2AN 49(2) 2015).
- * This is the only public header. No C++ type crosses it.
+ * This is the public header; nitschedyn_mpi.h adds the one call that takes an
+ * MPI_Comm (builds with PETSc). No C++ type crosses it.
  *
  * Conventions (see libnitschedyn(3)):
  *  - every function returns an int status: ND_OK (0) on success, a negative
@@ -220,6 +221,12 @@ ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
    their DOFs are found each step from their static equilibrium. Default 0. */
 ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on);
 ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
+/* The ranks of an MPI job that step this problem together, as Fortran's
+   integer handle (MPI_COMM_WORLD of `use mpi`); from C nd_problem_set_comm
+   (nitschedyn_mpi.h). Every rank creates the same mesh and problem and makes
+   the same calls; the PETSc solvers then distribute the matrix and the solve.
+   Collective, before nd_problem_setup. Without PETSc: ND_ERR_KEY. */
+ND_EXPORT int nd_problem_set_comm_f(nd_problem p, int fortran_comm);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
 /* u0, v0 per FE node (n*dim values each); NULL means zero. Values at clamped
    DOFs are ignored. Resets the time, the step count and the work to 0. */

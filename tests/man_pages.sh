@@ -9,7 +9,8 @@
 #
 # Checks, each reported as "FAIL: ..." (exit status 1 if any fails):
 #  1. mandoc -Tlint -Wwarning is silent on every page (sections 1 and 3);
-#  2. every function declared in the header and every nd_* symbol the library
+#  2. every function declared in the headers (nitschedyn.h, and
+#     nitschedyn_mpi.h of the PETSc builds) and every nd_* symbol the library
 #     exports has a page or an alias (an .Nm of a NAME section: that is how
 #     cmake/install.cmake installs the aliases), and every nd_* name in a NAME
 #     section is a function of the header;
@@ -40,6 +41,7 @@ set -u
 src=$1 lib=$2 cc=$3 work=$4
 man="$src/man"
 header="$src/include/nitschedyn.h"
+mpi_header="$src/include/nitschedyn_mpi.h"  # builds with PETSc: the MPI_Comm call
 mkdir -p "$work"
 fails=0
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
@@ -60,7 +62,7 @@ awk '
     gsub(/\* /, "*", decl); sub(/^ /, "", decl); sub(/ $/, "", decl)
     name = decl; sub(/\(.*/, "", name); sub(/.*[ *]/, "", name)
     print name "\t" decl
-  }' "$header" > "$work/header_protos.txt"
+  }' "$header" "$mpi_header" > "$work/header_protos.txt"
 cut -f1 "$work/header_protos.txt" | sort -u > "$work/header_functions.txt"
 # status codes: "NAME<TAB>VALUE<TAB>TEXT"
 sed -n '/^#define ND_STATUS_LIST/,/^$/p' "$header" |
@@ -94,7 +96,8 @@ cut -f2 "$work/names.txt" | sort -u > "$work/resolvable.txt"
 # a page of the C API: its SYNOPSIS includes the header (other pages, such as
 # the Fortran module's, get the lint, name, error-code and reference checks)
 is_c_page() {
-  awk '/^\.Sh / { sec = $0; next } sec == ".Sh SYNOPSIS" && $0 == ".In nitschedyn.h" { found = 1 }
+  awk '/^\.Sh / { sec = $0; next }
+       sec == ".Sh SYNOPSIS" && ($0 == ".In nitschedyn.h" || $0 == ".In nitschedyn_mpi.h") { found = 1 }
        END { exit !found }' "$1"
 }
 
@@ -255,7 +258,15 @@ for p in $pages; do
         [ -n "$assumes" ] || fail "$page.3: EXAMPLES block $i elides code without an /* assumes: */ line"
       else
         { [ -z "$assumes" ] || printf '%s\n' "$assumes"; cat "$c.body"; } > "$c"
-        "$cc" -std=c11 -Wall -Wextra -Werror -Wno-unused-function -I"$src/include" -fsyntax-only \
+        # an example of the MPI call needs mpi.h: where MPI is (mpicc --showme)
+        mpi_flags=
+        if grep -q '<mpi.h>' "$c"; then
+          mpi_flags=$(mpicc --showme:compile 2>/dev/null) || {
+            echo "note: $page.3: EXAMPLES block $i needs mpi.h, and mpicc is not here: not compiled"
+            i=$((i + 1)); continue; }
+        fi
+        # shellcheck disable=SC2086
+        "$cc" -std=c11 -Wall -Wextra -Werror -Wno-unused-function -I"$src/include" $mpi_flags -fsyntax-only \
           "$c" 2> "$work/cc.log" ||
           fail "$page.3: EXAMPLES block $i does not compile as pasted: $(cat "$work/cc.log")"
         n_fragments=$((n_fragments + 1))

@@ -464,6 +464,7 @@ START_TEST(problem_null_handles) {
              "nd_problem_set_linear_solver", fn_null);
   EXPECT_ERR(nd_problem_set_timestep(NULL, 0.1), ND_ERR_NULL, "nd_problem_set_timestep",
              fn_null);
+  EXPECT_ERR(nd_problem_set_comm_f(NULL, 0), ND_ERR_NULL, "nd_problem_set_comm_f", fn_null);
   EXPECT_ERR(nd_problem_set_initial_state(NULL, 1, x, x), ND_ERR_NULL,
              "nd_problem_set_initial_state", fn_null);
   EXPECT_ERR(nd_problem_set_monitor(NULL, NULL, NULL), ND_ERR_NULL, "nd_problem_set_monitor",
@@ -806,6 +807,12 @@ START_TEST(problem_newton_solver) {
   EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_KLU));
   EXPECT_OK(nd_problem_set_mass_lumping(p, 1));
   EXPECT_OK(nd_problem_set_mass_lumping(p, 0));
+  /* a build without PETSc has no MPI: the communicator is refused as the
+     PETSc solvers are, with the same code, and the problem stays serial
+     (builds with PETSc: tests/test_mpi.c) */
+  if (nd_problem_set_linear_solver(p, ND_SOLVER_PETSC_MUMPS) == ND_ERR_KEY)
+    EXPECT_ERR(nd_problem_set_comm_f(p, 0), ND_ERR_KEY, "nd_problem_set_comm_f", "ND_WITH_PETSC");
+  EXPECT_OK(nd_problem_set_linear_solver(p, ND_SOLVER_AUTO));
   EXPECT_OK(nd_problem_destroy(&p));
 }
 END_TEST

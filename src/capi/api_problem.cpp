@@ -158,6 +158,14 @@ ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver) {
   });
 }
 
+ND_EXPORT int nd_problem_set_comm_f(nd_problem p, int fortran_comm) {
+  return nd::guarded("nd_problem_set_comm_f", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    pr.set_communicator(nd::communicator_from_fortran(fortran_comm));
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau) {
   return nd::guarded("nd_problem_set_timestep", [&] {
     nd::Problem &pr = nd::problem_of(p);

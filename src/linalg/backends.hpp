@@ -13,7 +13,7 @@ std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_klu_factorization(const Csr &pattern);
 #ifdef ND_HAVE_PETSC
 // linalg/petsc.cpp (ND_WITH_PETSC)
-std::unique_ptr<Factorization> make_petsc_mumps_factorization(const Csr &pattern);
+std::unique_ptr<Factorization> make_petsc_mumps_factorization(const Csr &pattern, const DofGeometry *geometry);
 std::unique_ptr<Factorization> make_petsc_gamg_factorization(const Csr &pattern, const DofGeometry *geometry);
 #endif
 

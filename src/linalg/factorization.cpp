@@ -17,7 +17,7 @@ namespace {
 struct Backend {
   int id;
   std::unique_ptr<Factorization> (*make)(const Csr &pattern);
-  // a backend that uses the DofGeometry has this instead
+  // a backend that uses the DofGeometry (AMG's modes, the PETSc ones' communicator) has this instead
   std::unique_ptr<Factorization> (*make_geometric)(const Csr &pattern, const DofGeometry *geometry) = nullptr;
 };
 constexpr Backend kBackends[] = {
@@ -25,7 +25,7 @@ constexpr Backend kBackends[] = {
     {ND_SOLVER_CHOLMOD, make_cholmod_factorization}, {ND_SOLVER_UMFPACK, make_umfpack_factorization},
     {ND_SOLVER_KLU, make_klu_factorization},
 #ifdef ND_HAVE_PETSC
-    {ND_SOLVER_PETSC_MUMPS, make_petsc_mumps_factorization}, {ND_SOLVER_PETSC_GAMG, nullptr, make_petsc_gamg_factorization},
+    {ND_SOLVER_PETSC_MUMPS, nullptr, make_petsc_mumps_factorization}, {ND_SOLVER_PETSC_GAMG, nullptr, make_petsc_gamg_factorization},
 #endif
 };
 

@@ -7,6 +7,7 @@
 
 #include "common/counters.hpp"
 #include "linalg/csr.hpp"
+#include "parallel/communicator.hpp"
 
 namespace nd {
 
@@ -30,10 +31,13 @@ class Factorization {
 // Where the unknowns sit: for each unknown (free DOF) its node's coordinates
 // and its component. Algebraic multigrid (ND_SOLVER_PETSC_GAMG) builds the
 // rigid-body modes from it (its near-null space); the direct solvers ignore it.
+// comm: the ranks that solve together (the PETSc backends distribute their
+// rows over them; the others solve the whole system on every rank).
 struct DofGeometry {
   int dim = 0;
   std::vector<double> x;         // dim per unknown
   std::vector<int> component;    // 0 .. dim-1 per unknown
+  CommunicatorPtr comm;          // null: this process alone
 };
 
 // solver: an ND_SOLVER_* value; s: the structure of the matrices it will

@@ -1,11 +1,10 @@
-// The PETSc backends (built with -DND_WITH_PETSC=ON), serial for now: the
-// matrix is one MATSEQAIJ on PETSC_COMM_SELF.
+// The PETSc backends (built with -DND_WITH_PETSC=ON).
 //
 //   ND_SOLVER_PETSC_MUMPS  MUMPS through PETSc's factor interface: Cholesky
 //       (MUMPS's symmetric LDL^T, SYM = 2, so that it also factors what is not
-//       positive definite and counts the negative pivots, INFOG(12)) when SPD
-//       is requested, LU otherwise. The analysis is redone only when the
-//       structure asked for changes.
+//       positive definite and counts the negative pivots, INFOG(12), over all
+//       ranks) when SPD is requested, LU otherwise. The analysis is redone
+//       only when the structure asked for changes.
 //   ND_SOLVER_PETSC_GAMG   a Krylov method preconditioned by PETSc's smoothed
 //       aggregation multigrid: CG for SPD, right-preconditioned GMRES for the
 //       others, both stopping at ||b - A x|| <= rtol ||b|| (the true residual),
@@ -15,20 +14,27 @@
 //       indefinite matrix requested as SPD is reported as ND_ERR_INDEFINITE only
 //       when CG meets negative curvature during a solve.
 //
+// Distribution (issue 15, slice 2): the DofGeometry's communicator (none:
+// PETSC_COMM_SELF's MPI_COMM_SELF) holds the ranks that solve together. Every
+// rank has the whole matrix and right-hand side (the mesh and the state are
+// replicated); the rows are split in contiguous blocks of whole nodes (Layout),
+// each rank puts its own rows in the MATMPIAIJ and the VecMPI, the solve is
+// PETSc's over all ranks, and the solution is gathered to every rank
+// (VecScatterCreateToAll), so that solve(double *) keeps its meaning: the whole
+// vector in, the whole solution out, on every rank. factor() and solve() are
+// collective: every rank calls them in the same order (the ranks run the same
+// deterministic code on the same data). On one rank the matrix is the
+// MATSEQAIJ whose value array is ours, and the solve works in the caller's
+// array, as before.
+//
 // Options: both backends give their objects the options prefix "nd_" and read
 // the options database after setting the defaults, so that PETSc's own
 // options change them without a new call: PETSC_OPTIONS="-nd_ksp_rtol 1e-10
 // -nd_pc_gamg_threshold 0.01 -nd_mat_mumps_icntl_14 50". Nothing unprefixed
 // applies to them.
 //
-// Next (issue 15, distribution): a communicator per problem (nd_problem_set_comm
-// taking an MPI_Comm, and nd_problem_set_comm_f for Fortran's integer handle
-// via MPI_Comm_f2c; PETSC_COMM_SELF stays the default so that serial callers
-// change nothing), the DOFs partitioned by cell ownership, MATMPIAIJ with
-// MatMPIAIJSetPreallocationCSR on the owned rows, the near-null space from the
-// owned DOFs' coordinates, and MUMPS's INFOG(12) (ICNTL(13) = 1 is already set
-// so that the inertia stays exact when MUMPS would use ScaLAPACK). The
-// Factorization interface's solve(double *) then takes the owned part.
+// Next (issue 15, slice 3): the mesh partitioned (cells, hence rows and
+// contact points, owned by a rank), so that nothing of size n is replicated.
 //
 // PETSc is global to the process: every PETSc call of the library runs under
 // one mutex (so that handles used from distinct threads stay safe), with an
@@ -50,6 +56,7 @@
 #include "common/format.hpp"
 #include "linalg/backends.hpp"
 #include "nitschedyn.h"
+#include "parallel/communicator_mpi.hpp"
 
 namespace nd {
 namespace {
@@ -92,16 +99,6 @@ PetscErrorCode record_error(MPI_Comm, int line, const char *function, const char
 
 void check(PetscErrorCode code, const char *what) {
   if (code) fail_petsc(code, what);
-}
-
-// A solve in place: b <- x (a copy), and xv wraps x's storage for the solution
-// (the caller resets xv after the solve)
-void place_rhs(Vec b, Vec xv, double *x, PetscInt n) {
-  PetscScalar *a = nullptr;
-  check(VecGetArrayWrite(b, &a), "VecGetArrayWrite");
-  std::copy(x, x + n, a);
-  check(VecRestoreArrayWrite(b, &a), "VecRestoreArrayWrite");
-  check(VecPlaceArray(xv, x), "VecPlaceArray");
 }
 
 // ---- initialization -----------------------------------------------------------
@@ -200,101 +197,198 @@ PetscInt petsc_int(int64_t v, const char *what) {
   return static_cast<PetscInt>(v);
 }
 
-// A MATSEQAIJ with our pattern (rows sorted, explicit zeros kept: its value
-// array is ours, entry for entry) and the options prefix "nd_".
-Mat make_matrix(const Csr &pattern, PetscInt block_size) {
-  const PetscInt n = petsc_int(pattern.n, "rows");
-  petsc_int(static_cast<int64_t>(pattern.col.size()), "entries");
-  std::vector<PetscInt> ptr(pattern.ptr.begin(), pattern.ptr.end()), col(pattern.col.begin(), pattern.col.end());
-  std::vector<PetscScalar> zero(pattern.col.size(), 0.0);
-  Mat A = nullptr;
-  check(MatCreate(PETSC_COMM_SELF, &A), "MatCreate");
-  try {
-    check(MatSetSizes(A, n, n, n, n), "MatSetSizes");
-    check(MatSetType(A, MATSEQAIJ), "MatSetType");
-    check(MatSetOptionsPrefix(A, "nd_"), "MatSetOptionsPrefix");
-    if (block_size > 1) check(MatSetBlockSize(A, block_size), "MatSetBlockSize");
-    check(MatSeqAIJSetPreallocationCSR(A, ptr.data(), col.data(), zero.data()), "MatSeqAIJSetPreallocationCSR");
-    check(MatSetOption(A, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
-  } catch (...) {
-    MatDestroy(&A);
-    throw;
+// Which rows this rank owns: [begin, end) of n, contiguous blocks of whole
+// nodes (block_size rows each) dealt out as evenly as the count allows.
+struct Layout {
+  MPI_Comm comm = MPI_COMM_SELF;
+  int size = 1;
+  PetscInt n = 0, begin = 0, end = 0;
+  bool distributed() const { return size > 1; }
+};
+
+Layout make_layout(const DofGeometry *g, int64_t n, PetscInt block_size) {
+  Layout L;
+  const Communicator *c = g ? g->comm.get() : nullptr;
+  L.comm = mpi_comm(c);
+  L.size = communicator_size(c);
+  const int rank = communicator_rank(c);
+  L.n = petsc_int(n, "rows");
+  const PetscInt blocks = L.n / block_size, share = blocks / L.size, extra = blocks % L.size;
+  L.begin = block_size * (rank * share + std::min<PetscInt>(rank, extra));
+  L.end = L.begin + block_size * (share + (rank < extra ? 1 : 0));
+  return L;
+}
+
+// A matrix with our pattern (rows sorted, explicit zeros kept) over the
+// layout's ranks, this rank's rows inserted, options prefix "nd_". On one
+// rank a MATSEQAIJ whose value array is ours, entry for entry.
+class Matrix {
+ public:
+  Matrix(const Csr &pattern, PetscInt block_size, const Layout &L) : L_(L) {
+    petsc_int(static_cast<int64_t>(pattern.col.size()), "entries");
+    first_ = pattern.ptr[L.begin];
+    ptr_.resize(static_cast<size_t>(L.end - L.begin + 1));
+    for (PetscInt i = L.begin; i <= L.end; ++i) ptr_[i - L.begin] = static_cast<PetscInt>(pattern.ptr[i] - first_);
+    col_.assign(pattern.col.begin() + first_, pattern.col.begin() + pattern.ptr[L.end]);
+    std::vector<PetscScalar> zero(col_.size(), 0.0);
+    check(MatCreate(L.comm, &A_), "MatCreate");
+    try {
+      build(L, block_size, zero);
+    } catch (...) {
+      MatDestroy(&A_);
+      throw;
+    }
   }
-  return A;
-}
+  void build(const Layout &L, PetscInt block_size, const std::vector<PetscScalar> &zero) {
+    const PetscInt own = L.end - L.begin;
+    check(MatSetSizes(A_, own, own, L.n, L.n), "MatSetSizes");
+    check(MatSetType(A_, MATAIJ), "MatSetType");  // MATSEQAIJ on one rank, else MATMPIAIJ
+    check(MatSetOptionsPrefix(A_, "nd_"), "MatSetOptionsPrefix");
+    if (block_size > 1) check(MatSetBlockSize(A_, block_size), "MatSetBlockSize");
+    // each call applies only to its own type
+    check(MatSeqAIJSetPreallocationCSR(A_, ptr_.data(), col_.data(), zero.data()), "MatSeqAIJSetPreallocationCSR");
+    check(MatMPIAIJSetPreallocationCSR(A_, ptr_.data(), col_.data(), zero.data()), "MatMPIAIJSetPreallocationCSR");
+    check(MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  }
+  ~Matrix() {
+    if (A_ && petsc_alive()) MatDestroy(&A_);
+  }
+  Matrix(const Matrix &) = delete;
+  Matrix &operator=(const Matrix &) = delete;
+  Mat get() const { return A_; }
 
-void set_values(Mat A, const Csr &M) {
-  PetscInt nnz = 0;
-  MatInfo info;
-  check(MatGetInfo(A, MAT_LOCAL, &info), "MatGetInfo");
-  nnz = static_cast<PetscInt>(info.nz_used);
-  if (static_cast<size_t>(nnz) != M.val.size())
-    fail(ND_ERR_INTERNAL, "the matrix does not have the pattern its PETSc solver was made for");
-  PetscScalar *a = nullptr;
-  check(MatSeqAIJGetArray(A, &a), "MatSeqAIJGetArray");
-  std::copy(M.val.begin(), M.val.end(), a);
-  check(MatSeqAIJRestoreArray(A, &a), "MatSeqAIJRestoreArray");  // raises the matrix's state
-}
+  // M's values of this rank's rows (M has the pattern the matrix was made for)
+  void set_values(const Csr &M) {
+    MatInfo info;
+    check(MatGetInfo(A_, MAT_LOCAL, &info), "MatGetInfo");
+    if (M.n != L_.n || static_cast<size_t>(info.nz_used) != col_.size() || M.val.size() < first_ + col_.size())
+      fail(ND_ERR_INTERNAL, "the matrix does not have the pattern its PETSc solver was made for");
+    const double *v = M.val.data() + first_;
+    if (!L_.distributed()) {
+      PetscScalar *a = nullptr;
+      check(MatSeqAIJGetArray(A_, &a), "MatSeqAIJGetArray");
+      std::copy(v, v + col_.size(), a);
+      check(MatSeqAIJRestoreArray(A_, &a), "MatSeqAIJRestoreArray");  // raises the matrix's state
+      return;
+    }
+    for (PetscInt i = L_.begin; i < L_.end; ++i) {
+      const PetscInt k = ptr_[i - L_.begin];
+      check(MatSetValues(A_, 1, &i, ptr_[i - L_.begin + 1] - k, &col_[k], &v[k], INSERT_VALUES), "MatSetValues");
+    }
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  }
 
-// Vectors over the caller's array (no copy) and a work vector.
-Vec make_vector(PetscInt n) {
-  Vec v = nullptr;
-  check(VecCreateSeq(PETSC_COMM_SELF, n, &v), "VecCreateSeq");
-  return v;
-}
+ private:
+  Layout L_;
+  Mat A_ = nullptr;
+  int64_t first_ = 0;  // M.val index of this rank's first entry
+  std::vector<PetscInt> ptr_, col_;  // this rank's rows, global columns
+};
+
+// The right-hand side and solution vectors of a matrix's layout, and the
+// solution gathered to every rank.
+class Vectors {
+ public:
+  Vectors(Mat A, const Layout &L) : L_(L) {
+    try {
+      check(MatCreateVecs(A, &x_, &b_), "MatCreateVecs");
+      if (L.distributed()) check(VecScatterCreateToAll(x_, &to_all_, &all_), "VecScatterCreateToAll");
+    } catch (...) {
+      release();
+      throw;
+    }
+  }
+  ~Vectors() { release(); }
+  void release() {
+    if (!petsc_alive()) return;
+    if (to_all_) VecScatterDestroy(&to_all_);
+    for (Vec *v : {&b_, &x_, &all_})
+      if (*v) VecDestroy(v);
+  }
+  Vectors(const Vectors &) = delete;
+  Vectors &operator=(const Vectors &) = delete;
+  Vec rhs() const { return b_; }
+
+  // x (the whole vector, on every rank) in place: b <- this rank's rows of x,
+  // run(b, solution) solves, x <- the whole solution. One rank: the solution
+  // is written in x's storage directly.
+  template <class Run>
+  PetscErrorCode solve(double *x, Run &&run) const {
+    PetscScalar *a = nullptr;
+    PetscErrorCode code = VecGetArrayWrite(b_, &a);
+    if (code) return code;
+    std::copy(x + L_.begin, x + L_.end, a);
+    if ((code = VecRestoreArrayWrite(b_, &a))) return code;
+    if (!L_.distributed()) {
+      if ((code = VecPlaceArray(x_, x))) return code;
+      code = run(b_, x_);
+      VecResetArray(x_);
+      return code;
+    }
+    if ((code = run(b_, x_))) return code;
+    if ((code = VecScatterBegin(to_all_, x_, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
+    if ((code = VecScatterEnd(to_all_, x_, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
+    const PetscScalar *r = nullptr;
+    if ((code = VecGetArrayRead(all_, &r))) return code;
+    std::copy(r, r + L_.n, x);
+    return VecRestoreArrayRead(all_, &r);
+  }
+
+ private:
+  Layout L_;
+  Vec b_ = nullptr, x_ = nullptr, all_ = nullptr;
+  VecScatter to_all_ = nullptr;
+};
 
 void destroy(Mat &A) {
   if (A && petsc_alive()) MatDestroy(&A);
   A = nullptr;
-}
-void destroy(Vec &v) {
-  if (v && petsc_alive()) VecDestroy(&v);
-  v = nullptr;
 }
 
 // ---- MUMPS ----------------------------------------------------------------------
 
 class PetscMumps : public Factorization {
  public:
-  explicit PetscMumps(const Csr &pattern) : n_(pattern.n) {
+  PetscMumps(const Csr &pattern, const DofGeometry *geometry) : n_(pattern.n) {
     Session s;
-    try {
-      A_ = make_matrix(pattern, 1);
-      b_ = make_vector(static_cast<PetscInt>(n_));
-      x_ = make_vector(static_cast<PetscInt>(n_));
-    } catch (...) {
-      release();
-      throw;
-    }
+    const Layout L = make_layout(geometry, n_, 1);
+    A_ = std::make_unique<Matrix>(pattern, 1, L);
+    v_ = std::make_unique<Vectors>(A_->get(), L);
   }
-  ~PetscMumps() override { release(); }
+  ~PetscMumps() override {
+    std::lock_guard<std::recursive_mutex> lock(petsc_mutex());
+    destroy(F_);
+    v_.reset();
+    A_.reset();
+  }
   void factor(const Csr &A, Structure s) override {
     def_ = Definiteness::Unknown;
     require_finite(A);
     Session session;
     factored_ = false;
-    set_values(A_, A);
+    A_->set_values(A);
     const bool cholesky = s == Structure::SymmetricPositiveDefinite;
     MatFactorInfo info;
     check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
     if (!F_ || cholesky != cholesky_) {  // the analysis (MUMPS JOB = 1)
       destroy(F_);
       cholesky_ = cholesky;
-      check(MatSetOption(A_, MAT_SYMMETRIC, cholesky ? PETSC_TRUE : PETSC_FALSE), "MatSetOption");
-      check(MatGetFactor(A_, MATSOLVERMUMPS, cholesky ? MAT_FACTOR_CHOLESKY : MAT_FACTOR_LU, &F_), "MatGetFactor");
+      check(MatSetOption(A_->get(), MAT_SYMMETRIC, cholesky ? PETSC_TRUE : PETSC_FALSE), "MatSetOption");
+      check(MatGetFactor(A_->get(), MATSOLVERMUMPS, cholesky ? MAT_FACTOR_CHOLESKY : MAT_FACTOR_LU, &F_), "MatGetFactor");
       // the inertia also where a root node would go to ScaLAPACK (parallel runs)
       check(MatMumpsSetIcntl(F_, 13, 1), "MatMumpsSetIcntl(13)");
       check(MatSetFromOptions(F_), "MatSetFromOptions");
       if (cholesky)
-        check(MatCholeskyFactorSymbolic(F_, A_, nullptr, &info), "MatCholeskyFactorSymbolic (MUMPS analysis)");
+        check(MatCholeskyFactorSymbolic(F_, A_->get(), nullptr, &info), "MatCholeskyFactorSymbolic (MUMPS analysis)");
       else
-        check(MatLUFactorSymbolic(F_, A_, nullptr, nullptr, &info), "MatLUFactorSymbolic (MUMPS analysis)");
+        check(MatLUFactorSymbolic(F_, A_->get(), nullptr, nullptr, &info), "MatLUFactorSymbolic (MUMPS analysis)");
       require_no_factor_error("analysis", s);
     }
     if (cholesky)
-      check(MatCholeskyFactorNumeric(F_, A_, &info), "MatCholeskyFactorNumeric (MUMPS)");
+      check(MatCholeskyFactorNumeric(F_, A_->get(), &info), "MatCholeskyFactorNumeric (MUMPS)");
     else
-      check(MatLUFactorNumeric(F_, A_, &info), "MatLUFactorNumeric (MUMPS)");
+      check(MatLUFactorNumeric(F_, A_->get(), &info), "MatLUFactorNumeric (MUMPS)");
     require_no_factor_error("factorization", s);
     if (cholesky) {
       PetscInt negative = 0;
@@ -309,19 +403,12 @@ class PetscMumps : public Factorization {
   void solve(double *x) const override {
     if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
     Session session;
-    place_rhs(b_, x_, x, n_);
-    const PetscErrorCode code = MatSolve(F_, b_, x_);
-    VecResetArray(x_);
-    check(code, "MatSolve (MUMPS)");
+    check(v_->solve(x, [&](Vec b, Vec sol) { return MatSolve(F_, b, sol); }), "MatSolve (MUMPS)");
   }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "petsc-mumps"; }
 
  private:
-  void release() {
-    std::lock_guard<std::recursive_mutex> lock(petsc_mutex());
-    destroy(F_), destroy(A_), destroy(b_), destroy(x_);
-  }
   // MUMPS reports its failures in INFOG(1) < 0, PETSc in the factor's error.
   void require_no_factor_error(const char *phase, Structure s) {
     MatFactorError err = MAT_FACTOR_NOERROR;
@@ -344,8 +431,9 @@ class PetscMumps : public Factorization {
   }
 
   int64_t n_;
-  Mat A_ = nullptr, F_ = nullptr;
-  Vec b_ = nullptr, x_ = nullptr;
+  std::unique_ptr<Matrix> A_;
+  std::unique_ptr<Vectors> v_;
+  Mat F_ = nullptr;
   bool cholesky_ = false, factored_ = false;
   Definiteness def_ = Definiteness::Unknown;
 };
@@ -407,46 +495,38 @@ class PetscGamg : public Factorization {
     PetscInt block_size = 1;
     const std::vector<std::vector<double>> modes = rigid_body_modes(geometry, n_, block_size);
     Session s;
-    try {
-      build(pattern, block_size, modes);
-    } catch (...) {
-      release();
-      throw;
-    }
-  }
-  ~PetscGamg() override { release(); }
-  void build(const Csr &pattern, PetscInt block_size, const std::vector<std::vector<double>> &modes) {
-    A_ = make_matrix(pattern, block_size);
-    b_ = make_vector(static_cast<PetscInt>(n_));
-    x_ = make_vector(static_cast<PetscInt>(n_));
-    if (!modes.empty()) {
-      std::vector<Vec> vecs;
-      MatNullSpace space = nullptr;
-      PetscErrorCode code = 0;
-      for (const auto &m : modes) {
-        Vec v = nullptr;
-        if ((code = VecDuplicate(b_, &v))) break;
-        vecs.push_back(v);
-        PetscScalar *a = nullptr;
-        if ((code = VecGetArrayWrite(v, &a))) break;
-        std::copy(m.begin(), m.end(), a);
-        if ((code = VecRestoreArrayWrite(v, &a))) break;
-      }
-      if (!code) code = MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(vecs.size()),
-                                           vecs.data(), &space);
-      if (!code) code = MatSetNearNullSpace(A_, space);
-      if (space) MatNullSpaceDestroy(&space);
-      for (Vec &v : vecs) VecDestroy(&v);
-      check(code, "MatSetNearNullSpace (rigid-body modes)");
-    }
-    check(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
+    const Layout L = make_layout(geometry, n_, block_size);
+    A_ = std::make_unique<Matrix>(pattern, block_size, L);
+    v_ = std::make_unique<Vectors>(A_->get(), L);
+    if (!modes.empty()) set_near_null_space(modes, L);
+    check(KSPCreate(L.comm, &ksp_), "KSPCreate");
     check(KSPSetOptionsPrefix(ksp_, "nd_"), "KSPSetOptionsPrefix");
   }
-  void release() {
+  ~PetscGamg() override {
     std::lock_guard<std::recursive_mutex> lock(petsc_mutex());
     if (ksp_ && petsc_alive()) KSPDestroy(&ksp_);
-    ksp_ = nullptr;
-    destroy(A_), destroy(b_), destroy(x_);
+    v_.reset();
+    A_.reset();
+  }
+  // every rank has the whole modes: it gives its own rows
+  void set_near_null_space(const std::vector<std::vector<double>> &modes, const Layout &L) {
+    std::vector<Vec> vecs;
+    MatNullSpace space = nullptr;
+    PetscErrorCode code = 0;
+    for (const auto &m : modes) {
+      Vec v = nullptr;
+      if ((code = VecDuplicate(v_->rhs(), &v))) break;
+      vecs.push_back(v);
+      PetscScalar *a = nullptr;
+      if ((code = VecGetArrayWrite(v, &a))) break;
+      std::copy(m.begin() + L.begin, m.begin() + L.end, a);
+      if ((code = VecRestoreArrayWrite(v, &a))) break;
+    }
+    if (!code) code = MatNullSpaceCreate(L.comm, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space);
+    if (!code) code = MatSetNearNullSpace(A_->get(), space);
+    if (space) MatNullSpaceDestroy(&space);
+    for (Vec &v : vecs) VecDestroy(&v);
+    check(code, "MatSetNearNullSpace (rigid-body modes)");
   }
   void factor(const Csr &A, Structure s) override {
     def_ = Definiteness::Unknown;
@@ -454,10 +534,10 @@ class PetscGamg : public Factorization {
     Session session;
     ready_ = false;
     structure_ = s;
-    set_values(A_, A);
+    A_->set_values(A);
     const bool spd = s == Structure::SymmetricPositiveDefinite;
-    check(MatSetOption(A_, MAT_SYMMETRIC, spd ? PETSC_TRUE : PETSC_FALSE), "MatSetOption");
-    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    check(MatSetOption(A_->get(), MAT_SYMMETRIC, spd ? PETSC_TRUE : PETSC_FALSE), "MatSetOption");
+    check(KSPSetOperators(ksp_, A_->get(), A_->get()), "KSPSetOperators");
     check(KSPSetType(ksp_, spd ? KSPCG : KSPGMRES), "KSPSetType");
     // the true residual in the stopping rule: CG computes it, GMRES when preconditioned from the right
     check(KSPSetPCSide(ksp_, spd ? PC_LEFT : PC_RIGHT), "KSPSetPCSide");
@@ -478,17 +558,19 @@ class PetscGamg : public Factorization {
   void solve(double *x) const override {
     if (!ready_) fail(ND_ERR_INTERNAL, "PETSc GAMG: solve before a successful set-up");
     Session session;
-    place_rhs(b_, x_, x, n_);
-    PetscErrorCode code = KSPSolve(ksp_, b_, x_);
     KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
     PetscInt its = 0;
     PetscReal rnorm = 0, bnorm = 0;
-    if (!code) code = KSPGetConvergedReason(ksp_, &reason);
-    if (!code) code = KSPGetIterationNumber(ksp_, &its);
-    if (!code) code = KSPGetResidualNorm(ksp_, &rnorm);
-    if (!code) code = VecNorm(b_, NORM_2, &bnorm);
-    VecResetArray(x_);
-    check(code, "KSPSolve (GAMG)");
+    check(v_->solve(x,
+                    [&](Vec b, Vec sol) {
+                      PetscErrorCode code = KSPSolve(ksp_, b, sol);
+                      if (!code) code = KSPGetConvergedReason(ksp_, &reason);
+                      if (!code) code = KSPGetIterationNumber(ksp_, &its);
+                      if (!code) code = KSPGetResidualNorm(ksp_, &rnorm);
+                      if (!code) code = VecNorm(b, NORM_2, &bnorm);
+                      return code;
+                    }),
+          "KSPSolve (GAMG)");
     if (reason > 0) return;
     const bool spd = structure_ == Structure::SymmetricPositiveDefinite;
     const std::string st = std::string(spd ? "CG" : "GMRES") + " + GAMG stopped (" + KSPConvergedReasons[reason] +
@@ -506,8 +588,8 @@ class PetscGamg : public Factorization {
 
  private:
   int64_t n_;
-  Mat A_ = nullptr;
-  Vec b_ = nullptr, x_ = nullptr;
+  std::unique_ptr<Matrix> A_;
+  std::unique_ptr<Vectors> v_;
   KSP ksp_ = nullptr;
   bool ready_ = false;
   Structure structure_ = Structure::General;
@@ -516,7 +598,9 @@ class PetscGamg : public Factorization {
 
 }  // namespace
 
-std::unique_ptr<Factorization> make_petsc_mumps_factorization(const Csr &p) { return std::make_unique<PetscMumps>(p); }
+std::unique_ptr<Factorization> make_petsc_mumps_factorization(const Csr &p, const DofGeometry *g) {
+  return std::make_unique<PetscMumps>(p, g);
+}
 std::unique_ptr<Factorization> make_petsc_gamg_factorization(const Csr &p, const DofGeometry *g) {
   return std::make_unique<PetscGamg>(p, g);
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "common/hash.hpp"
 #include "nitschedyn.h"
 #include "solve/tangent_solver.hpp"
 
@@ -17,21 +18,6 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // may be absent in its full room, so that a problem's checkpoints have one
 // size (version 3 is still read)
 constexpr uint32_t kVersion = 4;
-
-struct Hash {  // FNV-1a, 64 bits
-  uint64_t h = 1469598103934665603ull;
-  void bytes(const void *p, size_t n) {
-    const unsigned char *c = static_cast<const unsigned char *>(p);
-    for (size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
-  }
-  template <class T>
-  void value(const T &x) { bytes(&x, sizeof x); }
-  template <class T>
-  void vec(const std::vector<T> &v) {
-    value(static_cast<uint64_t>(v.size()));
-    bytes(v.data(), v.size() * sizeof(T));
-  }
-};
 
 class Writer {
  public:

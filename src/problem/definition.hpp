@@ -12,6 +12,7 @@
 #include "assembly/material.hpp"
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "parallel/communicator.hpp"
 #include "solve/newton.hpp"
 
 namespace nd {
@@ -60,6 +61,7 @@ struct Definition {
   std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
   Guards guards;
   unsigned given = 0;                 // the aspects set so far
+  CommunicatorPtr comm;               // the ranks stepping this problem together; null: this process alone
 
   // The aspects still missing for the operators (material; Nitsche
   // parameters once there is an obstacle) and for a step (scheme, time step).

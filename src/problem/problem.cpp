@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include <exception>
 #include <limits>
+#include <new>
+#include <string>
 
 #include "common/format.hpp"
+#include "common/hash.hpp"
 #include "monitor/critical_step.hpp"
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
@@ -25,8 +29,22 @@ constexpr unsigned kIntegratorDeps = kDiscretizationDeps | kScheme | kTimestep |
 // (a changed load enters as F^{n+1}); new initial values always replace it.
 constexpr unsigned kInitialStateDeps = kLoadDeps | kNodal | kObstacle | kInitial;
 
+namespace {
+// the mesh and the space, for the ranks' agreement (Problem::inputs_digest)
+uint64_t mesh_digest(const Mesh &m, const Space &s) {
+  Hash h;
+  h.value(s.dim), h.value(s.degree);
+  h.vec(m.coords), h.vec(m.cells);
+  for (const auto &[region, facets] : m.regions) {
+    h.value(region);
+    for (int64_t f : facets) h.value(f);
+  }
+  return h.h;
+}
+}  // namespace
+
 Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
-    : mesh_(std::move(mesh)), space_(mesh_, degree) {}
+    : mesh_(std::move(mesh)), space_(mesh_, degree), mesh_digest_(mesh_digest(*mesh_, space_)) {}
 
 void Problem::changed(unsigned aspects) {
   def_.given |= aspects;
@@ -214,6 +232,7 @@ void Problem::set_guard(int guard, double value) {
 
 Discretization &Problem::discretization_() {
   if (!disc_) disc_ = discretize(space_, def_, counters_.get());
+  disc_->geometry.comm = def_.comm;  // the factorizations' ranks
   // another obstacle (not a motion of this one): its gaps hold from t^n on
   if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
   obstacle_redefined_ = false;
@@ -278,6 +297,11 @@ const State &Problem::state() {
 // ---- stepping --------------------------------------------------------------------
 
 void Problem::setup() {
+  agree_on_inputs();
+  prepare();
+}
+
+void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
   Discretization &d = discretization_();
   Integrator &in = integrator_or_build();
@@ -302,12 +326,81 @@ void Problem::setup() {
   if (state_.products.of != d.id) compute_products(d, state_);
 }
 
+namespace {
+int status_of(const std::exception_ptr &e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const Error &x) {
+    return x.code();
+  } catch (const std::bad_alloc &) {
+    return ND_ERR_NOMEM;
+  } catch (...) {
+    return ND_ERR_INTERNAL;
+  }
+}
+}  // namespace
+
 void Problem::step() {
-  setup();
-  const std::vector<double> F = current_load(), gap = current_gaps();
-  State next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
-  guard_step(*disc_, def_.guards, state_, next);
+  agree_on_inputs();
+  State next;
+  std::exception_ptr failure;
+  try {
+    prepare();
+    const std::vector<double> F = current_load(), gap = current_gaps();
+    next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
+    guard_step(*disc_, def_.guards, state_, next);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  // every rank commits the step or none does
+  const int worst = worst_status(def_.comm.get(), failure ? status_of(failure) : ND_OK);
+  if (failure) std::rethrow_exception(failure);
+  if (worst != ND_OK)
+    fail(worst, std::string("the step failed on another rank (") + nd_strerror(worst) +
+                    "); no rank took it: see that rank's error");
   state_ = std::move(next);
+}
+
+// What a step reads that the caller gives: the mesh, the definition and the
+// state at t^n; the ranks of a communicator must give the same. Raw inputs
+// only: nothing here may fail on one rank before the ranks compare.
+uint64_t Problem::inputs_digest() const {
+  Hash h;
+  h.value(mesh_digest_);
+  const Definition &d = def_;
+  h.value(d.given);
+  for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
+                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration})
+    h.value(x);
+  for (int x : {d.scheme, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
+                int(d.redistributed), int(d.has_body_force), int(d.guards.critical_timestep),
+                int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
+    h.value(x);
+  h.vec(d.dirichlet);
+  h.bytes(d.body_force, sizeof d.body_force);
+  for (const NeumannLoad &l : d.neumann) h.value(l.region), h.bytes(l.g, sizeof l.g);
+  for (const ContactPlane &p : d.planes) h.value(p.region), h.bytes(p.point, sizeof p.point), h.bytes(p.normal, sizeof p.normal);
+  h.vec(d.scheme_params);
+  h.vec(d.nodal), h.vec(d.u0), h.vec(d.v0);
+  h.value(state_ready_);
+  if (state_ready_) h.value(state_.t), h.value(state_.n), h.vec(state_.U), h.vec(state_.V);
+  return h.h;
+}
+
+void Problem::agree_on_inputs() {
+  const Communicator *c = def_.comm.get();
+  if (communicator_size(c) > 1 && !same_on_all_ranks(c, inputs_digest()))
+    fail(ND_ERR_STATE, "the ranks' problems differ (definition, loads or state at t^n): every rank must make the "
+                       "same calls with the same values (a call refused on some ranks only is the usual cause: see "
+                       "their errors); nothing was done on any rank");
+}
+
+void Problem::set_communicator(CommunicatorPtr comm) {
+  if (setup_done_)
+    fail(ND_ERR_STATE, "the problem is set up (nd_problem_setup, a step or a loaded checkpoint): the communicator "
+                       "is given before, on every rank");
+  def_.comm = std::move(comm);
+  changed(kSolver);  // every factorization is made again over the new ranks
 }
 
 double Problem::omega_max() {

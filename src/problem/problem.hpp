@@ -40,6 +40,9 @@ class Problem {
   void set_timestep(double tau);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
   void set_guard(int guard, double value);  // an ND_GUARD_* and its value
+  // The ranks that step this problem together (null: this process alone);
+  // only before the set-up (ND_ERR_STATE after it). See step().
+  void set_communicator(CommunicatorPtr comm);
   // Replaces U and V at the current time (n_dofs each, nullptr: unchanged);
   // t, n and W stay, A is re-derived from the equilibrium when the scheme
   // carries it, and the energy guard counts the change as energy put in.
@@ -80,10 +83,17 @@ class Problem {
   // done once until the definition changes.
   void setup();
   // Advances one step; throws nd::Error (state untouched) on failure.
+  // With a communicator both are collective, and the ranks agree: first that
+  // their inputs are the same (ND_ERR_STATE on every rank otherwise), then on
+  // the outcome, so that every rank takes the step or none does (with the
+  // worst status of all ranks).
   void step();
 
  private:
   void changed(unsigned aspects);
+  void prepare();  // setup() without the ranks' agreement
+  void agree_on_inputs();
+  uint64_t inputs_digest() const;
   Discretization &discretization_();
   const std::vector<double> &constant_load_();
   Integrator &integrator_or_build();
@@ -98,6 +108,7 @@ class Problem {
 
   std::shared_ptr<const Mesh> mesh_;
   Space space_;
+  uint64_t mesh_digest_;  // of the mesh and the space (inputs_digest)
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;

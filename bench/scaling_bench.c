@@ -1,0 +1,112 @@
+/* Benchmark (not a test; builds with PETSc): the 2D disk of DESIGN §7 on the
+ * ranks of MPI_COMM_WORLD, for report/SCALING.md (bench/scaling.sh runs it).
+ * Every rank builds the same problem; with a PETSc solver the problem gets
+ * MPI_COMM_WORLD (the solves are distributed), with cholmod it stays serial.
+ * Each step is timed between two barriers (the slowest rank's time). Prints
+ * one CSV row on rank 0 (the header: scaling_bench --header): the set-up and
+ * the first step (assembly, factorization or multigrid set-up), the median of
+ * the free-flight steps (no contact before or after) and of the contact steps
+ * (contact before and after), Newton iterations per contact step, the largest
+ * peak RSS of a rank, and the 1-minute load average of the machine when the
+ * run ended (/proc/loadavg: other work shares the cores).
+ *   mpiexec -n N scaling_bench MESH DEGREE SOLVER TAU T [DIM]
+ *   SOLVER: mumps | gamg | cholmod; DIM: 2 (the disk, default) or 3 (the ball) */
+#include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+#include "drop_scene.h"
+#include "nitschedyn_mpi.h"
+
+static const char *kHeader =
+    "ranks,mesh,degree,unknowns,solver,setup_s,first_step_s,free_steps,free_median_ms,contact_steps,"
+    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1";
+
+static int by_value(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double median(double *x, int n) {
+  if (n == 0) return 0;
+  qsort(x, (size_t)n, sizeof *x, by_value);
+  return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
+static double timed(nd_problem p, int (*call)(nd_problem), int *status) {
+  MPI_Barrier(MPI_COMM_WORLD);
+  const double t0 = MPI_Wtime();
+  *status = call(p);
+  MPI_Barrier(MPI_COMM_WORLD);
+  return MPI_Wtime() - t0;
+}
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, size = 1, status = ND_OK;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (argc == 2 && !strcmp(argv[1], "--header")) {
+    if (rank == 0) puts(kHeader);
+    MPI_Finalize();
+    return 0;
+  }
+  if (argc != 6 && argc != 7) {
+    if (rank == 0) fprintf(stderr, "usage: scaling_bench MESH DEGREE mumps|gamg|cholmod TAU T [DIM]\n");
+    MPI_Finalize();
+    return 2;
+  }
+  const char *mesh = argv[1], *solver_name = argv[3];
+  const int degree = atoi(argv[2]);
+  const double tau = atof(argv[4]), T = atof(argv[5]);
+  const int dim = argc == 7 ? atoi(argv[6]) : 2;
+  const int solver = !strcmp(solver_name, "mumps") ? ND_SOLVER_PETSC_MUMPS
+                     : !strcmp(solver_name, "gamg") ? ND_SOLVER_PETSC_GAMG
+                                                    : ND_SOLVER_CHOLMOD;
+  const int steps = (int)(T / tau + 0.5);
+  double *free_ms = malloc(sizeof(double) * (size_t)steps), *contact_ms = malloc(sizeof(double) * (size_t)steps);
+  int n_free = 0, n_contact = 0;
+  double newton = 0, setup_s = 0, first_s = 0, active_before = 0, active = 0, iterations = 0;
+  int64_t nodes = 0;
+  nd_problem p = NULL;
+
+  status = drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, tau, solver, &p);
+  if (status == ND_OK && solver != ND_SOLVER_CHOLMOD) status = nd_problem_set_comm(p, MPI_COMM_WORLD);
+  if (status == ND_OK) status = nd_problem_get_node_count(p, &nodes);
+  if (status == ND_OK) setup_s = timed(p, nd_problem_setup, &status);
+  for (int k = 0; k < steps && status == ND_OK; ++k) {
+    const double dt = timed(p, nd_step, &status);
+    if (status == ND_OK) status = nd_get_scalar(p, ND_ACTIVE_POINTS, &active);
+    if (status == ND_OK) status = nd_get_scalar(p, ND_NEWTON_ITERATIONS, &iterations);
+    if (k == 0)
+      first_s = dt;
+    else if (active_before == 0 && active == 0)
+      free_ms[n_free++] = 1e3 * dt;
+    else if (active_before > 0 && active > 0)
+      contact_ms[n_contact++] = 1e3 * dt, newton += iterations;
+    active_before = active;
+  }
+  if (status != ND_OK) fprintf(stderr, "rank %d: %s\n", rank, nd_last_error());
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  double rss = ru.ru_maxrss / 1024.0, rss_max = 0;
+  MPI_Reduce(&rss, &rss_max, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  double load1 = -1;
+  FILE *f = fopen("/proc/loadavg", "r");
+  if (f) {
+    if (fscanf(f, "%lf", &load1) != 1) load1 = -1;
+    fclose(f);
+  }
+  const char *base = strrchr(mesh, '/');
+  if (rank == 0 && status == ND_OK)
+    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f\n", size, base ? base + 1 : mesh, degree,
+           (long long)(dim * nodes), solver_name, setup_s, first_s, n_free, median(free_ms, n_free), n_contact,
+           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1);
+  nd_problem_destroy(&p);
+  free(free_ms);
+  free(contact_ms);
+  MPI_Finalize();
+  return status == ND_OK ? 0 : 1;
+}

@@ -1,0 +1,30 @@
+// The ranks of an MPI job that step one problem together (issue 15, slice 2:
+// replicated mesh and state, distributed linear solves). Only builds with
+// PETSc know MPI (parallel/communicator_mpi.cpp); the others have the same
+// functions with this process alone (parallel/communicator_serial.cpp), so
+// that the rest of the library never tests for MPI.
+//
+// A problem without a communicator (null) is this process alone, as it
+// always was. Every function taking one is collective over its ranks: every
+// rank must call it, in the same order.
+#pragma once
+#include <cstdint>
+#include <memory>
+
+namespace nd {
+
+struct Communicator;  // the library's own duplicate of the caller's MPI_Comm
+using CommunicatorPtr = std::shared_ptr<const Communicator>;
+
+// From Fortran's integer handle (MPI_Comm_f2c), duplicated (MPI_Comm_dup:
+// collective). Throws ND_ERR_KEY in a build without MPI, ND_ERR_VALUE for
+// MPI_COMM_NULL or a handle MPI does not accept.
+CommunicatorPtr communicator_from_fortran(int handle);
+int communicator_size(const Communicator *c);  // 1 when null
+int communicator_rank(const Communicator *c);  // 0 when null
+// The worst (lowest) status over the ranks: every rank gets the same.
+int worst_status(const Communicator *c, int status);
+// Whether every rank passed the same digest.
+bool same_on_all_ranks(const Communicator *c, uint64_t digest);
+
+}  // namespace nd

@@ -1,0 +1,23 @@
+// The communicator of builds with MPI (ND_WITH_PETSC): what it holds.
+#pragma once
+#include <mpi.h>
+
+#include "parallel/communicator.hpp"
+
+namespace nd {
+
+struct Communicator {
+  explicit Communicator(MPI_Comm own) : comm(own) {}
+  ~Communicator();  // frees the duplicate unless MPI is finalized
+  Communicator(const Communicator &) = delete;
+  Communicator &operator=(const Communicator &) = delete;
+  MPI_Comm comm;  // ours (MPI_Comm_dup of the caller's)
+};
+
+// Checks and duplicates the caller's communicator: ND_ERR_VALUE for
+// MPI_COMM_NULL or an intercommunicator, ND_ERR_STATE when MPI is not running.
+CommunicatorPtr communicator_from_c(MPI_Comm comm);
+// The communicator's MPI_Comm; PETSC_COMM_SELF's MPI_COMM_SELF when null.
+MPI_Comm mpi_comm(const Communicator *c);
+
+}  // namespace nd

@@ -1,0 +1,17 @@
+// The communicator functions of a build without MPI (see communicator.hpp).
+#include "common/error.hpp"
+#include "nitschedyn.h"
+#include "parallel/communicator.hpp"
+
+namespace nd {
+
+CommunicatorPtr communicator_from_fortran(int) {
+  fail(ND_ERR_KEY, "an MPI communicator needs MPI, and this build of libnitschedyn has none "
+                   "(configure with -DND_WITH_PETSC=ON)");
+}
+int communicator_size(const Communicator *) { return 1; }
+int communicator_rank(const Communicator *) { return 0; }
+int worst_status(const Communicator *, int status) { return status; }
+bool same_on_all_ranks(const Communicator *, uint64_t) { return true; }
+
+}  // namespace nd

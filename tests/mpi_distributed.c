@@ -1,0 +1,309 @@
+/* The distributed solve (issue 15, slice 2), run under mpiexec -n 1, 2 and 4
+ * (tests/CMakeLists.txt, builds with PETSc). Every rank builds the same
+ * problem; nd_problem_set_comm spreads the PETSc solves over the ranks.
+ *  - the disk and the ball of DESIGN §7 through the impact: the energy and
+ *    contact-force histories of MUMPS and GAMG over all ranks against the
+ *    serial CHOLMOD solve of the same scene in the same process;
+ *  - a load refused on the last rank only: nd_step fails on every rank with
+ *    the same code and no rank's state moves;
+ *  - checkpoint/restart over the same ranks restores the state bitwise;
+ *  - bad input: MPI_COMM_NULL, a communicator after the set-up, another mesh
+ *    on one rank.
+ * CK_FORK=no (MPI is initialized once per process): every check runs in
+ * this process, on every rank. */
+#include <math.h>
+#include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "drop_scene.h"
+#include "nitschedyn_mpi.h"
+#include "testutil.h"
+
+enum { kSteps = 44 }; /* tau = 0.25: free fall, the impact at t = 10, and contact until t = 11 */
+static const double kTau = 0.25;
+
+static int g_rank, g_size;
+
+static double scalar(nd_problem p, int key) {
+  double x = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(p, key, &x));
+  return x;
+}
+
+static nd_problem scene(int dim, int solver, int distributed) {
+  char mesh[512];
+  snprintf(mesh, sizeof mesh, "%s/%s_h4.msh", ND_MESH_DIR, dim == 2 ? "disk" : "ball");
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(drop_scene_create(dim, mesh, 1, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, kTau, solver, &p));
+  if (distributed) ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+  return p;
+}
+
+typedef struct {
+  double energy[kSteps], force[kSteps], active[kSteps];
+  double solves; /* ND_STAT_SOLVES after the run */
+} history;
+
+static void run(nd_problem p, history *h) {
+  for (int k = 0; k < kSteps; ++k) {
+    ND_OK_OR_FAIL(nd_step(p));
+    h->energy[k] = scalar(p, ND_ENERGY_AUGMENTED);
+    h->force[k] = scalar(p, ND_CONTACT_FORCE);
+    h->active[k] = scalar(p, ND_ACTIVE_POINTS);
+  }
+  h->solves = scalar(p, ND_STAT_SOLVES);
+}
+
+static double max_abs(const double *x, int n) {
+  double m = 0;
+  for (int i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
+  return m;
+}
+
+/* the largest difference of two histories relative to the largest value of the reference */
+static double relative_gap(const double *ref, const double *x, int n) {
+  double d = 0;
+  for (int i = 0; i < n; ++i) d = fmax(d, fabs(x[i] - ref[i]));
+  return d / max_abs(ref, n);
+}
+
+/* every rank holds the same value (bitwise) */
+static int same_on_all_ranks(const void *data, int nbytes) {
+  unsigned char *root = malloc((size_t)nbytes);
+  memcpy(root, data, (size_t)nbytes);
+  MPI_Bcast(root, nbytes, MPI_BYTE, 0, MPI_COMM_WORLD);
+  int same = memcmp(root, data, (size_t)nbytes) == 0, all = 0;
+  MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+  free(root);
+  return all;
+}
+
+/* The Krylov stopping rule of ND_SOLVER_PETSC_GAMG is ||b - A x|| <= rtol ||b||,
+ * rtol = 1e-12 (src/linalg/petsc.cpp), so one solve is off the exact one by
+ * ||dx|| <= ||A^-1|| rtol ||b|| <= kappa(A) rtol ||x||. A = c M + K_Theta with
+ * c = 4/tau^2 for the hybrid scheme (Newmark(1/4, 1/2) in the interior): in M's
+ * metric its spectrum is c + omega^2, omega <= omega_max, so kappa(A) <=
+ * kappa(M) (1 + (tau omega_max)^2 / 4); kappa(M) <= (d + 2) q for P1 (the
+ * element mass matrix's eigenvalue ratio d + 2 times q, the ratio of the
+ * largest to the smallest vertex patch volume; q <= 10 for the committed
+ * Gmsh meshes, whose cells are within a factor ~2 of h in size). The scheme is
+ * energy-stable, so errors add up at most: after S solves (ND_STAT_SOLVES,
+ * counted) the state is off by S kappa rtol relatively, and a quadratic
+ * energy or the force (linear in U) by twice that. */
+static double krylov_bound(nd_problem p, int dim, double solves) {
+  double tau_c = 0;
+  ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(p, &tau_c));
+  const double omega_max = 2 / tau_c; /* tau_c = 2 / omega_max for an implicit scheme */
+  const double kappa = (dim + 2) * 10.0 * (1 + kTau * omega_max * kTau * omega_max / 4);
+  return 2 * solves * kappa * 1e-12;
+}
+
+START_TEST(histories_match_the_serial_solve) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    history serial, mumps, gamg;
+    nd_problem p = scene(dim, ND_SOLVER_CHOLMOD, 0);
+    run(p, &serial);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    ck_assert_msg(max_abs(serial.force, kSteps) > 0, "%dD: no impact within the horizon", dim);
+
+    p = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
+    run(p, &mumps);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    p = scene(dim, ND_SOLVER_PETSC_GAMG, 1);
+    run(p, &gamg);
+    const double bound = krylov_bound(p, dim, serial.solves);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+    const double e_m = relative_gap(serial.energy, mumps.energy, kSteps);
+    const double f_m = relative_gap(serial.force, mumps.force, kSteps);
+    const double e_g = relative_gap(serial.energy, gamg.energy, kSteps);
+    const double f_g = relative_gap(serial.force, gamg.force, kSteps);
+    if (g_rank == 0)
+      printf("%dD, %d rank(s): MUMPS energy %.2e force %.2e; GAMG energy %.2e force %.2e (bound %.2e)\n", dim,
+             g_size, e_m, f_m, e_g, f_g, bound);
+    ck_assert_msg(e_m <= 1e-8 && f_m <= 1e-8, "%dD MUMPS: energy %.3g, force %.3g off the serial solve", dim, e_m, f_m);
+    ck_assert_msg(e_g <= bound && f_g <= bound, "%dD GAMG: energy %.3g, force %.3g > %.3g", dim, e_g, f_g, bound);
+    ck_assert_msg(memcmp(serial.active, mumps.active, sizeof serial.active) == 0, "%dD: MUMPS's active sets differ",
+                  dim);
+    /* the ranks agree exactly: the solution is gathered, everything else is replicated */
+    ck_assert(same_on_all_ranks(&mumps, (int)sizeof mumps - (int)sizeof mumps.solves));
+    ck_assert(same_on_all_ranks(&gamg, (int)sizeof gamg - (int)sizeof gamg.solves));
+  }
+}
+END_TEST
+
+typedef struct {
+  double t;
+  double *u, *v;
+  int64_t n;
+} snapshot;
+
+static snapshot take(nd_problem p) {
+  snapshot s = {scalar(p, ND_TIME), NULL, NULL, 0};
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &s.n));
+  s.u = malloc(sizeof(double) * (size_t)(2 * s.n));
+  s.v = malloc(sizeof(double) * (size_t)(2 * s.n));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, s.n, s.u));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, s.n, s.v));
+  return s;
+}
+
+static int same_snapshot(const snapshot *a, const snapshot *b) {
+  const size_t bytes = sizeof(double) * (size_t)(2 * a->n);
+  return a->n == b->n && memcmp(&a->t, &b->t, sizeof a->t) == 0 && memcmp(a->u, b->u, bytes) == 0 &&
+         memcmp(a->v, b->v, bytes) == 0;
+}
+
+/* the largest difference of the displacements relative to the largest displacement */
+static double snapshot_gap(const snapshot *a, const snapshot *b) {
+  double d = 0, m = 0;
+  for (int64_t i = 0; i < 2 * a->n; ++i) d = fmax(d, fabs(a->u[i] - b->u[i])), m = fmax(m, fabs(a->u[i]));
+  return d / m;
+}
+
+static void drop(snapshot *s) {
+  free(s->u);
+  free(s->v);
+}
+
+START_TEST(a_load_refused_on_one_rank_fails_the_step_everywhere) {
+  nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 1);
+  for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
+  snapshot before = take(p);
+  double *f = calloc((size_t)(2 * before.n), sizeof(double));
+  for (int64_t i = 0; i < before.n; ++i) f[2 * i + 1] = -0.01;
+  const int last = g_rank == g_size - 1;
+  if (last) f[1] = NAN; /* the guard refuses it there: that rank keeps the previous (no) nodal forces */
+  const int set = nd_problem_set_nodal_forces(p, before.n, f);
+  ck_assert_int_eq(set, last ? ND_ERR_NONFINITE : ND_OK);
+  const int status = nd_step(p);
+  char message[512];
+  snprintf(message, sizeof message, "%s", nd_last_error());
+  int lo = 0, hi = 0;
+  MPI_Allreduce(&status, &lo, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(&status, &hi, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  ck_assert_msg(lo == hi, "the ranks' statuses differ: %d .. %d", lo, hi);
+  snapshot after = take(p);
+  if (g_size > 1) {
+    ck_assert_msg(status == ND_ERR_STATE, "nd_step returned %d: %s", status, message);
+    ck_assert_msg(strstr(message, "nd_step: the ranks") == message, "%s", message);
+    ck_assert_msg(same_snapshot(&before, &after), "a rank's state moved in a refused step");
+  } else {
+    ND_OK_OR_FAIL(status); /* alone, the refused load is simply not there */
+  }
+  /* once every rank has the same load again, the ranks step together */
+  f[1] = -0.01;
+  ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, before.n, f));
+  ND_OK_OR_FAIL(nd_step(p));
+  snapshot next = take(p);
+  ck_assert(next.t > before.t);
+  ck_assert(same_on_all_ranks(next.u, (int)(sizeof(double) * (size_t)(2 * next.n))));
+  drop(&before), drop(&after), drop(&next);
+  free(f);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* A checkpoint restores the state bitwise on every rank. The run resumed from
+ * it is bitwise the uninterrupted one on one rank; on several, MUMPS's and
+ * PETSc's parallel reductions add contributions in the order messages arrive
+ * (MUMPS schedules dynamically), so two runs of the same steps may differ in
+ * the last bits, and the resumed run is held to the bound of the histories:
+ * 1e-8 for MUMPS, the Krylov bound for GAMG. */
+START_TEST(checkpoint_restores_bitwise) {
+  for (int solver = ND_SOLVER_PETSC_MUMPS; solver <= ND_SOLVER_PETSC_GAMG; ++solver) {
+    nd_problem p = scene(2, solver, 1);
+    for (int k = 0; k < 36; ++k) ND_OK_OR_FAIL(nd_step(p));
+    int64_t nbytes = 0;
+    ND_OK_OR_FAIL(nd_problem_get_state_size(p, &nbytes));
+    unsigned char *buf = malloc((size_t)nbytes), *again = malloc((size_t)nbytes);
+    ND_OK_OR_FAIL(nd_problem_save_state(p, nbytes, buf));
+    ck_assert_msg(same_on_all_ranks(buf, (int)nbytes), "the checkpoints of the ranks differ");
+    snapshot saved = take(p);
+    for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(p)); /* through the impact at t = 10 */
+    snapshot straight = take(p);
+    const double solves = scalar(p, ND_STAT_SOLVES);
+    const double bound = solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(p, 2, solves);
+
+    /* in the same problem and in a new one on the same ranks */
+    nd_problem q = scene(2, solver, 1);
+    nd_problem targets[2] = {p, q};
+    for (int which = 0; which < 2; ++which) {
+      nd_problem r = targets[which];
+      ND_OK_OR_FAIL(nd_problem_load_state(r, nbytes, buf));
+      snapshot loaded = take(r);
+      ck_assert_msg(same_snapshot(&saved, &loaded), "solver %d, problem %d: the loaded state differs", solver, which);
+      ND_OK_OR_FAIL(nd_problem_save_state(r, nbytes, again));
+      ck_assert_msg(memcmp(buf, again, (size_t)nbytes) == 0, "solver %d: saved again, the checkpoint differs", solver);
+      for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(r));
+      snapshot resumed = take(r);
+      const double gap = snapshot_gap(&straight, &resumed);
+      if (g_size == 1)
+        ck_assert_msg(same_snapshot(&straight, &resumed), "solver %d, problem %d: the resumed run differs (%.3g)",
+                      solver, which, gap);
+      else
+        ck_assert_msg(resumed.t == straight.t && gap <= bound, "solver %d, problem %d: resumed %.3g off (bound %.3g)",
+                      solver, which, gap, bound);
+      drop(&loaded), drop(&resumed);
+    }
+    drop(&saved), drop(&straight);
+    free(buf), free(again);
+    ND_OK_OR_FAIL(nd_problem_destroy(&q));
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+START_TEST(bad_communicators) {
+  nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
+  ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_NULL), ND_ERR_VALUE);
+  ck_assert_msg(strstr(nd_last_error(), "nd_problem_set_comm: ") == nd_last_error(), "%s", nd_last_error());
+  ck_assert_msg(strstr(nd_last_error(), "MPI_COMM_NULL") != NULL, "%s", nd_last_error());
+  ck_assert_int_eq(nd_problem_set_comm_f(p, (int)MPI_Comm_c2f(MPI_COMM_NULL)), ND_ERR_VALUE);
+  ck_assert_int_eq(nd_problem_set_comm(NULL, MPI_COMM_WORLD), ND_ERR_NULL);
+  /* the Fortran handle of MPI_COMM_WORLD is accepted, before the set-up */
+  ND_OK_OR_FAIL(nd_problem_set_comm_f(p, (int)MPI_Comm_c2f(MPI_COMM_WORLD)));
+  ND_OK_OR_FAIL(nd_problem_setup(p));
+  ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_WORLD), ND_ERR_STATE);
+  ck_assert_msg(strstr(nd_last_error(), "set up") != NULL, "%s", nd_last_error());
+  ck_assert_int_eq(nd_problem_set_comm_f(p, (int)MPI_Comm_c2f(MPI_COMM_SELF)), ND_ERR_STATE);
+  /* none of it changed the problem: it steps on the ranks it was given */
+  ND_OK_OR_FAIL(nd_step(p));
+  ck_assert(scalar(p, ND_TIME) == kTau);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+  /* another mesh on the last rank: no rank steps (nothing was set up: the ranks compare first) */
+  if (g_size > 1) {
+    char mesh[512];
+    snprintf(mesh, sizeof mesh, "%s/disk_%s.msh", ND_MESH_DIR, g_rank == g_size - 1 ? "h2" : "h4");
+    ND_OK_OR_FAIL(drop_scene_create(2, mesh, 1, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, kTau, ND_SOLVER_PETSC_MUMPS, &p));
+    ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+    ck_assert_int_eq(nd_step(p), ND_ERR_STATE);
+    ck_assert_msg(strstr(nd_last_error(), "the ranks' problems differ") != NULL, "%s", nd_last_error());
+    ck_assert(scalar(p, ND_STEP_INDEX) == 0);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  Suite *s = suite_create("mpi_distributed");
+  TCase *tc = tcase_create("ranks");
+  tcase_set_timeout(tc, 600);
+  tcase_add_test(tc, bad_communicators);
+  tcase_add_test(tc, histories_match_the_serial_solve);
+  tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
+  tcase_add_test(tc, checkpoint_restores_bitwise);
+  suite_add_tcase(s, tc);
+  int status = nd_test_run(s);
+  /* a failure on any rank fails the run on every rank */
+  int worst = 0;
+  MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return worst;
+}
