@@ -60,11 +60,7 @@ class Reader {
     if (n != static_cast<uint64_t>(expected) && !(may_be_empty && n == 0))
       fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has " + std::to_string(n) + " values, expected " +
                               std::to_string(expected));
-    need(n * sizeof(double));
-    std::vector<double> v(n);
-    if (n > 0) std::memcpy(v.data(), p_ + at_, n * sizeof(double));
-    at_ += n * sizeof(double);
-    return v;
+    return values<double>(n);
   }
   // a vector of at most `most` values of T
   template <class T>
@@ -73,11 +69,7 @@ class Reader {
     if (n > most)
       fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has " + std::to_string(n) +
                               " values, more than the " + std::to_string(most) + " it can have");
-    need(n * sizeof(T));
-    std::vector<T> v(n);
-    if (n > 0) std::memcpy(v.data(), p_ + at_, n * sizeof(T));
-    at_ += n * sizeof(T);
-    return v;
+    return values<T>(n);
   }
   // what Writer::padded wrote
   template <class T>
@@ -91,6 +83,15 @@ class Reader {
   size_t at() const { return at_; }
 
  private:
+  // n values of T (n already bounded by the caller: n sizeof(T) does not overflow)
+  template <class T>
+  std::vector<T> values(uint64_t n) {
+    need(n * sizeof(T));
+    std::vector<T> v(n);
+    if (n > 0) std::memcpy(v.data(), p_ + at_, n * sizeof(T));
+    at_ += n * sizeof(T);
+    return v;
+  }
   void need(size_t k) {
     if (k > n_ - at_) fail(ND_ERR_FORMAT, "the checkpoint is truncated");
   }
