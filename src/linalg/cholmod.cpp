@@ -63,17 +63,20 @@ class CholmodPattern {
   CholmodPattern &operator=(const CholmodPattern &) = delete;
 
   // The numeric factorization of A; def: the verdict (NotPositiveDefinite before it throws)
-  void factor(const Csr &A, Definiteness &def) {
+  // The numeric factorization of A into L (by default the pattern's own
+  // factor); def: the verdict (NotPositiveDefinite before it throws)
+  void factor(const Csr &A, Definiteness &def) { factor(A, def, L_); }
+  void factor(const Csr &A, Definiteness &def, cholmod_factor *L) {
     def = Definiteness::Unknown;
     require_finite(A);
     std::memcpy(A_->x, A.val.data(), sizeof(double) * A.val.size());
-    cholmod_l_factorize(A_, L_, &c_);
+    cholmod_l_factorize(A_, L, &c_);
     if (c_.status == CHOLMOD_NOT_POSDEF)
-      fail_not_positive_definite(def, "leading minor " + std::to_string(L_->minor + 1) + " is not positive");
+      fail_not_positive_definite(def, "leading minor " + std::to_string(L->minor + 1) + " is not positive");
     if (c_.status < CHOLMOD_OK) fail_cholmod(c_.status, "factorization");  // > 0: a warning (a small pivot)
-    if (!L_->is_ll) {  // simplicial LDL^T factors indefinite matrices too: D tells
-      const auto *p = static_cast<const int64_t *>(L_->p);
-      const auto *x = static_cast<const double *>(L_->x);
+    if (!L->is_ll) {  // simplicial LDL^T factors indefinite matrices too: D tells
+      const auto *p = static_cast<const int64_t *>(L->p);
+      const auto *x = static_cast<const double *>(L->x);
       d_.resize(static_cast<size_t>(n_));
       for (int64_t j = 0; j < n_; ++j) d_[j] = x[p[j]];  // D(j) comes first in column j
       require_positive_pivots(n_, d_.data(), def);
@@ -135,7 +138,7 @@ std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &p) { return
 
 // T is factored as CHOLMOD chooses (supernodal, with the BLAS, on 3D
 // meshes: a simplicial factorization of ball_h2 took 15x longer), then
-// copied to the simplicial LDL^T that the updates modify and the solves use.
+// converted to the simplicial LDL^T that the updates modify and the solves use.
 struct UpdatableCholesky::Impl {
   explicit Impl(const Csr &pattern) : f(pattern) {
     const auto *perm = static_cast<const int64_t *>(f.L_->Perm);
@@ -159,10 +162,17 @@ void UpdatableCholesky::factor(const Csr &T) {
   count(counters_, &Counters::factorizations);
   Impl &m = *impl_;
   cholmod_l_free_factor(&m.W, &m.f.c_);
-  Definiteness def;
-  m.f.factor(T, def);
+  // the analysis (f.L_ stays symbolic) copied and factored there, then
+  // converted in place: one numeric factor is held, not a second copy
   m.W = cholmod_l_copy_factor(m.f.L_, &m.f.c_);
   if (!m.W) fail_cholmod(m.f.c_.status, "factor copy");
+  try {
+    Definiteness def;
+    m.f.factor(T, def, m.W);
+  } catch (...) {
+    cholmod_l_free_factor(&m.W, &m.f.c_);
+    throw;
+  }
   if (!cholmod_l_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, m.W, &m.f.c_)) {
     const int status = m.f.c_.status;
     cholmod_l_free_factor(&m.W, &m.f.c_);
