@@ -3,7 +3,7 @@
 //
 //   tangent_bench run DIM MESH DEGREE [T]
 //     the whole bounce (T = 32) once with each path (refactor, lowrank with
-//     no rank limit, auto); per path one CSV row: floor (one solve with the
+//     no rank limit, condensed, updown: the updated factor, auto); per path one CSV row: floor (one solve with the
 //     cached factor of A, timed in the same run), median contact step and
 //     median cost per Newton iteration of a contact step, both as ratios to
 //     the floor, the slowest contact step (the impact: new columns), columns.
@@ -62,11 +62,12 @@ double floor_solve(const nd::Integrator &in) {
 }
 
 int run(int dim, const char *mesh, int degree, double T) {
-  const char *names[] = {"refactor", "lowrank", "condensed", "auto"};
+  const char *names[] = {"refactor", "lowrank", "condensed", "updown", "auto"};
   const nd::TangentChoice choices[] = {nd::TangentChoice::Refactor, nd::TangentChoice::LowRank,
-                                       nd::TangentChoice::Condensed, nd::TangentChoice::Auto};
+                                       nd::TangentChoice::Condensed, nd::TangentChoice::Updown,
+                                       nd::TangentChoice::Auto};
   const int steps = static_cast<int>(T / 0.05 + 0.5);
-  for (int c = 0; c < 4; ++c) {
+  for (int c = 0; c < 5; ++c) {
     nd_problem p = make(dim, mesh, degree);
     p->problem.set_tangent(choices[c]);
     std::vector<double> contact, per_iteration, free_flight;

@@ -69,7 +69,7 @@ class UpdownTangent : public TangentSolver {
       return;
     }
     if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_);
-    if (!synced_) replay(cp);
+    if (!synced_) replay(cp, d_new_);
     update_to(cp, d_new_);
     ++stats.lowrank;
     factor_->solve(x);
@@ -149,14 +149,15 @@ class UpdownTangent : public TangentSolver {
     d_ = d;
     synced_ = true;
   }
-  // the factor that log_ describes (checkpoint::decode_state checked its form)
-  void replay(const ContactPoints &cp) {
-    const TangentLog history = log_;
-    std::vector<double> d(cp.size(), 0.0);
-    if (history.i.empty()) {  // no history: the first factor starts one
-      factor_at(cp, d_new_);
+  // the factor that log_ describes (checkpoint::decode_state checked its
+  // form); with no history yet, the first factor (of `first`) starts one
+  void replay(const ContactPoints &cp, const std::vector<double> &first) {
+    if (log_.i.empty()) {
+      factor_at(cp, first);
       return;
     }
+    const TangentLog history = log_;
+    std::vector<double> d(cp.size(), 0.0);
     const int64_t nb = history.i[0];
     for (int64_t j = 0; j < nb; ++j) d[history.i[1 + j]] = history.x[j];
     factor_at(cp, d);
