@@ -1,5 +1,6 @@
 // Small meshes and spaces for the white-box unit tests.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -40,6 +41,13 @@ inline std::shared_ptr<nd::Mesh> irregular_rectangle(int n) {
 inline std::shared_ptr<nd::Mesh> cube_of_tets() {
   const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
   return std::make_shared<nd::Mesh>(nd::make_box(1, 1, 1, lo, hi));
+}
+
+// ||a - b|| / ||b|| (2-norms)
+inline double rel_diff(const std::vector<double> &a, const std::vector<double> &b) {
+  double d = 0, s = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]), s += b[i] * b[i];
+  return std::sqrt(d) / std::max(std::sqrt(s), 1e-300);
 }
 
 }  // namespace ndtest

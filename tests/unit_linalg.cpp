@@ -18,6 +18,7 @@
 
 #include "assembly/bulk.hpp"
 #include "linalg/factorization.hpp"
+#include "linalg/updatable_cholesky.hpp"
 #include "testutil.h"
 #include "unit_fixtures.hpp"
 
@@ -36,6 +37,7 @@ const std::vector<int> kBackends = {ND_SOLVER_DENSE, ND_SOLVER_BANDED, ND_SOLVER
 const int kPetscIds[] = {ND_SOLVER_PETSC_MUMPS, ND_SOLVER_PETSC_GAMG};
 using nd::Definiteness;
 using nd::Structure;
+using ndtest::rel_diff;
 
 // c M + K on a 2D P1 rectangle with every DOF free: SPD, n = 2 (nx + 1)^2.
 // For nx = 10 (242 unknowns) CHOLMOD picks a simplicial LDL^T.
@@ -288,6 +290,70 @@ START_TEST(petsc_gamg_conformance) {
 END_TEST
 #endif
 
+// The updatable factor alone: L D L^T + C C^T then - C C^T, each against a
+// factorization of the modified matrix (1e-12); and its cost model, which
+// decides between updating and refactoring: a set of columns costs the sum
+// of its columns, each positive and below a factorization (a path holds at
+// most nnz(L) entries), and a factor made anew on the same pattern gives the
+// same costs (the model reads the structure, not the clock).
+START_TEST(updatable_cholesky_updates_and_costs) {
+  const nd::Csr A = spd_matrix(30);  // 1,922 unknowns: CHOLMOD goes supernodal
+  nd::SparseColumns C;               // three columns, each on a clique of A's graph (an element's DOFs)
+  for (int64_t j = 0; j < 3; ++j) {
+    const int64_t i = (j * 617 + 5) % A.n;
+    std::vector<int64_t> clique{i};
+    for (int64_t k = A.ptr[i]; k < A.ptr[i + 1] && clique.size() < 6; ++k) {
+      bool joined = A.col[k] != i;
+      for (int64_t c : clique) joined = joined && A.find(A.col[k], c) >= 0;
+      if (joined) clique.push_back(A.col[k]);
+    }
+    ck_assert_int_ge(static_cast<int64_t>(clique.size()), 4);
+    for (size_t e = 0; e < clique.size(); ++e) {
+      C.idx.push_back(clique[e]);
+      C.val.push_back(std::sqrt(1e4) * (1 + 0.1 * static_cast<double>(e) - 0.2 * static_cast<double>(j)));
+    }
+    C.ptr.push_back(static_cast<int64_t>(C.idx.size()));
+  }
+  nd::Csr B = A;  // A + C C^T, in A's pattern (the rows of a column are neighbours)
+  for (int64_t j = 0; j < C.count(); ++j)
+    for (int64_t a = C.ptr[j]; a < C.ptr[j + 1]; ++a)
+      for (int64_t b = C.ptr[j]; b < C.ptr[j + 1]; ++b) {
+        const int64_t k = B.find(C.idx[a], C.idx[b]);
+        ck_assert_msg(k >= 0, "column %lld leaves the pattern", static_cast<long long>(j));
+        B.val[k] += C.val[a] * C.val[b];
+      }
+  nd::UpdatableCholesky f(A, nullptr), g(A, nullptr);
+  f.factor(A);
+  g.factor(B);
+  ck_assert(f.modify(true, C));
+  std::vector<double> x(static_cast<size_t>(A.n)), y(x.size());
+  for (int64_t i = 0; i < A.n; ++i) x[i] = y[i] = std::cos(0.3 * i);
+  f.solve(x.data());
+  g.solve(y.data());
+  ck_assert_double_le(rel_diff(x, y), 1e-12);
+  ck_assert(f.modify(false, C));  // back to A
+  g.factor(A);
+  for (int64_t i = 0; i < A.n; ++i) x[i] = y[i] = std::cos(0.3 * i);
+  f.solve(x.data());
+  g.solve(y.data());
+  ck_assert_double_le(rel_diff(x, y), 1e-12);
+
+  double sum = 0;
+  for (int64_t j = 0; j < C.count(); ++j) {
+    nd::SparseColumns one;
+    one.idx.assign(C.idx.begin() + C.ptr[j], C.idx.begin() + C.ptr[j + 1]);
+    one.val.assign(C.val.begin() + C.ptr[j], C.val.begin() + C.ptr[j + 1]);
+    one.ptr.push_back(static_cast<int64_t>(one.idx.size()));
+    const double c = f.modify_cost(one);
+    ck_assert_msg(c > 0 && c < f.factor_cost(), "column %lld costs %g, a factorization %g", static_cast<long long>(j),
+                  c, f.factor_cost());
+    sum += c;
+  }
+  ck_assert_double_eq_tol(f.modify_cost(C), sum, 1e-12 * sum);
+  ck_assert_double_eq(g.modify_cost(C), f.modify_cost(C));
+  ck_assert_double_eq(g.factor_cost(), f.factor_cost());
+}
+END_TEST
 
 int main(int argc, char **argv) {
   Suite *s = suite_create("linalg");
@@ -299,6 +365,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, auto_choice);
     tcase_add_test(tc, every_backend_reports_indefinite);
     tcase_add_test(tc, every_backend_solves_nonsymmetric);
+    tcase_add_test(tc, updatable_cholesky_updates_and_costs);
   }
   tcase_add_test(tc, petsc_ids_are_refused_or_solve);
 #ifdef ND_HAVE_PETSC

@@ -15,8 +15,10 @@
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "testutil.h"
+#include "unit_fixtures.hpp"
 
 namespace {
+using ndtest::rel_diff;
 
 struct SchemeCase {
   int scheme;
@@ -65,12 +67,6 @@ nd_problem scene(int dim, int degree, const SchemeCase &sc, double theta) {
     v0[i * dim + dim - 1] = -0.1 - 0.6 * x[i * dim] + 0.1 * x[i * dim + dim - 1];
   ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nodes, nullptr, v0.data()));
   return p;
-}
-
-double rel_diff(const std::vector<double> &a, const std::vector<double> &b) {
-  double d = 0, s = 0;
-  for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]), s += b[i] * b[i];
-  return std::sqrt(d) / std::max(std::sqrt(s), 1e-300);
 }
 
 std::vector<double> field(nd_problem p, int which, int64_t nodes, int dim) {

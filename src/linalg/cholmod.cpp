@@ -140,16 +140,27 @@ std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &p) { return
 // meshes: a simplicial factorization of ball_h2 took 15x longer), then
 // converted to the simplicial LDL^T that the updates modify and the solves use.
 struct UpdatableCholesky::Impl {
-  explicit Impl(const Csr &pattern) : f(pattern) {
+  explicit Impl(const Csr &pattern) : f(pattern), flops(f.c_.fl), lnz(f.c_.lnz) {
     const auto *perm = static_cast<const int64_t *>(f.L_->Perm);
     row_of.resize(static_cast<size_t>(f.n_));
     for (int64_t i = 0; i < f.n_; ++i) row_of[perm[i]] = i;  // CHOLMOD wants C(Perm, :)
+  }
+  // path[j]: the nonzeros of L in the columns from j up to the etree's root
+  // (a simplicial column's parent is its first row below the diagonal)
+  void find_paths() {
+    const auto *p = static_cast<const int64_t *>(W->p), *i = static_cast<const int64_t *>(W->i);
+    const auto *nz = static_cast<const int64_t *>(W->nz);
+    path.assign(static_cast<size_t>(f.n_), 0.0);
+    for (int64_t j = f.n_ - 1; j >= 0; --j)  // a parent comes after its child
+      path[j] = static_cast<double>(nz[j]) + (nz[j] > 1 ? path[i[p[j] + 1]] : 0.0);
   }
   ~Impl() { cholmod_l_free_factor(&W, &f.c_); }
   CholmodPattern f;
   cholmod_factor *W = nullptr;                     // the simplicial LDL^T (null: none valid)
   std::vector<int64_t> row_of;                     // a DOF's row in the permuted order
   std::vector<std::pair<int64_t, double>> column;  // scratch: one column, sorted
+  double flops, lnz;                               // of the factorization, from the analysis
+  std::vector<double> path;                        // see find_paths (empty: not yet)
 };
 
 UpdatableCholesky::UpdatableCholesky(const Csr &pattern, Counters *counters)
@@ -178,6 +189,21 @@ void UpdatableCholesky::factor(const Csr &T) {
     cholmod_l_free_factor(&m.W, &m.f.c_);
     fail_cholmod(status, "conversion to LDL^T");
   }
+  if (m.path.empty()) m.find_paths();  // the structure is the analysis': found once
+}
+
+double UpdatableCholesky::factor_cost() const { return std::max(50.0 * impl_->lnz, impl_->flops / 40.0); }
+
+double UpdatableCholesky::modify_cost(const SparseColumns &C) const {
+  const Impl &m = *impl_;
+  if (m.path.empty()) fail(ND_ERR_INTERNAL, "an update's cost asked before the first factorization");
+  double entries = 0;
+  for (int64_t j = 0; j < C.count(); ++j) {  // a column's path starts at its first row
+    int64_t first = m.f.n_;
+    for (int64_t e = C.ptr[j]; e < C.ptr[j + 1]; ++e) first = std::min(first, m.row_of[C.idx[e]]);
+    if (first < m.f.n_) entries += m.path[first];
+  }
+  return 0.7 * entries;
 }
 
 bool UpdatableCholesky::modify(bool add, const SparseColumns &C) {

@@ -16,8 +16,9 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // 2: the obstacle (gaps, work), the clamped load and the reactions; 3: the
 // applied contact term phi; 4: the tangent's history, and every vector that
 // may be absent in its full room, so that a problem's checkpoints have one
-// size (version 3 is still read)
-constexpr uint32_t kVersion = 4;
+// size; 5: the history's room grows with the contact points
+// (updown_max_updates), from 256 columns (versions 3 and 4 are still read)
+constexpr uint32_t kVersion = 5;
 
 class Writer {
  public:
@@ -116,9 +117,17 @@ uint64_t state_fingerprint(const Space &s, const Discretization &d) {
 }
 
 namespace {
-// the most values a TangentLog of n_contact points holds (tangent_solver.hpp)
-uint64_t log_indices(int64_t n_contact) { return static_cast<uint64_t>(1 + n_contact + 2 * kUpdownMaxUpdates); }
-uint64_t log_values(int64_t n_contact) { return static_cast<uint64_t>(n_contact + kUpdownMaxUpdates); }
+// the most values a TangentLog of n_contact points holds (tangent_solver.hpp);
+// version 4 gave every problem room for 256 updated columns
+int64_t log_updates(int64_t n_contact, uint32_t version) {
+  return version == 4 ? 256 : updown_max_updates(n_contact);
+}
+uint64_t log_indices(int64_t n_contact, uint32_t version) {
+  return static_cast<uint64_t>(1 + n_contact + 2 * log_updates(n_contact, version));
+}
+uint64_t log_values(int64_t n_contact, uint32_t version) {
+  return static_cast<uint64_t>(n_contact + log_updates(n_contact, version));
+}
 }  // namespace
 
 std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, const StateSizes &sizes) {
@@ -145,8 +154,8 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.value(s.W_obstacle);
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
-  payload.padded(s.tangent_log.i, log_indices(n_contact));
-  payload.padded(s.tangent_log.x, log_values(n_contact));
+  payload.padded(s.tangent_log.i, log_indices(n_contact, kVersion));
+  payload.padded(s.tangent_log.x, log_values(n_contact, kVersion));
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(kVersion);
@@ -171,8 +180,8 @@ Header read_header(Reader &r, const unsigned char *buf, int64_t nbytes) {
     fail(ND_ERR_FORMAT, "not a checkpoint of this library (bad magic number)");
   r.value<std::array<char, 8>>();
   const uint32_t version = r.value<uint32_t>();
-  if (version != kVersion && version != 3)
-    fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads versions 3 and " +
+  if (version < 3 || version > kVersion)
+    fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads versions 3 to " +
                             std::to_string(kVersion));
   r.value<uint32_t>();
   Header h;
@@ -249,8 +258,8 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.reaction = optional(sizes.n_clamped, "reactions");
   s.phi = optional(sizes.n_contact, "applied contact term");
   if (head.version >= 4) {
-    s.tangent_log.i = r.padded<int64_t>(log_indices(sizes.n_contact), "tangent history");
-    s.tangent_log.x = r.padded<double>(log_values(sizes.n_contact), "tangent history");
+    s.tangent_log.i = r.padded<int64_t>(log_indices(sizes.n_contact, head.version), "tangent history");
+    s.tangent_log.x = r.padded<double>(log_values(sizes.n_contact, head.version), "tangent history");
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }

@@ -67,16 +67,17 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
 // changed by rank updates and downdates as points enter and leave the active
 // set (solve/tangent_updown.cpp); refactored when the changes since its last
 // factorization outgrow a bound.
-// At most this many columns updated since the factorization (the bound of
-// a TangentLog: 1 + points + 2 kUpdownMaxUpdates indices, points +
-// kUpdownMaxUpdates coefficients).
-constexpr int64_t kUpdownMaxUpdates = 256;
+// At most this many columns updated since the factorization, for n_points
+// contact points: the room of a TangentLog in a checkpoint (1 + points + 2
+// of these indices, points + these coefficients). The updated factor
+// usually refactors earlier, by its cost model (solve/tangent_updown.cpp).
+int64_t updown_max_updates(int64_t n_points);
 std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor,
                                                    Counters *counters = nullptr);
 // Whether a history (from a checkpoint) has the form the updated factor
 // writes for n_points contact points: indices in range and increasing within
 // the base and each update, coefficients finite and positive, at most
-// kUpdownMaxUpdates columns updated.
+// updown_max_updates(n_points) columns updated.
 bool tangent_log_well_formed(const TangentLog &log, int64_t n_points);
 // Whether the updated factor serves this solver and tangent structure: the
 // symmetric tangent, with the library's choice of direct solver or CHOLMOD.

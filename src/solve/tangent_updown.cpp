@@ -13,9 +13,19 @@
 // since its last factorization: they are written to the state
 // (TangentLog) and replayed when the factor does not hold the history the
 // step starts from (a restored checkpoint, a step after a failed one, a new
-// time step size), so that every run is bitwise the uninterrupted one. The
-// history is bounded: past kMaxUpdates columns since the factorization, or
-// more than kMaxBatch changes at once, T is factored anew at the current set.
+// time step size), so that every run is bitwise the uninterrupted one.
+//
+// When to refactor instead: a batch of changes is applied by updates only
+// when they cost less than a factorization, and the updates since the last
+// factorization are bounded (by kReplayFactorizations factorizations' cost,
+// and by updown_max_updates columns), which bounds a replay's cost and the
+// history's room in a checkpoint. The costs are the factor's model
+// (UpdatableCholesky::factor_cost, modify_cost): functions of the
+// structure, not timings, so the choice is the same in every run. A fixed
+// count of columns did not fit every mesh: 128 columns at once were a
+// factorization's cost on ball_h4, but on ball_h1 an update costs 1/650 of a
+// factorization, and its impact changes more than 128 points per Newton
+// iteration, so that each iteration refactored (90 solves).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -29,13 +39,12 @@
 namespace nd {
 namespace {
 
-// Measured on ball_h4 P1 (n = 2,097, one BLAS thread): a simplicial
-// factorization of T costs 190 solves with A's factor, an update or downdate
-// 0.5-0.6 per column. So 256 columns since the factorization cost about as
-// much as one more factorization, the bound of a replay's cost (at most two
-// factorizations) and of the history's size in a checkpoint.
-constexpr int64_t kMaxUpdates = kUpdownMaxUpdates;
-constexpr int64_t kMaxBatch = kMaxUpdates / 2;
+// Updates since the factorization cost at most this many factorizations:
+// a replay (a restart, a retried step) costs at most one more than that.
+// Measured on ball_h2 P1 (a factorization: 225 updated columns), a bound of
+// one refactored three times within the bounce, each time a whole
+// factorization for nothing: the set changes by 30-50 points per step.
+constexpr double kReplayFactorizations = 8;
 
 class UpdownTangent : public TangentSolver {
  public:
@@ -97,25 +106,29 @@ class UpdownTangent : public TangentSolver {
     log_.x.swap(base.x);
     d_ = d;
     updates_ = 0;
+    spent_ = 0;
     synced_ = true;
   }
-  // one rank update (add) or downdate of the columns sqrt(c_j) p_{q_j}
-  bool modify(const ContactPoints &cp, bool add, const std::vector<int64_t> &q, const std::vector<double> &c) {
-    C_.ptr.assign(1, 0);
-    C_.idx.clear();
-    C_.val.clear();
+  // the columns sqrt(c_j) p_{q_j} of a rank update or downdate
+  static void columns(const ContactPoints &cp, const std::vector<int64_t> &q, const std::vector<double> &c,
+                      SparseColumns &C) {
+    C.ptr.assign(1, 0);
+    C.idx.clear();
+    C.val.clear();
     for (size_t j = 0; j < q.size(); ++j) {
       const SparseRow &a = cp.a[q[j]], &s = cp.s[q[j]];
       const double r = std::sqrt(c[j]), g = cp.gamma[q[j]];
       for (size_t e = 0; e < a.idx.size(); ++e) {
-        C_.idx.push_back(a.idx[e]);
-        C_.val.push_back(r * (a.val[e] - g * s.val[e]));
+        C.idx.push_back(a.idx[e]);
+        C.val.push_back(r * (a.val[e] - g * s.val[e]));
       }
-      C_.ptr.push_back(static_cast<int64_t>(C_.idx.size()));
+      C.ptr.push_back(static_cast<int64_t>(C.idx.size()));
     }
+  }
+  bool modify(bool add, const SparseColumns &C) {
     count(counters_, &Counters::tangent_updates);
-    updates_ += static_cast<int64_t>(q.size());
-    return factor_->modify(add, C_);
+    updates_ += C.count();
+    return factor_->modify(add, C);
   }
   // from the factor's set to d: updates first (T stays further from
   // singular on the way), then downdates; each recorded
@@ -128,7 +141,12 @@ class UpdownTangent : public TangentSolver {
     }
     const int64_t changes = static_cast<int64_t>(up_q_.size() + down_q_.size());
     if (changes == 0) return;
-    if (changes > kMaxBatch || updates_ + changes > kMaxUpdates) {
+    columns(cp, up_q_, up_c_, up_C_);
+    columns(cp, down_q_, down_c_, down_C_);
+    const double up_cost = factor_->modify_cost(up_C_), down_cost = factor_->modify_cost(down_C_);
+    const double cost = up_cost + down_cost, factorization = factor_->factor_cost();
+    if (cost > factorization || spent_ + cost > kReplayFactorizations * factorization ||
+        updates_ + changes > updown_max_updates(static_cast<int64_t>(cp.size()))) {
       factor_at(cp, d);
       return;
     }
@@ -138,13 +156,14 @@ class UpdownTangent : public TangentSolver {
       const std::vector<int64_t> &q = add ? up_q_ : down_q_;
       const std::vector<double> &c = add ? up_c_ : down_c_;
       if (q.empty()) continue;
-      if (!modify(cp, add, q, c)) {  // a pivot lost to round-off: factor anew
+      if (!modify(add, add ? up_C_ : down_C_)) {  // a pivot lost to round-off: factor anew
         factor_at(cp, d);
         return;
       }
       log_.i.push_back(add ? static_cast<int64_t>(q.size()) : -static_cast<int64_t>(q.size()));
       log_.i.insert(log_.i.end(), q.begin(), q.end());
       log_.x.insert(log_.x.end(), c.begin(), c.end());
+      spent_ += add ? up_cost : down_cost;  // as a replay adds them
     }
     d_ = d;
     synced_ = true;
@@ -171,7 +190,9 @@ class UpdownTangent : public TangentSolver {
       c.assign(history.x.begin() + xat, history.x.begin() + xat + count);
       at += count, xat += count;
       for (size_t j = 0; j < count; ++j) d[q[j]] += m > 0 ? c[j] : -c[j];
-      if (!modify(cp, m > 0, q, c)) {  // not the factor that was recorded (another A): start anew
+      columns(cp, q, c, up_C_);
+      spent_ += factor_->modify_cost(up_C_);
+      if (!modify(m > 0, up_C_)) {  // not the factor that was recorded (another A): start anew
         factor_at(cp, d);
         return;
       }
@@ -190,9 +211,10 @@ class UpdownTangent : public TangentSolver {
   bool synced_ = false;     // the factor holds log_
   std::vector<double> d_;   // the coefficients the factor holds, per point
   int64_t updates_ = 0;     // columns updated since the factorization
+  double spent_ = 0;        // their cost (UpdatableCholesky::modify_cost)
   std::vector<double> d_new_, up_c_, down_c_;
   std::vector<int64_t> up_q_, down_q_;
-  SparseColumns C_;
+  SparseColumns up_C_, down_C_;
 };
 
 }  // namespace
@@ -217,20 +239,22 @@ bool tangent_log_well_formed(const TangentLog &log, int64_t n_points) {
   const std::vector<double> &x = log.x;
   if (i.empty()) return x.empty();
   const int64_t ni = static_cast<int64_t>(i.size()), nx = static_cast<int64_t>(x.size());
-  const int64_t nb = i[0];
+  const int64_t nb = i[0], max_updates = updown_max_updates(n_points);
   if (nb < 0 || nb > n_points || nb > ni - 1 || nb > nx) return false;
   if (!increasing_points(i.data() + 1, x.data(), nb, n_points)) return false;
   int64_t at = 1 + nb, xat = nb, updated = 0;
   while (at < ni) {
     const int64_t v = i[at++];
-    if (v == 0 || v < -kUpdownMaxUpdates || v > kUpdownMaxUpdates) return false;
+    if (v == 0 || v < -max_updates || v > max_updates) return false;
     const int64_t m = v > 0 ? v : -v;
-    if (m > ni - at || m > nx - xat || m > kUpdownMaxUpdates - updated) return false;
+    if (m > ni - at || m > nx - xat || m > max_updates - updated) return false;
     if (!increasing_points(i.data() + at, x.data() + xat, m, n_points)) return false;
     at += m, xat += m, updated += m;
   }
   return xat == nx;
 }
+
+int64_t updown_max_updates(int64_t n_points) { return std::clamp<int64_t>(4 * n_points, 256, 2048); }
 
 bool updown_tangent_applies(int solver, Structure structure) {
   return structure == Structure::SymmetricPositiveDefinite && (solver == ND_SOLVER_AUTO || solver == ND_SOLVER_CHOLMOD);
