@@ -18,6 +18,7 @@
 
 #include "assembly/bulk.hpp"
 #include "linalg/factorization.hpp"
+#include "linalg/pcg.hpp"
 #include "linalg/updatable_cholesky.hpp"
 #include "testutil.h"
 #include "unit_fixtures.hpp"
@@ -355,6 +356,40 @@ START_TEST(updatable_cholesky_updates_and_costs) {
 }
 END_TEST
 
+// Conjugate gradients on the mass matrix (P1 and P2): a random right-hand
+// side solved to the factored answer's round-off within a few dozen
+// iterations; and an honest failure where the method does not apply (a
+// non-positive diagonal; the singular stiffness of a free body, on which the
+// residual stagnates), for the caller to factor instead.
+START_TEST(conjugate_gradients_on_the_mass_matrix) {
+  for (int degree = 1; degree <= 2; ++degree) {
+    nd::Space sp(ndtest::irregular_rectangle(30), degree);
+    nd::DofMap dofs(sp, {});
+    const nd::BulkOperators ops = nd::assemble_bulk(sp, dofs, nd::Material{50, 0.25, 1});
+    std::vector<double> x(static_cast<size_t>(ops.M.n)), y;
+    for (size_t i = 0; i < x.size(); ++i) x[i] = std::sin(1.3 * static_cast<double>(i)) + 0.2;
+    y = x;
+    const nd::PcgResult r = nd::pcg_jacobi(ops.M, x.data(), 1e-15, 300);
+    ck_assert_msg(r.converged && r.residual <= 1e-15, "P%d: %d iterations, residual %g", degree, r.iterations,
+                  r.residual);
+    ck_assert_int_le(r.iterations, 100);
+    auto f = nd::make_factorization(ND_SOLVER_CHOLMOD, ops.M, Structure::SymmetricPositiveDefinite);
+    f->factor(ops.M, Structure::SymmetricPositiveDefinite);
+    f->solve(y.data());
+    ck_assert_msg(rel_diff(x, y) <= 1e-13, "P%d: %g from the factored solve", degree, rel_diff(x, y));
+    std::printf("unit_linalg: mass matrix P%d, n = %lld: %d CG iterations, %.2g from the factored solve\n", degree,
+                static_cast<long long>(ops.M.n), r.iterations, rel_diff(x, y));
+
+    std::vector<double> z(x.size(), 1.0);
+    nd::Csr bad = ops.M;
+    bad.val[bad.find(3, 3)] = -1;
+    ck_assert(!nd::pcg_jacobi(bad, z.data(), 1e-15, 300).converged);
+    for (size_t i = 0; i < z.size(); ++i) z[i] = std::cos(0.7 * static_cast<double>(i));
+    ck_assert(!nd::pcg_jacobi(ops.K, z.data(), 1e-15, 300).converged);  // K has the rigid motions as kernel
+  }
+}
+END_TEST
+
 int main(int argc, char **argv) {
   Suite *s = suite_create("linalg");
   TCase *tc = tcase_create("factorization");
@@ -366,6 +401,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, every_backend_reports_indefinite);
     tcase_add_test(tc, every_backend_solves_nonsymmetric);
     tcase_add_test(tc, updatable_cholesky_updates_and_costs);
+    tcase_add_test(tc, conjugate_gradients_on_the_mass_matrix);
   }
   tcase_add_test(tc, petsc_ids_are_refused_or_solve);
 #ifdef ND_HAVE_PETSC

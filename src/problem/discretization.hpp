@@ -44,10 +44,15 @@ struct Discretization {
   Counters *counters = nullptr;             // the problem's (ND_STAT_*)
   DofGeometry geometry;                     // node coordinates and component of each free DOF (for AMG)
 
-  // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others)
-  void mass_solve(double *x, int solver);
+  // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others).
+  // once: the caller expects no more solves with M (the initial acceleration
+  // of an implicit scheme); then, with the library's choice of solver and
+  // no factor yet, a large M is solved by conjugate gradients (linalg/pcg.hpp)
+  // instead of being factored and its factor kept.
+  void mass_solve(double *x, int solver, bool once = false);
   // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
-  void equilibrium_acceleration(State &s, int solver);
+  // (once: as in mass_solve)
+  void equilibrium_acceleration(State &s, int solver, bool once = true);
 };
 
 // The automatic gamma0: this fraction of gamma0*/max(Theta, 1).

@@ -110,7 +110,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
     if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.F, next.gap, next.t, next.U);
-    d.equilibrium_acceleration(next, def.solver);
+    d.equilibrium_acceleration(next, def.solver, false);  // every step: M factored once, kept
   } else {
     std::vector<double> r;
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);

@@ -321,7 +321,8 @@ void Problem::prepare() {
   initial_guarded_ = true;  // checked once, not again at every step
   setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
-  if (in.scheme->uses_acceleration() && !state_.A_valid) d.equilibrium_acceleration(state_, def_.solver);
+  if (in.scheme->uses_acceleration() && !state_.A_valid)
+    d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit());
   // the products the first step's right-hand side reads (each step leaves its own)
   if (state_.products.of != d.id) compute_products(d, state_);
 }
