@@ -124,6 +124,8 @@ class Cholmod : public Factorization {
   void solve(double *x) const override { f_.solve(x); }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "cholmod"; }
+  // the numeric factor (null before the first factorization)
+  const cholmod_factor *numeric() const { return def_ == Definiteness::PositiveDefinite ? f_.L_ : nullptr; }
 
  private:
   CholmodPattern f_;
@@ -191,6 +193,28 @@ void UpdatableCholesky::factor(const Csr &T) {
   }
   if (m.path.empty()) m.find_paths();  // the structure is the analysis': found once
 }
+
+bool UpdatableCholesky::start_from(const Factorization &A_factor) {
+  Impl &m = *impl_;
+  const auto *c = dynamic_cast<const Cholmod *>(&A_factor.backend());
+  const cholmod_factor *L = c ? c->numeric() : nullptr;
+  if (!L || static_cast<int64_t>(L->n) != m.f.n_) return false;
+  const auto *perm = static_cast<const int64_t *>(L->Perm), *ours = static_cast<const int64_t *>(m.f.L_->Perm);
+  if (!std::equal(perm, perm + m.f.n_, ours)) return false;  // another analysis: its rows are not ours
+  cholmod_factor *W = cholmod_l_copy_factor(const_cast<cholmod_factor *>(L), &m.f.c_);
+  if (!W) fail_cholmod(m.f.c_.status, "factor copy");
+  if (!cholmod_l_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, W, &m.f.c_)) {
+    const int status = m.f.c_.status;
+    cholmod_l_free_factor(&W, &m.f.c_);
+    fail_cholmod(status, "conversion to LDL^T");
+  }
+  cholmod_l_free_factor(&m.W, &m.f.c_);
+  m.W = W;
+  if (m.path.empty()) m.find_paths();
+  return true;
+}
+
+bool UpdatableCholesky::has_costs() const { return !impl_->path.empty(); }
 
 double UpdatableCholesky::factor_cost() const { return std::max(50.0 * impl_->lnz, impl_->flops / 40.0); }
 

@@ -82,6 +82,7 @@ class Counted : public Factorization {
   }
   Definiteness definiteness() const override { return f_->definiteness(); }
   const char *name() const override { return f_->name(); }
+  const Factorization &backend() const override { return f_->backend(); }
 
  private:
   std::unique_ptr<Factorization> f_;

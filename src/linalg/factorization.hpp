@@ -26,6 +26,9 @@ class Factorization {
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
+  // the backend's own object under any wrapper (its counters): for code that
+  // reads a backend's factor (UpdatableCholesky::start_from)
+  virtual const Factorization &backend() const { return *this; }
 };
 
 // Where the unknowns sit: for each unknown (free DOF) its node's coordinates

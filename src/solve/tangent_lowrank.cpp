@@ -75,9 +75,10 @@ class LowRankTangent : public TangentSolver {
                         : make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_, geometry_);
         fallback_->begin_step(committed_);
       }
-      const int64_t before = fallback_->stats.refactorizations;
+      const TangentStats before = fallback_->stats;
       fallback_->solve(law, kappa, U, true, x);
-      stats.refactorizations += fallback_->stats.refactorizations - before;
+      stats.refactorizations += fallback_->stats.refactorizations - before.refactorizations;
+      stats.restarts += fallback_->stats.restarts - before.restarts;
       return;
     }
     ++stats.lowrank;

@@ -22,6 +22,7 @@ namespace nd {
 struct TangentStats {
   int64_t calls = 0;             // solve() calls
   int64_t refactorizations = 0;  // numeric factorizations of T
+  int64_t restarts = 0;          // T rebuilt from A's factor by updates (the updated factor)
   int64_t lowrank = 0;           // calls solved by the Woodbury update (k >= 1)
   int64_t columns = 0;           // columns Z_q = A^{-1} b_q computed (each one solve with A's factor)
   int64_t max_rank = 0;          // the largest k seen
@@ -72,8 +73,10 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
 // of these indices, points + these coefficients). The updated factor
 // usually refactors earlier, by its cost model (solve/tangent_updown.cpp).
 int64_t updown_max_updates(int64_t n_points);
+// factor_weight scales the cost model's price of a factorization (tests: a
+// tiny weight refactors at every change, a huge one only updates).
 std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor,
-                                                   Counters *counters = nullptr);
+                                                   Counters *counters = nullptr, double factor_weight = 1.0);
 // Whether a history (from a checkpoint) has the form the updated factor
 // writes for n_points contact points: indices in range and increasing within
 // the base and each update, coefficients finite and positive, at most

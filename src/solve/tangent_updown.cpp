@@ -48,8 +48,8 @@ constexpr double kReplayFactorizations = 8;
 
 class UpdownTangent : public TangentSolver {
  public:
-  UpdownTangent(const Csr &A, const Factorization &A_factor, Counters *counters)
-      : A_(A), A_factor_(A_factor), counters_(counters), T_(A) {}
+  UpdownTangent(const Csr &A, const Factorization &A_factor, Counters *counters, double factor_weight)
+      : A_(A), A_factor_(A_factor), counters_(counters), factor_weight_(factor_weight), T_(A) {}
 
   void begin_step(const TangentLog &committed) override {
     if (committed == log_) return;
@@ -86,22 +86,37 @@ class UpdownTangent : public TangentSolver {
   const char *name() const override { return "updown"; }
 
  private:
-  // the factor of A + sum_q d_q p_q p_q^T, and the history that starts there
+  // the factor of A + sum_q d_q p_q p_q^T, and the history that starts
+  // there: A's own factor updated by the set's columns where they cost
+  // less than a factorization of T (a first contact, a small set), else T
+  // factored. The choice reads the cost model only, so a replay makes it
+  // the same way.
   void factor_at(const ContactPoints &cp, const std::vector<double> &d) {
-    synced_ = false;  // until the factorization succeeds
-    T_.val = A_.val;  // same size: no allocation
+    synced_ = false;  // until the factor holds the new base
     TangentLog base;
     base.i.assign(1, 0);
-    for (size_t q = 0; q < d.size(); ++q) {
-      if (d[q] == 0) continue;
-      add_point_tangent(cp, 1.0, q, d[q], T_);
-      base.i.push_back(static_cast<int64_t>(q));
-      base.x.push_back(d[q]);
-    }
+    for (size_t q = 0; q < d.size(); ++q)
+      if (d[q] != 0) base.i.push_back(static_cast<int64_t>(q)), base.x.push_back(d[q]);
     base.i[0] = static_cast<int64_t>(base.x.size());
-    count(counters_, &Counters::tangent_updates);
-    factor_->factor(T_);
-    ++stats.refactorizations;
+    base_q_.assign(base.i.begin() + 1, base.i.end());
+    columns(cp, base_q_, base.x, up_C_);
+    const bool cheap = !factor_->has_costs() || factor_->modify_cost(up_C_) <= factorization_cost();
+    bool updated = cheap && factor_->start_from(A_factor_);
+    if (updated && factor_->modify_cost(up_C_) > factorization_cost()) updated = false;  // (costs known now)
+    if (updated && up_C_.count() > 0) {
+      count(counters_, &Counters::tangent_updates);
+      updated = factor_->modify(true, up_C_);  // false: a pivot lost to round-off, T factored instead
+    }
+    if (updated) {
+      ++stats.restarts;
+    } else {
+      T_.val = A_.val;  // same size: no allocation
+      for (size_t j = 0; j < base_q_.size(); ++j)
+        add_point_tangent(cp, 1.0, static_cast<size_t>(base_q_[j]), base.x[j], T_);
+      count(counters_, &Counters::tangent_updates);
+      factor_->factor(T_);
+      ++stats.refactorizations;
+    }
     log_.i.swap(base.i);
     log_.x.swap(base.x);
     d_ = d;
@@ -109,6 +124,7 @@ class UpdownTangent : public TangentSolver {
     spent_ = 0;
     synced_ = true;
   }
+  double factorization_cost() const { return factor_weight_ * factor_->factor_cost(); }
   // the columns sqrt(c_j) p_{q_j} of a rank update or downdate
   static void columns(const ContactPoints &cp, const std::vector<int64_t> &q, const std::vector<double> &c,
                       SparseColumns &C) {
@@ -144,7 +160,7 @@ class UpdownTangent : public TangentSolver {
     columns(cp, up_q_, up_c_, up_C_);
     columns(cp, down_q_, down_c_, down_C_);
     const double up_cost = factor_->modify_cost(up_C_), down_cost = factor_->modify_cost(down_C_);
-    const double cost = up_cost + down_cost, factorization = factor_->factor_cost();
+    const double cost = up_cost + down_cost, factorization = factorization_cost();
     if (cost > factorization || spent_ + cost > kReplayFactorizations * factorization ||
         updates_ + changes > updown_max_updates(static_cast<int64_t>(cp.size()))) {
       factor_at(cp, d);
@@ -205,6 +221,7 @@ class UpdownTangent : public TangentSolver {
   const Csr &A_;
   const Factorization &A_factor_;
   Counters *counters_;
+  double factor_weight_;  // the price of a factorization, times the model's
   Csr T_;
   std::unique_ptr<UpdatableCholesky> factor_;
   TangentLog log_;          // the factor's history (or, !synced_, the one to replay)
@@ -213,14 +230,15 @@ class UpdownTangent : public TangentSolver {
   int64_t updates_ = 0;     // columns updated since the factorization
   double spent_ = 0;        // their cost (UpdatableCholesky::modify_cost)
   std::vector<double> d_new_, up_c_, down_c_;
-  std::vector<int64_t> up_q_, down_q_;
+  std::vector<int64_t> up_q_, down_q_, base_q_;
   SparseColumns up_C_, down_C_;
 };
 
 }  // namespace
 
-std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor, Counters *counters) {
-  return std::make_unique<UpdownTangent>(A, A_factor, counters);
+std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor, Counters *counters,
+                                                   double factor_weight) {
+  return std::make_unique<UpdownTangent>(A, A_factor, counters, factor_weight);
 }
 
 namespace {
