@@ -20,18 +20,23 @@ enum { N_BACKENDS = sizeof backends / sizeof backends[0] };
    with gamma0 E = 0.1 K_Theta (Theta = 1, P2) is indefinite and the free
    flight grows exponentially (x1.3 per step), amplifying any round-off
    difference between backends to 1e-10 in 60 steps (DESIGN §7). */
+static nd_problem block_2d_cells(int64_t nx, int64_t ny, int degree, int scheme, const double *params,
+                                 double theta, double gamma0, double tau);
 static nd_problem block_2d_gamma0(int degree, int scheme, const double *params, double theta, double gamma0,
-                                  double tau);
+                                  double tau) {
+  return block_2d_cells(4, 2, degree, scheme, params, theta, gamma0, tau);
+}
 static nd_problem block_2d(int degree, int scheme, const double *params, double theta) {
   return block_2d_gamma0(degree, scheme, params, theta, 0.0005, 0.02);
 }
-static nd_problem block_2d_gamma0(int degree, int scheme, const double *params, double theta, double gamma0,
-                                  double tau) {
+/* (the same block on nx x ny cells) */
+static nd_problem block_2d_cells(int64_t nx, int64_t ny, int degree, int scheme, const double *params,
+                                 double theta, double gamma0, double tau) {
   nd_mesh m = NULL;
   nd_problem p = NULL;
   const double lo[2] = {0, 0.1}, hi[2] = {2, 1.1}, blo[2] = {-1, 0}, bhi[2] = {3, 0.1};
   const double origin[2] = {0, 0}, up[2] = {0, 1}, g[2] = {0, -0.5};
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 2, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(nx, ny, lo, hi, &m));
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
   ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
@@ -141,20 +146,7 @@ START_TEST(initial_acceleration_by_conjugate_gradients) {
   double *acc[2] = {NULL, NULL}, *u[2] = {NULL, NULL}, factorizations[2] = {0, 0};
   int64_t n = 0;
   for (int b = 0; b < 2; ++b) {
-    nd_mesh m = NULL;
-    nd_problem p = NULL;
-    const double lo[2] = {0, 0.1}, hi[2] = {2, 1.1}, blo[2] = {-1, 0}, bhi[2] = {3, 0.1};
-    const double origin[2] = {0, 0}, up[2] = {0, 1}, g[2] = {0, -0.5};
-    ND_OK_OR_FAIL(nd_mesh_create_rectangle(48, 24, lo, hi, &m)); /* 2,450 unknowns */
-    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
-    ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
-    ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-    ND_OK_OR_FAIL(nd_problem_set_material(p, 20.0, 0.3, 1.0));
-    ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
-    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, origin, up));
-    ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 0.0005));
-    ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, nm));
-    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.02));
+    nd_problem p = block_2d_cells(48, 24, 1, ND_SCHEME_NEWMARK, nm, 1.0, 0.0005, 0.02); /* 2,450 unknowns */
     ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, b == 0 ? ND_SOLVER_CHOLMOD : ND_SOLVER_AUTO));
     ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
     double *x = malloc(sizeof(double) * (size_t)(2 * n)), *u0 = malloc(sizeof(double) * (size_t)(2 * n)),
