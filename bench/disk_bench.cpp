@@ -5,7 +5,7 @@
 // no contact before or after; impact: the first step with contact; contact:
 // contact before and after), Newton iterations, the physical floor of a step
 // (one solve with the cached factor of c M + K_Theta, timed in the same run)
-// and each median as a ratio to it, nnz(L) of CHOLMOD's AMD analysis of A
+// and each median as a ratio to it, nnz(L) of CHOLMOD's analysis of A
 // (what the library's CHOLMOD backend computes), peak memory (RSS high-water
 // mark). With HISTORY, writes t, E, contact force, Newton iterations and the
 // step's time per step, to compare with another code (bench/getfem_drop.py).
@@ -14,7 +14,6 @@
 // ND_BENCH_BLAS_LIMIT=N in the environment: nd_set_blas_threads(N) first (the
 // column blas_threads then reads "unlimited" for 0 without OPENBLAS_NUM_THREADS).
 #include <sys/resource.h>
-#include <cholmod.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +21,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"
+#include "linalg/backends.hpp"
 #include "linalg/blas_threads.hpp"
 #include "drop_scene.h"
 #include "timing.hpp"
@@ -37,27 +37,14 @@ const char *kHeader =
     "newton_per_contact_step,contact_per_newton_ms,free_over_floor,impact_over_floor,contact_over_floor,"
     "contact_per_newton_over_floor,peak_rss_mb";
 
-// nnz(L) of CHOLMOD's analysis of A's pattern with one AMD ordering, as the
-// library's backend does (src/linalg/cholmod.cpp); 0 if the analysis fails.
+// nnz(L) of the library's CHOLMOD analysis of A's pattern (its ordering);
+// 0 if the analysis fails.
 long long nnz_L(const nd::Csr &A) {
-  cholmod_common c;
-  cholmod_l_start(&c);
-  c.print = 0;
-  c.nmethods = 1;
-  c.method[0].ordering = CHOLMOD_AMD;
-  c.postorder = 1;
-  long long lnz = 0;
-  cholmod_sparse *S = cholmod_l_allocate_sparse(A.n, A.n, A.col.size(), 1, 1, 1, CHOLMOD_PATTERN, &c);
-  if (S) {
-    std::memcpy(S->p, A.ptr.data(), sizeof(int64_t) * A.ptr.size());
-    std::memcpy(S->i, A.col.data(), sizeof(int64_t) * A.col.size());
-    cholmod_factor *L = cholmod_l_analyze(S, &c);
-    if (L) lnz = static_cast<long long>(c.lnz);
-    cholmod_l_free_factor(&L, &c);
+  try {
+    return static_cast<long long>(nd::cholmod_factor_nonzeros(A));
+  } catch (const nd::Error &) {
+    return 0;
   }
-  cholmod_l_free_sparse(&S, &c);
-  cholmod_l_finish(&c);
-  return lnz;
 }
 
 double get(nd_problem p, int key) {

@@ -12,7 +12,7 @@
 set -e
 need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev check binutils valgrind mandoc man-db gfortran python3-numpy libtomlplusplus-dev libcli11-dev"
+pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev libmetis-dev check binutils valgrind mandoc man-db gfortran python3-numpy libtomlplusplus-dev libcli11-dev"
 [ "${1:-}" = report ] && pkgs="$pkgs python3 python3-matplotlib python3-getfem"
 [ "${1:-}" = meshes ] && pkgs="$pkgs gmsh"
 [ "${1:-}" = bench ] && pkgs="$pkgs python3 python3-numpy python3-getfem gmsh"

@@ -14,7 +14,9 @@
 // SuiteSparse's (CHOLMOD, UMFPACK, KLU allocate through SuiteSparse_config).
 // Not covered: malloc calls of LAPACK/OpenBLAS (its buffers are allocated
 // when the library loads; dense and banded factorizations of the sizes here
-// allocate nothing in LAPACK itself) and of libc (stdio, locale).
+// allocate nothing in LAPACK itself), of METIS (its failure is its return
+// code, which linalg/nested_dissection.cpp turns into ND_ERR_NOMEM) and of
+// libc (stdio, locale).
 #include <SuiteSparse_config.h>
 
 #include <cstdio>

@@ -9,6 +9,8 @@ namespace nd {
 std::unique_ptr<Factorization> make_dense_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_banded_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &pattern);
+// nnz(L) of the CHOLMOD backend's analysis of the pattern (its ordering), for reports
+double cholmod_factor_nonzeros(const Csr &pattern);
 std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_klu_factorization(const Csr &pattern);
 #ifdef ND_HAVE_PETSC

@@ -14,6 +14,7 @@
 
 #include "common/error.hpp"
 #include "linalg/backends.hpp"
+#include "linalg/ordering.hpp"
 #include "linalg/suitesparse.hpp"
 #include "linalg/updatable_cholesky.hpp"
 #include "nitschedyn.h"
@@ -38,18 +39,24 @@ class CholmodPattern {
   explicit CholmodPattern(const Csr &pattern) : n_(pattern.n) {
     cholmod_l_start(&c_);
     c_.print = 0;  // the library never prints
-    // One ordering, AMD. By default CHOLMOD tries several (AMD, then METIS
-    // when AMD's fill is high) and silently skips one that runs out of
-    // memory: the factorization, and the results in their last bits, then
-    // depended on the memory available. Now running out of memory is an error.
+    // One ordering: METIS's nested dissection (linalg/ordering.hpp), given
+    // to CHOLMOD, else AMD. By default CHOLMOD tries several (AMD, then
+    // METIS when AMD's fill is high) and silently skips one that runs out
+    // of memory: the factorization, and the results in their last bits,
+    // then depended on the memory available. Now running out of memory is
+    // an error, and the ordering depends on the pattern alone. Against AMD,
+    // measured on the bench meshes: nnz(L) 7-26% and the factorization's
+    // flops 25-51% lower (disk P2 h=1 and h=0.5, ball P1 h=4 and h=2, ball
+    // P2 h=4; the largest gains in 3D).
+    std::vector<int64_t> perm = nested_dissection(pattern);
     c_.nmethods = 1;
-    c_.method[0].ordering = CHOLMOD_AMD;
+    c_.method[0].ordering = perm.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
     c_.postorder = 1;
     A_ = cholmod_l_allocate_sparse(n_, n_, pattern.col.size(), 1, 1, 1, CHOLMOD_REAL, &c_);
     if (A_) {
       std::memcpy(A_->p, pattern.ptr.data(), sizeof(int64_t) * pattern.ptr.size());
       std::memcpy(A_->i, pattern.col.data(), sizeof(int64_t) * pattern.col.size());
-      L_ = cholmod_l_analyze(A_, &c_);
+      L_ = cholmod_l_analyze_p(A_, perm.empty() ? nullptr : perm.data(), nullptr, 0, &c_);
     }
     if (!L_) {  // a constructor that throws runs no destructor: release here
       const int status = c_.status;
@@ -135,6 +142,11 @@ class Cholmod : public Factorization {
 }  // namespace
 
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &p) { return std::make_unique<Cholmod>(p); }
+
+double cholmod_factor_nonzeros(const Csr &pattern) {
+  CholmodPattern f(pattern);
+  return f.c_.lnz;
+}
 
 // ---- the updatable factor ------------------------------------------------------
 
