@@ -25,11 +25,15 @@ else
   report=report/PERFORMANCE.md
   # the whole bounce (T = 32) where GetFEM's run stays short; T = 12 (the
   # impact at t = 10 and 2 time units of contact) or 11 on the biggest meshes.
-  # Not here: ball_h2 P2 and ball_h1. Our ball_h1 P1 run to T = 11 (84,066
-  # unknowns, nnz(L) = 1.28e8, one BLAS thread, 2026-11-25) took 15 min and
-  # 5.5 GB: floor 152 ms, free flight 1.38 floors, contact steps 42 s (3.2
-  # Newton iterations, 90 floors each: more than 128 points change per step,
-  # so the updated factor refactors at each iteration); GetFEM's would be longer.
+  # Not here: ball_h2 P2 and ball_h1 (GetFEM's runs would take hours). Our
+  # ball_h1 P1 (84,066 unknowns, one BLAS thread, 2026-11-25) to T = 10.5,
+  # the impact and 9 contact steps: with AMD and refactors past 128 changes,
+  # nnz(L) = 1.28e8, floor 111 ms, contact steps 42 s (3.1 Newton iterations
+  # at 90-99 floors each), 5.5 GB, 15 min to T = 11. With METIS's ordering,
+  # the cost-model updates, the restart from A's factor and the CG mass solve
+  # (14:05 UTC, the machine half busy): nnz(L) = 7.2e7, floor 79 ms, first
+  # step 10.5 s, free flight 1.24 floors, impact 3.0 s, contact steps 9.2 s
+  # (3.1 iterations at 39 floors), 117 s in all, 2.55 GB.
   plan="disk_h4:2:1:32 disk_h4:2:2:32 disk_h2:2:1:32 disk_h2:2:2:32 disk_h1:2:1:32 disk_h1:2:2:32
         disk_h0.5:2:1:12 disk_h0.5:2:2:11 ball_h4:3:1:32 ball_h4:3:2:11 ball_h2:3:1:11"
 fi

@@ -25,7 +25,7 @@
 // count of columns did not fit every mesh: 128 columns at once were a
 // factorization's cost on ball_h4, but on ball_h1 an update costs 1/650 of a
 // factorization, and its impact changes more than 128 points per Newton
-// iteration, so that each iteration refactored (90 solves).
+// iteration, so that each iteration refactored.
 #include <algorithm>
 #include <cmath>
 #include <string>
