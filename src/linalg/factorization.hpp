@@ -35,12 +35,15 @@ class Factorization {
 // and its component. Algebraic multigrid (ND_SOLVER_PETSC_GAMG) builds the
 // rigid-body modes from it (its near-null space); the direct solvers ignore it.
 // comm: the ranks that solve together (the PETSc backends distribute their
-// rows over them; the others solve the whole system on every rank).
+// rows over them; the others solve the whole system on every rank);
+// [row_begin, row_end): the rows this rank owns, the free DOFs of its nodes
+// (parallel/ownership.hpp; row_end < 0: an even split of the rows).
 struct DofGeometry {
   int dim = 0;
   std::vector<double> x;         // dim per unknown
   std::vector<int> component;    // 0 .. dim-1 per unknown
   CommunicatorPtr comm;          // null: this process alone
+  int64_t row_begin = 0, row_end = -1;
 };
 
 // solver: an ND_SOLVER_* value; s: the structure of the matrices it will

@@ -17,7 +17,8 @@
 // Distribution (issue 15, slice 2): the DofGeometry's communicator (none:
 // PETSC_COMM_SELF's MPI_COMM_SELF) holds the ranks that solve together. Every
 // rank has the whole matrix and right-hand side (the mesh and the state are
-// replicated); the rows are split in contiguous blocks of whole nodes (Layout),
+// replicated); each rank owns the rows of its nodes' free DOFs (Layout;
+// parallel/ownership.hpp: contiguous blocks of whole nodes),
 // each rank puts its own rows in the MATMPIAIJ and the VecMPI, the solve is
 // PETSc's over all ranks, and the solution is gathered to every rank
 // (VecScatterCreateToAll), so that solve(double *) keeps its meaning: the whole
@@ -197,8 +198,9 @@ PetscInt petsc_int(int64_t v, const char *what) {
   return static_cast<PetscInt>(v);
 }
 
-// Which rows this rank owns: [begin, end) of n, contiguous blocks of whole
-// nodes (block_size rows each) dealt out as evenly as the count allows.
+// Which rows this rank owns: [begin, end) of n, the free DOFs of the nodes it
+// owns when the geometry says (DofGeometry::row_begin, row_end), else
+// contiguous blocks of block_size rows dealt out as evenly as the count allows.
 struct Layout {
   MPI_Comm comm = MPI_COMM_SELF;
   int size = 1;
@@ -213,6 +215,14 @@ Layout make_layout(const DofGeometry *g, int64_t n, PetscInt block_size) {
   L.size = communicator_size(c);
   const int rank = communicator_rank(c);
   L.n = petsc_int(n, "rows");
+  if (g && g->row_end >= 0 && static_cast<int64_t>(g->component.size()) == n) {
+    L.begin = static_cast<PetscInt>(g->row_begin);
+    L.end = static_cast<PetscInt>(g->row_end);
+    if (L.begin > L.end || L.end > L.n || (L.end - L.begin) % block_size != 0)
+      fail(ND_ERR_INTERNAL, "the rows a rank owns (" + std::to_string(L.begin) + " .. " + std::to_string(L.end) +
+                                ") are not whole blocks of the " + std::to_string(L.n) + " rows");
+    return L;
+  }
   const PetscInt blocks = L.n / block_size, share = blocks / L.size, extra = blocks % L.size;
   L.begin = block_size * (rank * share + std::min<PetscInt>(rank, extra));
   L.end = L.begin + block_size * (share + (rank < extra ? 1 : 0));

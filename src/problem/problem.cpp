@@ -15,6 +15,7 @@
 #include "monitor/guards.hpp"
 #include "io/atomic_file.hpp"
 #include "problem/checkpoint.hpp"
+#include "parallel/ownership.hpp"
 #include "problem/forces.hpp"
 
 namespace nd {
@@ -232,7 +233,16 @@ void Problem::set_guard(int guard, double value) {
 
 Discretization &Problem::discretization_() {
   if (!disc_) disc_ = discretize(space_, def_, counters_.get());
-  disc_->geometry.comm = def_.comm;  // the factorizations' ranks
+  DofGeometry &g = disc_->geometry;
+  if (g.row_end < 0 || g.comm != def_.comm) {
+    g.comm = def_.comm;  // the factorizations' ranks
+    // this rank's rows: the free DOFs of its nodes (numbered node by node)
+    const NodeRange own = owned_nodes(def_.comm.get(), space_.n_nodes);
+    const std::vector<int64_t> &free = disc_->dofs.free;
+    g.row_begin = std::count_if(free.begin(), free.begin() + own.begin * space_.dim, [](int64_t r) { return r >= 0; });
+    g.row_end = g.row_begin + std::count_if(free.begin() + own.begin * space_.dim, free.begin() + own.end * space_.dim,
+                                            [](int64_t r) { return r >= 0; });
+  }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
   if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
   obstacle_redefined_ = false;
@@ -504,6 +514,19 @@ void Problem::field(int which, double *full) {
   if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
   const std::vector<double> &v = which == ND_FIELD_DISPLACEMENT ? s.U : which == ND_FIELD_VELOCITY ? s.V : s.A;
   discretization_().dofs.extend_to_full(v.data(), full);
+}
+
+int64_t Problem::owned_node_count() const { return owned_nodes(def_.comm.get(), space_.n_nodes).size(); }
+
+void Problem::owned_field(int which, double *values, int64_t *nodes) {
+  const NodeRange own = owned_nodes(def_.comm.get(), space_.n_nodes);
+  if (values) {
+    std::vector<double> full(static_cast<size_t>(space_.n_dofs()));  // the field is replicated (this slice)
+    field(which, full.data());
+    std::copy(full.begin() + own.begin * space_.dim, full.begin() + own.end * space_.dim, values);
+  }
+  if (nodes)
+    for (int64_t i = own.begin; i < own.end; ++i) nodes[i - own.begin] = i;
 }
 
 std::vector<double> Problem::contact_pressure() {

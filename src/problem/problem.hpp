@@ -74,6 +74,11 @@ class Problem {
   const Integrator *integrator() const { return integrator_.get(); }
   const Counters &counters() const { return *counters_; }
   void field(int which, double *full);  // n_dofs values
+  // The FE nodes this rank owns (parallel/ownership.hpp; all without a
+  // communicator): their count, and a field's values at them (count * dim,
+  // node-major) with their node numbers, ascending; either may be null.
+  int64_t owned_node_count() const;
+  void owned_field(int which, double *values, int64_t *nodes);
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
   // -phi_q/gamma_q: the pressure the last step applied (lambda_q before any step)
