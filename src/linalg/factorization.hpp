@@ -36,13 +36,16 @@ class Factorization {
 // rigid-body modes from it (its near-null space); the direct solvers ignore it.
 // comm: the ranks that solve together (the PETSc backends distribute their
 // rows over them; the others solve the whole system on every rank);
-// [row_begin, row_end): the rows this rank owns, the free DOFs of its nodes
+// row_of: each unknown's row in the distributed matrix, where the rows of
+// each rank are consecutive (null: the unknowns' own order), and
+// [row_begin, row_end) this rank's rows, the free DOFs of its nodes
 // (parallel/ownership.hpp; row_end < 0: an even split of the rows).
 struct DofGeometry {
   int dim = 0;
   std::vector<double> x;         // dim per unknown
   std::vector<int> component;    // 0 .. dim-1 per unknown
   CommunicatorPtr comm;          // null: this process alone
+  std::shared_ptr<const std::vector<int64_t>> row_of;
   int64_t row_begin = 0, row_end = -1;
 };
 

@@ -5,6 +5,7 @@
 
 #include <exception>
 #include <limits>
+#include <numeric>
 #include <new>
 #include <string>
 
@@ -236,12 +237,23 @@ Discretization &Problem::discretization_() {
   DofGeometry &g = disc_->geometry;
   if (g.row_end < 0 || g.comm != def_.comm) {
     g.comm = def_.comm;  // the factorizations' ranks
-    // this rank's rows: the free DOFs of its nodes (numbered node by node)
-    const NodeRange own = owned_nodes(def_.comm.get(), space_.n_nodes);
-    const std::vector<int64_t> &free = disc_->dofs.free;
-    g.row_begin = std::count_if(free.begin(), free.begin() + own.begin * space_.dim, [](int64_t r) { return r >= 0; });
-    g.row_end = g.row_begin + std::count_if(free.begin() + own.begin * space_.dim, free.begin() + own.end * space_.dim,
-                                            [](int64_t r) { return r >= 0; });
+    g.row_of.reset();
+    g.row_begin = 0, g.row_end = disc_->dofs.n_free;
+    const Ownership &own = ownership();
+    if (!own.node_owner.empty()) {
+      // the rows of the distributed matrix, rank after rank: each rank's the
+      // free DOFs of its nodes, in their order
+      const std::vector<int64_t> &free = disc_->dofs.free;
+      std::vector<int64_t> first(static_cast<size_t>(own.size + 1), 0);
+      for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
+        if (free[dof] >= 0) ++first[own.node_owner[dof / space_.dim] + 1];
+      std::partial_sum(first.begin(), first.end(), first.begin());
+      g.row_begin = first[own.rank], g.row_end = first[own.rank + 1];
+      auto row_of = std::make_shared<std::vector<int64_t>>(static_cast<size_t>(disc_->dofs.n_free));
+      for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
+        if (free[dof] >= 0) (*row_of)[free[dof]] = first[own.node_owner[dof / space_.dim]]++;
+      g.row_of = std::move(row_of);
+    }
   }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
   if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
@@ -407,10 +419,22 @@ void Problem::agree_on_inputs() {
 }
 
 void Problem::set_communicator(CommunicatorPtr comm) {
-  if (setup_done_)
+  // every rank takes part in the collectives below, then all fail or none does
+  const Communicator *c = comm.get();
+  const int mine = setup_done_ ? ND_ERR_STATE : ND_OK;
+  const int worst = worst_status(c, mine);
+  if (mine != ND_OK)
     fail(ND_ERR_STATE, "the problem is set up (nd_problem_setup, a step or a loaded checkpoint): the communicator "
                        "is given before, on every rank");
+  if (worst != ND_OK)
+    fail(worst, "another rank refused the communicator (its problem is set up); no rank took it");
+  if (!same_on_all_ranks(c, mesh_digest_))
+    fail(ND_ERR_STATE, "the ranks' meshes differ (vertices, cells, regions or degree): every rank creates the problem "
+                       "from the same mesh; no rank took the communicator");
+  // the cells and nodes of each rank: partitioned now (collective), kept until another communicator
+  std::shared_ptr<const Ownership> own = partition_mesh(space_, c);
   def_.comm = std::move(comm);
+  ownership_ = std::move(own);
   changed(kSolver);  // every factorization is made again over the new ranks
 }
 
@@ -516,17 +540,22 @@ void Problem::field(int which, double *full) {
   discretization_().dofs.extend_to_full(v.data(), full);
 }
 
-int64_t Problem::owned_node_count() const { return owned_nodes(def_.comm.get(), space_.n_nodes).size(); }
+const Ownership &Problem::ownership() {
+  if (!ownership_) ownership_ = partition_mesh(space_, def_.comm.get());
+  return *ownership_;
+}
+
+int64_t Problem::owned_node_count() { return static_cast<int64_t>(ownership().nodes.size()); }
 
 void Problem::owned_field(int which, double *values, int64_t *nodes) {
-  const NodeRange own = owned_nodes(def_.comm.get(), space_.n_nodes);
+  const std::vector<int64_t> &own = ownership().nodes;
+  const int d = space_.dim;
   if (values) {
     std::vector<double> full(static_cast<size_t>(space_.n_dofs()));  // the field is replicated (this slice)
     field(which, full.data());
-    std::copy(full.begin() + own.begin * space_.dim, full.begin() + own.end * space_.dim, values);
+    for (size_t k = 0; k < own.size(); ++k) std::copy_n(&full[own[k] * d], d, &values[k * d]);
   }
-  if (nodes)
-    for (int64_t i = own.begin; i < own.end; ++i) nodes[i - own.begin] = i;
+  if (nodes) std::copy(own.begin(), own.end(), nodes);
 }
 
 std::vector<double> Problem::contact_pressure() {
