@@ -23,6 +23,14 @@ class Factorization {
   // Throws ND_ERR_INDEFINITE (SPD requested on a matrix that is certainly
   // not positive definite) or ND_ERR_SINGULAR.
   virtual void factor(const Csr &A, Structure s) = 0;
+  // The same matrix A given also as this rank's part `own` (the
+  // contributions of its own cells: the parts of all ranks sum to A). A
+  // backend that distributes the matrix assembles it from the parts; the
+  // others factor A.
+  virtual void factor_parts(const Csr &A, const Csr &own, Structure s) {
+    (void)own;
+    factor(A, s);
+  }
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;

@@ -35,8 +35,13 @@
 //
 // Slice 3: the cells are partitioned (petsc_partition_cells below, for
 // parallel/ownership.hpp), a rank's rows are its nodes' free DOFs, numbered
-// rank after rank (DofGeometry::row_of). Next: the state, the contact points
-// and the vectors distributed too, so that nothing of size n is replicated.
+// rank after rank (DofGeometry::row_of), and factor_parts() assembles the
+// matrix from the ranks' parts (each rank adds its own cells' contributions,
+// ADD_VALUES; PETSc sends the entries of other ranks' rows to them): the step
+// matrix A is made so. factor() still inserts this rank's rows of the whole
+// matrix (the mass matrix, the refactoring tangent, the coercivity check).
+// Next: the state, the contact points and the vectors distributed too, so
+// that nothing of size n is replicated.
 //
 // PETSc is global to the process: every PETSc call of the library runs under
 // one mutex (so that handles used from distinct threads stay safe), with an
@@ -254,16 +259,27 @@ class Matrix {
  public:
   Matrix(const Csr &pattern, PetscInt block_size, const Layout &L) : L_(L) {
     petsc_int(static_cast<int64_t>(pattern.col.size()), "entries");
-    // this rank's rows in the layout's numbering, columns sorted; src_: where each entry is in the pattern
+    // this rank's rows in the layout's numbering, columns sorted; src_: where
+    // each entry is in the pattern (empty: the rows keep their order, and
+    // entry k is the pattern's first_ + k)
     const PetscInt rows = L.end - L.begin;
     ptr_.assign(static_cast<size_t>(rows + 1), 0);
+    first_ = L.row_of ? 0 : pattern.ptr[L.begin];
+    int64_t entries = 0;
+    for (PetscInt k = 0; k < rows; ++k) entries += pattern.ptr[L.unknown(k) + 1] - pattern.ptr[L.unknown(k)];
+    col_.reserve(static_cast<size_t>(entries));
+    if (L.row_of) src_.reserve(static_cast<size_t>(entries));
     std::vector<std::pair<PetscInt, int64_t>> row;
     for (PetscInt k = 0; k < rows; ++k) {
       const int64_t i = L.unknown(k);
-      row.clear();
-      for (int64_t e = pattern.ptr[i]; e < pattern.ptr[i + 1]; ++e) row.emplace_back(L.row(pattern.col[e]), e);
-      std::sort(row.begin(), row.end());
-      for (const auto &[col, e] : row) col_.push_back(col), src_.push_back(e);
+      if (!L.row_of) {
+        col_.insert(col_.end(), pattern.col.begin() + pattern.ptr[i], pattern.col.begin() + pattern.ptr[i + 1]);
+      } else {
+        row.clear();
+        for (int64_t e = pattern.ptr[i]; e < pattern.ptr[i + 1]; ++e) row.emplace_back(L.row(pattern.col[e]), e);
+        std::sort(row.begin(), row.end());
+        for (const auto &[col, e] : row) col_.push_back(col), src_.push_back(e);
+      }
       ptr_[k + 1] = static_cast<PetscInt>(col_.size());
     }
     std::vector<PetscScalar> zero(col_.size(), 0.0);
@@ -297,18 +313,22 @@ class Matrix {
   void set_values(const Csr &M) {
     MatInfo info;
     check(MatGetInfo(A_, MAT_LOCAL, &info), "MatGetInfo");
-    if (M.n != L_.n || static_cast<size_t>(info.nz_used) != col_.size() ||
-        (!src_.empty() && M.val.size() <= static_cast<size_t>(*std::max_element(src_.begin(), src_.end()))))
+    const size_t last = src_.empty() ? first_ + col_.size() : 1 + *std::max_element(src_.begin(), src_.end());
+    if (M.n != L_.n || static_cast<size_t>(info.nz_used) != col_.size() || M.val.size() < last)
       fail(ND_ERR_INTERNAL, "the matrix does not have the pattern its PETSc solver was made for");
-    if (!L_.distributed()) {  // one rank: the rows in their order, entry k of ours is entry k of PETSc's
+    if (src_.empty() && !L_.distributed()) {  // one rank: the rows in their order, entry for entry
       PetscScalar *a = nullptr;
       check(MatSeqAIJGetArray(A_, &a), "MatSeqAIJGetArray");
-      for (size_t k = 0; k < src_.size(); ++k) a[k] = M.val[src_[k]];
+      std::copy(M.val.begin() + first_, M.val.begin() + first_ + col_.size(), a);
       check(MatSeqAIJRestoreArray(A_, &a), "MatSeqAIJRestoreArray");  // raises the matrix's state
       return;
     }
-    std::vector<PetscScalar> v(src_.size());
-    for (size_t k = 0; k < src_.size(); ++k) v[k] = M.val[src_[k]];
+    std::vector<PetscScalar> gathered;
+    if (!src_.empty()) {
+      gathered.resize(src_.size());
+      for (size_t k = 0; k < src_.size(); ++k) gathered[k] = M.val[src_[k]];
+    }
+    const PetscScalar *v = src_.empty() ? M.val.data() + first_ : gathered.data();
     for (PetscInt r = 0; r < L_.end - L_.begin; ++r) {
       const PetscInt i = L_.begin + r, k = ptr_[r];
       check(MatSetValues(A_, 1, &i, ptr_[r + 1] - k, &col_[k], &v[k], INSERT_VALUES), "MatSetValues");
@@ -317,11 +337,39 @@ class Matrix {
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   }
 
+  // The matrix as the sum over the ranks of their parts (each rank's: its
+  // own cells' contributions, rows anywhere): this rank adds its part; the
+  // entries of other ranks' rows go to them in the assembly.
+  void add_parts(const Csr &own) {
+    if (own.n != L_.n) fail(ND_ERR_INTERNAL, "the rank's part of the matrix has another size than the matrix");
+    check(MatZeroEntries(A_), "MatZeroEntries");
+    std::vector<PetscInt> cols;
+    for (int64_t i = 0; i < own.n; ++i) {
+      const int64_t b = own.ptr[i], e = own.ptr[i + 1];
+      if (b == e) continue;
+      const PetscInt r = L_.row(i);
+      cols.resize(static_cast<size_t>(e - b));
+      for (int64_t k = b; k < e; ++k) cols[k - b] = L_.row(own.col[k]);
+      check(MatSetValues(A_, 1, &r, static_cast<PetscInt>(e - b), cols.data(), &own.val[b], ADD_VALUES),
+            "MatSetValues (ADD_VALUES)");
+    }
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  }
+  // A's rows of this rank, or the sum of the ranks' parts when `own` is given
+  void fill(const Csr &A, const Csr *own) {
+    require_finite(A);
+    if (!own) return set_values(A);
+    require_finite(*own);
+    add_parts(*own);
+  }
+
  private:
   Layout L_;
   Mat A_ = nullptr;
   std::vector<PetscInt> ptr_, col_;  // this rank's rows, columns in the layout's numbering
-  std::vector<int64_t> src_;         // the pattern's index of each entry
+  std::vector<int64_t> src_;         // the pattern's index of each entry (empty: first_ + k)
+  int64_t first_ = 0;
 };
 
 // The right-hand side and solution vectors of a matrix's layout, and the
@@ -400,12 +448,22 @@ class PetscMumps : public Factorization {
     v_.reset();
     A_.reset();
   }
-  void factor(const Csr &A, Structure s) override {
+  void factor(const Csr &A, Structure s) override { factor_from(A, nullptr, s); }
+  void factor_parts(const Csr &A, const Csr &own, Structure s) override { factor_from(A, &own, s); }
+  Definiteness definiteness() const override { return def_; }
+  const char *name() const override { return "petsc-mumps"; }
+  void solve(double *x) const override {
+    if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
+    Session session;
+    check(v_->solve(x, [&](Vec b, Vec sol) { return MatSolve(F_, b, sol); }), "MatSolve (MUMPS)");
+  }
+
+ private:
+  void factor_from(const Csr &A, const Csr *own, Structure s) {
     def_ = Definiteness::Unknown;
-    require_finite(A);
     Session session;
     factored_ = false;
-    A_->set_values(A);
+    A_->fill(A, own);
     const bool cholesky = s == Structure::SymmetricPositiveDefinite;
     MatFactorInfo info;
     check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
@@ -438,15 +496,7 @@ class PetscMumps : public Factorization {
     }
     factored_ = true;
   }
-  void solve(double *x) const override {
-    if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
-    Session session;
-    check(v_->solve(x, [&](Vec b, Vec sol) { return MatSolve(F_, b, sol); }), "MatSolve (MUMPS)");
-  }
-  Definiteness definiteness() const override { return def_; }
-  const char *name() const override { return "petsc-mumps"; }
 
- private:
   // MUMPS reports its failures in INFOG(1) < 0, PETSc in the factor's error.
   void require_no_factor_error(const char *phase, Structure s) {
     MatFactorError err = MAT_FACTOR_NOERROR;
@@ -566,13 +616,14 @@ class PetscGamg : public Factorization {
     for (Vec &v : vecs) VecDestroy(&v);
     check(code, "MatSetNearNullSpace (rigid-body modes)");
   }
-  void factor(const Csr &A, Structure s) override {
+  void factor(const Csr &A, Structure s) override { factor_from(A, nullptr, s); }
+  void factor_parts(const Csr &A, const Csr &own, Structure s) override { factor_from(A, &own, s); }
+  void factor_from(const Csr &A, const Csr *own, Structure s) {
     def_ = Definiteness::Unknown;
-    require_finite(A);
     Session session;
     ready_ = false;
     structure_ = s;
-    A_->set_values(A);
+    A_->fill(A, own);
     const bool spd = s == Structure::SymmetricPositiveDefinite;
     check(MatSetOption(A_->get(), MAT_SYMMETRIC, spd ? PETSC_TRUE : PETSC_FALSE), "MatSetOption");
     check(KSPSetOperators(ksp_, A_->get(), A_->get()), "KSPSetOperators");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <exception>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <new>
@@ -277,7 +278,12 @@ const std::vector<double> &Problem::constant_load_() {
 }
 
 Integrator &Problem::integrator_or_build() {
-  if (!integrator_) integrator_ = make_integrator(discretization_(), def_, std::move(spare_A_factor_));
+  if (integrator_) return *integrator_;
+  Discretization &d = discretization_();
+  std::function<Csr(double)> own_part;  // several ranks: each assembles its own cells' part of A
+  if (!ownership().node_owner.empty())
+    own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
+  integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
   return *integrator_;
 }
 
