@@ -281,7 +281,8 @@ Integrator &Problem::integrator_or_build() {
   if (integrator_) return *integrator_;
   Discretization &d = discretization_();
   std::function<Csr(double)> own_part;  // several ranks: each assembles its own cells' part of A
-  if (!ownership().node_owner.empty())
+  const bool distributes = def_.solver == ND_SOLVER_PETSC_MUMPS || def_.solver == ND_SOLVER_PETSC_GAMG;
+  if (distributes && !ownership().node_owner.empty())
     own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
   integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
   return *integrator_;
