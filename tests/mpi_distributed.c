@@ -297,9 +297,28 @@ static void check_owned_part(nd_problem p, int field, int dim) {
   free(nodes), free(part), free(whole);
 }
 
+/* the initial acceleration, M A = F - K_Theta U - N(U): a solve with the mass
+ * matrix, whose rows the ranks fill from their copies (Factorization::factor) */
+static double *initial_acceleration(nd_problem p, int dim, int64_t *n) {
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, n));
+  double *a = malloc(sizeof(double) * (size_t)(*n * dim));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, *n, a));
+  return a;
+}
+
 START_TEST(each_rank_reads_its_part_of_a_field) {
   for (int dim = 2; dim <= 3; ++dim) {
+    /* the distributed mass solve against the serial one (the bound of the histories, MUMPS) */
+    int64_t n = 0;
+    nd_problem serial = scene(dim, ND_SOLVER_CHOLMOD, 0);
+    double *a_serial = initial_acceleration(serial, dim, &n);
+    ND_OK_OR_FAIL(nd_problem_destroy(&serial));
     nd_problem p = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
+    double *a = initial_acceleration(p, dim, &n);
+    const double gap = relative_gap(a_serial, a, (int)(n * dim));
+    if (g_rank == 0) printf("%dD, %d rank(s): initial acceleration (MUMPS) %.2e off the serial solve\n", dim, g_size, gap);
+    ck_assert_msg(gap <= 1e-8, "%dD: the initial acceleration is %.3g off the serial solve", dim, gap);
+    free(a), free(a_serial);
     /* before the first step (the acceleration solves: collective) and after the impact at t = 10 */
     for (int stage = 0; stage < 2; ++stage) {
       for (int k = 0; stage == 1 && k < 42; ++k) ND_OK_OR_FAIL(nd_step(p));
