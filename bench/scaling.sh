@@ -23,6 +23,9 @@ export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 # a rank waiting in MPI yields its core (another job may share the machine)
 export OMPI_MCA_mpi_yield_when_idle=1
+# the library partitions the mesh with PT-Scotch only with one Scotch thread
+# (or MPI_THREAD_MULTIPLE, which scaling_bench does not ask for)
+export SCOTCH_PTHREAD_NUMBER=1
 half=$build/bench-scaling/disk_h0.71.msh
 [ -f "$half" ] || gmsh -2 -setnumber h 0.7071 -format msh41 "$meshes/disk.geo" -o "$half" > /dev/null
 csv=$out/scaling.csv

@@ -7,8 +7,9 @@
  * the first step (assembly, factorization or multigrid set-up), the median of
  * the free-flight steps (no contact before or after) and of the contact steps
  * (contact before and after), Newton iterations per contact step, the largest
- * peak RSS of a rank, and the 1-minute load average of the machine when the
- * run ended (/proc/loadavg: other work shares the cores).
+ * peak RSS of a rank, the 1-minute load average of the machine when the
+ * run ended (/proc/loadavg: other work shares the cores), and the time of
+ * nd_problem_set_comm (it partitions the mesh).
  *   mpiexec -n N scaling_bench MESH DEGREE SOLVER TAU T [DIM]
  *   SOLVER: mumps | gamg | cholmod; DIM: 2 (the disk, default) or 3 (the ball) */
 #include <mpi.h>
@@ -22,7 +23,7 @@
 
 static const char *kHeader =
     "ranks,mesh,degree,unknowns,solver,setup_s,first_step_s,free_steps,free_median_ms,contact_steps,"
-    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1";
+    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1,set_comm_s";
 
 static int by_value(const void *a, const void *b) {
   const double x = *(const double *)a, y = *(const double *)b;
@@ -42,6 +43,8 @@ static double timed(nd_problem p, int (*call)(nd_problem), int *status) {
   MPI_Barrier(MPI_COMM_WORLD);
   return MPI_Wtime() - t0;
 }
+
+static int set_world(nd_problem p) { return nd_problem_set_comm(p, MPI_COMM_WORLD); }
 
 int main(int argc, char **argv) {
   MPI_Init(&argc, &argv);
@@ -68,12 +71,12 @@ int main(int argc, char **argv) {
   const int steps = (int)(T / tau + 0.5);
   double *free_ms = malloc(sizeof(double) * (size_t)steps), *contact_ms = malloc(sizeof(double) * (size_t)steps);
   int n_free = 0, n_contact = 0;
-  double newton = 0, setup_s = 0, first_s = 0, active_before = 0, active = 0, iterations = 0;
+  double newton = 0, setup_s = 0, first_s = 0, active_before = 0, active = 0, iterations = 0, comm_s = 0;
   int64_t nodes = 0;
   nd_problem p = NULL;
 
   status = drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, tau, solver, &p);
-  if (status == ND_OK && solver != ND_SOLVER_CHOLMOD) status = nd_problem_set_comm(p, MPI_COMM_WORLD);
+  if (status == ND_OK && solver != ND_SOLVER_CHOLMOD) comm_s = timed(p, set_world, &status);  /* partitions the mesh */
   if (status == ND_OK) status = nd_problem_get_node_count(p, &nodes);
   if (status == ND_OK) setup_s = timed(p, nd_problem_setup, &status);
   for (int k = 0; k < steps && status == ND_OK; ++k) {
@@ -101,9 +104,9 @@ int main(int argc, char **argv) {
   }
   const char *base = strrchr(mesh, '/');
   if (rank == 0 && status == ND_OK)
-    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f\n", size, base ? base + 1 : mesh, degree,
+    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f\n", size, base ? base + 1 : mesh, degree,
            (long long)(dim * nodes), solver_name, setup_s, first_s, n_free, median(free_ms, n_free), n_contact,
-           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1);
+           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1, comm_s);
   nd_problem_destroy(&p);
   free(free_ms);
   free(contact_ms);

@@ -259,6 +259,14 @@ ND_EXPORT int nd_problem_setup(nd_problem p);
 ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c);
 ND_EXPORT int nd_step(nd_problem p);
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out);
+/* The FE nodes this rank owns (every node has one owner among the ranks of
+   the problem's communicator, see nd_problem_set_comm_f; without one, or in
+   a build without MPI, the process owns every node): their count, and one
+   field's values at them (n_owned*dim, node-major) with their node numbers
+   (n_owned, ascending); values or nodes may be NULL. Over the ranks the parts
+   are disjoint and cover every node, with nd_get_field's values. */
+ND_EXPORT int nd_problem_get_owned_node_count(nd_problem p, int64_t *n_owned);
+ND_EXPORT int nd_get_field_owned(nd_problem p, int field, int64_t n_owned, double *values, int64_t *nodes);
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
 /* Checkpoint: the whole state at t^n (t, n, U, V, A, F^n, W, Newton totals,
    the guards' reference) as a versioned, checksummed block of nbytes bytes;

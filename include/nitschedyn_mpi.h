@@ -7,7 +7,9 @@
  * of the ND_SOLVER_PETSC_* solvers are distributed over the ranks, and every
  * step either succeeds on every rank or fails on every rank with the same
  * status. Without a communicator a problem is this process's alone
- * (PETSC_COMM_SELF), as before.
+ * (PETSC_COMM_SELF), as before. Each rank owns a part of the FE nodes (the
+ * rows of the distributed matrix): nd_get_field_owned of nitschedyn.h reads
+ * a field there (it takes no MPI type, so it is in every build).
  */
 #ifndef NITSCHEDYN_MPI_H
 #define NITSCHEDYN_MPI_H

@@ -1,4 +1,4 @@
-/* The distributed solve (issue 15, slice 2), run under mpiexec -n 1, 2 and 4
+/* The distributed solve (issue 15, slices 2 and 3), run under mpiexec -n 1, 2 and 4
  * (tests/CMakeLists.txt, builds with PETSc). Every rank builds the same
  * problem; nd_problem_set_comm spreads the PETSc solves over the ranks.
  *  - the disk and the ball of DESIGN §7 through the impact: the energy and
@@ -7,6 +7,8 @@
  *  - a load refused on the last rank only: nd_step fails on every rank with
  *    the same code and no rank's state moves;
  *  - checkpoint/restart over the same ranks restores the state bitwise;
+ *  - each rank's part of every field (nd_get_field_owned): disjoint, covering
+ *    every node, bitwise the gathered field;
  *  - bad input: MPI_COMM_NULL, a communicator after the set-up, another mesh
  *    on one rank.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
@@ -256,6 +258,114 @@ START_TEST(checkpoint_restores_bitwise) {
 }
 END_TEST
 
+/* One field of p: this rank's part (nd_get_field_owned) against the whole
+ * field (nd_get_field). The parts of all ranks, gathered, are disjoint, cover
+ * every node, and placed at their node numbers are the whole field bitwise. */
+static void check_owned_part(nd_problem p, int field, int dim) {
+  int64_t n = 0, own = -1;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+  ck_assert(own >= 0 && own <= n);
+  double *whole = malloc(sizeof(double) * (size_t)(n * dim));
+  double *part = malloc(sizeof(double) * (size_t)(own * dim + 1));
+  int64_t *nodes = malloc(sizeof(int64_t) * (size_t)(own + 1));
+  ND_OK_OR_FAIL(nd_get_field(p, field, n, whole));
+  ND_OK_OR_FAIL(nd_get_field_owned(p, field, own, part, nodes));
+  for (int64_t i = 0; i < own; ++i) ck_assert(nodes[i] >= 0 && nodes[i] < n && (i == 0 || nodes[i] > nodes[i - 1]));
+
+  int *counts = malloc(sizeof(int) * (size_t)g_size), *first = malloc(sizeof(int) * (size_t)g_size);
+  int *vcounts = malloc(sizeof(int) * (size_t)g_size), *vfirst = malloc(sizeof(int) * (size_t)g_size);
+  const int mine = (int)own;
+  MPI_Allgather(&mine, 1, MPI_INT, counts, 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (int r = 0; r < g_size; ++r) first[r] = total, vfirst[r] = total * dim, vcounts[r] = counts[r] * dim, total += counts[r];
+  ck_assert_msg(total == n, "field %d: the ranks own %d nodes of %lld", field, total, (long long)n);
+  int64_t *all_nodes = malloc(sizeof(int64_t) * (size_t)n);
+  double *all_values = malloc(sizeof(double) * (size_t)(n * dim));
+  MPI_Allgatherv(nodes, mine, MPI_INT64_T, all_nodes, counts, first, MPI_INT64_T, MPI_COMM_WORLD);
+  MPI_Allgatherv(part, mine * dim, MPI_DOUBLE, all_values, vcounts, vfirst, MPI_DOUBLE, MPI_COMM_WORLD);
+  char *seen = calloc((size_t)n, 1);
+  for (int64_t k = 0; k < n; ++k) {
+    const int64_t i = all_nodes[k];
+    ck_assert_msg(i >= 0 && i < n && !seen[i], "field %d: node %lld owned twice or out of range", field, (long long)i);
+    seen[i] = 1;
+    ck_assert_msg(memcmp(&all_values[k * dim], &whole[i * dim], sizeof(double) * (size_t)dim) == 0,
+                  "field %d: node %lld differs from nd_get_field", field, (long long)i);
+  }
+  free(seen), free(all_values), free(all_nodes);
+  free(vfirst), free(vcounts), free(first), free(counts);
+  free(nodes), free(part), free(whole);
+}
+
+/* the initial acceleration, M A = F - K_Theta U - N(U): a solve with the mass
+ * matrix, whose rows the ranks fill from their copies (Factorization::factor) */
+static double *initial_acceleration(nd_problem p, int dim, int64_t *n) {
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, n));
+  double *a = malloc(sizeof(double) * (size_t)(*n * dim));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, *n, a));
+  return a;
+}
+
+START_TEST(each_rank_reads_its_part_of_a_field) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    /* the distributed mass solve against the serial one (the bound of the histories, MUMPS) */
+    int64_t n = 0;
+    nd_problem serial = scene(dim, ND_SOLVER_CHOLMOD, 0);
+    double *a_serial = initial_acceleration(serial, dim, &n);
+    ND_OK_OR_FAIL(nd_problem_destroy(&serial));
+    nd_problem p = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
+    double *a = initial_acceleration(p, dim, &n);
+    const double gap = relative_gap(a_serial, a, (int)(n * dim));
+    if (g_rank == 0) printf("%dD, %d rank(s): initial acceleration (MUMPS) %.2e off the serial solve\n", dim, g_size, gap);
+    ck_assert_msg(gap <= 1e-8, "%dD: the initial acceleration is %.3g off the serial solve", dim, gap);
+    free(a), free(a_serial);
+    /* before the first step (the acceleration solves: collective) and after the impact at t = 10 */
+    for (int stage = 0; stage < 2; ++stage) {
+      for (int k = 0; stage == 1 && k < 42; ++k) ND_OK_OR_FAIL(nd_step(p));
+      for (int field = ND_FIELD_DISPLACEMENT; field <= ND_FIELD_REACTION; ++field) check_owned_part(p, field, dim);
+    }
+    ck_assert_msg(scalar(p, ND_CONTACT_FORCE) > 0, "%dD: no contact at t = %g", dim, scalar(p, ND_TIME));
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+
+  /* bad input fails and leaves the output arrays as they were */
+  nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 1);
+  int64_t own = 0;
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+  double *values = malloc(sizeof(double) * (size_t)(2 * own + 2));
+  int64_t *nodes = malloc(sizeof(int64_t) * (size_t)(own + 1));
+  for (int64_t i = 0; i < 2 * own + 2; ++i) values[i] = -7;
+  for (int64_t i = 0; i < own + 1; ++i) nodes[i] = -7;
+  ck_assert_int_eq(nd_problem_get_owned_node_count(p, NULL), ND_ERR_NULL);
+  ck_assert_int_eq(nd_problem_get_owned_node_count(NULL, &own), ND_ERR_NULL);
+  ck_assert_int_eq(nd_get_field_owned(NULL, ND_FIELD_DISPLACEMENT, own, values, nodes), ND_ERR_NULL);
+  ck_assert_int_eq(nd_get_field_owned(p, ND_FIELD_DISPLACEMENT, own + 1, values, nodes), ND_ERR_SIZE);
+  ck_assert_msg(strstr(nd_last_error(), "nd_get_field_owned: ") == nd_last_error(), "%s", nd_last_error());
+  ck_assert_int_eq(nd_get_field_owned(p, 0, own, values, nodes), ND_ERR_KEY);
+  ck_assert_int_eq(nd_get_field_owned(p, ND_FIELD_REACTION + 1, own, values, nodes), ND_ERR_KEY);
+  for (int64_t i = 0; i < 2 * own + 2; ++i) ck_assert(values[i] == -7);
+  for (int64_t i = 0; i < own + 1; ++i) ck_assert(nodes[i] == -7);
+  /* the node numbers alone (no field computed), then the values alone */
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_VELOCITY, own, NULL, nodes));
+  ck_assert(nodes[own] == -7 && values[0] == -7);
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_VELOCITY, own, values, NULL));
+  ck_assert(values[2 * own] == -7);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+  /* without a communicator the process owns every node, in order */
+  p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+  ck_assert(own == n);
+  int64_t *all = malloc(sizeof(int64_t) * (size_t)n);
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_DISPLACEMENT, own, NULL, all));
+  for (int64_t i = 0; i < n; ++i) ck_assert(all[i] == i);
+  free(all), free(nodes), free(values);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(bad_communicators) {
   nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
   ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_NULL), ND_ERR_VALUE);
@@ -274,14 +384,19 @@ START_TEST(bad_communicators) {
   ck_assert(scalar(p, ND_TIME) == kTau);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 
-  /* another mesh on the last rank: no rank steps (nothing was set up: the ranks compare first) */
+  /* another mesh on the last rank: every rank refuses the communicator (the
+     mesh is partitioned over the ranks when it is given: the ranks compare
+     first), and the problem stays each process's alone */
   if (g_size > 1) {
     char mesh[512];
     snprintf(mesh, sizeof mesh, "%s/disk_%s.msh", ND_MESH_DIR, g_rank == g_size - 1 ? "h2" : "h4");
     ND_OK_OR_FAIL(drop_scene_create(2, mesh, 1, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, kTau, ND_SOLVER_PETSC_MUMPS, &p));
-    ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
-    ck_assert_int_eq(nd_step(p), ND_ERR_STATE);
-    ck_assert_msg(strstr(nd_last_error(), "the ranks' problems differ") != NULL, "%s", nd_last_error());
+    ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_WORLD), ND_ERR_STATE);
+    ck_assert_msg(strstr(nd_last_error(), "the ranks' meshes differ") != NULL, "%s", nd_last_error());
+    int64_t n = 0, own = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+    ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+    ck_assert(own == n);
     ck_assert(scalar(p, ND_STEP_INDEX) == 0);
     ND_OK_OR_FAIL(nd_problem_destroy(&p));
   }
@@ -289,13 +404,19 @@ START_TEST(bad_communicators) {
 END_TEST
 
 int main(int argc, char **argv) {
-  MPI_Init(&argc, &argv);
+  /* MPI_THREAD_MULTIPLE lets the library partition the mesh with PT-Scotch;
+     with the argument "single" (MPI_THREAD_SINGLE) it cuts it in slabs
+     (parallel/ownership.hpp): every check holds with both */
+  int provided = 0;
+  const int single = argc > 1 && strcmp(argv[1], "single") == 0;
+  MPI_Init_thread(&argc, &argv, single ? MPI_THREAD_SINGLE : MPI_THREAD_MULTIPLE, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
   Suite *s = suite_create("mpi_distributed");
   TCase *tc = tcase_create("ranks");
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, bad_communicators);
+  tcase_add_test(tc, each_rank_reads_its_part_of_a_field);
   tcase_add_test(tc, histories_match_the_serial_solve);
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);

@@ -46,6 +46,7 @@ module nitschedyn
   public :: nd_problem_estimate_critical_timestep
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
   public :: nd_get_contact_pressure_applied
+  public :: nd_problem_get_owned_node_count, nd_get_field_owned
   public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
   public :: nd_problem_save_state_file, nd_problem_load_state_file
   public :: nd_problem_save_state_file_f, nd_problem_load_state_file_f
@@ -474,6 +475,27 @@ module nitschedyn
       real(c_double), intent(out) :: out(*)
       integer(c_int) :: status
     end function nd_get_field
+
+    ! The nodes this rank owns (all of them without a communicator): see
+    ! nd_get_field_owned(3).
+    function nd_problem_get_owned_node_count(p, n_owned) result(status) &
+        bind(C, name='nd_problem_get_owned_node_count')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), intent(out) :: n_owned
+      integer(c_int) :: status
+    end function nd_problem_get_owned_node_count
+
+    ! values(dim, n_owned), nodes(n_owned): 0-based node numbers; either may be absent (NULL)
+    function nd_get_field_owned(p, field, n_owned, values, nodes) result(status) bind(C, name='nd_get_field_owned')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: field
+      integer(c_int64_t), value :: n_owned
+      real(c_double), intent(out), optional :: values(*)
+      integer(c_int64_t), intent(out), optional :: nodes(*)
+      integer(c_int) :: status
+    end function nd_get_field_owned
 
     function nd_get_scalar(p, key, out) result(status) bind(C, name='nd_get_scalar')
       import :: c_int, c_double, c_ptr

@@ -152,6 +152,8 @@ _PROTOTYPES = {
     "nd_problem_estimate_critical_timestep": (_int, [_ptr, _pdbl]),
     "nd_step": (_int, [_ptr]),
     "nd_get_field": (_int, [_ptr, _int, _i64, _pdbl]),
+    "nd_problem_get_owned_node_count": (_int, [_ptr, _pi64]),
+    "nd_get_field_owned": (_int, [_ptr, _int, _i64, _pdbl, _pi64]),
     "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
     "nd_get_contact_pressure": (_int, [_ptr, _i64, _pdbl]),
     "nd_get_contact_pressure_applied": (_int, [_ptr, _i64, _pdbl]),
@@ -552,6 +554,16 @@ class Problem(_Handle):
         out = np.empty((n, self.dim))
         _check(lib.nd_get_field(self._h, which, n, _dptr(out)))
         return out
+
+    def field_owned(self, which=_constants.ND_FIELD_DISPLACEMENT):
+        """nd_get_field_owned: this rank's part of a field, (values (n_owned, dim),
+        node numbers (n_owned,)); the whole field without a communicator."""
+        n = _i64()
+        _check(lib.nd_problem_get_owned_node_count(self._h, ctypes.byref(n)))
+        values = np.empty((n.value, self.dim))
+        nodes = np.empty(n.value, dtype=np.int64)
+        _check(lib.nd_get_field_owned(self._h, which, n.value, _dptr(values), _i64ptr(nodes)))
+        return values, nodes
 
     def scalar(self, key):
         """nd_get_scalar: ND_TIME, ND_ENERGY_AUGMENTED, ..."""

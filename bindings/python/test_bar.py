@@ -205,6 +205,9 @@ def test_checkpoint():
         for _ in range(20):
             p.step()
         u_ref = p.field(nd.ND_FIELD_DISPLACEMENT).copy()
+        own, nodes = p.field_owned(nd.ND_FIELD_DISPLACEMENT)
+        check(np.array_equal(nodes, np.arange(p.node_count)) and np.array_equal(own, u_ref),
+              "without a communicator the process owns every node (Python)")
         c = p.field(nd.ND_FIELD_CONTACT_FORCE)
         check(abs(c.sum() - p.scalar(nd.ND_CONTACT_FORCE)) <= 1e-13 * abs(c).sum(),
               "the nodal contact forces sum to ND_CONTACT_FORCE (Python)")

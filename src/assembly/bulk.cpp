@@ -11,11 +11,12 @@
 
 namespace nd {
 
-Csr operator_pattern(const Space &s, const DofMap &dofs) {
+Csr operator_pattern(const Space &s, const DofMap &dofs, const std::vector<char> *cells) {
   std::vector<std::vector<int64_t>> rows(static_cast<size_t>(dofs.n_free));
   const int nb = s.basis.n, d = s.dim;
   std::vector<int64_t> local(static_cast<size_t>(nb * d));
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    if (cells && !(*cells)[c]) continue;
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) local[i * d + a] = dofs.free[s.nodes_of(c)[i] * d + a];
     for (int64_t r : local)
@@ -71,9 +72,10 @@ void ElementMatrices::compute(int64_t c) {
   }
 }
 
-BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat, const std::vector<char> *contact_nodes) {
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat, const std::vector<char> *contact_nodes,
+                            const std::vector<char> *cells) {
   BulkOperators ops;
-  ops.M = operator_pattern(s, dofs);
+  ops.M = operator_pattern(s, dofs, cells);
   ops.K = ops.M.zeros_like();
   ops.M_lumped.assign(static_cast<size_t>(dofs.n_free), 0.0);
   const int nb = s.basis.n, d = s.dim;
@@ -81,6 +83,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
   ElementMatrices em(s, mat);
   const std::vector<double> &me = em.me, &ke = em.ke;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    if (cells && !(*cells)[c]) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
     // HRZ lumping: the consistent diagonal scaled to the element's mass
@@ -116,8 +119,8 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
                               num(mat.poisson) + " on this mesh: rescale the units");
   if (!all_finite(ops.M.val) || !all_finite(ops.M_lumped))
     fail(ND_ERR_MATERIAL, "the mass matrix overflows with density " + num(rho) + " on this mesh: rescale the units");
-  for (double m : ops.M_lumped)
-    if (!(m > 0 || (contact_nodes && m == 0)) || !(m == 0 || std::isnormal(m)))
+  for (double m : ops.M_lumped)  // (a part of the cells leaves the others' DOFs at 0)
+    if (!(m > 0 || ((contact_nodes || cells) && m == 0)) || !(m == 0 || std::isnormal(m)))
       fail(ND_ERR_MATERIAL, "the mass matrix underflows with density " + num(rho) + " on this mesh: rescale the units");
   return ops;
 }

@@ -14,8 +14,9 @@ struct NeumannLoad {
   double g[3];
 };
 
-// The pattern shared by all operators: every pair of free DOFs of a cell.
-Csr operator_pattern(const Space &s, const DofMap &dofs);
+// The pattern shared by all operators: every pair of free DOFs of a cell;
+// with `cells` (1 per cell to take) of those cells only, on all n_free rows.
+Csr operator_pattern(const Space &s, const DofMap &dofs, const std::vector<char> *cells = nullptr);
 
 // The element mass (nb x nb, scalar, times rho) and stiffness (nb*dim
 // squared, row (i,a), column (j,b)) of one cell, over all its local DOFs.
@@ -40,8 +41,11 @@ struct BulkOperators {
 // With `contact_nodes` (assembly/redistribution.hpp; nullptr: off) the mass
 // of those nodes is redistributed; the lumped mass is then the HRZ lumping of
 // the redistributed element mass (the mass is kept, the moments are not).
+// With `cells` (1 per cell to take): the contributions of those cells only,
+// on their pattern (a rank's own cells, parallel/ownership.hpp).
 BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat,
-                            const std::vector<char> *contact_nodes = nullptr);
+                            const std::vector<char> *contact_nodes = nullptr,
+                            const std::vector<char> *cells = nullptr);
 
 // Constant load: body force f (dim values, or nullptr) and Neumann tractions.
 // Returns an empty vector when there is no load at all.

@@ -10,15 +10,20 @@ namespace nd {
 
 Csr assemble_k_theta(const Csr &K, const ContactPoints &cp, double theta) {
   Csr K_theta = K;
+  add_nitsche_terms(K_theta, cp, theta, nullptr);
+  return K_theta;
+}
+
+void add_nitsche_terms(Csr &K, const ContactPoints &cp, double theta, const std::vector<char> *points) {
   if (theta != 0)
     for (size_t q = 0; q < cp.size(); ++q) {
+      if (points && !(*points)[q]) continue;
       const SparseRow &s = cp.s[q];
-      K_theta.add_outer(s.idx, s.val.data(), s.val.data(), -(theta * cp.w[q] * cp.gamma[q]));
+      K.add_outer(s.idx, s.val.data(), s.val.data(), -(theta * cp.w[q] * cp.gamma[q]));
     }
-  for (double x : K_theta.val)
+  for (double x : K.val)
     if (!std::isfinite(x))
       fail(ND_ERR_NITSCHE, "the Nitsche terms overflow (Theta = " + num(theta) + "): lower gamma0 or rescale the units");
-  return K_theta;
 }
 
 }  // namespace nd

@@ -8,5 +8,8 @@ namespace nd {
 
 // Theta = 0 drops the s_q^T s_q term entirely (K_Theta = K).
 Csr assemble_k_theta(const Csr &K, const ContactPoints &cp, double theta);
+// K <- K - Theta sum_q w_q gamma_q s_q^T s_q in place, over the points
+// flagged in `points` (1 per contact point; null: all).
+void add_nitsche_terms(Csr &K, const ContactPoints &cp, double theta, const std::vector<char> *points);
 
 }  // namespace nd

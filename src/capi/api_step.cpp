@@ -45,6 +45,25 @@ ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
   });
 }
 
+ND_EXPORT int nd_problem_get_owned_node_count(nd_problem p, int64_t *n_owned) {
+  return nd::guarded("nd_problem_get_owned_node_count", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(n_owned, "n_owned");
+    *n_owned = pr.owned_node_count();
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_get_field_owned(nd_problem p, int field, int64_t n_owned, double *values, int64_t *nodes) {
+  return nd::guarded("nd_get_field_owned", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
+    need_count(n_owned, pr.owned_node_count(), "owned nodes (see nd_problem_get_owned_node_count)");
+    pr.owned_field(field, values, nodes);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out) {
   return nd::guarded("nd_get_scalar", [&] {
     nd::Problem &pr = nd::problem_of(p);

@@ -76,6 +76,10 @@ class Counted : public Factorization {
     ++c_->factorizations;  // counted when tried: a failed factorization is work too
     f_->factor(A, s);
   }
+  void factor_parts(const Csr &A, const Csr &own, Structure s) override {
+    ++c_->factorizations;
+    f_->factor_parts(A, own, s);
+  }
   void solve(double *x) const override {
     ++c_->solves;
     f_->solve(x);

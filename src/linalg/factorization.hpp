@@ -23,6 +23,14 @@ class Factorization {
   // Throws ND_ERR_INDEFINITE (SPD requested on a matrix that is certainly
   // not positive definite) or ND_ERR_SINGULAR.
   virtual void factor(const Csr &A, Structure s) = 0;
+  // The same matrix A given also as this rank's part `own` (the
+  // contributions of its own cells: the parts of all ranks sum to A). A
+  // backend that distributes the matrix assembles it from the parts; the
+  // others factor A.
+  virtual void factor_parts(const Csr &A, const Csr &own, Structure s) {
+    (void)own;
+    factor(A, s);
+  }
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
@@ -35,12 +43,18 @@ class Factorization {
 // and its component. Algebraic multigrid (ND_SOLVER_PETSC_GAMG) builds the
 // rigid-body modes from it (its near-null space); the direct solvers ignore it.
 // comm: the ranks that solve together (the PETSc backends distribute their
-// rows over them; the others solve the whole system on every rank).
+// rows over them; the others solve the whole system on every rank);
+// row_of: each unknown's row in the distributed matrix, where the rows of
+// each rank are consecutive (null: the unknowns' own order), and
+// [row_begin, row_end) this rank's rows, the free DOFs of its nodes
+// (parallel/ownership.hpp; row_end < 0: an even split of the rows).
 struct DofGeometry {
   int dim = 0;
   std::vector<double> x;         // dim per unknown
   std::vector<int> component;    // 0 .. dim-1 per unknown
   CommunicatorPtr comm;          // null: this process alone
+  std::shared_ptr<const std::vector<int64_t>> row_of;
+  int64_t row_begin = 0, row_end = -1;
 };
 
 // solver: an ND_SOLVER_* value; s: the structure of the matrices it will

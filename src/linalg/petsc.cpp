@@ -17,8 +17,8 @@
 // Distribution (issue 15, slice 2): the DofGeometry's communicator (none:
 // PETSC_COMM_SELF's MPI_COMM_SELF) holds the ranks that solve together. Every
 // rank has the whole matrix and right-hand side (the mesh and the state are
-// replicated); the rows are split in contiguous blocks of whole nodes (Layout),
-// each rank puts its own rows in the MATMPIAIJ and the VecMPI, the solve is
+// replicated); each rank owns the rows of its nodes' free DOFs (Layout;
+// parallel/ownership.hpp), puts them in the MATMPIAIJ and the VecMPI, the solve is
 // PETSc's over all ranks, and the solution is gathered to every rank
 // (VecScatterCreateToAll), so that solve(double *) keeps its meaning: the whole
 // vector in, the whole solution out, on every rank. factor() and solve() are
@@ -33,8 +33,15 @@
 // -nd_pc_gamg_threshold 0.01 -nd_mat_mumps_icntl_14 50". Nothing unprefixed
 // applies to them.
 //
-// Next (issue 15, slice 3): the mesh partitioned (cells, hence rows and
-// contact points, owned by a rank), so that nothing of size n is replicated.
+// Slice 3: the cells are partitioned (petsc_partition_cells below, for
+// parallel/ownership.hpp), a rank's rows are its nodes' free DOFs, numbered
+// rank after rank (DofGeometry::row_of), and factor_parts() assembles the
+// matrix from the ranks' parts (each rank adds its own cells' contributions,
+// ADD_VALUES; PETSc sends the entries of other ranks' rows to them): the step
+// matrix A is made so. factor() still inserts this rank's rows of the whole
+// matrix (the mass matrix, the refactoring tangent, the coercivity check).
+// Next: the state, the contact points and the vectors distributed too, so
+// that nothing of size n is replicated.
 //
 // PETSc is global to the process: every PETSc call of the library runs under
 // one mutex (so that handles used from distinct threads stay safe), with an
@@ -45,11 +52,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -57,6 +67,7 @@
 #include "linalg/backends.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator_mpi.hpp"
+#include "parallel/ownership.hpp"
 
 namespace nd {
 namespace {
@@ -197,13 +208,20 @@ PetscInt petsc_int(int64_t v, const char *what) {
   return static_cast<PetscInt>(v);
 }
 
-// Which rows this rank owns: [begin, end) of n, contiguous blocks of whole
-// nodes (block_size rows each) dealt out as evenly as the count allows.
+// Which rows this rank owns: [begin, end) of n. With a DofGeometry that says
+// (row_of, row_begin, row_end) the rows of each rank are the free DOFs of its
+// nodes, numbered rank after rank (our unknown u is row row_of[u]); otherwise
+// the unknowns' own order, cut in contiguous blocks of block_size rows dealt
+// out as evenly as the count allows.
 struct Layout {
   MPI_Comm comm = MPI_COMM_SELF;
   int size = 1;
   PetscInt n = 0, begin = 0, end = 0;
+  std::shared_ptr<const std::vector<int64_t>> row_of;  // null: row u is unknown u
+  std::vector<int64_t> own;  // the unknown of each of this rank's rows (empty: row_of is null)
   bool distributed() const { return size > 1; }
+  int64_t unknown(PetscInt local_row) const { return row_of ? own[local_row] : begin + local_row; }
+  PetscInt row(int64_t unknown) const { return static_cast<PetscInt>(row_of ? (*row_of)[unknown] : unknown); }
 };
 
 Layout make_layout(const DofGeometry *g, int64_t n, PetscInt block_size) {
@@ -213,6 +231,21 @@ Layout make_layout(const DofGeometry *g, int64_t n, PetscInt block_size) {
   L.size = communicator_size(c);
   const int rank = communicator_rank(c);
   L.n = petsc_int(n, "rows");
+  if (g && g->row_end >= 0 && static_cast<int64_t>(g->component.size()) == n) {
+    L.begin = static_cast<PetscInt>(g->row_begin);
+    L.end = static_cast<PetscInt>(g->row_end);
+    if (L.begin > L.end || L.end > L.n || (L.end - L.begin) % block_size != 0 ||
+        (g->row_of && static_cast<int64_t>(g->row_of->size()) != n))
+      fail(ND_ERR_INTERNAL, "the rows a rank owns (" + std::to_string(L.begin) + " .. " + std::to_string(L.end) +
+                                ") are not whole blocks of the " + std::to_string(L.n) + " rows");
+    if (g->row_of) {
+      L.row_of = g->row_of;
+      L.own.resize(static_cast<size_t>(L.end - L.begin));
+      for (int64_t u = 0; u < n; ++u)
+        if (const int64_t r = (*L.row_of)[u]; r >= L.begin && r < L.end) L.own[r - L.begin] = u;
+    }
+    return L;
+  }
   const PetscInt blocks = L.n / block_size, share = blocks / L.size, extra = blocks % L.size;
   L.begin = block_size * (rank * share + std::min<PetscInt>(rank, extra));
   L.end = L.begin + block_size * (share + (rank < extra ? 1 : 0));
@@ -226,10 +259,29 @@ class Matrix {
  public:
   Matrix(const Csr &pattern, PetscInt block_size, const Layout &L) : L_(L) {
     petsc_int(static_cast<int64_t>(pattern.col.size()), "entries");
-    first_ = pattern.ptr[L.begin];
-    ptr_.resize(static_cast<size_t>(L.end - L.begin + 1));
-    for (PetscInt i = L.begin; i <= L.end; ++i) ptr_[i - L.begin] = static_cast<PetscInt>(pattern.ptr[i] - first_);
-    col_.assign(pattern.col.begin() + first_, pattern.col.begin() + pattern.ptr[L.end]);
+    // this rank's rows in the layout's numbering, columns sorted; src_: where
+    // each entry is in the pattern (empty: the rows keep their order, and
+    // entry k is the pattern's first_ + k)
+    const PetscInt rows = L.end - L.begin;
+    ptr_.assign(static_cast<size_t>(rows + 1), 0);
+    first_ = L.row_of ? 0 : pattern.ptr[L.begin];
+    int64_t entries = 0;
+    for (PetscInt k = 0; k < rows; ++k) entries += pattern.ptr[L.unknown(k) + 1] - pattern.ptr[L.unknown(k)];
+    col_.reserve(static_cast<size_t>(entries));
+    if (L.row_of) src_.reserve(static_cast<size_t>(entries));
+    std::vector<std::pair<PetscInt, int64_t>> row;
+    for (PetscInt k = 0; k < rows; ++k) {
+      const int64_t i = L.unknown(k);
+      if (!L.row_of) {
+        col_.insert(col_.end(), pattern.col.begin() + pattern.ptr[i], pattern.col.begin() + pattern.ptr[i + 1]);
+      } else {
+        row.clear();
+        for (int64_t e = pattern.ptr[i]; e < pattern.ptr[i + 1]; ++e) row.emplace_back(L.row(pattern.col[e]), e);
+        std::sort(row.begin(), row.end());
+        for (const auto &[col, e] : row) col_.push_back(col), src_.push_back(e);
+      }
+      ptr_[k + 1] = static_cast<PetscInt>(col_.size());
+    }
     std::vector<PetscScalar> zero(col_.size(), 0.0);
     check(MatCreate(L.comm, &A_), "MatCreate");
     try {
@@ -261,29 +313,63 @@ class Matrix {
   void set_values(const Csr &M) {
     MatInfo info;
     check(MatGetInfo(A_, MAT_LOCAL, &info), "MatGetInfo");
-    if (M.n != L_.n || static_cast<size_t>(info.nz_used) != col_.size() || M.val.size() < first_ + col_.size())
+    const size_t last = src_.empty() ? first_ + col_.size() : 1 + *std::max_element(src_.begin(), src_.end());
+    if (M.n != L_.n || static_cast<size_t>(info.nz_used) != col_.size() || M.val.size() < last)
       fail(ND_ERR_INTERNAL, "the matrix does not have the pattern its PETSc solver was made for");
-    const double *v = M.val.data() + first_;
-    if (!L_.distributed()) {
+    if (src_.empty() && !L_.distributed()) {  // one rank: the rows in their order, entry for entry
       PetscScalar *a = nullptr;
       check(MatSeqAIJGetArray(A_, &a), "MatSeqAIJGetArray");
-      std::copy(v, v + col_.size(), a);
+      std::copy(M.val.begin() + first_, M.val.begin() + first_ + col_.size(), a);
       check(MatSeqAIJRestoreArray(A_, &a), "MatSeqAIJRestoreArray");  // raises the matrix's state
       return;
     }
-    for (PetscInt i = L_.begin; i < L_.end; ++i) {
-      const PetscInt k = ptr_[i - L_.begin];
-      check(MatSetValues(A_, 1, &i, ptr_[i - L_.begin + 1] - k, &col_[k], &v[k], INSERT_VALUES), "MatSetValues");
+    std::vector<PetscScalar> gathered;
+    if (!src_.empty()) {
+      gathered.resize(src_.size());
+      for (size_t k = 0; k < src_.size(); ++k) gathered[k] = M.val[src_[k]];
+    }
+    const PetscScalar *v = src_.empty() ? M.val.data() + first_ : gathered.data();
+    for (PetscInt r = 0; r < L_.end - L_.begin; ++r) {
+      const PetscInt i = L_.begin + r, k = ptr_[r];
+      check(MatSetValues(A_, 1, &i, ptr_[r + 1] - k, &col_[k], &v[k], INSERT_VALUES), "MatSetValues");
     }
     check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   }
 
+  // The matrix as the sum over the ranks of their parts (each rank's: its
+  // own cells' contributions, rows anywhere): this rank adds its part; the
+  // entries of other ranks' rows go to them in the assembly.
+  void add_parts(const Csr &own) {
+    if (own.n != L_.n) fail(ND_ERR_INTERNAL, "the rank's part of the matrix has another size than the matrix");
+    check(MatZeroEntries(A_), "MatZeroEntries");
+    std::vector<PetscInt> cols;
+    for (int64_t i = 0; i < own.n; ++i) {
+      const int64_t b = own.ptr[i], e = own.ptr[i + 1];
+      if (b == e) continue;
+      const PetscInt r = L_.row(i);
+      cols.resize(static_cast<size_t>(e - b));
+      for (int64_t k = b; k < e; ++k) cols[k - b] = L_.row(own.col[k]);
+      check(MatSetValues(A_, 1, &r, static_cast<PetscInt>(e - b), cols.data(), &own.val[b], ADD_VALUES),
+            "MatSetValues (ADD_VALUES)");
+    }
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  }
+  // A's rows of this rank, or the sum of the ranks' parts when `own` is given
+  void fill(const Csr &A, const Csr *own) {
+    require_finite(A);
+    if (!own) return set_values(A);
+    require_finite(*own);
+    add_parts(*own);
+  }
+
  private:
   Layout L_;
   Mat A_ = nullptr;
-  int64_t first_ = 0;  // M.val index of this rank's first entry
-  std::vector<PetscInt> ptr_, col_;  // this rank's rows, global columns
+  std::vector<PetscInt> ptr_, col_;  // this rank's rows, columns in the layout's numbering
+  std::vector<int64_t> src_;         // the pattern's index of each entry (empty: first_ + k)
+  int64_t first_ = 0;
 };
 
 // The right-hand side and solution vectors of a matrix's layout, and the
@@ -318,7 +404,7 @@ class Vectors {
     PetscScalar *a = nullptr;
     PetscErrorCode code = VecGetArrayWrite(b_, &a);
     if (code) return code;
-    std::copy(x + L_.begin, x + L_.end, a);
+    for (PetscInt k = 0; k < L_.end - L_.begin; ++k) a[k] = x[L_.unknown(k)];
     if ((code = VecRestoreArrayWrite(b_, &a))) return code;
     if (!L_.distributed()) {
       if ((code = VecPlaceArray(x_, x))) return code;
@@ -331,7 +417,7 @@ class Vectors {
     if ((code = VecScatterEnd(to_all_, x_, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
     const PetscScalar *r = nullptr;
     if ((code = VecGetArrayRead(all_, &r))) return code;
-    std::copy(r, r + L_.n, x);
+    for (int64_t u = 0; u < L_.n; ++u) x[u] = r[L_.row(u)];
     return VecRestoreArrayRead(all_, &r);
   }
 
@@ -362,12 +448,22 @@ class PetscMumps : public Factorization {
     v_.reset();
     A_.reset();
   }
-  void factor(const Csr &A, Structure s) override {
+  void factor(const Csr &A, Structure s) override { factor_from(A, nullptr, s); }
+  void factor_parts(const Csr &A, const Csr &own, Structure s) override { factor_from(A, &own, s); }
+  Definiteness definiteness() const override { return def_; }
+  const char *name() const override { return "petsc-mumps"; }
+  void solve(double *x) const override {
+    if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
+    Session session;
+    check(v_->solve(x, [&](Vec b, Vec sol) { return MatSolve(F_, b, sol); }), "MatSolve (MUMPS)");
+  }
+
+ private:
+  void factor_from(const Csr &A, const Csr *own, Structure s) {
     def_ = Definiteness::Unknown;
-    require_finite(A);
     Session session;
     factored_ = false;
-    A_->set_values(A);
+    A_->fill(A, own);
     const bool cholesky = s == Structure::SymmetricPositiveDefinite;
     MatFactorInfo info;
     check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
@@ -400,15 +496,7 @@ class PetscMumps : public Factorization {
     }
     factored_ = true;
   }
-  void solve(double *x) const override {
-    if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
-    Session session;
-    check(v_->solve(x, [&](Vec b, Vec sol) { return MatSolve(F_, b, sol); }), "MatSolve (MUMPS)");
-  }
-  Definiteness definiteness() const override { return def_; }
-  const char *name() const override { return "petsc-mumps"; }
 
- private:
   // MUMPS reports its failures in INFOG(1) < 0, PETSc in the factor's error.
   void require_no_factor_error(const char *phase, Structure s) {
     MatFactorError err = MAT_FACTOR_NOERROR;
@@ -519,7 +607,7 @@ class PetscGamg : public Factorization {
       vecs.push_back(v);
       PetscScalar *a = nullptr;
       if ((code = VecGetArrayWrite(v, &a))) break;
-      std::copy(m.begin() + L.begin, m.begin() + L.end, a);
+      for (PetscInt k = 0; k < L.end - L.begin; ++k) a[k] = m[L.unknown(k)];
       if ((code = VecRestoreArrayWrite(v, &a))) break;
     }
     if (!code) code = MatNullSpaceCreate(L.comm, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space);
@@ -528,13 +616,14 @@ class PetscGamg : public Factorization {
     for (Vec &v : vecs) VecDestroy(&v);
     check(code, "MatSetNearNullSpace (rigid-body modes)");
   }
-  void factor(const Csr &A, Structure s) override {
+  void factor(const Csr &A, Structure s) override { factor_from(A, nullptr, s); }
+  void factor_parts(const Csr &A, const Csr &own, Structure s) override { factor_from(A, &own, s); }
+  void factor_from(const Csr &A, const Csr *own, Structure s) {
     def_ = Definiteness::Unknown;
-    require_finite(A);
     Session session;
     ready_ = false;
     structure_ = s;
-    A_->set_values(A);
+    A_->fill(A, own);
     const bool spd = s == Structure::SymmetricPositiveDefinite;
     check(MatSetOption(A_->get(), MAT_SYMMETRIC, spd ? PETSC_TRUE : PETSC_FALSE), "MatSetOption");
     check(KSPSetOperators(ksp_, A_->get(), A_->get()), "KSPSetOperators");
@@ -597,6 +686,84 @@ class PetscGamg : public Factorization {
 };
 
 }  // namespace
+
+// ---- the partition of the cells (parallel/ownership.hpp) --------------------------
+
+bool petsc_partition_cells(const Communicator *c, int64_t n_cells, const std::vector<int64_t> &ia,
+                           const std::vector<int64_t> &ja, std::vector<int> &owner, std::string &method) {
+  Session session;
+  const MPI_Comm comm = mpi_comm(c);
+  const PetscInt local = petsc_int(static_cast<int64_t>(ia.size()) - 1, "cells");
+  PetscInt *i = nullptr, *j = nullptr;  // the adjacency matrix takes them (PetscFree)
+  check(PetscMalloc1(ia.size(), &i), "PetscMalloc1");
+  if (PetscMalloc1(std::max<size_t>(ja.size(), 1), &j)) {
+    PetscFree(i);
+    fail(ND_ERR_NOMEM, "out of memory for the cells' dual graph");
+  }
+  std::transform(ia.begin(), ia.end(), i, [](int64_t v) { return static_cast<PetscInt>(v); });
+  std::transform(ja.begin(), ja.end(), j, [](int64_t v) { return static_cast<PetscInt>(v); });
+  Mat adj = nullptr;
+  MatPartitioning part = nullptr;
+  IS is = nullptr;
+  const PetscInt *parts = nullptr;
+  struct Release {  // whatever was made, on every way out
+    Mat &adj;
+    MatPartitioning &part;
+    IS &is;
+    const PetscInt *&parts;
+    ~Release() {
+      if (!petsc_alive()) return;
+      if (parts) ISRestoreIndices(is, &parts);
+      if (is) ISDestroy(&is);
+      if (part) MatPartitioningDestroy(&part);
+      if (adj) MatDestroy(&adj);
+    }
+  } release{adj, part, is, parts};
+  const PetscErrorCode made = MatCreateMPIAdj(comm, local, petsc_int(n_cells, "cells"), i, j, nullptr, &adj);
+  if (made) {
+    PetscFree(i), PetscFree(j);
+    fail_petsc(made, "MatCreateMPIAdj (the cells' dual graph)");
+  }
+  check(MatPartitioningCreate(comm, &part), "MatPartitioningCreate");
+  check(MatPartitioningSetAdjacency(part, adj), "MatPartitioningSetAdjacency");
+  check(PetscObjectSetOptionsPrefix(reinterpret_cast<PetscObject>(part), "nd_"), "PetscObjectSetOptionsPrefix");
+  // Which partitioners this PETSc has: setting an unregistered type fails.
+  // Debian's PT-Scotch 7 runs threads that call MPI: with less than
+  // MPI_THREAD_MULTIPLE it crashes or hangs now and then (3 runs of 5 on 4
+  // ranks of ball_h4) unless SCOTCH_PTHREAD_NUMBER=1 keeps it to one thread.
+  int level = MPI_THREAD_SINGLE;
+  MPI_Query_thread(&level);
+  const char *threads = std::getenv("SCOTCH_PTHREAD_NUMBER");
+  const bool scotch_safe = level == MPI_THREAD_MULTIPLE || (threads && std::strcmp(threads, "1") == 0);
+  bool found = false;
+  for (MatPartitioningType type : {MATPARTITIONINGPTSCOTCH, MATPARTITIONINGPARMETIS})
+    if (!found && (scotch_safe || std::strcmp(type, MATPARTITIONINGPTSCOTCH) != 0) && !MatPartitioningSetType(part, type))
+      found = true;
+  g_petsc_message.clear();
+  PetscBool asked = PETSC_FALSE;
+  check(PetscOptionsHasName(nullptr, "nd_", "-mat_partitioning_type", &asked), "PetscOptionsHasName");
+  if (!found && !asked) return false;
+  check(MatPartitioningSetFromOptions(part), "MatPartitioningSetFromOptions");
+  check(MatPartitioningApply(part, &is), "MatPartitioningApply");
+  MatPartitioningType type = nullptr;
+  check(MatPartitioningGetType(part, &type), "MatPartitioningGetType");
+  method = type ? type : "?";
+  PetscInt n_is = 0;
+  check(ISGetLocalSize(is, &n_is), "ISGetLocalSize");
+  check(ISGetIndices(is, &parts), "ISGetIndices");
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  std::vector<int> mine(parts, parts + n_is), counts(static_cast<size_t>(size)), first(static_cast<size_t>(size), 0);
+  const int n_mine = static_cast<int>(n_is);
+  if (MPI_Allgather(&n_mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Allgather of the partition's sizes failed");
+  std::partial_sum(counts.begin(), counts.end() - 1, first.begin() + 1);
+  owner.assign(static_cast<size_t>(n_cells), 0);
+  if (MPI_Allgatherv(mine.data(), n_mine, MPI_INT, owner.data(), counts.data(), first.data(), MPI_INT, comm) !=
+      MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Allgatherv of the cells' owners failed");
+  return true;
+}
 
 std::unique_ptr<Factorization> make_petsc_mumps_factorization(const Csr &p, const DofGeometry *g) {
   return std::make_unique<PetscMumps>(p, g);

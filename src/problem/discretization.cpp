@@ -27,6 +27,20 @@ namespace {
 constexpr int64_t kMassCgMinSize = 2048;
 constexpr double kMassCgTolerance = 1e-15;
 constexpr int kMassCgMaxIterations = 300;
+
+// The scheme's mass (consistent, or lumped on K's pattern) and K, over the
+// cells flagged in `cells` (null: all), each with its mass redistributed
+// from the contact nodes when the definition asks for it.
+BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const Definition &def,
+                                 const std::vector<char> *on_contact, const std::vector<char> *cells) {
+  BulkOperators bulk = assemble_bulk(space, dofs, def.material, def.redistributed ? on_contact : nullptr, cells);
+  if (def.lumped) {
+    bulk.M = bulk.K.zeros_like();
+    for (int64_t i = 0; i < bulk.M.n; ++i)
+      if (const int64_t k = bulk.M.find(i, i); k >= 0) bulk.M.val[k] = bulk.M_lumped[i];
+  }
+  return bulk;
+}
 }  // namespace
 
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters) {
@@ -54,15 +68,10 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
         std::copy_n(&space.node_coords[node * space.dim], space.dim, &d->geometry.x[r * space.dim]);
         d->geometry.component[r] = a;
       }
-  BulkOperators bulk = assemble_bulk(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr);
+  BulkOperators bulk = mass_and_stiffness(space, d->dofs, def, &on_contact, nullptr);
   d->K = std::move(bulk.K);
-  if (def.lumped) {
-    d->M = d->K.zeros_like();
-    for (int64_t i = 0; i < d->M.n; ++i) d->M.val[d->M.find(i, i)] = bulk.M_lumped[i];
-    d->M_lumped = std::move(bulk.M_lumped);
-  } else {
-    d->M = std::move(bulk.M);
-  }
+  d->M = std::move(bulk.M);
+  if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
   const bool automatic = def.gamma0 == 0;
   d->contact = assemble_contact(space, d->dofs, def.material, def.planes, automatic ? 1.0 : def.gamma0);
   d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
@@ -80,6 +89,20 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     d->clamped = std::make_unique<ClampedRows>(
         clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));
   return d;
+}
+
+Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const Definition &def, const Ownership &own,
+                             double c) {
+  std::vector<char> cells(static_cast<size_t>(space.mesh->n_cells)), points(d.contact.size());
+  for (int64_t cell = 0; cell < space.mesh->n_cells; ++cell) cells[cell] = own.owns_cell(cell);
+  for (size_t q = 0; q < points.size(); ++q) points[q] = own.owns_cell(space.mesh->boundary[d.contact.facet[q]].cell);
+  const std::vector<char> on_contact = def.redistributed ? contact_nodes(space, def.planes) : std::vector<char>();
+  BulkOperators bulk = mass_and_stiffness(space, d.dofs, def, &on_contact, &cells);
+  count(d.counters, &Counters::matrix_assemblies);
+  add_nitsche_terms(bulk.K, d.contact, d.theta, &points);
+  Csr &A = bulk.K;  // A = c M + K_Theta, as csr_combine forms the whole one
+  for (size_t k = 0; k < A.val.size(); ++k) A.val[k] = c * bulk.M.val[k] + 1.0 * A.val[k];
+  return std::move(A);
 }
 
 std::vector<double> constant_load(const Space &space, const Discretization &d, const Definition &def) {

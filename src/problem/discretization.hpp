@@ -9,6 +9,7 @@
 #include "fem/space.hpp"
 #include "linalg/csr.hpp"
 #include "linalg/factorization.hpp"
+#include "parallel/ownership.hpp"
 #include "problem/definition.hpp"
 #include "time/state.hpp"
 
@@ -59,6 +60,13 @@ struct Discretization {
 constexpr double kAutomaticGamma0Fraction = 0.5;
 
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters);
+// A rank's part of the step matrix A = c M + K_Theta (issue 15, slice 3):
+// the contributions of its own cells, and of the contact points on them, on
+// the pattern of those cells (all rows, most of them empty). Summed over the
+// ranks it is A; a distributed solver assembles A from the parts
+// (Factorization::factor_parts).
+Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const Definition &def, const Ownership &own,
+                             double c);
 // With Theta > 0 and Theta gamma0 above the element bound, the exact check:
 // K_Theta + delta M must factor as positive definite (ND_ERR_NOT_COERCIVE).
 void check_coercivity(Discretization &d, int solver);

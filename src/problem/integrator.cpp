@@ -25,7 +25,8 @@ Structure tangent_structure(double theta) {
 }  // namespace
 
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
-                                            std::unique_ptr<Factorization> reuse) {
+                                            std::unique_ptr<Factorization> reuse,
+                                            const std::function<Csr(double)> &own_part) {
   require_complete(def.missing_for_step());
   auto in = std::make_unique<Integrator>();
   in->scheme = make_scheme(def.scheme, def.scheme_params);
@@ -41,7 +42,11 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
                        : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters,
                                                             &d.geometry);
   try {
-    in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
+    if (own_part) {  // several ranks: each adds its own cells' part of A to the distributed matrix
+      in->A_factor->factor_parts(in->A, own_part(in->coef.c), Structure::SymmetricPositiveDefinite);
+    } else {
+      in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
+    }
   } catch (const Error &e) {
     if (e.code() != ND_ERR_INDEFINITE) throw;
     fail(ND_ERR_INDEFINITE, "the step operator c*M + K_Theta: " + std::string(e.what()) + "; with Theta = " +

@@ -2,6 +2,7 @@
 // operator A = c M + K_Theta with its factorization, and the tangent solver
 // of the Newton iterations. advance() is the step driver: it names no scheme.
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -35,8 +36,11 @@ struct Integrator {
 // Factorizes A for an implicit scheme, or (K_Theta)_mm for an explicit one
 // with massless DOFs: throws ND_ERR_INDEFINITE when the step is not well posed. reuse: a factorization made for A's pattern (of
 // this discretization and solver), or none: its symbolic analysis is reused.
+// own_part (several ranks): this rank's part of A for the scheme's c
+// (assemble_own_step_matrix), from which a distributed solver assembles A.
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
-                                            std::unique_ptr<Factorization> reuse = nullptr);
+                                            std::unique_ptr<Factorization> reuse = nullptr,
+                                            const std::function<Csr(double)> &own_part = {});
 
 // What is prescribed at t^{n+1}: the load on the free DOFs and on the clamped
 // ones (empty: none), and the gaps g_q of the obstacle where it is then.

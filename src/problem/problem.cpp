@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include <exception>
+#include <functional>
 #include <limits>
+#include <numeric>
 #include <new>
 #include <string>
 
@@ -15,6 +17,7 @@
 #include "monitor/guards.hpp"
 #include "io/atomic_file.hpp"
 #include "problem/checkpoint.hpp"
+#include "parallel/ownership.hpp"
 #include "problem/forces.hpp"
 
 namespace nd {
@@ -232,7 +235,27 @@ void Problem::set_guard(int guard, double value) {
 
 Discretization &Problem::discretization_() {
   if (!disc_) disc_ = discretize(space_, def_, counters_.get());
-  disc_->geometry.comm = def_.comm;  // the factorizations' ranks
+  DofGeometry &g = disc_->geometry;
+  if (g.row_end < 0 || g.comm != def_.comm) {
+    g.comm = def_.comm;  // the factorizations' ranks
+    g.row_of.reset();
+    g.row_begin = 0, g.row_end = disc_->dofs.n_free;
+    const Ownership &own = ownership();
+    if (!own.node_owner.empty()) {
+      // the rows of the distributed matrix, rank after rank: each rank's the
+      // free DOFs of its nodes, in their order
+      const std::vector<int64_t> &free = disc_->dofs.free;
+      std::vector<int64_t> first(static_cast<size_t>(own.size + 1), 0);
+      for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
+        if (free[dof] >= 0) ++first[own.node_owner[dof / space_.dim] + 1];
+      std::partial_sum(first.begin(), first.end(), first.begin());
+      g.row_begin = first[own.rank], g.row_end = first[own.rank + 1];
+      auto row_of = std::make_shared<std::vector<int64_t>>(static_cast<size_t>(disc_->dofs.n_free));
+      for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
+        if (free[dof] >= 0) (*row_of)[free[dof]] = first[own.node_owner[dof / space_.dim]]++;
+      g.row_of = std::move(row_of);
+    }
+  }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
   if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
   obstacle_redefined_ = false;
@@ -255,7 +278,13 @@ const std::vector<double> &Problem::constant_load_() {
 }
 
 Integrator &Problem::integrator_or_build() {
-  if (!integrator_) integrator_ = make_integrator(discretization_(), def_, std::move(spare_A_factor_));
+  if (integrator_) return *integrator_;
+  Discretization &d = discretization_();
+  std::function<Csr(double)> own_part;  // several ranks: each assembles its own cells' part of A
+  const bool distributes = def_.solver == ND_SOLVER_PETSC_MUMPS || def_.solver == ND_SOLVER_PETSC_GAMG;
+  if (distributes && !ownership().node_owner.empty())
+    own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
+  integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
   return *integrator_;
 }
 
@@ -397,10 +426,22 @@ void Problem::agree_on_inputs() {
 }
 
 void Problem::set_communicator(CommunicatorPtr comm) {
-  if (setup_done_)
+  // every rank takes part in the collectives below, then all fail or none does
+  const Communicator *c = comm.get();
+  const int mine = setup_done_ ? ND_ERR_STATE : ND_OK;
+  const int worst = worst_status(c, mine);
+  if (mine != ND_OK)
     fail(ND_ERR_STATE, "the problem is set up (nd_problem_setup, a step or a loaded checkpoint): the communicator "
                        "is given before, on every rank");
+  if (worst != ND_OK)
+    fail(worst, "another rank refused the communicator (its problem is set up); no rank took it");
+  if (!same_on_all_ranks(c, mesh_digest_))
+    fail(ND_ERR_STATE, "the ranks' meshes differ (vertices, cells, regions or degree): every rank creates the problem "
+                       "from the same mesh; no rank took the communicator");
+  // the cells and nodes of each rank: partitioned now (collective), kept until another communicator
+  std::shared_ptr<const Ownership> own = partition_mesh(space_, c);
   def_.comm = std::move(comm);
+  ownership_ = std::move(own);
   changed(kSolver);  // every factorization is made again over the new ranks
 }
 
@@ -504,6 +545,24 @@ void Problem::field(int which, double *full) {
   if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
   const std::vector<double> &v = which == ND_FIELD_DISPLACEMENT ? s.U : which == ND_FIELD_VELOCITY ? s.V : s.A;
   discretization_().dofs.extend_to_full(v.data(), full);
+}
+
+const Ownership &Problem::ownership() {
+  if (!ownership_) ownership_ = partition_mesh(space_, def_.comm.get());
+  return *ownership_;
+}
+
+int64_t Problem::owned_node_count() { return static_cast<int64_t>(ownership().nodes.size()); }
+
+void Problem::owned_field(int which, double *values, int64_t *nodes) {
+  const std::vector<int64_t> &own = ownership().nodes;
+  const int d = space_.dim;
+  if (values) {
+    std::vector<double> full(static_cast<size_t>(space_.n_dofs()));  // the field is replicated (this slice)
+    field(which, full.data());
+    for (size_t k = 0; k < own.size(); ++k) std::copy_n(&full[own[k] * d], d, &values[k * d]);
+  }
+  if (nodes) std::copy(own.begin(), own.end(), nodes);
 }
 
 std::vector<double> Problem::contact_pressure() {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fem/space.hpp"
+#include "parallel/ownership.hpp"
 #include "problem/definition.hpp"
 #include "problem/checkpoint.hpp"
 #include "problem/discretization.hpp"
@@ -74,6 +75,13 @@ class Problem {
   const Integrator *integrator() const { return integrator_.get(); }
   const Counters &counters() const { return *counters_; }
   void field(int which, double *full);  // n_dofs values
+  // The cells and FE nodes each rank owns (parallel/ownership.hpp; all of
+  // them without a communicator).
+  const Ownership &ownership();
+  // This rank's nodes: their count, and a field's values at them (count *
+  // dim, node-major) with their node numbers, ascending; either may be null.
+  int64_t owned_node_count();
+  void owned_field(int which, double *values, int64_t *nodes);
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
   // -phi_q/gamma_q: the pressure the last step applied (lambda_q before any step)
@@ -108,6 +116,7 @@ class Problem {
 
   std::shared_ptr<const Mesh> mesh_;
   Space space_;
+  std::shared_ptr<const Ownership> ownership_;  // made with the communicator (null: not yet needed)
   uint64_t mesh_digest_;  // of the mesh and the space (inputs_digest)
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes

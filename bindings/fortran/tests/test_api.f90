@@ -207,6 +207,8 @@ contains
     integer(c_int64_t) :: n, nbytes
     integer(c_signed_char), allocatable :: buf(:)
     real(c_double), allocatable :: u_ref(:), u(:), v(:)
+    integer(c_int64_t), allocatable :: nodes(:)
+    integer(c_int64_t) :: n_owned, i
     real(c_double) :: t, w0, w1
     integer :: k
     integer(c_int) :: status
@@ -227,6 +229,16 @@ contains
     end do
     if (status == ND_OK) status = nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u_ref)
     call check(status == ND_OK, '20 more steps')
+    ! without a communicator the process owns every node, in order
+    call check(nd_problem_get_owned_node_count(p, n_owned) == ND_OK .and. n_owned == n, &
+               'nd_problem_get_owned_node_count: every node')
+    allocate(nodes(n_owned))
+    call check(nd_get_field_owned(p, ND_FIELD_DISPLACEMENT, n_owned, u, nodes) == ND_OK, 'nd_get_field_owned')
+    call check(maxval(abs(u - u_ref)) <= 0 .and. all(nodes == [(i, i = 0, n - 1)]), &
+               'nd_get_field_owned: the whole field and the node numbers 0 .. n-1')
+    call check(nd_get_field_owned(p, ND_FIELD_VELOCITY, n_owned, v) == ND_OK, 'nd_get_field_owned with nodes absent')
+    call check(nd_get_field_owned(p, ND_FIELD_VELOCITY, n_owned + 1, v) == ND_ERR_SIZE, &
+               'nd_get_field_owned with a wrong count: ND_ERR_SIZE')
     call check(nd_get_field(p, ND_FIELD_CONTACT_FORCE, n, v) == ND_OK, 'nd_get_field(ND_FIELD_CONTACT_FORCE)')
     call check(nd_get_scalar(p, ND_CONTACT_FORCE, t) == ND_OK, 'nd_get_scalar(ND_CONTACT_FORCE)')
     call check(abs(sum(v) - t) <= 1e-13_c_double * sum(abs(v)), 'the nodal contact forces sum to ND_CONTACT_FORCE')
