@@ -25,8 +25,9 @@ struct SparseColumns {
 
 class UpdatableCholesky {
  public:
-  // the symbolic analysis of the pattern (one AMD ordering); counted as an
-  // analysis, each factor() as a factorization and each solve() as a solve
+  // the symbolic analysis of the pattern (in the CHOLMOD backend's ordering);
+  // counted as an analysis, each factor() as a factorization and each
+  // solve() as a solve
   UpdatableCholesky(const Csr &pattern, Counters *counters);
   ~UpdatableCholesky();
   // numeric LDL^T of T (its pattern the constructor's); throws ND_ERR_INDEFINITE
