@@ -19,6 +19,13 @@ double p_dot(const ContactPoints &cp, size_t q, const double *v) {
   return sum;
 }
 
+void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> &idx, std::vector<double> &val) {
+  const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
+  const double g = cp.gamma[q];
+  idx.insert(idx.end(), a.idx.begin(), a.idx.end());
+  for (size_t i = 0; i < a.idx.size(); ++i) val.push_back(c * (a.val[i] - g * s.val[i]));
+}
+
 void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y) {
   const SparseRow &a = cp.a[q], &s = cp.s[q];
   const double tg = theta * cp.gamma[q];

@@ -17,6 +17,8 @@ namespace nd {
 
 // p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap)
 double p_dot(const ContactPoints &cp, size_t q, const double *v);
+// appends c p_q = c (a_q - gamma_q s_q): a_q's indices to idx, the values to val
+void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> &idx, std::vector<double> &val);
 // y += f b_q, b_q = a_q - Theta gamma_q s_q
 void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y);
 // T += f b_q p_q^T (T has the operator pattern)

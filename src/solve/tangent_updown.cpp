@@ -132,12 +132,7 @@ class UpdownTangent : public TangentSolver {
     C.idx.clear();
     C.val.clear();
     for (size_t j = 0; j < q.size(); ++j) {
-      const SparseRow &a = cp.a[q[j]], &s = cp.s[q[j]];
-      const double r = std::sqrt(c[j]), g = cp.gamma[q[j]];
-      for (size_t e = 0; e < a.idx.size(); ++e) {
-        C.idx.push_back(a.idx[e]);
-        C.val.push_back(r * (a.val[e] - g * s.val[e]));
-      }
+      append_p(cp, static_cast<size_t>(q[j]), std::sqrt(c[j]), C.idx, C.val);
       C.ptr.push_back(static_cast<int64_t>(C.idx.size()));
     }
   }
