@@ -115,6 +115,16 @@ START_TEST(free_flight_implicit) {
   EXPECT(d, "hybrid free flight", 0, 0, N_STEPS, 0, 0, 0, 4 * N_STEPS, N_STEPS);
   ck_assert_double_eq(d.iters, N_STEPS);
   ck_assert_double_eq(scalar(p, ND_ACTIVE_POINTS), 0);
+  /* P_q of the bar's one contact point: three passes a step (the predictor,
+     the linear step, the new state); the penetration guard reads
+     u_n - g0 = a_q U - g_q, not P_q. One process evaluates every point. */
+  int64_t nq = 0;
+  ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &nq));
+  ck_assert_int_eq(nq, 1);
+  const double points = scalar(p, ND_STAT_POINT_EVALUATIONS);
+  ck_assert_double_eq(points - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN), 0);
+  ND_OK_OR_FAIL(nd_step(p));
+  ck_assert_double_eq(scalar(p, ND_STAT_POINT_EVALUATIONS) - points, 3 * nq);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 
   /* Newmark carries A^n: M is factored once more at set-up, for A^0 */

@@ -3,12 +3,15 @@
 // with weight w_q, gamma_q = gamma0 h_K and initial gap g_q. Assembled once.
 #pragma once
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "assembly/material.hpp"
 #include "fem/space.hpp"
 
 namespace nd {
+
+struct Share;  // parallel/share.hpp
 
 struct SparseRow {
   std::vector<int64_t> idx;  // free DOF indices
@@ -38,6 +41,9 @@ struct ContactPoints {
   std::vector<double> w, gamma, gap, x;  // x: n * dim
   std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
   std::vector<int64_t> facet;            // index into Mesh::boundary
+  // which rank evaluates which point in a step (the rank of its facet's
+  // cell); null: this process evaluates every point
+  std::shared_ptr<const Share> share;
   size_t size() const { return w.size(); }
 };
 

@@ -17,6 +17,9 @@ struct Counters {
   int64_t tangent_updates = 0;      // capacitance builds or tangent assemblies
   int64_t contact_evaluations = 0;  // passes over all contact points
   int64_t spmv = 0;                 // sparse matrix-vector products (fused passes count once)
+  // P_q of one point evaluated in a step (ContactLaw::P_all): by all the
+  // ranks together (the same count as on one rank), and by this rank
+  int64_t point_evaluations = 0, own_point_evaluations = 0;
 };
 
 // c->*field += by when there is a counter struct (unit tests pass none)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "parallel/share.hpp"
 #include "solve/contact_law.hpp"
 
 namespace nd {
@@ -15,7 +16,10 @@ namespace {
 // The pass behind compute_products and mechanical_energy: each product
 // summed in one fixed order (even and odd entries of a row apart, then
 // added), V.MV and U.KU row by row, so that the energy has the same bits
-// whether or not the products are stored.
+// whether or not the products are stored. With several ranks (d.rows) the
+// stored products are each rank's rows, gathered, and V.MV, U.KU the ranks'
+// sums added rank after rank (the same bits on every rank; not those of one
+// process, nor of the unstored pass, which sums every row on each rank).
 // Two products share one SSE2 multiply and add: (mu, mv) += m (U_c, V_c) and
 // (ma, ku) += (m, k) (A_c, U_c), from interleaved copies of U, V, A (each
 // lane sums in the same order as a scalar sum would).
@@ -48,7 +52,12 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   const int64_t *col = K.col.data(), *ptr = K.ptr.data();
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
-  for (int64_t i = 0; i < K.n; ++i) {
+  // with several ranks (store only): each its own rows, gathered below
+  const Share *rows = store ? d.rows.get() : nullptr;
+  const int64_t n_rows = rows ? rows->own_count() : K.n;
+  const int64_t *row = rows ? rows->own_begin() : nullptr;
+  for (int64_t r = 0; r < n_rows; ++r) {
+    const int64_t i = row ? row[r] : r;
     // even and odd entries in separate sums: two chains of dependent adds
     // instead of one (the add's latency, not the memory, bounded this loop)
     Pair a = {0, 0}, b = {0, 0}, a1 = {0, 0}, b1 = {0, 0};
@@ -85,6 +94,13 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
       if (acc) p.MA[i] = b[0];
     }
   }
+  if (rows) {
+    double sums[2] = {kinetic, strain};
+    std::vector<double *> fields{p.MU.data(), p.MV.data(), p.KU.data()};
+    if (acc) fields.push_back(p.MA.data());
+    gather(*rows, fields, sums, 2);
+    kinetic = sums[0], strain = sums[1];
+  }
   p.kinetic = kinetic;
   p.strain = strain;
 }
@@ -94,10 +110,9 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
 void compute_products(const Discretization &d, State &s) {
   s.products.of = 0;  // stays 0 if anything below throws
   products_pass<true>(d, s, s.products);
-  const ContactLaw law = state_contact_law(d, s);
-  s.products.P.resize(d.contact.size());
-  if (!s.products.P.empty()) count(d.counters, &Counters::contact_evaluations);
-  for (size_t q = 0; q < s.products.P.size(); ++q) s.products.P[q] = law.P(q, s.U.data());
+  ContactLaw law = state_contact_law(d, s);
+  law.counters = d.counters;
+  law.P_all(s.U.data(), s.products.P);
   s.products.of = d.id;
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace nd {
 
@@ -26,5 +27,9 @@ int communicator_rank(const Communicator *c);  // 0 when null
 int worst_status(const Communicator *c, int status);
 // Whether every rank passed the same digest.
 bool same_on_all_ranks(const Communicator *c, uint64_t digest);
+// MPI_Allgatherv: rank r's `mine` (counts[r] values) lands at all[displs[r]]
+// on every rank.
+void allgather(const Communicator *c, const std::vector<double> &mine, std::vector<double> &all,
+               const std::vector<int> &counts, const std::vector<int> &displs);
 
 }  // namespace nd

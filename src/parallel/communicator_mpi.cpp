@@ -68,4 +68,15 @@ bool same_on_all_ranks(const Communicator *c, uint64_t digest) {
   return all[0] == ~all[1];
 }
 
+void allgather(const Communicator *c, const std::vector<double> &mine, std::vector<double> &all,
+               const std::vector<int> &counts, const std::vector<int> &displs) {
+  if (!c) {
+    all = mine;
+    return;
+  }
+  if (MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(),
+                     displs.data(), MPI_DOUBLE, c->comm) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Allgatherv of the ranks' contact points and products failed");
+}
+
 }  // namespace nd

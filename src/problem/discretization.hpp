@@ -44,6 +44,9 @@ struct Discretization {
   std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
   Counters *counters = nullptr;             // the problem's (ND_STAT_*)
   DofGeometry geometry;                     // node coordinates and component of each free DOF (for AMG)
+  // with several ranks: which rank computes which row of the step's products
+  // (the rank of its node; monitor/energies.cpp); null: this process, all
+  std::shared_ptr<const Share> rows;
 
   // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others).
   // once: the caller expects no more solves with M (the initial acceleration

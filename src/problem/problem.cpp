@@ -6,7 +6,6 @@
 #include <exception>
 #include <functional>
 #include <limits>
-#include <numeric>
 #include <new>
 #include <string>
 
@@ -18,6 +17,7 @@
 #include "io/atomic_file.hpp"
 #include "problem/checkpoint.hpp"
 #include "parallel/ownership.hpp"
+#include "parallel/share.hpp"
 #include "problem/forces.hpp"
 
 namespace nd {
@@ -240,20 +240,28 @@ Discretization &Problem::discretization_() {
     g.comm = def_.comm;  // the factorizations' ranks
     g.row_of.reset();
     g.row_begin = 0, g.row_end = disc_->dofs.n_free;
+    disc_->rows.reset();
+    disc_->contact.share.reset();
     const Ownership &own = ownership();
     if (!own.node_owner.empty()) {
-      // the rows of the distributed matrix, rank after rank: each rank's the
-      // free DOFs of its nodes, in their order
+      // a row (free DOF) belongs to its node's rank: the rank computes its row
+      // of the step's products, and owns it in the distributed matrix, where
+      // the rows are numbered rank after rank, each rank's in their order;
+      // a contact point belongs to its cell's rank (parallel/share.hpp)
       const std::vector<int64_t> &free = disc_->dofs.free;
-      std::vector<int64_t> first(static_cast<size_t>(own.size + 1), 0);
+      std::vector<int> row_owner(static_cast<size_t>(disc_->dofs.n_free));
       for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
-        if (free[dof] >= 0) ++first[own.node_owner[dof / space_.dim] + 1];
-      std::partial_sum(first.begin(), first.end(), first.begin());
-      g.row_begin = first[own.rank], g.row_end = first[own.rank + 1];
+        if (free[dof] >= 0) row_owner[free[dof]] = own.node_owner[dof / space_.dim];
+      disc_->rows = make_share(def_.comm, row_owner);
+      const Share &rows = *disc_->rows;
+      g.row_begin = rows.first[own.rank], g.row_end = rows.first[own.rank + 1];
       auto row_of = std::make_shared<std::vector<int64_t>>(static_cast<size_t>(disc_->dofs.n_free));
-      for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
-        if (free[dof] >= 0) (*row_of)[free[dof]] = first[own.node_owner[dof / space_.dim]]++;
+      for (size_t k = 0; k < rows.order.size(); ++k) (*row_of)[rows.order[k]] = static_cast<int64_t>(k);
       g.row_of = std::move(row_of);
+      const ContactPoints &cp = disc_->contact;
+      std::vector<int> point_owner(cp.size());
+      for (size_t q = 0; q < cp.size(); ++q) point_owner[q] = own.cell_owner[space_.mesh->boundary[cp.facet[q]].cell];
+      disc_->contact.share = make_share(def_.comm, point_owner);
     }
   }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
@@ -594,6 +602,8 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_TANGENT_UPDATES, &Counters::tangent_updates},
     {ND_STAT_CONTACT_EVALUATIONS, &Counters::contact_evaluations},
     {ND_STAT_SPMV, &Counters::spmv},
+    {ND_STAT_POINT_EVALUATIONS, &Counters::point_evaluations},
+    {ND_STAT_POINT_EVALUATIONS_OWN, &Counters::own_point_evaluations},
 };
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include "solve/contact_law.hpp"
 
+#include "parallel/share.hpp"
+
 namespace nd {
 
 void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
@@ -9,6 +11,35 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
   }
   value = P > 0 ? P : 0;
   slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
+}
+
+void evaluate_points(const ContactPoints &cp, Counters *counters, const std::vector<char> &skip, double *P,
+                     const std::function<double(size_t)> &eval) {
+  const Share *share = cp.share.get();
+  const int64_t all = static_cast<int64_t>(cp.size());
+  auto wanted = [&](int64_t q) { return skip.empty() || !skip[q]; };
+  // the job's count needs no message: the skipped points are the same on every rank
+  int64_t done = skip.empty() ? all : 0, own = 0;
+  if (!skip.empty())
+    for (int64_t q = 0; q < all; ++q) done += wanted(q);
+  if (!share) {
+    for (int64_t q = 0; q < all; ++q)
+      if (wanted(q)) P[q] = eval(static_cast<size_t>(q));
+    own = done;
+  } else {
+    for (const int64_t *q = share->own_begin(); q != share->own_end(); ++q)
+      if (wanted(*q)) P[*q] = eval(static_cast<size_t>(*q)), ++own;
+    gather(*share, {P});
+  }
+  count(counters, &Counters::point_evaluations, done);
+  count(counters, &Counters::own_point_evaluations, own);
+}
+
+void ContactLaw::P_all(const double *U, std::vector<double> &P) const {
+  P.resize(cp->size());
+  if (P.empty()) return;
+  count(counters, &Counters::contact_evaluations);
+  evaluate_points(*cp, counters, {}, P.data(), [&](size_t q) { return this->P(q, U); });
 }
 
 double p_dot(const ContactPoints &cp, size_t q, const double *v) {
@@ -35,10 +66,11 @@ void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y)
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
   if (cp->size() == 0) return;
-  count(counters, &Counters::contact_evaluations);
+  thread_local std::vector<double> Pq;
+  P_all(U, Pq);
   for (size_t q = 0; q < cp->size(); ++q) {
     double value, slope;
-    law(q, P(q, U), value, slope);
+    law(q, Pq[q], value, slope);
     if (active) (*active)[q] = slope != 0;
     if (value == 0) continue;
     add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
@@ -59,11 +91,12 @@ void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f
 }
 
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T) const {
-  count(counters, &Counters::contact_evaluations);
   count(counters, &Counters::tangent_updates);
+  thread_local std::vector<double> Pq;
+  P_all(U, Pq);
   for (size_t q = 0; q < cp->size(); ++q) {
     double value, slope;
-    law(q, P(q, U), value, slope);
+    law(q, Pq[q], value, slope);
     if (slope == 0) continue;
     add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T);
   }

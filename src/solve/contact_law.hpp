@@ -6,6 +6,7 @@
 // [P]_+ when no scheme is given (energies, pressure, explicit steps). The
 // tangent is N'(U) = sum_q (w_q/gamma_q) phi'(P_q(U), P_q^n) b_q p_q^T.
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "assembly/contact.hpp"
@@ -14,6 +15,15 @@
 #include "time/scheme.hpp"
 
 namespace nd {
+
+// P[q] = eval(q) for the points this process evaluates (with several ranks,
+// those of its own cells; cp.share, parallel/share.hpp), except where skip[q]
+// (skip empty: none is skipped; P[q] is then given, the same on every rank),
+// then the other ranks' points gathered from them: P holds every point on
+// every rank, bitwise as if one process had evaluated them all. Collective
+// when shared. Counts the evaluations (point_evaluations).
+void evaluate_points(const ContactPoints &cp, Counters *counters, const std::vector<char> &skip, double *P,
+                     const std::function<double(size_t)> &eval);
 
 // p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap)
 double p_dot(const ContactPoints &cp, size_t q, const double *v);
@@ -34,6 +44,10 @@ struct ContactLaw {
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   double P(size_t q, const double *U) const { return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - g(q); }
+  // P[q] = P_q(U) for every point (P sized here), in a step: with several
+  // ranks each evaluates the points of its own cells and the values are
+  // gathered (collective; see evaluate_points). Counts one pass.
+  void P_all(const double *U, std::vector<double> &P) const;
   // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given

@@ -57,10 +57,9 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   std::vector<double> P(nq);
   std::vector<int64_t> S;
   std::vector<char> active(static_cast<size_t>(nq), 0), previous;
-  count(law.counters, &Counters::contact_evaluations);
+  law.P_all(U.data(), P);
   for (int64_t q = 0; q < nq; ++q) {
     double v, s;
-    P[q] = law.P(q, U.data());
     law.law(q, P[q], v, s);
     if (s != 0) S.push_back(q), active[q] = 1;
   }
@@ -72,12 +71,9 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   }
   std::vector<double> y0 = r;
   A_factor.solve(y0.data());
-  std::vector<double> P0(nq), c(nq);
-  count(law.counters, &Counters::contact_evaluations);
-  for (int64_t q = 0; q < nq; ++q) {
-    P0[q] = law.P(q, y0.data());
-    c[q] = sys.kappa * cp.w[q] / cp.gamma[q];
-  }
+  std::vector<double> P0, c(nq);
+  law.P_all(y0.data(), P0);
+  for (int64_t q = 0; q < nq; ++q) c[q] = sys.kappa * cp.w[q] / cp.gamma[q];
   if (S.empty())  // no point active at the predictor: the linear step's P
     for (int64_t q = 0; q < nq; ++q) P[q] = P0[q];
 
@@ -143,16 +139,19 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (any_force) count(law.counters, &Counters::contact_evaluations);  // (none: P0's pass above)
     const bool through_U = any_force && (nq - k) * 24 > n;  // (no force: P = P0 off S)
     if (through_U) form_U(y0, S, phi, c, columns, Ut);
+    if (any_force) {  // off S, each rank its own points, then gathered (on S, P as iterated)
+      evaluate_points(cp, law.counters, in_S, P.data(), [&](size_t q) {
+        if (through_U) return law.P(q, Ut.data());
+        double Pq = P0[q];
+        for (int64_t j = 0; j < k; ++j)
+          if (phi[j] != 0) Pq -= p_dot(cp, q, columns.column(S[j])) * c[S[j]] * phi[j];
+        return Pq;
+      });
+    }
     for (int64_t q = 0; q < nq; ++q) {
       if (in_S[q]) continue;
-      double Pq = P0[q];
-      if (through_U) {
-        Pq = law.P(q, Ut.data());
-      } else if (any_force) {
-        for (int64_t j = 0; j < k; ++j)
-          if (phi[j] != 0) Pq -= p_dot(cp, static_cast<size_t>(q), columns.column(S[j])) * c[S[j]] * phi[j];
-      }
-      P[q] = Pq;
+      if (!any_force) P[q] = P0[q];
+      const double Pq = P[q];
       double v, s;
       law.law(q, Pq, v, s);
       if (s != 0) {

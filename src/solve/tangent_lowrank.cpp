@@ -54,10 +54,11 @@ class LowRankTangent : public TangentSolver {
     const ContactPoints &cp = *law.cp;
     active_.clear();
     d_.clear();
-    count(law.counters, &Counters::contact_evaluations);
+    thread_local std::vector<double> P;
+    law.P_all(U, P);
     for (size_t q = 0; q < cp.size(); ++q) {
       double value, slope;
-      law.law(q, law.P(q, U), value, slope);
+      law.law(q, P[q], value, slope);
       if (slope == 0) continue;
       active_.push_back(static_cast<int64_t>(q));
       d_.push_back(kappa * cp.w[q] / cp.gamma[q] * slope);

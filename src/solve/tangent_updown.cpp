@@ -65,10 +65,10 @@ class UpdownTangent : public TangentSolver {
     d_new_.assign(cp.size(), 0.0);
     int64_t k = 0;
     if (any_active) {
-      count(law.counters, &Counters::contact_evaluations);
+      law.P_all(U, P_);
       for (size_t q = 0; q < cp.size(); ++q) {
         double value, slope;
-        law.law(q, law.P(q, U), value, slope);
+        law.law(q, P_[q], value, slope);
         if (slope != 0) d_new_[q] = kappa * cp.w[q] / cp.gamma[q] * slope, ++k;
       }
     }
@@ -225,6 +225,7 @@ class UpdownTangent : public TangentSolver {
   int64_t updates_ = 0;     // columns updated since the factorization
   double spent_ = 0;        // their cost (UpdatableCholesky::modify_cost)
   std::vector<double> d_new_, up_c_, down_c_;
+  std::vector<double> P_;  // P_q at the iterate (scratch)
   std::vector<int64_t> up_q_, down_q_, base_q_;
   SparseColumns up_C_, down_C_;
 };

@@ -1,0 +1,55 @@
+#include "parallel/share.hpp"
+
+#include <climits>
+#include <string>
+
+#include "common/checked.hpp"
+
+namespace nd {
+
+std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner) {
+  const int size = communicator_size(comm.get());
+  if (size == 1) return nullptr;
+  auto s = std::make_shared<Share>();
+  s->rank = communicator_rank(comm.get());
+  s->comm = std::move(comm);
+  s->first.assign(static_cast<size_t>(size + 1), 0);
+  for (int o : owner) ++s->first[static_cast<size_t>(o) + 1];
+  for (int r = 0; r < size; ++r) s->first[r + 1] += s->first[r];
+  std::vector<int> next(s->first.begin(), s->first.end() - 1);
+  s->order.resize(owner.size());
+  for (size_t i = 0; i < owner.size(); ++i) s->order[static_cast<size_t>(next[owner[i]]++)] = static_cast<int64_t>(i);
+  return s;
+}
+
+void gather(const Share &s, const std::vector<double *> &fields, double *sums, int n_sums) {
+  // a rank's block: its partial sums, then its items' values field after field
+  const int width = static_cast<int>(fields.size()), size = static_cast<int>(s.first.size()) - 1;
+  std::vector<int> counts(static_cast<size_t>(size)), displs(static_cast<size_t>(size));
+  const int64_t total = checked_add(n_sums * int64_t{size}, checked_mul(width, static_cast<int64_t>(s.order.size()), "a gathered field"),
+                                    "a gathered block");
+  if (total > INT_MAX)
+    fail(ND_ERR_SIZE, "the values gathered over the ranks (" + std::to_string(total) + ") exceed MPI's int count");
+  for (int r = 0; r < size; ++r) {
+    counts[r] = n_sums + width * (s.first[r + 1] - s.first[r]);
+    displs[r] = n_sums * r + width * s.first[r];
+  }
+  std::vector<double> mine, all(static_cast<size_t>(displs[size - 1] + counts[size - 1]));
+  mine.reserve(static_cast<size_t>(counts[s.rank]));
+  for (int k = 0; k < n_sums; ++k) mine.push_back(sums[k]);
+  for (double *f : fields)
+    for (const int64_t *i = s.own_begin(); i != s.own_end(); ++i) mine.push_back(f[*i]);
+  allgather(s.comm.get(), mine, all, counts, displs);
+  for (int k = 0; k < n_sums; ++k) sums[k] = 0;
+  for (int r = 0; r < size; ++r) {
+    const double *block = all.data() + displs[r];
+    for (int k = 0; k < n_sums; ++k) sums[k] += block[k];
+    if (r == s.rank) continue;  // own items are already in place
+    const int64_t m = s.first[r + 1] - s.first[r];
+    const int64_t *items = s.order.data() + s.first[r];
+    for (int j = 0; j < width; ++j)
+      for (int64_t i = 0; i < m; ++i) fields[static_cast<size_t>(j)][items[i]] = block[n_sums + j * m + i];
+  }
+}
+
+}  // namespace nd

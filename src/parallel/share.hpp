@@ -1,0 +1,40 @@
+// Work split over the ranks of a communicator, results gathered to every rank
+// (issue 15, slice 4). The mesh and the state are replicated; what is split
+// is the work of a step outside the solves: each contact point is evaluated
+// by the rank of its cell, each row of the products M U, M V, M A, K U by
+// the rank of its node (parallel/ownership.hpp). A Share lists which items
+// (points, rows) each rank computes; gather() then fills the other ranks'
+// items from them in one MPI_Allgatherv. Every item has one owner, computed
+// there by the same code as on one rank, so the gathered values are bitwise
+// those of one process; sums (the energies) are added rank after rank, the
+// same on every rank.
+//
+// No share (null) means this process computes every item. gather() is
+// collective: every rank calls it at the same point of a step.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "parallel/communicator.hpp"
+
+namespace nd {
+
+struct Share {
+  CommunicatorPtr comm;
+  int rank = 0;
+  std::vector<int64_t> order;       // the items rank after rank, each rank's ascending
+  std::vector<int> first;           // rank r's items are order[first[r] .. first[r+1])
+  const int64_t *own_begin() const { return order.data() + first[rank]; }
+  const int64_t *own_end() const { return order.data() + first[rank + 1]; }
+  int64_t own_count() const { return first[rank + 1] - first[rank]; }
+};
+
+// owner[i]: the rank that computes item i. Null when there is one rank.
+std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner);
+
+// fields: arrays over all items, filled on this rank's own items; afterwards
+// filled on every item. sums (n_sums of them): this rank's partial sums in,
+// the totals out (rank 0's + rank 1's + ...). Collective.
+void gather(const Share &s, const std::vector<double *> &fields, double *sums = nullptr, int n_sums = 0);
+
+}  // namespace nd
