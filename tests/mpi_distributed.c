@@ -6,6 +6,8 @@
  *    serial CHOLMOD solve of the same scene in the same process;
  *  - a load refused on the last rank only: nd_step fails on every rank with
  *    the same code and no rank's state moves;
+ *  - the contact points and the rows of the products computed by their
+ *    ranks (slice 4): with CHOLMOD on every rank, bitwise one process's state;
  *  - checkpoint/restart over the same ranks restores the state bitwise;
  *  - each rank's part of every field (nd_get_field_owned): disjoint, covering
  *    every node, bitwise the gathered field;
@@ -139,21 +141,25 @@ END_TEST
 typedef struct {
   double t;
   double *u, *v;
-  int64_t n;
+  int64_t n; /* values per field: nodes times the dimension */
 } snapshot;
 
-static snapshot take(nd_problem p) {
+static snapshot take_in(nd_problem p, int dim) {
   snapshot s = {scalar(p, ND_TIME), NULL, NULL, 0};
-  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &s.n));
-  s.u = malloc(sizeof(double) * (size_t)(2 * s.n));
-  s.v = malloc(sizeof(double) * (size_t)(2 * s.n));
-  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, s.n, s.u));
-  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, s.n, s.v));
+  int64_t nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  s.n = dim * nodes;
+  s.u = malloc(sizeof(double) * (size_t)s.n);
+  s.v = malloc(sizeof(double) * (size_t)s.n);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nodes, s.u));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, nodes, s.v));
   return s;
 }
 
+static snapshot take(nd_problem p) { return take_in(p, 2); }
+
 static int same_snapshot(const snapshot *a, const snapshot *b) {
-  const size_t bytes = sizeof(double) * (size_t)(2 * a->n);
+  const size_t bytes = sizeof(double) * (size_t)a->n;
   return a->n == b->n && memcmp(&a->t, &b->t, sizeof a->t) == 0 && memcmp(a->u, b->u, bytes) == 0 &&
          memcmp(a->v, b->v, bytes) == 0;
 }
@@ -161,7 +167,7 @@ static int same_snapshot(const snapshot *a, const snapshot *b) {
 /* the largest difference of the displacements relative to the largest displacement */
 static double snapshot_gap(const snapshot *a, const snapshot *b) {
   double d = 0, m = 0;
-  for (int64_t i = 0; i < 2 * a->n; ++i) d = fmax(d, fabs(a->u[i] - b->u[i])), m = fmax(m, fabs(a->u[i]));
+  for (int64_t i = 0; i < a->n; ++i) d = fmax(d, fabs(a->u[i] - b->u[i])), m = fmax(m, fabs(a->u[i]));
   return d / m;
 }
 
@@ -170,15 +176,75 @@ static void drop(snapshot *s) {
   free(s->v);
 }
 
+/* The work outside the solves split over the ranks (slice 4): each contact
+ * point evaluated by the rank of its cell, each row of the step's products
+ * by the rank of its node, and gathered. With CHOLMOD every rank solves the
+ * whole system itself, the same systems as one process, so what the split
+ * changes can be seen exactly:
+ *  - the displacements and velocities are bitwise those of one process
+ *    (every gathered value was computed by the code of one process) and the
+ *    active sets equal;
+ *  - the energy differs only by the order of its sum (the ranks' parts added
+ *    rank after rank): relatively at most n u kappa, n the unknowns, u the
+ *    unit round-off and kappa = sum |V_i (MV)_i| / V'MV (<= 10 here: M is an
+ *    M-matrix's neighbour, its off-diagonal entries a fraction of the
+ *    diagonal); the bound below takes kappa = 10;
+ *  - the counts: the ranks' point evaluations add up to one process's, which
+ *    every rank reports as ND_STAT_POINT_EVALUATIONS, and every other
+ *    statistic is the same on every rank. */
+START_TEST(contact_points_and_rows_on_their_ranks) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem alone = scene(dim, ND_SOLVER_CHOLMOD, 0), split = scene(dim, ND_SOLVER_CHOLMOD, 1);
+    double worst = 0, active_alone = 0;
+    for (int k = 0; k < kSteps; ++k) {
+      ND_OK_OR_FAIL(nd_step(alone));
+      ND_OK_OR_FAIL(nd_step(split));
+      const double e = scalar(alone, ND_ENERGY_MECHANICAL), e_split = scalar(split, ND_ENERGY_MECHANICAL);
+      worst = fmax(worst, fabs(e_split - e) / e);
+      ck_assert_msg(scalar(alone, ND_ACTIVE_POINTS) == scalar(split, ND_ACTIVE_POINTS), "%dD step %d: active sets differ",
+                    dim, k);
+      active_alone = fmax(active_alone, scalar(alone, ND_ACTIVE_POINTS));
+      ck_assert(same_on_all_ranks(&e_split, (int)sizeof e_split));
+    }
+    ck_assert_msg(active_alone > 0, "%dD: no contact within the horizon", dim);
+    snapshot a = take_in(alone, dim), b = take_in(split, dim);
+    ck_assert_msg(same_snapshot(&a, &b), "%dD: the split run's state is not bitwise one process's", dim);
+    const double bound = (double)a.n * 1.1e-16 * 10;
+    ck_assert_msg(worst <= bound, "%dD: energy %.3g off one process's (bound %.3g)", dim, worst, bound);
+
+    const double points = scalar(alone, ND_STAT_POINT_EVALUATIONS), own = scalar(split, ND_STAT_POINT_EVALUATIONS_OWN);
+    double sum = 0, most = 0;
+    MPI_Allreduce(&own, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Allreduce(&own, &most, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    ck_assert_double_eq(scalar(split, ND_STAT_POINT_EVALUATIONS), points);
+    ck_assert_double_eq(sum, points);
+    if (g_rank == 0)
+      printf("%dD, %d rank(s): energy %.2e off one process's (bound %.2e); point evaluations %.0f, the busiest "
+             "rank %.0f\n", dim, g_size, worst, bound, points, most);
+    const int keys[] = {ND_STAT_FACTORIZATIONS, ND_STAT_SOLVES, ND_STAT_MATRIX_ASSEMBLIES, ND_STAT_TANGENT_UPDATES,
+                        ND_STAT_CONTACT_EVALUATIONS, ND_STAT_SPMV, ND_NEWTON_ITERATIONS_TOTAL};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
+      const double x = scalar(split, keys[i]);
+      ck_assert_msg(same_on_all_ranks(&x, (int)sizeof x), "statistic %d differs between the ranks", keys[i]);
+      ck_assert_double_eq(x, scalar(alone, keys[i]));
+    }
+    drop(&a), drop(&b);
+    ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+    ND_OK_OR_FAIL(nd_problem_destroy(&split));
+  }
+}
+END_TEST
+
 START_TEST(a_load_refused_on_one_rank_fails_the_step_everywhere) {
   nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 1);
   for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
   snapshot before = take(p);
-  double *f = calloc((size_t)(2 * before.n), sizeof(double));
-  for (int64_t i = 0; i < before.n; ++i) f[2 * i + 1] = -0.01;
+  const int64_t nodes = before.n / 2;
+  double *f = calloc((size_t)before.n, sizeof(double));
+  for (int64_t i = 0; i < nodes; ++i) f[2 * i + 1] = -0.01;
   const int last = g_rank == g_size - 1;
   if (last) f[1] = NAN; /* the guard refuses it there: that rank keeps the previous (no) nodal forces */
-  const int set = nd_problem_set_nodal_forces(p, before.n, f);
+  const int set = nd_problem_set_nodal_forces(p, nodes, f);
   ck_assert_int_eq(set, last ? ND_ERR_NONFINITE : ND_OK);
   const int status = nd_step(p);
   char message[512];
@@ -197,11 +263,11 @@ START_TEST(a_load_refused_on_one_rank_fails_the_step_everywhere) {
   }
   /* once every rank has the same load again, the ranks step together */
   f[1] = -0.01;
-  ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, before.n, f));
+  ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, nodes, f));
   ND_OK_OR_FAIL(nd_step(p));
   snapshot next = take(p);
   ck_assert(next.t > before.t);
-  ck_assert(same_on_all_ranks(next.u, (int)(sizeof(double) * (size_t)(2 * next.n))));
+  ck_assert(same_on_all_ranks(next.u, (int)(sizeof(double) * (size_t)next.n)));
   drop(&before), drop(&after), drop(&next);
   free(f);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
@@ -418,6 +484,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, bad_communicators);
   tcase_add_test(tc, each_rank_reads_its_part_of_a_field);
   tcase_add_test(tc, histories_match_the_serial_solve);
+  tcase_add_test(tc, contact_points_and_rows_on_their_ranks);
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);
   suite_add_tcase(s, tc);
