@@ -132,12 +132,28 @@ double mechanical_energy(const Discretization &d, const State &s) {
   return 0.5 * sums.kinetic + 0.5 * sums.strain;
 }
 
+namespace {
+
+// P_q(U) of the state at every point: its products' (in a step, each
+// evaluated by its point's rank) when it has them, else evaluated here;
+// the same bits either way. Not collective: a query.
+const std::vector<double> &state_P(const Discretization &d, const State &s, std::vector<double> &scratch) {
+  if (s.products.of == d.id) return s.products.P;
+  const ContactLaw law = state_contact_law(d, s);
+  scratch.resize(d.contact.size());
+  for (size_t q = 0; q < scratch.size(); ++q) scratch[q] = law.P(q, s.U.data());
+  return scratch;
+}
+
+}  // namespace
+
 double nitsche_energy(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
-  const ContactLaw law = state_contact_law(d, s);
+  std::vector<double> scratch;
+  const std::vector<double> &Pq = state_P(d, s, scratch);
   double R = 0;
   for (size_t q = 0; q < cp.size(); ++q) {
-    const double P = law.P(q, s.U.data()), Pp = P > 0 ? P : 0;
+    const double P = Pq[q], Pp = P > 0 ? P : 0;
     const double sn = cp.s[q].dot(s.U.data());
     R += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
   }
@@ -145,29 +161,32 @@ double nitsche_energy(const Discretization &d, const State &s) {
 }
 
 std::vector<double> contact_pressure(const Discretization &d, const State &s) {
-  const ContactLaw law = state_contact_law(d, s);
+  std::vector<double> scratch;
+  const std::vector<double> &Pq = state_P(d, s, scratch);
   std::vector<double> lam(d.contact.size());
   for (size_t q = 0; q < lam.size(); ++q) {
-    const double P = law.P(q, s.U.data());
+    const double P = Pq[q];
     lam[q] = P > 0 ? -P / d.contact.gamma[q] : 0.0;
   }
   return lam;
 }
 
 double contact_force(const Discretization &d, const State &s) {
-  const ContactLaw law = state_contact_law(d, s);
+  std::vector<double> scratch;
+  const std::vector<double> &Pq = state_P(d, s, scratch);
   double F = 0;
   for (size_t q = 0; q < d.contact.size(); ++q) {
-    const double P = law.P(q, s.U.data());
+    const double P = Pq[q];
     if (P > 0) F += d.contact.w[q] * P / d.contact.gamma[q];
   }
   return F;
 }
 
 int64_t active_points(const Discretization &d, const State &s) {
-  const ContactLaw law = state_contact_law(d, s);
+  std::vector<double> scratch;
+  const std::vector<double> &Pq = state_P(d, s, scratch);
   int64_t k = 0;
-  for (size_t q = 0; q < d.contact.size(); ++q) k += law.P(q, s.U.data()) > 0;
+  for (double P : Pq) k += P > 0;
   return k;
 }
 
