@@ -16,7 +16,7 @@ std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<
   s->first.assign(static_cast<size_t>(size + 1), 0);
   for (int o : owner) ++s->first[static_cast<size_t>(o) + 1];
   for (int r = 0; r < size; ++r) s->first[r + 1] += s->first[r];
-  std::vector<int> next(s->first.begin(), s->first.end() - 1);
+  std::vector<int64_t> next(s->first.begin(), s->first.end() - 1);
   s->order.resize(owner.size());
   for (size_t i = 0; i < owner.size(); ++i) s->order[static_cast<size_t>(next[owner[i]]++)] = static_cast<int64_t>(i);
   return s;
@@ -26,13 +26,14 @@ void gather(const Share &s, const std::vector<double *> &fields, double *sums, i
   // a rank's block: its partial sums, then its items' values field after field
   const int width = static_cast<int>(fields.size()), size = static_cast<int>(s.first.size()) - 1;
   std::vector<int> counts(static_cast<size_t>(size)), displs(static_cast<size_t>(size));
-  const int64_t total = checked_add(n_sums * int64_t{size}, checked_mul(width, static_cast<int64_t>(s.order.size()), "a gathered field"),
-                                    "a gathered block");
+  // MPI counts and displacements are ints
+  const int64_t values = checked_mul(width, static_cast<int64_t>(s.order.size()), "the values gathered over the ranks");
+  const int64_t total = checked_add(int64_t{n_sums} * size, values, "the values gathered over the ranks");
   if (total > INT_MAX)
     fail(ND_ERR_SIZE, "the values gathered over the ranks (" + std::to_string(total) + ") exceed MPI's int count");
   for (int r = 0; r < size; ++r) {
-    counts[r] = n_sums + width * (s.first[r + 1] - s.first[r]);
-    displs[r] = n_sums * r + width * s.first[r];
+    counts[r] = static_cast<int>(n_sums + width * (s.first[r + 1] - s.first[r]));
+    displs[r] = static_cast<int>(int64_t{n_sums} * r + width * s.first[r]);
   }
   std::vector<double> mine, all(static_cast<size_t>(displs[size - 1] + counts[size - 1]));
   mine.reserve(static_cast<size_t>(counts[s.rank]));

@@ -13,6 +13,7 @@
 // collective: every rank calls it at the same point of a step.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "parallel/communicator.hpp"
@@ -22,8 +23,8 @@ namespace nd {
 struct Share {
   CommunicatorPtr comm;
   int rank = 0;
-  std::vector<int64_t> order;       // the items rank after rank, each rank's ascending
-  std::vector<int> first;           // rank r's items are order[first[r] .. first[r+1])
+  std::vector<int64_t> order;  // the items rank after rank, each rank's ascending
+  std::vector<int64_t> first;  // rank r's items are order[first[r] .. first[r+1])
   const int64_t *own_begin() const { return order.data() + first[rank]; }
   const int64_t *own_end() const { return order.data() + first[rank + 1]; }
   int64_t own_count() const { return first[rank + 1] - first[rank]; }
