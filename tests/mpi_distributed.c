@@ -177,7 +177,8 @@ static void drop(snapshot *s) {
 }
 
 /* The work outside the solves split over the ranks (slice 4): each contact
- * point evaluated by the rank of its cell, each row of the step's products
+ * point evaluated by the rank of its cell, each row of the step's products,
+ * of the Newton residual's A U and M U and of an explicit step's K_Theta U
  * by the rank of its node, and gathered. With CHOLMOD every rank solves the
  * whole system itself, the same systems as one process, so what the split
  * changes can be seen exactly:
@@ -191,47 +192,77 @@ static void drop(snapshot *s) {
  *    diagonal); the bound below takes kappa = 10;
  *  - the counts: the ranks' point evaluations add up to one process's, which
  *    every rank reports as ND_STAT_POINT_EVALUATIONS, and every other
- *    statistic is the same on every rank. */
+ *    statistic is the same on every rank.
+ * The scenes: the disk (condensed Newton, its residual checked at the end of
+ * a contact step) and the ball (full Newton with the updated factor: the
+ * residual at every iteration), hybrid scheme; and the disk with the
+ * explicit central difference and lumped mass (K_Theta U every step, no
+ * solve), at 0.9 times its critical step. */
+static void compare_split(nd_problem alone, nd_problem split, int dim, int steps, const char *what) {
+  double worst = 0, active_alone = 0;
+  for (int k = 0; k < steps; ++k) {
+    ND_OK_OR_FAIL(nd_step(alone));
+    ND_OK_OR_FAIL(nd_step(split));
+    const double e = scalar(alone, ND_ENERGY_MECHANICAL), e_split = scalar(split, ND_ENERGY_MECHANICAL);
+    worst = fmax(worst, fabs(e_split - e) / e);
+    ck_assert_msg(scalar(alone, ND_ACTIVE_POINTS) == scalar(split, ND_ACTIVE_POINTS), "%s step %d: active sets differ",
+                  what, k);
+    active_alone = fmax(active_alone, scalar(alone, ND_ACTIVE_POINTS));
+    ck_assert(same_on_all_ranks(&e_split, (int)sizeof e_split));
+  }
+  ck_assert_msg(active_alone > 0, "%s: no contact within the horizon", what);
+  snapshot a = take_in(alone, dim), b = take_in(split, dim);
+  ck_assert_msg(same_snapshot(&a, &b), "%s: the split run's state is not bitwise one process's", what);
+  const double bound = (double)a.n * 1.1e-16 * 10;
+  ck_assert_msg(worst <= bound, "%s: energy %.3g off one process's (bound %.3g)", what, worst, bound);
+
+  const double points = scalar(alone, ND_STAT_POINT_EVALUATIONS), own = scalar(split, ND_STAT_POINT_EVALUATIONS_OWN);
+  double sum = 0, most = 0;
+  MPI_Allreduce(&own, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(&own, &most, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  ck_assert_double_eq(scalar(split, ND_STAT_POINT_EVALUATIONS), points);
+  ck_assert_double_eq(sum, points);
+  if (g_rank == 0)
+    printf("%s, %d rank(s): energy %.2e off one process's (bound %.2e); point evaluations %.0f, the busiest "
+           "rank %.0f\n", what, g_size, worst, bound, points, most);
+  const int keys[] = {ND_STAT_FACTORIZATIONS, ND_STAT_SOLVES, ND_STAT_MATRIX_ASSEMBLIES, ND_STAT_TANGENT_UPDATES,
+                      ND_STAT_CONTACT_EVALUATIONS, ND_STAT_SPMV, ND_NEWTON_ITERATIONS_TOTAL};
+  for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
+    const double x = scalar(split, keys[i]);
+    ck_assert_msg(same_on_all_ranks(&x, (int)sizeof x), "%s: statistic %d differs between the ranks", what, keys[i]);
+    ck_assert_double_eq(x, scalar(alone, keys[i]));
+  }
+  drop(&a), drop(&b);
+}
+
+static nd_problem explicit_disk(int distributed, double tau) {
+  const double central[2] = {0.0, 0.5};
+  char mesh[512];
+  snprintf(mesh, sizeof mesh, "%s/disk_h4.msh", ND_MESH_DIR);
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(drop_scene_create(2, mesh, 1, ND_SCHEME_NEWMARK, central, 1.0, 1e-3, tau, ND_SOLVER_CHOLMOD, &p));
+  ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+  if (distributed) ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+  return p;
+}
+
 START_TEST(contact_points_and_rows_on_their_ranks) {
   for (int dim = 2; dim <= 3; ++dim) {
     nd_problem alone = scene(dim, ND_SOLVER_CHOLMOD, 0), split = scene(dim, ND_SOLVER_CHOLMOD, 1);
-    double worst = 0, active_alone = 0;
-    for (int k = 0; k < kSteps; ++k) {
-      ND_OK_OR_FAIL(nd_step(alone));
-      ND_OK_OR_FAIL(nd_step(split));
-      const double e = scalar(alone, ND_ENERGY_MECHANICAL), e_split = scalar(split, ND_ENERGY_MECHANICAL);
-      worst = fmax(worst, fabs(e_split - e) / e);
-      ck_assert_msg(scalar(alone, ND_ACTIVE_POINTS) == scalar(split, ND_ACTIVE_POINTS), "%dD step %d: active sets differ",
-                    dim, k);
-      active_alone = fmax(active_alone, scalar(alone, ND_ACTIVE_POINTS));
-      ck_assert(same_on_all_ranks(&e_split, (int)sizeof e_split));
-    }
-    ck_assert_msg(active_alone > 0, "%dD: no contact within the horizon", dim);
-    snapshot a = take_in(alone, dim), b = take_in(split, dim);
-    ck_assert_msg(same_snapshot(&a, &b), "%dD: the split run's state is not bitwise one process's", dim);
-    const double bound = (double)a.n * 1.1e-16 * 10;
-    ck_assert_msg(worst <= bound, "%dD: energy %.3g off one process's (bound %.3g)", dim, worst, bound);
-
-    const double points = scalar(alone, ND_STAT_POINT_EVALUATIONS), own = scalar(split, ND_STAT_POINT_EVALUATIONS_OWN);
-    double sum = 0, most = 0;
-    MPI_Allreduce(&own, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-    MPI_Allreduce(&own, &most, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-    ck_assert_double_eq(scalar(split, ND_STAT_POINT_EVALUATIONS), points);
-    ck_assert_double_eq(sum, points);
-    if (g_rank == 0)
-      printf("%dD, %d rank(s): energy %.2e off one process's (bound %.2e); point evaluations %.0f, the busiest "
-             "rank %.0f\n", dim, g_size, worst, bound, points, most);
-    const int keys[] = {ND_STAT_FACTORIZATIONS, ND_STAT_SOLVES, ND_STAT_MATRIX_ASSEMBLIES, ND_STAT_TANGENT_UPDATES,
-                        ND_STAT_CONTACT_EVALUATIONS, ND_STAT_SPMV, ND_NEWTON_ITERATIONS_TOTAL};
-    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
-      const double x = scalar(split, keys[i]);
-      ck_assert_msg(same_on_all_ranks(&x, (int)sizeof x), "statistic %d differs between the ranks", keys[i]);
-      ck_assert_double_eq(x, scalar(alone, keys[i]));
-    }
-    drop(&a), drop(&b);
+    compare_split(alone, split, dim, kSteps, dim == 2 ? "2D hybrid" : "3D hybrid");
     ND_OK_OR_FAIL(nd_problem_destroy(&alone));
     ND_OK_OR_FAIL(nd_problem_destroy(&split));
   }
+  nd_problem alone = explicit_disk(0, 1.0);
+  double tau_c = 0;
+  ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(alone, &tau_c));
+  ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+  const double tau = 0.9 * tau_c;
+  alone = explicit_disk(0, tau);
+  nd_problem split = explicit_disk(1, tau);
+  compare_split(alone, split, 2, (int)(10.5 / tau), "2D explicit");
+  ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+  ND_OK_OR_FAIL(nd_problem_destroy(&split));
 }
 END_TEST
 

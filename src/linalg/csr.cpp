@@ -10,8 +10,10 @@ namespace nd {
 
 // Two sums per row: the latency of the dependent adds, not memory, bounded
 // the single sum on these patterns (10-40 entries a row).
-void Csr::multiply(const double *x, double *y) const {
-  for (int64_t i = 0; i < n; ++i) {
+void Csr::multiply(const double *x, double *y, RowSet rows) const {
+  const int64_t m = rows.size(n);
+  for (int64_t r = 0; r < m; ++r) {
+    const int64_t i = rows[r];
     double s = 0, s1 = 0;
     const int64_t e = ptr[i + 1];
     int64_t k = ptr[i];

@@ -7,13 +7,23 @@
 
 namespace nd {
 
+// Rows of a matrix to compute: `count` of them listed in `list`, or all of
+// them (list null): a rank's own rows (parallel/share.hpp), or a process's.
+struct RowSet {
+  const int64_t *list = nullptr;
+  int64_t count = -1;  // with list
+  int64_t size(int64_t n) const { return list ? count : n; }
+  int64_t operator[](int64_t r) const { return list ? list[r] : r; }
+};
+
 struct Csr {
   int64_t n = 0;
   std::vector<int64_t> ptr, col;  // col sorted within each row
   std::vector<double> val;
 
-  // y = A x (each row's even and odd entries summed apart, then added)
-  void multiply(const double *x, double *y) const;
+  // y = A x (each row's even and odd entries summed apart, then added), on
+  // the rows of `rows` (the others of y untouched)
+  void multiply(const double *x, double *y, RowSet rows = {}) const;
   // position of (i, j) in col/val, or -1 if (i, j) is not in the pattern
   int64_t find(int64_t i, int64_t j) const;
   // (idx[i], idx[j]) += f u[i] v[j] for every pair of idx (all in the pattern):
@@ -30,17 +40,19 @@ struct Csr {
 Csr csr_from_rows(std::vector<std::vector<int64_t>> rows);
 // throws ND_ERR_INTERNAL unless A and B have the same shape (operators of one problem share their pattern)
 void require_same_pattern(const Csr &A, const Csr &B);
-// f(i, (A x)_i, (B y)_i) for every row, in one pass over the pattern A and
+// f(i, (A x)_i, (B y)_i) for every row of `rows`, in one pass over the pattern A and
 // B share, without storing either: both products in one SSE2 multiply-add
 // per entry, even and odd entries of a row in separate sums (two chains of
 // dependent adds, as in Csr::multiply: the same bits as it)
 template <class F>
-void multiply_pair(const Csr &A, const double *x, const Csr &B, const double *y, F &&f) {
+void multiply_pair(const Csr &A, const double *x, const Csr &B, const double *y, F &&f, RowSet rows = {}) {
   require_same_pattern(A, B);
   typedef double Pair __attribute__((vector_size(16)));
   const double *a = A.val.data(), *b = B.val.data();
   const int64_t *col = A.col.data(), *ptr = A.ptr.data();
-  for (int64_t i = 0; i < A.n; ++i) {
+  const int64_t m = rows.size(A.n);
+  for (int64_t r = 0; r < m; ++r) {
+    const int64_t i = rows[r];
     Pair s = {0, 0}, s1 = {0, 0};
     const int64_t e = ptr[i + 1];
     int64_t k = ptr[i];

@@ -53,11 +53,10 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
   // with several ranks (store only): each its own rows, gathered below
-  const Share *rows = store ? d.rows.get() : nullptr;
-  const int64_t n_rows = rows ? rows->own_count() : K.n;
-  const int64_t *row = rows ? rows->own_begin() : nullptr;
-  for (int64_t r = 0; r < n_rows; ++r) {
-    const int64_t i = row ? row[r] : r;
+  const Share *share = store ? d.rows.get() : nullptr;
+  const RowSet rows = own_rows(share);
+  for (int64_t r = 0, n_rows = rows.size(K.n); r < n_rows; ++r) {
+    const int64_t i = rows[r];
     // even and odd entries in separate sums: two chains of dependent adds
     // instead of one (the add's latency, not the memory, bounded this loop)
     Pair a = {0, 0}, b = {0, 0}, a1 = {0, 0}, b1 = {0, 0};
@@ -94,11 +93,11 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
       if (acc) p.MA[i] = b[0];
     }
   }
-  if (rows) {
+  if (share) {
     double sums[2] = {kinetic, strain};
     std::vector<double *> fields{p.MU.data(), p.MV.data(), p.KU.data()};
     if (acc) fields.push_back(p.MA.data());
-    gather(*rows, fields, sums, 2);
+    gather(*share, fields, sums, 2);
     kinetic = sums[0], strain = sums[1];
   }
   p.kinetic = kinetic;

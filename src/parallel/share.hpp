@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "linalg/csr.hpp"
 #include "parallel/communicator.hpp"
 
 namespace nd {
@@ -29,6 +30,9 @@ struct Share {
   const int64_t *own_end() const { return order.data() + first[rank + 1]; }
   int64_t own_count() const { return first[rank + 1] - first[rank]; }
 };
+
+// The rows a process computes: its own with a share, else all.
+inline RowSet own_rows(const Share *s) { return s ? RowSet{s->own_begin(), s->own_count()} : RowSet{}; }
 
 // owner[i]: the rank that computes item i. Null when there is one rank.
 std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner);

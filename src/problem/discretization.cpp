@@ -1,5 +1,7 @@
 #include "problem/discretization.hpp"
 
+#include "parallel/share.hpp"
+
 #include <atomic>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include "assembly/nitsche.hpp"
 #include "assembly/redistribution.hpp"
 #include "linalg/pcg.hpp"
+#include "parallel/share.hpp"
 #include "problem/forces.hpp"
 #include "solve/contact_law.hpp"
 
@@ -178,13 +181,16 @@ std::atomic<uint64_t> last_discretization_id{0};
 Discretization::Discretization(DofMap d, bool lump)
     : id(++last_discretization_id), dofs(std::move(d)), lumped(lump) {}
 
-void Discretization::equilibrium_acceleration(State &s, int solver, bool once) {
+void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step) {
   s.products.of = 0;  // A changes under them
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
   count(counters, &Counters::spmv);
-  K_theta.multiply(s.U.data(), rhs.data());
+  const Share *share = in_step ? rows.get() : nullptr;
+  K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
+  if (share) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
+  law.local = !in_step;
   if (!s.gap.empty()) law.gap = s.gap.data();
   law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
   for (size_t i = 0; i < n; ++i) rhs[i] = (s.F.empty() ? 0.0 : s.F[i]) - rhs[i];

@@ -55,8 +55,11 @@ struct Discretization {
   // instead of being factored and its factor kept.
   void mass_solve(double *x, int solver, bool once = false);
   // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
-  // (once: as in mass_solve)
-  void equilibrium_acceleration(State &s, int solver, bool once = true);
+  // (once: as in mass_solve). in_step: called by every rank at the same point
+  // of a set-up or a step, so each may compute its own rows of K_Theta U and
+  // evaluate its own contact points, then gather (parallel/share.hpp); a
+  // query computes them all on its own.
+  void equilibrium_acceleration(State &s, int solver, bool once = true, bool in_step = false);
 };
 
 // The automatic gamma0: this fraction of gamma0*/max(Theta, 1).

@@ -115,7 +115,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
     if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.F, next.gap, next.t, next.U);
-    d.equilibrium_acceleration(next, def.solver, false);  // every step: M factored once, kept
+    d.equilibrium_acceleration(next, def.solver, false, true);  // every step: M factored once, kept
   } else {
     std::vector<double> r;
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);
@@ -124,7 +124,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.A_factor->solve(next.U.data());
       next.last_iterations = 1;
     } else {
-      NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
+      NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get()};
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be

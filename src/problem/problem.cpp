@@ -359,7 +359,7 @@ void Problem::prepare() {
   setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid)
-    d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit());
+    d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit(), true);
   // the products the first step's right-hand side reads (each step leaves its own)
   if (state_.products.of != d.id) compute_products(d, state_);
 }

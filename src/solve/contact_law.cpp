@@ -13,10 +13,9 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
   slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
 }
 
-void evaluate_points(const ContactPoints &cp, Counters *counters, const std::vector<char> &skip, double *P,
-                     const std::function<double(size_t)> &eval) {
-  const Share *share = cp.share.get();
-  const int64_t all = static_cast<int64_t>(cp.size());
+void ContactLaw::evaluate(const std::vector<char> &skip, double *P, const std::function<double(size_t)> &eval) const {
+  const Share *share = local ? nullptr : cp->share.get();
+  const int64_t all = static_cast<int64_t>(cp->size());
   auto wanted = [&](int64_t q) { return skip.empty() || !skip[q]; };
   // the job's count needs no message: the skipped points are the same on every rank
   int64_t done = skip.empty() ? all : 0, own = 0;
@@ -39,7 +38,7 @@ void ContactLaw::P_all(const double *U, std::vector<double> &P) const {
   P.resize(cp->size());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
-  evaluate_points(*cp, counters, {}, P.data(), [&](size_t q) { return this->P(q, U); });
+  evaluate({}, P.data(), [&](size_t q) { return this->P(q, U); });
 }
 
 double p_dot(const ContactPoints &cp, size_t q, const double *v) {

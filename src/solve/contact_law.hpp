@@ -16,15 +16,6 @@
 
 namespace nd {
 
-// P[q] = eval(q) for the points this process evaluates (with several ranks,
-// those of its own cells; cp.share, parallel/share.hpp), except where skip[q]
-// (skip empty: none is skipped; P[q] is then given, the same on every rank),
-// then the other ranks' points gathered from them: P holds every point on
-// every rank, bitwise as if one process had evaluated them all. Collective
-// when shared. Counts the evaluations (point_evaluations).
-void evaluate_points(const ContactPoints &cp, Counters *counters, const std::vector<char> &skip, double *P,
-                     const std::function<double(size_t)> &eval);
-
 // p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap)
 double p_dot(const ContactPoints &cp, size_t q, const double *v);
 // appends c p_q = c (a_q - gamma_q s_q): a_q's indices to idx, the values to val
@@ -41,6 +32,9 @@ struct ContactLaw {
   const std::vector<double> *Pn = nullptr;  // P_q(U^n), needed with a scheme
   const double *gap = nullptr;              // the gaps in force (moving obstacle); nullptr: cp->gap
   Counters *counters = nullptr;             // the problem's (ND_STAT_*), or none
+  // every point evaluated by this process, whatever cp->share says: for a
+  // query outside a step, which is not collective
+  bool local = false;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   double P(size_t q, const double *U) const { return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - g(q); }
@@ -48,6 +42,13 @@ struct ContactLaw {
   // ranks each evaluates the points of its own cells and the values are
   // gathered (collective; see evaluate_points). Counts one pass.
   void P_all(const double *U, std::vector<double> &P) const;
+  // P[q] = eval(q) for the points this process evaluates (with several ranks,
+  // those of its own cells; cp->share, parallel/share.hpp), except where
+  // skip[q] (skip empty: none is skipped; P[q] is then given, the same on
+  // every rank), then the other ranks' points gathered from them: P holds
+  // every point on every rank, bitwise as if one process had evaluated them
+  // all. Collective when shared. Counts the evaluations (point_evaluations).
+  void evaluate(const std::vector<char> &skip, double *P, const std::function<double(size_t)> &eval) const;
   // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given

@@ -5,16 +5,21 @@
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "parallel/share.hpp"
 
 namespace nd {
 
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU) {
   count(sys.law->counters, &Counters::spmv);
-  multiply_pair(*sys.A, U.data(), *sys.M, U.data(), [&](int64_t i, double AU, double MUi) {
-    G[i] = AU;
-    MU[i] = MUi;
-  });
+  multiply_pair(
+      *sys.A, U.data(), *sys.M, U.data(),
+      [&](int64_t i, double AU, double MUi) {
+        G[i] = AU;
+        MU[i] = MUi;
+      },
+      own_rows(sys.rows));
+  if (sys.rows) gather(*sys.rows, {G.data(), MU.data()});
   sys.law->add_force(U.data(), sys.kappa, G.data(), active);
   for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
   return norm2(static_cast<int64_t>(G.size()), G.data());

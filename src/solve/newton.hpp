@@ -22,6 +22,9 @@ struct NewtonSystem {
   const Csr *M;
   double c, kappa;
   const ContactLaw *law;
+  // with several ranks: each computes its rows of A U and M U, gathered
+  // (parallel/share.hpp); null: this process computes them all
+  const Share *rows = nullptr;
 };
 
 struct NewtonResult {

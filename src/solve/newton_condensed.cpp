@@ -140,7 +140,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     const bool through_U = any_force && (nq - k) * 24 > n;  // (no force: P = P0 off S)
     if (through_U) form_U(y0, S, phi, c, columns, Ut);
     if (any_force) {  // off S, each rank its own points, then gathered (on S, P as iterated)
-      evaluate_points(cp, law.counters, in_S, P.data(), [&](size_t q) {
+      law.evaluate(in_S, P.data(), [&](size_t q) {
         if (through_U) return law.P(q, Ut.data());
         double Pq = P0[q];
         for (int64_t j = 0; j < k; ++j)
