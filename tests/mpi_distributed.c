@@ -233,6 +233,30 @@ static void compare_split(nd_problem alone, nd_problem split, int dim, int steps
     ck_assert_double_eq(x, scalar(alone, keys[i]));
   }
   drop(&a), drop(&b);
+  /* queries between steps are not collective: rank 0 alone reads the
+     monitors and the fields that may need work (the acceleration and the
+     reactions at equilibrium), from the gathered state: one process's values
+     (the energies aside, whose sums are the ranks' parts: above). The
+     outcome is shared after, so that a failure fails every rank. */
+  int differs = 0;
+  if (g_rank == 0) {
+    const int monitors[] = {ND_ENERGY_NITSCHE, ND_CONTACT_FORCE, ND_ACTIVE_POINTS, ND_MAX_PENETRATION,
+                            ND_CONTACT_FORCE_APPLIED};
+    for (size_t i = 0; i < sizeof monitors / sizeof monitors[0]; ++i)
+      if (scalar(split, monitors[i]) != scalar(alone, monitors[i])) differs = monitors[i];
+    int64_t nodes = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(alone, &nodes));
+    const size_t bytes = sizeof(double) * (size_t)(dim * nodes);
+    double *x = malloc(bytes), *y = malloc(bytes);
+    const int fields[] = {ND_FIELD_ACCELERATION, ND_FIELD_REACTION, ND_FIELD_CONTACT_FORCE};
+    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; ++i)
+      if (nd_get_field(alone, fields[i], nodes, x) != ND_OK || nd_get_field(split, fields[i], nodes, y) != ND_OK ||
+          memcmp(x, y, bytes) != 0)
+        differs = 100 + fields[i];
+    free(x), free(y);
+  }
+  MPI_Bcast(&differs, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  ck_assert_msg(differs == 0, "%s: queried alone on rank 0, monitor (or 100 + field) %d differs", what, differs);
 }
 
 static nd_problem explicit_disk(int distributed, double tau) {
