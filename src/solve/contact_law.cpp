@@ -1,7 +1,5 @@
 #include "solve/contact_law.hpp"
 
-#include "parallel/share.hpp"
-
 namespace nd {
 
 void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
@@ -13,21 +11,11 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
   slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
 }
 
-void ContactLaw::evaluate(const std::vector<char> &skip, double *P, const std::function<double(size_t)> &eval) const {
-  const Share *share = local ? nullptr : cp->share.get();
-  const int64_t all = static_cast<int64_t>(cp->size());
-  auto wanted = [&](int64_t q) { return skip.empty() || !skip[q]; };
-  // the job's count needs no message: the skipped points are the same on every rank
-  int64_t done = skip.empty() ? all : 0, own = 0;
-  if (!skip.empty())
-    for (int64_t q = 0; q < all; ++q) done += wanted(q);
-  if (!share) {
-    for (int64_t q = 0; q < all; ++q)
-      if (wanted(q)) P[q] = eval(static_cast<size_t>(q));
-    own = done;
-  } else {
-    for (const int64_t *q = share->own_begin(); q != share->own_end(); ++q)
-      if (wanted(*q)) P[*q] = eval(static_cast<size_t>(*q)), ++own;
+void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, double *P, int64_t own) const {
+  int64_t done = own;
+  if (share) {  // the job's count needs no message: the skipped points are the same on every rank
+    done = static_cast<int64_t>(cp->size());
+    for (char s : skip) done -= s != 0;
     gather(*share, {P});
   }
   count(counters, &Counters::point_evaluations, done);

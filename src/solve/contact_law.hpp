@@ -6,12 +6,12 @@
 // [P]_+ when no scheme is given (energies, pressure, explicit steps). The
 // tangent is N'(U) = sum_q (w_q/gamma_q) phi'(P_q(U), P_q^n) b_q p_q^T.
 #pragma once
-#include <functional>
 #include <vector>
 
 #include "assembly/contact.hpp"
 #include "common/counters.hpp"
 #include "linalg/csr.hpp"
+#include "parallel/share.hpp"
 #include "time/scheme.hpp"
 
 namespace nd {
@@ -48,7 +48,22 @@ struct ContactLaw {
   // every rank), then the other ranks' points gathered from them: P holds
   // every point on every rank, bitwise as if one process had evaluated them
   // all. Collective when shared. Counts the evaluations (point_evaluations).
-  void evaluate(const std::vector<char> &skip, double *P, const std::function<double(size_t)> &eval) const;
+  template <class Eval>
+  void evaluate(const std::vector<char> &skip, double *P, Eval &&eval) const {
+    const Share *share = local ? nullptr : cp->share.get();
+    int64_t own = 0;
+    auto visit = [&](int64_t q) {
+      if (skip.empty() || !skip[q]) P[q] = eval(static_cast<size_t>(q)), ++own;
+    };
+    if (!share) {
+      for (int64_t q = 0, n = static_cast<int64_t>(cp->size()); q < n; ++q) visit(q);
+    } else {
+      for (const int64_t *q = share->own_begin(); q != share->own_end(); ++q) visit(*q);
+    }
+    evaluated(share, skip, P, own);
+  }
+  // evaluate's end: the other ranks' points gathered, the evaluations counted
+  void evaluated(const Share *share, const std::vector<char> &skip, double *P, int64_t own) const;
   // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given
