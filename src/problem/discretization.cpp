@@ -1,7 +1,5 @@
 #include "problem/discretization.hpp"
 
-#include "parallel/share.hpp"
-
 #include <atomic>
 
 #include <algorithm>

@@ -40,7 +40,7 @@ struct ContactLaw {
   double P(size_t q, const double *U) const { return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - g(q); }
   // P[q] = P_q(U) for every point (P sized here), in a step: with several
   // ranks each evaluates the points of its own cells and the values are
-  // gathered (collective; see evaluate_points). Counts one pass.
+  // gathered (collective; see evaluate). Counts one pass.
   void P_all(const double *U, std::vector<double> &P) const;
   // P[q] = eval(q) for the points this process evaluates (with several ranks,
   // those of its own cells; cp->share, parallel/share.hpp), except where
