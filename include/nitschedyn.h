@@ -117,7 +117,8 @@ extern "C" {
   X(ND_STAT_SPMV, 23, "sparse matrix-vector products (a step's one pass over M and K counts once)")   \
   X(ND_CONTACT_FORCE_APPLIED, 24, "sum_q w_q phi_q/gamma_q, resultant contact force the last step applied") \
   X(ND_STAT_POINT_EVALUATIONS, 25, "P_q of one contact point evaluated by a step, summed over the ranks")  \
-  X(ND_STAT_POINT_EVALUATIONS_OWN, 26, "the same, by this rank (the points of its cells)")
+  X(ND_STAT_POINT_EVALUATIONS_OWN, 26, "the same, by this rank (the points of its cells)")            \
+  X(ND_STAT_CONTACT_BOUNDS, 27, "contact checks settled by a bound from P^n, no point evaluated")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \

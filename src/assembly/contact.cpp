@@ -1,5 +1,7 @@
 #include "assembly/contact.hpp"
 
+#include <cmath>
+
 #include "fem/facet.hpp"
 
 namespace nd {
@@ -55,6 +57,17 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
   }
   cp.gap = contact_gaps(cp, planes);
   return cp;
+}
+
+std::vector<double> bound_norms(const ContactPoints &cp) {
+  std::vector<double> nu(cp.size());
+  for (size_t q = 0; q < nu.size(); ++q) {
+    double sum = 0;
+    for (size_t k = 0; k < cp.a[q].val.size(); ++k)
+      sum += std::fabs(cp.a[q].val[k]) + cp.gamma[q] * std::fabs(cp.s[q].val[k]);
+    nu[q] = sum;
+  }
+  return nu;
 }
 
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes) {

@@ -20,6 +20,8 @@ struct Counters {
   // P_q of one point evaluated in a step (ContactLaw::P_all): by all the
   // ranks together (the same count as on one rank), and by this rank
   int64_t point_evaluations = 0, own_point_evaluations = 0;
+  // contact checks settled by ContactLaw::certainly_free's bound, no point evaluated
+  int64_t contact_bounds = 0;
 };
 
 // c->*field += by when there is a counter struct (unit tests pass none)

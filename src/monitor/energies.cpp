@@ -111,7 +111,7 @@ void compute_products(const Discretization &d, State &s) {
   products_pass<true>(d, s, s.products);
   ContactLaw law = state_contact_law(d, s);
   law.counters = d.counters;
-  law.P_all(s.U.data(), s.products.P);
+  law.P_all(s.U.data(), s.products.P, &s.products.un);
   s.products.of = d.id;
 }
 
@@ -189,10 +189,20 @@ int64_t active_points(const Discretization &d, const State &s) {
   return k;
 }
 
-double max_penetration(const Discretization &d, const State &s) {
+const std::vector<double> &state_un(const Discretization &d, const State &s, std::vector<double> &scratch,
+                                    Counters *counters) {
+  if (s.products.of == d.id) return s.products.un;
+  count(counters, &Counters::contact_evaluations);
   const ContactLaw law = state_contact_law(d, s);
+  scratch.resize(d.contact.size());
+  for (size_t q = 0; q < scratch.size(); ++q) scratch[q] = d.contact.a[q].dot(s.U.data()) - law.g(q);
+  return scratch;
+}
+
+double max_penetration(const Discretization &d, const State &s) {
+  std::vector<double> scratch;
   double m = 0;
-  for (size_t q = 0; q < d.contact.size(); ++q) m = std::max(m, d.contact.a[q].dot(s.U.data()) - law.g(q));
+  for (double un : state_un(d, s, scratch)) m = std::max(m, un);
   return m;
 }
 

@@ -13,12 +13,11 @@ namespace {
 constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 // the deepest point relative to its cell size: (penetration / h, index)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
-  const ContactPoints &cp = d.contact;
-  const ContactLaw law = state_contact_law(d, s);
+  std::vector<double> scratch;
+  const std::vector<double> &un = state_un(d, s, scratch, d.counters);
   std::pair<double, size_t> worst{-INFINITY, 0};
-  count(d.counters, &Counters::contact_evaluations);
-  for (size_t q = 0; q < cp.size(); ++q) {
-    const double r = (cp.a[q].dot(s.U.data()) - law.g(q)) / cp.h[q];
+  for (size_t q = 0; q < un.size(); ++q) {
+    const double r = un[q] / d.contact.h[q];
     if (r > worst.first) worst = {r, q};
   }
   return worst;

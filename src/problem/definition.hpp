@@ -58,6 +58,9 @@ struct Definition {
   int solver = ND_SOLVER_AUTO;
   // the Newton tangent solver (white-box, not in the C API: tests and benchmarks)
   TangentChoice tangent = TangentChoice::Auto;
+  // the contact checks a step may settle by a bound from P^n (white-box, not
+  // in the C API: tests compare the trajectories without it)
+  bool contact_bounds = true;
   std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
   Guards guards;
   unsigned given = 0;                 // the aspects set so far

@@ -110,6 +110,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   Products scratch;  // only when the state has none (restart, new state): the same pass
   const Products &old_products = products_of(d, old, scratch);
   law.Pn = &old_products.P;
+  if (def.contact_bounds) law.Un = old.U.data(), law.gap_n = old.gap.empty() ? nullptr : old.gap.data();
   scheme.predict(tau, old, next.U);
   if (scheme.is_explicit()) {
     next.last_iterations = 0;

@@ -604,6 +604,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_SPMV, &Counters::spmv},
     {ND_STAT_POINT_EVALUATIONS, &Counters::point_evaluations},
     {ND_STAT_POINT_EVALUATIONS_OWN, &Counters::own_point_evaluations},
+    {ND_STAT_CONTACT_BOUNDS, &Counters::contact_bounds},
 };
 }  // namespace
 

@@ -64,6 +64,9 @@ class Problem {
     def_.tangent = t;
     integrator_.reset();
   }
+  // white-box: whether a step may show its contact checks by the bound
+  // (ContactLaw::certainly_free); the same bits either way
+  void set_contact_bounds(bool on) { def_.contact_bounds = on; }
 
   // ---- queries
   const Space &space() const { return space_; }

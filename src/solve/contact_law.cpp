@@ -1,5 +1,8 @@
 #include "solve/contact_law.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace nd {
 
 void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
@@ -11,22 +14,71 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
   slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
 }
 
-void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, double *P, int64_t own) const {
+void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, double *P,
+                           const std::vector<double *> &also, int64_t own) const {
   int64_t done = own;
   if (share) {  // the job's count needs no message: the skipped points are the same on every rank
     done = static_cast<int64_t>(cp->size());
     for (char s : skip) done -= s != 0;
-    gather(*share, {P});
+    std::vector<double *> fields{P};
+    fields.insert(fields.end(), also.begin(), also.end());
+    gather(*share, fields);
   }
   count(counters, &Counters::point_evaluations, done);
   count(counters, &Counters::own_point_evaluations, own);
 }
 
-void ContactLaw::P_all(const double *U, std::vector<double> &P) const {
+void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<double> *un) const {
   P.resize(cp->size());
+  if (un) un->resize(cp->size());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
-  evaluate({}, P.data(), [&](size_t q) { return this->P(q, U); });
+  if (!un) {
+    evaluate({}, P.data(), [&](size_t q) { return this->P(q, U); });
+    return;
+  }
+  double *u = un->data();
+  evaluate(
+      {}, P.data(),
+      [&](size_t q) {
+        double sa, ss;
+        dots(q, U, sa, ss);
+        u[q] = sa - g(q);
+        return sa - cp->gamma[q] * ss - g(q);
+      },
+      {u});
+}
+
+namespace {
+// The bound's margin, relative to the size of the terms: the round-off of an
+// evaluation of P_q is at most about (m + 2) eps (sum_k |a_qk U_k| + gamma_q
+// |s_qk U_k| + |g_q|), m <= 30 entries (P2 in 3D): 7e-15 of it; this is 150
+// times that.
+constexpr double kBoundMargin = 1e-12;
+}  // namespace
+
+bool ContactLaw::certainly_free(const std::vector<double> &U) const {
+  const size_t nq = cp->size();
+  if (!Un || !Pn || Pn->size() != nq || cp->nu.size() != nq) return false;
+  double d = 0, u_max = 0, un_max = 0;
+  bool finite = true;
+  for (size_t i = 0; i < U.size(); ++i) {
+    finite &= std::isfinite(U[i]) && std::isfinite(Un[i]);
+    d = std::max(d, std::fabs(U[i] - Un[i]));
+    u_max = std::max(u_max, std::fabs(U[i]));
+    un_max = std::max(un_max, std::fabs(Un[i]));
+  }
+  if (!finite) return false;
+  for (size_t q = 0; q < nq; ++q) {
+    const double nu = cp->nu[q], Pref = (*Pn)[q], g_now = g(q), g_ref = gap_n ? gap_n[q] : cp->gap[q];
+    const double margin = kBoundMargin * (nu * (u_max + un_max + d) + std::fabs(g_now) + std::fabs(g_ref) + std::fabs(Pref));
+    const double high = Pref + nu * d + (g_ref - g_now) + margin;
+    double value, slope;
+    law(q, high, value, slope);
+    if (!(value == 0 && slope == 0)) return false;  // (NaN: not shown)
+  }
+  count(counters, &Counters::contact_bounds);
+  return true;
 }
 
 double p_dot(const ContactPoints &cp, size_t q, const double *v) {

@@ -35,21 +35,53 @@ struct ContactLaw {
   // every point evaluated by this process, whatever cp->share says: for a
   // query outside a step, which is not collective
   bool local = false;
+  // U^n and its gaps (nullptr: cp->gap), where Pn was evaluated: with them a
+  // U near U^n may be shown contact-free without a pass (certainly_free)
+  const double *Un = nullptr, *gap_n = nullptr;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
-  double P(size_t q, const double *U) const { return cp->a[q].dot(U) - cp->gamma[q] * cp->s[q].dot(U) - g(q); }
+  // sa = a_q.U and ss = s_q.U, each summed in index order (the bits of
+  // SparseRow::dot), in one loop: a_q and s_q share their index list
+  void dots(size_t q, const double *U, double &sa, double &ss) const {
+    const SparseRow &a = cp->a[q];
+    const double *av = a.val.data(), *sv = cp->s[q].val.data();
+    const int64_t *idx = a.idx.data();
+    sa = 0, ss = 0;
+    for (size_t k = 0, m = a.idx.size(); k < m; ++k) {
+      const double u = U[idx[k]];
+      sa += av[k] * u;
+      ss += sv[k] * u;
+    }
+  }
+  // P_q(U) = a_q.U - gamma_q s_q.U - g_q
+  double P(size_t q, const double *U) const {
+    double sa, ss;
+    dots(q, U, sa, ss);
+    return sa - cp->gamma[q] * ss - g(q);
+  }
   // P[q] = P_q(U) for every point (P sized here), in a step: with several
   // ranks each evaluates the points of its own cells and the values are
-  // gathered (collective; see evaluate). Counts one pass.
-  void P_all(const double *U, std::vector<double> &P) const;
+  // gathered (collective; see evaluate). Counts one pass. With un, also
+  // un[q] = a_q.U - g_q (u_n - g0, the penetration guard's) from the same
+  // pass, bitwise SparseRow::dot's.
+  void P_all(const double *U, std::vector<double> &P, std::vector<double> *un = nullptr) const;
+  // True only if the law and its slope vanish at every point at U, shown
+  // without evaluating a point: from P^n (Pn at Un, gaps gap_n) and
+  //   P_q(U) <= P_q(U^n) + nu_q max|U - U^n| + g^n_q - g_q
+  // with a margin far above the round-off of either evaluation, for a law
+  // that is nondecreasing in P (TimeScheme::contact). False says nothing:
+  // then evaluate. The same answer on every rank (U, U^n and P^n are the
+  // same there), no message. Counts ND_STAT_CONTACT_BOUNDS when true.
+  bool certainly_free(const std::vector<double> &U) const;
   // P[q] = eval(q) for the points this process evaluates (with several ranks,
   // those of its own cells; cp->share, parallel/share.hpp), except where
   // skip[q] (skip empty: none is skipped; P[q] is then given, the same on
   // every rank), then the other ranks' points gathered from them: P holds
   // every point on every rank, bitwise as if one process had evaluated them
   // all. Collective when shared. Counts the evaluations (point_evaluations).
+  // `also`: fields eval fills as it goes (un of P_all), gathered with P.
   template <class Eval>
-  void evaluate(const std::vector<char> &skip, double *P, Eval &&eval) const {
+  void evaluate(const std::vector<char> &skip, double *P, Eval &&eval, const std::vector<double *> &also = {}) const {
     const Share *share = local ? nullptr : cp->share.get();
     int64_t own = 0;
     auto visit = [&](int64_t q) {
@@ -60,10 +92,11 @@ struct ContactLaw {
     } else {
       for (const int64_t *q = share->own_begin(); q != share->own_end(); ++q) visit(*q);
     }
-    evaluated(share, skip, P, own);
+    evaluated(share, skip, P, also, own);
   }
   // evaluate's end: the other ranks' points gathered, the evaluations counted
-  void evaluated(const Share *share, const std::vector<char> &skip, double *P, int64_t own) const;
+  void evaluated(const Share *share, const std::vector<char> &skip, double *P, const std::vector<double *> &also,
+                 int64_t own) const;
   // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given

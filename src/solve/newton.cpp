@@ -33,9 +33,10 @@ double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, doubl
 namespace {
 
 // Does the contact term vanish with its slope at every point (N(U) = 0, N'(U) = 0)?
-bool contact_free(const ContactLaw &law, const double *U) {
+bool contact_free(const ContactLaw &law, const std::vector<double> &U) {
+  if (law.certainly_free(U)) return true;  // far from the obstacle: no point evaluated
   thread_local std::vector<double> P;
-  law.P_all(U, P);
+  law.P_all(U.data(), P);
   for (size_t q = 0; q < P.size(); ++q) {
     double value, slope;
     law.law(q, P[q], value, slope);
@@ -55,11 +56,11 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
   // linear step says so: one solve U = A^{-1} r and one check. Where no point
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
   // (to the solve's round-off): Newton's first iteration would only repeat it.
-  if (opt.max_iter >= 1 && contact_free(*sys.law, U.data())) {
+  if (opt.max_iter >= 1 && contact_free(*sys.law, U)) {
     U = r;  // the predictor's storage, no allocation
     sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data());
     res.iterations = 1;
-    if (contact_free(*sys.law, U.data())) {
+    if (contact_free(*sys.law, U)) {
       res.converged = true;
       return res;
     }

@@ -57,11 +57,13 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   std::vector<double> P(nq);
   std::vector<int64_t> S;
   std::vector<char> active(static_cast<size_t>(nq), 0), previous;
-  law.P_all(U.data(), P);
-  for (int64_t q = 0; q < nq; ++q) {
-    double v, s;
-    law.law(q, P[q], v, s);
-    if (s != 0) S.push_back(q), active[q] = 1;
+  if (!law.certainly_free(U)) {  // (shown free: S is empty, and P is P0 below)
+    law.P_all(U.data(), P);
+    for (int64_t q = 0; q < nq; ++q) {
+      double v, s;
+      law.law(q, P[q], v, s);
+      if (s != 0) S.push_back(q), active[q] = 1;
+    }
   }
   // many points active already: the set will likely outgrow max_rank, and the
   // full Newton's tangent (refactoring there) does better; nothing done yet
@@ -71,6 +73,14 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   }
   std::vector<double> y0 = r;
   A_factor.solve(y0.data());
+  if (S.empty() && law.certainly_free(y0)) {
+    // no point active at the predictor nor at U = A^{-1} r: the first
+    // iteration below would find the set empty and stop there, with U = y0
+    U.swap(y0);
+    res.iterations = 1;
+    res.converged = true;
+    return out;
+  }
   std::vector<double> P0, c(nq);
   law.P_all(y0.data(), P0);
   for (int64_t q = 0; q < nq; ++q) c[q] = sys.kappa * cp.w[q] / cp.gamma[q];

@@ -51,6 +51,8 @@ class TimeScheme {
   // The first guess of U^{n+1}; for an explicit scheme, U^{n+1} itself.
   virtual void predict(double tau, const State &old, std::vector<double> &U) const = 0;
   // phi and d phi / dP at P = P_q(U), given P^n = P_q(U^n); [P]_+ by default.
+  // Nondecreasing in P, and zero with its slope below any P where both are
+  // zero: ContactLaw::certainly_free relies on it (tests/unit_contact_bounds.cpp).
   virtual void contact(double P, double Pn, double &value, double &slope) const {
     value = P > 0 ? P : 0;
     slope = P > 0 ? 1 : 0;

@@ -25,6 +25,7 @@ struct Products {
   std::vector<double> MU, MV, MA, KU;  // MA empty when A is not valid
   double kinetic = 0, strain = 0;      // V.MV and U.KU
   std::vector<double> P;               // P_q(U) with the state's gaps: the next step's P^n
+  std::vector<double> un;              // a_q.U - g_q (u_n - g0, the penetration guard's), same pass
 };
 
 // The history that fixes the bits of the Newton tangent's updated factor

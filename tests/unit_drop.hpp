@@ -1,0 +1,59 @@
+// The body the white-box contact tests drop on a plane: a rectangle (2D) or
+// a box (3D) whose bottom facets (region 1) fall, turning, onto a plane
+// `gap` below them; 1D: the bar of testutil. Through the C API.
+#pragma once
+#include <vector>
+
+#include "testutil.h"
+
+namespace ndtest {
+
+struct SchemeCase {
+  int scheme;
+  std::vector<double> params;
+  const char *name;
+};
+
+inline const SchemeCase kSchemes[] = {
+    {ND_SCHEME_THETA, {0.5}, "theta 0.5"},
+    {ND_SCHEME_THETA, {1.0}, "theta 1"},
+    {ND_SCHEME_NEWMARK, {0.25, 0.5}, "newmark"},
+    {ND_SCHEME_HYBRID, {}, "hybrid"},
+    {ND_SCHEME_GENERALIZED_ALPHA, {0.8}, "generalized-alpha 0.8"},
+};
+
+// speed: the downward velocity at x = 0 (it grows with x: the body turns)
+inline nd_problem drop_scene(int dim, int degree, const SchemeCase &sc, double theta, double gap = 0.02,
+                             double speed = 0.1) {
+  const double *params = sc.params.empty() ? nullptr : sc.params.data();
+  if (dim == 1) return nd_test_bar(10, degree, sc.scheme, params, theta, 0.0, 0.025);  // (gap, speed: its own)
+  nd_mesh m = nullptr;
+  nd_problem p = nullptr;
+  const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1};
+  if (dim == 2)
+    ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 2, lo, hi, &m));
+  else
+    ND_OK_OR_FAIL(nd_mesh_create_box(2, 1, 1, lo, hi, &m));
+  // the bottom facets (y = 0 in 2D, z = 0 in 3D)
+  const double blo[3] = {-1, dim == 2 ? -0.1 : -1, -0.1}, bhi[3] = {3, dim == 2 ? 0.1 : 2, 0.1};
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 10.0, 0.3, 1.0));
+  const double plane[3] = {0, dim == 2 ? -gap : 0, dim == 3 ? -gap : 0};
+  const double up[3] = {0, dim == 2 ? 1.0 : 0, dim == 3 ? 1.0 : 0};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, plane, up));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, 0.0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, sc.scheme, params));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  int64_t nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  std::vector<double> x(static_cast<size_t>(nodes * dim)), v0(x.size(), 0.0);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nodes, x.data()));
+  for (int64_t i = 0; i < nodes; ++i)  // falling and turning: the active set grows from x = 2
+    v0[i * dim + dim - 1] = -speed - 0.6 * x[i * dim] + 0.1 * x[i * dim + dim - 1];
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nodes, nullptr, v0.data()));
+  return p;
+}
+
+}  // namespace ndtest
