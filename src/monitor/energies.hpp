@@ -14,8 +14,10 @@ namespace nd {
 ContactLaw state_contact_law(const Discretization &d, const State &s);
 // s.products: M U, M V, M A (when s.A_valid), K U and the energy's sums, in
 // one pass over the pattern M and K share (one ND_STAT_SPMV), and P_q(U)
-// (one contact evaluation, none without contact points)
-void compute_products(const Discretization &d, State &s);
+// (one contact evaluation, none without contact points; none with `known`:
+// P_q(s.U) and u_n - g0 that the step evaluated there with the state's gaps,
+// moved in: the same bits)
+void compute_products(const Discretization &d, State &s, PointValues *known = nullptr);
 // s.products if they are valid for d, else the same pass into `scratch`
 const Products &products_of(const Discretization &d, const State &s, Products &scratch);
 // E = 1/2 V'MV + 1/2 U'KU (the sums of s.products when valid: the same bits)

@@ -180,7 +180,7 @@ std::atomic<uint64_t> last_discretization_id{0};
 Discretization::Discretization(DofMap d, bool lump)
     : id(++last_discretization_id), dofs(std::move(d)), lumped(lump) {}
 
-void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step) {
+void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step, PointValues *at_U) {
   s.products.of = 0;  // A changes under them
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
@@ -191,7 +191,12 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
   law.local = !in_step;
   if (!s.gap.empty()) law.gap = s.gap.data();
-  law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
+  if (at_U && contact.size() > 0) {
+    law.P_all(s.U.data(), at_U->P, &at_U->un);
+    law.add_force_from(at_U->P, 1.0, rhs.data(), nullptr);
+  } else {
+    law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
+  }
   for (size_t i = 0; i < n; ++i) rhs[i] = (s.F.empty() ? 0.0 : s.F[i]) - rhs[i];
   mass_solve(rhs.data(), solver, once);
   s.A = std::move(rhs);

@@ -58,8 +58,10 @@ struct Discretization {
   // (once: as in mass_solve). in_step: called by every rank at the same point
   // of a set-up or a step, so each may compute its own rows of K_Theta U and
   // evaluate its own contact points, then gather (parallel/share.hpp); a
-  // query computes them all on its own.
-  void equilibrium_acceleration(State &s, int solver, bool once = true, bool in_step = false);
+  // query computes them all on its own. at_U (if given): the pass's P_q and
+  // u_n - g0, for compute_products.
+  void equilibrium_acceleration(State &s, int solver, bool once = true, bool in_step = false,
+                                PointValues *at_U = nullptr);
 };
 
 // The automatic gamma0: this fraction of gamma0*/max(Theta, 1).

@@ -112,11 +112,12 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   law.Pn = &old_products.P;
   if (def.contact_bounds) law.Un = old.U.data(), law.gap_n = old.gap.empty() ? nullptr : old.gap.data();
   scheme.predict(tau, old, next.U);
+  PointValues at_U;  // an explicit step's P_q(U^{n+1}), for the new state's products
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
     if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.F, next.gap, next.t, next.U);
-    d.equilibrium_acceleration(next, def.solver, false, true);  // every step: M factored once, kept
+    d.equilibrium_acceleration(next, def.solver, false, true, &at_U);  // every step: M factored once, kept
   } else {
     std::vector<double> r;
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);
@@ -175,7 +176,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // One pass over the points: phi is also the applied pressure (kept in the state).
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
-  compute_products(d, next);
+  compute_products(d, next, &at_U);  // (empty for an implicit step: evaluated there)
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
   for (size_t q = 0; q < phi.size(); ++q) {

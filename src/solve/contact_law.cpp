@@ -103,10 +103,18 @@ void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y)
 }
 
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active) const {
-  if (active) active->assign(cp->size(), 0);
-  if (cp->size() == 0) return;
+  if (cp->size() == 0) {
+    if (active) active->clear();
+    return;
+  }
   thread_local std::vector<double> Pq;
   P_all(U, Pq);
+  add_force_from(Pq, kappa, y, active);
+}
+
+void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, double *y,
+                                std::vector<char> *active) const {
+  if (active) active->assign(cp->size(), 0);
   for (size_t q = 0; q < cp->size(); ++q) {
     double value, slope;
     law(q, Pq[q], value, slope);

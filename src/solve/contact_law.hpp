@@ -101,6 +101,8 @@ struct ContactLaw {
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given
   void add_force(const double *U, double kappa, double *y, std::vector<char> *active) const;
+  // the same from P = P_q(U) already evaluated
+  void add_force_from(const std::vector<double> &P, double kappa, double *y, std::vector<char> *active) const;
   // T += kappa N'(U) (T has the operator pattern, which holds every a_q, s_q pair)
   void add_tangent(const double *U, double kappa, Csr &T) const;
 };

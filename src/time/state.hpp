@@ -28,6 +28,13 @@ struct Products {
   std::vector<double> un;              // a_q.U - g_q (u_n - g0, the penetration guard's), same pass
 };
 
+// P_q(U) and u_n - g0 = a_q.U - g_q at every contact point of a state, with
+// its gaps: what ContactLaw::P_all gives, for a step that has evaluated them
+// at its new U to hand to compute_products.
+struct PointValues {
+  std::vector<double> P, un;
+};
+
 // The history that fixes the bits of the Newton tangent's updated factor
 // (solve/tangent_updown.cpp): a base set of contact points with their
 // coefficients (the factorization of A + sum_q d_q p_q p_q^T), then the rank
