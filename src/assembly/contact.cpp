@@ -1,5 +1,6 @@
 #include "assembly/contact.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "fem/facet.hpp"
@@ -59,15 +60,18 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
   return cp;
 }
 
-std::vector<double> bound_norms(const ContactPoints &cp) {
-  std::vector<double> nu(cp.size());
-  for (size_t q = 0; q < nu.size(); ++q) {
+void set_bounds(ContactPoints &cp) {
+  cp.nu.assign(cp.size(), 0.0);
+  cp.dofs.clear();
+  for (size_t q = 0; q < cp.size(); ++q) {
     double sum = 0;
     for (size_t k = 0; k < cp.a[q].val.size(); ++k)
       sum += std::fabs(cp.a[q].val[k]) + cp.gamma[q] * std::fabs(cp.s[q].val[k]);
-    nu[q] = sum;
+    cp.nu[q] = sum;
+    cp.dofs.insert(cp.dofs.end(), cp.a[q].idx.begin(), cp.a[q].idx.end());
   }
-  return nu;
+  std::sort(cp.dofs.begin(), cp.dofs.end());
+  cp.dofs.erase(std::unique(cp.dofs.begin(), cp.dofs.end()), cp.dofs.end());
 }
 
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes) {

@@ -42,9 +42,11 @@ struct ContactPoints {
   std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
   std::vector<int64_t> facet;            // index into Mesh::boundary
   // nu_q = sum_k |a_qk| + gamma_q |s_qk| >= ||p_q||_1, so |P_q(U) - P_q(U')|
-  // <= nu_q max|U - U'| with the gaps held (bound_norms; empty: no bound,
+  // <= nu_q max_{i in dofs} |U_i - U'_i| with the gaps held, dofs the free
+  // DOFs the points' rows touch, sorted (set_bounds; empty nu: no bound,
   // ContactLaw::certainly_free then always evaluates)
   std::vector<double> nu;
+  std::vector<int64_t> dofs;
   // which rank evaluates which point in a step (the rank of its facet's
   // cell); null: this process evaluates every point
   std::shared_ptr<const Share> share;
@@ -55,8 +57,8 @@ struct ContactPoints {
 // (the point may move in time; the rows and weights do not).
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes);
 
-// nu_q of every point, with the gammas the points have now
-std::vector<double> bound_norms(const ContactPoints &cp);
+// nu and dofs, with the gammas the points have now
+void set_bounds(ContactPoints &cp);
 
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
                                const std::vector<ContactPlane> &planes, double gamma0);

@@ -84,7 +84,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     d->gamma0 = kAutomaticGamma0Fraction * d->gamma0_limit / std::max(def.theta, 1.0);
     for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
   }
-  d->contact.nu = bound_norms(d->contact);
+  set_bounds(d->contact);
   count(counters, &Counters::matrix_assemblies);
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
   if (d->dofs.n_free < space.n_dofs())

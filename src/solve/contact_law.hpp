@@ -67,7 +67,8 @@ struct ContactLaw {
   void P_all(const double *U, std::vector<double> &P, std::vector<double> *un = nullptr) const;
   // True only if the law and its slope vanish at every point at U, shown
   // without evaluating a point: from P^n (Pn at Un, gaps gap_n) and
-  //   P_q(U) <= P_q(U^n) + nu_q max|U - U^n| + g^n_q - g_q
+  //   P_q(U) <= P_q(U^n) + nu_q max_i |U_i - U^n_i| + g^n_q - g_q
+  // (i over cp->dofs, the DOFs the points' rows touch)
   // with a margin far above the round-off of either evaluation, for a law
   // that is nondecreasing in P (TimeScheme::contact). False says nothing:
   // then evaluate. The same answer on every rank (U, U^n and P^n are the
