@@ -124,12 +124,24 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
   nd::ContactLaw law{&cp, d.theta, in.scheme.get(), &Pn, nullptr};
   law.Un = Un.data();
   U = Un;
-  ck_assert(law.certainly_free(U) == free_at(law, U) || !law.certainly_free(U));
+  ck_assert(!law.certainly_free(U) || free_at(law, U));
   for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     U = Un;
     U[cp.dofs[cp.dofs.size() / 2]] = bad;  // (off the points' DOFs it changes no P_q)
     ck_assert(!law.certainly_free(U));
   }
+  // nor with a non-finite P^n or gap, which [P]_+ would map to 0
+  U = Un;
+  const bool before = law.certainly_free(U);
+  for (double *slot : {&Pn[Q / 2], &gap_n[Q / 2]}) {
+    const double keep = *slot;
+    *slot = std::numeric_limits<double>::quiet_NaN();
+    law.gap_n = gap_n.data();
+    ck_assert(!law.certainly_free(U));
+    *slot = keep;
+  }
+  law.gap_n = nullptr;
+  ck_assert(law.certainly_free(U) == before);
   law.Un = nullptr;
   ck_assert(!law.certainly_free(Un));
   nd_problem_destroy(&p);
