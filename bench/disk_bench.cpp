@@ -5,7 +5,9 @@
 // no contact before or after; impact: the first step with contact; contact:
 // contact before and after), Newton iterations, the physical floor of a step
 // (one solve with the cached factor of c M + K_Theta, timed in the same run)
-// and each median as a ratio to it, nnz(L) of CHOLMOD's analysis of A
+// and each median as a ratio to it, the pass a step makes over M, K and the
+// contact points for its new state (compute_products: the next right-hand
+// side, the energy, P_q), timed alone on the last state, nnz(L) of CHOLMOD's analysis of A
 // (what the library's CHOLMOD backend computes), peak memory (RSS high-water
 // mark). With HISTORY, writes t, E, contact force, Newton iterations and the
 // step's time per step, to compare with another code (bench/getfem_drop.py).
@@ -23,6 +25,7 @@
 #include "capi/handles.hpp"
 #include "linalg/backends.hpp"
 #include "linalg/blas_threads.hpp"
+#include "monitor/energies.hpp"
 #include "drop_scene.h"
 #include "timing.hpp"
 
@@ -35,7 +38,7 @@ const char *kHeader =
     "dim,mesh,degree,scheme,unknowns,nnz_L,steps,solver,blas_threads,setup_s,first_step_s,loop_s,floor_ms,"
     "free_steps,free_median_ms,impact_steps,impact_median_ms,contact_steps,contact_median_ms,"
     "newton_per_contact_step,contact_per_newton_ms,free_over_floor,impact_over_floor,contact_over_floor,"
-    "contact_per_newton_over_floor,peak_rss_mb";
+    "contact_per_newton_over_floor,peak_rss_mb,pass_ms,pass_over_floor";
 
 // nnz(L) of the library's CHOLMOD analysis of A's pattern (its ordering);
 // 0 if the analysis fails.
@@ -134,6 +137,16 @@ int main(int argc, char **argv) {
     floor_times.push_back(seconds() - t0);
   }
   const double fl = median(floor_times);
+  // the new state's pass (M U, M V, M A, K U, the energy's sums, P_q, u_n - g0)
+  const nd::Discretization &disc = p->problem.discretization();
+  nd::State state = p->problem.current_state();
+  std::vector<double> pass_times;
+  for (int r = 0; r < 31; ++r) {
+    t0 = seconds();
+    nd::compute_products(disc, state);
+    pass_times.push_back(seconds() - t0);
+  }
+  const double pass = median(pass_times);
   struct rusage ru;
   getrusage(RUSAGE_SELF, &ru);
   const double peak_mb = ru.ru_maxrss / 1024.0;  // before the analysis below allocates
@@ -141,12 +154,12 @@ int main(int argc, char **argv) {
   if (!threads && limit && std::atoi(limit) == 0) threads = "unlimited";
   const char *mesh = std::strrchr(argv[2], '/') ? std::strrchr(argv[2], '/') + 1 : argv[2];
   std::printf("%d,%s,%d,%s,%lld,%lld,%d,%s,%s,%.6f,%.6f,%.6f,%.6f,%zu,%.6f,%zu,%.6f,%zu,%.6f,%.4f,%.6f,%.3f,%.3f,%.3f,"
-              "%.3f,%.1f\n",
+              "%.3f,%.1f,%.6f,%.3f\n",
               dim, mesh, degree, scheme_name, static_cast<long long>(so->A.n), nnz_L(so->A), steps,
               so->A_factor->name(), threads ? threads : "default", setup, first, loop, 1e3 * fl, free_flight.size(),
               1e3 * median(free_flight), impact.size(), 1e3 * median(impact), contact.size(), 1e3 * median(contact),
               contact.empty() ? 0.0 : newton_contact / static_cast<double>(contact.size()), 1e3 * median(per_newton),
-              median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb);
+              median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb, 1e3 * pass, pass / fl);
   nd_problem_destroy(&p);
   return 0;
 }
