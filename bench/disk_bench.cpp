@@ -159,7 +159,8 @@ int main(int argc, char **argv) {
               so->A_factor->name(), threads ? threads : "default", setup, first, loop, 1e3 * fl, free_flight.size(),
               1e3 * median(free_flight), impact.size(), 1e3 * median(impact), contact.size(), 1e3 * median(contact),
               contact.empty() ? 0.0 : newton_contact / static_cast<double>(contact.size()), 1e3 * median(per_newton),
-              median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb, 1e3 * pass, pass / fl);
+              median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb,
+              1e3 * pass, pass / fl);
   nd_problem_destroy(&p);
   return 0;
 }

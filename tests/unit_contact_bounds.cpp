@@ -168,7 +168,8 @@ std::vector<double> field(nd_problem p, int which) {
 void same_bits(int dim, int degree, const ndtest::SchemeCase &sc, double theta, nd::TangentChoice tangent) {
   const std::string what = std::to_string(dim) + "D P" + std::to_string(degree) + " " + sc.name +
                            " Theta=" + std::to_string(theta);
-  nd_problem on = ndtest::drop_scene(dim, degree, sc, theta, 0.3), off = ndtest::drop_scene(dim, degree, sc, theta, 0.3);
+  nd_problem on = ndtest::drop_scene(dim, degree, sc, theta, 0.3);
+  nd_problem off = ndtest::drop_scene(dim, degree, sc, theta, 0.3);
   on->problem.set_tangent(tangent);
   off->problem.set_tangent(tangent);
   off->problem.set_contact_bounds(false);

@@ -73,7 +73,8 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
   if (!finite) return false;
   for (size_t q = 0; q < nq; ++q) {
     const double nu = cp->nu[q], Pref = (*Pn)[q], g_now = g(q), g_ref = gap_n ? gap_n[q] : cp->gap[q];
-    const double margin = kBoundMargin * (nu * (u_max + un_max + d) + std::fabs(g_now) + std::fabs(g_ref) + std::fabs(Pref));
+    const double margin =
+        kBoundMargin * (nu * (u_max + un_max + d) + std::fabs(g_now) + std::fabs(g_ref) + std::fabs(Pref));
     const double high = Pref + nu * d + (g_ref - g_now) + margin;
     if (!std::isfinite(high)) return false;  // (a law may map NaN to 0: not shown)
     double value, slope;
