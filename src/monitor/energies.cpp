@@ -110,12 +110,11 @@ void compute_products(const Discretization &d, State &s, PointValues *known) {
   s.products.of = 0;  // stays 0 if anything below throws
   products_pass<true>(d, s, s.products);
   if (known && known->P.size() == d.contact.size() && known->un.size() == d.contact.size()) {
-    s.products.P = std::move(known->P);
-    s.products.un = std::move(known->un);
+    s.products.points = std::move(*known);
   } else {
     ContactLaw law = state_contact_law(d, s);
     law.counters = d.counters;
-    law.P_all(s.U.data(), s.products.P, &s.products.un);
+    law.P_all(s.U.data(), s.products.points.P, &s.products.points.un);
   }
   s.products.of = d.id;
 }
@@ -136,25 +135,19 @@ double mechanical_energy(const Discretization &d, const State &s) {
   return 0.5 * sums.kinetic + 0.5 * sums.strain;
 }
 
-namespace {
-
-// P_q(U) of the state at every point: its products' (in a step, each
-// evaluated by its point's rank) when it has them, else evaluated here;
-// the same bits either way. Not collective: a query.
-const std::vector<double> &state_P(const Discretization &d, const State &s, std::vector<double> &scratch) {
-  if (s.products.of == d.id) return s.products.P;
-  const ContactLaw law = state_contact_law(d, s);
-  scratch.resize(d.contact.size());
-  for (size_t q = 0; q < scratch.size(); ++q) scratch[q] = law.P(q, s.U.data());
+const PointValues &state_points(const Discretization &d, const State &s, PointValues &scratch, Counters *counters) {
+  if (s.products.of == d.id) return s.products.points;
+  count(counters, &Counters::contact_evaluations);
+  ContactLaw law = state_contact_law(d, s);
+  law.local = true;  // a query: every point here, no message
+  law.P_all(s.U.data(), scratch.P, &scratch.un);
   return scratch;
 }
 
-}  // namespace
-
 double nitsche_energy(const Discretization &d, const State &s) {
   const ContactPoints &cp = d.contact;
-  std::vector<double> scratch;
-  const std::vector<double> &Pq = state_P(d, s, scratch);
+  PointValues scratch;
+  const std::vector<double> &Pq = state_points(d, s, scratch).P;
   double R = 0;
   for (size_t q = 0; q < cp.size(); ++q) {
     const double P = Pq[q], Pp = P > 0 ? P : 0;
@@ -165,8 +158,8 @@ double nitsche_energy(const Discretization &d, const State &s) {
 }
 
 std::vector<double> contact_pressure(const Discretization &d, const State &s) {
-  std::vector<double> scratch;
-  const std::vector<double> &Pq = state_P(d, s, scratch);
+  PointValues scratch;
+  const std::vector<double> &Pq = state_points(d, s, scratch).P;
   std::vector<double> lam(d.contact.size());
   for (size_t q = 0; q < lam.size(); ++q) {
     const double P = Pq[q];
@@ -176,8 +169,8 @@ std::vector<double> contact_pressure(const Discretization &d, const State &s) {
 }
 
 double contact_force(const Discretization &d, const State &s) {
-  std::vector<double> scratch;
-  const std::vector<double> &Pq = state_P(d, s, scratch);
+  PointValues scratch;
+  const std::vector<double> &Pq = state_points(d, s, scratch).P;
   double F = 0;
   for (size_t q = 0; q < d.contact.size(); ++q) {
     const double P = Pq[q];
@@ -187,27 +180,17 @@ double contact_force(const Discretization &d, const State &s) {
 }
 
 int64_t active_points(const Discretization &d, const State &s) {
-  std::vector<double> scratch;
-  const std::vector<double> &Pq = state_P(d, s, scratch);
+  PointValues scratch;
+  const std::vector<double> &Pq = state_points(d, s, scratch).P;
   int64_t k = 0;
   for (double P : Pq) k += P > 0;
   return k;
 }
 
-const std::vector<double> &state_un(const Discretization &d, const State &s, std::vector<double> &scratch,
-                                    Counters *counters) {
-  if (s.products.of == d.id) return s.products.un;
-  count(counters, &Counters::contact_evaluations);
-  const ContactLaw law = state_contact_law(d, s);
-  scratch.resize(d.contact.size());
-  for (size_t q = 0; q < scratch.size(); ++q) scratch[q] = d.contact.a[q].dot(s.U.data()) - law.g(q);
-  return scratch;
-}
-
 double max_penetration(const Discretization &d, const State &s) {
-  std::vector<double> scratch;
+  PointValues scratch;
   double m = 0;
-  for (double un : state_un(d, s, scratch)) m = std::max(m, un);
+  for (double un : state_points(d, s, scratch).un) m = std::max(m, un);
   return m;
 }
 

@@ -27,11 +27,12 @@ double nitsche_energy(const Discretization &d, const State &s);
 // sum_q w_q [P_q]_+/gamma_q
 double contact_force(const Discretization &d, const State &s);
 int64_t active_points(const Discretization &d, const State &s);
-// u_n - g0 = a_q.U - g_q at every point: the state's products' when they
-// are valid, else evaluated here (counted in `counters` as a pass over the
-// points); the same bits either way. Not collective.
-const std::vector<double> &state_un(const Discretization &d, const State &s, std::vector<double> &scratch,
-                                    Counters *counters = nullptr);
+// P_q(U) and u_n - g0 of the state at every point: its products' (in a
+// step, each evaluated by its point's rank) when they are valid, else
+// evaluated here into `scratch` (counted in `counters` as a pass over the
+// points); the same bits either way. Not collective: a query.
+const PointValues &state_points(const Discretization &d, const State &s, PointValues &scratch,
+                                Counters *counters = nullptr);
 // max_q (u_n - g0)_+
 double max_penetration(const Discretization &d, const State &s);
 // lambda_q = -[P_q]_+/gamma_q

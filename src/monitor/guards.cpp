@@ -13,8 +13,8 @@ namespace {
 constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 // the deepest point relative to its cell size: (penetration / h, index)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
-  std::vector<double> scratch;
-  const std::vector<double> &un = state_un(d, s, scratch, d.counters);
+  PointValues scratch;
+  const std::vector<double> &un = state_points(d, s, scratch, d.counters).un;
   std::pair<double, size_t> worst{-INFINITY, 0};
   for (size_t q = 0; q < un.size(); ++q) {
     const double r = un[q] / d.contact.h[q];

@@ -109,7 +109,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // contact terms read them) and what the right-hand side is made of
   Products scratch;  // only when the state has none (restart, new state): the same pass
   const Products &old_products = products_of(d, old, scratch);
-  law.Pn = &old_products.P;
+  law.Pn = &old_products.points.P;
   if (def.contact_bounds) law.Un = old.U.data(), law.gap_n = old.gap.empty() ? nullptr : old.gap.data();
   scheme.predict(tau, old, next.U);
   PointValues at_U;  // an explicit step's P_q(U^{n+1}), for the new state's products
@@ -181,7 +181,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   next.W_obstacle = old.W_obstacle;
   for (size_t q = 0; q < phi.size(); ++q) {
     double slope;
-    law.law(q, next.products.P[q], phi[q], slope);
+    law.law(q, next.products.points.P[q], phi[q], slope);
     next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
   }
   if (d.clamped) {

@@ -11,6 +11,12 @@ struct GuardState {
   double budget = 0;  // E^0 + max_k (W^k + W_obstacle^k): the most energy loads and obstacle put in
 };
 
+// P_q(U) and u_n - g0 = a_q.U - g_q at every contact point of a state, with
+// its gaps, from one pass over the points (ContactLaw::P_all).
+struct PointValues {
+  std::vector<double> P, un;
+};
+
 // M U, M V, M A (when A is valid), K U and the two sums of the mechanical
 // energy (V.MV, U.KU) of one state, from one fused pass over the pattern M
 // and K share, and P_q(U) from one pass over the contact points
@@ -24,15 +30,9 @@ struct Products {
   uint64_t of = 0;
   std::vector<double> MU, MV, MA, KU;  // MA empty when A is not valid
   double kinetic = 0, strain = 0;      // V.MV and U.KU
-  std::vector<double> P;               // P_q(U) with the state's gaps: the next step's P^n
-  std::vector<double> un;              // a_q.U - g_q (u_n - g0, the penetration guard's), same pass
-};
-
-// P_q(U) and u_n - g0 = a_q.U - g_q at every contact point of a state, with
-// its gaps: what ContactLaw::P_all gives, for a step that has evaluated them
-// at its new U to hand to compute_products.
-struct PointValues {
-  std::vector<double> P, un;
+  // P_q(U) with the state's gaps (the next step's P^n) and u_n - g0 (the
+  // penetration guard's), from one pass over the points
+  PointValues points;
 };
 
 // The history that fixes the bits of the Newton tangent's updated factor
