@@ -4,7 +4,8 @@
  *
  * A problem steps on the ranks of a communicator when it is given one: every
  * rank holds the same mesh, problem and state (replicated), the linear solves
- * of the ND_SOLVER_PETSC_* solvers are distributed over the ranks, and every
+ * of the ND_SOLVER_PETSC_* solvers are distributed over the ranks (and with
+ * them each rank holds its own rows of the operators only), and every
  * step either succeeds on every rank or fails on every rank with the same
  * status. Without a communicator a problem is this process's alone
  * (PETSC_COMM_SELF), as before. Each rank owns a part of the FE nodes (the

@@ -1,4 +1,4 @@
-/* The distributed solve (issue 15, slices 2 and 3), run under mpiexec -n 1, 2 and 4
+/* The distributed solve (issue 15, slices 2 to 5), run under mpiexec -n 1, 2 and 4
  * (tests/CMakeLists.txt, builds with PETSc). Every rank builds the same
  * problem; nd_problem_set_comm spreads the PETSc solves over the ranks.
  *  - the disk and the ball of DESIGN §7 through the impact: the energy and
@@ -11,6 +11,8 @@
  *  - checkpoint/restart over the same ranks restores the state bitwise;
  *  - each rank's part of every field (nd_get_field_owned): disjoint, covering
  *    every node, bitwise the gathered field;
+ *  - the operators M, K, K_Theta held by rows (slice 5), with the energy
+ *    and the coercivity check that need every rank's rows;
  *  - bad input: MPI_COMM_NULL, a communicator after the set-up, another mesh
  *    on one rank.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
@@ -487,6 +489,108 @@ START_TEST(each_rank_reads_its_part_of_a_field) {
 }
 END_TEST
 
+/* The operators by rows (slice 5): with a distributed solver on several
+ * ranks, M, K and K_Theta hold each rank's rows only (src/problem/
+ * discretization.hpp), and every product with them is the ranks' rows,
+ * gathered. Checked through ND_STAT_MATRIX_ENTRIES_OWN:
+ *  - every entry is held by one rank: the ranks' counts add up to one
+ *    process's, and on several ranks each holds fewer (the histories above
+ *    and the checkpoint test run on these operators);
+ *  - with lumped mass (the explicit steps read the whole diagonal) every
+ *    rank keeps the whole operators;
+ *  - the energy of a state not set up (one process's checkpoint after 4
+ *    steps, loaded) needs the ranks' rows: refused on one rank
+ *    (ND_ERR_STATE, not a wrong value), then after nd_problem_setup the
+ *    energy one process gave within the order of its sum (compare_split);
+ *  - the coercivity check (Theta gamma0 above the element bound) factors
+ *    K_Theta + delta M over the ranks, delta from every rank's diagonal,
+ *    with MUMPS (also for GAMG, which certifies nothing): the verdict of
+ *    CHOLMOD on the whole matrix in one process at gamma0 = 1.5, 2 and 4
+ *    times the bound (coercive, refused by the check, and c M + K_Theta
+ *    indefinite). */
+static double sum_over_ranks(double x) {
+  double sum = 0;
+  MPI_Allreduce(&x, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return sum;
+}
+
+static int setup_status(int dim, int solver, int distributed, double gamma0) {
+  char mesh[512];
+  snprintf(mesh, sizeof mesh, "%s/%s_h4.msh", ND_MESH_DIR, dim == 2 ? "disk" : "ball");
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(drop_scene_create(dim, mesh, 1, ND_SCHEME_HYBRID, NULL, 1.0, gamma0, kTau, solver, &p));
+  if (distributed) ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+  const int status = nd_problem_setup(p);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  return status;
+}
+
+START_TEST(each_rank_holds_its_rows_of_the_operators) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    /* one process's state after 4 steps of the fall, and its energy */
+    nd_problem alone = scene(dim, ND_SOLVER_CHOLMOD, 0);
+    for (int k = 0; k < 4; ++k) ND_OK_OR_FAIL(nd_step(alone));
+    const double whole = scalar(alone, ND_STAT_MATRIX_ENTRIES_OWN), e0 = scalar(alone, ND_ENERGY_MECHANICAL);
+    const double limit = scalar(alone, ND_GAMMA0_LIMIT);
+    double tau_c0 = 0, tau_c = 0;
+    ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(alone, &tau_c0));
+    int64_t nodes = 0, nbytes = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(alone, &nodes));
+    ND_OK_OR_FAIL(nd_problem_get_state_size(alone, &nbytes));
+    void *state = malloc((size_t)nbytes);
+    ND_OK_OR_FAIL(nd_problem_save_state(alone, nbytes, state));
+    ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+    ck_assert(whole > 0 && e0 > 0);
+    for (int solver = ND_SOLVER_PETSC_MUMPS; solver <= ND_SOLVER_PETSC_GAMG; ++solver) {
+      nd_problem p = scene(dim, solver, 1);
+      ND_OK_OR_FAIL(nd_problem_load_state(p, nbytes, state));  /* a restart: no products yet */
+      double e = 0;
+      ck_assert_int_eq(nd_get_scalar(p, ND_ENERGY_MECHANICAL, &e), g_size > 1 ? ND_ERR_STATE : ND_OK);
+      if (g_size > 1)
+        ck_assert_msg(strstr(nd_last_error(), "nd_problem_setup") != NULL, "%s", nd_last_error());
+      ND_OK_OR_FAIL(nd_problem_setup(p));
+      e = scalar(p, ND_ENERGY_MECHANICAL);
+      const double bound = (double)(dim * nodes) * 1.1e-16 * 10;
+      ck_assert_msg(fabs(e - e0) <= bound * e0, "%dD: energy %.17g after the set-up, %.17g in one process", dim, e,
+                    e0);
+      ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(p, &tau_c));  /* K_Theta x and M x: the ranks' rows */
+      if (g_rank == 0)
+        printf("%dD solver %d: critical step %.2e off one process's\n", dim, solver, fabs(tau_c - tau_c0) / tau_c0);
+      ck_assert_msg(fabs(tau_c - tau_c0) <= 1e-8 * tau_c0, "%dD: critical step %.17g, %.17g in one process", dim, tau_c,
+                    tau_c0);
+      const double mine = scalar(p, ND_STAT_MATRIX_ENTRIES_OWN);
+      ck_assert_double_eq(sum_over_ranks(mine), g_size > 1 ? whole : whole * g_size);
+      if (g_size > 1) ck_assert_msg(mine < whole, "%dD: a rank holds %g of %g entries", dim, mine, whole);
+      if (g_rank == 0 && solver == ND_SOLVER_PETSC_MUMPS)
+        printf("%dD, %d rank(s): rank 0 holds %.0f of the operators' %.0f entries\n", dim, g_size, mine, whole);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+    free(state);
+    nd_problem lumped = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
+    ND_OK_OR_FAIL(nd_problem_set_mass_lumping(lumped, 1));
+    ND_OK_OR_FAIL(nd_problem_setup(lumped));
+    ck_assert_double_eq(scalar(lumped, ND_STAT_MATRIX_ENTRIES_OWN), whole);
+    ND_OK_OR_FAIL(nd_problem_destroy(&lumped));
+
+    int coercive = 0, refused = 0;
+    const double factors[] = {1.5, 2, 4};
+    for (size_t k = 0; k < sizeof factors / sizeof factors[0]; ++k) {
+      const double gamma0 = factors[k] * limit;
+      const int serial = setup_status(dim, ND_SOLVER_CHOLMOD, 0, gamma0);
+      coercive += serial == ND_OK, refused += serial == ND_ERR_NOT_COERCIVE;
+      ck_assert_int_eq(setup_status(dim, ND_SOLVER_PETSC_MUMPS, 1, gamma0), serial);
+      /* GAMG cannot see that c M + K_Theta is indefinite (ND_ERR_INDEFINITE
+         of a factorization): the check refuses such a K_Theta instead */
+      ck_assert_int_eq(setup_status(dim, ND_SOLVER_PETSC_GAMG, 1, gamma0),
+                       serial == ND_ERR_INDEFINITE ? ND_ERR_NOT_COERCIVE : serial);
+    }
+    if (g_rank == 0)
+      printf("%dD: gamma0 = 1.5, 2, 4 x %.3g: %d coercive, %d refused by the check\n", dim, limit, coercive, refused);
+    ck_assert_msg(coercive > 0 && refused > 0, "%dD: the check gave one verdict only", dim);
+  }
+}
+END_TEST
+
 START_TEST(bad_communicators) {
   nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
   ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_NULL), ND_ERR_VALUE);
@@ -542,6 +646,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, contact_points_and_rows_on_their_ranks);
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);
+  tcase_add_test(tc, each_rank_holds_its_rows_of_the_operators);
   suite_add_tcase(s, tc);
   int status = nd_test_run(s);
   /* a failure on any rank fails the run on every rank */

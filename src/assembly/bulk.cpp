@@ -11,16 +11,26 @@
 
 namespace nd {
 
-Csr operator_pattern(const Space &s, const DofMap &dofs, const std::vector<char> *cells) {
+bool AssemblyPart::takes(const Space &s, const DofMap &dofs, int64_t cell) const {
+  if (cells && !(*cells)[cell]) return false;
+  if (!rows) return true;
+  const int64_t *nodes = s.nodes_of(cell);
+  for (int i = 0; i < s.basis.n; ++i)
+    for (int a = 0; a < s.dim; ++a)
+      if (const int64_t r = dofs.free[nodes[i] * s.dim + a]; r >= 0 && (*rows)[r]) return true;
+  return false;
+}
+
+Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &part) {
   std::vector<std::vector<int64_t>> rows(static_cast<size_t>(dofs.n_free));
   const int nb = s.basis.n, d = s.dim;
   std::vector<int64_t> local(static_cast<size_t>(nb * d));
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
-    if (cells && !(*cells)[c]) continue;
+    if (!part.takes(s, dofs, c)) continue;
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) local[i * d + a] = dofs.free[s.nodes_of(c)[i] * d + a];
     for (int64_t r : local)
-      if (r >= 0)
+      if (r >= 0 && (!part.rows || (*part.rows)[r]))
         for (int64_t col : local)
           if (col >= 0) rows[r].push_back(col);
   }
@@ -72,10 +82,10 @@ void ElementMatrices::compute(int64_t c) {
   }
 }
 
-BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat, const std::vector<char> *contact_nodes,
-                            const std::vector<char> *cells) {
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat,
+                            const std::vector<char> *contact_nodes, const AssemblyPart &part) {
   BulkOperators ops;
-  ops.M = operator_pattern(s, dofs, cells);
+  ops.M = operator_pattern(s, dofs, part);
   ops.K = ops.M.zeros_like();
   ops.M_lumped.assign(static_cast<size_t>(dofs.n_free), 0.0);
   const int nb = s.basis.n, d = s.dim;
@@ -83,7 +93,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
   ElementMatrices em(s, mat);
   const std::vector<double> &me = em.me, &ke = em.ke;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
-    if (cells && !(*cells)[c]) continue;
+    if (!part.takes(s, dofs, c)) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
     // HRZ lumping: the consistent diagonal scaled to the element's mass
@@ -94,7 +104,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) {
         const int64_t r = dofs.free[nodes[i] * d + a];
-        if (r < 0) continue;
+        if (r < 0 || (part.rows && !(*part.rows)[r])) continue;
         ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
         for (int j = 0; j < nb; ++j)
           for (int b = 0; b < d; ++b) {
@@ -119,8 +129,8 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
                               num(mat.poisson) + " on this mesh: rescale the units");
   if (!all_finite(ops.M.val) || !all_finite(ops.M_lumped))
     fail(ND_ERR_MATERIAL, "the mass matrix overflows with density " + num(rho) + " on this mesh: rescale the units");
-  for (double m : ops.M_lumped)  // (a part of the cells leaves the others' DOFs at 0)
-    if (!(m > 0 || ((contact_nodes || cells) && m == 0)) || !(m == 0 || std::isnormal(m)))
+  for (double m : ops.M_lumped)  // (a part leaves the other DOFs at 0)
+    if (!(m > 0 || ((contact_nodes || part.cells || part.rows) && m == 0)) || !(m == 0 || std::isnormal(m)))
       fail(ND_ERR_MATERIAL, "the mass matrix underflows with density " + num(rho) + " on this mesh: rescale the units");
   return ops;
 }

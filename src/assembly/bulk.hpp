@@ -14,9 +14,19 @@ struct NeumannLoad {
   double g[3];
 };
 
-// The pattern shared by all operators: every pair of free DOFs of a cell;
-// with `cells` (1 per cell to take) of those cells only, on all n_free rows.
-Csr operator_pattern(const Space &s, const DofMap &dofs, const std::vector<char> *cells = nullptr);
+// A part of the operators: the cells whose contributions are taken (1 per
+// cell; null: all) and the rows kept (1 per free DOF; null: all). A rank's
+// own cells (its part of the step matrix, every row they touch) or its own
+// rows (every cell's contribution to them), parallel/ownership.hpp.
+struct AssemblyPart {
+  const std::vector<char> *cells = nullptr;
+  const std::vector<char> *rows = nullptr;
+  bool takes(const Space &s, const DofMap &dofs, int64_t cell) const;
+};
+
+// The pattern shared by all operators: every pair of free DOFs of a cell,
+// on all n_free rows (the rows a part does not keep are empty).
+Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &part = {});
 
 // The element mass (nb x nb, scalar, times rho) and stiffness (nb*dim
 // squared, row (i,a), column (j,b)) of one cell, over all its local DOFs.
@@ -41,11 +51,11 @@ struct BulkOperators {
 // With `contact_nodes` (assembly/redistribution.hpp; nullptr: off) the mass
 // of those nodes is redistributed; the lumped mass is then the HRZ lumping of
 // the redistributed element mass (the mass is kept, the moments are not).
-// With `cells` (1 per cell to take): the contributions of those cells only,
-// on their pattern (a rank's own cells, parallel/ownership.hpp).
+// With a part: that part, on its pattern; each kept entry has the bits of
+// the whole assembly's (the same contributions, added in the same order).
+// The lumped diagonal is then the part's too.
 BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat,
-                            const std::vector<char> *contact_nodes = nullptr,
-                            const std::vector<char> *cells = nullptr);
+                            const std::vector<char> *contact_nodes = nullptr, const AssemblyPart &part = {});
 
 // Constant load: body force f (dim values, or nullptr) and Neumann tractions.
 // Returns an empty vector when there is no load at all.

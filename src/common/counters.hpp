@@ -22,6 +22,9 @@ struct Counters {
   int64_t point_evaluations = 0, own_point_evaluations = 0;
   // contact checks settled by ContactLaw::certainly_free's bound, no point evaluated
   int64_t contact_bounds = 0;
+  // not a count: the entries of M, K and K_Theta held now (a rank's rows
+  // when they are split over the ranks, problem/discretization.hpp)
+  int64_t matrix_entries = 0;
 };
 
 // c->*field += by when there is a counter struct (unit tests pass none)

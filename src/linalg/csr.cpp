@@ -38,8 +38,10 @@ int64_t Csr::find(int64_t i, int64_t j) const {
 }
 
 void Csr::add_outer(const std::vector<int64_t> &idx, const double *u, const double *v, double f) {
-  for (size_t i = 0; i < idx.size(); ++i)
+  for (size_t i = 0; i < idx.size(); ++i) {
+    if (ptr[idx[i]] == ptr[idx[i] + 1]) continue;  // a row this part does not hold
     for (size_t j = 0; j < idx.size(); ++j) val[find(idx[i], idx[j])] += f * u[i] * v[j];
+  }
 }
 
 Csr csr_from_rows(std::vector<std::vector<int64_t>> rows) {

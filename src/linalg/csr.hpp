@@ -27,7 +27,9 @@ struct Csr {
   // position of (i, j) in col/val, or -1 if (i, j) is not in the pattern
   int64_t find(int64_t i, int64_t j) const;
   // (idx[i], idx[j]) += f u[i] v[j] for every pair of idx (all in the pattern):
-  // the rank-one terms of K_Theta and of the contact tangent
+  // the rank-one terms of K_Theta and of the contact tangent. Rows without
+  // entries are left out: a matrix of a rank's own rows holds no others (a
+  // whole matrix has every row's diagonal)
   void add_outer(const std::vector<int64_t> &idx, const double *u, const double *v, double f);
   Csr zeros_like() const {
     Csr z = *this;

@@ -8,14 +8,23 @@
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "parallel/share.hpp"
 
 namespace nd {
 namespace {
 
+// y = A x: the ranks' rows, gathered, when the operators are split over
+// them (the estimate is collective then, as its mass solves are)
+void multiply(const Discretization &d, const Csr &A, const std::vector<double> &x, std::vector<double> &y) {
+  count(d.counters, &Counters::spmv);
+  const Share *rows = own_rows_of(d, false);
+  A.multiply(x.data(), y.data(), own_rows(rows));
+  if (rows) gather(*rows, {y.data()});
+}
+
 // y = (K_Theta + T_c) x
 void apply(const Discretization &d, const std::vector<double> &x, std::vector<double> &y) {
-  count(d.counters, &Counters::spmv);
-  d.K_theta.multiply(x.data(), y.data());
+  multiply(d, d.K_theta, x, y);
   const ContactPoints &cp = d.contact;
   for (size_t q = 0; q < cp.size(); ++q) {
     const SparseRow &a = cp.a[q], &s = cp.s[q];
@@ -35,8 +44,7 @@ void apply(const Discretization &d, const std::vector<double> &x, std::vector<do
 
 double m_dot(const Discretization &d, const std::vector<double> &x, const std::vector<double> &y,
              std::vector<double> &tmp) {
-  count(d.counters, &Counters::spmv);
-  d.M.multiply(y.data(), tmp.data());
+  multiply(d, d.M, y, tmp);
   return dot(static_cast<int64_t>(x.size()), x.data(), tmp.data());
 }
 

@@ -130,6 +130,11 @@ const Products &products_of(const Discretization &d, const State &s, Products &s
 
 double mechanical_energy(const Discretization &d, const State &s) {
   if (s.products.of == d.id) return 0.5 * s.products.kinetic + 0.5 * s.products.strain;
+  // a rank holds its rows only: the other rows' sums come in a collective
+  // pass, which a query on one rank cannot make (set-up makes it)
+  if (d.rows_split)
+    fail(ND_ERR_STATE, "the energy of a state that was not set up: with the operators split over the ranks it is "
+                       "computed by nd_problem_setup, collective (call it on every rank first)");
   Products sums;
   products_pass<false>(d, s, sums);
   return 0.5 * sums.kinetic + 0.5 * sums.strain;

@@ -27,6 +27,7 @@ int communicator_rank(const Communicator *c);  // 0 when null
 int worst_status(const Communicator *c, int status);
 // Whether every rank passed the same digest.
 bool same_on_all_ranks(const Communicator *c, uint64_t digest);
+double max_over_ranks(const Communicator *c, double x);  // the largest of the ranks' x, on every rank
 // MPI_Allgatherv: rank r's `mine` (counts[r] values) lands at all[displs[r]]
 // on every rank.
 void allgather(const Communicator *c, const std::vector<double> &mine, std::vector<double> &all,

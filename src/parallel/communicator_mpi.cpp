@@ -51,13 +51,23 @@ int communicator_rank(const Communicator *c) {
   return rank;
 }
 
-int worst_status(const Communicator *c, int status) {
-  if (!c) return status;
-  int worst = status;
-  if (MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MIN, c->comm) != MPI_SUCCESS)
-    fail(ND_ERR_INTERNAL, "MPI_Allreduce of the step status failed");
-  return worst;
+namespace {
+// op over the ranks' x, on every rank (x alone without a communicator)
+template <class T>
+T reduce(const Communicator *c, T x, MPI_Datatype type, MPI_Op op, const char *what) {
+  if (!c) return x;
+  T all = x;
+  if (MPI_Allreduce(&x, &all, 1, type, op, c->comm) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, std::string("MPI_Allreduce of ") + what + " failed");
+  return all;
 }
+}  // namespace
+
+int worst_status(const Communicator *c, int status) {
+  return reduce(c, status, MPI_INT, MPI_MIN, "the step status");
+}
+
+double max_over_ranks(const Communicator *c, double x) { return reduce(c, x, MPI_DOUBLE, MPI_MAX, "a maximum"); }
 
 bool same_on_all_ranks(const Communicator *c, uint64_t digest) {
   if (!c) return true;

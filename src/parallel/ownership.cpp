@@ -83,27 +83,35 @@ std::vector<int> partition_cells(const Mesh &m, const Communicator *c, int size,
 }  // namespace
 
 std::shared_ptr<const Ownership> partition_mesh(const Space &s, const Communicator *c) {
-  auto own = std::make_shared<Ownership>();
-  own->size = communicator_size(c);
-  own->rank = communicator_rank(c);
-  if (own->size == 1) {
-    own->nodes.resize(static_cast<size_t>(s.n_nodes));
-    std::iota(own->nodes.begin(), own->nodes.end(), int64_t{0});
+  const int size = communicator_size(c), rank = communicator_rank(c);
+  std::string method = "one rank";
+  std::vector<int> cells;
+  if (size > 1) cells = partition_cells(*s.mesh, c, size, method);
+  auto own = std::make_shared<Ownership>(ownership_of_cells(s, std::move(cells), rank, size));
+  own->method = std::move(method);
+  return own;
+}
+
+Ownership ownership_of_cells(const Space &s, std::vector<int> cell_owner, int rank, int size) {
+  Ownership own;
+  own.size = size, own.rank = rank;
+  if (size == 1) {
+    own.nodes.resize(static_cast<size_t>(s.n_nodes));
+    std::iota(own.nodes.begin(), own.nodes.end(), int64_t{0});
     return own;
   }
-  const Mesh &m = *s.mesh;
-  own->cell_owner = partition_cells(m, c, own->size, own->method);
+  own.cell_owner = std::move(cell_owner);
   // a node belongs to its lowest-numbered cell's rank (a node of no cell to rank 0)
-  own->node_owner.assign(static_cast<size_t>(s.n_nodes), -1);
-  for (int64_t cell = 0; cell < m.n_cells; ++cell)
+  own.node_owner.assign(static_cast<size_t>(s.n_nodes), -1);
+  for (int64_t cell = 0; cell < s.mesh->n_cells; ++cell)
     for (int i = 0; i < s.basis.n; ++i) {
-      int &o = own->node_owner[s.nodes_of(cell)[i]];
-      if (o < 0) o = own->cell_owner[cell];
+      int &o = own.node_owner[s.nodes_of(cell)[i]];
+      if (o < 0) o = own.cell_owner[cell];
     }
   for (int64_t i = 0; i < s.n_nodes; ++i) {
-    int &o = own->node_owner[i];
+    int &o = own.node_owner[i];
     if (o < 0) o = 0;
-    if (o == own->rank) own->nodes.push_back(i);
+    if (o == own.rank) own.nodes.push_back(i);
   }
   return own;
 }

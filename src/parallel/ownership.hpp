@@ -38,6 +38,8 @@ struct Ownership {
 };
 
 std::shared_ptr<const Ownership> partition_mesh(const Space &s, const Communicator *c);
+// What `rank` of `size` owns when the cells have these owners (ignored on one rank).
+Ownership ownership_of_cells(const Space &s, std::vector<int> cell_owner, int rank, int size);
 
 // The slabs of `parts` nearly equal parts (sizes differ by at most one):
 // the owner of each cell.

@@ -29,12 +29,12 @@ constexpr int64_t kMassCgMinSize = 2048;
 constexpr double kMassCgTolerance = 1e-15;
 constexpr int kMassCgMaxIterations = 300;
 
-// The scheme's mass (consistent, or lumped on K's pattern) and K, over the
-// cells flagged in `cells` (null: all), each with its mass redistributed
-// from the contact nodes when the definition asks for it.
+// The scheme's mass (consistent, or lumped on K's pattern) and K, of a part
+// of the cells or rows, each with its mass redistributed from the contact
+// nodes when the definition asks for it.
 BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const Definition &def,
-                                 const std::vector<char> *on_contact, const std::vector<char> *cells) {
-  BulkOperators bulk = assemble_bulk(space, dofs, def.material, def.redistributed ? on_contact : nullptr, cells);
+                                 const std::vector<char> *on_contact, const AssemblyPart &part) {
+  BulkOperators bulk = assemble_bulk(space, dofs, def.material, def.redistributed ? on_contact : nullptr, part);
   if (def.lumped) {
     bulk.M = bulk.K.zeros_like();
     for (int64_t i = 0; i < bulk.M.n; ++i)
@@ -44,10 +44,30 @@ BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const D
 }
 }  // namespace
 
-std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters) {
+bool splits_rows(const Definition &def) {
+  return communicator_size(def.comm.get()) > 1 &&
+         (def.solver == ND_SOLVER_PETSC_MUMPS || def.solver == ND_SOLVER_PETSC_GAMG) && !def.lumped &&
+         !def.redistributed;
+}
+
+const Share *own_rows_of(const Discretization &d, bool in_step) {
+  return in_step || d.rows_split ? d.rows.get() : nullptr;
+}
+
+std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
+                                           const Ownership *own) {
   require_complete(def.missing_for_operators());
   auto d = std::make_unique<Discretization>(DofMap(space, def.dirichlet), def.lumped);
   d->counters = counters;
+  std::vector<char> own_rows;  // per free DOF: of one of own's nodes
+  AssemblyPart part;
+  if (own && !own->node_owner.empty()) {
+    own_rows.assign(static_cast<size_t>(d->dofs.n_free), 0);
+    for (int64_t dof = 0; dof < space.n_dofs(); ++dof)
+      if (const int64_t r = d->dofs.free[dof]; r >= 0) own_rows[r] = own->node_owner[dof / space.dim] == own->rank;
+    part.rows = &own_rows;
+    d->rows_split = true;
+  }
   count(counters, &Counters::matrix_assemblies, 2);  // M and K in one pass
   std::vector<char> on_contact;
   if (def.redistributed) {
@@ -69,7 +89,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
         std::copy_n(&space.node_coords[node * space.dim], space.dim, &d->geometry.x[r * space.dim]);
         d->geometry.component[r] = a;
       }
-  BulkOperators bulk = mass_and_stiffness(space, d->dofs, def, &on_contact, nullptr);
+  BulkOperators bulk = mass_and_stiffness(space, d->dofs, def, &on_contact, part);
   d->K = std::move(bulk.K);
   d->M = std::move(bulk.M);
   if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
@@ -87,6 +107,8 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   set_bounds(d->contact);
   count(counters, &Counters::matrix_assemblies);
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
+  if (counters)
+    counters->matrix_entries = static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size());
   if (d->dofs.n_free < space.n_dofs())
     d->clamped = std::make_unique<ClampedRows>(
         clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));
@@ -99,7 +121,7 @@ Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const 
   for (int64_t cell = 0; cell < space.mesh->n_cells; ++cell) cells[cell] = own.owns_cell(cell);
   for (size_t q = 0; q < points.size(); ++q) points[q] = own.owns_cell(space.mesh->boundary[d.contact.facet[q]].cell);
   const std::vector<char> on_contact = def.redistributed ? contact_nodes(space, def.planes) : std::vector<char>();
-  BulkOperators bulk = mass_and_stiffness(space, d.dofs, def, &on_contact, &cells);
+  BulkOperators bulk = mass_and_stiffness(space, d.dofs, def, &on_contact, AssemblyPart{&cells, nullptr});
   count(d.counters, &Counters::matrix_assemblies);
   add_nitsche_terms(bulk.K, d.contact, d.theta, &points);
   Csr &A = bulk.K;  // A = c M + K_Theta, as csr_combine forms the whole one
@@ -120,15 +142,26 @@ void check_coercivity(Discretization &d, int solver) {
   // K_Theta's kernel (rigid motions of a free body) is lifted by delta M,
   // far above round-off and far below any eigenvalue of the Nitsche term
   // that matters for growth in time.
+  // (of every rank's rows: collective when they are split)
   double kmax = 0, mmax = 0;
-  for (int64_t i = 0; i < d.K.n; ++i) {
+  const RowSet held = own_rows(d.rows_split ? d.rows.get() : nullptr);
+  for (int64_t r = 0, m = held.size(d.K.n); r < m; ++r) {
+    const int64_t i = held[r];
     kmax = std::max(kmax, d.K.val[d.K.find(i, i)]);
     mmax = std::max(mmax, d.M.val[d.M.find(i, i)]);
+  }
+  if (d.rows_split) {
+    const Communicator *comm = d.rows->comm.get();
+    kmax = max_over_ranks(comm, kmax), mmax = max_over_ranks(comm, mmax);
   }
   Csr A;
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(1.0, d.K_theta, 1e-10 * kmax / mmax, d.M, A);
-  const int checker = linear_solver_certifies_definiteness(solver) ? solver : ND_SOLVER_AUTO;
+  // a solver that does not certify it (GAMG) hands the check to a direct
+  // one: CHOLMOD on each rank's whole matrix, or MUMPS over split rows
+  const int checker = linear_solver_certifies_definiteness(solver) ? solver
+                      : d.rows_split                                 ? ND_SOLVER_PETSC_MUMPS
+                                                                     : ND_SOLVER_AUTO;
   auto f = make_factorization(checker, A, Structure::SymmetricPositiveDefinite, d.counters, &d.geometry);
   try {
     f->factor(A, Structure::SymmetricPositiveDefinite);
@@ -185,7 +218,7 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
   count(counters, &Counters::spmv);
-  const Share *share = in_step ? rows.get() : nullptr;
+  const Share *share = own_rows_of(*this, in_step);
   K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
   if (share) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};

@@ -47,6 +47,10 @@ struct Discretization {
   // with several ranks: which rank computes which row of the step's products
   // (the rank of its node; monitor/energies.cpp); null: this process, all
   std::shared_ptr<const Share> rows;
+  // M, K and K_Theta hold this rank's rows only (issue 15, slice 5: the
+  // others are empty), so every product with them is the ranks' rows,
+  // gathered: collective (own_rows_of)
+  bool rows_split = false;
 
   // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others).
   // once: the caller expects no more solves with M (the initial acceleration
@@ -67,7 +71,18 @@ struct Discretization {
 // The automatic gamma0: this fraction of gamma0*/max(Theta, 1).
 constexpr double kAutomaticGamma0Fraction = 0.5;
 
-std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters);
+// With `own` (several ranks; null: one process) M, K and K_Theta hold the
+// rows of own's nodes only, each entry with the bits of the whole operator's.
+std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
+                                           const Ownership *own = nullptr);
+// Can the operators hold a rank's rows only (discretize's `own`)? With a
+// distributed solver on several ranks (which reads no other rows), and
+// neither mass lumping nor redistribution (whose diagonal and massless rows
+// the explicit steps read whole).
+bool splits_rows(const Definition &def);
+// The rows a process computes with d's operators: its own when they are
+// split (or `in_step`: every rank at the same point of a step), else all.
+const Share *own_rows_of(const Discretization &d, bool in_step);
 // A rank's part of the step matrix A = c M + K_Theta (issue 15, slice 3):
 // the contributions of its own cells, and of the contact points on them, on
 // the pattern of those cells (all rows, most of them empty). Summed over the

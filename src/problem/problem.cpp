@@ -51,7 +51,9 @@ Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
 
 void Problem::changed(unsigned aspects) {
   def_.given |= aspects;
-  if (aspects & kDiscretizationDeps) disc_.reset();
+  // (the operators hold a rank's rows only with a distributed solver on several ranks)
+  if ((aspects & kDiscretizationDeps) || (disc_ && (aspects & kSolver) && disc_->rows_split != splits_rows(def_)))
+    disc_.reset();
   if (disc_ && (aspects & kMassFactorDeps)) disc_->M_factor.reset();
   if (aspects & kLoadDeps) load_.reset();
   if (aspects & (kLoadDeps | kNodal)) {
@@ -234,7 +236,7 @@ void Problem::set_guard(int guard, double value) {
 // ---- derived objects ------------------------------------------------------------
 
 Discretization &Problem::discretization_() {
-  if (!disc_) disc_ = discretize(space_, def_, counters_.get());
+  if (!disc_) disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr);
   DofGeometry &g = disc_->geometry;
   if (g.row_end < 0 || g.comm != def_.comm) {
     g.comm = def_.comm;  // the factorizations' ranks
@@ -288,9 +290,11 @@ const std::vector<double> &Problem::constant_load_() {
 Integrator &Problem::integrator_or_build() {
   if (integrator_) return *integrator_;
   Discretization &d = discretization_();
-  std::function<Csr(double)> own_part;  // several ranks: each assembles its own cells' part of A
+  // several ranks: each assembles its own cells' part of A, unless the
+  // operators hold its rows already (then A's own rows are whole)
+  std::function<Csr(double)> own_part;
   const bool distributes = def_.solver == ND_SOLVER_PETSC_MUMPS || def_.solver == ND_SOLVER_PETSC_GAMG;
-  if (distributes && !ownership().node_owner.empty())
+  if (distributes && !d.rows_split && !ownership().node_owner.empty())
     own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
   integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
   return *integrator_;
@@ -354,14 +358,15 @@ void Problem::prepare() {
                               "every contact point active): lower the time step, use an implicit scheme, or raise "
                               "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
   state();
-  if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_);
-  initial_guarded_ = true;  // checked once, not again at every step
-  setup_done_ = true;
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid)
     d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit(), true);
-  // the products the first step's right-hand side reads (each step leaves its own)
+  // the products the first step's right-hand side reads (each step leaves
+  // its own), and the initial energy of the guard
   if (state_.products.of != d.id) compute_products(d, state_);
+  if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_);
+  initial_guarded_ = true;  // checked once, not again at every step
+  setup_done_ = true;
 }
 
 namespace {
@@ -479,6 +484,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   s.reaction.clear();  // no step led here: the equilibrium's, on demand
   s.phi.clear();
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
+  compute_products(d, s);  // the next step's, and the energy (setup() made state_'s)
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
   s.guard.E0 += dE;
   s.guard.budget += dE;
@@ -605,6 +611,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_POINT_EVALUATIONS, &Counters::point_evaluations},
     {ND_STAT_POINT_EVALUATIONS_OWN, &Counters::own_point_evaluations},
     {ND_STAT_CONTACT_BOUNDS, &Counters::contact_bounds},
+    {ND_STAT_MATRIX_ENTRIES_OWN, &Counters::matrix_entries},
 };
 }  // namespace
 

@@ -71,6 +71,7 @@ class Problem {
   // ---- queries
   const Space &space() const { return space_; }
   const Material &material() const { return def_.material; }
+  const Definition &definition() const { return def_; }  // white-box (tests)
   const Discretization &discretization() { return discretization_(); }
   // white-box (tests): the state at t^n in free DOFs, with its load and gaps
   const State &current_state() { return state(); }

@@ -1,0 +1,103 @@
+// The operators of a rank's rows (issue 15, slice 5: discretize with an
+// Ownership): with the cells cut in 2 and 3 slabs, each part holds exactly
+// its nodes' rows of M, K and K_Theta, every entry bitwise the whole
+// operator's (the same cells' contributions added in the same order, the
+// Nitsche terms of every contact point that reaches the row), and nothing of
+// the other rows; over the parts every entry is held once. 2D P1/P2 and 3D
+// P1 drops (the contact rows cross the cuts), Theta = 1 and -1.
+#include <cstring>
+#include <vector>
+
+#include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "common/counters.hpp"
+#include "parallel/ownership.hpp"
+#include "problem/discretization.hpp"
+#include "testutil.h"
+#include "unit_drop.hpp"
+
+namespace {
+
+// Row i of `part` is row i of `whole` (own) or empty (not own).
+void check_row(const nd::Csr &whole, const nd::Csr &part, int64_t i, bool own, const char *what) {
+  const int64_t b = part.ptr[i], e = part.ptr[i + 1], wb = whole.ptr[i], we = whole.ptr[i + 1];
+  if (!own) {
+    ck_assert_msg(b == e, "%s: row %lld is not this part's but holds %lld entries", what, (long long)i,
+                  (long long)(e - b));
+    return;
+  }
+  ck_assert_msg(e - b == we - wb, "%s: row %lld holds %lld entries, the whole row %lld", what, (long long)i,
+                (long long)(e - b), (long long)(we - wb));
+  ck_assert_msg(std::memcmp(&part.col[b], &whole.col[wb], sizeof(int64_t) * (e - b)) == 0,
+                "%s: row %lld has other columns", what, (long long)i);
+  ck_assert_msg(std::memcmp(&part.val[b], &whole.val[wb], sizeof(double) * (e - b)) == 0,
+                "%s: row %lld has other values", what, (long long)i);
+}
+
+void rows_of_each_part(int dim, int degree, double theta) {
+  nd_problem p = ndtest::drop_scene(dim, degree, ndtest::kSchemes[3], theta);
+  nd::Problem &pb = p->problem;
+  const nd::Discretization &whole = pb.discretization();
+  const nd::Space &space = pb.space();
+  ck_assert(!whole.rows_split && whole.contact.size() > 0);
+  const int64_t n = whole.dofs.n_free;
+  for (int parts : {2, 3}) {
+    const std::vector<int> cells = nd::slab_partition(*space.mesh, parts);
+    std::vector<int> holders(static_cast<size_t>(n), 0);
+    size_t held[3] = {0, 0, 0};
+    bool nitsche_across = false;  // a contact point whose rows reach two parts
+    for (int rank = 0; rank < parts; ++rank) {
+      const nd::Ownership own = nd::ownership_of_cells(space, cells, rank, parts);
+      nd::Counters counters;
+      const auto d = nd::discretize(space, pb.definition(), &counters, &own);
+      ck_assert(d->rows_split);
+      std::vector<char> mine(static_cast<size_t>(n), 0);
+      for (int64_t dof = 0; dof < space.n_dofs(); ++dof)
+        if (const int64_t r = d->dofs.free[dof]; r >= 0) mine[r] = own.node_owner[dof / dim] == rank;
+      int64_t rows = 0;
+      for (int64_t i = 0; i < n; ++i) {
+        check_row(whole.M, d->M, i, mine[i], "M");
+        check_row(whole.K, d->K, i, mine[i], "K");
+        check_row(whole.K_theta, d->K_theta, i, mine[i], "K_Theta");
+        holders[i] += mine[i];
+        rows += mine[i];
+      }
+      ck_assert_msg(rows > 0 && rows < n, "%d parts: part %d holds %lld of %lld rows", parts, rank, (long long)rows,
+                    (long long)n);
+      for (const nd::SparseRow &s : whole.contact.s) {
+        bool in = false, out = false;
+        for (int64_t i : s.idx) (mine[i] ? in : out) = true;
+        nitsche_across |= in && out;
+      }
+      held[0] += d->M.val.size(), held[1] += d->K.val.size(), held[2] += d->K_theta.val.size();
+      ck_assert_int_eq(counters.matrix_entries,
+                       static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size()));
+    }
+    for (int64_t i = 0; i < n; ++i)
+      ck_assert_msg(holders[i] == 1, "row %lld held by %d parts", (long long)i, holders[i]);
+    ck_assert_uint_eq(held[0], whole.M.val.size());
+    ck_assert_uint_eq(held[1], whole.K.val.size());
+    ck_assert_uint_eq(held[2], whole.K_theta.val.size());
+    ck_assert_msg(nitsche_across, "%dD P%d, %d parts: no contact point reaches two parts", dim, degree, parts);
+  }
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+
+START_TEST(each_part_holds_its_rows_bitwise) {
+  for (double theta : {1.0, -1.0}) {
+    rows_of_each_part(2, 1, theta);
+    rows_of_each_part(2, 2, theta);
+    rows_of_each_part(3, 1, theta);
+  }
+}
+END_TEST
+
+}  // namespace
+
+int main(void) {
+  Suite *s = suite_create("operator_rows");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, each_part_holds_its_rows_bitwise);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
