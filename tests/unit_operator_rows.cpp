@@ -3,8 +3,11 @@
 // its nodes' rows of M, K and K_Theta, every entry bitwise the whole
 // operator's (the same cells' contributions added in the same order, the
 // Nitsche terms of every contact point that reaches the row), and nothing of
-// the other rows; over the parts every entry is held once. 2D P1/P2 and 3D
-// P1 drops (the contact rows cross the cuts), Theta = 1 and -1.
+// the other rows; over the parts every entry is held once. So do the step
+// matrix c M + K_Theta formed from them and the refactored Newton tangent
+// (every contact point's rank-one term added, rows not held left out).
+// 2D P1/P2 and 3D P1 drops (the contact rows cross the cuts), Theta = 1
+// and -1.
 #include <cstring>
 #include <vector>
 
@@ -12,6 +15,7 @@
 #include "common/counters.hpp"
 #include "parallel/ownership.hpp"
 #include "problem/discretization.hpp"
+#include "solve/contact_law.hpp"
 #include "testutil.h"
 #include "unit_drop.hpp"
 
@@ -33,6 +37,15 @@ void check_row(const nd::Csr &whole, const nd::Csr &part, int64_t i, bool own, c
                 "%s: row %lld has other values", what, (long long)i);
 }
 
+// c M + K_Theta + sum_q f_q b_q p_q^T (the refactored tangent's terms, every
+// point active with a weight of its own)
+nd::Csr tangent(const nd::Discretization &d) {
+  nd::Csr T;
+  nd::csr_combine(40.0, d.M, 1.0, d.K_theta, T);
+  for (size_t q = 0; q < d.contact.size(); ++q) nd::add_point_tangent(d.contact, d.theta, q, 0.5 + 0.01 * q, T);
+  return T;
+}
+
 void rows_of_each_part(int dim, int degree, double theta) {
   nd_problem p = ndtest::drop_scene(dim, degree, ndtest::kSchemes[3], theta);
   nd::Problem &pb = p->problem;
@@ -40,6 +53,7 @@ void rows_of_each_part(int dim, int degree, double theta) {
   const nd::Space &space = pb.space();
   ck_assert(!whole.rows_split && whole.contact.size() > 0);
   const int64_t n = whole.dofs.n_free;
+  const nd::Csr T_whole = tangent(whole);
   for (int parts : {2, 3}) {
     const std::vector<int> cells = nd::slab_partition(*space.mesh, parts);
     std::vector<int> holders(static_cast<size_t>(n), 0);
@@ -50,6 +64,7 @@ void rows_of_each_part(int dim, int degree, double theta) {
       nd::Counters counters;
       const auto d = nd::discretize(space, pb.definition(), &counters, &own);
       ck_assert(d->rows_split);
+      const nd::Csr T = tangent(*d);
       std::vector<char> mine(static_cast<size_t>(n), 0);
       for (int64_t dof = 0; dof < space.n_dofs(); ++dof)
         if (const int64_t r = d->dofs.free[dof]; r >= 0) mine[r] = own.node_owner[dof / dim] == rank;
@@ -58,6 +73,7 @@ void rows_of_each_part(int dim, int degree, double theta) {
         check_row(whole.M, d->M, i, mine[i], "M");
         check_row(whole.K, d->K, i, mine[i], "K");
         check_row(whole.K_theta, d->K_theta, i, mine[i], "K_Theta");
+        check_row(T_whole, T, i, mine[i], "tangent");
         holders[i] += mine[i];
         rows += mine[i];
       }
