@@ -1,0 +1,43 @@
+#!/bin/sh
+# Two builds of the library side by side (not a test): scaling_bench of
+# each, interleaved, on 1 and 2 ranks with MUMPS, for the before/after tables
+# of report/SCALING.md. Scenes: disk_h0.5 P2 (hybrid, tau = 0.25 to T = 12,
+# as bench/scaling.sh) and ball_h2 P1 (the same, 3D). One BLAS/OpenMP thread
+# per rank. Every run is a row of OUT (CSV), with its version's label.
+# usage: sh bench/scaling_ab.sh BUILD_A LABEL_A BUILD_B LABEL_B [OUT [REPEAT]]
+#        (each BUILD a -DND_WITH_PETSC=ON build directory with scaling_bench)
+set -eu
+a=$1 la=$2 b=$3 lb=$4
+out=${5:-bench/results/scaling_ab.csv}
+repeat=${6:-3}
+meshes=examples/meshes
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_mpi_yield_when_idle=1 SCOTCH_PTHREAD_NUMBER=1
+printf 'version,%s\n' "$("$b/scaling_bench" --header)" > "$out"
+run() {  # build label ranks mesh degree [dim]
+  mpiexec -n "$3" "$1/scaling_bench" "$4" "$5" mumps 0.25 12 ${6:-} | sed "s/^/$2,/" >> "$out"
+}
+i=0
+while [ $i -lt "$repeat" ]; do
+  for ranks in 1 2; do
+    run "$a" "$la" $ranks $meshes/disk_h0.5.msh 2
+    run "$b" "$lb" $ranks $meshes/disk_h0.5.msh 2
+    run "$a" "$la" $ranks $meshes/ball_h2.msh 1 3
+    run "$b" "$lb" $ranks $meshes/ball_h2.msh 1 3
+  done
+  i=$((i + 1))
+done
+# the medians of each configuration
+python3 - "$out" <<'EOF'
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+keys = sorted({(r['mesh'], r['ranks'], r['version']) for r in rows})
+print('| mesh | ranks | version | set-up s | free flight ms | contact step ms | peak RSS/rank MB |')
+print('|---|---|---|---|---|---|---|')
+for mesh, ranks, version in keys:
+    sel = [r for r in rows if (r['mesh'], r['ranks'], r['version']) == (mesh, ranks, version)]
+    med = lambda k: statistics.median(float(r[k]) for r in sel)
+    print(f"| {mesh.split('/')[-1]} | {ranks} | {version} | {med('setup_s'):.3f} | {med('free_median_ms'):.2f} | "
+          f"{med('contact_median_ms'):.1f} | {med('peak_rss_mb_max'):.1f} |")
+EOF
