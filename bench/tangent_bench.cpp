@@ -42,9 +42,15 @@ const char *threads() {
   return t ? t : "default";
 }
 
+// ND_BENCH_SOLVER=N in the environment: the ND_SOLVER_* value N instead of the library's choice
+int solver() {
+  const char *s = std::getenv("ND_BENCH_SOLVER");
+  return s ? std::atoi(s) : ND_SOLVER_AUTO;
+}
+
 nd_problem make(int dim, const char *mesh, int degree) {
   nd_problem p = nullptr;
-  if (drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, nullptr, 1.0, 1e-3, 0.05, ND_SOLVER_AUTO, &p) != ND_OK) {
+  if (drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, nullptr, 1.0, 1e-3, 0.05, solver(), &p) != ND_OK) {
     std::fprintf(stderr, "%s\n", nd_last_error());
     std::exit(1);
   }

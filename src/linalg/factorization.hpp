@@ -32,6 +32,13 @@ class Factorization {
     factor(A, s);
   }
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
+  // in place, k right-hand sides (column j at x + j n): each column as
+  // solve() would make it (the same bits), unless a backend that is not
+  // bitwise reproducible anyway solves them as one block (MUMPS over several
+  // ranks: one multi-right-hand-side solve instead of k)
+  virtual void solve_many(double *x, int64_t n, int64_t k) const {
+    for (int64_t j = 0; j < k; ++j) solve(x + j * n);
+  }
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
   // the backend's own object under any wrapper (its counters): for code that

@@ -395,6 +395,7 @@ class Vectors {
   Vectors(const Vectors &) = delete;
   Vectors &operator=(const Vectors &) = delete;
   Vec rhs() const { return b_; }
+  bool distributed() const { return L_.distributed(); }
 
   // x (the whole vector, on every rank) in place: b <- this rank's rows of x,
   // run(b, solution) solves, x <- the whole solution. One rank: the solution
@@ -413,13 +414,51 @@ class Vectors {
       return code;
     }
     if ((code = run(b_, x_))) return code;
-    if ((code = VecScatterBegin(to_all_, x_, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
-    if ((code = VecScatterEnd(to_all_, x_, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
+    return gather(x_, x);
+  }
+
+  // The same for k whole vectors (column j at x + j n), as dense matrices of
+  // this rank's rows: run(B, X) solves them all at once.
+  template <class Run>
+  PetscErrorCode solve_many(double *x, int64_t k, Run &&run) const {
+    const PetscInt own = L_.end - L_.begin;
+    Mat B = nullptr, X = nullptr;
+    PetscErrorCode code = MatCreateDense(L_.comm, own, PETSC_DECIDE, L_.n, static_cast<PetscInt>(k), nullptr, &B);
+    if (!code) code = MatCreateDense(L_.comm, own, PETSC_DECIDE, L_.n, static_cast<PetscInt>(k), nullptr, &X);
+    PetscScalar *b = nullptr;
+    if (!code) code = MatDenseGetArrayWrite(B, &b);
+    if (!code) {
+      for (int64_t j = 0; j < k; ++j)
+        for (PetscInt r = 0; r < own; ++r) b[j * own + r] = x[j * L_.n + L_.unknown(r)];
+      code = MatDenseRestoreArrayWrite(B, &b);
+    }
+    if (!code) code = run(B, X);
+    PetscScalar *s = nullptr;
+    if (!code) code = MatDenseGetArray(X, &s);
+    for (int64_t j = 0; !code && j < k; ++j) {  // each column gathered to every rank
+      if ((code = VecPlaceArray(x_, s + j * own))) break;
+      code = gather(x_, x + j * L_.n);
+      VecResetArray(x_);
+    }
+    if (s) MatDenseRestoreArray(X, &s);
+    MatDestroy(&B);
+    MatDestroy(&X);
+    return code;
+  }
+
+ private:
+  // x <- the whole vector of the distributed v, on every rank
+  PetscErrorCode gather(Vec v, double *x) const {
+    PetscErrorCode code;
+    if ((code = VecScatterBegin(to_all_, v, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
+    if ((code = VecScatterEnd(to_all_, v, all_, INSERT_VALUES, SCATTER_FORWARD))) return code;
     const PetscScalar *r = nullptr;
     if ((code = VecGetArrayRead(all_, &r))) return code;
     for (int64_t u = 0; u < L_.n; ++u) x[u] = r[L_.row(u)];
     return VecRestoreArrayRead(all_, &r);
   }
+
+ public:
 
  private:
   Layout L_;
@@ -456,6 +495,15 @@ class PetscMumps : public Factorization {
     if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
     Session session;
     check(v_->solve(x, [&](Vec b, Vec sol) { return MatSolve(F_, b, sol); }), "MatSolve (MUMPS)");
+  }
+  // over several ranks (not bitwise reproducible: MUMPS schedules its work
+  // dynamically) one multi-right-hand-side solve; on one rank each column
+  // alone, the bits of solve()
+  void solve_many(double *x, int64_t n, int64_t k) const override {
+    if (!v_->distributed() || k < 2) return Factorization::solve_many(x, n, k);
+    if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
+    Session session;
+    check(v_->solve_many(x, k, [&](Mat B, Mat X) { return MatMatSolve(F_, B, X); }), "MatMatSolve (MUMPS)");
   }
 
  private:
