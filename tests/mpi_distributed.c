@@ -496,8 +496,9 @@ END_TEST
  *  - every entry is held by one rank: the ranks' counts add up to one
  *    process's, and on several ranks each holds fewer (the histories above
  *    and the checkpoint test run on these operators);
- *  - with lumped mass (the explicit steps read the whole diagonal) every
- *    rank keeps the whole operators;
+ *  - operators made before the communicator are split when it comes, and
+ *    whole again with a serial solver; with lumped mass (the explicit steps
+ *    read the whole diagonal) every rank keeps the whole operators;
  *  - the energy of a state not set up (one process's checkpoint after 4
  *    steps, loaded) needs the ranks' rows: refused on one rank
  *    (ND_ERR_STATE, not a wrong value), then after nd_problem_setup the
@@ -559,13 +560,25 @@ START_TEST(each_rank_holds_its_rows_of_the_operators) {
       ck_assert_msg(fabs(tau_c - tau_c0) <= 1e-8 * tau_c0, "%dD: critical step %.17g, %.17g in one process", dim, tau_c,
                     tau_c0);
       const double mine = scalar(p, ND_STAT_MATRIX_ENTRIES_OWN);
-      ck_assert_double_eq(sum_over_ranks(mine), g_size > 1 ? whole : whole * g_size);
+      ck_assert_double_eq(sum_over_ranks(mine), whole);
       if (g_size > 1) ck_assert_msg(mine < whole, "%dD: a rank holds %g of %g entries", dim, mine, whole);
       if (g_rank == 0 && solver == ND_SOLVER_PETSC_MUMPS)
         printf("%dD, %d rank(s): rank 0 holds %.0f of the operators' %.0f entries\n", dim, g_size, mine, whole);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
     free(state);
+    /* operators made before the communicator (a query), then split when it
+       comes; whole again with a serial solver (each rank factors them all) */
+    nd_problem later = scene(dim, ND_SOLVER_PETSC_MUMPS, 0);
+    ck_assert_double_eq(scalar(later, ND_GAMMA0_LIMIT), limit);
+    ck_assert_double_eq(scalar(later, ND_STAT_MATRIX_ENTRIES_OWN), whole);
+    ND_OK_OR_FAIL(nd_problem_set_comm(later, MPI_COMM_WORLD));
+    ND_OK_OR_FAIL(nd_problem_setup(later));
+    ck_assert_double_eq(sum_over_ranks(scalar(later, ND_STAT_MATRIX_ENTRIES_OWN)), whole);
+    ND_OK_OR_FAIL(nd_problem_set_linear_solver(later, ND_SOLVER_CHOLMOD));
+    ND_OK_OR_FAIL(nd_step(later));
+    ck_assert_double_eq(scalar(later, ND_STAT_MATRIX_ENTRIES_OWN), whole);
+    ND_OK_OR_FAIL(nd_problem_destroy(&later));
     nd_problem lumped = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
     ND_OK_OR_FAIL(nd_problem_set_mass_lumping(lumped, 1));
     ND_OK_OR_FAIL(nd_problem_setup(lumped));
@@ -641,6 +654,41 @@ START_TEST(explicit_steps_on_split_rows) {
 }
 END_TEST
 
+/* More ranks than cells: the bar of DESIGN §7 (clamped at x = 1: the
+ * reactions' rows) in 3 cells, so that on 4 ranks one owns no cell and no
+ * row, stepped with MUMPS over the ranks against one process with CHOLMOD:
+ * energy, contact force and reaction histories within 1e-8 of the largest
+ * value. */
+START_TEST(a_bar_on_more_ranks_than_cells) {
+  enum { kBarSteps = 60 };
+  double e[2][kBarSteps], f[2][kBarSteps], r[2][kBarSteps];
+  for (int split = 0; split < 2; ++split) {
+    nd_problem p = nd_test_bar(3, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.0, 0.05);
+    if (split) {
+      ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, ND_SOLVER_PETSC_MUMPS));
+      ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+    }
+    for (int k = 0; k < kBarSteps; ++k) {
+      ND_OK_OR_FAIL(nd_step(p));
+      double reaction[4];
+      ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_REACTION, 4, reaction));
+      e[split][k] = scalar(p, ND_ENERGY_AUGMENTED), f[split][k] = scalar(p, ND_CONTACT_FORCE);
+      r[split][k] = reaction[3]; /* the clamped end, x = 1 */
+    }
+    int64_t own = 0;
+    ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+    double owners = own > 0, total = sum_over_ranks(owners);
+    if (split && g_size > 3) ck_assert_msg(total < g_size, "every rank owns a node of the 3-cell bar");
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+  const double de = relative_gap(e[0], e[1], kBarSteps), df = relative_gap(f[0], f[1], kBarSteps),
+               dr = relative_gap(r[0], r[1], kBarSteps);
+  if (g_rank == 0) printf("bar of 3 cells, %d rank(s): energy %.2e force %.2e reaction %.2e\n", g_size, de, df, dr);
+  ck_assert_msg(max_abs(f[0], kBarSteps) > 0, "no contact within the horizon");
+  ck_assert_msg(de <= 1e-8 && df <= 1e-8 && dr <= 1e-8, "energy %.3g, force %.3g, reaction %.3g", de, df, dr);
+}
+END_TEST
+
 START_TEST(bad_communicators) {
   nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
   ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_NULL), ND_ERR_VALUE);
@@ -698,6 +746,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, checkpoint_restores_bitwise);
   tcase_add_test(tc, each_rank_holds_its_rows_of_the_operators);
   tcase_add_test(tc, explicit_steps_on_split_rows);
+  tcase_add_test(tc, a_bar_on_more_ranks_than_cells);
   suite_add_tcase(s, tc);
   int status = nd_test_run(s);
   /* a failure on any rank fails the run on every rank */
