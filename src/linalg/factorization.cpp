@@ -105,6 +105,10 @@ bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_b
 // curvature met during CG is evidence, its absence is not).
 bool linear_solver_certifies_definiteness(int solver) { return solver != ND_SOLVER_PETSC_GAMG; }
 
+bool linear_solver_distributes(int solver) {
+  return solver == ND_SOLVER_PETSC_MUMPS || solver == ND_SOLVER_PETSC_GAMG;
+}
+
 const char *linear_solver_unavailable(int solver) {
   if (find_backend(solver)) return nullptr;
   for (const Optional &o : kOptional)

@@ -79,6 +79,9 @@ bool linear_solver_known(int solver);
 // factorization does; an iterative solver does not): the checks that must
 // decide it (check_coercivity) use AUTO's direct choice when it does not
 bool linear_solver_certifies_definiteness(int solver);
+// whether the solver spreads its matrices' rows over a communicator's ranks
+// (the PETSc backends; the others solve the whole system on every rank)
+bool linear_solver_distributes(int solver);
 // For an ND_SOLVER_* id of a backend this build does not have (the PETSc ones
 // without ND_WITH_PETSC): why, naming the id; otherwise nullptr.
 const char *linear_solver_unavailable(int solver);

@@ -458,9 +458,6 @@ class Vectors {
     return VecRestoreArrayRead(all_, &r);
   }
 
- public:
-
- private:
   Layout L_;
   Vec b_ = nullptr, x_ = nullptr, all_ = nullptr;
   VecScatter to_all_ = nullptr;
@@ -501,6 +498,7 @@ class PetscMumps : public Factorization {
   // alone, the bits of solve()
   void solve_many(double *x, int64_t n, int64_t k) const override {
     if (!v_->distributed() || k < 2) return Factorization::solve_many(x, n, k);
+    if (n != n_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: right-hand sides of another size than the matrix");
     if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
     Session session;
     check(v_->solve_many(x, k, [&](Mat B, Mat X) { return MatMatSolve(F_, B, X); }), "MatMatSolve (MUMPS)");

@@ -45,8 +45,7 @@ BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const D
 }  // namespace
 
 bool splits_rows(const Definition &def) {
-  return communicator_size(def.comm.get()) > 1 &&
-         (def.solver == ND_SOLVER_PETSC_MUMPS || def.solver == ND_SOLVER_PETSC_GAMG) && !def.lumped &&
+  return communicator_size(def.comm.get()) > 1 && linear_solver_distributes(def.solver) && !def.lumped &&
          !def.redistributed;
 }
 
@@ -144,7 +143,7 @@ void check_coercivity(Discretization &d, int solver) {
   // that matters for growth in time.
   // (of every rank's rows: collective when they are split)
   double kmax = 0, mmax = 0;
-  const RowSet held = own_rows(d.rows_split ? d.rows.get() : nullptr);
+  const RowSet held = own_rows(own_rows_of(d, false));
   for (int64_t r = 0, m = held.size(d.K.n); r < m; ++r) {
     const int64_t i = held[r];
     kmax = std::max(kmax, d.K.val[d.K.find(i, i)]);

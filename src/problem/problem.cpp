@@ -293,8 +293,7 @@ Integrator &Problem::integrator_or_build() {
   // several ranks: each assembles its own cells' part of A, unless the
   // operators hold its rows already (then A's own rows are whole)
   std::function<Csr(double)> own_part;
-  const bool distributes = def_.solver == ND_SOLVER_PETSC_MUMPS || def_.solver == ND_SOLVER_PETSC_GAMG;
-  if (distributes && !d.rows_split && !ownership().node_owner.empty())
+  if (linear_solver_distributes(def_.solver) && !d.rows_split && !ownership().node_owner.empty())
     own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
   integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
   return *integrator_;
