@@ -1,6 +1,7 @@
 #!/bin/sh
 # Two builds of the library side by side (not a test): scaling_bench of
-# each, interleaved, on 1 and 2 ranks with MUMPS, for the before/after tables
+# each, interleaved, on 1 and 2 ranks with MUMPS (SOLVER=gamg in the
+# environment: GAMG; MESHES="ball" or "disk": that scene only), for the before/after tables
 # of report/SCALING.md. Scenes: disk_h0.5 P2 (hybrid, tau = 0.25 to T = 12,
 # as bench/scaling.sh) and ball_h2 P1 (the same, 3D). One BLAS/OpenMP thread
 # per rank. Every run is a row of OUT (CSV), with its version's label.
@@ -10,21 +11,24 @@ set -eu
 a=$1 la=$2 b=$3 lb=$4
 out=${5:-bench/results/scaling_ab.csv}
 repeat=${6:-3}
+solver=${SOLVER:-mumps}
+scenes=${MESHES:-disk ball}
 meshes=examples/meshes
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 export OMPI_MCA_mpi_yield_when_idle=1 SCOTCH_PTHREAD_NUMBER=1
 printf 'version,%s\n' "$("$b/scaling_bench" --header)" > "$out"
 run() {  # build label ranks mesh degree [dim]
-  mpiexec -n "$3" "$1/scaling_bench" "$4" "$5" mumps 0.25 12 ${6:-} | sed "s/^/$2,/" >> "$out"
+  mpiexec -n "$3" "$1/scaling_bench" "$4" "$5" "$solver" 0.25 12 ${6:-} | sed "s/^/$2,/" >> "$out"
 }
 i=0
 while [ $i -lt "$repeat" ]; do
   for ranks in 1 2; do
-    run "$a" "$la" $ranks $meshes/disk_h0.5.msh 2
-    run "$b" "$lb" $ranks $meshes/disk_h0.5.msh 2
-    run "$a" "$la" $ranks $meshes/ball_h2.msh 1 3
-    run "$b" "$lb" $ranks $meshes/ball_h2.msh 1 3
+    for scene in $scenes; do
+      if [ "$scene" = disk ]; then set -- "$meshes/disk_h0.5.msh" 2; else set -- "$meshes/ball_h2.msh" 1 3; fi
+      run "$a" "$la" $ranks "$@"
+      run "$b" "$lb" $ranks "$@"
+    done
   done
   i=$((i + 1))
 done

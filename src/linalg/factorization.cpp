@@ -103,7 +103,9 @@ bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_b
 
 // A Krylov backend proves nothing about the matrix's inertia (negative
 // curvature met during CG is evidence, its absence is not).
-bool linear_solver_certifies_definiteness(int solver) { return solver != ND_SOLVER_PETSC_GAMG; }
+bool linear_solver_iterative(int solver) { return solver == ND_SOLVER_PETSC_GAMG; }
+
+bool linear_solver_certifies_definiteness(int solver) { return !linear_solver_iterative(solver); }
 
 bool linear_solver_distributes(int solver) {
   return solver == ND_SOLVER_PETSC_MUMPS || solver == ND_SOLVER_PETSC_GAMG;

@@ -79,6 +79,9 @@ bool linear_solver_known(int solver);
 // factorization does; an iterative solver does not): the checks that must
 // decide it (check_coercivity) use AUTO's direct choice when it does not
 bool linear_solver_certifies_definiteness(int solver);
+// whether each solve is a Krylov iteration (GAMG): a solve costs many
+// products with the matrix and the preconditioner, a set-up a few solves
+bool linear_solver_iterative(int solver);
 // whether the solver spreads its matrices' rows over a communicator's ranks
 // (the PETSc backends; the others solve the whole system on every rank)
 bool linear_solver_distributes(int solver);

@@ -61,13 +61,18 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   // P1 and P2), against 17-85 on the disks, and a bounce activates hundreds of
   // points (bench/disk_bench, Newmark: per Newton iteration of a contact step
   // 6-8 solves against 8-18 with the columns; on the disks the columns win,
-  // 1.5-2.4 against 2.1-6.1). Refactoring T is the reference.
+  // 1.5-2.4 against 2.1-6.1). Refactoring T is the reference; in 3D it is
+  // also the choice of an iterative solver (GAMG), where a column is a
+  // Krylov solve and a new tangent a set-up of a few (tangent_bench with
+  // ND_BENCH_SOLVER=7, one rank, the bounce at tau = 0.05: a contact step
+  // of ball_h4 P1 20.6 ms refactoring against 40.6 with the columns; on
+  // disk_h1 P2 106.8 against 83.8, so not in 2D).
   if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta);
-    const bool updown = updown_tangent_applies(def.solver, s) &&
-                        (def.tangent == TangentChoice::Updown ||
-                         (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
-    if (def.tangent == TangentChoice::Refactor) {
+    const bool three_d_auto = def.tangent == TangentChoice::Auto && d.geometry.dim == 3;
+    const bool updown =
+        updown_tangent_applies(def.solver, s) && (def.tangent == TangentChoice::Updown || three_d_auto);
+    if (def.tangent == TangentChoice::Refactor || (three_d_auto && linear_solver_iterative(def.solver))) {
       in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
     } else if (updown) {
       in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
