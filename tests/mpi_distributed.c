@@ -604,6 +604,85 @@ START_TEST(each_rank_holds_its_rows_of_the_operators) {
 }
 END_TEST
 
+/* Split operators (slice 6): every solve reads a rank's rows only, so the
+ * right-hand side and the Newton residual stay on their rows, and a step
+ * receives from the other ranks the solutions of its solves (their rows of
+ * each), the contact points' values and a few sums, but no products. With
+ * the operators whole (CHOLMOD on every rank) each rank gathers the other
+ * rows of M U, M V and K U (the hybrid scheme: no M A) and no solution.
+ * Counted by ND_STAT_VALUES_RECEIVED over a free-flight step. */
+/* a verdict of every rank (a check that fails on some ranks only would
+ * leave the others waiting in the next collective call) */
+static int on_all_ranks(int ok) {
+  int all = 0;
+  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+  return all;
+}
+
+static void free_step_receives(int dim, int solver, double *other, double *rows_of_others, double *points) {
+  /* other: the values received besides the solutions' rows */
+  nd_problem p = scene(dim, solver, 1);
+  ND_OK_OR_FAIL(nd_step(p)); /* the factorization and the set-up's passes */
+  int64_t nodes = 0, own = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+  const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED), s0 = scalar(p, ND_STAT_SOLVES);
+  const double e0 = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN);
+  ND_OK_OR_FAIL(nd_step(p)); /* t = 0.5: free flight */
+  ck_assert_double_eq(scalar(p, ND_ACTIVE_POINTS), 0);
+  const double received = scalar(p, ND_STAT_VALUES_RECEIVED) - r0, solves = scalar(p, ND_STAT_SOLVES) - s0;
+  *rows_of_others = (double)(dim * (nodes - own)); /* no clamped DOF in the drop scene */
+  /* P_q (and u_n - g0) of the points the other ranks evaluated */
+  *points = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+  *other = received - (solver == ND_SOLVER_CHOLMOD ? 0 : solves * *rows_of_others);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+
+START_TEST(a_step_on_split_rows_receives_no_products) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    double other = 0, rows = 0, nc = 0;
+    for (int solver = ND_SOLVER_PETSC_MUMPS; solver <= ND_SOLVER_PETSC_GAMG; ++solver) {
+      free_step_receives(dim, solver, &other, &rows, &nc);
+      if (g_rank == 0)
+        printf("%dD solver %d, %d rank(s): a free-flight step received %.0f values besides its solutions "
+               "(%.0f other rows, %.0f points evaluated by the others)\n", dim, solver, g_size, other, rows, nc);
+      /* the P_q and u_n - g0 of the other ranks' points (the new state's
+         pass over the points) and each other rank's two energy sums */
+      ck_assert_msg(on_all_ranks(other == 2 * nc + 2 * (g_size - 1)), "%dD: %g values besides the solutions, %g points",
+                    dim, other, nc);
+    }
+    /* through the impact: the Newton residuals stay on their rows too, so
+       besides the solutions and the points' values a step receives only
+       sums: at most 4 per other rank per step and per Newton iteration
+       (the energy's two, the norms of r, G and M U) */
+    nd_problem p = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
+    ND_OK_OR_FAIL(nd_problem_setup(p));
+    const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED), s0 = scalar(p, ND_STAT_SOLVES);
+    const double e0 = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN);
+    for (int k = 0; k < kSteps; ++k) ND_OK_OR_FAIL(nd_step(p));
+    ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0);
+    int64_t nodes = 0, own = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+    ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+    const double solved = (scalar(p, ND_STAT_SOLVES) - s0) * (double)(dim * (nodes - own));
+    const double pts = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+    /* a pass over the points gathers P_q, or P_q and u_n - g0 */
+    const double sums = scalar(p, ND_STAT_VALUES_RECEIVED) - r0 - solved - 2 * pts;
+    const double most = 4.0 * (g_size - 1) * (kSteps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL));
+    if (g_rank == 0)
+      printf("%dD MUMPS, %d rank(s), %d steps through the impact: received - solutions - 2 x points = %.0f "
+             "(sums: at most %.0f)\n", dim, g_size, kSteps, sums, most);
+    ck_assert_msg(on_all_ranks(sums <= most), "%dD: %g values besides the solutions and the points", dim, sums);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    free_step_receives(dim, ND_SOLVER_CHOLMOD, &other, &rows, &nc);
+    if (g_rank == 0)
+      printf("%dD CHOLMOD on every rank: %.0f values received (%.0f other rows)\n", dim, other, rows);
+    ck_assert_msg(on_all_ranks(other == 3 * rows + 2 * nc + 2 * (g_size - 1)),
+                  "%dD whole operators: %g values received, %g other rows", dim, other, rows);
+  }
+}
+END_TEST
+
 /* An explicit step on split rows: the central difference with consistent
  * mass, MUMPS on every rank count, K_Theta U from the ranks' rows and a
  * distributed mass solve each step, through the impact, against one
@@ -745,6 +824,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);
   tcase_add_test(tc, each_rank_holds_its_rows_of_the_operators);
+  tcase_add_test(tc, a_step_on_split_rows_receives_no_products);
   tcase_add_test(tc, explicit_steps_on_split_rows);
   tcase_add_test(tc, a_bar_on_more_ranks_than_cells);
   suite_add_tcase(s, tc);

@@ -22,6 +22,10 @@ struct Counters {
   int64_t point_evaluations = 0, own_point_evaluations = 0;
   // contact checks settled by ContactLaw::certainly_free's bound, no point evaluated
   int64_t contact_bounds = 0;
+  // values this rank received from the others: the rows, points and sums of
+  // the split work (parallel/share.hpp) and the solutions of the distributed
+  // solves (the other ranks' rows of each)
+  int64_t values_received = 0;
   // not a count: the entries of M, K and K_Theta held now (a rank's rows
   // when they are split over the ranks, problem/discretization.hpp)
   int64_t matrix_entries = 0;

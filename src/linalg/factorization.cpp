@@ -82,12 +82,15 @@ class Counted : public Factorization {
   }
   void solve(double *x) const override {
     ++c_->solves;
+    c_->values_received += f_->received_per_solve();
     f_->solve(x);
   }
   void solve_many(double *x, int64_t n, int64_t k) const override {
     c_->solves += k;  // one per right-hand side, as documented for ND_STAT_SOLVES
+    c_->values_received += k * f_->received_per_solve();
     f_->solve_many(x, n, k);
   }
+  int64_t received_per_solve() const override { return f_->received_per_solve(); }
   Definiteness definiteness() const override { return f_->definiteness(); }
   const char *name() const override { return f_->name(); }
   const Factorization &backend() const override { return f_->backend(); }

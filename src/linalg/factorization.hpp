@@ -39,6 +39,9 @@ class Factorization {
   virtual void solve_many(double *x, int64_t n, int64_t k) const {
     for (int64_t j = 0; j < k; ++j) solve(x + j * n);
   }
+  // values a solve receives from the other ranks (a backend that
+  // distributes its rows gathers the solution to every rank)
+  virtual int64_t received_per_solve() const { return 0; }
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
   // the backend's own object under any wrapper (its counters): for code that

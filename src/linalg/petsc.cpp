@@ -396,6 +396,8 @@ class Vectors {
   Vectors &operator=(const Vectors &) = delete;
   Vec rhs() const { return b_; }
   bool distributed() const { return L_.distributed(); }
+  // the other ranks' rows of a solution, gathered to this one
+  int64_t received() const { return L_.distributed() ? L_.n - (L_.end - L_.begin) : 0; }
 
   // x (the whole vector, on every rank) in place: b <- this rank's rows of x,
   // run(b, solution) solves, x <- the whole solution. One rank: the solution
@@ -488,6 +490,7 @@ class PetscMumps : public Factorization {
   void factor_parts(const Csr &A, const Csr &own, Structure s) override { factor_from(A, &own, s); }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "petsc-mumps"; }
+  int64_t received_per_solve() const override { return v_ ? v_->received() : 0; }
   void solve(double *x) const override {
     if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
     Session session;
@@ -720,6 +723,7 @@ class PetscGamg : public Factorization {
   }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "petsc-gamg"; }
+  int64_t received_per_solve() const override { return v_ ? v_->received() : 0; }
 
  private:
   int64_t n_;

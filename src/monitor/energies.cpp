@@ -17,9 +17,11 @@ namespace {
 // summed in one fixed order (even and odd entries of a row apart, then
 // added), V.MV and U.KU row by row, so that the energy has the same bits
 // whether or not the products are stored. With several ranks (d.rows) the
-// stored products are each rank's rows, gathered, and V.MV, U.KU the ranks'
-// sums added rank after rank (the same bits on every rank; not those of one
-// process, nor of the unstored pass, which sums every row on each rank).
+// stored products are each rank's rows, and V.MV, U.KU the ranks' sums added
+// rank after rank (the same bits on every rank; not those of one process,
+// nor of the unstored pass, which sums every row on each rank). The rows are
+// gathered to every rank where the solves read whole right-hand sides; with
+// split operators they stay on their rank (Products::rows).
 // Two products share one SSE2 multiply and add: (mu, mv) += m (U_c, V_c) and
 // (ma, ku) += (m, k) (A_c, U_c), from interleaved copies of U, V, A (each
 // lane sums in the same order as a scalar sum would).
@@ -41,20 +43,25 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
       x1[c] = Pair{s.V[c], s.U[c]};
     }
   }
+  // with several ranks (store only): each its own rows, gathered below
+  // unless the operators are split
+  const Share *share = store ? d.rows.get() : nullptr;
+  const bool kept = share && d.rows_split;
+  const RowSet rows = own_rows(share);
   if (store) {
-    p.MU.resize(n);
-    p.MV.resize(n);
-    p.KU.resize(n);
-    if (acc) p.MA.resize(n);
+    const size_t held = kept ? static_cast<size_t>(share->own_count()) : n;
+    p.rows = kept ? d.rows : nullptr;
+    p.n = static_cast<int64_t>(n);
+    p.MU.resize(held);
+    p.MV.resize(held);
+    p.KU.resize(held);
+    if (acc) p.MA.resize(held);
     else p.MA.clear();
   }
   const double *m = M.val.data(), *k = K.val.data(), *U = s.U.data(), *V = s.V.data();
   const int64_t *col = K.col.data(), *ptr = K.ptr.data();
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
-  // with several ranks (store only): each its own rows, gathered below
-  const Share *share = store ? d.rows.get() : nullptr;
-  const RowSet rows = own_rows(share);
   for (int64_t r = 0, n_rows = rows.size(K.n); r < n_rows; ++r) {
     const int64_t i = rows[r];
     // even and odd entries in separate sums: two chains of dependent adds
@@ -89,14 +96,16 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
     kinetic += V[i] * mv;
     strain += U[i] * ku;
     if (store) {
-      p.MU[i] = a[0], p.MV[i] = mv, p.KU[i] = ku;
-      if (acc) p.MA[i] = b[0];
+      const int64_t o = kept ? r : i;  // the entry of row i
+      p.MU[o] = a[0], p.MV[o] = mv, p.KU[o] = ku;
+      if (acc) p.MA[o] = b[0];
     }
   }
   if (share) {
     double sums[2] = {kinetic, strain};
-    std::vector<double *> fields{p.MU.data(), p.MV.data(), p.KU.data()};
-    if (acc) fields.push_back(p.MA.data());
+    std::vector<double *> fields;
+    if (!kept) fields = {p.MU.data(), p.MV.data(), p.KU.data()};
+    if (acc && !kept) fields.push_back(p.MA.data());
     gather(*share, fields, sums, 2);
     kinetic = sums[0], strain = sums[1];
   }

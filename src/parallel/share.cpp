@@ -1,16 +1,19 @@
 #include "parallel/share.hpp"
 
 #include <climits>
+#include <cmath>
 #include <string>
 
 #include "common/checked.hpp"
 
 namespace nd {
 
-std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner) {
+std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner,
+                                        Counters *counters) {
   const int size = communicator_size(comm.get());
   if (size == 1) return nullptr;
   auto s = std::make_shared<Share>();
+  s->counters = counters;
   s->rank = communicator_rank(comm.get());
   s->comm = std::move(comm);
   s->first.assign(static_cast<size_t>(size + 1), 0);
@@ -41,6 +44,7 @@ void gather(const Share &s, const std::vector<double *> &fields, double *sums, i
   for (double *f : fields)
     for (const int64_t *i = s.own_begin(); i != s.own_end(); ++i) mine.push_back(f[*i]);
   allgather(s.comm.get(), mine, all, counts, displs);
+  count(s.counters, &Counters::values_received, static_cast<int64_t>(all.size()) - counts[s.rank]);
   for (int k = 0; k < n_sums; ++k) sums[k] = 0;
   for (int r = 0; r < size; ++r) {
     const double *block = all.data() + displs[r];
@@ -51,6 +55,14 @@ void gather(const Share &s, const std::vector<double *> &fields, double *sums, i
     for (int j = 0; j < width; ++j)
       for (int64_t i = 0; i < m; ++i) fields[static_cast<size_t>(j)][items[i]] = block[n_sums + j * m + i];
   }
+}
+
+double norm2_rows(const Share *rows, int64_t n, const double *x) {
+  if (!rows) return norm2(n, x);
+  double sum = 0;
+  for (const int64_t *i = rows->own_begin(); i != rows->own_end(); ++i) sum += x[*i] * x[*i];
+  gather(*rows, {}, &sum, 1);
+  return std::sqrt(sum);
 }
 
 }  // namespace nd

@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/counters.hpp"
 #include "linalg/csr.hpp"
 #include "parallel/communicator.hpp"
 
@@ -23,6 +24,7 @@ namespace nd {
 
 struct Share {
   CommunicatorPtr comm;
+  Counters *counters = nullptr;  // values_received (may be null)
   int rank = 0;
   std::vector<int64_t> order;  // the items rank after rank, each rank's ascending
   std::vector<int64_t> first;  // rank r's items are order[first[r] .. first[r+1])
@@ -35,7 +37,13 @@ struct Share {
 inline RowSet own_rows(const Share *s) { return s ? RowSet{s->own_begin(), s->own_count()} : RowSet{}; }
 
 // owner[i]: the rank that computes item i. Null when there is one rank.
-std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner);
+std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner,
+                                        Counters *counters = nullptr);
+
+// ||x|| over the rows of `rows`, each rank's sum of squares added rank after
+// rank (the same bits on every rank); no share: norm2 over all n. Collective
+// with a share.
+double norm2_rows(const Share *rows, int64_t n, const double *x);
 
 // fields: arrays over all items, filled on this rank's own items; afterwards
 // filled on every item. sums (n_sums of them): this rank's partial sums in,

@@ -219,7 +219,8 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   count(counters, &Counters::spmv);
   const Share *share = own_rows_of(*this, in_step);
   K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
-  if (share) gather(*share, {rhs.data()});
+  // split operators: the mass solve is distributed and reads this rank's rows only
+  if (share && !rows_split) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
   law.local = !in_step;
   if (!s.gap.empty()) law.gap = s.gap.data();

@@ -131,7 +131,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.A_factor->solve(next.U.data());
       next.last_iterations = 1;
     } else {
-      NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get()};
+      NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be

@@ -254,7 +254,7 @@ Discretization &Problem::discretization_() {
       std::vector<int> row_owner(static_cast<size_t>(disc_->dofs.n_free));
       for (int64_t dof = 0; dof < space_.n_dofs(); ++dof)
         if (free[dof] >= 0) row_owner[free[dof]] = own.node_owner[dof / space_.dim];
-      disc_->rows = make_share(def_.comm, row_owner);
+      disc_->rows = make_share(def_.comm, row_owner, counters_.get());
       const Share &rows = *disc_->rows;
       g.row_begin = rows.first[own.rank], g.row_end = rows.first[own.rank + 1];
       auto row_of = std::make_shared<std::vector<int64_t>>(static_cast<size_t>(disc_->dofs.n_free));
@@ -263,7 +263,7 @@ Discretization &Problem::discretization_() {
       const ContactPoints &cp = disc_->contact;
       std::vector<int> point_owner(cp.size());
       for (size_t q = 0; q < cp.size(); ++q) point_owner[q] = own.cell_owner[space_.mesh->boundary[cp.facet[q]].cell];
-      disc_->contact.share = make_share(def_.comm, point_owner);
+      disc_->contact.share = make_share(def_.comm, point_owner, counters_.get());
     }
   }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
@@ -611,6 +611,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_POINT_EVALUATIONS_OWN, &Counters::own_point_evaluations},
     {ND_STAT_CONTACT_BOUNDS, &Counters::contact_bounds},
     {ND_STAT_MATRIX_ENTRIES_OWN, &Counters::matrix_entries},
+    {ND_STAT_VALUES_RECEIVED, &Counters::values_received},
 };
 }  // namespace
 

@@ -19,15 +19,21 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
         MU[i] = MUi;
       },
       own_rows(sys.rows));
-  if (sys.rows) gather(*sys.rows, {G.data(), MU.data()});
+  if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
   sys.law->add_force(U.data(), sys.kappa, G.data(), active);
-  for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
-  return norm2(static_cast<int64_t>(G.size()), G.data());
+  const Share *held = sys.split ? sys.rows : nullptr;
+  const RowSet rows = own_rows(held);
+  for (int64_t k = 0, m = rows.size(static_cast<int64_t>(G.size())); k < m; ++k) G[rows[k]] -= r[rows[k]];
+  return norm2_rows(held, static_cast<int64_t>(G.size()), G.data());
 }
 
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU) {
-  return opt.rtol * (r_norm + sys.c * norm2(static_cast<int64_t>(MU.size()), MU.data())) + opt.atol;
+  return opt.rtol * (r_norm + sys.c * rhs_norm(sys, MU)) + opt.atol;
+}
+
+double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r) {
+  return norm2_rows(sys.split ? sys.rows : nullptr, static_cast<int64_t>(r.size()), r.data());
 }
 
 namespace {
@@ -68,7 +74,7 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
   }
   std::vector<double> G(U.size()), MU(U.size());
   std::vector<char> active, previous;
-  const double r_norm = norm2(n, r.data());
+  const double r_norm = rhs_norm(sys, r);
   res.residual = newton_residual(sys, r, U, G, &active, MU);
   for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))

@@ -25,6 +25,10 @@ struct NewtonSystem {
   // with several ranks: each computes its rows of A U and M U, gathered
   // (parallel/share.hpp); null: this process computes them all
   const Share *rows = nullptr;
+  // the operators are split over the ranks (every solve reads a rank's rows
+  // only): r, G and M U are right on this rank's rows alone, nothing is
+  // gathered, and their norms are the ranks' sums (norm2_rows)
+  bool split = false;
 };
 
 struct NewtonResult {
@@ -34,12 +38,15 @@ struct NewtonResult {
 };
 
 // G = A U + kappa N(U) - r; returns ||G||, fills the active set (if given)
-// and MU = M U from the same pass over the pattern A and M share
+// and MU = M U from the same pass over the pattern A and M share (split: on
+// this rank's rows; collective with rows)
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU);
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);
+// ||r|| over the rows sys's right-hand sides are right on (collective when split)
+double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r);
 
 // U holds the initial guess on entry and the solution on exit.
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,

@@ -183,7 +183,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     // the full residual, DESIGN §3's test
     std::vector<double> Gr(U.size()), MU(U.size());
     res.residual = newton_residual(sys, r, U, Gr, nullptr, MU);
-    res.tolerance = newton_tolerance(sys, opt, norm2(n, r.data()), MU);
+    res.tolerance = newton_tolerance(sys, opt, rhs_norm(sys, r), MU);
     res.converged = res.residual <= res.tolerance;
     return out;
   }

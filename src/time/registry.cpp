@@ -5,6 +5,7 @@
 #include "common/error.hpp"
 #include "common/format.hpp"
 #include "nitschedyn.h"
+#include "parallel/share.hpp"
 #include "time/scheme.hpp"
 
 namespace nd {
@@ -57,18 +58,29 @@ void predict_taylor(double tau, const State &old, bool with_acceleration, std::v
     U[i] = old.U[i] + tau * old.V[i] + (acc ? 0.5 * tau * tau * old.A[i] : 0.0);
 }
 
+// Entry k of a product is row rows[k]: all rows, or this rank's when the
+// products stay on them (Products::rows); the other rows of the result are
+// zero there, and no solve reads them.
 void StepInputs::mass_combination(double a, double b, double e, std::vector<double> &r) const {
-  const size_t n = old.MU.size();
-  r.resize(n);
-  if (e != 0 && old.MA.size() == n) {
-    for (size_t i = 0; i < n; ++i) r[i] = a * old.MU[i] + b * old.MV[i] + e * old.MA[i];
+  const RowSet rows = own_rows(old.rows.get());
+  const int64_t m = rows.size(old.n);
+  if (old.rows) r.assign(static_cast<size_t>(old.n), 0.0);
+  else r.resize(static_cast<size_t>(old.n));
+  if (e != 0 && old.MA.size() == old.MU.size()) {
+    for (int64_t k = 0; k < m; ++k) r[rows[k]] = a * old.MU[k] + b * old.MV[k] + e * old.MA[k];
   } else {
-    for (size_t i = 0; i < n; ++i) r[i] = a * old.MU[i] + b * old.MV[i];
+    for (int64_t k = 0; k < m; ++k) r[rows[k]] = a * old.MU[k] + b * old.MV[k];
   }
 }
 
 void StepInputs::k_theta_u(const std::vector<double> &U, std::vector<double> &out) const {
-  out = old.KU;
+  if (old.rows) {
+    const RowSet rows = own_rows(old.rows.get());
+    out.assign(static_cast<size_t>(old.n), 0.0);
+    for (int64_t k = 0, m = rows.size(old.n); k < m; ++k) out[rows[k]] = old.KU[k];
+  } else {
+    out = old.KU;
+  }
   if (theta == 0) return;  // K_Theta = K
   for (size_t q = 0; q < contact.size(); ++q) {
     const SparseRow &s = contact.s[q];

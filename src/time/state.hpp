@@ -1,9 +1,12 @@
 // The state at t^n, in free DOFs: what a step reads and the next step writes.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace nd {
+
+struct Share;  // parallel/share.hpp
 
 // What the energy guard carries from step to step (src/monitor/guards.hpp).
 struct GuardState {
@@ -28,6 +31,12 @@ struct PointValues {
 // or A in place resets it.
 struct Products {
   uint64_t of = 0;
+  // With the operators split over the ranks (Discretization::rows_split) the
+  // products stay on this rank's rows, rows[k] the row of entry k: every
+  // solve of a right-hand side made from them reads those rows only, so they
+  // are neither gathered nor held whole (null: all n rows, entry i row i).
+  std::shared_ptr<const Share> rows;
+  int64_t n = 0;                       // the rows of the whole vectors
   std::vector<double> MU, MV, MA, KU;  // MA empty when A is not valid
   double kinetic = 0, strain = 0;      // V.MV and U.KU
   // P_q(U) with the state's gaps (the next step's P^n) and u_n - g0 (the
