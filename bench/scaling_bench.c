@@ -8,8 +8,10 @@
  * the free-flight steps (no contact before or after) and of the contact steps
  * (contact before and after), Newton iterations per contact step, the largest
  * peak RSS of a rank, the 1-minute load average of the machine when the
- * run ended (/proc/loadavg: other work shares the cores), and the time of
- * nd_problem_set_comm (it partitions the mesh).
+ * run ended (/proc/loadavg: other work shares the cores), the time of
+ * nd_problem_set_comm (it partitions the mesh), and the doubles a rank
+ * received from the others in a free-flight and in a contact step (medians
+ * of ND_STAT_VALUES_RECEIVED's increments, the largest rank's).
  *   mpiexec -n N scaling_bench MESH DEGREE SOLVER TAU T [DIM]
  *   SOLVER: mumps | gamg | cholmod; DIM: 2 (the disk, default) or 3 (the ball) */
 #include <mpi.h>
@@ -23,7 +25,7 @@
 
 static const char *kHeader =
     "ranks,mesh,degree,unknowns,solver,setup_s,first_step_s,free_steps,free_median_ms,contact_steps,"
-    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1,set_comm_s";
+    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1,set_comm_s,received_free,received_contact";
 
 static int by_value(const void *a, const void *b) {
   const double x = *(const double *)a, y = *(const double *)b;
@@ -70,8 +72,10 @@ int main(int argc, char **argv) {
                                                     : ND_SOLVER_CHOLMOD;
   const int steps = (int)(T / tau + 0.5);
   double *free_ms = malloc(sizeof(double) * (size_t)steps), *contact_ms = malloc(sizeof(double) * (size_t)steps);
+  double *free_recv = malloc(sizeof(double) * (size_t)steps), *contact_recv = malloc(sizeof(double) * (size_t)steps);
   int n_free = 0, n_contact = 0;
   double newton = 0, setup_s = 0, first_s = 0, active_before = 0, active = 0, iterations = 0, comm_s = 0;
+  double received_before = 0, received = 0;
   int64_t nodes = 0;
   nd_problem p = NULL;
 
@@ -79,17 +83,22 @@ int main(int argc, char **argv) {
   if (status == ND_OK && solver != ND_SOLVER_CHOLMOD) comm_s = timed(p, set_world, &status);  /* partitions the mesh */
   if (status == ND_OK) status = nd_problem_get_node_count(p, &nodes);
   if (status == ND_OK) setup_s = timed(p, nd_problem_setup, &status);
+  if (status == ND_OK) status = nd_get_scalar(p, ND_STAT_VALUES_RECEIVED, &received_before);
   for (int k = 0; k < steps && status == ND_OK; ++k) {
     const double dt = timed(p, nd_step, &status);
     if (status == ND_OK) status = nd_get_scalar(p, ND_ACTIVE_POINTS, &active);
     if (status == ND_OK) status = nd_get_scalar(p, ND_NEWTON_ITERATIONS, &iterations);
-    if (k == 0)
+    if (status == ND_OK) status = nd_get_scalar(p, ND_STAT_VALUES_RECEIVED, &received);
+    if (k == 0) {
       first_s = dt;
-    else if (active_before == 0 && active == 0)
+    } else if (active_before == 0 && active == 0) {
+      free_recv[n_free] = received - received_before;
       free_ms[n_free++] = 1e3 * dt;
-    else if (active_before > 0 && active > 0)
+    } else if (active_before > 0 && active > 0) {
+      contact_recv[n_contact] = received - received_before;
       contact_ms[n_contact++] = 1e3 * dt, newton += iterations;
-    active_before = active;
+    }
+    active_before = active, received_before = received;
   }
   if (status != ND_OK) fprintf(stderr, "rank %d: %s\n", rank, nd_last_error());
   struct rusage ru;
@@ -102,14 +111,19 @@ int main(int argc, char **argv) {
     if (fscanf(f, "%lf", &load1) != 1) load1 = -1;
     fclose(f);
   }
+  double recv[2] = {median(free_recv, n_free), median(contact_recv, n_contact)}, recv_max[2] = {0, 0};
+  MPI_Reduce(recv, recv_max, 2, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   const char *base = strrchr(mesh, '/');
   if (rank == 0 && status == ND_OK)
-    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f\n", size, base ? base + 1 : mesh, degree,
-           (long long)(dim * nodes), solver_name, setup_s, first_s, n_free, median(free_ms, n_free), n_contact,
-           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1, comm_s);
+    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f,%.0f,%.0f\n", size, base ? base + 1 : mesh,
+           degree, (long long)(dim * nodes), solver_name, setup_s, first_s, n_free, median(free_ms, n_free), n_contact,
+           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1, comm_s, recv_max[0],
+           recv_max[1]);
   nd_problem_destroy(&p);
   free(free_ms);
   free(contact_ms);
+  free(free_recv);
+  free(contact_recv);
   MPI_Finalize();
   return status == ND_OK ? 0 : 1;
 }
