@@ -1,4 +1,4 @@
-/* The distributed solve (issue 15, slices 2 to 5), run under mpiexec -n 1, 2 and 4
+/* The distributed solve (issue 15, slices 2 to 6), run under mpiexec -n 1, 2 and 4
  * (tests/CMakeLists.txt, builds with PETSc). Every rank builds the same
  * problem; nd_problem_set_comm spreads the PETSc solves over the ranks.
  *  - the disk and the ball of DESIGN §7 through the impact: the energy and
@@ -13,6 +13,9 @@
  *    every node, bitwise the gathered field;
  *  - the operators M, K, K_Theta held by rows (slice 5), with the energy
  *    and the coercivity check that need every rank's rows;
+ *  - on split rows the right-hand side and the Newton residual stay on
+ *    their rows (slice 6): what a step receives from the other ranks, and
+ *    the Newmark, generalized-alpha and theta histories against one process;
  *  - bad input: MPI_COMM_NULL, a communicator after the set-up, another mesh
  *    on one rank.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
@@ -73,6 +76,14 @@ static double relative_gap(const double *ref, const double *x, int n) {
   double d = 0;
   for (int i = 0; i < n; ++i) d = fmax(d, fabs(x[i] - ref[i]));
   return d / max_abs(ref, n);
+}
+
+/* a verdict of every rank (a check that fails on some ranks only would
+ * leave the others waiting in the next collective call) */
+static int on_all_ranks(int ok) {
+  int all = 0;
+  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+  return all;
 }
 
 /* every rank holds the same value (bitwise) */
@@ -136,6 +147,40 @@ START_TEST(histories_match_the_serial_solve) {
     /* the ranks agree exactly: the solution is gathered, everything else is replicated */
     ck_assert(same_on_all_ranks(&mumps, (int)sizeof mumps - (int)sizeof mumps.solves));
     ck_assert(same_on_all_ranks(&gamg, (int)sizeof gamg - (int)sizeof gamg.solves));
+  }
+}
+END_TEST
+
+/* The schemes that carry an acceleration (their right-hand sides read M A^n
+ * as well: with split operators a rank holds its rows of it only), and the
+ * theta scheme, on split rows with MUMPS: the same histories as one process
+ * with CHOLMOD, to 1e-8, and the same active sets. */
+START_TEST(implicit_schemes_on_split_rows) {
+  const int schemes[] = {ND_SCHEME_NEWMARK, ND_SCHEME_GENERALIZED_ALPHA, ND_SCHEME_THETA};
+  const double params[][2] = {{0.25, 0.5}, {0.8, 0}, {0.75, 0}};
+  for (int dim = 2; dim <= 3; ++dim) {
+    char mesh[512];
+    snprintf(mesh, sizeof mesh, "%s/%s_h4.msh", ND_MESH_DIR, dim == 2 ? "disk" : "ball");
+    for (int k = 0; k < 3; ++k) {
+      history serial, split;
+      for (int distributed = 0; distributed <= 1; ++distributed) {
+        nd_problem p = NULL;
+        ND_OK_OR_FAIL(drop_scene_create(dim, mesh, 1, schemes[k], params[k], 1.0, 1e-3, kTau,
+                                        distributed ? ND_SOLVER_PETSC_MUMPS : ND_SOLVER_CHOLMOD, &p));
+        if (distributed) ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+        run(p, distributed ? &split : &serial);
+        ND_OK_OR_FAIL(nd_problem_destroy(&p));
+      }
+      ck_assert_msg(max_abs(serial.force, kSteps) > 0, "%dD scheme %d: no impact within the horizon", dim, schemes[k]);
+      const double e = relative_gap(serial.energy, split.energy, kSteps);
+      const double f = relative_gap(serial.force, split.force, kSteps);
+      if (g_rank == 0)
+        printf("%dD scheme %d, %d rank(s): energy %.2e force %.2e off one process\n", dim, schemes[k], g_size, e, f);
+      ck_assert_msg(on_all_ranks(e <= 1e-8 && f <= 1e-8), "%dD scheme %d: energy %.3g, force %.3g", dim, schemes[k],
+                    e, f);
+      ck_assert_msg(on_all_ranks(memcmp(serial.active, split.active, sizeof serial.active) == 0),
+                    "%dD scheme %d: the active sets differ", dim, schemes[k]);
+    }
   }
 }
 END_TEST
@@ -611,14 +656,6 @@ END_TEST
  * the operators whole (CHOLMOD on every rank) each rank gathers the other
  * rows of M U, M V and K U (the hybrid scheme: no M A) and no solution.
  * Counted by ND_STAT_VALUES_RECEIVED over a free-flight step. */
-/* a verdict of every rank (a check that fails on some ranks only would
- * leave the others waiting in the next collective call) */
-static int on_all_ranks(int ok) {
-  int all = 0;
-  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
-  return all;
-}
-
 static void free_step_receives(int dim, int solver, double *other, double *rows_of_others, double *points) {
   /* other: the values received besides the solutions' rows */
   nd_problem p = scene(dim, solver, 1);
@@ -820,6 +857,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, bad_communicators);
   tcase_add_test(tc, each_rank_reads_its_part_of_a_field);
   tcase_add_test(tc, histories_match_the_serial_solve);
+  tcase_add_test(tc, implicit_schemes_on_split_rows);
   tcase_add_test(tc, contact_points_and_rows_on_their_ranks);
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);
