@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "assembly/bulk.hpp"
+#include "mesh/mesh.hpp"
 #include "testutil.h"
 #include "unit_fixtures.hpp"
 
@@ -46,7 +47,64 @@ double quadratic_form(const nd::Csr &A, const std::vector<double> &u) {
 
 const nd::Material steel_like{3.0, 0.3, 2.5};
 
+// The pattern by its definition: row r holds the free DOFs of every taken
+// cell that holds r (each pair of a cell's DOFs, sorted, duplicates dropped)
+nd::Csr pattern_of_dof_pairs(const nd::Space &s, const nd::DofMap &dofs, const nd::AssemblyPart &part) {
+  std::vector<std::vector<int64_t>> rows(static_cast<size_t>(dofs.n_free));
+  const int nb = s.basis.n, d = s.dim;
+  for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
+    if (!part.takes(s, dofs, c)) continue;
+    for (int i = 0; i < nb * d; ++i) {
+      const int64_t r = dofs.free[s.nodes_of(c)[i / d] * d + i % d];
+      if (r < 0 || (part.rows && !(*part.rows)[r])) continue;
+      for (int j = 0; j < nb * d; ++j)
+        if (const int64_t col = dofs.free[s.nodes_of(c)[j / d] * d + j % d]; col >= 0) rows[r].push_back(col);
+    }
+  }
+  return nd::csr_from_rows(std::move(rows));
+}
+
 }  // namespace
+
+// operator_pattern builds the pattern over nodes and expands it: the same
+// rows and columns as the DOF pairs of the cells, with clamped DOFs, on a
+// part of the rows and of the cells, in 1D, 2D and 3D, P1 and P2.
+START_TEST(the_pattern_is_the_dof_pairs_of_the_cells) {
+  const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1}, face_z0[3] = {1, 1, 0}, side_x0[3] = {0, 1, 0};
+  auto box = std::make_shared<nd::Mesh>(nd::make_box(2, 2, 2, lo, hi));
+  nd::add_region_box(*box, 7, lo, face_z0);
+  auto rect = ndtest::irregular_rectangle(4);
+  nd::add_region_box(*rect, 7, lo, side_x0);
+  auto line = ndtest::irregular_interval(6, 0, 1);
+  nd::add_region_box(*line, 7, lo, lo);  // the end x = 0
+  const std::shared_ptr<nd::Mesh> meshes[] = {line, rect, box};
+  int compared = 0;
+  for (const auto &mesh : meshes)
+    for (int degree = 1; degree <= 2; ++degree) {
+      nd::Space s(mesh, degree);
+      for (int clamped = 0; clamped <= 1; ++clamped) {
+        nd::DofMap dofs(s, clamped ? std::vector<int>{7} : std::vector<int>{});
+        ck_assert(clamped ? dofs.n_free < s.n_dofs() : dofs.n_free == s.n_dofs());
+        std::vector<char> rows(static_cast<size_t>(dofs.n_free)), cells(static_cast<size_t>(mesh->n_cells));
+        for (int64_t node = 0; node < s.n_nodes; ++node)
+          for (int a = 0; a < s.dim; ++a)
+            if (const int64_t r = dofs.free[node * s.dim + a]; r >= 0) rows[r] = node % 3 == 0;
+        for (int64_t c = 0; c < mesh->n_cells; c += 2) cells[c] = 1;
+        for (int variant = 0; variant < 3; ++variant) {
+          nd::AssemblyPart part;
+          if (variant >= 1) part.rows = &rows;
+          if (variant == 2) part.cells = &cells;
+          const nd::Csr a = nd::operator_pattern(s, dofs, part), b = pattern_of_dof_pairs(s, dofs, part);
+          ck_assert_msg(a.n == b.n && a.ptr == b.ptr && a.col == b.col && a.val == b.val,
+                        "%dD P%d clamped %d part %d: the patterns differ", s.dim, degree, clamped, variant);
+          ck_assert(b.col.size() > 0);
+          ++compared;
+        }
+      }
+    }
+  ck_assert_int_eq(compared, 36);
+}
+END_TEST
 
 START_TEST(total_mass_is_rho_times_measure) {
   // 1D (0.3, 2), 2D [0,2]x[0,1], 3D unit cube; P1 and P2; consistent and lumped
@@ -209,6 +267,7 @@ END_TEST
 int main(void) {
   Suite *s = suite_create("operators");
   TCase *tc = tcase_create("bulk");
+  tcase_add_test(tc, the_pattern_is_the_dof_pairs_of_the_cells);
   tcase_add_test(tc, total_mass_is_rho_times_measure);
   tcase_add_test(tc, stiffness_annihilates_rigid_motions);
   tcase_add_test(tc, p1_and_p2_agree_on_linear_fields);

@@ -21,20 +21,53 @@ bool AssemblyPart::takes(const Space &s, const DofMap &dofs, int64_t cell) const
   return false;
 }
 
+// The pattern is built over nodes and expanded: the rows of a node's DOFs
+// share their columns (the free DOFs of the nodes it shares a cell with), so
+// a cell adds nb^2 node pairs, not (nb d)^2 DOF pairs, to sort. Free DOFs are
+// numbered in DOF order (DofMap), so each row's columns come out sorted.
 Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &part) {
-  std::vector<std::vector<int64_t>> rows(static_cast<size_t>(dofs.n_free));
   const int nb = s.basis.n, d = s.dim;
-  std::vector<int64_t> local(static_cast<size_t>(nb * d));
+  const std::vector<int64_t> &free = dofs.free;
+  auto held = [&](int64_t r) { return r >= 0 && (!part.rows || (*part.rows)[r]); };
+  auto node_held = [&](int64_t v) {
+    for (int a = 0; a < d; ++a)
+      if (held(free[v * d + a])) return true;
+    return false;
+  };
+  std::vector<std::vector<int64_t>> adjacent(static_cast<size_t>(s.n_nodes));
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     if (!part.takes(s, dofs, c)) continue;
+    const int64_t *nodes = s.nodes_of(c);
     for (int i = 0; i < nb; ++i)
-      for (int a = 0; a < d; ++a) local[i * d + a] = dofs.free[s.nodes_of(c)[i] * d + a];
-    for (int64_t r : local)
-      if (r >= 0 && (!part.rows || (*part.rows)[r]))
-        for (int64_t col : local)
-          if (col >= 0) rows[r].push_back(col);
+      if (node_held(nodes[i]))
+        for (int j = 0; j < nb; ++j) adjacent[nodes[i]].push_back(nodes[j]);
   }
-  return csr_from_rows(std::move(rows));
+  Csr A;
+  A.n = dofs.n_free;
+  A.ptr.assign(static_cast<size_t>(A.n) + 1, 0);
+  for (int64_t v = 0; v < s.n_nodes; ++v) {
+    std::vector<int64_t> &adj = adjacent[v];
+    std::sort(adj.begin(), adj.end());
+    adj.erase(std::unique(adj.begin(), adj.end()), adj.end());
+    int64_t columns = 0;
+    for (int64_t w : adj)
+      for (int b = 0; b < d; ++b) columns += free[w * d + b] >= 0;
+    for (int a = 0; a < d; ++a)
+      if (held(free[v * d + a])) A.ptr[free[v * d + a] + 1] = columns;
+  }
+  for (int64_t r = 0; r < A.n; ++r) A.ptr[r + 1] += A.ptr[r];
+  A.col.resize(static_cast<size_t>(A.ptr.back()));
+  for (int64_t v = 0; v < s.n_nodes; ++v)
+    for (int a = 0; a < d; ++a) {
+      const int64_t r = free[v * d + a];
+      if (!held(r)) continue;
+      int64_t k = A.ptr[r];
+      for (int64_t w : adjacent[v])
+        for (int b = 0; b < d; ++b)
+          if (free[w * d + b] >= 0) A.col[k++] = free[w * d + b];
+    }
+  A.val.assign(A.col.size(), 0.0);
+  return A;
 }
 
 ElementMatrices::ElementMatrices(const Space &s, const Material &mat)
