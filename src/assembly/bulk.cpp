@@ -125,6 +125,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
   const double rho = mat.density;
   ElementMatrices em(s, mat);
   const std::vector<double> &me = em.me, &ke = em.ke;
+  std::vector<int64_t> offset(static_cast<size_t>(nb));
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     if (!part.takes(s, dofs, c)) continue;
     em.compute(c);
@@ -134,20 +135,29 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
     for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
     const double cell_mass = rho * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
     const int64_t *nodes = s.nodes_of(c);
-    for (int i = 0; i < nb; ++i)
+    for (int i = 0; i < nb; ++i) {
+      bool found = false;  // offset[j]: where node j's columns start in node i's rows
       for (int a = 0; a < d; ++a) {
         const int64_t r = dofs.free[nodes[i] * d + a];
         if (r < 0 || (part.rows && !(*part.rows)[r])) continue;
-        ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
-        for (int j = 0; j < nb; ++j)
-          for (int b = 0; b < d; ++b) {
-            const int64_t col = dofs.free[nodes[j] * d + b];
-            if (col < 0) continue;
-            const int64_t k = ops.K.find(r, col);
-            ops.K.val[k] += ke[(i * d + a) * nb * d + j * d + b];
-            if (a == b) ops.M.val[k] += me[i * nb + j];
+        if (!found) {  // the rows of a node share their columns (operator_pattern): one search per node pair
+          for (int j = 0; j < nb; ++j) {
+            const int64_t col = dofs.free[nodes[j] * d];  // a node's free DOFs are consecutive, or all clamped
+            offset[j] = col < 0 ? -1 : ops.K.find(r, col) - ops.K.ptr[r];
           }
+          found = true;
+        }
+        ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
+        for (int j = 0; j < nb; ++j) {
+          if (offset[j] < 0) continue;
+          const int64_t k0 = ops.K.ptr[r] + offset[j];
+          for (int b = 0; b < d; ++b) {
+            ops.K.val[k0 + b] += ke[(i * d + a) * nb * d + j * d + b];
+            if (a == b) ops.M.val[k0 + b] += me[i * nb + j];
+          }
+        }
       }
+    }
   }
   // Finite but extreme parameters (E = 1e308, rho = 1e-308, a huge or tiny
   // mesh) overflow or underflow here: refused with what to change, rather
