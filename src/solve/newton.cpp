@@ -21,10 +21,9 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
       own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
   sys.law->add_force(U.data(), sys.kappa, G.data(), active);
-  const Share *held = sys.split ? sys.rows : nullptr;
-  const RowSet rows = own_rows(held);
+  const RowSet rows = own_rows(sys.held_rows());
   for (int64_t k = 0, m = rows.size(static_cast<int64_t>(G.size())); k < m; ++k) G[rows[k]] -= r[rows[k]];
-  return norm2_rows(held, static_cast<int64_t>(G.size()), G.data());
+  return rhs_norm(sys, G);
 }
 
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
@@ -33,7 +32,7 @@ double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, doubl
 }
 
 double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r) {
-  return norm2_rows(sys.split ? sys.rows : nullptr, static_cast<int64_t>(r.size()), r.data());
+  return norm2_rows(sys.held_rows(), static_cast<int64_t>(r.size()), r.data());
 }
 
 namespace {

@@ -29,6 +29,8 @@ struct NewtonSystem {
   // only): r, G and M U are right on this rank's rows alone, nothing is
   // gathered, and their norms are the ranks' sums (norm2_rows)
   bool split = false;
+  // the rows r, G and M U are right on: this rank's when split, else all (null)
+  const Share *held_rows() const { return split ? rows : nullptr; }
 };
 
 struct NewtonResult {
@@ -45,7 +47,7 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);
-// ||r|| over the rows sys's right-hand sides are right on (collective when split)
+// the norm of a right-hand side or residual over the rows it is right on (collective when split)
 double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r);
 
 // U holds the initial guess on entry and the solution on exit.
