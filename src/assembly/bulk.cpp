@@ -140,20 +140,23 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
       for (int a = 0; a < d; ++a) {
         const int64_t r = dofs.free[nodes[i] * d + a];
         if (r < 0 || (part.rows && !(*part.rows)[r])) continue;
-        if (!found) {  // the rows of a node share their columns (operator_pattern): one search per node pair
-          for (int j = 0; j < nb; ++j) {
-            const int64_t col = dofs.free[nodes[j] * d];  // a node's free DOFs are consecutive, or all clamped
-            offset[j] = col < 0 ? -1 : ops.K.find(r, col) - ops.K.ptr[r];
+        if (!found) {  // the rows of a node share their columns, in DOF order (operator_pattern): one search per node pair
+          for (int j = 0; j < nb; ++j) {  // node j's first free DOF; its others follow it in the row
+            int b = 0;
+            while (b < d && dofs.free[nodes[j] * d + b] < 0) ++b;
+            offset[j] = b == d ? -1 : ops.K.find(r, dofs.free[nodes[j] * d + b]) - ops.K.ptr[r];
           }
           found = true;
         }
         ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
         for (int j = 0; j < nb; ++j) {
           if (offset[j] < 0) continue;
-          const int64_t k0 = ops.K.ptr[r] + offset[j];
+          int64_t k = ops.K.ptr[r] + offset[j];
           for (int b = 0; b < d; ++b) {
-            ops.K.val[k0 + b] += ke[(i * d + a) * nb * d + j * d + b];
-            if (a == b) ops.M.val[k0 + b] += me[i * nb + j];
+            if (dofs.free[nodes[j] * d + b] < 0) continue;
+            ops.K.val[k] += ke[(i * d + a) * nb * d + j * d + b];
+            if (a == b) ops.M.val[k] += me[i * nb + j];
+            ++k;
           }
         }
       }
