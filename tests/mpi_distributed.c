@@ -691,26 +691,38 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
     /* through the impact: the Newton residuals stay on their rows too, so
        besides the solutions and the points' values a step receives only
        sums: at most 4 per other rank per step and per Newton iteration
-       (the energy's two, the norms of r, G and M U) */
-    nd_problem p = scene(dim, ND_SOLVER_PETSC_MUMPS, 1);
-    ND_OK_OR_FAIL(nd_problem_setup(p));
-    const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED), s0 = scalar(p, ND_STAT_SOLVES);
-    const double e0 = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN);
-    for (int k = 0; k < kSteps; ++k) ND_OK_OR_FAIL(nd_step(p));
-    ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0);
-    int64_t nodes = 0, own = 0;
-    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
-    ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
-    const double solved = (scalar(p, ND_STAT_SOLVES) - s0) * (double)(dim * (nodes - own));
-    const double pts = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
-    /* a pass over the points gathers P_q, or P_q and u_n - g0 */
-    const double sums = scalar(p, ND_STAT_VALUES_RECEIVED) - r0 - solved - 2 * pts;
-    const double most = 4.0 * (g_size - 1) * (kSteps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL));
-    if (g_rank == 0)
-      printf("%dD MUMPS, %d rank(s), %d steps through the impact: received - solutions - 2 x points = %.0f "
-             "(sums: at most %.0f)\n", dim, g_size, kSteps, sums, most);
-    ck_assert_msg(on_all_ranks(sums <= most), "%dD: %g values besides the solutions and the points", dim, sums);
-    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+       (the energy's two, the norms of r, G and M U). In 3D with GAMG, whose
+       Newton refactors the tangent: every solve gathers a whole solution.
+       (The contact columns of the other Newton paths gather only the
+       points' DOFs, then one whole U per step: tests/mpi_contact_columns.cpp
+       counts them.) */
+    if (dim == 3) {
+      nd_problem p = scene(dim, ND_SOLVER_PETSC_GAMG, 1);
+      ND_OK_OR_FAIL(nd_step(p)); /* the set-up and the factorization */
+      const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED), s0 = scalar(p, ND_STAT_SOLVES);
+      const double e0 = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN);
+      ND_OK_OR_FAIL(nd_step(p)); /* free flight: one pass over the points, the others' nc of them */
+      const double nc_pass = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+      const int steps = kSteps - 1;
+      for (int k = 2; k < kSteps; ++k) ND_OK_OR_FAIL(nd_step(p));
+      ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0);
+      int64_t nodes = 0, own = 0;
+      ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+      ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+      const double solved = (scalar(p, ND_STAT_SOLVES) - s0) * (double)(dim * (nodes - own));
+      const double pts = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+      /* a pass over the points gathers P_q of the other ranks' points, the
+         new state's pass of each step also their u_n - g0 */
+      const double sums = scalar(p, ND_STAT_VALUES_RECEIVED) - r0 - solved - pts - steps * nc_pass;
+      const double least = 2.0 * (g_size - 1) * steps; /* the energy's two per step */
+      const double most = 4.0 * (g_size - 1) * (steps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL));
+      if (g_rank == 0)
+        printf("%dD GAMG, %d rank(s), %d steps through the impact: received - solutions - points' values = %.0f "
+               "(sums: %.0f to %.0f)\n", dim, g_size, steps, sums, least, most);
+      ck_assert_msg(on_all_ranks(sums >= least && sums <= most), "%dD: %g values besides the solutions and the points",
+                    dim, sums);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
     free_step_receives(dim, ND_SOLVER_CHOLMOD, &other, &rows, &nc);
     if (g_rank == 0)
       printf("%dD CHOLMOD on every rank: %.0f values received (%.0f other rows)\n", dim, other, rows);

@@ -186,8 +186,8 @@ END_TEST
 
 // k right-hand sides at once: on one process every backend gives each column
 // the bits of a solve of it alone (ContactColumns relies on it: a column's
-// bits may not depend on which others were made with it), and counts one
-// solve per right-hand side.
+// bits may not depend on which others were made with it), whole or only at
+// some unknowns, and counts one solve per right-hand side.
 START_TEST(every_backend_solves_many_as_one_by_one) {
   const nd::Csr A = spd_matrix(10);
   const int64_t n = A.n, k = 5;
@@ -203,6 +203,17 @@ START_TEST(every_backend_solves_many_as_one_by_one) {
     for (int64_t j = 0; j < k; ++j) f->solve(one.data() + j * n);
     ck_assert_msg(std::memcmp(many.data(), one.data(), sizeof(double) * many.size()) == 0,
                   "%s: a block of right-hand sides differs from one by one", f->name());
+    // only some unknowns kept (the contact columns on split rows): those bits
+    const std::vector<int64_t> at = {0, 3, 4, 17, n - 1};
+    std::vector<double> picked(at.size() * static_cast<size_t>(k)), scratch = X;
+    f->solve_many_at(scratch.data(), n, k, at, picked.data());
+    ck_assert_int_eq(counters.solves, 3 * k);
+    for (int64_t j = 0; j < k; ++j)
+      for (size_t i = 0; i < at.size(); ++i)
+        ck_assert_msg(std::memcmp(&picked[static_cast<size_t>(j) * at.size() + i], &one[j * n + at[i]], sizeof(double)) == 0,
+                      "%s: column %lld at unknown %lld", f->name(), static_cast<long long>(j),
+                      static_cast<long long>(at[i]));
+    ck_assert_int_eq(counters.values_received, 0);  // one process
     ck_assert_double_le(solve_error(*f, A), 1e-10);
   }
 }

@@ -68,6 +68,18 @@ int backend_for(int solver, const Csr &pattern, Structure s) {
   return solver;
 }
 
+}  // namespace
+
+void Factorization::solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at,
+                                  double *out) const {
+  solve_many(x, n, k);
+  const size_t m = at.size();
+  for (int64_t j = 0; j < k; ++j)
+    for (size_t i = 0; i < m; ++i) out[static_cast<size_t>(j) * m + i] = x[j * n + at[i]];
+}
+
+namespace {
+
 // A backend with its work counted (ND_STAT_*).
 class Counted : public Factorization {
  public:
@@ -90,7 +102,13 @@ class Counted : public Factorization {
     c_->values_received += k * f_->received_per_solve();
     f_->solve_many(x, n, k);
   }
+  void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override {
+    c_->solves += k;
+    c_->values_received += k * f_->received_at(at);
+    f_->solve_many_at(x, n, k, at, out);
+  }
   int64_t received_per_solve() const override { return f_->received_per_solve(); }
+  int64_t received_at(const std::vector<int64_t> &at) const override { return f_->received_at(at); }
   Definiteness definiteness() const override { return f_->definiteness(); }
   const char *name() const override { return f_->name(); }
   const Factorization &backend() const override { return f_->backend(); }

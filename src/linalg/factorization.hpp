@@ -42,6 +42,16 @@ class Factorization {
   // values a solve receives from the other ranks (a backend that
   // distributes its rows gathers the solution to every rank)
   virtual int64_t received_per_solve() const { return 0; }
+  // solve_many, keeping of each solution only the unknowns `at` (m of them):
+  // out[j m + i] = x_j[at[i]], x overwritten. A backend that distributes its
+  // rows gathers only those to this rank, not every row; the others solve
+  // as solve_many (the same bits) and copy.
+  virtual void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const;
+  // values solve_many_at receives from the other ranks per right-hand side
+  virtual int64_t received_at(const std::vector<int64_t> &at) const {
+    (void)at;
+    return received_per_solve();
+  }
   virtual Definiteness definiteness() const = 0;
   virtual const char *name() const = 0;
   // the backend's own object under any wrapper (its counters): for code that

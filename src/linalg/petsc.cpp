@@ -388,8 +388,9 @@ class Vectors {
   ~Vectors() { release(); }
   void release() {
     if (!petsc_alive()) return;
-    if (to_all_) VecScatterDestroy(&to_all_);
-    for (Vec *v : {&b_, &x_, &all_})
+    for (VecScatter *s : {&to_all_, &pick_})
+      if (*s) VecScatterDestroy(s);
+    for (Vec *v : {&b_, &x_, &all_, &picked_})
       if (*v) VecDestroy(v);
   }
   Vectors(const Vectors &) = delete;
@@ -398,12 +399,25 @@ class Vectors {
   bool distributed() const { return L_.distributed(); }
   // the other ranks' rows of a solution, gathered to this one
   int64_t received() const { return L_.distributed() ? L_.n - (L_.end - L_.begin) : 0; }
+  // of the unknowns `at`, those of the other ranks' rows
+  int64_t received(const std::vector<int64_t> &at) const {
+    if (!L_.distributed()) return 0;
+    int64_t other = 0;
+    for (int64_t u : at) other += L_.row(u) < L_.begin || L_.row(u) >= L_.end;
+    return other;
+  }
+  // Where a solution goes on several ranks: gathered whole, or (at non-null)
+  // only its values at the unknowns *at, to out
+  struct Keep {
+    const std::vector<int64_t> *at = nullptr;
+    double *out = nullptr;
+  };
 
   // x (the whole vector, on every rank) in place: b <- this rank's rows of x,
-  // run(b, solution) solves, x <- the whole solution. One rank: the solution
-  // is written in x's storage directly.
+  // run(b, solution) solves, x <- the whole solution (or what keep says).
+  // One rank: the solution is written in x's storage directly.
   template <class Run>
-  PetscErrorCode solve(double *x, Run &&run) const {
+  PetscErrorCode solve(double *x, Run &&run, Keep keep = {}) const {
     PetscScalar *a = nullptr;
     PetscErrorCode code = VecGetArrayWrite(b_, &a);
     if (code) return code;
@@ -416,13 +430,14 @@ class Vectors {
       return code;
     }
     if ((code = run(b_, x_))) return code;
-    return gather(x_, x);
+    return keep.at ? pick(x_, *keep.at, keep.out) : gather(x_, x);
   }
 
   // The same for k whole vectors (column j at x + j n), as dense matrices of
-  // this rank's rows: run(B, X) solves them all at once.
+  // this rank's rows: run(B, X) solves them all at once; with keep.at, column
+  // j's values at those unknowns go to keep.out + j m.
   template <class Run>
-  PetscErrorCode solve_many(double *x, int64_t k, Run &&run) const {
+  PetscErrorCode solve_many(double *x, int64_t k, Run &&run, Keep keep = {}) const {
     const PetscInt own = L_.end - L_.begin;
     Mat B = nullptr, X = nullptr;
     PetscErrorCode code = MatCreateDense(L_.comm, own, PETSC_DECIDE, L_.n, static_cast<PetscInt>(k), nullptr, &B);
@@ -437,9 +452,10 @@ class Vectors {
     if (!code) code = run(B, X);
     PetscScalar *s = nullptr;
     if (!code) code = MatDenseGetArray(X, &s);
-    for (int64_t j = 0; !code && j < k; ++j) {  // each column gathered to every rank
+    for (int64_t j = 0; !code && j < k; ++j) {  // each column gathered to every rank, or picked
       if ((code = VecPlaceArray(x_, s + j * own))) break;
-      code = gather(x_, x + j * L_.n);
+      code = keep.at ? pick(x_, *keep.at, keep.out + static_cast<size_t>(j) * keep.at->size())
+                     : gather(x_, x + j * L_.n);
       VecResetArray(x_);
     }
     if (s) MatDenseRestoreArray(X, &s);
@@ -459,10 +475,41 @@ class Vectors {
     for (int64_t u = 0; u < L_.n; ++u) x[u] = r[L_.row(u)];
     return VecRestoreArrayRead(all_, &r);
   }
+  // out[i] <- v at the unknown at[i], through a scatter made for that list
+  // (again when it changes on any rank: making it is collective)
+  PetscErrorCode pick(Vec v, const std::vector<int64_t> &at, double *out) const {
+    PetscErrorCode code;
+    int changed = !pick_ || at != pick_at_;
+    if (MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_LOR, L_.comm) != MPI_SUCCESS) return PETSC_ERR_LIB;
+    if (changed) {
+      if (pick_ && (code = VecScatterDestroy(&pick_))) return code;
+      if (picked_ && (code = VecDestroy(&picked_))) return code;
+      pick_at_.clear();
+      std::vector<PetscInt> rows(at.size());
+      for (size_t i = 0; i < at.size(); ++i) rows[i] = L_.row(at[i]);
+      IS from = nullptr;
+      const PetscInt m = static_cast<PetscInt>(at.size());
+      if ((code = ISCreateGeneral(PETSC_COMM_SELF, m, rows.data(), PETSC_COPY_VALUES, &from))) return code;
+      code = VecCreateSeq(PETSC_COMM_SELF, m, &picked_);
+      if (!code) code = VecScatterCreate(v, from, picked_, nullptr, &pick_);
+      ISDestroy(&from);
+      if (code) return code;
+      pick_at_ = at;
+    }
+    if ((code = VecScatterBegin(pick_, v, picked_, INSERT_VALUES, SCATTER_FORWARD))) return code;
+    if ((code = VecScatterEnd(pick_, v, picked_, INSERT_VALUES, SCATTER_FORWARD))) return code;
+    const PetscScalar *r = nullptr;
+    if ((code = VecGetArrayRead(picked_, &r))) return code;
+    std::copy(r, r + at.size(), out);
+    return VecRestoreArrayRead(picked_, &r);
+  }
 
   Layout L_;
   Vec b_ = nullptr, x_ = nullptr, all_ = nullptr;
   VecScatter to_all_ = nullptr;
+  mutable Vec picked_ = nullptr;  // the values at pick_at_, through pick_
+  mutable VecScatter pick_ = nullptr;
+  mutable std::vector<int64_t> pick_at_;
 };
 
 void destroy(Mat &A) {
@@ -506,6 +553,16 @@ class PetscMumps : public Factorization {
     Session session;
     check(v_->solve_many(x, k, [&](Mat B, Mat X) { return MatMatSolve(F_, B, X); }), "MatMatSolve (MUMPS)");
   }
+  // the same block solve, of each solution only the rows `at` gathered
+  void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override {
+    if (!v_->distributed()) return Factorization::solve_many_at(x, n, k, at, out);
+    if (n != n_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: right-hand sides of another size than the matrix");
+    if (!factored_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: solve before a successful factorization");
+    Session session;
+    check(v_->solve_many(x, k, [&](Mat B, Mat X) { return MatMatSolve(F_, B, X); }, {&at, out}),
+          "MatMatSolve (MUMPS)");
+  }
+  int64_t received_at(const std::vector<int64_t> &at) const override { return v_ ? v_->received(at) : 0; }
 
  private:
   void factor_from(const Csr &A, const Csr *own, Structure s) {
@@ -693,7 +750,20 @@ class PetscGamg : public Factorization {
            std::string("PETSc GAMG set-up failed: ") + PCFailedReasons[why]);
     ready_ = true;
   }
-  void solve(double *x) const override {
+  void solve(double *x) const override { solve_keeping(x, {}); }
+  // each column a Krylov solve, of each solution only the rows `at` gathered
+  void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override {
+    if (!v_->distributed()) return Factorization::solve_many_at(x, n, k, at, out);
+    if (n != n_) fail(ND_ERR_INTERNAL, "PETSc GAMG: right-hand sides of another size than the matrix");
+    for (int64_t j = 0; j < k; ++j) solve_keeping(x + j * n, {&at, out + static_cast<size_t>(j) * at.size()});
+  }
+  int64_t received_at(const std::vector<int64_t> &at) const override { return v_ ? v_->received(at) : 0; }
+  Definiteness definiteness() const override { return def_; }
+  const char *name() const override { return "petsc-gamg"; }
+  int64_t received_per_solve() const override { return v_ ? v_->received() : 0; }
+
+ private:
+  void solve_keeping(double *x, Vectors::Keep keep) const {
     if (!ready_) fail(ND_ERR_INTERNAL, "PETSc GAMG: solve before a successful set-up");
     Session session;
     KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
@@ -707,7 +777,8 @@ class PetscGamg : public Factorization {
                       if (!code) code = KSPGetResidualNorm(ksp_, &rnorm);
                       if (!code) code = VecNorm(b, NORM_2, &bnorm);
                       return code;
-                    }),
+                    },
+                    keep),
           "KSPSolve (GAMG)");
     if (reason > 0) return;
     const bool spd = structure_ == Structure::SymmetricPositiveDefinite;
@@ -721,11 +792,6 @@ class PetscGamg : public Factorization {
     fail(ND_ERR_SINGULAR, "the linear solve failed: " + st +
                               "; the matrix is singular or too ill-conditioned for it: try ND_SOLVER_PETSC_MUMPS");
   }
-  Definiteness definiteness() const override { return def_; }
-  const char *name() const override { return "petsc-gamg"; }
-  int64_t received_per_solve() const override { return v_ ? v_->received() : 0; }
-
- private:
   int64_t n_;
   std::unique_ptr<Matrix> A_;
   std::unique_ptr<Vectors> v_;

@@ -19,9 +19,20 @@ constexpr size_t kBlock = 16;
 bool ContactColumns::bind(const ContactPoints &cp, double theta) {
   if (&cp == cp_ && theta == theta_) return false;
   std::vector<std::vector<double>> Z(cp.size());  // allocate first, commit after
-  std::vector<int64_t> position(cp.size(), -1);
+  std::vector<int64_t> position(cp.size(), -1), at, place;
+  if (rows_) {  // own rows and the points' DOFs
+    std::vector<char> held(static_cast<size_t>(n_), 0);
+    for (const int64_t *i = rows_->own_begin(); i != rows_->own_end(); ++i) held[*i] = 1;
+    for (const SparseRow &a : cp.a)
+      for (int64_t i : a.idx) held[i] = 1;
+    place.assign(static_cast<size_t>(n_), -1);
+    for (int64_t i = 0; i < n_; ++i)
+      if (held[i]) place[i] = static_cast<int64_t>(at.size()), at.push_back(i);
+  }
   Z_.swap(Z);
   position_.swap(position);
+  at_.swap(at);
+  place_.swap(place);
   held_ = 0;
   G_S_.clear();
   G_.clear();
@@ -45,19 +56,72 @@ void ContactColumns::require(const std::vector<int64_t> &S) {
   std::vector<int64_t> made;
   for (int64_t q : S)
     if (Z_[q].empty()) made.push_back(q);
-  const size_t n = static_cast<size_t>(n_);
-  std::vector<double> X;
+  const size_t n = static_cast<size_t>(n_), m_held = static_cast<size_t>(held());
+  std::vector<double> X, kept;
   for (size_t first = 0; first < made.size(); first += kBlock) {
     const size_t m = std::min(kBlock, made.size() - first);
     X.assign(n * m, 0.0);
     for (size_t j = 0; j < m; ++j) add_b(*cp_, theta_, static_cast<size_t>(made[first + j]), 1.0, &X[j * n]);
-    A_factor_.solve_many(X.data(), n_, static_cast<int64_t>(m));
+    const double *z = X.data();
+    if (at_.empty()) {
+      A_factor_.solve_many(X.data(), n_, static_cast<int64_t>(m));
+    } else {
+      kept.resize(m_held * m);
+      A_factor_.solve_many_at(X.data(), n_, static_cast<int64_t>(m), at_, kept.data());
+      z = kept.data();
+    }
     for (size_t j = 0; j < m; ++j) {
-      Z_[made[first + j]].assign(X.begin() + static_cast<ptrdiff_t>(j * n), X.begin() + static_cast<ptrdiff_t>((j + 1) * n));
+      Z_[made[first + j]].assign(z + j * m_held, z + (j + 1) * m_held);
       ++held_;
       ++computed_;
     }
   }
+}
+
+double ContactColumns::dot(size_t q, int64_t j) const {
+  return p_dot(*cp_, q, column(j), place_.empty() ? nullptr : place_.data());
+}
+
+void ContactColumns::subtract_each(const std::vector<int64_t> &S, const double *f, double *__restrict x) const {
+  const int64_t m = held();
+  for (size_t j = 0; j < S.size(); ++j) {
+    if (f[j] == 0) continue;
+    const double *__restrict z = column(S[j]);
+    const double fj = f[j];
+    if (at_.empty()) {
+      for (int64_t i = 0; i < m; ++i) x[i] -= fj * z[i];
+    } else {
+      for (int64_t i = 0; i < m; ++i) x[at_[i]] -= fj * z[i];
+    }
+  }
+}
+
+template <class Row>
+void ContactColumns::subtract_blocked_at(const std::vector<int64_t> &S, const double *f, double *__restrict x,
+                                         Row row) const {
+  const int64_t m = held(), k = static_cast<int64_t>(S.size());
+  int64_t j = 0;
+  for (; j + 4 <= k; j += 4) {
+    const double *__restrict z0 = column(S[j]), *__restrict z1 = column(S[j + 1]), *__restrict z2 = column(S[j + 2]),
+                             *__restrict z3 = column(S[j + 3]);
+    const double f0 = f[j], f1 = f[j + 1], f2 = f[j + 2], f3 = f[j + 3];
+    for (int64_t i = 0; i < m; ++i) x[row(i)] -= (f0 * z0[i] + f1 * z1[i]) + (f2 * z2[i] + f3 * z3[i]);
+  }
+  for (; j < k; ++j) {
+    const double *__restrict z = column(S[j]);
+    const double fj = f[j];
+    for (int64_t i = 0; i < m; ++i) x[row(i)] -= fj * z[i];
+  }
+}
+
+void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const double *f, double *x) const {
+  if (at_.empty()) return subtract_blocked_at(S, f, x, [](int64_t i) { return i; });
+  const int64_t *at = at_.data();
+  subtract_blocked_at(S, f, x, [at](int64_t i) { return at[i]; });
+}
+
+void ContactColumns::complete(double *x) const {
+  if (rows_) gather(*rows_, {x});
 }
 
 const std::vector<double> &ContactColumns::G(const std::vector<int64_t> &S) {
@@ -68,10 +132,9 @@ const std::vector<double> &ContactColumns::G(const std::vector<int64_t> &S) {
   for (int64_t i = 0; i < k_old; ++i) position_[G_S_[i]] = i;
   for (int64_t j = 0; j < k; ++j) {
     const int64_t oj = position_[S[j]];
-    const double *z = column(S[j]);
     for (int64_t i = 0; i < k; ++i) {
       const int64_t oi = position_[S[i]];
-      Gn[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : p_dot(*cp_, static_cast<size_t>(S[i]), z);
+      Gn[i + j * k] = oi >= 0 && oj >= 0 ? G_[oi + oj * k_old] : dot(static_cast<size_t>(S[i]), S[j]);
     }
   }
   for (int64_t q : G_S_) position_[q] = -1;

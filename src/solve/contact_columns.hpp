@@ -6,34 +6,58 @@
 // empty, is bitwise the uninterrupted one. At most max_columns are held:
 // past that the columns of the points off the current set are dropped (and
 // made again, with the same bits, when needed).
+//
+// With split operators over several ranks (rows: Discretization::rows) a
+// column is held only at the rank's own rows and at the DOFs of the contact
+// points' rows: G and the points' P read only the latter, and a sum of
+// columns is right on the rank's rows, from which complete() gathers the
+// rest. A solve then gathers those few values, not the whole solution.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "assembly/contact.hpp"
 #include "linalg/factorization.hpp"
+#include "parallel/share.hpp"
 
 namespace nd {
 
 class ContactColumns {
  public:
-  ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns)
-      : A_factor_(A_factor), n_(n), max_columns_(max_columns) {}
+  ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns, const Share *rows = nullptr)
+      : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows) {}
   // for one set of contact rows and one Theta; true when that changed (the cache is then empty)
   bool bind(const ContactPoints &cp, double theta);
   // Z_q for every q of S
   void require(const std::vector<int64_t> &S);
-  const double *column(int64_t q) const { return Z_[static_cast<size_t>(q)].data(); }
   int64_t computed() const { return computed_; }  // columns made (each one solve)
+  // p_q . Z_j (after require of a set with j)
+  double dot(size_t q, int64_t j) const;
+  // x -= sum_j f[j] Z_{S[j]} at the held rows, column after column (f[j] = 0 skipped)
+  void subtract_each(const std::vector<int64_t> &S, const double *f, double *x) const;
+  // the same sum four columns at a time, (f0 z0 + f1 z1) + (f2 z2 + f3 z3):
+  // each held row of x read once per four columns
+  void subtract_blocked(const std::vector<int64_t> &S, const double *f, double *x) const;
+  // x right at the held rows: its other rows from their ranks (collective
+  // when columns are held on own rows; else nothing to do)
+  void complete(double *x) const;
   // G_ij = p_i . Z_j for i, j in S (after require(S)); the entries of pairs of
   // the last S are kept
   const std::vector<double> &G(const std::vector<int64_t> &S);
 
  private:
+  const double *column(int64_t q) const { return Z_[static_cast<size_t>(q)].data(); }
+  int64_t held() const { return at_.empty() ? n_ : static_cast<int64_t>(at_.size()); }
+  template <class Row>
+  void subtract_blocked_at(const std::vector<int64_t> &S, const double *f, double *x, Row row) const;
+
   const Factorization &A_factor_;
   int64_t n_, max_columns_, held_ = 0, computed_ = 0;
+  const Share *rows_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
+  std::vector<int64_t> at_;     // the unknowns a column holds, ascending (empty: all n)
+  std::vector<int64_t> place_;  // an unknown's index in at_ (-1: not held); empty with at_
   std::vector<std::vector<double>> Z_;   // per point; empty until needed
   std::vector<int64_t> G_S_, position_;  // the S that G_ was built for; a point's place in it (-1: none)
   std::vector<double> G_;

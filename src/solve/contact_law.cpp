@@ -85,11 +85,12 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
   return true;
 }
 
-double p_dot(const ContactPoints &cp, size_t q, const double *v) {
+double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place) {
   const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
   const double g = cp.gamma[q];
   double sum = 0;
-  for (size_t i = 0; i < a.idx.size(); ++i) sum += (a.val[i] - g * s.val[i]) * v[a.idx[i]];
+  for (size_t i = 0; i < a.idx.size(); ++i)
+    sum += (a.val[i] - g * s.val[i]) * v[place ? place[a.idx[i]] : a.idx[i]];
   return sum;
 }
 

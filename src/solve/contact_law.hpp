@@ -16,8 +16,9 @@
 
 namespace nd {
 
-// p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap)
-double p_dot(const ContactPoints &cp, size_t q, const double *v);
+// p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap); with place,
+// v holds unknown i at v[place[i]] (the same sum, in the same order)
+double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place = nullptr);
 // appends c p_q = c (a_q - gamma_q s_q): a_q's indices to idx, the values to val
 void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> &idx, std::vector<double> &val);
 // y += f b_q, b_q = a_q - Theta gamma_q s_q

@@ -26,18 +26,14 @@ CondensedCache::Lu &CondensedCache::lu() {
 
 namespace {
 
-// U = y0 - sum_{j in S} c_j phi_j Z_j
+// U = y0 - sum_{j in S} c_j phi_j Z_j at the columns' held rows (every row
+// but on split operators: then complete() gives the rest)
 void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const std::vector<double> &phi,
             const std::vector<double> &c, const ContactColumns &columns, std::vector<double> &U) {
   U = y0;
-  const int64_t n = static_cast<int64_t>(U.size());
-  for (size_t j = 0; j < S.size(); ++j) {
-    if (phi[j] == 0) continue;
-    const double *__restrict z = columns.column(S[j]);
-    const double f = c[S[j]] * phi[j];
-    double *__restrict u = U.data();
-    for (int64_t i = 0; i < n; ++i) u[i] -= f * z[i];
-  }
+  std::vector<double> f(S.size());
+  for (size_t j = 0; j < S.size(); ++j) f[j] = c[S[j]] * phi[j];
+  columns.subtract_each(S, f.data(), U.data());
 }
 
 }  // namespace
@@ -154,7 +150,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
         if (through_U) return law.P(q, Ut.data());
         double Pq = P0[q];
         for (int64_t j = 0; j < k; ++j)
-          if (phi[j] != 0) Pq -= p_dot(cp, q, columns.column(S[j])) * c[S[j]] * phi[j];
+          if (phi[j] != 0) Pq -= columns.dot(q, S[j]) * c[S[j]] * phi[j];
         return Pq;
       });
     }
@@ -176,6 +172,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (!any_force) U.swap(y0);  // no contact force: U = A^{-1} r
     else if (through_U) U.swap(Ut);
     else form_U(y0, S, phi, c, columns, U);
+    if (any_force) columns.complete(U.data());  // (Ut read only the points' DOFs, which are held)
     if (!any_force) {  // U = A^{-1} r with N(U) = 0: exact to the solve's round-off
       res.converged = true;
       return out;

@@ -98,14 +98,14 @@ class LowRankTangent : public TangentSolver {
                                            static_cast<lapack_int>(k), ipiv_.data(), w_.data(),
                                            static_cast<lapack_int>(k));
     if (info < 0) fail(ND_ERR_INTERNAL, "LAPACKE_dgetrs: argument " + std::to_string(-info));
-    const int64_t n = A_.n;
     if (two_solves) {  // x = A^{-1} (x0 - B w): a second solve instead of the n k of Z w
       for (int64_t j = 0; j < k; ++j) add_b(cp, theta_, static_cast<size_t>(active_[j]), -w_[j], x0_.data());
       std::copy(x0_.begin(), x0_.end(), x);
       A_factor_.solve(x);
       return;
     }
-    subtract_Zw(n, k, x);
+    columns_->subtract_blocked(active_, w_.data(), x);  // the n k of Z w: the largest cost after the solve
+    columns_->complete(x);
   }
   const char *name() const override { return "lowrank"; }
   // the history is the fallback's (the updated factor's), kept for it until it is made
@@ -116,24 +116,6 @@ class LowRankTangent : public TangentSolver {
   const TangentLog *log() const override { return fallback_ ? fallback_->log() : &committed_; }
 
  private:
-  // x -= Z w over the active columns, four at a time: Z is read once and x
-  // once per four columns (the n k of this product is the iteration's
-  // largest cost after the solve)
-  void subtract_Zw(int64_t n, int64_t k, double *__restrict x) const {
-    int64_t j = 0;
-    for (; j + 4 <= k; j += 4) {
-      const double *__restrict z0 = columns_->column(active_[j]), *__restrict z1 = columns_->column(active_[j + 1]),
-                               *__restrict z2 = columns_->column(active_[j + 2]),
-                               *__restrict z3 = columns_->column(active_[j + 3]);
-      const double w0 = w_[j], w1 = w_[j + 1], w2 = w_[j + 2], w3 = w_[j + 3];
-      for (int64_t i = 0; i < n; ++i) x[i] -= (w0 * z0[i] + w1 * z1[i]) + (w2 * z2[i] + w3 * z3[i]);
-    }
-    for (; j < k; ++j) {
-      const double *__restrict z = columns_->column(active_[j]);
-      const double wj = w_[j];
-      for (int64_t i = 0; i < n; ++i) x[i] -= wj * z[i];
-    }
-  }
   // the LU of I + D G into C_, ipiv_, unless it is that of this active set and D
   void factor_capacitance(int64_t k, const std::vector<double> &G) {
     if (lu_valid_ && lu_active_ == active_ && lu_d_ == d_) return;

@@ -1,0 +1,223 @@
+// The contact columns Z_q = A^{-1} b_q on split rows (solve/contact_columns.hpp)
+// under mpiexec -n 1, 2, 4: held at a rank's own rows and the points' DOFs,
+// they give what whole columns give (G, p_q . Z_j, the sums of columns once
+// completed), the same on every rank, and a column receives from the other
+// ranks only its values at the points' DOFs they own.
+//
+// A is c M + K on a 2D P1 rectangle (SPD, 242 unknowns); the rows are split
+// in PETSc's even blocks, the rank of each row its block's; the contact rows
+// are synthetic, each spread over the unknowns so that every rank's block
+// holds some of a point's DOFs and others do not.
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "assembly/bulk.hpp"
+#include "common/hash.hpp"
+#include "linalg/factorization.hpp"
+#include "parallel/communicator_mpi.hpp"
+#include "parallel/share.hpp"
+#include "solve/contact_columns.hpp"
+#include "solve/contact_law.hpp"
+#include "solve/tangent_solver.hpp"
+#include "unit_fixtures.hpp"
+// last: check.h's fail() macro would clash with nd::fail and std::ios::fail
+#include <check.h>
+
+#include "testutil.h"
+
+namespace {
+
+int g_rank = 0, g_size = 1;
+
+nd::Csr spd_matrix(int nx) {
+  nd::Space s(ndtest::irregular_rectangle(nx), 1);
+  nd::DofMap dofs(s, {});
+  nd::BulkOperators ops = nd::assemble_bulk(s, dofs, nd::Material{50, 0.25, 1});
+  nd::Csr A;
+  nd::csr_combine(1e4, ops.M, 1.0, ops.K, A);
+  return A;
+}
+
+// nq points, point q on 6 unknowns spread over [0, n) (ascending, distinct)
+nd::ContactPoints synthetic_points(int64_t n, int nq) {
+  nd::ContactPoints cp;
+  for (int q = 0; q < nq; ++q) {
+    nd::SparseRow a, s;
+    for (int k = 0; k < 6; ++k) a.idx.push_back((q * 5 + k * (n / 6)) % n);
+    std::sort(a.idx.begin(), a.idx.end());
+    for (size_t k = 0; k < a.idx.size(); ++k) {
+      a.val.push_back(std::sin(1.3 * q + 0.7 * static_cast<double>(k)));
+      s.val.push_back(std::cos(0.4 * q - 1.1 * static_cast<double>(k)));
+    }
+    s.idx = a.idx;
+    cp.a.push_back(a);
+    cp.s.push_back(s);
+    cp.gamma.push_back(0.05 + 0.01 * q);
+    cp.w.push_back(1.0);
+  }
+  return cp;
+}
+
+// PETSc's even split of n rows (linalg/petsc.cpp make_layout, blocks of 1)
+std::vector<int> even_owner(int64_t n) {
+  std::vector<int> owner(static_cast<size_t>(n));
+  const int64_t share = n / g_size, extra = n % g_size;
+  for (int r = 0, i = 0; r < g_size; ++r)
+    for (int64_t k = 0; k < share + (r < extra ? 1 : 0); ++k) owner[static_cast<size_t>(i++)] = r;
+  return owner;
+}
+
+bool on_all_ranks(bool ok) {
+  int mine = ok ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  return all == 1;
+}
+
+bool same_on_all_ranks(const std::vector<double> &v) {
+  nd::Hash digest;
+  digest.vec(v);
+  const uint64_t h = digest.h;
+  uint64_t lo = h, hi = h;
+  MPI_Allreduce(&h, &lo, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(&h, &hi, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+  return lo == hi;
+}
+
+double max_abs_diff(const std::vector<double> &a, const std::vector<double> &b) {
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::fabs(a[i] - b[i]));
+  return d;
+}
+double max_abs(const std::vector<double> &a) {
+  double m = 0;
+  for (double x : a) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+// MUMPS (direct: to round-off) and GAMG (to its Krylov tolerance, rtol 1e-12
+// on a matrix of condition ~1e2 here) against CHOLMOD on whole columns
+void check_split_columns(int solver, double tol) {
+  const nd::Csr A = spd_matrix(10);
+  const int64_t n = A.n;
+  const nd::ContactPoints cp = synthetic_points(n, 9);
+  const double theta = -1;  // b_q != p_q: G is not symmetric
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;
+  const std::vector<int> owner = even_owner(n);
+  auto rows = nd::make_share(comm, owner, &counters);
+  nd::DofGeometry g;
+  g.comm = comm;  // row_end < 0: the even split
+  auto split = nd::make_factorization(solver, A, nd::Structure::SymmetricPositiveDefinite, &counters, &g);
+  split->factor(A, nd::Structure::SymmetricPositiveDefinite);
+  auto whole = nd::make_factorization(ND_SOLVER_CHOLMOD, A, nd::Structure::SymmetricPositiveDefinite);
+  whole->factor(A, nd::Structure::SymmetricPositiveDefinite);
+  nd::ContactColumns on_rows(*split, n, 100, rows.get()), all(*whole, n, 100);
+  on_rows.bind(cp, theta);
+  all.bind(cp, theta);
+
+  // the points' DOFs this rank does not own: what each column receives
+  std::vector<char> at_point(static_cast<size_t>(n), 0);
+  for (const nd::SparseRow &a : cp.a)
+    for (int64_t i : a.idx) at_point[i] = 1;
+  int64_t halo = 0;
+  for (int64_t i = 0; i < n; ++i) halo += at_point[i] && owner[i] != g_rank;
+
+  const std::vector<int64_t> S = {0, 2, 3, 5, 8}, T = {1, 2, 4, 5, 6, 7};
+  const int64_t r0 = counters.values_received, s0 = counters.solves;
+  on_rows.require(S);
+  all.require(S);
+  ck_assert_int_eq(counters.solves - s0, 5);
+  ck_assert_msg(on_all_ranks(counters.values_received - r0 == 5 * halo),
+                "rank %d: %lld values received for 5 columns, %lld points' DOFs of other ranks", g_rank,
+                static_cast<long long>(counters.values_received - r0), static_cast<long long>(halo));
+  on_rows.require(T);  // 4 new columns
+  all.require(T);
+  ck_assert_int_eq(on_rows.computed(), 9);
+  ck_assert(on_all_ranks(counters.values_received - r0 == 9 * halo));
+
+  const std::vector<double> G = on_rows.G(T), G_all = all.G(T);
+  ck_assert_msg(on_all_ranks(max_abs_diff(G, G_all) <= tol * max_abs(G_all)), "G off by %g",
+                max_abs_diff(G, G_all) / max_abs(G_all));
+  ck_assert(same_on_all_ranks(G));  // every rank decides its Newton steps on the same bits
+  std::vector<double> dots, dots_all;
+  for (size_t q = 0; q < cp.size(); ++q)
+    for (int64_t j : T) dots.push_back(on_rows.dot(q, j)), dots_all.push_back(all.dot(q, j));
+  ck_assert(on_all_ranks(max_abs_diff(dots, dots_all) <= tol * max_abs(dots_all)));
+  ck_assert(same_on_all_ranks(dots));
+
+  // sums of columns: right at the rank's rows, then completed from the others
+  std::vector<double> f = {0.5, 0.0, -1.25, 2.0, 0.75, -0.3}, x0(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) x0[i] = std::cos(0.37 * static_cast<double>(i));
+  for (int blocked = 0; blocked <= 1; ++blocked) {
+    std::vector<double> x = x0, x_all = x0;
+    if (blocked) {
+      on_rows.subtract_blocked(T, f.data(), x.data());
+      all.subtract_blocked(T, f.data(), x_all.data());
+    } else {
+      on_rows.subtract_each(T, f.data(), x.data());
+      all.subtract_each(T, f.data(), x_all.data());
+    }
+    const int64_t before = counters.values_received;
+    on_rows.complete(x.data());
+    int64_t own = 0;
+    for (int o : owner) own += o == g_rank;
+    ck_assert(on_all_ranks(counters.values_received - before == (g_size > 1 ? n - own : 0)));
+    ck_assert_msg(on_all_ranks(max_abs_diff(x, x_all) <= tol * max_abs(x_all)), "%s sum off by %g",
+                  blocked ? "blocked" : "column-wise", max_abs_diff(x, x_all) / max_abs(x_all));
+    ck_assert(same_on_all_ranks(x));
+  }
+  // the low-rank tangent on the split columns: T^{-1} x, T = A + B D P^T
+  // (6 of the 9 points active at U = 0: those with a negative gap)
+  nd::ContactPoints cp_gaps = cp;
+  for (size_t q = 0; q < cp.size(); ++q) cp_gaps.gap.push_back(q % 3 == 0 ? 1.0 : -1.0);
+  const nd::ContactLaw law{&cp_gaps, theta};
+  const std::vector<double> U(static_cast<size_t>(n), 0.0);
+  nd::ContactColumns lr_rows(*split, n, 100, rows.get()), lr_all(*whole, n, 100);
+  const nd::Structure gen = nd::Structure::General;
+  auto T_rows = nd::make_lowrank_tangent(A, *split, solver, gen, -1, -1, nullptr, &g, &lr_rows);
+  auto T_all = nd::make_lowrank_tangent(A, *whole, ND_SOLVER_CHOLMOD, gen, -1, -1, nullptr, nullptr, &lr_all);
+  std::vector<double> y = x0, y_all = x0;
+  T_rows->solve(law, 10.0, U.data(), true, y.data());
+  T_all->solve(law, 10.0, U.data(), true, y_all.data());
+  ck_assert_int_eq(T_rows->stats.lowrank, 1);
+  ck_assert(on_all_ranks(lr_rows.computed() == 6));
+  ck_assert_msg(on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "T^-1 x off by %g",
+                max_abs_diff(y, y_all) / max_abs(y_all));
+  ck_assert(same_on_all_ranks(y));
+  if (g_rank == 0)
+    std::printf("%s on %d rank(s): 9 columns received %lld values each (rank 0; whole: %lld), G within %.1e\n",
+                split->name(), g_size, static_cast<long long>(halo),
+                static_cast<long long>(g_size > 1 ? n - std::count(owner.begin(), owner.end(), 0) : 0),
+                max_abs_diff(G, G_all) / max_abs(G_all));
+}
+
+START_TEST(columns_on_own_rows_are_the_whole_columns) { check_split_columns(ND_SOLVER_PETSC_MUMPS, 1e-12); }
+END_TEST
+
+START_TEST(columns_on_own_rows_with_gamg) { check_split_columns(ND_SOLVER_PETSC_GAMG, 1e-9); }
+END_TEST
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_SINGLE, &provided);
+  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  Suite *s = suite_create("mpi_contact_columns");
+  TCase *tc = tcase_create("columns");
+  tcase_set_timeout(tc, 300);
+  tcase_add_test(tc, columns_on_own_rows_are_the_whole_columns);
+  tcase_add_test(tc, columns_on_own_rows_with_gamg);
+  suite_add_tcase(s, tc);
+  int status = nd_test_run(s);
+  int worst = 0;  // a failure on any rank fails the run on every rank
+  MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return worst;
+}
