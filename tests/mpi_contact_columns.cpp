@@ -34,14 +34,7 @@ namespace {
 
 int g_rank = 0, g_size = 1;
 
-nd::Csr spd_matrix(int nx) {
-  nd::Space s(ndtest::irregular_rectangle(nx), 1);
-  nd::DofMap dofs(s, {});
-  nd::BulkOperators ops = nd::assemble_bulk(s, dofs, nd::Material{50, 0.25, 1});
-  nd::Csr A;
-  nd::csr_combine(1e4, ops.M, 1.0, ops.K, A);
-  return A;
-}
+using ndtest::spd_matrix;
 
 // nq points, point q on 6 unknowns spread over [0, n) (ascending, distinct)
 nd::ContactPoints synthetic_points(int64_t n, int nq) {

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "assembly/bulk.hpp"
 #include "fem/space.hpp"
 #include "mesh/mesh.hpp"
 
@@ -41,6 +42,17 @@ inline std::shared_ptr<nd::Mesh> irregular_rectangle(int n) {
 inline std::shared_ptr<nd::Mesh> cube_of_tets() {
   const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
   return std::make_shared<nd::Mesh>(nd::make_box(1, 1, 1, lo, hi));
+}
+
+// c M + K on a 2D P1 rectangle with every DOF free: SPD, n = 2 (nx + 1)^2.
+// For nx = 10 (242 unknowns) CHOLMOD picks a simplicial LDL^T.
+inline nd::Csr spd_matrix(int nx) {
+  nd::Space s(irregular_rectangle(nx), 1);
+  nd::DofMap dofs(s, {});
+  nd::BulkOperators ops = nd::assemble_bulk(s, dofs, nd::Material{50, 0.25, 1});
+  nd::Csr A;
+  nd::csr_combine(1e4, ops.M, 1.0, ops.K, A);
+  return A;
 }
 
 // ||a - b|| / ||b|| (2-norms)

@@ -40,16 +40,7 @@ using nd::Definiteness;
 using nd::Structure;
 using ndtest::rel_diff;
 
-// c M + K on a 2D P1 rectangle with every DOF free: SPD, n = 2 (nx + 1)^2.
-// For nx = 10 (242 unknowns) CHOLMOD picks a simplicial LDL^T.
-nd::Csr spd_matrix(int nx) {
-  nd::Space s(ndtest::irregular_rectangle(nx), 1);
-  nd::DofMap dofs(s, {});
-  nd::BulkOperators ops = nd::assemble_bulk(s, dofs, nd::Material{50, 0.25, 1});
-  nd::Csr A;
-  nd::csr_combine(1e4, ops.M, 1.0, ops.K, A);
-  return A;
-}
+using ndtest::spd_matrix;
 
 // Symmetric with one negative eigenvalue at least: a diagonal entry lowered
 // by twice the largest diagonal. It stays a large pivot, so UMFPACK and KLU
