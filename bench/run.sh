@@ -69,15 +69,27 @@ EOF
   # the BLAS comparison: alternating rounds (bench/perf_report.py keeps the
   # fastest run of each setting); a loop under a second is at the mercy of the
   # machine's other jobs (a 65 ms loop differed by 1.35x between two runs of
-  # one setting, 2026-11-25): five rounds of it, two of a longer one
+  # one setting, 2026-11-25): five rounds of it, three of a longer one. Each
+  # round starts with another setting: with a fixed order one setting always
+  # ran right after GetFEM's run (2026-11-26: the default's two runs of
+  # ball_h4 P2 both 1.24x the one thread's, none in 3 pairs run by hand)
   run="$build/disk_bench $dim $meshes/$mesh.msh $degree 0.05 $T 0 newmark"
-  rounds=2
+  rounds=3
   awk -v s="$(tail -1 "$ours" | cut -d, -f12)" 'BEGIN { exit !(s < 1) }' && rounds=5
   i=0
   while [ $i -lt $rounds ]; do
-    env -u OPENBLAS_NUM_THREADS $run >> "$ours"
-    env -u OPENBLAS_NUM_THREADS ND_BENCH_BLAS_LIMIT=0 $run >> "$ours"
-    [ $i -gt 0 ] && OPENBLAS_NUM_THREADS=1 $run >> "$ours"  # (round 0's: the run above)
+    case $((i % 3)) in
+      0) order="default unlimited one" ;;
+      1) order="unlimited one default" ;;
+      *) order="one default unlimited" ;;
+    esac
+    for setting in $order; do
+      case $setting in
+        default) env -u OPENBLAS_NUM_THREADS $run >> "$ours" ;;
+        unlimited) env -u OPENBLAS_NUM_THREADS ND_BENCH_BLAS_LIMIT=0 $run >> "$ours" ;;
+        one) if [ $i -gt 0 ]; then OPENBLAS_NUM_THREADS=1 $run >> "$ours"; fi ;;  # (round 0's: the run above)
+      esac
+    done
     i=$((i + 1))
   done
   echo "$tag: $(tail -3 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $(tail -1 "$getfem" | cut -d, -f7,8,11)"

@@ -92,8 +92,8 @@ double max_abs(const std::vector<double> &a) {
   return m;
 }
 
-// MUMPS (direct: to round-off) and GAMG (to its Krylov tolerance, rtol 1e-12
-// on a matrix of condition ~1e2 here) against CHOLMOD on whole columns
+// MUMPS (direct: to round-off) and GAMG (a Krylov solve to rtol 1e-12: the
+// 1e-9 that unit_linalg allows its solves) against CHOLMOD on whole columns
 void check_split_columns(int solver, double tol) {
   const nd::Csr A = spd_matrix(10);
   const int64_t n = A.n;
