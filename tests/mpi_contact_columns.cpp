@@ -164,6 +164,19 @@ void check_split_columns(int solver, double tol) {
                   blocked ? "blocked" : "column-wise", max_abs_diff(x, x_all) / max_abs(x_all));
     ck_assert(same_on_all_ranks(x));
   }
+  // a solve kept at the held rows (the condensed Newton's y0), then completed
+  {
+    std::vector<double> y = x0, y_all = x0;
+    const int64_t before = counters.values_received;
+    ck_assert(on_rows.solve_held(y.data()) == (g_size > 1));
+    ck_assert(on_all_ranks(counters.values_received - before == halo));
+    on_rows.complete(y.data());
+    whole->solve(y_all.data());
+    ck_assert_msg(on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "y0 off by %g",
+                  max_abs_diff(y, y_all) / max_abs(y_all));
+    ck_assert(same_on_all_ranks(y));
+  }
+
   // the low-rank tangent on the split columns: T^{-1} x, T = A + B D P^T
   // (6 of the 9 points active at U = 0: those with a negative gap)
   nd::ContactPoints cp_gaps = cp;

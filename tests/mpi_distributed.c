@@ -151,6 +151,45 @@ START_TEST(histories_match_the_serial_solve) {
 }
 END_TEST
 
+/* Through the release (the disk with Newmark(1/4, 1/2) to t = 28: impact
+ * at t = 10.25, release at t = 27.5 with tau = 0.25): the step that starts
+ * in contact and ends free makes the condensed Newton's U = A^-1 r from a
+ * y0 solved at the columns' rows only (points active at the predictor),
+ * completed from the other ranks. MUMPS on split rows against one process
+ * with CHOLMOD, to 1e-8 as above. */
+START_TEST(contact_release_on_split_rows) {
+  enum { kRelease = 112 };
+  /* Newmark: [P]_+ of the new state, no force once every point has left
+     (the hybrid scheme's Phi still reads P^n at the release step) */
+  const double newmark[2] = {0.25, 0.5};
+  char mesh[512];
+  snprintf(mesh, sizeof mesh, "%s/disk_h4.msh", ND_MESH_DIR);
+  nd_problem alone = NULL, split = NULL;
+  ND_OK_OR_FAIL(drop_scene_create(2, mesh, 1, ND_SCHEME_NEWMARK, newmark, 1.0, 1e-3, kTau, ND_SOLVER_CHOLMOD, &alone));
+  ND_OK_OR_FAIL(drop_scene_create(2, mesh, 1, ND_SCHEME_NEWMARK, newmark, 1.0, 1e-3, kTau, ND_SOLVER_PETSC_MUMPS,
+                                  &split));
+  ND_OK_OR_FAIL(nd_problem_set_comm(split, MPI_COMM_WORLD));
+  double e[kRelease], e_split[kRelease], f[kRelease], f_split[kRelease];
+  int contact = 0, released = 0;
+  for (int k = 0; k < kRelease; ++k) {
+    ND_OK_OR_FAIL(nd_step(alone));
+    ND_OK_OR_FAIL(nd_step(split));
+    e[k] = scalar(alone, ND_ENERGY_AUGMENTED), e_split[k] = scalar(split, ND_ENERGY_AUGMENTED);
+    f[k] = scalar(alone, ND_CONTACT_FORCE), f_split[k] = scalar(split, ND_CONTACT_FORCE);
+    const double active = scalar(alone, ND_ACTIVE_POINTS);
+    ck_assert_msg(on_all_ranks(scalar(split, ND_ACTIVE_POINTS) == active), "step %d: active sets differ", k);
+    released += contact && active == 0;
+    contact = active > 0;
+  }
+  const double de = relative_gap(e, e_split, kRelease), df = relative_gap(f, f_split, kRelease);
+  if (g_rank == 0) printf("release, %d rank(s): energy %.2e, force %.2e off one process\n", g_size, de, df);
+  ck_assert_msg(released == 1, "%d releases within the horizon", released);
+  ck_assert_msg(on_all_ranks(de <= 1e-8 && df <= 1e-8), "energy %.3g, force %.3g off one process", de, df);
+  ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+  ND_OK_OR_FAIL(nd_problem_destroy(&split));
+}
+END_TEST
+
 /* The schemes that carry an acceleration (their right-hand sides read M A^n
  * as well: with split operators a rank holds its rows of it only), and the
  * theta scheme, on split rows with MUMPS: the same histories as one process
@@ -870,6 +909,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, each_rank_reads_its_part_of_a_field);
   tcase_add_test(tc, histories_match_the_serial_solve);
   tcase_add_test(tc, implicit_schemes_on_split_rows);
+  tcase_add_test(tc, contact_release_on_split_rows);
   tcase_add_test(tc, contact_points_and_rows_on_their_ranks);
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);

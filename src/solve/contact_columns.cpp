@@ -120,6 +120,17 @@ void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const doubl
   subtract_blocked_at(S, f, x, [at](int64_t i) { return at[i]; });
 }
 
+bool ContactColumns::solve_held(double *x) const {
+  if (at_.empty()) {
+    A_factor_.solve(x);
+    return false;
+  }
+  std::vector<double> kept(at_.size());
+  A_factor_.solve_many_at(x, n_, 1, at_, kept.data());
+  for (size_t i = 0; i < at_.size(); ++i) x[at_[i]] = kept[i];
+  return true;
+}
+
 void ContactColumns::complete(double *x) const {
   if (rows_) gather(*rows_, {x});
 }

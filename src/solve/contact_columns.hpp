@@ -41,6 +41,9 @@ class ContactColumns {
   // x right at the held rows: its other rows from their ranks (collective
   // when columns are held on own rows; else nothing to do)
   void complete(double *x) const;
+  // x <- A^{-1} x at the held rows (its other rows stale until complete());
+  // true when only those were gathered (columns held on own rows)
+  bool solve_held(double *x) const;
   // G_ij = p_i . Z_j for i, j in S (after require(S)); the entries of pairs of
   // the last S are kept
   const std::vector<double> &G(const std::vector<int64_t> &S);

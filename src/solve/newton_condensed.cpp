@@ -68,7 +68,11 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     return out;
   }
   std::vector<double> y0 = r;
-  A_factor.solve(y0.data());
+  // points active at the predictor: y0 is read where the columns are held
+  // (their P, the sums of columns), so on split rows only those rows travel
+  bool y0_held = false;
+  if (S.empty()) A_factor.solve(y0.data());
+  else y0_held = columns.solve_held(y0.data());
   if (S.empty() && law.certainly_free(y0)) {
     // no point active at the predictor nor at U = A^{-1} r: the first
     // iteration below would find the set empty and stop there, with U = y0
@@ -172,7 +176,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (!any_force) U.swap(y0);  // no contact force: U = A^{-1} r
     else if (through_U) U.swap(Ut);
     else form_U(y0, S, phi, c, columns, U);
-    if (any_force) columns.complete(U.data());  // (Ut read only the points' DOFs, which are held)
+    if (any_force || y0_held) columns.complete(U.data());  // (Ut read only the points' DOFs, which are held)
     if (!any_force) {  // U = A^{-1} r with N(U) = 0: exact to the solve's round-off
       res.converged = true;
       return out;
