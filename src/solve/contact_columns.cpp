@@ -82,42 +82,41 @@ double ContactColumns::dot(size_t q, int64_t j) const {
   return p_dot(*cp_, q, column(j), place_.empty() ? nullptr : place_.data());
 }
 
+template <class F>
+void ContactColumns::with_rows(F &&f) const {
+  if (at_.empty()) return f([](int64_t i) { return i; });
+  const int64_t *at = at_.data();
+  f([at](int64_t i) { return at[i]; });
+}
+
 void ContactColumns::subtract_each(const std::vector<int64_t> &S, const double *f, double *__restrict x) const {
   const int64_t m = held();
-  for (size_t j = 0; j < S.size(); ++j) {
-    if (f[j] == 0) continue;
-    const double *__restrict z = column(S[j]);
-    const double fj = f[j];
-    if (at_.empty()) {
-      for (int64_t i = 0; i < m; ++i) x[i] -= fj * z[i];
-    } else {
-      for (int64_t i = 0; i < m; ++i) x[at_[i]] -= fj * z[i];
+  with_rows([&](auto row) {
+    for (size_t j = 0; j < S.size(); ++j) {
+      if (f[j] == 0) continue;
+      const double *__restrict z = column(S[j]);
+      const double fj = f[j];
+      for (int64_t i = 0; i < m; ++i) x[row(i)] -= fj * z[i];
     }
-  }
+  });
 }
 
-template <class Row>
-void ContactColumns::subtract_blocked_at(const std::vector<int64_t> &S, const double *f, double *__restrict x,
-                                         Row row) const {
+void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const double *f, double *__restrict x) const {
   const int64_t m = held(), k = static_cast<int64_t>(S.size());
-  int64_t j = 0;
-  for (; j + 4 <= k; j += 4) {
-    const double *__restrict z0 = column(S[j]), *__restrict z1 = column(S[j + 1]), *__restrict z2 = column(S[j + 2]),
-                             *__restrict z3 = column(S[j + 3]);
-    const double f0 = f[j], f1 = f[j + 1], f2 = f[j + 2], f3 = f[j + 3];
-    for (int64_t i = 0; i < m; ++i) x[row(i)] -= (f0 * z0[i] + f1 * z1[i]) + (f2 * z2[i] + f3 * z3[i]);
-  }
-  for (; j < k; ++j) {
-    const double *__restrict z = column(S[j]);
-    const double fj = f[j];
-    for (int64_t i = 0; i < m; ++i) x[row(i)] -= fj * z[i];
-  }
-}
-
-void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const double *f, double *x) const {
-  if (at_.empty()) return subtract_blocked_at(S, f, x, [](int64_t i) { return i; });
-  const int64_t *at = at_.data();
-  subtract_blocked_at(S, f, x, [at](int64_t i) { return at[i]; });
+  with_rows([&](auto row) {
+    int64_t j = 0;
+    for (; j + 4 <= k; j += 4) {
+      const double *__restrict z0 = column(S[j]), *__restrict z1 = column(S[j + 1]),
+                               *__restrict z2 = column(S[j + 2]), *__restrict z3 = column(S[j + 3]);
+      const double f0 = f[j], f1 = f[j + 1], f2 = f[j + 2], f3 = f[j + 3];
+      for (int64_t i = 0; i < m; ++i) x[row(i)] -= (f0 * z0[i] + f1 * z1[i]) + (f2 * z2[i] + f3 * z3[i]);
+    }
+    for (; j < k; ++j) {
+      const double *__restrict z = column(S[j]);
+      const double fj = f[j];
+      for (int64_t i = 0; i < m; ++i) x[row(i)] -= fj * z[i];
+    }
+  });
 }
 
 bool ContactColumns::solve_held(double *x) const {

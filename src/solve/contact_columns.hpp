@@ -51,8 +51,9 @@ class ContactColumns {
  private:
   const double *column(int64_t q) const { return Z_[static_cast<size_t>(q)].data(); }
   int64_t held() const { return at_.empty() ? n_ : static_cast<int64_t>(at_.size()); }
-  template <class Row>
-  void subtract_blocked_at(const std::vector<int64_t> &S, const double *f, double *x, Row row) const;
+  // f(row) with row(i) the unknown of a column's i-th value (the identity when whole)
+  template <class F>
+  void with_rows(F &&f) const;
 
   const Factorization &A_factor_;
   int64_t n_, max_columns_, held_ = 0, computed_ = 0;
