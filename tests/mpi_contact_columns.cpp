@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "assembly/bulk.hpp"
-#include "common/hash.hpp"
 #include "linalg/factorization.hpp"
 #include "parallel/communicator_mpi.hpp"
 #include "parallel/share.hpp"
@@ -28,7 +27,7 @@
 // last: check.h's fail() macro would clash with nd::fail and std::ios::fail
 #include <check.h>
 
-#include "testutil.h"
+#include "testutil_mpi.h"
 
 namespace {
 
@@ -65,20 +64,8 @@ std::vector<int> even_owner(int64_t n) {
   return owner;
 }
 
-bool on_all_ranks(bool ok) {
-  int mine = ok ? 1 : 0, all = 0;
-  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  return all == 1;
-}
-
 bool same_on_all_ranks(const std::vector<double> &v) {
-  nd::Hash digest;
-  digest.vec(v);
-  const uint64_t h = digest.h;
-  uint64_t lo = h, hi = h;
-  MPI_Allreduce(&h, &lo, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(&h, &hi, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
-  return lo == hi;
+  return nd_test_same_on_all_ranks(v.data(), static_cast<int>(sizeof(double) * v.size())) != 0;
 }
 
 double max_abs_diff(const std::vector<double> &a, const std::vector<double> &b) {
@@ -125,22 +112,22 @@ void check_split_columns(int solver, double tol) {
   on_rows.require(S);
   all.require(S);
   ck_assert_int_eq(counters.solves - s0, 5);
-  ck_assert_msg(on_all_ranks(counters.values_received - r0 == 5 * halo),
+  ck_assert_msg(nd_test_on_all_ranks(counters.values_received - r0 == 5 * halo),
                 "rank %d: %lld values received for 5 columns, %lld points' DOFs of other ranks", g_rank,
                 static_cast<long long>(counters.values_received - r0), static_cast<long long>(halo));
   on_rows.require(T);  // 4 new columns
   all.require(T);
   ck_assert_int_eq(on_rows.computed(), 9);
-  ck_assert(on_all_ranks(counters.values_received - r0 == 9 * halo));
+  ck_assert(nd_test_on_all_ranks(counters.values_received - r0 == 9 * halo));
 
   const std::vector<double> G = on_rows.G(T), G_all = all.G(T);
-  ck_assert_msg(on_all_ranks(max_abs_diff(G, G_all) <= tol * max_abs(G_all)), "G off by %g",
+  ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(G, G_all) <= tol * max_abs(G_all)), "G off by %g",
                 max_abs_diff(G, G_all) / max_abs(G_all));
   ck_assert(same_on_all_ranks(G));  // every rank decides its Newton steps on the same bits
   std::vector<double> dots, dots_all;
   for (size_t q = 0; q < cp.size(); ++q)
     for (int64_t j : T) dots.push_back(on_rows.dot(q, j)), dots_all.push_back(all.dot(q, j));
-  ck_assert(on_all_ranks(max_abs_diff(dots, dots_all) <= tol * max_abs(dots_all)));
+  ck_assert(nd_test_on_all_ranks(max_abs_diff(dots, dots_all) <= tol * max_abs(dots_all)));
   ck_assert(same_on_all_ranks(dots));
 
   // sums of columns: right at the rank's rows, then completed from the others
@@ -159,8 +146,8 @@ void check_split_columns(int solver, double tol) {
     on_rows.complete(x.data());
     int64_t own = 0;
     for (int o : owner) own += o == g_rank;
-    ck_assert(on_all_ranks(counters.values_received - before == (g_size > 1 ? n - own : 0)));
-    ck_assert_msg(on_all_ranks(max_abs_diff(x, x_all) <= tol * max_abs(x_all)), "%s sum off by %g",
+    ck_assert(nd_test_on_all_ranks(counters.values_received - before == (g_size > 1 ? n - own : 0)));
+    ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(x, x_all) <= tol * max_abs(x_all)), "%s sum off by %g",
                   blocked ? "blocked" : "column-wise", max_abs_diff(x, x_all) / max_abs(x_all));
     ck_assert(same_on_all_ranks(x));
   }
@@ -169,10 +156,10 @@ void check_split_columns(int solver, double tol) {
     std::vector<double> y = x0, y_all = x0;
     const int64_t before = counters.values_received;
     ck_assert(on_rows.solve_held(y.data()) == (g_size > 1));
-    ck_assert(on_all_ranks(counters.values_received - before == halo));
+    ck_assert(nd_test_on_all_ranks(counters.values_received - before == halo));
     on_rows.complete(y.data());
     whole->solve(y_all.data());
-    ck_assert_msg(on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "y0 off by %g",
+    ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "y0 off by %g",
                   max_abs_diff(y, y_all) / max_abs(y_all));
     ck_assert(same_on_all_ranks(y));
   }
@@ -191,8 +178,8 @@ void check_split_columns(int solver, double tol) {
   T_rows->solve(law, 10.0, U.data(), true, y.data());
   T_all->solve(law, 10.0, U.data(), true, y_all.data());
   ck_assert_int_eq(T_rows->stats.lowrank, 1);
-  ck_assert(on_all_ranks(lr_rows.computed() == 6));
-  ck_assert_msg(on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "T^-1 x off by %g",
+  ck_assert(nd_test_on_all_ranks(lr_rows.computed() == 6));
+  ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "T^-1 x off by %g",
                 max_abs_diff(y, y_all) / max_abs(y_all));
   ck_assert(same_on_all_ranks(y));
   if (g_rank == 0)
@@ -221,9 +208,5 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, columns_on_own_rows_are_the_whole_columns);
   tcase_add_test(tc, columns_on_own_rows_with_gamg);
   suite_add_tcase(s, tc);
-  int status = nd_test_run(s);
-  int worst = 0;  // a failure on any rank fails the run on every rank
-  MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Finalize();
-  return worst;
+  return nd_test_run_on_ranks(s);
 }

@@ -28,7 +28,7 @@
 
 #include "drop_scene.h"
 #include "nitschedyn_mpi.h"
-#include "testutil.h"
+#include "testutil_mpi.h"
 
 enum { kSteps = 44 }; /* tau = 0.25: free fall, the impact at t = 10, and contact until t = 11 */
 static const double kTau = 0.25;
@@ -76,25 +76,6 @@ static double relative_gap(const double *ref, const double *x, int n) {
   double d = 0;
   for (int i = 0; i < n; ++i) d = fmax(d, fabs(x[i] - ref[i]));
   return d / max_abs(ref, n);
-}
-
-/* a verdict of every rank (a check that fails on some ranks only would
- * leave the others waiting in the next collective call) */
-static int on_all_ranks(int ok) {
-  int all = 0;
-  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
-  return all;
-}
-
-/* every rank holds the same value (bitwise) */
-static int same_on_all_ranks(const void *data, int nbytes) {
-  unsigned char *root = malloc((size_t)nbytes);
-  memcpy(root, data, (size_t)nbytes);
-  MPI_Bcast(root, nbytes, MPI_BYTE, 0, MPI_COMM_WORLD);
-  int same = memcmp(root, data, (size_t)nbytes) == 0, all = 0;
-  MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
-  free(root);
-  return all;
 }
 
 /* The Krylov stopping rule of ND_SOLVER_PETSC_GAMG is ||b - A x|| <= rtol ||b||,
@@ -145,8 +126,8 @@ START_TEST(histories_match_the_serial_solve) {
     ck_assert_msg(memcmp(serial.active, mumps.active, sizeof serial.active) == 0, "%dD: MUMPS's active sets differ",
                   dim);
     /* the ranks agree exactly: the solution is gathered, everything else is replicated */
-    ck_assert(same_on_all_ranks(&mumps, (int)sizeof mumps - (int)sizeof mumps.solves));
-    ck_assert(same_on_all_ranks(&gamg, (int)sizeof gamg - (int)sizeof gamg.solves));
+    ck_assert(nd_test_same_on_all_ranks(&mumps, (int)sizeof mumps - (int)sizeof mumps.solves));
+    ck_assert(nd_test_same_on_all_ranks(&gamg, (int)sizeof gamg - (int)sizeof gamg.solves));
   }
 }
 END_TEST
@@ -177,14 +158,14 @@ START_TEST(contact_release_on_split_rows) {
     e[k] = scalar(alone, ND_ENERGY_AUGMENTED), e_split[k] = scalar(split, ND_ENERGY_AUGMENTED);
     f[k] = scalar(alone, ND_CONTACT_FORCE), f_split[k] = scalar(split, ND_CONTACT_FORCE);
     const double active = scalar(alone, ND_ACTIVE_POINTS);
-    ck_assert_msg(on_all_ranks(scalar(split, ND_ACTIVE_POINTS) == active), "step %d: active sets differ", k);
+    ck_assert_msg(nd_test_on_all_ranks(scalar(split, ND_ACTIVE_POINTS) == active), "step %d: active sets differ", k);
     released += contact && active == 0;
     contact = active > 0;
   }
   const double de = relative_gap(e, e_split, kRelease), df = relative_gap(f, f_split, kRelease);
   if (g_rank == 0) printf("release, %d rank(s): energy %.2e, force %.2e off one process\n", g_size, de, df);
   ck_assert_msg(released == 1, "%d releases within the horizon", released);
-  ck_assert_msg(on_all_ranks(de <= 1e-8 && df <= 1e-8), "energy %.3g, force %.3g off one process", de, df);
+  ck_assert_msg(nd_test_on_all_ranks(de <= 1e-8 && df <= 1e-8), "energy %.3g, force %.3g off one process", de, df);
   ND_OK_OR_FAIL(nd_problem_destroy(&alone));
   ND_OK_OR_FAIL(nd_problem_destroy(&split));
 }
@@ -215,9 +196,9 @@ START_TEST(implicit_schemes_on_split_rows) {
       const double f = relative_gap(serial.force, split.force, kSteps);
       if (g_rank == 0)
         printf("%dD scheme %d, %d rank(s): energy %.2e force %.2e off one process\n", dim, schemes[k], g_size, e, f);
-      ck_assert_msg(on_all_ranks(e <= 1e-8 && f <= 1e-8), "%dD scheme %d: energy %.3g, force %.3g", dim, schemes[k],
+      ck_assert_msg(nd_test_on_all_ranks(e <= 1e-8 && f <= 1e-8), "%dD scheme %d: energy %.3g, force %.3g", dim, schemes[k],
                     e, f);
-      ck_assert_msg(on_all_ranks(memcmp(serial.active, split.active, sizeof serial.active) == 0),
+      ck_assert_msg(nd_test_on_all_ranks(memcmp(serial.active, split.active, sizeof serial.active) == 0),
                     "%dD scheme %d: the active sets differ", dim, schemes[k]);
     }
   }
@@ -294,7 +275,7 @@ static void compare_split(nd_problem alone, nd_problem split, int dim, int steps
     ck_assert_msg(scalar(alone, ND_ACTIVE_POINTS) == scalar(split, ND_ACTIVE_POINTS), "%s step %d: active sets differ",
                   what, k);
     active_alone = fmax(active_alone, scalar(alone, ND_ACTIVE_POINTS));
-    ck_assert(same_on_all_ranks(&e_split, (int)sizeof e_split));
+    ck_assert(nd_test_same_on_all_ranks(&e_split, (int)sizeof e_split));
   }
   ck_assert_msg(active_alone > 0, "%s: no contact within the horizon", what);
   snapshot a = take_in(alone, dim), b = take_in(split, dim);
@@ -315,7 +296,7 @@ static void compare_split(nd_problem alone, nd_problem split, int dim, int steps
                       ND_STAT_CONTACT_EVALUATIONS, ND_STAT_SPMV, ND_NEWTON_ITERATIONS_TOTAL};
   for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
     const double x = scalar(split, keys[i]);
-    ck_assert_msg(same_on_all_ranks(&x, (int)sizeof x), "%s: statistic %d differs between the ranks", what, keys[i]);
+    ck_assert_msg(nd_test_same_on_all_ranks(&x, (int)sizeof x), "%s: statistic %d differs between the ranks", what, keys[i]);
     ck_assert_double_eq(x, scalar(alone, keys[i]));
   }
   drop(&a), drop(&b);
@@ -408,7 +389,7 @@ START_TEST(a_load_refused_on_one_rank_fails_the_step_everywhere) {
   ND_OK_OR_FAIL(nd_step(p));
   snapshot next = take(p);
   ck_assert(next.t > before.t);
-  ck_assert(same_on_all_ranks(next.u, (int)(sizeof(double) * (size_t)next.n)));
+  ck_assert(nd_test_same_on_all_ranks(next.u, (int)(sizeof(double) * (size_t)next.n)));
   drop(&before), drop(&after), drop(&next);
   free(f);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
@@ -429,7 +410,7 @@ START_TEST(checkpoint_restores_bitwise) {
     ND_OK_OR_FAIL(nd_problem_get_state_size(p, &nbytes));
     unsigned char *buf = malloc((size_t)nbytes), *again = malloc((size_t)nbytes);
     ND_OK_OR_FAIL(nd_problem_save_state(p, nbytes, buf));
-    ck_assert_msg(same_on_all_ranks(buf, (int)nbytes), "the checkpoints of the ranks differ");
+    ck_assert_msg(nd_test_same_on_all_ranks(buf, (int)nbytes), "the checkpoints of the ranks differ");
     snapshot saved = take(p);
     for (int k = 0; k < 8; ++k) ND_OK_OR_FAIL(nd_step(p)); /* through the impact at t = 10 */
     snapshot straight = take(p);
@@ -724,7 +705,7 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
                "(%.0f other rows, %.0f points evaluated by the others)\n", dim, solver, g_size, other, rows, nc);
       /* the P_q and u_n - g0 of the other ranks' points (the new state's
          pass over the points) and each other rank's two energy sums */
-      ck_assert_msg(on_all_ranks(other == 2 * nc + 2 * (g_size - 1)), "%dD: %g values besides the solutions, %g points",
+      ck_assert_msg(nd_test_on_all_ranks(other == 2 * nc + 2 * (g_size - 1)), "%dD: %g values besides the solutions, %g points",
                     dim, other, nc);
     }
     /* through the impact: the Newton residuals stay on their rows too, so
@@ -758,14 +739,14 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
       if (g_rank == 0)
         printf("%dD GAMG, %d rank(s), %d steps through the impact: received - solutions - points' values = %.0f "
                "(sums: %.0f to %.0f)\n", dim, g_size, steps, sums, least, most);
-      ck_assert_msg(on_all_ranks(sums >= least && sums <= most), "%dD: %g values besides the solutions and the points",
+      ck_assert_msg(nd_test_on_all_ranks(sums >= least && sums <= most), "%dD: %g values besides the solutions and the points",
                     dim, sums);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
     free_step_receives(dim, ND_SOLVER_CHOLMOD, &other, &rows, &nc);
     if (g_rank == 0)
       printf("%dD CHOLMOD on every rank: %.0f values received (%.0f other rows)\n", dim, other, rows);
-    ck_assert_msg(on_all_ranks(other == 3 * rows + 2 * nc + 2 * (g_size - 1)),
+    ck_assert_msg(nd_test_on_all_ranks(other == 3 * rows + 2 * nc + 2 * (g_size - 1)),
                   "%dD whole operators: %g values received, %g other rows", dim, other, rows);
   }
 }
@@ -918,10 +899,5 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, explicit_steps_on_split_rows);
   tcase_add_test(tc, a_bar_on_more_ranks_than_cells);
   suite_add_tcase(s, tc);
-  int status = nd_test_run(s);
-  /* a failure on any rank fails the run on every rank */
-  int worst = 0;
-  MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Finalize();
-  return worst;
+  return nd_test_run_on_ranks(s);
 }
