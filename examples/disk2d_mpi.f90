@@ -7,21 +7,26 @@
 ! problem (the mesh and the state are replicated); nd_problem_set_comm_f gives
 ! it MPI_COMM_WORLD, and the PETSc solver spreads the linear solves over the
 ! ranks. Rank 0 prints t, the augmented energy E_Theta and the contact force
-! after every step, with 17 significant digits.
+! after every step, with 17 significant digits. With OUT, rank 0 also writes
+! the final displacement there (u_x u_y per node), gathered from the ranks
+! that own the nodes by nd_get_field_gathered: the array exists on rank 0
+! alone, as in a code whose I/O rank holds the whole field.
 !
-! usage: mpiexec -n N disk2d_mpi MESH [mumps|gamg|serial] [T] [tau]
+! usage: mpiexec -n N disk2d_mpi MESH [mumps|gamg|serial] [T] [tau] [OUT]
 !   serial: CHOLMOD on every rank, no communicator (the reference).
 ! Exit status: 0 ok, 1 library error, 2 usage error.
 program disk2d_mpi
-  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated
+  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_ptr, c_null_ptr, c_associated
   use mpi, only: MPI_COMM_WORLD, mpi_init, mpi_finalize, mpi_comm_rank
   use nitschedyn
   implicit none
-  character(len=1024) :: mesh_path, arg
+  character(len=1024) :: mesh_path, arg, out_path = ''
+  real(c_double), allocatable :: u(:, :)
+  integer(c_int64_t) :: n_nodes
   character(len=16) :: solver_name
   type(c_ptr) :: m = c_null_ptr, p = c_null_ptr
   integer(c_int) :: status, solver
-  integer :: ierr, rank, k, steps
+  integer :: ierr, rank, k, steps, unit
   real(c_double) :: t_end = 11, tau = 0.25_c_double, t, e, force
   real(c_double), parameter :: lambda = 20, mu = 20
   real(c_double) :: young, nu
@@ -44,6 +49,7 @@ program disk2d_mpi
     call get_command_argument(4, arg)
     read (arg, *) tau
   end if
+  if (command_argument_count() >= 5) call get_command_argument(5, out_path)
   select case (trim(solver_name))
   case ('mumps')
     solver = ND_SOLVER_PETSC_MUMPS
@@ -82,6 +88,21 @@ program disk2d_mpi
     if (status == ND_OK) status = nd_get_scalar(p, ND_CONTACT_FORCE, force)
     if (status == ND_OK .and. rank == 0) print '(f10.4, 2es26.17)', t, e, force
   end do
+  ! the final displacement on rank 0: every rank calls the gather, only rank 0 has the array
+  if (status == ND_OK .and. len_trim(out_path) > 0) then
+    status = nd_problem_get_node_count(p, n_nodes)
+    if (status == ND_OK .and. rank == 0) then
+      allocate(u(2, n_nodes))
+      status = nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, 0_c_int, n_nodes, u)
+    else
+      status = nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, 0_c_int, 0_c_int64_t)
+    end if
+    if (status == ND_OK .and. rank == 0) then
+      open (newunit=unit, file=trim(out_path), status='replace', action='write')
+      write (unit, '(2es26.17)') u
+      close (unit)
+    end if
+  end if
   if (status /= ND_OK) print '(a, i0, 2a)', 'rank ', rank, ': ', nd_last_error_f()
   if (c_associated(p)) ierr = nd_problem_destroy(p) ! collective: before MPI_Finalize
   call mpi_finalize(ierr)

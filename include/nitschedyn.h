@@ -272,6 +272,13 @@ ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out);
    are disjoint and cover every node, with nd_get_field's values. */
 ND_EXPORT int nd_problem_get_owned_node_count(nd_problem p, int64_t *n_owned);
 ND_EXPORT int nd_get_field_owned(nd_problem p, int field, int64_t n_owned, double *values, int64_t *nodes);
+/* The whole field on one rank: out (n*dim, n the node count) on rank `root`
+   of the problem's communicator, each node's values from the rank that owns
+   it; out and n are not read on the other ranks (out may be NULL there).
+   Collective: every rank calls it with the same field and root, and a call
+   refused on one rank is refused on all. Without a communicator root is 0 and
+   it is nd_get_field. */
+ND_EXPORT int nd_get_field_gathered(nd_problem p, int field, int root, int64_t n, double *out);
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
 /* Checkpoint: the whole state at t^n (t, n, U, V, A, F^n, W, Newton totals,
    the guards' reference) as a versioned, checksummed block of nbytes bytes;

@@ -10,7 +10,9 @@
  *    ranks (slice 4): with CHOLMOD on every rank, bitwise one process's state;
  *  - checkpoint/restart over the same ranks restores the state bitwise;
  *  - each rank's part of every field (nd_get_field_owned): disjoint, covering
- *    every node, bitwise the gathered field;
+ *    every node, bitwise the gathered field; the whole field gathered on one
+ *    rank (nd_get_field_gathered) bitwise, and refused on every rank when
+ *    refused on one;
  *  - the operators M, K, K_Theta held by rows (slice 5), with the energy
  *    and the coercivity check that need every rank's rows;
  *  - on split rows the right-hand side and the Newton residual stay on
@@ -457,7 +459,20 @@ static void check_owned_part(nd_problem p, int field, int dim) {
   double *whole = malloc(sizeof(double) * (size_t)(n * dim));
   double *part = malloc(sizeof(double) * (size_t)(own * dim + 1));
   int64_t *nodes = malloc(sizeof(int64_t) * (size_t)(own + 1));
-  ND_OK_OR_FAIL(nd_get_field(p, field, n, whole));
+  /* gathered on each rank in turn (first: a field that needs a solve makes
+   * it here, collectively): bitwise every rank's copy, nothing written elsewhere */
+  double *gathered = malloc(sizeof(double) * (size_t)(n * dim));
+  for (int root = 0; root < g_size; ++root) {
+    for (int64_t i = 0; i < n * dim; ++i) gathered[i] = -7;
+    ND_OK_OR_FAIL(nd_get_field_gathered(p, field, root, n, gathered));
+    ND_OK_OR_FAIL(nd_get_field(p, field, n, whole));
+    int as_expected = 1;
+    for (int64_t i = 0; i < n * dim; ++i)
+      as_expected &= g_rank == root ? memcmp(&gathered[i], &whole[i], sizeof(double)) == 0 : gathered[i] == -7;
+    ck_assert_msg(nd_test_on_all_ranks(as_expected), "field %d gathered on rank %d: not the field there, or written elsewhere",
+                  field, root);
+  }
+  free(gathered);
   ND_OK_OR_FAIL(nd_get_field_owned(p, field, own, part, nodes));
   for (int64_t i = 0; i < own; ++i) ck_assert(nodes[i] >= 0 && nodes[i] < n && (i == 0 || nodes[i] > nodes[i - 1]));
 
@@ -533,6 +548,31 @@ START_TEST(each_rank_reads_its_part_of_a_field) {
   ck_assert_int_eq(nd_get_field_owned(p, ND_FIELD_REACTION + 1, own, values, nodes), ND_ERR_KEY);
   for (int64_t i = 0; i < 2 * own + 2; ++i) ck_assert(values[i] == -7);
   for (int64_t i = 0; i < own + 1; ++i) ck_assert(nodes[i] == -7);
+  /* the gathered field: a call refused on one rank is refused on every rank
+   * with the same code (none is left waiting in the gather), and writes nothing */
+  int64_t n_all = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n_all));
+  double *whole = malloc(sizeof(double) * (size_t)(2 * n_all));
+  for (int64_t i = 0; i < 2 * n_all; ++i) whole[i] = -7;
+  const int last = g_size - 1;
+  ck_assert_int_eq(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, last, g_rank == last ? n_all + 1 : n_all, whole),
+                   ND_ERR_SIZE);
+  ck_assert_int_eq(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, last, n_all, g_rank == last ? NULL : whole),
+                   ND_ERR_NULL);
+  ck_assert_int_eq(nd_get_field_gathered(p, g_rank == last ? 0 : ND_FIELD_VELOCITY, 0, n_all, whole), ND_ERR_KEY);
+  ck_assert_int_eq(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, g_size, n_all, whole), ND_ERR_VALUE);
+  ck_assert_int_eq(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, -1, n_all, whole), ND_ERR_VALUE);
+  if (g_size > 1) {  /* valid calls that differ: another field, another root */
+    ck_assert_int_eq(nd_get_field_gathered(p, g_rank == last ? ND_FIELD_VELOCITY : ND_FIELD_DISPLACEMENT, 0, n_all, whole),
+                     ND_ERR_VALUE);
+    ck_assert_msg(strstr(nd_last_error(), "same call") != NULL, "%s", nd_last_error());
+    ck_assert_int_eq(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, g_rank == last ? 0 : last, n_all, whole),
+                     ND_ERR_VALUE);
+  }
+  for (int64_t i = 0; i < 2 * n_all; ++i) ck_assert(whole[i] == -7);
+  /* on the other ranks n and out are not read */
+  ND_OK_OR_FAIL(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, 0, g_rank == 0 ? n_all : -3, g_rank == 0 ? whole : NULL));
+  free(whole);
   /* the node numbers alone (no field computed), then the values alone */
   ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_VELOCITY, own, NULL, nodes));
   ck_assert(nodes[own] == -7 && values[0] == -7);

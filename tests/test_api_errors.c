@@ -481,6 +481,8 @@ START_TEST(problem_null_handles) {
   EXPECT_ERR(nd_problem_setup(NULL), ND_ERR_NULL, "nd_problem_setup", fn_null);
   EXPECT_ERR(nd_get_field(NULL, ND_FIELD_DISPLACEMENT, 1, x), ND_ERR_NULL, "nd_get_field",
              fn_null);
+  EXPECT_ERR(nd_get_field_gathered(NULL, ND_FIELD_DISPLACEMENT, 0, 1, x), ND_ERR_NULL,
+             "nd_get_field_gathered", fn_null);
   EXPECT_ERR(nd_get_scalar(NULL, ND_TIME, x), ND_ERR_NULL, "nd_get_scalar", fn_null);
   EXPECT_ERR(nd_get_contact_pressure(NULL, 1, x), ND_ERR_NULL, "nd_get_contact_pressure",
              fn_null);
@@ -527,6 +529,8 @@ START_TEST(problem_null_arrays) {
              "nd_problem_get_contact_point_count", "n_points");
   EXPECT_ERR(nd_get_field(p, ND_FIELD_DISPLACEMENT, n, NULL), ND_ERR_NULL, "nd_get_field",
              "out");
+  EXPECT_ERR(nd_get_field_gathered(p, ND_FIELD_DISPLACEMENT, 0, n, NULL), ND_ERR_NULL,
+             "nd_get_field_gathered", "out");
   EXPECT_ERR(nd_get_scalar(p, ND_TIME, NULL), ND_ERR_NULL, "nd_get_scalar", "out");
   EXPECT_ERR(nd_get_contact_pressure(p, nq, NULL), ND_ERR_NULL, "nd_get_contact_pressure",
              "out");
@@ -852,6 +856,11 @@ START_TEST(step_array_lengths) {
     EXPECT_ERR(nd_get_field(p, field, n - 1, a), ND_ERR_SIZE, "nd_get_field", NULL);
     EXPECT_ERR(nd_get_field(p, field, n + 1, a), ND_ERR_SIZE, "nd_get_field", NULL);
     EXPECT_OK(nd_get_field(p, field, n, a));
+    EXPECT_ERR(nd_get_field_gathered(p, field, 0, n + 1, a), ND_ERR_SIZE, "nd_get_field_gathered", NULL);
+    EXPECT_ERR(nd_get_field_gathered(p, field, 1, n, a), ND_ERR_VALUE, "nd_get_field_gathered", NULL);
+    EXPECT_OK(nd_get_field_gathered(p, field, 0, n, b));
+    ck_assert_msg(memcmp(a, b, sizeof(double) * (size_t)n) == 0, "field %d: gathered on rank 0 of 1 is not nd_get_field's",
+                  field);
   }
   EXPECT_ERR(nd_get_contact_pressure(p, nq + 1, q), ND_ERR_SIZE, "nd_get_contact_pressure",
              NULL);

@@ -46,7 +46,7 @@ module nitschedyn
   public :: nd_problem_estimate_critical_timestep
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
   public :: nd_get_contact_pressure_applied
-  public :: nd_problem_get_owned_node_count, nd_get_field_owned
+  public :: nd_problem_get_owned_node_count, nd_get_field_owned, nd_get_field_gathered
   public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
   public :: nd_problem_save_state_file, nd_problem_load_state_file
   public :: nd_problem_save_state_file_f, nd_problem_load_state_file_f
@@ -496,6 +496,17 @@ module nitschedyn
       integer(c_int64_t), intent(out), optional :: nodes(*)
       integer(c_int) :: status
     end function nd_get_field_owned
+
+    ! out(dim, n) on rank root only (absent elsewhere, n not read): collective,
+    ! see nd_get_field_gathered(3)
+    function nd_get_field_gathered(p, field, root, n, out) result(status) bind(C, name='nd_get_field_gathered')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: field, root
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out), optional :: out(*)
+      integer(c_int) :: status
+    end function nd_get_field_gathered
 
     function nd_get_scalar(p, key, out) result(status) bind(C, name='nd_get_scalar')
       import :: c_int, c_double, c_ptr

@@ -45,6 +45,24 @@ ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
   });
 }
 
+ND_EXPORT int nd_get_field_gathered(nd_problem p, int field, int root, int64_t n, double *out) {
+  return nd::guarded("nd_get_field_gathered", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    // refused on one rank, refused on all: no rank is left waiting in the gather
+    pr.on_every_rank([&] {
+      nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
+      if (root < 0 || root >= pr.rank_count())
+        nd::fail(ND_ERR_VALUE, "root is " + std::to_string(root) + "; the communicator has " +
+                                   std::to_string(pr.rank_count()) + " rank(s)");
+      if (pr.rank() != root) return;
+      need_count(n, pr.space().n_nodes, "nodes");
+      nd::need(out, "out");
+    });
+    pr.gathered_field(field, root, out);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_get_owned_node_count(nd_problem p, int64_t *n_owned) {
   return nd::guarded("nd_problem_get_owned_node_count", [&] {
     nd::Problem &pr = nd::problem_of(p);

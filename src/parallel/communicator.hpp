@@ -28,9 +28,11 @@ int worst_status(const Communicator *c, int status);
 // Whether every rank passed the same digest.
 bool same_on_all_ranks(const Communicator *c, uint64_t digest);
 double max_over_ranks(const Communicator *c, double x);  // the largest of the ranks' x, on every rank
-// MPI_Allgatherv: rank r's `mine` (counts[r] values) lands at all[displs[r]]
-// on every rank.
-void allgather(const Communicator *c, const std::vector<double> &mine, std::vector<double> &all,
-               const std::vector<int> &counts, const std::vector<int> &displs);
+constexpr int kEveryRank = -1;
+// MPI_Gatherv (MPI_Allgatherv for kEveryRank): rank r's `mine` (counts[r]
+// values) lands at all[displs[r]] on `root`, or on every rank; `all` is not
+// read elsewhere.
+void gatherv(const Communicator *c, int root, const std::vector<double> &mine, std::vector<double> &all,
+             const std::vector<int> &counts, const std::vector<int> &displs);
 
 }  // namespace nd

@@ -78,15 +78,19 @@ bool same_on_all_ranks(const Communicator *c, uint64_t digest) {
   return all[0] == ~all[1];
 }
 
-void allgather(const Communicator *c, const std::vector<double> &mine, std::vector<double> &all,
-               const std::vector<int> &counts, const std::vector<int> &displs) {
+void gatherv(const Communicator *c, int root, const std::vector<double> &mine, std::vector<double> &all,
+             const std::vector<int> &counts, const std::vector<int> &displs) {
   if (!c) {
     all = mine;
     return;
   }
-  if (MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(),
-                     displs.data(), MPI_DOUBLE, c->comm) != MPI_SUCCESS)
-    fail(ND_ERR_INTERNAL, "MPI_Allgatherv of the ranks' contact points and products failed");
+  const int n = static_cast<int>(mine.size());
+  const int status =
+      root == kEveryRank
+          ? MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, c->comm)
+          : MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, root,
+                        c->comm);
+  if (status != MPI_SUCCESS) fail(ND_ERR_INTERNAL, "MPI_Gatherv of the ranks' values failed");
 }
 
 }  // namespace nd

@@ -14,8 +14,8 @@ int communicator_rank(const Communicator *) { return 0; }
 int worst_status(const Communicator *, int status) { return status; }
 bool same_on_all_ranks(const Communicator *, uint64_t) { return true; }
 double max_over_ranks(const Communicator *, double x) { return x; }
-void allgather(const Communicator *, const std::vector<double> &mine, std::vector<double> &all,
-               const std::vector<int> &, const std::vector<int> &) {
+void gatherv(const Communicator *, int, const std::vector<double> &mine, std::vector<double> &all,
+             const std::vector<int> &, const std::vector<int> &) {
   all = mine;
 }
 

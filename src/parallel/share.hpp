@@ -50,4 +50,10 @@ double norm2_rows(const Share *rows, int64_t n, const double *x);
 // the totals out (rank 0's + rank 1's + ...). Collective.
 void gather(const Share &s, const std::vector<double *> &fields, double *sums = nullptr, int n_sums = 0);
 
+// mine: `width` values per own item, item after item (ascending); on `root`,
+// all (width values per item, item-major) afterwards holds every item's,
+// each from its owner. Not counted in values_received: it serves a caller's
+// read, not a step. Collective.
+void gather_items(const Share &s, int root, int width, const double *mine, double *all);
+
 }  // namespace nd

@@ -380,6 +380,16 @@ int status_of(const std::exception_ptr &e) {
     return ND_ERR_INTERNAL;
   }
 }
+// The ranks' outcome of what each did alone: a rank it failed on rethrows its
+// error, the others fail with the worst status of all. Collective.
+void agree_on_outcome(const Communicator *c, const std::exception_ptr &failure, const char *what,
+                      const char *consequence) {
+  const int worst = worst_status(c, failure ? status_of(failure) : ND_OK);
+  if (failure) std::rethrow_exception(failure);
+  if (worst != ND_OK)
+    fail(worst, std::string(what) + " failed on another rank (" + nd_strerror(worst) + "); " + consequence +
+                    ": see that rank's error");
+}
 }  // namespace
 
 void Problem::step() {
@@ -394,13 +404,18 @@ void Problem::step() {
   } catch (...) {
     failure = std::current_exception();
   }
-  // every rank commits the step or none does
-  const int worst = worst_status(def_.comm.get(), failure ? status_of(failure) : ND_OK);
-  if (failure) std::rethrow_exception(failure);
-  if (worst != ND_OK)
-    fail(worst, std::string("the step failed on another rank (") + nd_strerror(worst) +
-                    "); no rank took it: see that rank's error");
+  agree_on_outcome(def_.comm.get(), failure, "the step", "no rank took it");  // every rank commits the step or none does
   state_ = std::move(next);
+}
+
+void Problem::on_every_rank(const std::function<void()> &local) {
+  std::exception_ptr failure;
+  try {
+    local();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  agree_on_outcome(def_.comm.get(), failure, "the call", "no rank went on");
 }
 
 // What a step reads that the caller gives: the mesh, the definition and the
@@ -576,6 +591,22 @@ void Problem::owned_field(int which, double *values, int64_t *nodes) {
     for (size_t k = 0; k < own.size(); ++k) std::copy_n(&full[own[k] * d], d, &values[k * d]);
   }
   if (nodes) std::copy(own.begin(), own.end(), nodes);
+}
+
+void Problem::gathered_field(int which, int root, double *full) {
+  const Communicator *c = def_.comm.get();
+  Hash h;
+  h.value(which), h.value(root);
+  if (!same_on_all_ranks(c, h.h))
+    fail(ND_ERR_VALUE, "the ranks asked for different fields or roots: every rank makes the same call");
+  if (rank_count() == 1) return field(which, full);
+  const int d = space_.dim;
+  std::vector<double> mine;
+  on_every_rank([&] {  // the field may need a solve over the ranks (the acceleration)
+    mine.resize(static_cast<size_t>(owned_node_count() * d));
+    owned_field(which, mine.data(), nullptr);
+  });
+  gather_items(*make_share(def_.comm, ownership().node_owner), root, d, mine.data(), full);
 }
 
 std::vector<double> Problem::contact_pressure() {

@@ -5,6 +5,7 @@
 // changes. A step builds the next state aside and commits it only when it
 // succeeded, so a failed step leaves the problem exactly as it was.
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -86,6 +87,16 @@ class Problem {
   // dim, node-major) with their node numbers, ascending; either may be null.
   int64_t owned_node_count();
   void owned_field(int which, double *values, int64_t *nodes);
+  // The whole field (n_dofs values) on `root` alone, each node's values from
+  // the rank that owns it. Collective; the ranks agree on `which` and `root`
+  // (ND_ERR_VALUE on every rank otherwise), then on the outcome.
+  void gathered_field(int which, int root, double *full);
+  // Runs `local` on every rank of the communicator, then makes its outcome
+  // the ranks': a rank it failed on rethrows, the others fail with the worst
+  // status. Collective (without a communicator: just `local`).
+  void on_every_rank(const std::function<void()> &local);
+  int rank() const { return communicator_rank(def_.comm.get()); }
+  int rank_count() const { return communicator_size(def_.comm.get()); }
   double scalar(int key);               // an ND_* scalar key
   std::vector<double> contact_pressure();  // lambda_q
   // -phi_q/gamma_q: the pressure the last step applied (lambda_q before any step)

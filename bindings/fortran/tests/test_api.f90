@@ -239,6 +239,13 @@ contains
     call check(nd_get_field_owned(p, ND_FIELD_VELOCITY, n_owned, v) == ND_OK, 'nd_get_field_owned with nodes absent')
     call check(nd_get_field_owned(p, ND_FIELD_VELOCITY, n_owned + 1, v) == ND_ERR_SIZE, &
                'nd_get_field_owned with a wrong count: ND_ERR_SIZE')
+    call check(nd_get_field_gathered(p, ND_FIELD_VELOCITY, 0_c_int, n, u) == ND_OK, 'nd_get_field_gathered')
+    call check(nd_get_field(p, ND_FIELD_VELOCITY, n, v) == ND_OK .and. maxval(abs(u - v)) <= 0, &
+               'nd_get_field_gathered on rank 0 without a communicator: nd_get_field')
+    call check(nd_get_field_gathered(p, ND_FIELD_VELOCITY, 1_c_int, n, u) == ND_ERR_VALUE, &
+               'nd_get_field_gathered on rank 1 of 1: ND_ERR_VALUE')
+    call check(nd_get_field_gathered(p, ND_FIELD_VELOCITY, 0_c_int, n) == ND_ERR_NULL, &
+               'nd_get_field_gathered on its root without out: ND_ERR_NULL')
     call check(nd_get_field(p, ND_FIELD_CONTACT_FORCE, n, v) == ND_OK, 'nd_get_field(ND_FIELD_CONTACT_FORCE)')
     call check(nd_get_scalar(p, ND_CONTACT_FORCE, t) == ND_OK, 'nd_get_scalar(ND_CONTACT_FORCE)')
     call check(abs(sum(v) - t) <= 1e-13_c_double * sum(abs(v)), 'the nodal contact forces sum to ND_CONTACT_FORCE')
