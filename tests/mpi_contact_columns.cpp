@@ -8,15 +8,21 @@
 // in PETSc's even blocks, the rank of each row its block's; the contact rows
 // are synthetic, each spread over the unknowns so that every rank's block
 // holds some of a point's DOFs and others do not.
+//
+// Also on this matrix: a factorization refused by one rank alone (a
+// non-finite value in its rows) is refused on every rank, none left waiting
+// in the assembly (parallel/agreement.hpp), and the next one succeeds.
 #include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "assembly/bulk.hpp"
+#include "common/error.hpp"
 #include "linalg/factorization.hpp"
 #include "parallel/communicator_mpi.hpp"
 #include "parallel/share.hpp"
@@ -195,6 +201,46 @@ END_TEST
 START_TEST(columns_on_own_rows_with_gamg) { check_split_columns(ND_SOLVER_PETSC_GAMG, 1e-9); }
 END_TEST
 
+// Split rows: each rank's copy of A is read at its own rows only, so a
+// non-finite value there is seen by that rank alone.
+START_TEST(a_matrix_refused_on_one_rank_is_refused_on_every_rank) {
+  const nd::Csr A = spd_matrix(10);
+  const int64_t n = A.n;
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  const int last = g_size - 1;  // owns row n - 1 in PETSc's even split
+  nd::Csr bad = A;
+  if (g_rank == last) {  // a diagonal entry of the last rank's last row
+    const int64_t i = n - 1;
+    bad.val[static_cast<size_t>(bad.find(i, i))] = NAN;
+  }
+  for (int solver : {ND_SOLVER_PETSC_MUMPS, ND_SOLVER_PETSC_GAMG}) {
+    nd::DofGeometry g;
+    g.comm = comm;
+    auto f = nd::make_factorization(solver, A, nd::Structure::SymmetricPositiveDefinite, nullptr, &g);
+    int code = ND_OK;
+    std::string what;
+    try {
+      f->factor(bad, nd::Structure::SymmetricPositiveDefinite);
+    } catch (const nd::Error &e) {
+      code = e.code(), what = e.what();
+    }
+    ck_assert_msg(nd_test_on_all_ranks(code == ND_ERR_NONFINITE_STATE), "solver %d, rank %d: %d (%s)", solver, g_rank,
+                  code, what.c_str());
+    const bool says = g_rank == last ? what.find("non-finite entry") != std::string::npos
+                                     : what.find("on another rank") != std::string::npos;
+    ck_assert_msg(nd_test_on_all_ranks(says), "solver %d, rank %d: %s", solver, g_rank, what.c_str());
+    // the same factorization with the good values: A x = b solved on every rank
+    f->factor(A, nd::Structure::SymmetricPositiveDefinite);
+    std::vector<double> x(static_cast<size_t>(n)), b(static_cast<size_t>(n)), Ax(static_cast<size_t>(n));
+    for (int64_t i = 0; i < n; ++i) x[i] = std::sin(0.1 * static_cast<double>(i));
+    A.multiply(x.data(), b.data());
+    f->solve(b.data());
+    ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(b, x) <= 1e-9 * max_abs(x)), "solver %d: the solve after it is %.3g off",
+                  solver, max_abs_diff(b, x));
+  }
+}
+END_TEST
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -208,5 +254,9 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, columns_on_own_rows_are_the_whole_columns);
   tcase_add_test(tc, columns_on_own_rows_with_gamg);
   suite_add_tcase(s, tc);
+  TCase *agreement = tcase_create("agreement");
+  tcase_set_timeout(agreement, 300);
+  tcase_add_test(agreement, a_matrix_refused_on_one_rank_is_refused_on_every_rank);
+  suite_add_tcase(s, agreement);
   return nd_test_run_on_ranks(s);
 }

@@ -5,7 +5,8 @@
  *    contact-force histories of MUMPS and GAMG over all ranks against the
  *    serial CHOLMOD solve of the same scene in the same process;
  *  - a load refused on the last rank only: nd_step fails on every rank with
- *    the same code and no rank's state moves;
+ *    the same code and no rank's state moves; likewise an overflow in the
+ *    rows of some ranks only (their own assembly);
  *  - the contact points and the rows of the products computed by their
  *    ranks (slice 4): with CHOLMOD on every rank, bitwise one process's state;
  *  - checkpoint/restart over the same ranks restores the state bitwise;
@@ -395,6 +396,49 @@ START_TEST(a_load_refused_on_one_rank_fails_the_step_everywhere) {
   drop(&before), drop(&after), drop(&next);
   free(f);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* An overflow in the rows of some ranks only: a strip of 8 cells whose last
+ * is a sliver (height 1e-9), with E = 1e300, overflows the stiffness in the
+ * sliver's rows alone. The ranks assemble their own rows alone, then agree
+ * before any of them factors (Problem::discretization_agreed): every rank's
+ * nd_step fails with the overflow's code (the ranks without it point to the
+ * others), no time passes, and with E = 1 the same problem steps. Without
+ * the agreement the ranks that assembled would wait in the factorization. */
+START_TEST(an_overflow_in_one_ranks_rows_fails_the_step_everywhere) {
+  const double xy[] = {0, 0, 1, 0, 2, 0, 3, 0, 4, 0, 0, 1, 1, 1, 2, 1, 3, 1, 4, 1e-9};
+  const int64_t cells[] = {0, 1, 6, 0, 6, 5, 1, 2, 7, 1, 7, 6, 2, 3, 8, 2, 8, 7, 3, 4, 9, 3, 9, 8};
+  const double newmark[] = {0.25, 0.5};
+  int alone = 0;
+  for (int solver = ND_SOLVER_PETSC_MUMPS; solver <= ND_SOLVER_PETSC_GAMG; ++solver) {
+    nd_mesh m = NULL;
+    nd_problem p = NULL;
+    ND_OK_OR_FAIL(nd_mesh_create(2, 10, xy, 8, cells, &m));
+    ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+    ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+    ND_OK_OR_FAIL(nd_problem_set_material(p, 1e300, 0.3, 1.0));
+    ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, newmark));
+    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+    ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, solver));
+    ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+    const int status = nd_step(p);
+    char message[512];
+    snprintf(message, sizeof message, "%s", nd_last_error());
+    const int own = strstr(message, "nd_step: the stiffness matrix overflows") == message;
+    const int told = strstr(message, "failed on another rank") != NULL;
+    ck_assert_msg(nd_test_on_all_ranks(status == ND_ERR_MATERIAL && (own || told)), "solver %d, rank %d: %d %s", solver,
+                  g_rank, status, message);
+    alone += told;
+    /* the first step again (t = tau: no rank's time moved) */
+    ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
+    ND_OK_OR_FAIL(nd_step(p));
+    ck_assert(nd_test_on_all_ranks(scalar(p, ND_TIME) == 0.01));
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+  int told_somewhere = 0;
+  MPI_Allreduce(&alone, &told_somewhere, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  if (g_rank == 0) printf("a sliver's overflow, %d rank(s): %d rank-solver pair(s) failed for another rank\n", g_size, told_somewhere);
 }
 END_TEST
 
@@ -931,6 +975,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, histories_match_the_serial_solve);
   tcase_add_test(tc, implicit_schemes_on_split_rows);
   tcase_add_test(tc, contact_release_on_split_rows);
+  tcase_add_test(tc, an_overflow_in_one_ranks_rows_fails_the_step_everywhere);
   tcase_add_test(tc, contact_points_and_rows_on_their_ranks);
   tcase_add_test(tc, a_load_refused_on_one_rank_fails_the_step_everywhere);
   tcase_add_test(tc, checkpoint_restores_bitwise);

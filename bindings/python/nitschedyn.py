@@ -154,6 +154,7 @@ _PROTOTYPES = {
     "nd_get_field": (_int, [_ptr, _int, _i64, _pdbl]),
     "nd_problem_get_owned_node_count": (_int, [_ptr, _pi64]),
     "nd_get_field_owned": (_int, [_ptr, _int, _i64, _pdbl, _pi64]),
+    "nd_get_field_gathered": (_int, [_ptr, _int, _int, _i64, _pdbl]),
     "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
     "nd_get_contact_pressure": (_int, [_ptr, _i64, _pdbl]),
     "nd_get_contact_pressure_applied": (_int, [_ptr, _i64, _pdbl]),
@@ -564,6 +565,16 @@ class Problem(_Handle):
         nodes = np.empty(n.value, dtype=np.int64)
         _check(lib.nd_get_field_owned(self._h, which, n.value, _dptr(values), _i64ptr(nodes)))
         return values, nodes
+
+    def field_gathered(self, which=_constants.ND_FIELD_DISPLACEMENT, root=0):
+        """nd_get_field_gathered: the whole field (n_nodes, dim) gathered on rank
+        root from the nodes' owners; collective. The array is written on root
+        only (elsewhere its contents are undefined); without a communicator
+        root is 0 and it is field()."""
+        n = self.node_count
+        out = np.empty((n, self.dim))
+        _check(lib.nd_get_field_gathered(self._h, which, root, n, _dptr(out)))
+        return out
 
     def scalar(self, key):
         """nd_get_scalar: ND_TIME, ND_ENERGY_AUGMENTED, ..."""

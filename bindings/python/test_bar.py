@@ -208,6 +208,13 @@ def test_checkpoint():
         own, nodes = p.field_owned(nd.ND_FIELD_DISPLACEMENT)
         check(np.array_equal(nodes, np.arange(p.node_count)) and np.array_equal(own, u_ref),
               "without a communicator the process owns every node (Python)")
+        check(np.array_equal(p.field_gathered(nd.ND_FIELD_DISPLACEMENT, 0), u_ref),
+              "without a communicator the field gathered on rank 0 is the field (Python)")
+        try:
+            p.field_gathered(nd.ND_FIELD_DISPLACEMENT, 1)
+            check(False, "rank 1 of 1 is refused (Python)")
+        except nd.Error as e:
+            check(e.code == nd.ND_ERR_VALUE, "rank 1 of 1: ND_ERR_VALUE (Python)")
         c = p.field(nd.ND_FIELD_CONTACT_FORCE)
         check(abs(c.sum() - p.scalar(nd.ND_CONTACT_FORCE)) <= 1e-13 * abs(c).sum(),
               "the nodal contact forces sum to ND_CONTACT_FORCE (Python)")

@@ -54,6 +54,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -66,6 +67,7 @@
 #include "common/format.hpp"
 #include "linalg/backends.hpp"
 #include "nitschedyn.h"
+#include "parallel/agreement.hpp"
 #include "parallel/communicator_mpi.hpp"
 #include "parallel/ownership.hpp"
 
@@ -309,8 +311,9 @@ class Matrix {
   Matrix &operator=(const Matrix &) = delete;
   Mat get() const { return A_; }
 
-  // M's values of this rank's rows (M has the pattern the matrix was made for)
-  void set_values(const Csr &M) {
+  // M's values of this rank's rows (M has the pattern the matrix was made for);
+  // false when they are in place (one rank), true when the matrix is to be assembled
+  bool set_values(const Csr &M) {
     MatInfo info;
     check(MatGetInfo(A_, MAT_LOCAL, &info), "MatGetInfo");
     const size_t last = src_.empty() ? first_ + col_.size() : 1 + *std::max_element(src_.begin(), src_.end());
@@ -321,7 +324,7 @@ class Matrix {
       check(MatSeqAIJGetArray(A_, &a), "MatSeqAIJGetArray");
       std::copy(M.val.begin() + first_, M.val.begin() + first_ + col_.size(), a);
       check(MatSeqAIJRestoreArray(A_, &a), "MatSeqAIJRestoreArray");  // raises the matrix's state
-      return;
+      return false;
     }
     std::vector<PetscScalar> gathered;
     if (!src_.empty()) {
@@ -333,8 +336,7 @@ class Matrix {
       const PetscInt i = L_.begin + r, k = ptr_[r];
       check(MatSetValues(A_, 1, &i, ptr_[r + 1] - k, &col_[k], &v[k], INSERT_VALUES), "MatSetValues");
     }
-    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    return true;
   }
 
   // The matrix as the sum over the ranks of their parts (each rank's: its
@@ -353,15 +355,32 @@ class Matrix {
       check(MatSetValues(A_, 1, &r, static_cast<PetscInt>(e - b), cols.data(), &own.val[b], ADD_VALUES),
             "MatSetValues (ADD_VALUES)");
     }
+  }
+  // A's rows of this rank, or the sum of the ranks' parts when `own` is given.
+  // What a rank does alone (the checks, its values) may fail on that rank
+  // only: the ranks agree on it before the assembly, which they call together
+  // (parallel/agreement.hpp).
+  void fill(const Csr &A, const Csr *own) {
+    std::exception_ptr failure;
+    bool assemble = true;
+    try {
+      require_finite(A);
+      if (own) {
+        require_finite(*own);
+        add_parts(*own);
+      } else {
+        assemble = set_values(A);
+      }
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    int worst = failure ? status_of(failure) : ND_OK;
+    if (L_.distributed() && MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_INT, MPI_MIN, L_.comm) != MPI_SUCCESS)
+      fail(ND_ERR_INTERNAL, "MPI_Allreduce of the ranks' statuses failed");
+    agree_on_outcome(worst, failure, "filling the distributed matrix", "no rank factored it");
+    if (!assemble) return;
     check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-  }
-  // A's rows of this rank, or the sum of the ranks' parts when `own` is given
-  void fill(const Csr &A, const Csr *own) {
-    require_finite(A);
-    if (!own) return set_values(A);
-    require_finite(*own);
-    add_parts(*own);
   }
 
  private:

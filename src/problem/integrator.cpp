@@ -4,6 +4,7 @@
 
 #include "common/format.hpp"
 #include "monitor/energies.hpp"
+#include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
 #include "solve/newton.hpp"
 
@@ -43,7 +44,10 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
                                                             &d.geometry);
   try {
     if (own_part) {  // several ranks: each adds its own cells' part of A to the distributed matrix
-      in->A_factor->factor_parts(in->A, own_part(in->coef.c), Structure::SymmetricPositiveDefinite);
+      Csr own;  // assembled by each rank alone: agreed before the factorization, which they make together
+      on_every_rank(def.comm.get(), [&] { own = own_part(in->coef.c); }, "the assembly of the step matrix",
+                    "no rank factored it");
+      in->A_factor->factor_parts(in->A, own, Structure::SymmetricPositiveDefinite);
     } else {
       in->A_factor->factor(in->A, Structure::SymmetricPositiveDefinite);
     }

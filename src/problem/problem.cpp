@@ -16,6 +16,7 @@
 #include "monitor/guards.hpp"
 #include "io/atomic_file.hpp"
 #include "problem/checkpoint.hpp"
+#include "parallel/agreement.hpp"
 #include "parallel/ownership.hpp"
 #include "parallel/share.hpp"
 #include "problem/forces.hpp"
@@ -343,7 +344,7 @@ void Problem::setup() {
 
 void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
-  Discretization &d = discretization_();
+  Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
   if (def_.guards.unstable_scheme && in.scheme->always_unstable())
     fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
@@ -368,30 +369,6 @@ void Problem::prepare() {
   setup_done_ = true;
 }
 
-namespace {
-int status_of(const std::exception_ptr &e) {
-  try {
-    std::rethrow_exception(e);
-  } catch (const Error &x) {
-    return x.code();
-  } catch (const std::bad_alloc &) {
-    return ND_ERR_NOMEM;
-  } catch (...) {
-    return ND_ERR_INTERNAL;
-  }
-}
-// The ranks' outcome of what each did alone: a rank it failed on rethrows its
-// error, the others fail with the worst status of all. Collective.
-void agree_on_outcome(const Communicator *c, const std::exception_ptr &failure, const char *what,
-                      const char *consequence) {
-  const int worst = worst_status(c, failure ? status_of(failure) : ND_OK);
-  if (failure) std::rethrow_exception(failure);
-  if (worst != ND_OK)
-    fail(worst, std::string(what) + " failed on another rank (" + nd_strerror(worst) + "); " + consequence +
-                    ": see that rank's error");
-}
-}  // namespace
-
 void Problem::step() {
   agree_on_inputs();
   State next;
@@ -404,18 +381,27 @@ void Problem::step() {
   } catch (...) {
     failure = std::current_exception();
   }
-  agree_on_outcome(def_.comm.get(), failure, "the step", "no rank took it");  // every rank commits the step or none does
+  // every rank commits the step or none does
+  agree_on_outcome(worst_status(def_.comm.get(), failure ? status_of(failure) : ND_OK), failure, "the step",
+                   "no rank took it");
   state_ = std::move(next);
 }
 
+// With split rows each rank assembles its own rows of the operators alone,
+// so a rank may fail where the others do not (an overflow in its cells):
+// where the ranks go on into collective calls, they agree on the assembly
+// first. Whole operators are the same on every rank (and the calls that read
+// them need not be collective).
+Discretization &Problem::discretization_agreed() {
+  if (!splits_rows(def_)) return discretization_();
+  Discretization *d = nullptr;
+  nd::on_every_rank(def_.comm.get(), [&] { d = &discretization_(); }, "the assembly of the operators",
+                    "no rank went on");
+  return *d;
+}
+
 void Problem::on_every_rank(const std::function<void()> &local) {
-  std::exception_ptr failure;
-  try {
-    local();
-  } catch (...) {
-    failure = std::current_exception();
-  }
-  agree_on_outcome(def_.comm.get(), failure, "the call", "no rank went on");
+  nd::on_every_rank(def_.comm.get(), local, "the call", "no rank went on");
 }
 
 // What a step reads that the caller gives: the mesh, the definition and the
@@ -473,7 +459,7 @@ void Problem::set_communicator(CommunicatorPtr comm) {
 }
 
 double Problem::omega_max() {
-  Discretization &d = discretization_();
+  Discretization &d = discretization_agreed();
   if (!(d.omega_max > 0)) d.omega_max = estimate_omega_max(d, def_.solver).omega_max;
   return d.omega_max;
 }

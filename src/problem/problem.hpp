@@ -118,6 +118,7 @@ class Problem {
   void agree_on_inputs();
   uint64_t inputs_digest() const;
   Discretization &discretization_();
+  Discretization &discretization_agreed();  // collective with split rows: discretization_() agreed by the ranks
   const std::vector<double> &constant_load_();
   Integrator &integrator_or_build();
   double omega_max();
