@@ -9,7 +9,8 @@
 // are synthetic, each spread over the unknowns so that every rank's block
 // holds some of a point's DOFs and others do not.
 //
-// Also on this matrix: a factorization refused by one rank alone (a
+// Also on this matrix: the rows Newton reads on split rows, kept by a
+// refactoring tangent's solves; and a factorization refused by one rank alone (a
 // non-finite value in its rows) is refused on every rank, none left waiting
 // in the assembly (parallel/agreement.hpp), and the next one succeeds.
 #include <mpi.h>
@@ -28,6 +29,7 @@
 #include "parallel/share.hpp"
 #include "solve/contact_columns.hpp"
 #include "solve/contact_law.hpp"
+#include "solve/newton.hpp"
 #include "solve/tangent_solver.hpp"
 #include "unit_fixtures.hpp"
 // last: check.h's fail() macro would clash with nd::fail and std::ios::fail
@@ -201,6 +203,73 @@ END_TEST
 START_TEST(columns_on_own_rows_with_gamg) { check_split_columns(ND_SOLVER_PETSC_GAMG, 1e-9); }
 END_TEST
 
+// The rows Newton reads of its iterate on split rows (newton_held_rows): a
+// rank's rows, every column of an entry in them, and the contact points'
+// DOFs. A refactoring tangent that keeps them receives exactly their values
+// on other ranks per solve, right there (against CHOLMOD's whole solve), and
+// NaN elsewhere (no stale value can be read unseen).
+void check_held_rows(int solver, double tol) {
+  const nd::Csr A = spd_matrix(10);
+  const int64_t n = A.n;
+  const nd::ContactPoints cp = synthetic_points(n, 9);
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;
+  const std::vector<int> owner = even_owner(n);
+  auto rows = nd::make_share(comm, owner, &counters);
+  std::vector<char> read(static_cast<size_t>(n), 0);
+  for (int64_t r = 0; r < n; ++r)  // entry by entry
+    for (int64_t k = A.ptr[r]; k < A.ptr[r + 1]; ++k)
+      if (owner[r] == g_rank) read[r] = read[A.col[k]] = 1;
+  for (const nd::SparseRow &a : cp.a)
+    for (int64_t i : a.idx) read[i] = 1;
+  std::vector<int64_t> expected;
+  int64_t others = 0;
+  for (int64_t i = 0; i < n; ++i)
+    if (read[i]) expected.push_back(i), others += owner[i] != g_rank;
+  const std::vector<int64_t> held = rows ? nd::newton_held_rows(A, *rows, cp) : std::vector<int64_t>();
+  if (rows) ck_assert_msg(held == expected, "rank %d: %zu rows held, %zu expected", g_rank, held.size(), expected.size());
+
+  nd::DofGeometry g;
+  g.comm = comm;
+  auto split = nd::make_factorization(solver, A, nd::Structure::SymmetricPositiveDefinite, &counters, &g);
+  split->factor(A, nd::Structure::SymmetricPositiveDefinite);
+  auto whole = nd::make_factorization(ND_SOLVER_CHOLMOD, A, nd::Structure::SymmetricPositiveDefinite);
+  whole->factor(A, nd::Structure::SymmetricPositiveDefinite);
+  auto tangent = nd::make_refactoring_tangent(A, *split, solver, nd::Structure::SymmetricPositiveDefinite, &counters,
+                                              &g, held);
+  ck_assert(rows ? tangent->held() && *tangent->held() == held : tangent->held() == nullptr);
+  std::vector<double> x(static_cast<size_t>(n)), x_all(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) x[i] = x_all[i] = std::cos(0.3 * static_cast<double>(i));
+  const nd::ContactLaw law{&cp, 1.0};
+  const int64_t r0 = counters.values_received;
+  tangent->solve(law, 1.0, x.data(), false, x.data());  // no active point: with A's factor
+  whole->solve(x_all.data());
+  ck_assert_msg(nd_test_on_all_ranks(counters.values_received - r0 == (rows ? others : 0)),
+                "rank %d: %lld values received, %lld held rows of other ranks", g_rank,
+                static_cast<long long>(counters.values_received - r0), static_cast<long long>(others));
+  double off = 0;
+  bool nan_elsewhere = true;
+  for (int64_t i = 0; i < n; ++i) {
+    if (!rows || read[i])
+      off = std::max(off, std::fabs(x[i] - x_all[i]));
+    else
+      nan_elsewhere &= std::isnan(x[i]);
+  }
+  ck_assert_msg(nd_test_on_all_ranks(off <= tol * max_abs(x_all) && nan_elsewhere), "rank %d: %g off at the held rows",
+                g_rank, off / max_abs(x_all));
+  if (g_rank == 0)
+    std::printf("%s on %d rank(s): a held solve received %lld values (rank 0; whole: %lld), %.1e off\n", split->name(),
+                g_size, static_cast<long long>(counters.values_received - r0),
+                static_cast<long long>(g_size > 1 ? n - std::count(owner.begin(), owner.end(), 0) : 0),
+                off / max_abs(x_all));
+}
+
+START_TEST(a_refactoring_tangent_keeps_the_rows_newton_reads) {
+  check_held_rows(ND_SOLVER_PETSC_MUMPS, 1e-12);
+  check_held_rows(ND_SOLVER_PETSC_GAMG, 1e-9);
+}
+END_TEST
+
 // Split rows: each rank's copy of A is read at its own rows only, so a
 // non-finite value there is seen by that rank alone.
 START_TEST(a_matrix_refused_on_one_rank_is_refused_on_every_rank) {
@@ -253,6 +322,7 @@ int main(int argc, char **argv) {
   tcase_set_timeout(tc, 300);
   tcase_add_test(tc, columns_on_own_rows_are_the_whole_columns);
   tcase_add_test(tc, columns_on_own_rows_with_gamg);
+  tcase_add_test(tc, a_refactoring_tangent_keeps_the_rows_newton_reads);
   suite_add_tcase(s, tc);
   TCase *agreement = tcase_create("agreement");
   tcase_set_timeout(agreement, 300);

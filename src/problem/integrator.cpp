@@ -77,7 +77,10 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     const bool updown =
         updown_tangent_applies(def.solver, s) && (def.tangent == TangentChoice::Updown || three_d_auto);
     if (def.tangent == TangentChoice::Refactor || (three_d_auto && linear_solver_iterative(def.solver))) {
-      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
+      // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
+      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
+                                             d.rows_split ? newton_held_rows(in->A, *d.rows, d.contact)
+                                                          : std::vector<int64_t>());
     } else if (updown) {
       in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
     } else {

@@ -52,8 +52,24 @@ bool contact_free(const ContactLaw &law, const std::vector<double> &U) {
 
 }  // namespace
 
-NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
-                          const NewtonOptions &opt, std::vector<double> &U) {
+std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp) {
+  std::vector<char> read(static_cast<size_t>(A.n), 0);
+  for (const int64_t *i = rows.own_begin(); i != rows.own_end(); ++i) {
+    read[*i] = 1;
+    for (int64_t k = A.ptr[*i]; k < A.ptr[*i + 1]; ++k) read[A.col[k]] = 1;
+  }
+  for (const SparseRow &a : cp.a)  // (s_q has a_q's index list)
+    for (int64_t i : a.idx) read[i] = 1;
+  std::vector<int64_t> held;
+  for (int64_t i = 0; i < A.n; ++i)
+    if (read[i]) held.push_back(i);
+  return held;
+}
+
+namespace {
+
+NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, const NewtonOptions &opt,
+                     std::vector<double> &U) {
   const int64_t n = static_cast<int64_t>(U.size());
   NewtonResult res;
   int first = 1;
@@ -83,11 +99,11 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
     for (auto &g : G) g = -g;
     sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data());
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
-    const double step = norm2(n, G.data());
+    const double step = norm2_rows(sys.held_rows(), n, G.data());
     previous.swap(active);
     res.residual = newton_residual(sys, r, U, G, &active, MU);
     res.iterations = it;
-    const double u_norm = norm2(n, U.data());
+    const double u_norm = norm2_rows(sys.held_rows(), n, U.data());
     res.tolerance = newton_tolerance(sys, opt, r_norm, MU);
     // A point whose P_q sits at zero to round-off can flip at every
     // iteration without changing G or U (measured: the 3D block of
@@ -99,6 +115,15 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
       return res;
     }
   }
+  return res;
+}
+
+}  // namespace
+
+NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r, const NewtonOptions &opt,
+                          std::vector<double> &U) {
+  const NewtonResult res = iterate(sys, r, opt, U);
+  if (sys.split && sys.tangent->held()) gather(*sys.rows, {U.data()});  // the rows other ranks own
   return res;
 }
 

@@ -50,7 +50,16 @@ double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, doubl
 // the norm of a right-hand side or residual over the rows it is right on (collective when split)
 double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r);
 
-// U holds the initial guess on entry and the solution on exit.
+// The rows Newton reads of its iterate on split operators (sys.split): this
+// rank's rows of A, their columns (A U and M U there) and the DOFs of every
+// contact point's rows (P_q of the rank's points; the bound of
+// ContactLaw::certainly_free reads the same DOFs). Ascending. A solve that keeps these rows
+// (make_refactoring_tangent) receives only their values from other ranks.
+std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp);
+
+// U holds the initial guess on entry and the solution on exit (on every row:
+// when the tangent keeps only its held rows, the others are gathered from
+// their ranks at the end).
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
                           const NewtonOptions &opt, std::vector<double> &U);
 

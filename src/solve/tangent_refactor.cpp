@@ -2,27 +2,38 @@
 // factor it numerically at every Newton iteration with an active point.
 #include "solve/tangent_solver.hpp"
 
+#include <algorithm>
+#include <limits>
+#include <utility>
+
 namespace nd {
 namespace {
 
 class RefactoringTangent : public TangentSolver {
  public:
   RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, Counters *c,
-                     const DofGeometry *g)
-      : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)) {}
+                     const DofGeometry *g, std::vector<int64_t> held)
+      : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)),
+        held_(std::move(held)) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
-    if (!any_active) {
-      A_factor_.solve(x);
-      return;
+    const Factorization *f = &A_factor_;
+    if (any_active) {
+      T_.val = A_.val;  // same size: no allocation
+      law.add_tangent(U, kappa, T_);
+      T_factor_->factor(T_, structure_);
+      ++stats.refactorizations;
+      f = T_factor_.get();
     }
-    T_.val = A_.val;  // same size: no allocation
-    law.add_tangent(U, kappa, T_);
-    T_factor_->factor(T_, structure_);
-    ++stats.refactorizations;
-    T_factor_->solve(x);
+    if (held_.empty()) return f->solve(x);
+    kept_.resize(held_.size());
+    f->solve_many_at(x, A_.n, 1, held_, kept_.data());
+    // the other rows are never read (a NaN would show it)
+    std::fill(x, x + A_.n, std::numeric_limits<double>::quiet_NaN());
+    for (size_t i = 0; i < held_.size(); ++i) x[held_[i]] = kept_[i];
   }
   const char *name() const override { return "refactor"; }
+  const std::vector<int64_t> *held() const override { return held_.empty() ? nullptr : &held_; }
 
  private:
   const Csr &A_;
@@ -30,14 +41,16 @@ class RefactoringTangent : public TangentSolver {
   Csr T_;
   Structure structure_;
   std::unique_ptr<Factorization> T_factor_;
+  std::vector<int64_t> held_;
+  std::vector<double> kept_;
 };
 
 }  // namespace
 
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                         Structure structure, Counters *counters,
-                                                        const DofGeometry *geometry) {
-  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure, counters, geometry);
+                                                        const DofGeometry *geometry, std::vector<int64_t> held) {
+  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure, counters, geometry, std::move(held));
 }
 
 }  // namespace nd

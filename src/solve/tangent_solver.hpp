@@ -41,6 +41,11 @@ class TangentSolver {
   // nothing but U.
   virtual void begin_step(const TangentLog &committed) { (void)committed; }
   virtual const TangentLog *log() const { return nullptr; }
+  // The rows at which solve() leaves x right (ascending), or null: every row.
+  // On split operators a solver may keep a rank's rows and the rows Newton
+  // reads there (make_refactoring_tangent's `held`); the others are NaN, and
+  // newton_solve gathers them from their ranks once, at its end.
+  virtual const std::vector<int64_t> *held() const { return nullptr; }
   TangentStats stats;
 };
 
@@ -59,9 +64,12 @@ enum class TangentChoice {
 // counters: where the tangent's own factorizations are counted (or none); the
 // contact evaluations and tangent updates go to the ContactLaw's.
 // geometry (may be null): for the tangent's factorizations (DofGeometry).
+// held (ascending; empty: every row): on split operators, the rows the solves
+// keep (TangentSolver::held; newton_held_rows).
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                         Structure structure, Counters *counters = nullptr,
-                                                        const DofGeometry *geometry = nullptr);
+                                                        const DofGeometry *geometry = nullptr,
+                                                        std::vector<int64_t> held = {});
 
 // The updated factor (Theta = 1, T symmetric positive definite): a
 // simplicial LDL^T of T kept from solve to solve and from step to step,
