@@ -206,12 +206,27 @@ END_TEST
 // The rows Newton reads of its iterate on split rows (newton_held_rows): a
 // rank's rows, every column of an entry in them, and the contact points'
 // DOFs. A refactoring tangent that keeps them receives exactly their values
-// on other ranks per solve, right there (against CHOLMOD's whole solve), and
-// NaN elsewhere (no stale value can be read unseen).
+// on other ranks per solve with the refactored tangent, right there (against
+// CHOLMOD's refactoring tangent on whole columns), and NaN elsewhere (no
+// stale value can be read unseen).
+// A on a pattern that also couples each point's DOFs, as K_Theta's does (the
+// contact tangent adds its terms there)
+nd::Csr with_points(const nd::Csr &A, const nd::ContactPoints &cp) {
+  std::vector<std::vector<int64_t>> rows(static_cast<size_t>(A.n));
+  for (int64_t r = 0; r < A.n; ++r) rows[r].assign(A.col.begin() + A.ptr[r], A.col.begin() + A.ptr[r + 1]);
+  for (const nd::SparseRow &a : cp.a)
+    for (int64_t i : a.idx) rows[i].insert(rows[i].end(), a.idx.begin(), a.idx.end());
+  nd::Csr B = nd::csr_from_rows(std::move(rows));
+  for (int64_t r = 0; r < A.n; ++r)
+    for (int64_t k = A.ptr[r]; k < A.ptr[r + 1]; ++k) B.val[static_cast<size_t>(B.find(r, A.col[k]))] = A.val[k];
+  return B;
+}
+
 void check_held_rows(int solver, double tol) {
-  const nd::Csr A = spd_matrix(10);
+  const nd::Csr A0 = spd_matrix(10);
+  const nd::ContactPoints cp = synthetic_points(A0.n, 9);
+  const nd::Csr A = with_points(A0, cp);
   const int64_t n = A.n;
-  const nd::ContactPoints cp = synthetic_points(n, 9);
   nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
   nd::Counters counters;
   const std::vector<int> owner = even_owner(n);
@@ -235,15 +250,20 @@ void check_held_rows(int solver, double tol) {
   split->factor(A, nd::Structure::SymmetricPositiveDefinite);
   auto whole = nd::make_factorization(ND_SOLVER_CHOLMOD, A, nd::Structure::SymmetricPositiveDefinite);
   whole->factor(A, nd::Structure::SymmetricPositiveDefinite);
-  auto tangent = nd::make_refactoring_tangent(A, *split, solver, nd::Structure::SymmetricPositiveDefinite, &counters,
-                                              &g, held);
+  const nd::Structure spd = nd::Structure::SymmetricPositiveDefinite;  // Theta = 1
+  auto tangent = nd::make_refactoring_tangent(A, *split, solver, spd, &counters, &g, held);
+  auto tangent_all = nd::make_refactoring_tangent(A, *whole, ND_SOLVER_CHOLMOD, spd);
   ck_assert(rows ? tangent->held() && *tangent->held() == held : tangent->held() == nullptr);
   std::vector<double> x(static_cast<size_t>(n)), x_all(static_cast<size_t>(n));
   for (int64_t i = 0; i < n; ++i) x[i] = x_all[i] = std::cos(0.3 * static_cast<double>(i));
-  const nd::ContactLaw law{&cp, 1.0};
+  // 6 of the 9 points active at U = 0 (a negative gap): T = A + kappa N'(U), refactored
+  nd::ContactPoints cp_gaps = cp;
+  for (size_t q = 0; q < cp.size(); ++q) cp_gaps.gap.push_back(q % 3 == 0 ? 1.0 : -1.0);
+  const nd::ContactLaw law{&cp_gaps, 1.0};
+  const std::vector<double> U(static_cast<size_t>(n), 0.0);
   const int64_t r0 = counters.values_received;
-  tangent->solve(law, 1.0, x.data(), false, x.data());  // no active point: with A's factor
-  whole->solve(x_all.data());
+  tangent->solve(law, 10.0, U.data(), true, x.data());
+  tangent_all->solve(law, 10.0, U.data(), true, x_all.data());
   ck_assert_msg(nd_test_on_all_ranks(counters.values_received - r0 == (rows ? others : 0)),
                 "rank %d: %lld values received, %lld held rows of other ranks", g_rank,
                 static_cast<long long>(counters.values_received - r0), static_cast<long long>(others));

@@ -761,8 +761,7 @@ END_TEST
  * rows of M U, M V and K U (the hybrid scheme: no M A) and no solution.
  * Counted by ND_STAT_VALUES_RECEIVED over a free-flight step. */
 static void free_step_receives(int dim, int solver, double *other, double *rows_of_others, double *points) {
-  /* other: the values received besides the solutions' rows (3D GAMG: besides
-     the whole U that its Newton completes; see below) */
+  /* other: the values received besides the solutions' rows */
   nd_problem p = scene(dim, solver, 1);
   ND_OK_OR_FAIL(nd_step(p)); /* the factorization and the set-up's passes */
   int64_t nodes = 0, own = 0;
@@ -776,47 +775,37 @@ static void free_step_receives(int dim, int solver, double *other, double *rows_
   *rows_of_others = (double)(dim * (nodes - own)); /* no clamped DOF in the drop scene */
   /* P_q (and u_n - g0) of the points the other ranks evaluated */
   *points = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
-  const int held = dim == 3 && solver == ND_SOLVER_PETSC_GAMG; /* its solves keep their held rows */
-  *other = received - (solver == ND_SOLVER_CHOLMOD ? 0 : held ? *rows_of_others : solves * *rows_of_others);
+  *other = received - (solver == ND_SOLVER_CHOLMOD ? 0 : solves * *rows_of_others);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 
 START_TEST(a_step_on_split_rows_receives_no_products) {
   for (int dim = 2; dim <= 3; ++dim) {
-    double other = 0, rows = 0, nc = 0, halo = 0;
+    double other = 0, rows = 0, nc = 0;
     for (int solver = ND_SOLVER_PETSC_MUMPS; solver <= ND_SOLVER_PETSC_GAMG; ++solver) {
       free_step_receives(dim, solver, &other, &rows, &nc);
       if (g_rank == 0)
         printf("%dD solver %d, %d rank(s): a free-flight step received %.0f values besides its solutions "
                "(%.0f other rows, %.0f points evaluated by the others)\n", dim, solver, g_size, other, rows, nc);
       /* the P_q and u_n - g0 of the other ranks' points (the new state's
-         pass over the points) and each other rank's two energy sums; in 3D
-         with GAMG also the held rows of its one solve (below) */
-      const double besides = 2 * nc + 2 * (g_size - 1);
-      if (dim == 3 && solver == ND_SOLVER_PETSC_GAMG) {
-        halo = other - besides;
-        ck_assert_msg(nd_test_on_all_ranks(g_size == 1 ? halo == 0 : halo > 0 && halo < rows),
-                      "3D GAMG: a solve's held rows received %g values (a whole solution %g)", halo, rows);
-      } else {
-        ck_assert_msg(nd_test_on_all_ranks(other == besides), "%dD: %g values besides the solutions, %g points", dim,
-                      other, nc);
-      }
+         pass over the points) and each other rank's two energy sums */
+      ck_assert_msg(nd_test_on_all_ranks(other == 2 * nc + 2 * (g_size - 1)), "%dD: %g values besides the solutions, %g points",
+                    dim, other, nc);
     }
     /* through the impact: the Newton residuals stay on their rows too, so
        besides the solutions and the points' values a step receives only
        sums: at most 4 per other rank per step and per Newton iteration
        (the energy's two, the norms of r, G and M U, and of the update and
        the iterate). In 3D with GAMG, whose Newton refactors the tangent,
-       every solve keeps the rows Newton reads (newton_held_rows: the rank's
-       rows, their columns and the contact points' DOFs), the same `halo`
-       values as the free-flight step's, and Newton gathers the other rows
-       of U once per step. (The contact columns of the other Newton paths
+       every solve with it keeps the rows Newton reads (newton_held_rows: the
+       rank's rows, their columns and the contact points' DOFs), and Newton
+       gathers the other rows of U once per step. (The contact columns of the other Newton paths
        gather only the points' DOFs, then one whole U per step:
        tests/mpi_contact_columns.cpp counts them.) */
     if (dim == 3) {
       nd_problem p = scene(dim, ND_SOLVER_PETSC_GAMG, 1);
       ND_OK_OR_FAIL(nd_step(p)); /* the set-up and the factorization */
-      const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED), s0 = scalar(p, ND_STAT_SOLVES);
+      const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED);
       const double e0 = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN);
       ND_OK_OR_FAIL(nd_step(p)); /* free flight: one pass over the points, the others' nc of them */
       const double nc_pass = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
@@ -824,25 +813,37 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
       ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
       ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
       const double rows_of_others = (double)(dim * (nodes - own));
-      /* this problem's held rows (its partition is its own): its free step's one solve */
-      const double held = scalar(p, ND_STAT_VALUES_RECEIVED) - r0 - rows_of_others - 2 * nc_pass - 2 * (g_size - 1);
-      ck_assert_msg(nd_test_on_all_ranks(g_size == 1 ? held == 0 : held > 0 && held < rows_of_others),
-                    "3D GAMG: a solve's held rows received %g values (a whole solution %g)", held, rows_of_others);
-      const int steps = kSteps - 1;
-      for (int k = 2; k < kSteps; ++k) ND_OK_OR_FAIL(nd_step(p));
-      ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0);
-      const double solved = (scalar(p, ND_STAT_SOLVES) - s0) * held + steps * rows_of_others;
-      const double pts = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+      /* its one solve, with A's factor, gathers the whole solution */
+      ck_assert(nd_test_on_all_ranks(scalar(p, ND_STAT_VALUES_RECEIVED) - r0 ==
+                                     rows_of_others + 2 * nc_pass + 2 * (g_size - 1)));
+      /* step by step: a solve with a refactored tangent (one per tangent
+         factorization) keeps its held rows, `h` values from other ranks, and
+         a step with one gathers the other rows of U once at its end; every
+         other solve gathers a whole solution */
+      double whole = 0, held_solves = 0, r = scalar(p, ND_STAT_VALUES_RECEIVED);
+      double solves = scalar(p, ND_STAT_SOLVES), factored = scalar(p, ND_STAT_FACTORIZATIONS);
+      const int steps = kSteps - 2;
+      for (int k = 2; k < kSteps; ++k) {
+        ND_OK_OR_FAIL(nd_step(p));
+        const double f = scalar(p, ND_STAT_FACTORIZATIONS) - factored, sv = scalar(p, ND_STAT_SOLVES) - solves;
+        whole += (sv - f + (f > 0)) * rows_of_others;
+        held_solves += f;
+        factored += f, solves += sv;
+      }
+      ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0 && held_solves > 0);
+      const double pts = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0 - nc_pass;
       /* a pass over the points gathers P_q of the other ranks' points, the
-         new state's pass of each step also their u_n - g0 */
-      const double sums = scalar(p, ND_STAT_VALUES_RECEIVED) - r0 - solved - pts - steps * nc_pass;
+         new state's pass of each step also their u_n - g0; the rest is the
+         held rows and the sums */
+      const double rest = scalar(p, ND_STAT_VALUES_RECEIVED) - r - whole - pts - steps * nc_pass;
       const double least = 2.0 * (g_size - 1) * steps; /* the energy's two per step */
       const double most = 6.0 * (g_size - 1) * (steps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL));
+      const double h_lo = (rest - most) / held_solves, h_hi = (rest - least) / held_solves;
       if (g_rank == 0)
-        printf("%dD GAMG, %d rank(s), %d steps through the impact: received - solutions - points' values = %.0f "
-               "(sums: %.0f to %.0f)\n", dim, g_size, steps, sums, least, most);
-      ck_assert_msg(nd_test_on_all_ranks(sums >= least && sums <= most), "%dD: %g values besides the solutions and the points",
-                    dim, sums);
+        printf("%dD GAMG, %d rank(s), %d steps through the impact, %.0f held solves: each received %.1f to %.1f "
+               "values (a whole solution %.0f)\n", dim, g_size, steps, held_solves, h_lo, h_hi, rows_of_others);
+      ck_assert_msg(nd_test_on_all_ranks(g_size == 1 ? rest == 0 : h_lo > 0 && h_hi < rows_of_others),
+                    "%dD: a held solve received %g to %g values, a whole solution %g", dim, h_lo, h_hi, rows_of_others);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
     free_step_receives(dim, ND_SOLVER_CHOLMOD, &other, &rows, &nc);

@@ -68,8 +68,9 @@ std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const Con
 
 namespace {
 
+// partial: set when a solve left U right at the tangent's held rows only
 NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, const NewtonOptions &opt,
-                     std::vector<double> &U) {
+                     std::vector<double> &U, bool &partial) {
   const int64_t n = static_cast<int64_t>(U.size());
   NewtonResult res;
   int first = 1;
@@ -98,6 +99,7 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     for (char a : active) any_active |= a != 0;
     for (auto &g : G) g = -g;
     sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data());
+    partial |= any_active && sys.tangent->held();
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2_rows(sys.held_rows(), n, G.data());
     previous.swap(active);
@@ -122,8 +124,9 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
 
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r, const NewtonOptions &opt,
                           std::vector<double> &U) {
-  const NewtonResult res = iterate(sys, r, opt, U);
-  if (sys.split && sys.tangent->held()) gather(*sys.rows, {U.data()});  // the rows other ranks own
+  bool partial = false;
+  const NewtonResult res = iterate(sys, r, opt, U, partial);
+  if (partial) gather(*sys.rows, {U.data()});  // the rows other ranks own
   return res;
 }
 

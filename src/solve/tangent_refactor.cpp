@@ -17,17 +17,17 @@ class RefactoringTangent : public TangentSolver {
         held_(std::move(held)) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
     ++stats.calls;
-    const Factorization *f = &A_factor_;
-    if (any_active) {
-      T_.val = A_.val;  // same size: no allocation
-      law.add_tangent(U, kappa, T_);
-      T_factor_->factor(T_, structure_);
-      ++stats.refactorizations;
-      f = T_factor_.get();
+    if (!any_active) {  // every row: Newton's linear step, which often ends it
+      A_factor_.solve(x);
+      return;
     }
-    if (held_.empty()) return f->solve(x);
+    T_.val = A_.val;  // same size: no allocation
+    law.add_tangent(U, kappa, T_);
+    T_factor_->factor(T_, structure_);
+    ++stats.refactorizations;
+    if (held_.empty()) return T_factor_->solve(x);
     kept_.resize(held_.size());
-    f->solve_many_at(x, A_.n, 1, held_, kept_.data());
+    T_factor_->solve_many_at(x, A_.n, 1, held_, kept_.data());
     // the other rows are never read (a NaN would show it)
     std::fill(x, x + A_.n, std::numeric_limits<double>::quiet_NaN());
     for (size_t i = 0; i < held_.size(); ++i) x[held_[i]] = kept_[i];

@@ -41,10 +41,11 @@ class TangentSolver {
   // nothing but U.
   virtual void begin_step(const TangentLog &committed) { (void)committed; }
   virtual const TangentLog *log() const { return nullptr; }
-  // The rows at which solve() leaves x right (ascending), or null: every row.
-  // On split operators a solver may keep a rank's rows and the rows Newton
-  // reads there (make_refactoring_tangent's `held`); the others are NaN, and
-  // newton_solve gathers them from their ranks once, at its end.
+  // The rows at which solve() with an active point leaves x right
+  // (ascending), or null: every row, as every solve without one. On split
+  // operators a solver may keep a rank's rows and the rows Newton reads there
+  // (make_refactoring_tangent's `held`); the others are NaN, and newton_solve
+  // gathers them from their ranks once, at its end.
   virtual const std::vector<int64_t> *held() const { return nullptr; }
   TangentStats stats;
 };
