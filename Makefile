@@ -6,7 +6,8 @@
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
 #   make fuzz       the libFuzzer targets (clang), $(FUZZ_TIME) s each on their seed corpora
 #   make check-petsc  a build with the PETSc solvers in $(PETSC_BUILD) (-DND_WITH_PETSC=ON,
-#                   warnings as errors) and its tests labelled petsc (mpi: under mpiexec -n 1)
+#                   warnings as errors) and its tests labelled petsc (mpi: under mpiexec)
+#   make check-valgrind-mpi  its MPI tests on 2 ranks under valgrind memcheck
 #   CMAKE_FLAGS=... (re)configures $(BUILD) with these flags, e.g. CI's
 #                   make check CMAKE_FLAGS=-DND_WERROR=ON
 #   make bench      the benchmarks against GetFEM (bench/run.sh, about 15 min on
@@ -29,7 +30,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 PETSC_BUILD ?= build-petsc
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps check-petsc meshes bench bench-quick bench-tangent bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps petsc-build check-petsc check-valgrind-mpi meshes bench bench-quick bench-tangent bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -75,11 +76,17 @@ fuzz: fuzz-deps
 petsc-deps:
 	@sh scripts/install-deps.sh petsc
 
-check-petsc: petsc-deps
+petsc-build: petsc-deps
 	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ] || [ -n "$(CMAKE_FLAGS)" ]; then \
 	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
 	cmake --build $(PETSC_BUILD) -j $(JOBS)
+
+check-petsc: petsc-build
 	cd $(PETSC_BUILD) && ctest --output-on-failure -L petsc -j $(JOBS)
+
+# The MPI tests of the PETSc build on 2 ranks under valgrind (memory errors, ~6 min)
+check-valgrind-mpi: petsc-build
+	cd $(PETSC_BUILD) && ctest --output-on-failure -L valgrind-ranks
 
 # Record the public ABI (abi/nitschedyn.abi) after a deliberate change of the API.
 abi-update: all
