@@ -404,7 +404,7 @@ END_TEST
  * sliver's rows alone. The ranks assemble their own rows alone, then agree
  * before any of them factors (Problem::discretization_agreed): every rank's
  * nd_step fails with the overflow's code (the ranks without it point to the
- * others), no time passes, and with E = 1 the same problem steps. Without
+ * others), the time stays 0, and with E = 1 the same problem steps. Without
  * the agreement the ranks that assembled would wait in the factorization. */
 START_TEST(an_overflow_in_one_ranks_rows_fails_the_step_everywhere) {
   const double xy[] = {0, 0, 1, 0, 2, 0, 3, 0, 4, 0, 0, 1, 1, 1, 2, 1, 3, 1, 4, 1e-9};
@@ -430,7 +430,11 @@ START_TEST(an_overflow_in_one_ranks_rows_fails_the_step_everywhere) {
     ck_assert_msg(nd_test_on_all_ranks(status == ND_ERR_MATERIAL && (own || told)), "solver %d, rank %d: %d %s", solver,
                   g_rank, status, message);
     alone += told;
-    /* the first step again (t = tau: no rank's time moved) */
+    double t = -1; /* the clock needs no operators: readable on every rank, still 0 */
+    const int read = nd_get_scalar(p, ND_TIME, &t);
+    ck_assert_msg(nd_test_on_all_ranks(read == ND_OK && t == 0), "solver %d, rank %d: ND_TIME %d, t = %g", solver,
+                  g_rank, read, t);
+    /* the first step again (t = tau) */
     ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
     ND_OK_OR_FAIL(nd_step(p));
     ck_assert(nd_test_on_all_ranks(scalar(p, ND_TIME) == 0.01));

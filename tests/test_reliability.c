@@ -410,6 +410,13 @@ static int setup_with(double young, double density, double scale, int solver) {
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 1e-3));
   st = nd_problem_setup(p);
   if (st == ND_OK) st = nd_step(p);
+  /* the clock and the step counters need no operators: readable after the
+     refusal, at the initial state's values */
+  double t = -1, k = -1, its = -1;
+  ck_assert_int_eq(nd_get_scalar(p, ND_TIME, &t), ND_OK);
+  ck_assert_int_eq(nd_get_scalar(p, ND_STEP_INDEX, &k), ND_OK);
+  ck_assert_int_eq(nd_get_scalar(p, ND_NEWTON_ITERATIONS_TOTAL, &its), ND_OK);
+  ck_assert(st == ND_OK ? t == 1e-3 && k == 1 : t == 0 && k == 0 && its == 0);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   return st;
 }

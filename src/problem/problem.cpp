@@ -635,19 +635,23 @@ constexpr StatKey kStatKeys[] = {
 double Problem::scalar(int key) {
   for (const StatKey &k : kStatKeys)
     if (k.key == key) return static_cast<double>(counters_.get()->*k.field);
+  // the clock and the counters of a state not made yet are the initial
+  // state's (all zero): read without building the operators, which may fail
+  static const State kInitial;
+  const State &c = state_ready_ ? state_ : kInitial;
   switch (key) {
     case ND_TIME:
-      return state().t;
+      return c.t;
     case ND_STEP_INDEX:
-      return static_cast<double>(state().n);
+      return static_cast<double>(c.n);
     case ND_NEWTON_ITERATIONS:
-      return state().last_iterations;
+      return c.last_iterations;
     case ND_NEWTON_ITERATIONS_TOTAL:
-      return static_cast<double>(state().total_iterations);
+      return static_cast<double>(c.total_iterations);
     case ND_WORK:
-      return state().W;
+      return c.W;
     case ND_WORK_OBSTACLE:
-      return state().W_obstacle;
+      return c.W_obstacle;
     case ND_TIMESTEP:
       return def_.tau;
     case ND_GAMMA0:
