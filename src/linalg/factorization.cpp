@@ -1,6 +1,9 @@
 #include "linalg/factorization.hpp"
 
 #include <algorithm>
+#include <limits>
+
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -76,6 +79,13 @@ void Factorization::solve_many_at(double *x, int64_t n, int64_t k, const std::ve
   const size_t m = at.size();
   for (int64_t j = 0; j < k; ++j)
     for (size_t i = 0; i < m; ++i) out[static_cast<size_t>(j) * m + i] = x[j * n + at[i]];
+}
+
+void Factorization::solve_at(double *x, int64_t n, const std::vector<int64_t> &at) const {
+  std::vector<double> kept(at.size());
+  solve_many_at(x, n, 1, at, kept.data());
+  std::fill(x, x + n, std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < at.size(); ++i) x[at[i]] = kept[i];
 }
 
 namespace {

@@ -47,6 +47,10 @@ class Factorization {
   // rows gathers only those to this rank, not every row; the others solve
   // as solve_many (the same bits) and copy.
   virtual void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const;
+  // x <- A^{-1} x right at the unknowns `at` only (solve_many_at), NaN at the
+  // others: on split rows a caller reads no other row, and a NaN would show
+  // one that slipped through
+  void solve_at(double *x, int64_t n, const std::vector<int64_t> &at) const;
   // values solve_many_at receives from the other ranks per right-hand side
   virtual int64_t received_at(const std::vector<int64_t> &at) const {
     (void)at;

@@ -54,7 +54,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <exception>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -361,23 +360,26 @@ class Matrix {
   // only: the ranks agree on it before the assembly, which they call together
   // (parallel/agreement.hpp).
   void fill(const Csr &A, const Csr *own) {
-    std::exception_ptr failure;
     bool assemble = true;
-    try {
-      require_finite(A);
-      if (own) {
-        require_finite(*own);
-        add_parts(*own);
-      } else {
-        assemble = set_values(A);
-      }
-    } catch (...) {
-      failure = std::current_exception();
-    }
-    int worst = failure ? status_of(failure) : ND_OK;
-    if (L_.distributed() && MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_INT, MPI_MIN, L_.comm) != MPI_SUCCESS)
-      fail(ND_ERR_INTERNAL, "MPI_Allreduce of the ranks' statuses failed");
-    agree_on_outcome(worst, failure, "filling the distributed matrix", "no rank factored it");
+    const MPI_Comm comm = L_.comm;
+    const bool several = L_.distributed();
+    auto worst_of = [comm, several](int mine) {
+      if (several && MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_INT, MPI_MIN, comm) != MPI_SUCCESS)
+        fail(ND_ERR_INTERNAL, "MPI_Allreduce of the ranks' statuses failed");
+      return mine;
+    };
+    on_every_rank(
+        worst_of,
+        [&] {
+          require_finite(A);
+          if (own) {
+            require_finite(*own);
+            add_parts(*own);
+          } else {
+            assemble = set_values(A);
+          }
+        },
+        "filling the distributed matrix", "no rank factored it");
     if (!assemble) return;
     check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
     check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");

@@ -27,7 +27,7 @@ void agree_on_outcome(int worst, const std::exception_ptr &failure, const char *
                     ": see that rank's error");
 }
 
-void on_every_rank(const Communicator *c, const std::function<void()> &local, const char *what,
+void on_every_rank(const std::function<int(int)> &worst_of, const std::function<void()> &local, const char *what,
                    const char *consequence) {
   std::exception_ptr failure;
   try {
@@ -35,7 +35,12 @@ void on_every_rank(const Communicator *c, const std::function<void()> &local, co
   } catch (...) {
     failure = std::current_exception();
   }
-  agree_on_outcome(worst_status(c, failure ? status_of(failure) : ND_OK), failure, what, consequence);
+  agree_on_outcome(worst_of(failure ? status_of(failure) : ND_OK), failure, what, consequence);
+}
+
+void on_every_rank(const Communicator *c, const std::function<void()> &local, const char *what,
+                   const char *consequence) {
+  on_every_rank([c](int mine) { return worst_status(c, mine); }, local, what, consequence);
 }
 
 }  // namespace nd

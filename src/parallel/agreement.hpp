@@ -24,8 +24,12 @@ int status_of(const std::exception_ptr &e);
 // rank's error"); returns when every rank succeeded.
 void agree_on_outcome(int worst, const std::exception_ptr &failure, const char *what, const char *consequence);
 
-// Runs `local` on this rank, then agrees on the outcome over c's ranks
-// (above). Collective with a communicator; just `local` without one.
+// Runs `local` on this rank, then agrees on the outcome (above), the worst
+// status from worst_of(this rank's). Collective as worst_of is.
+void on_every_rank(const std::function<int(int)> &worst_of, const std::function<void()> &local, const char *what,
+                   const char *consequence);
+// The same over c's ranks (worst_status). Collective with a communicator;
+// just `local` without one.
 void on_every_rank(const Communicator *c, const std::function<void()> &local, const char *what,
                    const char *consequence);
 

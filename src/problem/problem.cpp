@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <exception>
 #include <functional>
 #include <limits>
 #include <new>
@@ -372,18 +371,16 @@ void Problem::prepare() {
 void Problem::step() {
   agree_on_inputs();
   State next;
-  std::exception_ptr failure;
-  try {
-    prepare();
-    const std::vector<double> F = current_load(), gap = current_gaps();
-    next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
-    guard_step(*disc_, def_.guards, state_, next);
-  } catch (...) {
-    failure = std::current_exception();
-  }
   // every rank commits the step or none does
-  agree_on_outcome(worst_status(def_.comm.get(), failure ? status_of(failure) : ND_OK), failure, "the step",
-                   "no rank took it");
+  nd::on_every_rank(
+      def_.comm.get(),
+      [&] {
+        prepare();
+        const std::vector<double> F = current_load(), gap = current_gaps();
+        next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
+        guard_step(*disc_, def_.guards, state_, next);
+      },
+      "the step", "no rank took it");
   state_ = std::move(next);
 }
 
@@ -441,13 +438,14 @@ void Problem::agree_on_inputs() {
 void Problem::set_communicator(CommunicatorPtr comm) {
   // every rank takes part in the collectives below, then all fail or none does
   const Communicator *c = comm.get();
-  const int mine = setup_done_ ? ND_ERR_STATE : ND_OK;
-  const int worst = worst_status(c, mine);
-  if (mine != ND_OK)
-    fail(ND_ERR_STATE, "the problem is set up (nd_problem_setup, a step or a loaded checkpoint): the communicator "
-                       "is given before, on every rank");
-  if (worst != ND_OK)
-    fail(worst, "another rank refused the communicator (its problem is set up); no rank took it");
+  nd::on_every_rank(
+      c,
+      [&] {
+        if (setup_done_)
+          fail(ND_ERR_STATE, "the problem is set up (nd_problem_setup, a step or a loaded checkpoint): the "
+                             "communicator is given before, on every rank");
+      },
+      "taking the communicator", "no rank took it");
   if (!same_on_all_ranks(c, mesh_digest_))
     fail(ND_ERR_STATE, "the ranks' meshes differ (vertices, cells, regions or degree): every rank creates the problem "
                        "from the same mesh; no rank took the communicator");

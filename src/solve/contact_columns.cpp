@@ -21,13 +21,9 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
   std::vector<std::vector<double>> Z(cp.size());  // allocate first, commit after
   std::vector<int64_t> position(cp.size(), -1), at, place;
   if (rows_) {  // own rows and the points' DOFs
-    std::vector<char> held(static_cast<size_t>(n_), 0);
-    for (const int64_t *i = rows_->own_begin(); i != rows_->own_end(); ++i) held[*i] = 1;
-    for (const SparseRow &a : cp.a)
-      for (int64_t i : a.idx) held[i] = 1;
+    at = rows_and_points(n_, *rows_, cp);
     place.assign(static_cast<size_t>(n_), -1);
-    for (int64_t i = 0; i < n_; ++i)
-      if (held[i]) place[i] = static_cast<int64_t>(at.size()), at.push_back(i);
+    for (size_t k = 0; k < at.size(); ++k) place[at[k]] = static_cast<int64_t>(k);
   }
   Z_.swap(Z);
   position_.swap(position);
@@ -124,9 +120,7 @@ bool ContactColumns::solve_held(double *x) const {
     A_factor_.solve(x);
     return false;
   }
-  std::vector<double> kept(at_.size());
-  A_factor_.solve_many_at(x, n_, 1, at_, kept.data());
-  for (size_t i = 0; i < at_.size(); ++i) x[at_[i]] = kept[i];
+  A_factor_.solve_at(x, n_, at_);
   return true;
 }
 

@@ -85,6 +85,21 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
   return true;
 }
 
+std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp, const Csr *A) {
+  std::vector<char> read(static_cast<size_t>(n), 0);
+  for (const int64_t *i = rows.own_begin(); i != rows.own_end(); ++i) {
+    read[*i] = 1;
+    if (A)
+      for (int64_t k = A->ptr[*i]; k < A->ptr[*i + 1]; ++k) read[A->col[k]] = 1;
+  }
+  for (const SparseRow &a : cp.a)  // (s_q has a_q's index list)
+    for (int64_t i : a.idx) read[i] = 1;
+  std::vector<int64_t> held;
+  for (int64_t i = 0; i < n; ++i)
+    if (read[i]) held.push_back(i);
+  return held;
+}
+
 double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place) {
   const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
   const double g = cp.gamma[q];

@@ -26,6 +26,12 @@ void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y)
 // T += f b_q p_q^T (T has the operator pattern)
 void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T);
 
+// The unknowns (ascending) of the rank's own rows (of `rows`, n of them) and
+// of every contact point's rows, with, given A, the columns of A's entries
+// in the own rows: what a rank reads of a vector held on split rows.
+std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp,
+                                     const Csr *A = nullptr);
+
 struct ContactLaw {
   const ContactPoints *cp = nullptr;
   double theta = 1;                         // Nitsche's Theta

@@ -53,17 +53,7 @@ bool contact_free(const ContactLaw &law, const std::vector<double> &U) {
 }  // namespace
 
 std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp) {
-  std::vector<char> read(static_cast<size_t>(A.n), 0);
-  for (const int64_t *i = rows.own_begin(); i != rows.own_end(); ++i) {
-    read[*i] = 1;
-    for (int64_t k = A.ptr[*i]; k < A.ptr[*i + 1]; ++k) read[A.col[k]] = 1;
-  }
-  for (const SparseRow &a : cp.a)  // (s_q has a_q's index list)
-    for (int64_t i : a.idx) read[i] = 1;
-  std::vector<int64_t> held;
-  for (int64_t i = 0; i < A.n; ++i)
-    if (read[i]) held.push_back(i);
-  return held;
+  return rows_and_points(A.n, rows, cp, &A);
 }
 
 namespace {

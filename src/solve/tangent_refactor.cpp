@@ -2,8 +2,6 @@
 // factor it numerically at every Newton iteration with an active point.
 #include "solve/tangent_solver.hpp"
 
-#include <algorithm>
-#include <limits>
 #include <utility>
 
 namespace nd {
@@ -26,11 +24,7 @@ class RefactoringTangent : public TangentSolver {
     T_factor_->factor(T_, structure_);
     ++stats.refactorizations;
     if (held_.empty()) return T_factor_->solve(x);
-    kept_.resize(held_.size());
-    T_factor_->solve_many_at(x, A_.n, 1, held_, kept_.data());
-    // the other rows are never read (a NaN would show it)
-    std::fill(x, x + A_.n, std::numeric_limits<double>::quiet_NaN());
-    for (size_t i = 0; i < held_.size(); ++i) x[held_[i]] = kept_[i];
+    T_factor_->solve_at(x, A_.n, held_);
   }
   const char *name() const override { return "refactor"; }
   const std::vector<int64_t> *held() const override { return held_.empty() ? nullptr : &held_; }
@@ -42,7 +36,6 @@ class RefactoringTangent : public TangentSolver {
   Structure structure_;
   std::unique_ptr<Factorization> T_factor_;
   std::vector<int64_t> held_;
-  std::vector<double> kept_;
 };
 
 }  // namespace
