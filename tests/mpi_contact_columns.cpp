@@ -9,7 +9,9 @@
 // are synthetic, each spread over the unknowns so that every rank's block
 // holds some of a point's DOFs and others do not.
 //
-// Also on this matrix: the rows Newton reads on split rows, kept by a
+// Also on this matrix: the contact points a Newton pass reads on split rows
+// (its own and those touching its rows, exchanged with their owners alone);
+// the rows Newton reads on split rows, kept by a
 // refactoring tangent's solves; and a factorization refused by one rank alone (a
 // non-finite value in its rows) is refused on every rank, none left waiting
 // in the assembly (parallel/agreement.hpp), and the next one succeeds.
@@ -290,6 +292,119 @@ START_TEST(a_refactoring_tangent_keeps_the_rows_newton_reads) {
 }
 END_TEST
 
+// A Newton pass of the refactoring tangent on split rows (ContactLaw::halo,
+// slice 10) reads the points that are the rank's own or whose rows touch its
+// rows, each received from its owner alone: P_q there bitwise the gathered
+// pass's (NaN elsewhere), the rank's rows of N(U) and N'(U) bitwise, the
+// active-set verdicts and the contact-free check the same on every rank as
+// from every point. The points' owners here ignore the rows (q mod the
+// ranks), so a rank also owns points that touch none of its rows.
+START_TEST(a_newton_pass_reads_the_points_touching_its_rows) {
+  // 9 points spread over every rank's rows, and 12 on 6 consecutive unknowns
+  // each (most of them within one rank's rows)
+  const nd::Csr A0 = spd_matrix(10);
+  const int64_t n = A0.n;
+  nd::ContactPoints cp = synthetic_points(n, 9);
+  for (int q = 0; q < 12; ++q) {
+    nd::ContactPoints one = synthetic_points(6, 1);
+    for (int64_t &i : one.a[0].idx) i += q * (n - 6) / 11;
+    one.s[0].idx = one.a[0].idx;
+    cp.a.push_back(one.a[0]), cp.s.push_back(one.s[0]), cp.gamma.push_back(0.03), cp.w.push_back(0.5);
+  }
+  const nd::Csr A = with_points(A0, cp);
+  const size_t nq = cp.size();
+  for (size_t q = 0; q < nq; ++q) cp.gap.push_back(q % 3 == 0 ? 1.0 : -1.0);  // 6 active near U = 0
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;
+  const std::vector<int> owner = even_owner(n);
+  auto rows = nd::make_share(comm, owner, &counters);
+  std::vector<int> point_owner(nq);
+  for (size_t q = 0; q < nq; ++q) point_owner[q] = static_cast<int>(q) % g_size;
+  cp.share = nd::make_share(comm, point_owner, &counters);
+  auto halo = rows ? nd::contact_point_halo(cp, *rows) : nullptr;
+  ck_assert(static_cast<bool>(halo) == (g_size > 1));
+  std::vector<int64_t> expected;  // entry by entry
+  int64_t others = 0;
+  for (size_t q = 0; q < nq; ++q) {
+    bool reads = point_owner[q] == g_rank;
+    for (int64_t i : cp.a[q].idx) reads |= owner[i] == g_rank;
+    if (reads) expected.push_back(static_cast<int64_t>(q)), others += point_owner[q] != g_rank;
+  }
+  if (halo) ck_assert_msg(halo->read == expected, "rank %d: %zu points read, %zu expected", g_rank, halo->read.size(), expected.size());
+
+  std::vector<double> U(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) U[i] = 0.05 * std::sin(0.9 * static_cast<double>(i));
+  nd::ContactLaw all{&cp, -1.0};  // Theta = -1: b_q != p_q
+  nd::ContactLaw mine = all;
+  mine.halo = halo.get();
+  std::vector<double> P_all, P_mine;
+  all.P_read(U.data(), P_all);  // (no halo: P_all, every point gathered)
+  const int64_t r0 = counters.values_received, v0 = counters.point_values_received;
+  mine.P_read(U.data(), P_mine);
+  const int64_t got = counters.values_received - r0;
+  ck_assert_msg(nd_test_on_all_ranks(got == (halo ? others : 0) && counters.point_values_received - v0 == got),
+                "rank %d: %lld values received, %lld points of other ranks read", g_rank, static_cast<long long>(got),
+                static_cast<long long>(others));
+  std::vector<char> is_read(nq, halo ? 0 : 1);
+  for (int64_t q : expected) is_read[q] = 1;
+  bool right = true;
+  for (size_t q = 0; q < nq; ++q)
+    right &= is_read[q] ? std::memcmp(&P_all[q], &P_mine[q], sizeof(double)) == 0 : std::isnan(P_mine[q]);
+  ck_assert_msg(nd_test_on_all_ranks(right), "rank %d: P_q read differs from the gathered pass", g_rank);
+
+  // N(U) and the active sets
+  std::vector<double> y_all(static_cast<size_t>(n), 0.0), y_mine(static_cast<size_t>(n), 0.0);
+  std::vector<char> act_all, act_mine;
+  all.add_force(U.data(), 10.0, y_all.data(), &act_all);
+  mine.add_force(U.data(), 10.0, y_mine.data(), &act_mine);
+  bool same_rows = true, same_active = true;
+  for (int64_t i = 0; i < n; ++i)
+    if (!halo || owner[i] == g_rank) same_rows &= std::memcmp(&y_all[i], &y_mine[i], sizeof(double)) == 0;
+  for (size_t q = 0; q < nq; ++q) same_active &= !is_read[q] || act_all[q] == act_mine[q];
+  ck_assert_msg(nd_test_on_all_ranks(same_rows && same_active), "rank %d: N(U) or the active set differs", g_rank);
+  int active = 0;
+  for (char a : act_all) active += a != 0;
+  ck_assert_msg(active > 0 && active < static_cast<int>(nq), "%d of %zu points active: the test needs both", active, nq);
+  const std::vector<char> none(nq, 0);
+  const std::vector<char> *previous_sets[] = {&none, &act_all};
+  for (const std::vector<char> *previous : previous_sets) {
+    bool any_all, changed_all, any_mine, changed_mine;
+    all.summarize(act_all, *previous, any_all, changed_all);
+    mine.summarize(act_mine, *previous, any_mine, changed_mine);
+    ck_assert(nd_test_on_all_ranks(any_mine == any_all && changed_mine == changed_all));
+    ck_assert(any_all && changed_all == (previous == &none));
+  }
+  // N'(U) on the rank's rows
+  nd::Csr T_all = A, T_mine = A;
+  all.add_tangent(U.data(), 10.0, T_all);
+  mine.add_tangent(U.data(), 10.0, T_mine);
+  for (int64_t i = 0; i < n; ++i)
+    if (!halo || owner[i] == g_rank)
+      for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k) same_rows &= T_all.val[k] == T_mine.val[k];
+  ck_assert_msg(nd_test_on_all_ranks(same_rows), "rank %d: the tangent's rows differ", g_rank);
+  // a change, or an active point, on the last rank's points alone is seen by every rank
+  const size_t last = static_cast<size_t>(g_size - 1);  // (owned by rank g_size - 1)
+  std::vector<char> flipped = act_all;
+  flipped[last] = !flipped[last];
+  bool any = false, changed = false;
+  mine.summarize(act_mine, flipped, any, changed);
+  ck_assert_msg(nd_test_on_all_ranks(any && changed), "rank %d: a change on rank %d unseen", g_rank, g_size - 1);
+  ck_assert(nd_test_on_all_ranks(!mine.contact_free(U) && !all.contact_free(U)));
+  for (double &g : cp.gap) g = 10;  // far: only point `last` touches the obstacle
+  cp.gap[last] = -1;
+  mine.add_force(U.data(), 10.0, y_mine.data(), &act_mine);
+  mine.summarize(act_mine, act_mine, any, changed);
+  ck_assert_msg(nd_test_on_all_ranks(any && !changed), "rank %d: the active point on rank %d unseen", g_rank, g_size - 1);
+  ck_assert(nd_test_on_all_ranks(!mine.contact_free(U) && !all.contact_free(U)));
+  cp.gap[last] = 10;  // contact-free everywhere
+  ck_assert(nd_test_on_all_ranks(mine.contact_free(U) && all.contact_free(U)));
+  if (g_rank == 0)
+    std::printf("%d rank(s): a Newton pass on rank 0 reads %zu of %zu points, %lld received (a gather: %lld)\n", g_size,
+                expected.size(), nq, static_cast<long long>(got),
+                static_cast<long long>(nq - static_cast<size_t>(std::count(point_owner.begin(), point_owner.end(), 0))));
+}
+END_TEST
+
 // Split rows: each rank's copy of A is read at its own rows only, so a
 // non-finite value there is seen by that rank alone.
 START_TEST(a_matrix_refused_on_one_rank_is_refused_on_every_rank) {
@@ -343,6 +458,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, columns_on_own_rows_are_the_whole_columns);
   tcase_add_test(tc, columns_on_own_rows_with_gamg);
   tcase_add_test(tc, a_refactoring_tangent_keeps_the_rows_newton_reads);
+  tcase_add_test(tc, a_newton_pass_reads_the_points_touching_its_rows);
   suite_add_tcase(s, tc);
   TCase *agreement = tcase_create("agreement");
   tcase_set_timeout(agreement, 300);

@@ -773,12 +773,15 @@ static void free_step_receives(int dim, int solver, double *other, double *rows_
   ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
   const double r0 = scalar(p, ND_STAT_VALUES_RECEIVED), s0 = scalar(p, ND_STAT_SOLVES);
   const double e0 = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN);
+  const double v0 = scalar(p, ND_STAT_POINT_VALUES_RECEIVED);
   ND_OK_OR_FAIL(nd_step(p)); /* t = 0.5: free flight */
   ck_assert_double_eq(scalar(p, ND_ACTIVE_POINTS), 0);
   const double received = scalar(p, ND_STAT_VALUES_RECEIVED) - r0, solves = scalar(p, ND_STAT_SOLVES) - s0;
   *rows_of_others = (double)(dim * (nodes - own)); /* no clamped DOF in the drop scene */
   /* P_q (and u_n - g0) of the points the other ranks evaluated */
   *points = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+  /* the new state's pass: their P_q and u_n - g0 */
+  ck_assert(nd_test_on_all_ranks(scalar(p, ND_STAT_POINT_VALUES_RECEIVED) - v0 == 2 * *points));
   *other = received - (solver == ND_SOLVER_CHOLMOD ? 0 : solves * *rows_of_others);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
@@ -825,6 +828,7 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
          a step with one gathers the other rows of U once at its end; every
          other solve gathers a whole solution */
       double whole = 0, held_solves = 0, r = scalar(p, ND_STAT_VALUES_RECEIVED);
+      const double v = scalar(p, ND_STAT_POINT_VALUES_RECEIVED), evaluations = scalar(p, ND_STAT_CONTACT_EVALUATIONS);
       double solves = scalar(p, ND_STAT_SOLVES), factored = scalar(p, ND_STAT_FACTORIZATIONS);
       const int steps = kSteps - 2;
       for (int k = 2; k < kSteps; ++k) {
@@ -835,11 +839,20 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
         factored += f, solves += sv;
       }
       ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0 && held_solves > 0);
-      const double pts = scalar(p, ND_STAT_POINT_EVALUATIONS) - scalar(p, ND_STAT_POINT_EVALUATIONS_OWN) - e0 - nc_pass;
-      /* a pass over the points gathers P_q of the other ranks' points, the
-         new state's pass of each step also their u_n - g0; the rest is the
-         held rows and the sums */
-      const double rest = scalar(p, ND_STAT_VALUES_RECEIVED) - r - whole - pts - steps * nc_pass;
+      /* the points' values: each step's new state gathers P_q and u_n - g0
+         of the other ranks' points (2 nc_pass); a Newton pass receives only
+         the points whose rows touch the rank's rows (slice 10), at most the
+         nc_pass a gather would */
+      const double passes = scalar(p, ND_STAT_CONTACT_EVALUATIONS) - evaluations - steps;
+      const double halo = scalar(p, ND_STAT_POINT_VALUES_RECEIVED) - v - 2.0 * steps * nc_pass;
+      if (g_rank == 0)
+        printf("%dD GAMG, %d rank(s): %.0f Newton passes over the points received %.0f of their values (a gather: "
+               "%.0f each)\n", dim, g_size, passes, halo, nc_pass);
+      ck_assert_msg(nd_test_on_all_ranks(passes > 0 && halo >= 0 && halo <= passes * nc_pass),
+                    "%dD: %g values in %g passes, %g other points", dim, halo, passes, nc_pass);
+      if (g_size > 1) ck_assert_msg(nd_test_on_all_ranks(halo < passes * nc_pass), "%dD: no pass was narrowed", dim);
+      /* the rest is the held rows and the sums */
+      const double rest = scalar(p, ND_STAT_VALUES_RECEIVED) - r - whole - (scalar(p, ND_STAT_POINT_VALUES_RECEIVED) - v);
       const double least = 2.0 * (g_size - 1) * steps; /* the energy's two per step */
       const double most = 6.0 * (g_size - 1) * (steps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL));
       const double h_lo = (rest - most) / held_solves, h_hi = (rest - least) / held_solves;

@@ -26,6 +26,9 @@ struct Counters {
   // the split work (parallel/share.hpp) and the solutions of the distributed
   // solves (the other ranks' rows of each)
   int64_t values_received = 0;
+  // of them, the contact points' values (P_q, u_n - g0): gathered, or
+  // exchanged with the ranks whose rows a point touches (ContactLaw::halo)
+  int64_t point_values_received = 0;
   // not a count: the entries of M, K and K_Theta held now (a rank's rows
   // when they are split over the ranks, problem/discretization.hpp)
   int64_t matrix_entries = 0;

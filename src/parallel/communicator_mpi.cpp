@@ -1,6 +1,7 @@
 // The communicator functions of builds with MPI (see communicator.hpp).
 #include "parallel/communicator_mpi.hpp"
 
+#include <climits>
 #include <cstdint>
 #include <string>
 
@@ -68,6 +69,39 @@ int worst_status(const Communicator *c, int status) {
 }
 
 double max_over_ranks(const Communicator *c, double x) { return reduce(c, x, MPI_DOUBLE, MPI_MAX, "a maximum"); }
+
+void max_over_ranks(const Communicator *c, double *x, int n) {
+  if (!c || n == 0) return;
+  if (MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_MAX, c->comm) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Allreduce of the ranks' maxima failed");
+}
+
+void exchange(const Communicator *c, const std::vector<int> &to, const std::vector<int64_t> &send_first,
+              const double *send, const std::vector<int> &from, const std::vector<int64_t> &recv_first,
+              double *recv) {
+  if (to.empty() && from.empty()) return;
+  if (!c) fail(ND_ERR_INTERNAL, "an exchange between ranks without a communicator");
+  std::vector<MPI_Request> requests;
+  requests.reserve(to.size() + from.size());
+  int status = MPI_SUCCESS;
+  auto count = [&](const std::vector<int64_t> &first, size_t k) {
+    const int64_t m = first[k + 1] - first[k];
+    if (m > INT_MAX) fail(ND_ERR_SIZE, "a message between ranks (" + std::to_string(m) + " values) exceeds MPI's int count");
+    return static_cast<int>(m);
+  };
+  constexpr int kTag = 15;  // our duplicate communicator: no caller's message shares it
+  for (size_t k = 0; k < from.size() && status == MPI_SUCCESS; ++k) {
+    requests.push_back(MPI_REQUEST_NULL);
+    status = MPI_Irecv(recv + recv_first[k], count(recv_first, k), MPI_DOUBLE, from[k], kTag, c->comm, &requests.back());
+  }
+  for (size_t k = 0; k < to.size() && status == MPI_SUCCESS; ++k) {
+    requests.push_back(MPI_REQUEST_NULL);
+    // (MPI 3's Isend takes a const buffer)
+    status = MPI_Isend(send + send_first[k], count(send_first, k), MPI_DOUBLE, to[k], kTag, c->comm, &requests.back());
+  }
+  const int waited = MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (status != MPI_SUCCESS || waited != MPI_SUCCESS) fail(ND_ERR_INTERNAL, "an exchange of values between ranks failed");
+}
 
 bool same_on_all_ranks(const Communicator *c, uint64_t digest) {
   if (!c) return true;

@@ -14,6 +14,11 @@ int communicator_rank(const Communicator *) { return 0; }
 int worst_status(const Communicator *, int status) { return status; }
 bool same_on_all_ranks(const Communicator *, uint64_t) { return true; }
 double max_over_ranks(const Communicator *, double x) { return x; }
+void max_over_ranks(const Communicator *, double *, int) {}
+void exchange(const Communicator *, const std::vector<int> &to, const std::vector<int64_t> &, const double *,
+              const std::vector<int> &from, const std::vector<int64_t> &, double *) {
+  if (!to.empty() || !from.empty()) fail(ND_ERR_INTERNAL, "an exchange between ranks in a build without MPI");
+}
 void gatherv(const Communicator *, int, const std::vector<double> &mine, std::vector<double> &all,
              const std::vector<int> &, const std::vector<int> &) {
   all = mine;

@@ -82,6 +82,54 @@ void gather_items(const Share &s, int root, int width, const double *mine, doubl
   }
 }
 
+std::shared_ptr<const Halo> make_halo(std::shared_ptr<const Share> share, int64_t n_items,
+                                      const std::function<void(int64_t, std::vector<int> &)> &readers) {
+  const int size = static_cast<int>(share->first.size()) - 1, me = share->rank;
+  std::vector<int> owner(static_cast<size_t>(n_items), 0);
+  for (int r = 0; r < size; ++r)
+    for (int64_t k = share->first[r]; k < share->first[r + 1]; ++k) owner[share->order[k]] = r;
+  std::vector<std::vector<int64_t>> sends(size), recvs(size);  // by rank, items ascending
+  std::vector<int> ranks;
+  auto h = std::make_shared<Halo>();
+  for (int64_t i = 0; i < n_items; ++i) {
+    ranks.clear();
+    readers(i, ranks);
+    std::sort(ranks.begin(), ranks.end());
+    ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+    const int o = owner[i];
+    if (o == me) {
+      h->read.push_back(i);
+      for (int r : ranks)
+        if (r != me) sends[r].push_back(i);
+    } else if (std::binary_search(ranks.begin(), ranks.end(), me)) {
+      h->read.push_back(i);
+      recvs[o].push_back(i);
+    }
+  }
+  auto flatten = [&](const std::vector<std::vector<int64_t>> &by_rank, std::vector<int> &peers,
+                     std::vector<int64_t> &items, std::vector<int64_t> &first) {
+    first.assign(1, 0);
+    for (int r = 0; r < size; ++r) {
+      if (by_rank[r].empty()) continue;
+      peers.push_back(r);
+      items.insert(items.end(), by_rank[r].begin(), by_rank[r].end());
+      first.push_back(static_cast<int64_t>(items.size()));
+    }
+  };
+  flatten(sends, h->to, h->send, h->send_first);
+  flatten(recvs, h->from, h->recv, h->recv_first);
+  h->share = std::move(share);
+  return h;
+}
+
+void exchange(const Halo &h, double *field) {
+  std::vector<double> out(h.send.size()), in(h.recv.size());
+  for (size_t k = 0; k < h.send.size(); ++k) out[k] = field[h.send[k]];
+  exchange(h.share->comm.get(), h.to, h.send_first, out.data(), h.from, h.recv_first, in.data());
+  for (size_t k = 0; k < h.recv.size(); ++k) field[h.recv[k]] = in[k];
+  count(h.share->counters, &Counters::values_received, static_cast<int64_t>(in.size()));
+}
+
 double norm2_rows(const Share *rows, int64_t n, const double *x) {
   if (!rows) return norm2(n, x);
   double sum = 0;

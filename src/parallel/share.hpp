@@ -13,6 +13,7 @@
 // collective: every rank calls it at the same point of a step.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,29 @@ struct Share {
   const int64_t *own_end() const { return order.data() + first[rank + 1]; }
   int64_t own_count() const { return first[rank + 1] - first[rank]; }
 };
+
+// The items a rank reads of a field whose items are computed by their owners
+// (a Share), when it reads fewer than all (slice 10: the contact points a
+// Newton pass on split rows reads). The rank computes its own items and
+// receives the others it reads from their owners alone (exchange), instead
+// of every item from every rank (gather).
+struct Halo {
+  std::shared_ptr<const Share> share;  // the items' owners
+  std::vector<int64_t> read;           // the items right after an exchange: own and received, ascending
+  std::vector<int> from, to;           // the ranks this one receives from, sends to (ascending)
+  std::vector<int64_t> recv, recv_first;  // the items received, from[k]'s at recv[recv_first[k] ..)
+  std::vector<int64_t> send, send_first;  // own items sent, to[k]'s at send[send_first[k] ..)
+};
+
+// readers(i, ranks): appends the ranks that read item i (repeats and its
+// owner allowed). Every rank computes the same lists from its replicated
+// data, so making a halo sends no message.
+std::shared_ptr<const Halo> make_halo(std::shared_ptr<const Share> share, int64_t n_items,
+                                      const std::function<void(int64_t, std::vector<int> &)> &readers);
+// field: over all items, right on this rank's own items; afterwards right on
+// h.read too (the other items are not touched). Collective over the ranks
+// that share items (point to point); counts values_received.
+void exchange(const Halo &h, double *field);
 
 // The rows a process computes: its own with a share, else all.
 inline RowSet own_rows(const Share *s) { return s ? RowSet{s->own_begin(), s->own_count()} : RowSet{}; }

@@ -78,9 +78,11 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
         updown_tangent_applies(def.solver, s) && (def.tangent == TangentChoice::Updown || three_d_auto);
     if (def.tangent == TangentChoice::Refactor || (three_d_auto && linear_solver_iterative(def.solver))) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
+      // and a Newton pass reads the points whose rows touch the rank's rows
       in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
                                              d.rows_split ? newton_held_rows(in->A, *d.rows, d.contact)
                                                           : std::vector<int64_t>());
+      if (d.rows_split) in->halo = contact_point_halo(d.contact, *d.rows);
     } else if (updown) {
       in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
     } else {
@@ -140,6 +142,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.A_factor->solve(next.U.data());
       next.last_iterations = 1;
     } else {
+      law.halo = in.halo.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;

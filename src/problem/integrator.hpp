@@ -28,6 +28,9 @@ struct Integrator {
   // the forced low-rank path)
   std::unique_ptr<ContactColumns> columns;
   std::unique_ptr<TangentSolver> tangent;
+  // the contact points a rank's Newton reads with the refactoring tangent on
+  // split rows (ContactLaw::halo), or null: every point gathered
+  std::shared_ptr<const Halo> halo;
   std::unique_ptr<CondensedCache> condensed;
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)

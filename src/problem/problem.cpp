@@ -627,6 +627,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_CONTACT_BOUNDS, &Counters::contact_bounds},
     {ND_STAT_MATRIX_ENTRIES_OWN, &Counters::matrix_entries},
     {ND_STAT_VALUES_RECEIVED, &Counters::values_received},
+    {ND_STAT_POINT_VALUES_RECEIVED, &Counters::point_values_received},
 };
 }  // namespace
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace nd {
 
@@ -14,6 +15,16 @@ void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
   slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
 }
 
+namespace {
+// what `receive` adds to values_received is also the points' (point_values_received)
+template <class Receive>
+void receiving_points(Counters *c, Receive &&receive) {
+  const int64_t before = c ? c->values_received : 0;
+  receive();
+  if (c) c->point_values_received += c->values_received - before;
+}
+}  // namespace
+
 void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, double *P,
                            const std::vector<double *> &also, int64_t own) const {
   int64_t done = own;
@@ -22,7 +33,7 @@ void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, do
     for (char s : skip) done -= s != 0;
     std::vector<double *> fields{P};
     fields.insert(fields.end(), also.begin(), also.end());
-    gather(*share, fields);
+    receiving_points(share->counters, [&] { gather(*share, fields); });
   }
   count(counters, &Counters::point_evaluations, done);
   count(counters, &Counters::own_point_evaluations, own);
@@ -47,6 +58,54 @@ void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<doub
         return sa - cp->gamma[q] * ss - g(q);
       },
       {u});
+}
+
+void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) const {
+  if (!halo || local) return P_all(U, P);
+  P.assign(cp->size(), std::numeric_limits<double>::quiet_NaN());
+  if (P.empty()) return;
+  count(counters, &Counters::contact_evaluations);
+  const Share &share = *halo->share;
+  for (const int64_t *q = share.own_begin(); q != share.own_end(); ++q) P[*q] = this->P(*q, U);
+  count(counters, &Counters::point_evaluations, static_cast<int64_t>(cp->size()));
+  count(counters, &Counters::own_point_evaluations, share.own_count());
+  if (received) receiving_points(share.counters, [&] { exchange(*halo, P.data()); });
+}
+
+bool ContactLaw::contact_free(const std::vector<double> &U) const {
+  if (certainly_free(U)) return true;  // far from the obstacle: no point evaluated
+  thread_local std::vector<double> P;
+  P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
+  auto busy = [&](int64_t q) {
+    double value, slope;
+    law(static_cast<size_t>(q), P[q], value, slope);
+    return value != 0 || slope != 0;
+  };
+  if (!halo || local) {
+    for (size_t q = 0; q < P.size(); ++q)
+      if (busy(static_cast<int64_t>(q))) return false;
+    return true;
+  }
+  double any = 0;
+  for (const int64_t *q = halo->share->own_begin(); q != halo->share->own_end() && any == 0; ++q) any = busy(*q);
+  return max_over_ranks(halo->share->comm.get(), any) == 0;
+}
+
+void ContactLaw::summarize(const std::vector<char> &active, const std::vector<char> &previous, bool &any,
+                           bool &changed) const {
+  any = false;
+  if (!halo || local) {
+    for (char a : active) any |= a != 0;
+    changed = active != previous;
+    return;
+  }
+  double flags[2] = {0, active.size() != previous.size() ? 1.0 : 0.0};
+  for (const int64_t *q = halo->share->own_begin(); q != halo->share->own_end(); ++q) {
+    if (active[*q]) flags[0] = 1;
+    if (flags[1] == 0 && active[*q] != previous[*q]) flags[1] = 1;
+  }
+  max_over_ranks(halo->share->comm.get(), flags, 2);
+  any = flags[0] != 0, changed = flags[1] != 0;
 }
 
 namespace {
@@ -83,6 +142,21 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
   }
   count(counters, &Counters::contact_bounds);
   return true;
+}
+
+std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows) {
+  if (!cp.share) return nullptr;  // one rank evaluates every point
+  const int size = static_cast<int>(rows.first.size()) - 1;
+  std::vector<int> row_owner;  // of every unknown (the rows' share lists each once)
+  int64_t n = 0;
+  for (int64_t i : rows.order) n = std::max(n, i + 1);
+  row_owner.assign(static_cast<size_t>(n), -1);
+  for (int r = 0; r < size; ++r)
+    for (int64_t k = rows.first[r]; k < rows.first[r + 1]; ++k) row_owner[rows.order[k]] = r;
+  return make_halo(cp.share, static_cast<int64_t>(cp.size()), [&](int64_t q, std::vector<int> &ranks) {
+    for (int64_t i : cp.a[q].idx)  // (s_q has a_q's index list)
+      if (i < n && row_owner[i] >= 0) ranks.push_back(row_owner[i]);
+  });
 }
 
 std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp, const Csr *A) {
@@ -128,20 +202,19 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
     return;
   }
   thread_local std::vector<double> Pq;
-  P_all(U, Pq);
+  P_read(U, Pq);
   add_force_from(Pq, kappa, y, active);
 }
 
 void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, double *y,
                                 std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
-  for (size_t q = 0; q < cp->size(); ++q) {
+  for_read([&](size_t q) {
     double value, slope;
     law(q, Pq[q], value, slope);
     if (active) (*active)[q] = slope != 0;
-    if (value == 0) continue;
-    add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
-  }
+    if (value != 0) add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
+  });
 }
 
 void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T) {
@@ -160,13 +233,12 @@ void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T) const {
   count(counters, &Counters::tangent_updates);
   thread_local std::vector<double> Pq;
-  P_all(U, Pq);
-  for (size_t q = 0; q < cp->size(); ++q) {
+  P_read(U, Pq);
+  for_read([&](size_t q) {
     double value, slope;
     law(q, Pq[q], value, slope);
-    if (slope == 0) continue;
-    add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T);
-  }
+    if (slope != 0) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T);
+  });
 }
 
 }  // namespace nd

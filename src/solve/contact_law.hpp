@@ -26,6 +26,10 @@ void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y)
 // T += f b_q p_q^T (T has the operator pattern)
 void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T);
 
+// The contact points a rank's Newton pass reads on split rows (ContactLaw::
+// halo): its own and those whose rows touch its rows; null with one rank.
+std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows);
+
 // The unknowns (ascending) of the rank's own rows (of `rows`, n of them) and
 // of every contact point's rows, with, given A, the columns of A's entries
 // in the own rows: what a rank reads of a vector held on split rows.
@@ -45,6 +49,13 @@ struct ContactLaw {
   // U^n and its gaps (nullptr: cp->gap), where Pn was evaluated: with them a
   // U near U^n may be shown contact-free without a pass (certainly_free)
   const double *Un = nullptr, *gap_n = nullptr;
+  // A Newton pass whose solves and residual read this rank's rows only (the
+  // refactoring tangent on split rows, slice 10): the points it reads, its
+  // own and those whose rows touch its rows, received from their owners
+  // alone (contact_point_halo). Null: every point on every rank (gathered).
+  // Only the passes of P_read and what uses it (add_force, add_tangent,
+  // contact_free, summarize) take it; P_all always gives every point.
+  const Halo *halo = nullptr;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   // sa = a_q.U and ss = s_q.U, each summed in index order (the bits of
@@ -105,9 +116,32 @@ struct ContactLaw {
   // evaluate's end: the other ranks' points gathered, the evaluations counted
   void evaluated(const Share *share, const std::vector<char> &skip, double *P, const std::vector<double *> &also,
                  int64_t own) const;
+  // P[q] = P_q(U) where this rank reads it: with a halo, its own points and
+  // (if `received`) the halo's others, NaN at the rest (a reader that slipped
+  // through fails loudly); without, P_all. Counts one pass, each point once
+  // for the ranks together.
+  void P_read(const double *U, std::vector<double> &P, bool received = true) const;
+  // Whether N and N' vanish at U at every point: certainly_free, else a pass
+  // (with a halo, each rank its own points, then one reduction). Collective.
+  bool contact_free(const std::vector<double> &U) const;
+  // From the active sets of add_force (`previous` may be empty): whether a
+  // point is active, whether the set changed; with a halo from each rank's
+  // own points, reduced in one message (the same answer on every rank).
+  void summarize(const std::vector<char> &active, const std::vector<char> &previous, bool &any,
+                 bool &changed) const;
+  // f(q) for every point this rank reads (halo->read), or every point
+  template <class F>
+  void for_read(F &&f) const {
+    if (halo && !local) {
+      for (int64_t q : halo->read) f(static_cast<size_t>(q));
+      return;
+    }
+    for (size_t q = 0, m = cp->size(); q < m; ++q) f(q);
+  }
   // phi and its slope at P for point q
   void law(size_t q, double P, double &value, double &slope) const;
-  // y += kappa N(U); active[q] = (slope != 0) if active is given
+  // y += kappa N(U); active[q] = (slope != 0) if active is given (with a
+  // halo: y right on this rank's rows, active at the points it reads, else 0)
   void add_force(const double *U, double kappa, double *y, std::vector<char> *active) const;
   // the same from P = P_q(U) already evaluated
   void add_force_from(const std::vector<double> &P, double kappa, double *y, std::vector<char> *active) const;
