@@ -405,6 +405,116 @@ START_TEST(a_newton_pass_reads_the_points_touching_its_rows) {
 }
 END_TEST
 
+// GAMG keeps the hierarchy it set up for one Newton tangent for the next
+// (Factorization::refactor) while it serves: the solves still reach their
+// tolerance (against CHOLMOD), no set-up is counted; a matrix the kept
+// hierarchy serves badly (c M + K with another c: another time step) marks
+// it stale after a solve of more than twice the first solve's iterations,
+// and the next refactor sets up anew; a solve that does not converge with
+// it (the iteration limit lowered for the test) sets up for its matrix and
+// solves again, counted as a factorization.
+START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
+  nd::Space space(ndtest::irregular_rectangle(10), 1);
+  nd::DofMap dofs(space, {});
+  const nd::BulkOperators ops = nd::assemble_bulk(space, dofs, nd::Material{50, 0.25, 1});
+  const int64_t n = ops.M.n;
+  nd::ContactPoints cp;  // 12 points, each on 6 consecutive unknowns
+  for (int q = 0; q < 12; ++q) {
+    nd::ContactPoints one = synthetic_points(6, 1);
+    for (int64_t &i : one.a[0].idx) i += q * (n - 6) / 11;
+    one.s[0].idx = one.a[0].idx;
+    cp.a.push_back(one.a[0]), cp.s.push_back(one.s[0]), cp.gamma.push_back(0.03), cp.w.push_back(0.5);
+  }
+  // T = c M + K + kappa N'(0), the points q with q mod 3 != skip active
+  auto tangent = [&](double c, int skip) {
+    nd::Csr A;
+    nd::csr_combine(c, ops.M, 1.0, ops.K, A);
+    nd::Csr T = with_points(A, cp);
+    nd::ContactPoints at = cp;
+    for (int q = 0; q < 12; ++q) at.gap.push_back(q % 3 == skip ? 1.0 : -1.0);
+    const nd::ContactLaw law{&at, 1.0};
+    const std::vector<double> U(static_cast<size_t>(n), 0.0);
+    law.add_tangent(U.data(), 10.0, T);
+    return T;
+  };
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;
+  nd::DofGeometry g;  // the rigid-body modes GAMG is given in a problem
+  g.comm = comm;
+  g.dim = space.dim;
+  g.x.resize(static_cast<size_t>(n * space.dim));
+  g.component.resize(static_cast<size_t>(n));
+  for (int64_t node = 0; node < space.n_nodes; ++node)
+    for (int a = 0; a < space.dim; ++a)
+      if (const int64_t r = dofs.free[node * space.dim + a]; r >= 0) {
+        std::copy_n(&space.node_coords[node * space.dim], space.dim, &g.x[r * space.dim]);
+        g.component[r] = a;
+      }
+  const nd::Structure spd = nd::Structure::SymmetricPositiveDefinite;
+  std::vector<double> b(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) b[i] = std::cos(0.3 * static_cast<double>(i));
+  // solves T x = b, checked against CHOLMOD; the Krylov iterations and the set-ups it made
+  struct Solved {
+    int64_t iterations, set_ups;
+  };
+  auto solve = [&](const nd::Factorization &f, const nd::Csr &T, const char *what) {
+    auto exact = nd::make_factorization(ND_SOLVER_CHOLMOD, T, spd);
+    exact->factor(T, spd);
+    std::vector<double> x = b, x_exact = b;
+    exact->solve(x_exact.data());
+    const int64_t its = counters.krylov_iterations, set_ups = counters.factorizations;
+    f.solve(x.data());
+    const double off = ndtest::rel_diff(x, x_exact);
+    ck_assert_msg(nd_test_on_all_ranks(off <= 1e-9), "%s: %g off CHOLMOD's", what, off);
+    return Solved{counters.krylov_iterations - its, counters.factorizations - set_ups};
+  };
+  auto refactor = [&](nd::Factorization &f, const nd::Csr &T) {  // whether it set up, checked against the count
+    const int64_t before = counters.factorizations;
+    const bool fresh = f.refactor(T, spd);
+    ck_assert(counters.factorizations - before == (fresh ? 1 : 0));
+    return fresh;
+  };
+
+  // a stiffness-dominated tangent (a long time step), then another active set: kept
+  const nd::Csr T1 = tangent(1e-2, 0), T2 = tangent(1e-2, 1), T3 = tangent(1e6, 0), T4 = tangent(1e4, 0);
+  auto f = nd::make_factorization(ND_SOLVER_PETSC_GAMG, T1, spd, &counters, &g);
+  ck_assert(refactor(*f, T1));
+  const Solved first = solve(*f, T1, "the first tangent");
+  ck_assert(!refactor(*f, T2));
+  const Solved nearby = solve(*f, T2, "another active set, kept");
+  ck_assert(nearby.set_ups == 0 && nearby.iterations <= 2 * first.iterations);
+  ck_assert(!refactor(*f, T2));  // not stale
+  ck_assert(solve(*f, T2, "kept again").set_ups == 0);
+  // a mass-dominated matrix (a short time step): the kept hierarchy serves it
+  // badly, the next refactor sets up anew
+  ck_assert(!refactor(*f, T3));
+  const Solved stale = solve(*f, T3, "a short step's matrix, kept");
+  ck_assert_msg(stale.set_ups == 0 && stale.iterations > 2 * first.iterations, "%lld iterations, %lld set-ups",
+                static_cast<long long>(stale.iterations), static_cast<long long>(stale.set_ups));
+  ck_assert(refactor(*f, T3));
+  const Solved renewed = solve(*f, T3, "a short step's matrix, set up");
+  ck_assert(renewed.set_ups == 0 && renewed.iterations < stale.iterations);
+
+  // the other way: a hierarchy for c = 1e4 makes CG on c = 1e-2 stop (an
+  // indefinite preconditioner): the solve sets up for its matrix and succeeds
+  auto f2 = nd::make_factorization(ND_SOLVER_PETSC_GAMG, T4, spd, &counters, &g);
+  ck_assert(refactor(*f2, T4));
+  const Solved mass = solve(*f2, T4, "a mass-dominated tangent");
+  ck_assert(!refactor(*f2, T1));
+  const Solved retried = solve(*f2, T1, "a stiff tangent, the kept hierarchy failing");
+  ck_assert_msg(retried.set_ups == 1, "%lld set-ups in the solve", static_cast<long long>(retried.set_ups));
+  ck_assert(!refactor(*f2, T2));  // the new hierarchy is kept for the next
+  ck_assert(solve(*f2, T2, "the next stiff tangent").set_ups == 0);
+  if (g_rank == 0)
+    std::printf("GAMG on %d rank(s), CG iterations: a tangent %lld, another active set %lld (kept); a short step's "
+                "matrix %lld kept, %lld set up; a mass-dominated tangent %lld, then a stiff one %lld (failed with "
+                "its hierarchy, set up in the solve)\n",
+                g_size, static_cast<long long>(first.iterations), static_cast<long long>(nearby.iterations),
+                static_cast<long long>(stale.iterations), static_cast<long long>(renewed.iterations),
+                static_cast<long long>(mass.iterations), static_cast<long long>(retried.iterations));
+}
+END_TEST
+
 // Split rows: each rank's copy of A is read at its own rows only, so a
 // non-finite value there is seen by that rank alone.
 START_TEST(a_matrix_refused_on_one_rank_is_refused_on_every_rank) {
@@ -459,6 +569,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, columns_on_own_rows_with_gamg);
   tcase_add_test(tc, a_refactoring_tangent_keeps_the_rows_newton_reads);
   tcase_add_test(tc, a_newton_pass_reads_the_points_touching_its_rows);
+  tcase_add_test(tc, a_kept_hierarchy_serves_until_it_does_not);
   suite_add_tcase(s, tc);
   TCase *agreement = tcase_create("agreement");
   tcase_set_timeout(agreement, 300);

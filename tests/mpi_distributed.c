@@ -824,20 +824,26 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
       ck_assert(nd_test_on_all_ranks(scalar(p, ND_STAT_VALUES_RECEIVED) - r0 ==
                                      rows_of_others + 2 * nc_pass + 2 * (g_size - 1)));
       /* step by step: a solve with a refactored tangent (one per tangent
-         factorization) keeps its held rows, `h` values from other ranks, and
-         a step with one gathers the other rows of U once at its end; every
-         other solve gathers a whole solution */
+         assembly; GAMG keeps its hierarchy from tangent to tangent) keeps its
+         held rows, `h` values from other ranks, and a step with one gathers
+         the other rows of U once at its end; every other solve gathers a
+         whole solution */
       double whole = 0, held_solves = 0, r = scalar(p, ND_STAT_VALUES_RECEIVED);
       const double v = scalar(p, ND_STAT_POINT_VALUES_RECEIVED), evaluations = scalar(p, ND_STAT_CONTACT_EVALUATIONS);
-      double solves = scalar(p, ND_STAT_SOLVES), factored = scalar(p, ND_STAT_FACTORIZATIONS);
+      double solves = scalar(p, ND_STAT_SOLVES), tangents = scalar(p, ND_STAT_TANGENT_UPDATES);
+      const double factored = scalar(p, ND_STAT_FACTORIZATIONS);
       const int steps = kSteps - 2;
       for (int k = 2; k < kSteps; ++k) {
         ND_OK_OR_FAIL(nd_step(p));
-        const double f = scalar(p, ND_STAT_FACTORIZATIONS) - factored, sv = scalar(p, ND_STAT_SOLVES) - solves;
-        whole += (sv - f + (f > 0)) * rows_of_others;
-        held_solves += f;
-        factored += f, solves += sv;
+        const double t = scalar(p, ND_STAT_TANGENT_UPDATES) - tangents, sv = scalar(p, ND_STAT_SOLVES) - solves;
+        whole += (sv - t + (t > 0)) * rows_of_others;
+        held_solves += t;
+        tangents += t, solves += sv;
       }
+      /* the tangents' hierarchies: set up for the first, kept while they serve */
+      const double setups = scalar(p, ND_STAT_FACTORIZATIONS) - factored;
+      if (g_rank == 0) printf("3D GAMG, %d rank(s): %.0f tangents, %.0f set-ups\n", g_size, held_solves, setups);
+      ck_assert(nd_test_on_all_ranks(setups >= 1 && setups < held_solves));
       ck_assert(scalar(p, ND_ACTIVE_POINTS) > 0 && held_solves > 0);
       /* the points' values: each step's new state gathers P_q and u_n - g0
          of the other ranks' points (2 nc_pass); a Newton pass receives only

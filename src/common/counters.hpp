@@ -29,6 +29,8 @@ struct Counters {
   // of them, the contact points' values (P_q, u_n - g0): gathered, or
   // exchanged with the ranks whose rows a point touches (ContactLaw::halo)
   int64_t point_values_received = 0;
+  // iterations of the Krylov solves of an iterative backend (GAMG)
+  int64_t krylov_iterations = 0;
   // not a count: the entries of M, K and K_Theta held now (a rank's rows
   // when they are split over the ranks, problem/discretization.hpp)
   int64_t matrix_entries = 0;

@@ -102,20 +102,33 @@ class Counted : public Factorization {
     ++c_->factorizations;
     f_->factor_parts(A, own, s);
   }
+  bool refactor(const Csr &A, Structure s) override {
+    bool fresh = true;
+    try {
+      fresh = f_->refactor(A, s);
+    } catch (...) {
+      ++c_->factorizations;  // tried
+      throw;
+    }
+    c_->factorizations += fresh;
+    return fresh;
+  }
+  int64_t setups_in_solves() const override { return f_->setups_in_solves(); }
+  int64_t krylov_iterations() const override { return f_->krylov_iterations(); }
   void solve(double *x) const override {
     ++c_->solves;
     c_->values_received += f_->received_per_solve();
-    f_->solve(x);
+    observed([&] { f_->solve(x); });
   }
   void solve_many(double *x, int64_t n, int64_t k) const override {
     c_->solves += k;  // one per right-hand side, as documented for ND_STAT_SOLVES
     c_->values_received += k * f_->received_per_solve();
-    f_->solve_many(x, n, k);
+    observed([&] { f_->solve_many(x, n, k); });
   }
   void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override {
     c_->solves += k;
     c_->values_received += k * f_->received_at(at);
-    f_->solve_many_at(x, n, k, at, out);
+    observed([&] { f_->solve_many_at(x, n, k, at, out); });
   }
   int64_t received_per_solve() const override { return f_->received_per_solve(); }
   int64_t received_at(const std::vector<int64_t> &at) const override { return f_->received_at(at); }
@@ -124,6 +137,21 @@ class Counted : public Factorization {
   const Factorization &backend() const override { return f_->backend(); }
 
  private:
+  // a solve's Krylov iterations, and a set-up it made anew (a factorization
+  // too), counted also when it throws
+  template <class Solve>
+  void observed(Solve &&solve) const {
+    struct Count {
+      const Factorization &f;
+      Counters *c;
+      int64_t setups = f.setups_in_solves(), iterations = f.krylov_iterations();
+      ~Count() {
+        c->factorizations += f.setups_in_solves() - setups;
+        c->krylov_iterations += f.krylov_iterations() - iterations;
+      }
+    } counted{*f_, c_};
+    solve();
+  }
   std::unique_ptr<Factorization> f_;
   Counters *c_;
 };

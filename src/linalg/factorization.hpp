@@ -31,6 +31,20 @@ class Factorization {
     (void)own;
     factor(A, s);
   }
+  // A matrix of the pattern, with new values, in a run of matrices close to
+  // each other (Newton's tangents): a direct backend factors it and returns
+  // true; an iterative one may keep the preconditioner it set up for an
+  // earlier matrix while that serves, and returns false (its Krylov solves
+  // still reach their tolerance on the new matrix).
+  virtual bool refactor(const Csr &A, Structure s) {
+    factor(A, s);
+    return true;
+  }
+  // preconditioner set-ups an iterative backend made inside its solves since
+  // it was created (a kept preconditioner that stopped serving; refactor)
+  virtual int64_t setups_in_solves() const { return 0; }
+  // Krylov iterations of its solves since it was created (0: a direct backend)
+  virtual int64_t krylov_iterations() const { return 0; }
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
   // in place, k right-hand sides (column j at x + j n): each column as
   // solve() would make it (the same bits), unless a backend that is not

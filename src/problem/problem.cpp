@@ -628,6 +628,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_MATRIX_ENTRIES_OWN, &Counters::matrix_entries},
     {ND_STAT_VALUES_RECEIVED, &Counters::values_received},
     {ND_STAT_POINT_VALUES_RECEIVED, &Counters::point_values_received},
+    {ND_STAT_KRYLOV_ITERATIONS, &Counters::krylov_iterations},
 };
 }  // namespace
 

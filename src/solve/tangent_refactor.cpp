@@ -21,8 +21,8 @@ class RefactoringTangent : public TangentSolver {
     }
     T_.val = A_.val;  // same size: no allocation
     law.add_tangent(U, kappa, T_);
-    T_factor_->factor(T_, structure_);
-    ++stats.refactorizations;
+    // (GAMG keeps its preconditioner from tangent to tangent while it serves)
+    if (T_factor_->refactor(T_, structure_)) ++stats.refactorizations;
     if (held_.empty()) return T_factor_->solve(x);
     T_factor_->solve_at(x, A_.n, held_);
   }
