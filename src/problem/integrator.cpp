@@ -67,10 +67,11 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   // 6-8 solves against 8-18 with the columns; on the disks the columns win,
   // 1.5-2.4 against 2.1-6.1). Refactoring T is the reference; in 3D it is
   // also the choice of an iterative solver (GAMG), where a column is a
-  // Krylov solve and a new tangent a set-up of a few (tangent_bench with
-  // ND_BENCH_SOLVER=7, one rank, the bounce at tau = 0.05: a contact step
-  // of ball_h4 P1 20.6 ms refactoring against 40.6 with the columns; on
-  // disk_h1 P2 106.8 against 83.8, so not in 2D).
+  // Krylov solve and a new tangent reuses the multigrid hierarchy of an
+  // earlier one (PetscGamg::refactor; tangent_bench with ND_BENCH_SOLVER=7,
+  // one rank, the bounce at tau = 0.05: a contact step of ball_h4 P1 5.7 ms
+  // refactoring against 29.7 with the condensed columns; on disk_h1 P2
+  // 38.9-41.0 against 34.6-45.6 for the condensed Newton: no gain in 2D).
   if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta);
     const bool three_d_auto = def.tangent == TangentChoice::Auto && d.geometry.dim == 3;
