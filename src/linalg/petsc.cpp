@@ -748,7 +748,7 @@ class PetscGamg : public Factorization {
   // Newton's tangents T = A + kappa N'(U) differ from each other in the
   // contact points' few rows: the hierarchy set up for one serves the next
   // (ball_h2 P1, a bounce: 807 CG iterations against 803 when each is set
-  // up, the set-ups 25 % of the run). So a tangent keeps it while its
+  // up, the set-ups 28 % of the run). So a tangent keeps it while its
   // solves take at most kStaleFactor times the iterations of the first solve
   // after the set-up (then the next tangent sets up anew), and a solve that
   // does not converge with it sets up for its matrix and solves again.

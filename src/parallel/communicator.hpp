@@ -31,9 +31,6 @@ double max_over_ranks(const Communicator *c, double x);  // the largest of the r
 // x[k] <- the largest of the ranks' x[k], k < n, in one reduction
 void max_over_ranks(const Communicator *c, double *x, int n);
 constexpr int kEveryRank = -1;
-// MPI_Gatherv (MPI_Allgatherv for kEveryRank): rank r's `mine` (counts[r]
-// values) lands at all[displs[r]] on `root`, or on every rank; `all` is not
-// read elsewhere.
 // Point to point: to rank to[k] the values send[send_first[k] .. send_first[k+1]),
 // from rank from[k] recv[recv_first[k] .. recv_first[k+1]). Every rank calls
 // it with lists that match (what r sends to s, s receives from r); only the
@@ -41,6 +38,9 @@ constexpr int kEveryRank = -1;
 void exchange(const Communicator *c, const std::vector<int> &to, const std::vector<int64_t> &send_first,
               const double *send, const std::vector<int> &from, const std::vector<int64_t> &recv_first,
               double *recv);
+// MPI_Gatherv (MPI_Allgatherv for kEveryRank): rank r's `mine` (counts[r]
+// values) lands at all[displs[r]] on `root`, or on every rank; `all` is not
+// read elsewhere.
 void gatherv(const Communicator *c, int root, const std::vector<double> &mine, std::vector<double> &all,
              const std::vector<int> &counts, const std::vector<int> &displs);
 
