@@ -411,8 +411,10 @@ END_TEST
 // hierarchy serves badly (c M + K with another c: another time step) marks
 // it stale after a solve of more than twice the first solve's iterations,
 // and the next refactor sets up anew; a solve that does not converge with
-// it (the iteration limit lowered for the test) sets up for its matrix and
-// solves again, counted as a factorization.
+// it (an indefinite preconditioner) sets up for its matrix and solves again,
+// counted as a factorization. And a solve started from a guess
+// (Factorization::solve_from) reaches the same tolerance in fewer
+// iterations; a direct backend ignores the guess.
 START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
   nd::Space space(ndtest::irregular_rectangle(10), 1);
   nd::DofMap dofs(space, {});
@@ -505,6 +507,35 @@ START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
   ck_assert_msg(retried.set_ups == 1, "%lld set-ups in the solve", static_cast<long long>(retried.set_ups));
   ck_assert(!refactor(*f2, T2));  // the new hierarchy is kept for the next
   ck_assert(solve(*f2, T2, "the next stiff tangent").set_ups == 0);
+  // a solve from a guess (a time step's predictor): the same tolerance, fewer
+  // iterations the closer it is; a direct backend ignores it
+  std::vector<double> x_exact = b, near(static_cast<size_t>(n)), x_from = b, x_zero = b;
+  {
+    auto exact = nd::make_factorization(ND_SOLVER_CHOLMOD, T2, spd);
+    exact->factor(T2, spd);
+    exact->solve(x_exact.data());
+  }
+  for (int64_t i = 0; i < n; ++i) near[i] = x_exact[i] * (1 + 1e-4 * std::sin(static_cast<double>(i)));
+  int64_t its = counters.krylov_iterations, solves = counters.solves;
+  f2->solve(x_zero.data());
+  const int64_t from_zero = counters.krylov_iterations - its;
+  its = counters.krylov_iterations;
+  f2->solve_from(x_from.data(), near.data());
+  const int64_t from_near = counters.krylov_iterations - its;
+  ck_assert(counters.solves - solves == 2);
+  const double off = ndtest::rel_diff(x_from, x_exact);
+  ck_assert_msg(nd_test_on_all_ranks(off <= 1e-9 && from_near < from_zero), "from a guess: %g off, %lld iterations "
+                "against %lld from 0", off, static_cast<long long>(from_near), static_cast<long long>(from_zero));
+  // (CHOLMOD: MUMPS on several ranks is not bitwise reproducible from solve to solve)
+  auto direct = nd::make_factorization(ND_SOLVER_CHOLMOD, T2, spd, &counters);
+  direct->factor(T2, spd);
+  std::vector<double> y = b, y_from = b, junk(static_cast<size_t>(n), 1e300);
+  direct->solve(y.data());
+  direct->solve_from(y_from.data(), junk.data());
+  ck_assert(nd_test_on_all_ranks(std::memcmp(y.data(), y_from.data(), sizeof(double) * y.size()) == 0));
+  if (g_rank == 0)
+    std::printf("GAMG on %d rank(s): %lld CG iterations from 0, %lld from a guess 1e-4 off\n", g_size,
+                static_cast<long long>(from_zero), static_cast<long long>(from_near));
   if (g_rank == 0)
     std::printf("GAMG on %d rank(s), CG iterations: a tangent %lld, another active set %lld (kept); a short step's "
                 "matrix %lld kept, %lld set up; a mass-dominated tangent %lld, then a stiff one %lld (failed with "

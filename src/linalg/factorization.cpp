@@ -120,6 +120,11 @@ class Counted : public Factorization {
     c_->values_received += f_->received_per_solve();
     observed([&] { f_->solve(x); });
   }
+  void solve_from(double *x, const double *guess) const override {
+    ++c_->solves;
+    c_->values_received += f_->received_per_solve();
+    observed([&] { f_->solve_from(x, guess); });
+  }
   void solve_many(double *x, int64_t n, int64_t k) const override {
     c_->solves += k;  // one per right-hand side, as documented for ND_STAT_SOLVES
     c_->values_received += k * f_->received_per_solve();

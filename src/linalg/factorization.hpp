@@ -46,6 +46,13 @@ class Factorization {
   // Krylov iterations of its solves since it was created (0: a direct backend)
   virtual int64_t krylov_iterations() const { return 0; }
   virtual void solve(double *x) const = 0;  // in place, one right-hand side
+  // solve(x), an iterative backend starting its Krylov iterations from
+  // `guess` (a whole vector, e.g. a time step's predictor; its stopping rule
+  // on the residual is the same): a direct backend ignores it
+  virtual void solve_from(double *x, const double *guess) const {
+    (void)guess;
+    solve(x);
+  }
   // in place, k right-hand sides (column j at x + j n): each column as
   // solve() would make it (the same bits), unless a backend that is not
   // bitwise reproducible anyway solves them as one block (MUMPS over several

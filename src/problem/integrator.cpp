@@ -139,8 +139,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     std::vector<double> r;
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);
     if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
-      next.U = r;
-      in.A_factor->solve(next.U.data());
+      next.U.swap(r);  // r: the predictor, where an iterative solve starts
+      in.A_factor->solve_from(next.U.data(), r.data());
       next.last_iterations = 1;
     } else {
       law.halo = in.halo.get();

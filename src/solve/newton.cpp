@@ -52,8 +52,12 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
   // (to the solve's round-off): Newton's first iteration would only repeat it.
   if (opt.max_iter >= 1 && sys.law->contact_free(U)) {
-    U = r;  // the predictor's storage, no allocation
-    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data());
+    // the predictor: where the solve is iterative, its start (the buffers
+    // swapped, no allocation after the first step)
+    thread_local std::vector<double> predictor;
+    predictor.swap(U);
+    U = r;
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data(), predictor.data());
     res.iterations = 1;
     if (sys.law->contact_free(U)) {
       res.converged = true;

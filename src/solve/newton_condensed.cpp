@@ -71,7 +71,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   // points active at the predictor: y0 is read where the columns are held
   // (their P, the sums of columns), so on split rows only those rows travel
   bool y0_held = false;
-  if (S.empty()) A_factor.solve(y0.data());
+  if (S.empty()) A_factor.solve_from(y0.data(), U.data());  // (an iterative solve starts at the predictor)
   else y0_held = columns.solve_held(y0.data());
   if (S.empty() && law.certainly_free(y0)) {
     // no point active at the predictor nor at U = A^{-1} r: the first

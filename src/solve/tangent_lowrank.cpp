@@ -43,10 +43,11 @@ class LowRankTangent : public TangentSolver {
     columns_ = shared ? shared : own_columns_.get();
   }
 
-  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
+             const double *guess) override {
     ++stats.calls;
     if (!any_active) {
-      A_factor_.solve(x);
+      A_factor_.solve_from(x, guess);
       return;
     }
     if (columns_->bind(*law.cp, law.theta)) lu_valid_ = false;

@@ -13,10 +13,11 @@ class RefactoringTangent : public TangentSolver {
                      const DofGeometry *g, std::vector<int64_t> held)
       : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)),
         held_(std::move(held)) {}
-  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
+             const double *guess) override {
     ++stats.calls;
     if (!any_active) {  // every row: Newton's linear step, which often ends it
-      A_factor_.solve(x);
+      A_factor_.solve_from(x, guess);
       return;
     }
     T_.val = A_.val;  // same size: no allocation

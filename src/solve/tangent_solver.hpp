@@ -31,8 +31,10 @@ struct TangentStats {
 class TangentSolver {
  public:
   virtual ~TangentSolver() = default;
-  // x <- T(U)^{-1} x; with no active point T(U) = A
-  virtual void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) = 0;
+  // x <- T(U)^{-1} x; with no active point T(U) = A, solved from `guess`
+  // where the solver is iterative (Factorization::solve_from; null: from 0)
+  virtual void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
+                     const double *guess = nullptr) = 0;
   virtual const char *name() const = 0;
   // The step starts from a state whose tangent history is `committed`
   // (TangentLog, time/state.hpp); log(): the history after the step's

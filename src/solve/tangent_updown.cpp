@@ -58,7 +58,8 @@ class UpdownTangent : public TangentSolver {
   }
   const TangentLog *log() const override { return &log_; }
 
-  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x) override {
+  void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
+             const double *guess) override {
     ++stats.calls;
     if (law.theta != 1) fail(ND_ERR_INTERNAL, "the updated tangent factor needs Theta = 1");
     const ContactPoints &cp = *law.cp;
@@ -74,7 +75,7 @@ class UpdownTangent : public TangentSolver {
     }
     stats.max_rank = std::max(stats.max_rank, k);
     if (k == 0) {
-      A_factor_.solve(x);
+      A_factor_.solve_from(x, guess);
       return;
     }
     if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_);
