@@ -65,6 +65,17 @@ nd::ContactPoints synthetic_points(int64_t n, int nq) {
   return cp;
 }
 
+// nq points appended to cp, each on 6 consecutive unknowns spread over [0, n)
+// (most within one rank's rows)
+void add_local_points(nd::ContactPoints &cp, int64_t n, int nq) {
+  for (int q = 0; q < nq; ++q) {
+    nd::ContactPoints one = synthetic_points(6, 1);
+    for (int64_t &i : one.a[0].idx) i += q * (n - 6) / (nq - 1);
+    one.s[0].idx = one.a[0].idx;
+    cp.a.push_back(one.a[0]), cp.s.push_back(one.s[0]), cp.gamma.push_back(0.03), cp.w.push_back(0.5);
+  }
+}
+
 // PETSc's even split of n rows (linalg/petsc.cpp make_layout, blocks of 1)
 std::vector<int> even_owner(int64_t n) {
   std::vector<int> owner(static_cast<size_t>(n));
@@ -305,12 +316,7 @@ START_TEST(a_newton_pass_reads_the_points_touching_its_rows) {
   const nd::Csr A0 = spd_matrix(10);
   const int64_t n = A0.n;
   nd::ContactPoints cp = synthetic_points(n, 9);
-  for (int q = 0; q < 12; ++q) {
-    nd::ContactPoints one = synthetic_points(6, 1);
-    for (int64_t &i : one.a[0].idx) i += q * (n - 6) / 11;
-    one.s[0].idx = one.a[0].idx;
-    cp.a.push_back(one.a[0]), cp.s.push_back(one.s[0]), cp.gamma.push_back(0.03), cp.w.push_back(0.5);
-  }
+  add_local_points(cp, n, 12);
   const nd::Csr A = with_points(A0, cp);
   const size_t nq = cp.size();
   for (size_t q = 0; q < nq; ++q) cp.gap.push_back(q % 3 == 0 ? 1.0 : -1.0);  // 6 active near U = 0
@@ -421,12 +427,7 @@ START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
   const nd::BulkOperators ops = nd::assemble_bulk(space, dofs, nd::Material{50, 0.25, 1});
   const int64_t n = ops.M.n;
   nd::ContactPoints cp;  // 12 points, each on 6 consecutive unknowns
-  for (int q = 0; q < 12; ++q) {
-    nd::ContactPoints one = synthetic_points(6, 1);
-    for (int64_t &i : one.a[0].idx) i += q * (n - 6) / 11;
-    one.s[0].idx = one.a[0].idx;
-    cp.a.push_back(one.a[0]), cp.s.push_back(one.s[0]), cp.gamma.push_back(0.03), cp.w.push_back(0.5);
-  }
+  add_local_points(cp, n, 12);
   // T = c M + K + kappa N'(0), the points q with q mod 3 != skip active
   auto tangent = [&](double c, int skip) {
     nd::Csr A;

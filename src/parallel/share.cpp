@@ -82,12 +82,17 @@ void gather_items(const Share &s, int root, int width, const double *mine, doubl
   }
 }
 
+std::vector<int> owners(const Share &s, int64_t n) {
+  std::vector<int> owner(static_cast<size_t>(n), -1);
+  for (int r = 0, size = static_cast<int>(s.first.size()) - 1; r < size; ++r)
+    for (int64_t k = s.first[r]; k < s.first[r + 1]; ++k) owner[s.order[k]] = r;
+  return owner;
+}
+
 std::shared_ptr<const Halo> make_halo(std::shared_ptr<const Share> share, int64_t n_items,
                                       const std::function<void(int64_t, std::vector<int> &)> &readers) {
   const int size = static_cast<int>(share->first.size()) - 1, me = share->rank;
-  std::vector<int> owner(static_cast<size_t>(n_items), 0);
-  for (int r = 0; r < size; ++r)
-    for (int64_t k = share->first[r]; k < share->first[r + 1]; ++k) owner[share->order[k]] = r;
+  const std::vector<int> owner = owners(*share, n_items);
   std::vector<std::vector<int64_t>> sends(size), recvs(size);  // by rank, items ascending
   std::vector<int> ranks;
   auto h = std::make_shared<Halo>();

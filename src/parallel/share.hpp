@@ -57,6 +57,10 @@ std::shared_ptr<const Halo> make_halo(std::shared_ptr<const Share> share, int64_
 // that share items (point to point); counts values_received.
 void exchange(const Halo &h, double *field);
 
+// owner[i]: the rank that computes item i, for the n items (-1: none; n may
+// exceed the items listed), from a share: make_share's argument back
+std::vector<int> owners(const Share &s, int64_t n);
+
 // The rows a process computes: its own with a share, else all.
 inline RowSet own_rows(const Share *s) { return s ? RowSet{s->own_begin(), s->own_count()} : RowSet{}; }
 

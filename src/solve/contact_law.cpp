@@ -146,13 +146,8 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
 
 std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows) {
   if (!cp.share) return nullptr;  // one rank evaluates every point
-  const int size = static_cast<int>(rows.first.size()) - 1;
-  std::vector<int> row_owner;  // of every unknown (the rows' share lists each once)
-  int64_t n = 0;
-  for (int64_t i : rows.order) n = std::max(n, i + 1);
-  row_owner.assign(static_cast<size_t>(n), -1);
-  for (int r = 0; r < size; ++r)
-    for (int64_t k = rows.first[r]; k < rows.first[r + 1]; ++k) row_owner[rows.order[k]] = r;
+  const std::vector<int> row_owner = owners(rows, static_cast<int64_t>(rows.order.size()));  // every unknown once
+  const int64_t n = static_cast<int64_t>(row_owner.size());
   return make_halo(cp.share, static_cast<int64_t>(cp.size()), [&](int64_t q, std::vector<int> &ranks) {
     for (int64_t i : cp.a[q].idx)  // (s_q has a_q's index list)
       if (i < n && row_owner[i] >= 0) ranks.push_back(row_owner[i]);
