@@ -13,7 +13,9 @@
  * received from the others in a free-flight and in a contact step (medians
  * of ND_STAT_VALUES_RECEIVED's increments, the largest rank's).
  *   mpiexec -n N scaling_bench MESH DEGREE SOLVER TAU T [DIM]
- *   SOLVER: mumps | gamg | cholmod; DIM: 2 (the disk, default) or 3 (the ball) */
+ *   SOLVER: mumps | gamg | cholmod; DIM: 2 (the disk, default) or 3 (the ball)
+ * ND_BENCH_DISTRIBUTED_STATE=1 in the environment: the state distributed
+ * (nd_problem_set_distributed_state). */
 #include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -81,6 +83,8 @@ int main(int argc, char **argv) {
 
   status = drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, tau, solver, &p);
   if (status == ND_OK && solver != ND_SOLVER_CHOLMOD) comm_s = timed(p, set_world, &status);  /* partitions the mesh */
+  const char *layout = getenv("ND_BENCH_DISTRIBUTED_STATE");
+  if (status == ND_OK && layout && !strcmp(layout, "1")) status = nd_problem_set_distributed_state(p, 1);
   if (status == ND_OK) status = nd_problem_get_node_count(p, &nodes);
   if (status == ND_OK) setup_s = timed(p, nd_problem_setup, &status);
   if (status == ND_OK) status = nd_get_scalar(p, ND_STAT_VALUES_RECEIVED, &received_before);

@@ -234,6 +234,14 @@ ND_EXPORT int nd_problem_set_linear_solver(nd_problem p, int solver);
    the same calls; the PETSc solvers then distribute the matrix and the solve.
    Collective, before nd_problem_setup. Without PETSc: ND_ERR_KEY. */
 ND_EXPORT int nd_problem_set_comm_f(nd_problem p, int fortran_comm);
+/* on = 1: with a communicator and a PETSc solver (the rows split over the
+   ranks), each rank keeps the state right on the rows its steps read only,
+   and an implicit step gathers no whole solution; nd_get_field,
+   nd_problem_set_state and the checkpoint calls then gather the state, and
+   are collective. nd_get_field_owned, nd_get_field_gathered and
+   nd_get_scalar read it as it is. Default 0 (every rank holds the whole
+   state after each step). Before nd_problem_setup. */
+ND_EXPORT int nd_problem_set_distributed_state(nd_problem p, int on);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
 /* u0, v0 per FE node (n*dim values each); NULL means zero. Values at clamped
    DOFs are ignored. Resets the time, the step count and the work to 0. */

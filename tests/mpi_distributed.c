@@ -795,15 +795,16 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
         printf("%dD solver %d, %d rank(s): a free-flight step received %.0f values besides its solutions "
                "(%.0f other rows, %.0f points evaluated by the others)\n", dim, solver, g_size, other, rows, nc);
       /* the P_q and u_n - g0 of the other ranks' points (the new state's
-         pass over the points) and each other rank's two energy sums */
-      ck_assert_msg(nd_test_on_all_ranks(other == 2 * nc + 2 * (g_size - 1)), "%dD: %g values besides the solutions, %g points",
+         pass over the points), each other rank's two energy sums and its
+         two of the step (the loads' work on its rows, its non-finite values) */
+      ck_assert_msg(nd_test_on_all_ranks(other == 2 * nc + 4 * (g_size - 1)), "%dD: %g values besides the solutions, %g points",
                     dim, other, nc);
     }
     /* through the impact: the Newton residuals stay on their rows too, so
        besides the solutions and the points' values a step receives only
-       sums: at most 4 per other rank per step and per Newton iteration
-       (the energy's two, the norms of r, G and M U, and of the update and
-       the iterate). In 3D with GAMG, whose Newton refactors the tangent,
+       sums: per other rank, 4 per step (the energy's two, the step's work
+       and non-finite count) and at most 6 per Newton iteration (the norms of
+       r, G and M U, and of the update and the iterate). In 3D with GAMG, whose Newton refactors the tangent,
        every solve with it keeps the rows Newton reads (newton_held_rows: the
        rank's rows, their columns and the contact points' DOFs), and Newton
        gathers the other rows of U once per step. (The contact columns of the other Newton paths
@@ -822,7 +823,7 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
       const double rows_of_others = (double)(dim * (nodes - own));
       /* its one solve, with A's factor, gathers the whole solution */
       ck_assert(nd_test_on_all_ranks(scalar(p, ND_STAT_VALUES_RECEIVED) - r0 ==
-                                     rows_of_others + 2 * nc_pass + 2 * (g_size - 1)));
+                                     rows_of_others + 2 * nc_pass + 4 * (g_size - 1)));
       /* step by step: a solve with a refactored tangent (one per tangent
          assembly; GAMG keeps its hierarchy from tangent to tangent) keeps its
          held rows, `h` values from other ranks, and a step with one gathers
@@ -859,8 +860,8 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
       if (g_size > 1) ck_assert_msg(nd_test_on_all_ranks(halo < passes * nc_pass), "%dD: no pass was narrowed", dim);
       /* the rest is the held rows and the sums */
       const double rest = scalar(p, ND_STAT_VALUES_RECEIVED) - r - whole - (scalar(p, ND_STAT_POINT_VALUES_RECEIVED) - v);
-      const double least = 2.0 * (g_size - 1) * steps; /* the energy's two per step */
-      const double most = 6.0 * (g_size - 1) * (steps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL));
+      const double least = 4.0 * (g_size - 1) * steps; /* the energy's two and the step's two per step */
+      const double most = 6.0 * (g_size - 1) * (steps + scalar(p, ND_NEWTON_ITERATIONS_TOTAL)) + least;
       const double h_lo = (rest - most) / held_solves, h_hi = (rest - least) / held_solves;
       if (g_rank == 0)
         printf("%dD GAMG, %d rank(s), %d steps through the impact, %.0f held solves: each received %.1f to %.1f "
@@ -875,6 +876,217 @@ START_TEST(a_step_on_split_rows_receives_no_products) {
     ck_assert_msg(nd_test_on_all_ranks(other == 3 * rows + 2 * nc + 2 * (g_size - 1)),
                   "%dD whole operators: %g values received, %g other rows", dim, other, rows);
   }
+}
+END_TEST
+
+/* A distributed state (nd_problem_set_distributed_state): each rank keeps U,
+ * V and A right on the rows its steps read, and no step gathers a whole
+ * solution. The same scene stepped with the whole state on every rank (the
+ * default) in the same process is the reference: the two make the same
+ * solves and the same sums in the same order on those rows, so they agree
+ * bitwise wherever PETSc repeats itself bitwise. Whether it does is measured,
+ * not assumed: a second reference run of the same scene. Where the two
+ * references differ (MUMPS and GAMG on 4 ranks: their reductions and
+ * schedules), the distributed run is held to the bound the other tests hold
+ * the solvers to (1e-8 relative for MUMPS, the Krylov bound for GAMG).
+ * The scenes: the ball with GAMG (Newton refactors the tangent: every solve
+ * keeps the rows), the disk and the ball with MUMPS (the condensed Newton on
+ * the contact columns: its displacement is whole, its V and A are not).
+ * Checked:
+ *  - the monitors of every step (energies, forces, active points,
+ *    penetration, Newton iterations, the loads' work, the time);
+ *  - what a free-flight step receives for its solution: with the whole
+ *    state exactly a whole solution's other rows; with a distributed one,
+ *    where Newton refactors the tangent, fewer (the held rows that are not
+ *    the rank's), elsewhere the same (the condensed Newton's columns
+ *    complete U);
+ *  - a rank's part of a field (nd_get_field_owned) and the whole field on
+ *    one rank (nd_get_field_gathered) read as the state is, the owned part
+ *    with no value received;
+ *  - nd_get_field (collective here) for every field, the checkpoint, and a
+ *    new problem resumed from it against the run that went on (GAMG's kept
+ *    multigrid hierarchy depends on the history: the Krylov bound);
+ *  - a field refused on the last rank alone is refused on every rank, and
+ *    the layout is refused after the set-up. */
+enum { kMonitors = 12, kRuns = 3 };
+
+/* |x - y| relative to the largest |x| of the history: 0 (bitwise) or the gap */
+static double history_gap(const double *x, const double *y, int n) {
+  if (memcmp(x, y, sizeof(double) * (size_t)n) == 0) return 0;
+  const double m = max_abs(x, n);
+  return m > 0 ? relative_gap(x, y, n) : INFINITY;
+}
+
+/* the largest gap over the rows of a and b, relative to each row's largest |a| */
+static double worst_gap(const double *a, const double *b, int rows, int n) {
+  double worst = 0;
+  for (int r = 0; r < rows; ++r) worst = fmax(worst, history_gap(a + r * n, b + r * n, n));
+  return worst;
+}
+
+static void compare_layouts(int dim, int solver) {
+  nd_problem run[kRuns]; /* the reference, its repetition, the distributed state */
+  for (int r = 0; r < kRuns; ++r) run[r] = scene(dim, solver, 1);
+  nd_problem whole = run[0], kept = run[2];
+  ND_OK_OR_FAIL(nd_problem_set_distributed_state(kept, 1));
+  int64_t nodes = 0, own = 0, own_whole = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(kept, &nodes));
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(kept, &own));
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(whole, &own_whole));
+  const int monitors[kMonitors] = {ND_ENERGY_MECHANICAL, ND_ENERGY_AUGMENTED, ND_ENERGY_NITSCHE, ND_CONTACT_FORCE,
+                                   ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION,
+                                   ND_NEWTON_ITERATIONS, ND_WORK, ND_TIME, ND_STEP_INDEX, ND_WORK_OBSTACLE};
+  const int steps = kSteps + 6;
+  const int refactoring = dim == 3 && solver == ND_SOLVER_PETSC_GAMG; /* Newton's path: make_integrator */
+  double *h = calloc((size_t)(kRuns * kMonitors * steps), sizeof(double));
+#define H(r, m, k) h[((r) * kMonitors + (m)) * steps + (k)]
+  /* what a rank receives; in free-flight steps, besides the points' values
+     and the 4 sums per other rank: a whole solution's other rows with the
+     whole state, only the held rows that are not the rank's with a
+     distributed one, on the refactoring path (the most, the least of them) */
+  double received[kRuns] = {0}, solution[kRuns][2] = {{0, INFINITY}, {0, INFINITY}, {0, INFINITY}};
+  int contact_steps = 0, free_steps = 0;
+  for (int k = 0; k < kSteps; ++k) {
+    for (int r = 0; r < kRuns; ++r) {
+      const double r0 = scalar(run[r], ND_STAT_VALUES_RECEIVED), p0 = scalar(run[r], ND_STAT_POINT_VALUES_RECEIVED);
+      const double active_before = k > 0 ? scalar(run[r], ND_ACTIVE_POINTS) : 0;
+      ND_OK_OR_FAIL(nd_step(run[r]));
+      const double d = scalar(run[r], ND_STAT_VALUES_RECEIVED) - r0;
+      received[r] += d;
+      for (int m = 0; m < kMonitors; ++m) H(r, m, k) = scalar(run[r], monitors[m]);
+      if (k > 0 && active_before == 0 && scalar(run[r], ND_ACTIVE_POINTS) == 0 &&
+          scalar(run[r], ND_NEWTON_ITERATIONS) == 1) {
+        const double rest = d - (scalar(run[r], ND_STAT_POINT_VALUES_RECEIVED) - p0) - 4.0 * (g_size - 1);
+        solution[r][0] = fmax(solution[r][0], rest), solution[r][1] = fmin(solution[r][1], rest);
+        free_steps += r == 2;
+      }
+    }
+    contact_steps += scalar(kept, ND_ACTIVE_POINTS) > 0;
+  }
+  ck_assert_msg(contact_steps > 0 && free_steps > 0, "%dD: %d contact and %d free steps", dim, contact_steps, free_steps);
+  /* (each run's own partition: PT-Scotch's may differ from problem to
+     problem; the rows of the others are those of the partition's nodes) */
+  for (int r = 0; r < kRuns; ++r) {
+    int64_t own_r = 0;
+    ND_OK_OR_FAIL(nd_problem_get_owned_node_count(run[r], &own_r));
+    const double others = (double)(dim * (nodes - own_r)); /* (no clamped DOF in the drop scene) */
+    if (r < 2 || !refactoring || g_size == 1)  /* (the condensed Newton's columns complete U) */
+      ck_assert_msg(nd_test_on_all_ranks(solution[r][0] == others && solution[r][1] == others),
+                    "%dD run %d: a free step's solution %g to %g values, the other rows %g", dim, r, solution[r][1],
+                    solution[r][0], others);
+    else
+      ck_assert_msg(nd_test_on_all_ranks(solution[r][1] > 0 && solution[r][0] < others),
+                    "%dD: a free step's held rows %g to %g values, the other rows %g", dim, solution[r][1],
+                    solution[r][0], others);
+  }
+  /* the same partition (PT-Scotch's with several threads vary) and a
+     reference that repeats itself: bitwise, else the solver's bound */
+  int64_t *na = malloc(sizeof(int64_t) * (size_t)(own_whole + 1)), *nb = malloc(sizeof(int64_t) * (size_t)(own + 1));
+  ND_OK_OR_FAIL(nd_get_field_owned(whole, ND_FIELD_DISPLACEMENT, own_whole, NULL, na));
+  ND_OK_OR_FAIL(nd_get_field_owned(kept, ND_FIELD_DISPLACEMENT, own, NULL, nb));
+  const int same_partition =
+      nd_test_on_all_ranks(own == own_whole && memcmp(na, nb, sizeof(int64_t) * (size_t)own) == 0);
+  const double repeated = worst_gap(&H(0, 0, 0), &H(1, 0, 0), kMonitors, kSteps);
+  const double gap = worst_gap(&H(0, 0, 0), &H(2, 0, 0), kMonitors, kSteps);
+  const int bitwise = nd_test_on_all_ranks(repeated == 0) && same_partition;
+  const double solves = scalar(whole, ND_STAT_SOLVES);
+  const double bound = bitwise ? 0 : solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(whole, dim, solves);
+  if (g_rank == 0)
+    printf("%dD solver %d, %d rank(s), %d steps: the reference %s itself (%.2e)%s, the distributed state %.2e off "
+           "(bound %.2e); %.0f values received, %.0f with the distributed state (a free step's solution %.0f "
+           "against %.0f)\n",
+           dim, solver, g_size, kSteps, bitwise ? "repeats" : "does not repeat", repeated,
+           same_partition ? "" : " (another partition)", gap, bound, received[0], received[2], solution[2][0],
+           solution[0][0]);
+  ck_assert_msg(nd_test_on_all_ranks(gap <= bound), "%dD solver %d: the distributed state's monitors %.3g off (bound %.3g)",
+                dim, solver, gap, bound);
+
+  /* every field: this rank's part read as the state is (no message but
+     for the acceleration, an equilibrium solve over the ranks that
+     completes the state), the whole field on rank 0, then the whole field
+     on every rank (collective): the part and the gathered field bitwise the
+     whole one, which is the reference's within the bound */
+  const int n = (int)(dim * nodes), fields = ND_FIELD_REACTION;
+  const size_t bytes = sizeof(double) * (size_t)n;
+  double *part = malloc(sizeof(double) * (size_t)(fields * dim * own + 1)), *root = malloc(bytes * (size_t)fields);
+  double *a = malloc(bytes), *b = malloc(bytes);
+  for (int field = 1; field <= fields; ++field) {
+    const double r0 = scalar(kept, ND_STAT_VALUES_RECEIVED);
+    ND_OK_OR_FAIL(nd_get_field_owned(kept, field, own, part + (field - 1) * dim * own, nb));
+    if (field != ND_FIELD_ACCELERATION)
+      ck_assert_msg(scalar(kept, ND_STAT_VALUES_RECEIVED) == r0, "%dD field %d: the owned part received values", dim,
+                    field);
+    ND_OK_OR_FAIL(nd_get_field_gathered(kept, field, 0, nodes, root + (size_t)(field - 1) * (size_t)n));
+  }
+  for (int field = 1; field <= fields; ++field) {
+    ND_OK_OR_FAIL(nd_get_field(whole, field, nodes, a));
+    ND_OK_OR_FAIL(nd_get_field(kept, field, nodes, b));
+    int same = 1;
+    for (int64_t k = 0; k < own; ++k)
+      same &= memcmp(part + (field - 1) * dim * own + k * dim, b + nb[k] * dim, sizeof(double) * (size_t)dim) == 0;
+    ck_assert_msg(same, "%dD field %d: this rank's part is not the whole field's", dim, field);
+    if (g_rank == 0)
+      ck_assert_msg(memcmp(root + (size_t)(field - 1) * (size_t)n, b, bytes) == 0,
+                    "%dD field %d: gathered on rank 0, not the whole field", dim, field);
+    ck_assert_msg(history_gap(a, b, n) <= bound, "%dD field %d: %.3g off the reference's", dim, field,
+                  history_gap(a, b, n));
+  }
+  /* a step leaves the state partial again: refused on the last rank alone,
+     refused on every rank, and no rank waits; then completed */
+  for (int r = 0; r < kRuns; ++r) ND_OK_OR_FAIL(nd_step(run[r]));
+  const int last = g_rank == g_size - 1;
+  const int refused = nd_get_field(kept, ND_FIELD_DISPLACEMENT, last ? nodes + 1 : nodes, b);
+  ck_assert_msg(nd_test_on_all_ranks(refused == ND_ERR_SIZE), "rank %d: %d for a size refused on the last rank", g_rank,
+                refused);
+  for (int field = 1; field <= fields; ++field) {
+    ND_OK_OR_FAIL(nd_get_field(whole, field, nodes, a));
+    ND_OK_OR_FAIL(nd_get_field(kept, field, nodes, b));
+    ck_assert_msg(history_gap(a, b, n) <= bound, "%dD field %d: the completed state %.3g off", dim, field,
+                  history_gap(a, b, n));
+  }
+  /* the checkpoint of a distributed state (collective), then the runs go on */
+  for (int r = 0; r < kRuns; ++r) ND_OK_OR_FAIL(nd_step(run[r]));
+  int64_t size_whole = 0, size_kept = 0;
+  ND_OK_OR_FAIL(nd_problem_get_state_size(whole, &size_whole));
+  ND_OK_OR_FAIL(nd_problem_get_state_size(kept, &size_kept));
+  ck_assert_int_eq(size_whole, size_kept);
+  unsigned char *cw = malloc((size_t)size_whole), *ck = malloc((size_t)size_kept);
+  ND_OK_OR_FAIL(nd_problem_save_state(whole, size_whole, cw));
+  ND_OK_OR_FAIL(nd_problem_save_state(kept, size_kept, ck));
+  if (bitwise) ck_assert_msg(memcmp(cw, ck, (size_t)size_whole) == 0, "%dD: the checkpoints differ", dim);
+  nd_problem resumed = scene(dim, solver, 1);
+  ND_OK_OR_FAIL(nd_problem_set_distributed_state(resumed, 1));
+  ND_OK_OR_FAIL(nd_problem_load_state(resumed, size_kept, ck));
+  /* the resumed run (in run[1]'s rows) against the distributed one that went on */
+  for (int k = kSteps; k < steps; ++k) {
+    ND_OK_OR_FAIL(nd_step(kept));
+    ND_OK_OR_FAIL(nd_step(resumed));
+    for (int m = 0; m < kMonitors; ++m) H(1, m, k) = scalar(resumed, monitors[m]), H(2, m, k) = scalar(kept, monitors[m]);
+  }
+  double resumed_gap = 0;
+  for (int m = 0; m < kMonitors; ++m)
+    resumed_gap = fmax(resumed_gap, history_gap(&H(2, m, kSteps), &H(1, m, kSteps), steps - kSteps));
+  /* bitwise on one rank, as checkpoint_restores_bitwise; on more, MUMPS
+     solves the contact columns of a step in blocks whose make-up depends on
+     the history, and GAMG's Newton (3D) keeps a multigrid hierarchy from
+     earlier tangents */
+  const double resume_bound = g_size == 1 && !(solver == ND_SOLVER_PETSC_GAMG && dim == 3)
+                                  ? 0
+                                  : solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(kept, dim, scalar(kept, ND_STAT_SOLVES));
+  if (g_rank == 0) printf("  resumed from its checkpoint: %.2e off the run that went on (bound %.2e)\n", resumed_gap, resume_bound);
+  ck_assert_msg(nd_test_on_all_ranks(resumed_gap <= resume_bound), "%dD: resumed %.3g off (bound %.3g)", dim,
+                resumed_gap, resume_bound);
+  ck_assert_int_eq(nd_problem_set_distributed_state(kept, 0), ND_ERR_STATE);
+#undef H
+  free(h), free(cw), free(ck), free(a), free(b), free(na), free(nb), free(part), free(root);
+  ND_OK_OR_FAIL(nd_problem_destroy(&resumed));
+  for (int r = 0; r < kRuns; ++r) ND_OK_OR_FAIL(nd_problem_destroy(&run[r]));
+}
+
+START_TEST(a_distributed_state_gathers_no_solution) {
+  compare_layouts(3, ND_SOLVER_PETSC_GAMG);
+  compare_layouts(2, ND_SOLVER_PETSC_MUMPS);
+  compare_layouts(3, ND_SOLVER_PETSC_MUMPS);
 }
 END_TEST
 
@@ -1023,6 +1235,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, checkpoint_restores_bitwise);
   tcase_add_test(tc, each_rank_holds_its_rows_of_the_operators);
   tcase_add_test(tc, a_step_on_split_rows_receives_no_products);
+  tcase_add_test(tc, a_distributed_state_gathers_no_solution);
   tcase_add_test(tc, explicit_steps_on_split_rows);
   tcase_add_test(tc, a_bar_on_more_ranks_than_cells);
   suite_add_tcase(s, tc);

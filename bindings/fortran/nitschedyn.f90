@@ -38,7 +38,7 @@ module nitschedyn
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
             nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_mass_redistribution, nd_problem_set_linear_solver, &
-            nd_problem_set_comm_f, &
+            nd_problem_set_comm_f, nd_problem_set_distributed_state, &
             nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor, &
             nd_problem_set_guard
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
@@ -334,6 +334,14 @@ module nitschedyn
       integer(c_int), value :: fortran_comm
       integer(c_int) :: status
     end function nd_problem_set_comm_f
+
+    function nd_problem_set_distributed_state(p, on) result(status) &
+        bind(C, name='nd_problem_set_distributed_state')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: on
+      integer(c_int) :: status
+    end function nd_problem_set_distributed_state
 
     function nd_problem_set_timestep(p, tau) result(status) bind(C, name='nd_problem_set_timestep')
       import :: c_int, c_double, c_ptr

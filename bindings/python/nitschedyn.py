@@ -135,6 +135,7 @@ _PROTOTYPES = {
     "nd_problem_set_mass_redistribution": (_int, [_ptr, _int]),
     "nd_problem_set_linear_solver": (_int, [_ptr, _int]),
     "nd_problem_set_comm_f": (_int, [_ptr, _int]),
+    "nd_problem_set_distributed_state": (_int, [_ptr, _int]),
     "nd_problem_set_timestep": (_int, [_ptr, _dbl]),
     "nd_problem_set_initial_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
     "nd_problem_get_state_size": (_int, [_ptr, ctypes.POINTER(ctypes.c_int64)]),
@@ -445,6 +446,10 @@ class Problem(_Handle):
     def set_comm_f(self, fortran_comm):
         """The MPI communicator's Fortran handle (mpi4py: comm.py2f())."""
         _check(lib.nd_problem_set_comm_f(self._h, fortran_comm))
+
+    def set_distributed_state(self, on):
+        """Each rank keeps the state on its rows (reads of whole fields become collective)."""
+        _check(lib.nd_problem_set_distributed_state(self._h, int(bool(on))))
 
     def set_timestep(self, tau):
         _check(lib.nd_problem_set_timestep(self._h, tau))

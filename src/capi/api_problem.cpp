@@ -166,6 +166,13 @@ ND_EXPORT int nd_problem_set_comm_f(nd_problem p, int fortran_comm) {
   });
 }
 
+ND_EXPORT int nd_problem_set_distributed_state(nd_problem p, int on) {
+  return nd::guarded("nd_problem_set_distributed_state", [&] {
+    nd::problem_of(p).set_distributed_state(on != 0);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau) {
   return nd::guarded("nd_problem_set_timestep", [&] {
     nd::Problem &pr = nd::problem_of(p);

@@ -37,9 +37,11 @@ ND_EXPORT int nd_step(nd_problem p) {
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
   return nd::guarded("nd_get_field", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
-    need_count(n, pr.space().n_nodes, "nodes");
-    nd::need(out, "out");
+    pr.check_whole_read([&] {
+      nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
+      need_count(n, pr.space().n_nodes, "nodes");
+      nd::need(out, "out");
+    });
     pr.field(field, out);
     return ND_OK;
   });
@@ -147,7 +149,7 @@ ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c)
 ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
   return nd::guarded("nd_problem_get_state_size", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    nd::need(nbytes, "nbytes");
+    pr.check_whole_read([&] { nd::need(nbytes, "nbytes"); });
     *nbytes = static_cast<int64_t>(pr.save_state().size());
     return ND_OK;
   });
@@ -156,8 +158,8 @@ ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
 ND_EXPORT int nd_problem_save_state(nd_problem p, int64_t nbytes, void *buf) {
   return nd::guarded("nd_problem_save_state", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    nd::need(buf, "buf");
-    const std::vector<unsigned char> bytes = pr.save_state();
+    pr.check_whole_read([&] { nd::need(buf, "buf"); });
+    const std::vector<unsigned char> bytes = pr.save_state();  // (nbytes checked after: no rank waits then)
     need_count(nbytes, static_cast<int64_t>(bytes.size()), "buf (nbytes, see nd_problem_get_state_size)");
     std::copy(bytes.begin(), bytes.end(), static_cast<unsigned char *>(buf));
     return ND_OK;
@@ -177,7 +179,7 @@ ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *bu
 ND_EXPORT int nd_problem_save_state_file(nd_problem p, const char *path) {
   return nd::guarded("nd_problem_save_state_file", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    nd::need(path, "path");
+    pr.check_whole_read([&] { nd::need(path, "path"); });
     pr.save_state_file(path);
     return ND_OK;
   });

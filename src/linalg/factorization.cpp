@@ -81,9 +81,9 @@ void Factorization::solve_many_at(double *x, int64_t n, int64_t k, const std::ve
     for (size_t i = 0; i < m; ++i) out[static_cast<size_t>(j) * m + i] = x[j * n + at[i]];
 }
 
-void Factorization::solve_at(double *x, int64_t n, const std::vector<int64_t> &at) const {
+void Factorization::solve_at(double *x, int64_t n, const std::vector<int64_t> &at, const double *guess) const {
   std::vector<double> kept(at.size());
-  solve_many_at(x, n, 1, at, kept.data());
+  solve_from_at(x, n, guess, at, kept.data());
   std::fill(x, x + n, std::numeric_limits<double>::quiet_NaN());
   for (size_t i = 0; i < at.size(); ++i) x[at[i]] = kept[i];
 }
@@ -134,6 +134,12 @@ class Counted : public Factorization {
     c_->solves += k;
     c_->values_received += k * f_->received_at(at);
     observed([&] { f_->solve_many_at(x, n, k, at, out); });
+  }
+  void solve_from_at(double *x, int64_t n, const double *guess, const std::vector<int64_t> &at,
+                     double *out) const override {
+    ++c_->solves;
+    c_->values_received += f_->received_at(at);
+    observed([&] { f_->solve_from_at(x, n, guess, at, out); });
   }
   int64_t received_per_solve() const override { return f_->received_per_solve(); }
   int64_t received_at(const std::vector<int64_t> &at) const override { return f_->received_at(at); }

@@ -68,10 +68,18 @@ class Factorization {
   // rows gathers only those to this rank, not every row; the others solve
   // as solve_many (the same bits) and copy.
   virtual void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const;
-  // x <- A^{-1} x right at the unknowns `at` only (solve_many_at), NaN at the
+  // solve_from, keeping only the unknowns `at`: out[i] = x[at[i]] (one
+  // column of solve_many_at, which a direct backend makes; an iterative one
+  // starts from the guess)
+  virtual void solve_from_at(double *x, int64_t n, const double *guess, const std::vector<int64_t> &at,
+                             double *out) const {
+    (void)guess;
+    solve_many_at(x, n, 1, at, out);
+  }
+  // x <- A^{-1} x right at the unknowns `at` only (solve_from_at), NaN at the
   // others: on split rows a caller reads no other row, and a NaN would show
   // one that slipped through
-  void solve_at(double *x, int64_t n, const std::vector<int64_t> &at) const;
+  void solve_at(double *x, int64_t n, const std::vector<int64_t> &at, const double *guess = nullptr) const;
   // values solve_many_at receives from the other ranks per right-hand side
   virtual int64_t received_at(const std::vector<int64_t> &at) const {
     (void)at;

@@ -70,6 +70,10 @@
 #include "parallel/communicator_mpi.hpp"
 #include "parallel/ownership.hpp"
 
+#ifdef ND_HAVE_SCOTCH
+extern "C" void SCOTCH_randomReset(void);  // (scotch.h needs its integer types configured)
+#endif
+
 namespace nd {
 namespace {
 
@@ -820,6 +824,14 @@ class PetscGamg : public Factorization {
     if (n != n_) fail(ND_ERR_INTERNAL, "PETSc GAMG: right-hand sides of another size than the matrix");
     for (int64_t j = 0; j < k; ++j) solve_keeping(x + j * n, {&at, out + static_cast<size_t>(j) * at.size()});
   }
+  // from the guess, of the solution only the rows `at` gathered
+  void solve_from_at(double *x, int64_t n, const double *guess, const std::vector<int64_t> &at,
+                     double *out) const override {
+    if (n != n_) fail(ND_ERR_INTERNAL, "PETSc GAMG: right-hand side of another size than the matrix");
+    solve_keeping(x, {&at, out}, guess);
+    if (!v_->distributed())  // (one rank: the whole solution is in x)
+      for (size_t i = 0; i < at.size(); ++i) out[i] = x[at[i]];
+  }
   int64_t received_at(const std::vector<int64_t> &at) const override { return v_ ? v_->received(at) : 0; }
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "petsc-gamg"; }
@@ -950,9 +962,17 @@ bool petsc_partition_cells(const Communicator *c, int64_t n_cells, const std::ve
   check(PetscOptionsHasName(nullptr, "nd_", "-mat_partitioning_type", &asked), "PetscOptionsHasName");
   if (!found && !asked) return false;
   check(MatPartitioningSetFromOptions(part), "MatPartitioningSetFromOptions");
-  check(MatPartitioningApply(part, &is), "MatPartitioningApply");
   MatPartitioningType type = nullptr;
   check(MatPartitioningGetType(part, &type), "MatPartitioningGetType");
+#ifdef ND_HAVE_SCOTCH
+  // PT-Scotch draws from Scotch's one random generator, which each
+  // partition advanced: a second problem of the same mesh in the process got
+  // another partition (4 ranks of ball_h4), and with it other bits. Reset,
+  // one Scotch thread gives the same partition every time (several threads,
+  // with MPI_THREAD_MULTIPLE, still vary from call to call)
+  if (type && std::strcmp(type, MATPARTITIONINGPTSCOTCH) == 0) SCOTCH_randomReset();
+#endif
+  check(MatPartitioningApply(part, &is), "MatPartitioningApply");
   method = type ? type : "?";
   PetscInt n_is = 0;
   check(ISGetLocalSize(is, &n_is), "ISGetLocalSize");

@@ -61,6 +61,10 @@ struct Definition {
   // the contact checks a step may settle by a bound from P^n (white-box, not
   // in the C API: tests compare the trajectories without it)
   bool contact_bounds = true;
+  // with split rows, each rank keeps the state right on the rows its steps
+  // read only (State::partial): a step gathers no whole solution, and the
+  // calls that read whole vectors complete them, collectively
+  bool distributed_state = false;
   std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
   Guards guards;
   unsigned given = 0;                 // the aspects set so far

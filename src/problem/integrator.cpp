@@ -12,10 +12,24 @@ namespace nd {
 
 namespace {
 
-bool all_finite(const std::vector<double> &v) {
-  for (double x : v)
-    if (!std::isfinite(x)) return false;
-  return true;
+// Whether the new state is finite, and its W (the loads' trapezoidal work
+// added to old.W), over the rows each rank has right: with split rows its
+// own (the ranks' counts and sums joined rank after rank, the same bits on
+// every rank), else every row in order
+bool finite_with_work(const Discretization &d, const State &old, const std::vector<double> &F_old, State &next) {
+  const Share *mine = d.rows_split ? d.rows.get() : nullptr;
+  const RowSet rows = own_rows(mine);
+  const int64_t n = static_cast<int64_t>(next.U.size());
+  const bool loaded = !next.F.empty(), acc = next.A.size() == next.U.size();
+  double sums[2] = {mine ? 0.0 : old.W, 0.0};  // the work, the rows with a non-finite value
+  for (int64_t k = 0, m = rows.size(n); k < m; ++k) {
+    const int64_t i = rows[k];
+    if (!std::isfinite(next.U[i]) || !std::isfinite(next.V[i]) || (acc && !std::isfinite(next.A[i]))) sums[1] += 1;
+    if (loaded) sums[0] += 0.5 * (next.F[i] + F_old[i]) * (next.U[i] - old.U[i]);
+  }
+  if (mine) gather(*mine, {}, sums, 2);
+  next.W = mine ? old.W + sums[0] : sums[0];
+  return sums[1] == 0;
 }
 
 // The Newton tangent is symmetric (and positive definite with c M + K_Theta) iff Theta = 1.
@@ -39,6 +53,11 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   in->coef = in->scheme->coefficients(def.tau);
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
+  if (d.rows_split && def.distributed_state) {
+    std::vector<const Csr *> clamped;  // (their reactions read these columns)
+    if (d.clamped) clamped = {&d.clamped->K, &d.clamped->M};
+    in->held = newton_held_rows(in->A, *d.rows, d.contact, clamped);
+  }
   in->A_factor = reuse ? std::move(reuse)
                        : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters,
                                                             &d.geometry);
@@ -80,9 +99,10 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     if (def.tangent == TangentChoice::Refactor || (three_d_auto && linear_solver_iterative(def.solver))) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
       // and a Newton pass reads the points whose rows touch the rank's rows
-      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
-                                             d.rows_split ? newton_held_rows(in->A, *d.rows, d.contact)
-                                                          : std::vector<int64_t>());
+      in->tangent = make_refactoring_tangent(
+          in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
+          !in->held.empty() ? in->held : d.rows_split ? newton_held_rows(in->A, *d.rows, d.contact) : std::vector<int64_t>(),
+          !in->held.empty());
       if (d.rows_split) in->halo = contact_point_halo(d.contact, *d.rows);
     } else if (updown) {
       in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
@@ -140,11 +160,13 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);
     if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
       next.U.swap(r);  // r: the predictor, where an iterative solve starts
-      in.A_factor->solve_from(next.U.data(), r.data());
+      if (in.held.empty()) in.A_factor->solve_from(next.U.data(), r.data());
+      else in.A_factor->solve_at(next.U.data(), static_cast<int64_t>(n), in.held, r.data());
       next.last_iterations = 1;
     } else {
       law.halo = in.halo.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
+      sys.complete = in.held.empty();
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
@@ -178,12 +200,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       next.V[i] = (next.U[i] - old.U[i]) / tau;
       if (next.A_valid) next.A[i] = (next.V[i] - old.V[i]) / tau;
     }
-  if (!all_finite(next.U) || !all_finite(next.V) || !all_finite(next.A))
+  next.partial = !in.held.empty();  // (an explicit step has none)
+  if (!finite_with_work(d, old, F_old, next))
     fail(ND_ERR_NONFINITE_STATE,
          "the step to t = " + num(next.t) + " produced non-finite values; the step was not taken");
-  next.W = old.W;
-  if (!next.F.empty())  // trapezoidal work of the loads
-    for (size_t i = 0; i < n; ++i) next.W += 0.5 * (next.F[i] + F_old[i]) * (next.U[i] - old.U[i]);
   next.total_iterations = old.total_iterations + next.last_iterations;
   // The step's contact term phi_q: the obstacle moving by dg_q against the
   // mean pressure -phi_q/gamma_q does the work -sum_q (w_q/gamma_q) phi_q dg_q.

@@ -31,6 +31,10 @@ struct Integrator {
   // the contact points a rank's Newton reads with the refactoring tangent on
   // split rows (ContactLaw::halo), or null: every point gathered
   std::shared_ptr<const Halo> halo;
+  // a distributed state (Definition::distributed_state on split rows): the
+  // rows every solve of a step keeps, the new state right there only
+  // (newton_held_rows with the clamped rows' columns); empty: whole vectors
+  std::vector<int64_t> held;
   std::unique_ptr<CondensedCache> condensed;
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)

@@ -175,6 +175,13 @@ void Problem::set_mass_lumping(bool lumped) {
   changed(kLumping);
 }
 
+void Problem::set_distributed_state(bool on) {
+  if (setup_done_)
+    fail(ND_ERR_STATE, "the problem is set up (nd_problem_setup, a step or a loaded checkpoint): the state's layout "
+                       "is chosen before, on every rank");
+  def_.distributed_state = on;
+}
+
 void Problem::set_mass_redistribution(bool on) {
   def_.redistributed = on;
   changed(kLumping);  // the mass aspect
@@ -334,6 +341,16 @@ const State &Problem::state() {
   return state_;
 }
 
+void Problem::complete_state() {
+  if (!state_ready_ || !state_.partial) return;
+  const Share *rows = discretization_().rows.get();
+  if (!rows) fail(ND_ERR_INTERNAL, "a partial state without the ranks' rows");
+  std::vector<double *> fields{state_.U.data(), state_.V.data()};
+  if (state_.A_valid) fields.push_back(state_.A.data());
+  gather(*rows, fields);  // (the held rows keep their bits: the owners' values)
+  state_.partial = false;
+}
+
 // ---- stepping --------------------------------------------------------------------
 
 void Problem::setup() {
@@ -345,6 +362,9 @@ void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
   Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
+  // a step that reads whole vectors (an explicit scheme, a solver that does
+  // not split the rows) has the state whole (collective: on every rank)
+  if (in.held.empty()) complete_state();
   if (def_.guards.unstable_scheme && in.scheme->always_unstable())
     fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
@@ -358,8 +378,10 @@ void Problem::prepare() {
                               "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
   state();
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
-  if (in.scheme->uses_acceleration() && !state_.A_valid)
+  if (in.scheme->uses_acceleration() && !state_.A_valid) {
+    complete_state();
     d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit(), true);
+  }
   // the products the first step's right-hand side reads (each step leaves
   // its own), and the initial energy of the guard
   if (state_.products.of != d.id) compute_products(d, state_);
@@ -397,6 +419,11 @@ Discretization &Problem::discretization_agreed() {
   return *d;
 }
 
+void Problem::check_whole_read(const std::function<void()> &checks) {
+  if (state_ready_ && state_.partial) return on_every_rank(checks);
+  checks();
+}
+
 void Problem::on_every_rank(const std::function<void()> &local) {
   nd::on_every_rank(def_.comm.get(), local, "the call", "no rank went on");
 }
@@ -423,7 +450,11 @@ uint64_t Problem::inputs_digest() const {
   h.vec(d.scheme_params);
   h.vec(d.nodal), h.vec(d.u0), h.vec(d.v0);
   h.value(state_ready_);
-  if (state_ready_) h.value(state_.t), h.value(state_.n), h.vec(state_.U), h.vec(state_.V);
+  if (state_ready_) h.value(state_.t), h.value(state_.n), h.value(state_.partial);
+  // (a partial state differs between ranks off their rows; the steps that
+  // made it were agreed)
+  if (state_ready_ && !state_.partial) h.vec(state_.U), h.vec(state_.V);
+  h.value(d.distributed_state);
   return h.h;
 }
 
@@ -473,6 +504,7 @@ double Problem::critical_timestep() {
 
 void Problem::overwrite_state(const double *u, const double *v) {
   setup();
+  complete_state();
   Discretization &d = *disc_;
   State s = state_;
   if (u) d.dofs.restrict_to_free(u, s.U.data());
@@ -491,7 +523,9 @@ void Problem::overwrite_state(const double *u, const double *v) {
 }
 
 std::vector<unsigned char> Problem::save_state() {
-  const State &s = state();
+  state();
+  complete_state();
+  const State &s = state_;
   return encode_state(s, state_fingerprint(space_, *disc_), state_sizes());
 }
 
@@ -540,9 +574,19 @@ std::vector<double> Problem::reaction_at_equilibrium(const State &s) {
   return clamped_residual(d, e.A, e.U, phi, e.F_fixed);
 }
 
+namespace {
+// the state's vector of a field (U, V or A; nullptr: another field)
+const std::vector<double> *state_vector(const State &s, int which) {
+  return which == ND_FIELD_DISPLACEMENT ? &s.U
+         : which == ND_FIELD_VELOCITY   ? &s.V
+         : which == ND_FIELD_ACCELERATION ? &s.A
+                                          : nullptr;
+}
+}  // namespace
+
 void Problem::field(int which, double *full) {
   const State &s = state();
-  if (which == ND_FIELD_CONTACT_FORCE) {
+  if (which == ND_FIELD_CONTACT_FORCE) {  // (U at the points' DOFs: held by every rank)
     contact_force_field(discretization_(), s, full);
     return;
   }
@@ -550,13 +594,14 @@ void Problem::field(int which, double *full) {
     Discretization &d = discretization_();
     std::fill(full, full + space_.n_dofs(), 0.0);
     if (!d.clamped) return;
+    if (s.reaction.empty()) complete_state();  // (a step made it; else the whole state's equilibrium)
     const std::vector<double> R = s.reaction.empty() ? reaction_at_equilibrium(s) : s.reaction;
     for (size_t r = 0; r < R.size(); ++r) full[d.clamped->dofs[r]] = R[r];
     return;
   }
+  complete_state();  // whole vectors: collective when the state is partial
   if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
-  const std::vector<double> &v = which == ND_FIELD_DISPLACEMENT ? s.U : which == ND_FIELD_VELOCITY ? s.V : s.A;
-  discretization_().dofs.extend_to_full(v.data(), full);
+  discretization_().dofs.extend_to_full(state_vector(s, which)->data(), full);
 }
 
 const Ownership &Problem::ownership() {
@@ -570,8 +615,13 @@ void Problem::owned_field(int which, double *values, int64_t *nodes) {
   const std::vector<int64_t> &own = ownership().nodes;
   const int d = space_.dim;
   if (values) {
-    std::vector<double> full(static_cast<size_t>(space_.n_dofs()));  // the field is replicated (this slice)
-    field(which, full.data());
+    std::vector<double> full(static_cast<size_t>(space_.n_dofs()));
+    const State &s = state();
+    const std::vector<double> *v = state_vector(s, which);
+    if (s.partial && v && (v != &s.A || s.A_valid))  // this rank's rows are right: no message
+      discretization_().dofs.extend_to_full(v->data(), full.data());
+    else
+      field(which, full.data());
     for (size_t k = 0; k < own.size(); ++k) std::copy_n(&full[own[k] * d], d, &values[k * d]);
   }
   if (nodes) std::copy(own.begin(), own.end(), nodes);

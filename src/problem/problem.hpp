@@ -45,6 +45,10 @@ class Problem {
   // The ranks that step this problem together (null: this process alone);
   // only before the set-up (ND_ERR_STATE after it). See step().
   void set_communicator(CommunicatorPtr comm);
+  // Each rank keeps the state on the rows its steps read (with split rows:
+  // the PETSc solvers over several ranks); the reads of whole vectors are
+  // then collective. Only before the set-up (ND_ERR_STATE after it).
+  void set_distributed_state(bool on);
   // Replaces U and V at the current time (n_dofs each, nullptr: unchanged);
   // t, n and W stay, A is re-derived from the equilibrium when the scheme
   // carries it, and the energy guard counts the change as energy put in.
@@ -95,6 +99,10 @@ class Problem {
   // the ranks': a rank it failed on rethrows, the others fail with the worst
   // status. Collective (without a communicator: just `local`).
   void on_every_rank(const std::function<void()> &local);
+  // The argument checks of a call that reads whole vectors (fields,
+  // checkpoints): with a partial state it completes it, collectively, so
+  // the ranks agree on them first (refused on one rank, refused on all).
+  void check_whole_read(const std::function<void()> &checks);
   int rank() const { return communicator_rank(def_.comm.get()); }
   int rank_count() const { return communicator_size(def_.comm.get()); }
   double scalar(int key);               // an ND_* scalar key
@@ -123,6 +131,9 @@ class Problem {
   Integrator &integrator_or_build();
   double omega_max();
   const State &state();
+  // a partial state's other rows gathered from their owners (collective;
+  // nothing when the state is whole)
+  void complete_state();
   StateSizes state_sizes();
   const std::vector<double> &current_load();
   const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)

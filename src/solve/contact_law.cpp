@@ -154,13 +154,16 @@ std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Sh
   });
 }
 
-std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp, const Csr *A) {
+std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp, const Csr *A,
+                                     const std::vector<const Csr *> &also) {
   std::vector<char> read(static_cast<size_t>(n), 0);
   for (const int64_t *i = rows.own_begin(); i != rows.own_end(); ++i) {
     read[*i] = 1;
     if (A)
       for (int64_t k = A->ptr[*i]; k < A->ptr[*i + 1]; ++k) read[A->col[k]] = 1;
   }
+  for (const Csr *B : also)
+    for (int64_t c : B->col) read[c] = 1;
   for (const SparseRow &a : cp.a)  // (s_q has a_q's index list)
     for (int64_t i : a.idx) read[i] = 1;
   std::vector<int64_t> held;

@@ -32,9 +32,10 @@ std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Sh
 
 // The unknowns (ascending) of the rank's own rows (of `rows`, n of them) and
 // of every contact point's rows, with, given A, the columns of A's entries
-// in the own rows: what a rank reads of a vector held on split rows.
+// in the own rows, and the columns of every row of `also` (the clamped rows,
+// whose reactions read them): what a rank reads of a vector held on split rows.
 std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp,
-                                     const Csr *A = nullptr);
+                                     const Csr *A = nullptr, const std::vector<const Csr *> &also = {});
 
 struct ContactLaw {
   const ContactPoints *cp = nullptr;

@@ -35,8 +35,9 @@ double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r) {
   return norm2_rows(sys.held_rows(), static_cast<int64_t>(r.size()), r.data());
 }
 
-std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp) {
-  return rows_and_points(A.n, rows, cp, &A);
+std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp,
+                                      const std::vector<const Csr *> &also) {
+  return rows_and_points(A.n, rows, cp, &A, also);
 }
 
 namespace {
@@ -104,7 +105,7 @@ NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
                           std::vector<double> &U) {
   bool partial = false;
   const NewtonResult res = iterate(sys, r, opt, U, partial);
-  if (partial) gather(*sys.rows, {U.data()});  // the rows other ranks own
+  if (partial && sys.complete) gather(*sys.rows, {U.data()});  // the rows other ranks own
   return res;
 }
 

@@ -29,6 +29,9 @@ struct NewtonSystem {
   // only): r, G and M U are right on this rank's rows alone, nothing is
   // gathered, and their norms are the ranks' sums (norm2_rows)
   bool split = false;
+  // false: a solve that kept the tangent's held rows leaves U so (a
+  // distributed state, Definition::distributed_state), not gathered at the end
+  bool complete = true;
   // the rows r, G and M U are right on: this rank's when split, else all (null)
   const Share *held_rows() const { return split ? rows : nullptr; }
 };
@@ -55,11 +58,12 @@ double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r);
 // contact point's rows (P_q of the rank's points; the bound of
 // ContactLaw::certainly_free reads the same DOFs). Ascending. A solve that keeps these rows
 // (make_refactoring_tangent) receives only their values from other ranks.
-std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp);
+std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp,
+                                      const std::vector<const Csr *> &also = {});
 
 // U holds the initial guess on entry and the solution on exit (on every row:
 // when the tangent keeps only its held rows, the others are gathered from
-// their ranks at the end).
+// their ranks at the end, unless !sys.complete).
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
                           const NewtonOptions &opt, std::vector<double> &U);
 

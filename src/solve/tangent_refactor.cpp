@@ -10,13 +10,14 @@ namespace {
 class RefactoringTangent : public TangentSolver {
  public:
   RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, Counters *c,
-                     const DofGeometry *g, std::vector<int64_t> held)
+                     const DofGeometry *g, std::vector<int64_t> held, bool linear_held)
       : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)),
-        held_(std::move(held)) {}
+        held_(std::move(held)), linear_held_(linear_held && !held_.empty()) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
              const double *guess) override {
     ++stats.calls;
-    if (!any_active) {  // every row: Newton's linear step, which often ends it
+    if (!any_active) {  // Newton's linear step, which often ends it: every row, or the held ones
+      if (linear_held_) return A_factor_.solve_at(x, A_.n, held_, guess);
       A_factor_.solve_from(x, guess);
       return;
     }
@@ -37,14 +38,17 @@ class RefactoringTangent : public TangentSolver {
   Structure structure_;
   std::unique_ptr<Factorization> T_factor_;
   std::vector<int64_t> held_;
+  bool linear_held_;
 };
 
 }  // namespace
 
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                         Structure structure, Counters *counters,
-                                                        const DofGeometry *geometry, std::vector<int64_t> held) {
-  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure, counters, geometry, std::move(held));
+                                                        const DofGeometry *geometry, std::vector<int64_t> held,
+                                                        bool linear_held) {
+  return std::make_unique<RefactoringTangent>(A, A_factor, solver, structure, counters, geometry, std::move(held),
+                                              linear_held);
 }
 
 }  // namespace nd

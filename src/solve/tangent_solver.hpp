@@ -68,11 +68,12 @@ enum class TangentChoice {
 // contact evaluations and tangent updates go to the ContactLaw's.
 // geometry (may be null): for the tangent's factorizations (DofGeometry).
 // held (ascending; empty: every row): on split operators, the rows the solves
-// keep (TangentSolver::held; newton_held_rows).
+// with an active point keep (TangentSolver::held; newton_held_rows), and with
+// linear_held those of Newton's linear step too (a distributed state).
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                         Structure structure, Counters *counters = nullptr,
                                                         const DofGeometry *geometry = nullptr,
-                                                        std::vector<int64_t> held = {});
+                                                        std::vector<int64_t> held = {}, bool linear_held = false);
 
 // The updated factor (Theta = 1, T symmetric positive definite): a
 // simplicial LDL^T of T kept from solve to solve and from step to step,

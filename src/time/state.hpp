@@ -68,6 +68,11 @@ struct State {
   double t_ref = 0, tau_ref = 0;
   int64_t n_ref = 0;
   std::vector<double> U, V, A;
+  // U, V and A are right only on the rows the steps read (Integrator::held:
+  // a rank's rows, their columns, the contact points' and the clamped rows'
+  // DOFs), elsewhere any value (NaN): a distributed state
+  // (Definition::distributed_state). Problem::complete_state gathers the rest.
+  bool partial = false;
   std::vector<double> F;  // the load F^n of the last step (empty: no load)
   std::vector<double> F_fixed;  // its part on the clamped DOFs (ClampedRows order)
   bool A_valid = false;   // schemes without acceleration (hybrid) compute it on demand
