@@ -884,17 +884,21 @@ END_TEST
  * solution. The same scene stepped with the whole state on every rank (the
  * default) in the same process is the reference: the two make the same
  * solves and the same sums in the same order on those rows, so they agree
- * bitwise wherever PETSc repeats itself bitwise. Whether it does is measured,
- * not assumed: a second reference run of the same scene. Where the two
- * references differ (MUMPS and GAMG on 4 ranks: their reductions and
- * schedules), the distributed run is held to the bound the other tests hold
- * the solvers to (1e-8 relative for MUMPS, the Krylov bound for GAMG).
+ * bitwise wherever PETSc repeats itself bitwise, which over several ranks it
+ * does not always do (a second reference run measures it: MUMPS differed
+ * from itself now and then on 2 ranks, MUMPS and GAMG on 4, at 1e-13). So
+ * over several ranks the distributed run is held to the bound the other
+ * tests hold the solvers to (1e-8 relative for MUMPS, the Krylov bound for
+ * GAMG: a row read stale or missing is off by far more), and whether it was
+ * bitwise is printed.
  * The scenes: the ball with GAMG (Newton refactors the tangent: every solve
  * keeps the rows), the disk and the ball with MUMPS (the condensed Newton on
  * the contact columns: its displacement is whole, its V and A are not).
  * Checked:
  *  - the monitors of every step (energies, forces, active points,
  *    penetration, Newton iterations, the loads' work, the time);
+ *  - no contact point's value is received after the set-up (every rank
+ *    holds U at every point's DOFs and evaluates the points it reads);
  *  - what a free-flight step receives for its solution: with the whole
  *    state exactly a whole solution's other rows; with a distributed one,
  *    where Newton refactors the tangent, fewer (the held rows that are not
@@ -945,6 +949,7 @@ static void compare_layouts(int dim, int solver) {
      whole state, only the held rows that are not the rank's with a
      distributed one, on the refactoring path (the most, the least of them) */
   double received[kRuns] = {0}, solution[kRuns][2] = {{0, INFINITY}, {0, INFINITY}, {0, INFINITY}};
+  double point_values[kRuns] = {0};
   int contact_steps = 0, free_steps = 0;
   for (int k = 0; k < kSteps; ++k) {
     for (int r = 0; r < kRuns; ++r) {
@@ -953,6 +958,7 @@ static void compare_layouts(int dim, int solver) {
       ND_OK_OR_FAIL(nd_step(run[r]));
       const double d = scalar(run[r], ND_STAT_VALUES_RECEIVED) - r0;
       received[r] += d;
+      if (k > 0) point_values[r] += scalar(run[r], ND_STAT_POINT_VALUES_RECEIVED) - p0;
       for (int m = 0; m < kMonitors; ++m) H(r, m, k) = scalar(run[r], monitors[m]);
       if (k > 0 && active_before == 0 && scalar(run[r], ND_ACTIVE_POINTS) == 0 &&
           scalar(run[r], ND_NEWTON_ITERATIONS) == 1) {
@@ -964,6 +970,10 @@ static void compare_layouts(int dim, int solver) {
     contact_steps += scalar(kept, ND_ACTIVE_POINTS) > 0;
   }
   ck_assert_msg(contact_steps > 0 && free_steps > 0, "%dD: %d contact and %d free steps", dim, contact_steps, free_steps);
+  /* after the set-up's pass (a whole state: gathered), each rank evaluates
+     the points it reads itself: no point's value travels */
+  ck_assert_msg(nd_test_on_all_ranks(point_values[2] == 0 && (g_size == 1 || point_values[0] > 0)),
+                "%dD: the points' values received: %g, %g with the whole state", dim, point_values[2], point_values[0]);
   /* (each run's own partition: PT-Scotch's may differ from problem to
      problem; the rows of the others are those of the partition's nodes) */
   for (int r = 0; r < kRuns; ++r) {
@@ -979,8 +989,11 @@ static void compare_layouts(int dim, int solver) {
                     "%dD: a free step's held rows %g to %g values, the other rows %g", dim, solution[r][1],
                     solution[r][0], others);
   }
-  /* the same partition (PT-Scotch's with several threads vary) and a
-     reference that repeats itself: bitwise, else the solver's bound */
+  /* One rank: bitwise (nothing is split). More: the solver's bound, since
+     MUMPS and GAMG over several ranks do not always repeat themselves
+     bitwise (seen: MUMPS on 2 ranks now and then, both on 4), nor does
+     PT-Scotch's partition with several threads; whether the reference
+     repeated itself, and on the same partition, is reported */
   int64_t *na = malloc(sizeof(int64_t) * (size_t)(own_whole + 1)), *nb = malloc(sizeof(int64_t) * (size_t)(own + 1));
   ND_OK_OR_FAIL(nd_get_field_owned(whole, ND_FIELD_DISPLACEMENT, own_whole, NULL, na));
   ND_OK_OR_FAIL(nd_get_field_owned(kept, ND_FIELD_DISPLACEMENT, own, NULL, nb));
@@ -990,7 +1003,7 @@ static void compare_layouts(int dim, int solver) {
   const double gap = worst_gap(&H(0, 0, 0), &H(2, 0, 0), kMonitors, kSteps);
   const int bitwise = nd_test_on_all_ranks(repeated == 0) && same_partition;
   const double solves = scalar(whole, ND_STAT_SOLVES);
-  const double bound = bitwise ? 0 : solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(whole, dim, solves);
+  const double bound = g_size == 1 ? 0 : solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(whole, dim, solves);
   if (g_rank == 0)
     printf("%dD solver %d, %d rank(s), %d steps: the reference %s itself (%.2e)%s, the distributed state %.2e off "
            "(bound %.2e); %.0f values received, %.0f with the distributed state (a free step's solution %.0f "
@@ -1053,7 +1066,7 @@ static void compare_layouts(int dim, int solver) {
   unsigned char *cw = malloc((size_t)size_whole), *ck = malloc((size_t)size_kept);
   ND_OK_OR_FAIL(nd_problem_save_state(whole, size_whole, cw));
   ND_OK_OR_FAIL(nd_problem_save_state(kept, size_kept, ck));
-  if (bitwise) ck_assert_msg(memcmp(cw, ck, (size_t)size_whole) == 0, "%dD: the checkpoints differ", dim);
+  if (g_size == 1) ck_assert_msg(memcmp(cw, ck, (size_t)size_whole) == 0, "%dD: the checkpoints differ", dim);
   nd_problem resumed = scene(dim, solver, 1);
   ND_OK_OR_FAIL(nd_problem_set_distributed_state(resumed, 1));
   ND_OK_OR_FAIL(nd_problem_load_state(resumed, size_kept, ck));

@@ -123,6 +123,7 @@ void compute_products(const Discretization &d, State &s, PointValues *known) {
   } else {
     ContactLaw law = state_contact_law(d, s);
     law.counters = d.counters;
+    law.local = s.partial;  // (a partial state is right at every point's DOFs on every rank: no message)
     law.P_all(s.U.data(), s.products.points.P, &s.products.points.un);
   }
   s.products.of = d.id;
@@ -131,7 +132,7 @@ void compute_products(const Discretization &d, State &s, PointValues *known) {
 const Products &products_of(const Discretization &d, const State &s, Products &scratch) {
   if (s.products.of == d.id) return s.products;
   State copy;  // the same pass as compute_products, on a state we may not change
-  copy.U = s.U, copy.V = s.V, copy.A = s.A, copy.A_valid = s.A_valid, copy.gap = s.gap;
+  copy.U = s.U, copy.V = s.V, copy.A = s.A, copy.A_valid = s.A_valid, copy.gap = s.gap, copy.partial = s.partial;
   compute_products(d, copy);
   scratch = std::move(copy.products);
   return scratch;

@@ -165,6 +165,9 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       next.last_iterations = 1;
     } else {
       law.halo = in.halo.get();
+      // a distributed state: every iterate is right at every contact point's
+      // DOFs on every rank, so each rank evaluates the points it reads itself
+      if (!in.held.empty()) (in.halo ? law.halo_here : law.local) = true;
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
       sys.complete = in.held.empty();
       in.tangent->begin_step(old.tangent_log);

@@ -65,9 +65,14 @@ void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) 
   P.assign(cp->size(), std::numeric_limits<double>::quiet_NaN());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
+  count(counters, &Counters::point_evaluations, static_cast<int64_t>(cp->size()));
+  if (received && halo_here) {  // every point read, evaluated here
+    for (int64_t q : halo->read) P[q] = this->P(q, U);
+    count(counters, &Counters::own_point_evaluations, static_cast<int64_t>(halo->read.size()));
+    return;
+  }
   const Share &share = *halo->share;
   for (const int64_t *q = share.own_begin(); q != share.own_end(); ++q) P[*q] = this->P(*q, U);
-  count(counters, &Counters::point_evaluations, static_cast<int64_t>(cp->size()));
   count(counters, &Counters::own_point_evaluations, share.own_count());
   if (received) receiving_points(share.counters, [&] { exchange(*halo, P.data()); });
 }

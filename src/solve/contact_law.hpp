@@ -57,6 +57,10 @@ struct ContactLaw {
   // Only the passes of P_read and what uses it (add_force, add_tangent,
   // contact_free, summarize) take it; P_all always gives every point.
   const Halo *halo = nullptr;
+  // With a halo: its points evaluated by this rank, not received (a
+  // distributed state holds U right at every contact point's DOFs on every
+  // rank: the same bits, no message)
+  bool halo_here = false;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   // sa = a_q.U and ss = s_q.U, each summed in index order (the bits of
@@ -118,9 +122,9 @@ struct ContactLaw {
   void evaluated(const Share *share, const std::vector<char> &skip, double *P, const std::vector<double *> &also,
                  int64_t own) const;
   // P[q] = P_q(U) where this rank reads it: with a halo, its own points and
-  // (if `received`) the halo's others, NaN at the rest (a reader that slipped
-  // through fails loudly); without, P_all. Counts one pass, each point once
-  // for the ranks together.
+  // (if `received`) the halo's others (evaluated here with halo_here), NaN at
+  // the rest (a reader that slipped through fails loudly); without, P_all.
+  // Counts one pass, each point once for the ranks together.
   void P_read(const double *U, std::vector<double> &P, bool received = true) const;
   // Whether N and N' vanish at U at every point: certainly_free, else a pass
   // (with a halo, each rank its own points, then one reduction). Collective.
