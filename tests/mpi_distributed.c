@@ -900,10 +900,9 @@ END_TEST
  *  - no contact point's value is received after the set-up (every rank
  *    holds U at every point's DOFs and evaluates the points it reads);
  *  - what a free-flight step receives for its solution: with the whole
- *    state exactly a whole solution's other rows; with a distributed one,
- *    where Newton refactors the tangent, fewer (the held rows that are not
- *    the rank's), elsewhere the same (the condensed Newton's columns
- *    complete U);
+ *    state exactly a whole solution's other rows; with a distributed one
+ *    fewer, the held rows that are not the rank's (the refactoring Newton's
+ *    solves, and the condensed Newton's, whose columns are held there);
  *  - a rank's part of a field (nd_get_field_owned) and the whole field on
  *    one rank (nd_get_field_gathered) read as the state is, the owned part
  *    with no value received;
@@ -941,7 +940,6 @@ static void compare_layouts(int dim, int solver) {
                                    ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION,
                                    ND_NEWTON_ITERATIONS, ND_WORK, ND_TIME, ND_STEP_INDEX, ND_WORK_OBSTACLE};
   const int steps = kSteps + 6;
-  const int refactoring = dim == 3 && solver == ND_SOLVER_PETSC_GAMG; /* Newton's path: make_integrator */
   double *h = calloc((size_t)(kRuns * kMonitors * steps), sizeof(double));
 #define H(r, m, k) h[((r) * kMonitors + (m)) * steps + (k)]
   /* what a rank receives; in free-flight steps, besides the points' values
@@ -980,7 +978,7 @@ static void compare_layouts(int dim, int solver) {
     int64_t own_r = 0;
     ND_OK_OR_FAIL(nd_problem_get_owned_node_count(run[r], &own_r));
     const double others = (double)(dim * (nodes - own_r)); /* (no clamped DOF in the drop scene) */
-    if (r < 2 || !refactoring || g_size == 1)  /* (the condensed Newton's columns complete U) */
+    if (r < 2 || g_size == 1)
       ck_assert_msg(nd_test_on_all_ranks(solution[r][0] == others && solution[r][1] == others),
                     "%dD run %d: a free step's solution %g to %g values, the other rows %g", dim, r, solution[r][1],
                     solution[r][0], others);

@@ -20,8 +20,8 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
   if (&cp == cp_ && theta == theta_) return false;
   std::vector<std::vector<double>> Z(cp.size());  // allocate first, commit after
   std::vector<int64_t> position(cp.size(), -1), at, place;
-  if (rows_) {  // own rows and the points' DOFs
-    at = rows_and_points(n_, *rows_, cp);
+  if (rows_) {  // own rows and the points' DOFs (a distributed state's rows)
+    at = state_rows_ ? *state_rows_ : rows_and_points(n_, *rows_, cp);
     place.assign(static_cast<size_t>(n_), -1);
     for (size_t k = 0; k < at.size(); ++k) place[at[k]] = static_cast<int64_t>(k);
   }
@@ -115,17 +115,17 @@ void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const doubl
   });
 }
 
-bool ContactColumns::solve_held(double *x) const {
+bool ContactColumns::solve_held(double *x, const double *guess) const {
   if (at_.empty()) {
-    A_factor_.solve(x);
+    A_factor_.solve_from(x, guess);
     return false;
   }
-  A_factor_.solve_at(x, n_, at_);
+  A_factor_.solve_at(x, n_, at_, guess);
   return true;
 }
 
 void ContactColumns::complete(double *x) const {
-  if (rows_) gather(*rows_, {x});
+  if (rows_ && !state_rows_) gather(*rows_, {x});
 }
 
 const std::vector<double> &ContactColumns::G(const std::vector<int64_t> &S) {

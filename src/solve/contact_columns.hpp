@@ -11,7 +11,9 @@
 // column is held only at the rank's own rows and at the DOFs of the contact
 // points' rows: G and the points' P read only the latter, and a sum of
 // columns is right on the rank's rows, from which complete() gathers the
-// rest. A solve then gathers those few values, not the whole solution.
+// rest. A solve then gathers those few values, not the whole solution. With
+// a distributed state the columns are held at its rows instead, and a sum
+// of them is left there.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -24,8 +26,13 @@ namespace nd {
 
 class ContactColumns {
  public:
-  ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns, const Share *rows = nullptr)
-      : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows) {}
+  // state_rows (with rows): a distributed state's rows (Integrator::held, a
+  // superset of those above): the columns are held there, and a sum of them
+  // is then all a step reads (complete() does nothing)
+  ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns, const Share *rows = nullptr,
+                 const std::vector<int64_t> *state_rows = nullptr)
+      : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows), state_rows_(state_rows) {}
+  bool holds_state() const { return state_rows_ != nullptr; }
   // for one set of contact rows and one Theta; true when that changed (the cache is then empty)
   bool bind(const ContactPoints &cp, double theta);
   // Z_q for every q of S
@@ -42,8 +49,9 @@ class ContactColumns {
   // when columns are held on own rows; else nothing to do)
   void complete(double *x) const;
   // x <- A^{-1} x at the held rows (its other rows stale until complete());
-  // true when only those were gathered (columns held on own rows)
-  bool solve_held(double *x) const;
+  // true when only those were gathered (columns held on own rows). An
+  // iterative solve starts from the guess (if any).
+  bool solve_held(double *x, const double *guess = nullptr) const;
   // G_ij = p_i . Z_j for i, j in S (after require(S)); the entries of pairs of
   // the last S are kept
   const std::vector<double> &G(const std::vector<int64_t> &S);
@@ -58,6 +66,7 @@ class ContactColumns {
   const Factorization &A_factor_;
   int64_t n_, max_columns_, held_ = 0, computed_ = 0;
   const Share *rows_;
+  const std::vector<int64_t> *state_rows_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
   std::vector<int64_t> at_;     // the unknowns a column holds, ascending (empty: all n)

@@ -71,8 +71,9 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   // points active at the predictor: y0 is read where the columns are held
   // (their P, the sums of columns), so on split rows only those rows travel
   bool y0_held = false;
-  if (S.empty()) A_factor.solve_from(y0.data(), U.data());  // (an iterative solve starts at the predictor)
-  else y0_held = columns.solve_held(y0.data());
+  // (an iterative solve starts at the predictor; a distributed state's rows are all a step reads)
+  if (S.empty() && !columns.holds_state()) A_factor.solve_from(y0.data(), U.data());
+  else y0_held = columns.solve_held(y0.data(), S.empty() ? U.data() : nullptr);
   if (S.empty() && law.certainly_free(y0)) {
     // no point active at the predictor nor at U = A^{-1} r: the first
     // iteration below would find the set empty and stop there, with U = y0
