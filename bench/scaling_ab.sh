@@ -6,7 +6,9 @@
 # as bench/scaling.sh) and ball_h2 P1 (the same, 3D). One BLAS/OpenMP thread
 # per rank. Every run is a row of OUT (CSV), with its version's label.
 # usage: sh bench/scaling_ab.sh BUILD_A LABEL_A BUILD_B LABEL_B [OUT [REPEAT]]
-#        (each BUILD a -DND_WITH_PETSC=ON build directory with scaling_bench)
+#        (each BUILD a -DND_WITH_PETSC=ON build directory with scaling_bench;
+#        ENV_A, ENV_B in the environment: a variable=value given to that
+#        side's runs, e.g. ENV_B=ND_BENCH_DISTRIBUTED_STATE=1 with one build twice)
 set -eu
 a=$1 la=$2 b=$3 lb=$4
 out=${5:-bench/results/scaling_ab.csv}
@@ -18,16 +20,17 @@ export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 export OMPI_MCA_mpi_yield_when_idle=1 SCOTCH_PTHREAD_NUMBER=1
 printf 'version,%s\n' "$("$b/scaling_bench" --header)" > "$out"
-run() {  # build label ranks mesh degree [dim]
-  mpiexec -n "$3" "$1/scaling_bench" "$4" "$5" "$solver" 0.25 12 ${6:-} | sed "s/^/$2,/" >> "$out"
+run() {  # build label env ranks mesh degree [dim]
+  env ${3:-ND_BENCH_NOTHING=} mpiexec -n "$4" "$1/scaling_bench" "$5" "$6" "$solver" 0.25 12 ${7:-} |
+    sed "s/^/$2,/" >> "$out"
 }
 i=0
 while [ $i -lt "$repeat" ]; do
   for ranks in 1 2; do
     for scene in $scenes; do
       if [ "$scene" = disk ]; then set -- "$meshes/disk_h0.5.msh" 2; else set -- "$meshes/ball_h2.msh" 1 3; fi
-      run "$a" "$la" $ranks "$@"
-      run "$b" "$lb" $ranks "$@"
+      run "$a" "$la" "${ENV_A:-}" $ranks "$@"
+      run "$b" "$lb" "${ENV_B:-}" $ranks "$@"
     done
   done
   i=$((i + 1))

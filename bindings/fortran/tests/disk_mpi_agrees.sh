@@ -5,13 +5,16 @@
 # the largest value of each column (the direct solvers differ by round-off);
 # and the final displacement, gathered on rank 0 from the ranks that own
 # the nodes (nd_get_field_gathered), within 1e-8 of its largest component.
-# usage: disk_mpi_agrees.sh MPIEXEC PROGRAM MESH WORK_DIR
+# With LAYOUT distributed the MPI run keeps a distributed state
+# (nd_problem_set_distributed_state), and the program checks its ranks'
+# owned parts against the gathered field itself.
+# usage: disk_mpi_agrees.sh MPIEXEC PROGRAM MESH WORK_DIR [LAYOUT]
 set -eu
-mpiexec=$1 prog=$2 mesh=$3 work=$4
+mpiexec=$1 prog=$2 mesh=$3 work=$4 layout=${5:-whole}
 mkdir -p "$work"
 rm -f "$work/serial_u.txt" "$work/mpi2_u.txt"
 "$mpiexec" -n 1 --oversubscribe "$prog" "$mesh" serial 11 0.25 "$work/serial_u.txt" > "$work/serial.txt"
-"$mpiexec" -n 2 --oversubscribe "$prog" "$mesh" mumps 11 0.25 "$work/mpi2_u.txt" > "$work/mpi2.txt"
+"$mpiexec" -n 2 --oversubscribe "$prog" "$mesh" mumps 11 0.25 "$work/mpi2_u.txt" "$layout" > "$work/mpi2.txt"
 paste "$work/serial_u.txt" "$work/mpi2_u.txt" | awk '
   function abs(x) { return x < 0 ? -x : x }
   NF != 4 { print "malformed displacement line " NR ": " $0; bad = 1; exit }
