@@ -1101,6 +1101,73 @@ START_TEST(a_distributed_state_gathers_no_solution) {
 }
 END_TEST
 
+/* A step that fails on every rank once it is computed (the penetration
+ * guard at 1e-9 h_K, in contact, where Nitsche's points sink by more)
+ * leaves a distributed state as it was: every rank's own part
+ * bitwise, the time and the monitors too; with Newton's iterations back the
+ * problem steps on, and its next state is the one of a twin that never
+ * failed (bitwise on one rank; over several within the solver's bound, the
+ * twin being another problem: see compare_layouts). The disk with MUMPS
+ * and the ball with GAMG, each in both layouts. */
+static void failed_step_in_layout(int dim, int solver, int distributed) {
+  nd_problem p = scene(dim, solver, 1), twin = scene(dim, solver, 1);
+  ND_OK_OR_FAIL(nd_problem_set_distributed_state(p, distributed));
+  ND_OK_OR_FAIL(nd_problem_set_distributed_state(twin, distributed));
+  while (scalar(p, ND_ACTIVE_POINTS) == 0 && scalar(p, ND_TIME) < 12) {
+    ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_step(twin));
+  }
+  ck_assert_msg(scalar(p, ND_ACTIVE_POINTS) > 0, "%dD: no contact", dim);
+  int64_t own = 0, nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_owned_node_count(p, &own));
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  const size_t part = (size_t)(dim * own) + 1;
+  double *u0 = malloc(sizeof(double) * part), *v0 = malloc(sizeof(double) * part);
+  double *u1 = malloc(sizeof(double) * part), *v1 = malloc(sizeof(double) * part);
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_DISPLACEMENT, own, u0, NULL));
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_VELOCITY, own, v0, NULL));
+  const double t0 = scalar(p, ND_TIME), e0 = scalar(p, ND_ENERGY_AUGMENTED), f0 = scalar(p, ND_CONTACT_FORCE);
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_PENETRATION, 1e-9));
+  const int status = nd_step(p);
+  ck_assert_msg(nd_test_on_all_ranks(status == ND_ERR_PENETRATION), "%dD layout %d: nd_step returned %d: %s", dim,
+                distributed, status, nd_last_error());
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_DISPLACEMENT, own, u1, NULL));
+  ND_OK_OR_FAIL(nd_get_field_owned(p, ND_FIELD_VELOCITY, own, v1, NULL));
+  const double t1 = scalar(p, ND_TIME), e1 = scalar(p, ND_ENERGY_AUGMENTED), f1 = scalar(p, ND_CONTACT_FORCE);
+  ck_assert_msg(memcmp(u0, u1, sizeof(double) * (part - 1)) == 0 && memcmp(v0, v1, sizeof(double) * (part - 1)) == 0,
+                "%dD layout %d: a rank's part moved in a failed step", dim, distributed);
+  ck_assert_msg(t0 == t1 && memcmp(&e0, &e1, sizeof e0) == 0 && memcmp(&f0, &f1, sizeof f0) == 0,
+                "%dD layout %d: the monitors moved in a failed step", dim, distributed);
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0.5)); /* the default */
+  for (int k = 0; k < 3; ++k) {
+    ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_step(twin));
+  }
+  const size_t bytes = sizeof(double) * (size_t)(dim * nodes);
+  double *a = malloc(bytes), *b = malloc(bytes);
+  ND_OK_OR_FAIL(nd_get_field(twin, ND_FIELD_VELOCITY, nodes, a));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, nodes, b));
+  const double gap = history_gap(a, b, (int)(dim * nodes));
+  const double bound =
+      g_size == 1 ? 0 : solver == ND_SOLVER_PETSC_MUMPS ? 1e-8 : krylov_bound(twin, dim, scalar(twin, ND_STAT_SOLVES));
+  if (g_rank == 0)
+    printf("%dD solver %d layout %d, %d rank(s): after a step refused at t = %g, 3 steps on: %.2e off a twin "
+           "that was never refused (bound %.2e)\n", dim, solver, distributed, g_size, t0, gap, bound);
+  ck_assert_msg(nd_test_on_all_ranks(gap <= bound), "%dD layout %d: %.3g off the twin (bound %.3g)", dim, distributed,
+                gap, bound);
+  free(u0), free(v0), free(u1), free(v1), free(a), free(b);
+  ND_OK_OR_FAIL(nd_problem_destroy(&twin));
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+
+START_TEST(a_failed_step_leaves_a_distributed_state_as_it_was) {
+  for (int distributed = 0; distributed <= 1; ++distributed) {
+    failed_step_in_layout(2, ND_SOLVER_PETSC_MUMPS, distributed);
+    failed_step_in_layout(3, ND_SOLVER_PETSC_GAMG, distributed);
+  }
+}
+END_TEST
+
 /* An explicit step on split rows: the central difference with consistent
  * mass, MUMPS on every rank count, K_Theta U from the ranks' rows and a
  * distributed mass solve each step, through the impact, against one
@@ -1247,6 +1314,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, each_rank_holds_its_rows_of_the_operators);
   tcase_add_test(tc, a_step_on_split_rows_receives_no_products);
   tcase_add_test(tc, a_distributed_state_gathers_no_solution);
+  tcase_add_test(tc, a_failed_step_leaves_a_distributed_state_as_it_was);
   tcase_add_test(tc, explicit_steps_on_split_rows);
   tcase_add_test(tc, a_bar_on_more_ranks_than_cells);
   suite_add_tcase(s, tc);
