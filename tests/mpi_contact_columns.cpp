@@ -89,9 +89,12 @@ bool same_on_all_ranks(const std::vector<double> &v) {
   return nd_test_same_on_all_ranks(v.data(), static_cast<int>(sizeof(double) * v.size())) != 0;
 }
 
+// the larger of two gaps, NaN if either is (std::max passes over a NaN)
+double worse(double a, double b) { return std::isnan(a) || std::isnan(b) ? NAN : std::max(a, b); }
+
 double max_abs_diff(const std::vector<double> &a, const std::vector<double> &b) {
   double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::fabs(a[i] - b[i]));
+  for (size_t i = 0; i < a.size(); ++i) d = worse(d, std::fabs(a[i] - b[i]));
   return d;
 }
 double max_abs(const std::vector<double> &a) {
@@ -284,7 +287,7 @@ void check_held_rows(int solver, double tol) {
   bool nan_elsewhere = true;
   for (int64_t i = 0; i < n; ++i) {
     if (!rows || read[i])
-      off = std::max(off, std::fabs(x[i] - x_all[i]));
+      off = worse(off, std::fabs(x[i] - x_all[i]));
     else
       nan_elsewhere &= std::isnan(x[i]);
   }
