@@ -206,6 +206,36 @@ void check_split_columns(int solver, double tol) {
   ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(y, y_all) <= tol * max_abs(y_all)), "T^-1 x off by %g",
                 max_abs_diff(y, y_all) / max_abs(y_all));
   ck_assert(same_on_all_ranks(y));
+  // the same with a distributed state's rows (the rank's rows, their
+  // columns, the points' DOFs): T^{-1} x right there, NaN elsewhere, and its
+  // solve of A receives only those rows, nothing gathered after (several
+  // ranks: one has no rows to split)
+  if (rows) {
+    const std::vector<int64_t> state_rows = nd::newton_held_rows(A, *rows, cp);
+    nd::ContactColumns lr_state(*split, n, 100, rows.get(), &state_rows);
+    auto T_state = nd::make_lowrank_tangent(A, *split, solver, gen, -1, -1, nullptr, &g, &lr_state);
+    std::vector<char> held(static_cast<size_t>(n), 0);
+    int64_t others = 0;
+    for (int64_t i : state_rows) held[i] = 1, others += owner[i] != g_rank;
+    std::vector<double> z = x0;
+    const int64_t before = counters.values_received, columns = 6;
+    T_state->solve(law, 10.0, U.data(), true, z.data());
+    ck_assert_int_eq(T_state->stats.lowrank, 1);
+    // the 6 columns and the solve of A, each the state's rows of other ranks
+    ck_assert_msg(nd_test_on_all_ranks(counters.values_received - before == (columns + 1) * others),
+                  "rank %d: %lld values received, %lld held rows of others", g_rank,
+                  static_cast<long long>(counters.values_received - before), static_cast<long long>(others));
+    double off = 0;
+    bool nan_elsewhere = true;
+    for (int64_t i = 0; i < n; ++i) {
+      if (held[i])
+        off = worse(off, std::fabs(z[i] - y_all[i]));
+      else
+        nan_elsewhere &= std::isnan(z[i]);
+    }
+    ck_assert_msg(nd_test_on_all_ranks(off <= tol * max_abs(y_all) && nan_elsewhere),
+                  "rank %d: T^-1 x at the state's rows %g off", g_rank, off / max_abs(y_all));
+  }
   if (g_rank == 0)
     std::printf("%s on %d rank(s): 9 columns received %lld values each (rank 0; whole: %lld), G within %.1e\n",
                 split->name(), g_size, static_cast<long long>(halo),

@@ -67,7 +67,7 @@ class LowRankTangent : public TangentSolver {
     const int64_t k = static_cast<int64_t>(active_.size());
     stats.max_rank = std::max(stats.max_rank, k);
     if (k == 0) {
-      A_factor_.solve(x);
+      solve_y(x);
       return;
     }
     if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
@@ -88,7 +88,7 @@ class LowRankTangent : public TangentSolver {
     stats.columns = columns_->computed();
     const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
     if (two_solves) x0_.assign(x, x + A_.n);
-    A_factor_.solve(x);  // y
+    solve_y(x);  // y
     // (I + D G) w = D P^T y; its LU is kept while the active set and D stay
     // (persistent contact: the slopes are piecewise constant), so such an
     // iteration pays k^2, not 2/3 k^3; the same LU gives the same bits
@@ -102,7 +102,7 @@ class LowRankTangent : public TangentSolver {
     if (two_solves) {  // x = A^{-1} (x0 - B w): a second solve instead of the n k of Z w
       for (int64_t j = 0; j < k; ++j) add_b(cp, theta_, static_cast<size_t>(active_[j]), -w_[j], x0_.data());
       std::copy(x0_.begin(), x0_.end(), x);
-      A_factor_.solve(x);
+      solve_y(x);
       return;
     }
     columns_->subtract_blocked(active_, w_.data(), x);  // the n k of Z w: the largest cost after the solve
@@ -117,6 +117,12 @@ class LowRankTangent : public TangentSolver {
   const TangentLog *log() const override { return fallback_ ? fallback_->log() : &committed_; }
 
  private:
+  // x <- A^{-1} x: whole, or at a distributed state's rows when the columns
+  // are held there (all a step reads: no completion)
+  void solve_y(double *x) const {
+    if (columns_->holds_state()) columns_->solve_held(x);
+    else A_factor_.solve(x);
+  }
   // the LU of I + D G into C_, ipiv_, unless it is that of this active set and D
   void factor_capacitance(int64_t k, const std::vector<double> &G) {
     if (lu_valid_ && lu_active_ == active_ && lu_d_ == d_) return;
