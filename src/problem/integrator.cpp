@@ -1,6 +1,7 @@
 #include "problem/integrator.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "common/format.hpp"
 #include "monitor/energies.hpp"
@@ -99,10 +100,10 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     if (def.tangent == TangentChoice::Refactor || (three_d_auto && linear_solver_iterative(def.solver))) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
       // and a Newton pass reads the points whose rows touch the rank's rows
-      in->tangent = make_refactoring_tangent(
-          in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
-          !in->held.empty() ? in->held : d.rows_split ? newton_held_rows(in->A, *d.rows, d.contact) : std::vector<int64_t>(),
-          !in->held.empty());
+      std::vector<int64_t> held = in->held;  // a distributed state's rows, else those Newton reads
+      if (held.empty() && d.rows_split) held = newton_held_rows(in->A, *d.rows, d.contact);
+      in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
+                                             std::move(held), !in->held.empty());
       if (d.rows_split) in->halo = contact_point_halo(d.contact, *d.rows);
     } else if (updown) {
       in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
