@@ -23,6 +23,7 @@
  *    on one rank.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
  * this process, on every rank. */
+#include <inttypes.h>
 #include <math.h>
 #include <mpi.h>
 #include <stdio.h>
@@ -908,6 +909,12 @@ END_TEST
  *    state exactly a whole solution's other rows; with a distributed one
  *    fewer, the held rows that are not the rank's (the refactoring Newton's
  *    solves, and the condensed Newton's, whose columns are held there);
+ *  - the points a rank evaluates in a free-flight step (the new state's
+ *    pass), on the refactoring path (GAMG in 3D): with the whole state its
+ *    own, the ranks' adding up to every point once; with a distributed one
+ *    the points it holds (slice 12), fewer than all on every rank, every
+ *    point by one rank at least (with slice 11 each rank evaluated all);
+ *  - the contact pressure and the applied one (collective here);
  *  - a rank's part of a field (nd_get_field_owned) and the whole field on
  *    one rank (nd_get_field_gathered) read as the state is, the owned part
  *    with no value received;
@@ -954,10 +961,19 @@ static void compare_layouts(int dim, int solver) {
   double received[kRuns] = {0}, solution[kRuns][2] = {{0, INFINITY}, {0, INFINITY}};
   double point_values[kRuns] = {0};
   int contact_steps = 0, free_steps = 0;
+  /* the refactoring path on a distributed state holds the rank's points
+     (slice 12): its step also adds the points' sums over the ranks, 6 values
+     per other rank; the points evaluated in a free step (the most, the least) */
+  const int holds_points = dim == 3 && solver == ND_SOLVER_PETSC_GAMG && g_size > 1;
+  const double sums[kRuns] = {4, holds_points ? 10 : 4};
+  double evaluated[kRuns][2] = {{0, INFINITY}, {0, INFINITY}}; /* (the fewest is [1]) */
+  int64_t n_points = 0;
+  ND_OK_OR_FAIL(nd_problem_get_contact_point_count(kept, &n_points));
   for (int k = 0; k < kSteps; ++k) {
     for (int r = 0; r < kRuns; ++r) {
       const double r0 = scalar(run[r], ND_STAT_VALUES_RECEIVED), p0 = scalar(run[r], ND_STAT_POINT_VALUES_RECEIVED);
       const double active_before = k > 0 ? scalar(run[r], ND_ACTIVE_POINTS) : 0;
+      const double e0 = scalar(run[r], ND_STAT_POINT_EVALUATIONS_OWN);
       ND_OK_OR_FAIL(nd_step(run[r]));
       const double d = scalar(run[r], ND_STAT_VALUES_RECEIVED) - r0;
       received[r] += d;
@@ -965,14 +981,16 @@ static void compare_layouts(int dim, int solver) {
       for (int m = 0; m < kMonitors; ++m) H(r, m, k) = scalar(run[r], monitors[m]);
       if (k > 0 && active_before == 0 && scalar(run[r], ND_ACTIVE_POINTS) == 0 &&
           scalar(run[r], ND_NEWTON_ITERATIONS) == 1) {
-        const double rest = d - (scalar(run[r], ND_STAT_POINT_VALUES_RECEIVED) - p0) - 4.0 * (g_size - 1);
+        const double rest = d - (scalar(run[r], ND_STAT_POINT_VALUES_RECEIVED) - p0) - sums[r] * (g_size - 1);
         solution[r][0] = fmax(solution[r][0], rest), solution[r][1] = fmin(solution[r][1], rest);
+        const double e = scalar(run[r], ND_STAT_POINT_EVALUATIONS_OWN) - e0;
+        evaluated[r][0] = fmax(evaluated[r][0], e), evaluated[r][1] = fmin(evaluated[r][1], e);
         free_steps += r == 1;
       }
     }
     contact_steps += scalar(kept, ND_ACTIVE_POINTS) > 0;
   }
-  ck_assert_msg(contact_steps > 0 && free_steps > 0, "%dD: %d contact and %d free steps", dim, contact_steps, free_steps);
+  ck_assert_msg(nd_test_on_all_ranks(contact_steps > 0 && free_steps > 0), "%dD: %d contact and %d free steps", dim, contact_steps, free_steps);
   /* after the set-up's pass (a whole state: gathered), each rank evaluates
      the points it reads itself: no point's value travels */
   ck_assert_msg(nd_test_on_all_ranks(point_values[1] == 0 && (g_size == 1 || point_values[0] > 0)),
@@ -992,6 +1010,25 @@ static void compare_layouts(int dim, int solver) {
                     "%dD: a free step's held rows %g to %g values, the other rows %g", dim, solution[r][1],
                     solution[r][0], others);
   }
+  if (dim == 3 && solver == ND_SOLVER_PETSC_GAMG) {
+    /* the fewest of a free step: the new state's pass alone (the steps far
+       from the obstacle, whose contact checks the bound settles: otherwise
+       a check evaluates the rank's own points), added over the ranks */
+    double total[kRuns];
+    for (int r = 0; r < kRuns; ++r) MPI_Allreduce(&evaluated[r][1], &total[r], 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    if (g_rank == 0)
+      printf("3D GAMG, %d rank(s): a free step evaluates %g of %" PRId64 " points on rank 0 (%g over the ranks), %g "
+             "with the whole state (%g)\n",
+             g_size, evaluated[1][1], n_points, total[1], evaluated[0][1], total[0]);
+    ck_assert_msg(total[0] == (double)n_points, "the whole state's free step: %g points over the ranks, not %" PRId64,
+                  total[0], n_points);
+    if (holds_points)
+      ck_assert_msg(nd_test_on_all_ranks(evaluated[1][1] < (double)n_points) && total[1] >= (double)n_points,
+                    "the distributed state's free step: %g of %" PRId64 " points on this rank, %g over the ranks",
+                    evaluated[1][1], n_points, total[1]);
+    else
+      ck_assert(evaluated[1][1] == (double)n_points);
+  }
   /* One rank: bitwise (nothing is split). More: the solver's bound (see
      above); whether the two runs had the same partition is reported */
   int64_t *na = malloc(sizeof(int64_t) * (size_t)(own_whole + 1)), *nb = malloc(sizeof(int64_t) * (size_t)(own + 1));
@@ -1010,6 +1047,18 @@ static void compare_layouts(int dim, int solver) {
            solution[1][0], solution[0][0]);
   ck_assert_msg(nd_test_on_all_ranks(gap <= bound), "%dD solver %d: the distributed state's monitors %.3g off (bound %.3g)",
                 dim, solver, gap, bound);
+  /* the pressures of every point (collective with a distributed state: its
+     points are gathered), the reference's within the bound */
+  double *pa = malloc(sizeof(double) * (size_t)(n_points + 1)), *pb = malloc(sizeof(double) * (size_t)(n_points + 1));
+  for (int applied = 0; applied < 2; ++applied) {
+    int (*get)(nd_problem, int64_t, double *) = applied ? nd_get_contact_pressure_applied : nd_get_contact_pressure;
+    ND_OK_OR_FAIL(get(whole, n_points, pa));
+    ND_OK_OR_FAIL(get(kept, n_points, pb));
+    ck_assert_msg(max_abs(pa, (int)n_points) > 0, "%dD: no pressure to compare", dim);
+    ck_assert_msg(history_gap(pa, pb, (int)n_points) <= bound, "%dD pressure (applied: %d) %.3g off the reference's",
+                  dim, applied, history_gap(pa, pb, (int)n_points));
+  }
+  free(pa), free(pb);
 
   /* every field: this rank's part read as the state is (no message but
      for the acceleration, an equilibrium solve over the ranks that

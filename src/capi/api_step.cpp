@@ -120,8 +120,10 @@ int copy_pressure(const char *name, nd_problem p, int64_t n, double *out,
                   std::vector<double> (nd::Problem::*get)()) {
   return nd::guarded(name, [&] {
     nd::Problem &pr = nd::problem_of(p);
-    need_count(n, contact_count(pr), "contact points");
-    nd::need(out, "out");
+    pr.check_whole_read([&] {  // (a distributed state's points are gathered first: collective)
+      need_count(n, contact_count(pr), "contact points");
+      nd::need(out, "out");
+    });
     const std::vector<double> lam = (pr.*get)();
     std::copy(lam.begin(), lam.end(), out);
     return ND_OK;

@@ -1,6 +1,7 @@
 #include "monitor/energies.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "parallel/share.hpp"
 #include "solve/contact_law.hpp"
@@ -115,11 +116,29 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
 
 }  // namespace
 
-void compute_products(const Discretization &d, State &s, PointValues *known) {
+void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
   s.products.of = 0;  // stays 0 if anything below throws
   products_pass<true>(d, s, s.products);
   if (known && known->P.size() == d.contact.size() && known->un.size() == d.contact.size()) {
     s.products.points = std::move(*known);
+  } else if (held && !d.contact.a.empty()) {  // the rank's points, evaluated here (no message)
+    ContactLaw law = state_contact_law(d, s);
+    PointValues &v = s.products.points;
+    v = PointValues{};
+    v.P.assign(d.contact.size(), std::numeric_limits<double>::quiet_NaN());
+    v.un = v.P;
+    int64_t evaluated = 0;
+    for (int64_t q : held->points) {
+      ++evaluated;
+      double sa, ss;
+      law.dots(static_cast<size_t>(q), s.U.data(), sa, ss);
+      v.un[q] = sa - law.g(q);
+      v.P[q] = sa - d.contact.gamma[q] * ss - law.g(q);  // (P_q's bits: ContactLaw::P)
+    }
+    v.partial = true;
+    count(d.counters, &Counters::contact_evaluations);
+    count(d.counters, &Counters::point_evaluations, static_cast<int64_t>(d.contact.size()));
+    count(d.counters, &Counters::own_point_evaluations, evaluated);
   } else {
     ContactLaw law = state_contact_law(d, s);
     law.counters = d.counters;
@@ -159,22 +178,68 @@ const PointValues &state_points(const Discretization &d, const State &s, PointVa
   return scratch;
 }
 
-double nitsche_energy(const Discretization &d, const State &s) {
-  const ContactPoints &cp = d.contact;
-  PointValues scratch;
-  const std::vector<double> &Pq = state_points(d, s, scratch).P;
-  double R = 0;
-  for (size_t q = 0; q < cp.size(); ++q) {
-    const double P = Pq[q], Pp = P > 0 ? P : 0;
-    const double sn = cp.s[q].dot(s.U.data());
-    R += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
-  }
-  return R;
+namespace {
+// a pass that needs every point's value: a distributed state's are completed first
+const std::vector<double> &whole(const std::vector<double> &v, const PointValues &of) {
+  if (of.partial) fail(ND_ERR_INTERNAL, "the contact points of a distributed state read before they were gathered");
+  return v;
 }
+// point q's terms added to t, from its P_q, u_n - g0 and applied phi_q;
+// with `nitsche` also the Nitsche energy's, which reads s_q.U
+void add_point(const ContactPoints &cp, size_t q, double P, double un, double phi, const double *U, bool nitsche,
+               PointSums &t) {
+  const double Pp = P > 0 ? P : 0;
+  if (nitsche) {
+    const double sn = cp.s[q].dot(U);
+    t.nitsche += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
+  }
+  if (P > 0) t.force += cp.w[q] * P / cp.gamma[q], t.active += 1;
+  t.force_applied += cp.w[q] * phi / cp.gamma[q];
+  t.penetration = std::max(t.penetration, un);
+}
+// the sums of a state: the step's when it left them, else over every point
+// in order (phi_q = [P_q]_+ before a step: the applied force is the force)
+PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
+  if (s.products.of == d.id && s.products.points.summed) return s.products.points.sums;
+  PointValues scratch;
+  const PointValues &v = state_points(d, s, scratch);
+  const std::vector<double> &P = whole(v.P, v), &un = whole(v.un, v);
+  PointSums t;
+  for (size_t q = 0; q < P.size(); ++q)
+    add_point(d.contact, q, P[q], un[q], s.phi.empty() ? std::max(P[q], 0.0) : s.phi[q], s.U.data(), nitsche, t);
+  return t;
+}
+}  // namespace
+
+void sum_points(const Discretization &d, State &s, const std::vector<double> &dW) {
+  const ContactPoints &cp = d.contact;
+  PointValues &v = s.products.points;
+  PointSums t;
+  double W = 0;
+  auto add = [&](int64_t q) {
+    add_point(cp, static_cast<size_t>(q), v.P[q], v.un[q], s.phi[q], s.U.data(), true, t);
+    W += dW[q];
+  };
+  if (const Share *share = cp.share.get()) {  // each rank its own points, added rank after rank
+    for (const int64_t *q = share->own_begin(); q != share->own_end(); ++q) add(*q);
+    double sums[6] = {t.nitsche, t.force, t.force_applied, t.active, W, t.penetration};
+    gather(*share, {}, sums, 6, 1);
+    t = PointSums{sums[0], sums[1], sums[2], sums[3], sums[5]};
+    W = sums[4];
+  } else {
+    for (int64_t q = 0, m = static_cast<int64_t>(cp.size()); q < m; ++q) add(q);
+  }
+  v.sums = t;
+  v.summed = true;
+  s.W_obstacle += W;
+}
+
+double nitsche_energy(const Discretization &d, const State &s) { return state_sums(d, s, true).nitsche; }
 
 std::vector<double> contact_pressure(const Discretization &d, const State &s) {
   PointValues scratch;
-  const std::vector<double> &Pq = state_points(d, s, scratch).P;
+  const PointValues &points = state_points(d, s, scratch);
+  const std::vector<double> &Pq = whole(points.P, points);
   std::vector<double> lam(d.contact.size());
   for (size_t q = 0; q < lam.size(); ++q) {
     const double P = Pq[q];
@@ -183,30 +248,16 @@ std::vector<double> contact_pressure(const Discretization &d, const State &s) {
   return lam;
 }
 
-double contact_force(const Discretization &d, const State &s) {
-  PointValues scratch;
-  const std::vector<double> &Pq = state_points(d, s, scratch).P;
-  double F = 0;
-  for (size_t q = 0; q < d.contact.size(); ++q) {
-    const double P = Pq[q];
-    if (P > 0) F += d.contact.w[q] * P / d.contact.gamma[q];
-  }
-  return F;
+double contact_force(const Discretization &d, const State &s) { return state_sums(d, s, false).force; }
+
+double contact_force_applied(const Discretization &d, const State &s) {
+  return state_sums(d, s, false).force_applied;
 }
 
 int64_t active_points(const Discretization &d, const State &s) {
-  PointValues scratch;
-  const std::vector<double> &Pq = state_points(d, s, scratch).P;
-  int64_t k = 0;
-  for (double P : Pq) k += P > 0;
-  return k;
+  return static_cast<int64_t>(state_sums(d, s, false).active);
 }
 
-double max_penetration(const Discretization &d, const State &s) {
-  PointValues scratch;
-  double m = 0;
-  for (double un : state_points(d, s, scratch).un) m = std::max(m, un);
-  return m;
-}
+double max_penetration(const Discretization &d, const State &s) { return state_sums(d, s, false).penetration; }
 
 }  // namespace nd

@@ -1,6 +1,7 @@
 // The monitors of the analysis (DESIGN §2): energies, contact pressure and
 // contact statistics of a state. They read the discretization and the state
-// and change neither.
+// and change neither, except compute_products and sum_points, with which a
+// step leaves them in the state it makes.
 #pragma once
 #include <vector>
 
@@ -17,7 +18,15 @@ ContactLaw state_contact_law(const Discretization &d, const State &s);
 // (one contact evaluation, none without contact points; none with `known`:
 // P_q(s.U) and u_n - g0 that the step evaluated there with the state's gaps,
 // moved in: the same bits)
-void compute_products(const Discretization &d, State &s, PointValues *known = nullptr);
+// With `held` (a distributed state's points, HeldPoints) P_q(U) is
+// evaluated at those points only (PointValues::partial), by this rank.
+void compute_products(const Discretization &d, State &s, PointValues *known = nullptr,
+                      const HeldPoints *held = nullptr);
+// The step's sums over the points (PointValues::sums) of s, from its
+// products' P_q and u_n - g0 and its phi: each rank adds its own points and
+// the ranks' sums are added rank after rank (collective with several
+// ranks). Also adds the obstacle's work, sum_q dW[q], to s.W_obstacle.
+void sum_points(const Discretization &d, State &s, const std::vector<double> &dW);
 // s.products if they are valid for d, else the same pass into `scratch`
 const Products &products_of(const Discretization &d, const State &s, Products &scratch);
 // E = 1/2 V'MV + 1/2 U'KU (the sums of s.products when valid: the same bits)
@@ -26,6 +35,8 @@ double mechanical_energy(const Discretization &d, const State &s);
 double nitsche_energy(const Discretization &d, const State &s);
 // sum_q w_q [P_q]_+/gamma_q
 double contact_force(const Discretization &d, const State &s);
+// sum_q w_q phi_q/gamma_q with the contact term phi_q the step applied (before a step: the force)
+double contact_force_applied(const Discretization &d, const State &s);
 int64_t active_points(const Discretization &d, const State &s);
 // P_q(U) and u_n - g0 of the state at every point: its products' (in a
 // step, each evaluated by its point's rank) when they are valid, else

@@ -6,19 +6,30 @@
 
 #include "common/format.hpp"
 #include "monitor/energies.hpp"
+#include "parallel/share.hpp"
 
 namespace nd {
 namespace {
 
 constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
-// the deepest point relative to its cell size: (penetration / h, index)
+// the deepest point relative to its cell size: (penetration / h, index);
+// of a distributed state's points, the deepest of the rank's own (the rank
+// that has the deepest fails with it, the others with it failing there:
+// guard_step runs inside the step's agreement)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
   PointValues scratch;
-  const std::vector<double> &un = state_points(d, s, scratch, d.counters).un;
+  const PointValues &points = state_points(d, s, scratch, d.counters);
+  const std::vector<double> &un = points.un;
   std::pair<double, size_t> worst{-INFINITY, 0};
-  for (size_t q = 0; q < un.size(); ++q) {
+  auto visit = [&](size_t q) {
     const double r = un[q] / d.contact.h[q];
     if (r > worst.first) worst = {r, q};
+  };
+  if (points.partial) {
+    const Share &own = *d.contact.share;
+    for (const int64_t *q = own.own_begin(); q != own.own_end(); ++q) visit(static_cast<size_t>(*q));
+  } else {
+    for (size_t q = 0; q < un.size(); ++q) visit(q);
   }
   return worst;
 }

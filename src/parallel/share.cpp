@@ -43,7 +43,7 @@ void blocks(const Share &s, int width, int extra, std::vector<int> &counts, std:
 }
 }  // namespace
 
-void gather(const Share &s, const std::vector<double *> &fields, double *sums, int n_sums) {
+void gather(const Share &s, const std::vector<double *> &fields, double *sums, int n_sums, int n_max) {
   // a rank's block: its partial sums, then its items' values field after field
   const int width = static_cast<int>(fields.size()), size = static_cast<int>(s.first.size()) - 1;
   std::vector<int> counts, displs;
@@ -55,10 +55,13 @@ void gather(const Share &s, const std::vector<double *> &fields, double *sums, i
     for (const int64_t *i = s.own_begin(); i != s.own_end(); ++i) mine.push_back(f[*i]);
   gatherv(s.comm.get(), kEveryRank, mine, all, counts, displs);
   count(s.counters, &Counters::values_received, static_cast<int64_t>(all.size()) - counts[s.rank]);
-  for (int k = 0; k < n_sums; ++k) sums[k] = 0;
+  const int added = n_sums - n_max;  // the first ones are added, the last n_max the largest taken
+  for (int k = 0; k < n_sums; ++k) sums[k] = k < added ? 0.0 : -INFINITY;
   for (int r = 0; r < size; ++r) {
     const double *block = all.data() + displs[r];
-    for (int k = 0; k < n_sums; ++k) sums[k] += block[k];
+    for (int k = 0; k < added; ++k) sums[k] += block[k];
+    for (int k = added; k < n_sums; ++k)
+      if (std::isnan(block[k]) || block[k] > sums[k]) sums[k] = block[k];  // (a NaN stays)
     if (r == s.rank) continue;  // own items are already in place
     const int64_t m = s.first[r + 1] - s.first[r];
     const int64_t *items = s.order.data() + s.first[r];

@@ -75,8 +75,11 @@ double norm2_rows(const Share *rows, int64_t n, const double *x);
 
 // fields: arrays over all items, filled on this rank's own items; afterwards
 // filled on every item. sums (n_sums of them): this rank's partial sums in,
-// the totals out (rank 0's + rank 1's + ...). Collective.
-void gather(const Share &s, const std::vector<double *> &fields, double *sums = nullptr, int n_sums = 0);
+// the totals out (rank 0's + rank 1's + ...), except the last n_max of
+// them, which are the largest of the ranks' (a rank's NaN gives NaN).
+// Collective.
+void gather(const Share &s, const std::vector<double *> &fields, double *sums = nullptr, int n_sums = 0,
+            int n_max = 0);
 
 // mine: `width` values per own item, item after item (ascending); on `root`,
 // all (width values per item, item-major) afterwards holds every item's,

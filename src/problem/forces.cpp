@@ -109,23 +109,31 @@ std::vector<double> clamped_residual(const Discretization &d, const std::vector<
   return R;
 }
 
-void contact_force_field(const Discretization &d, const State &s, double *full) {
+void contact_force_field(const Discretization &d, const State &s, double *full,
+                         const std::vector<int64_t> *points) {
   const ContactPoints &cp = d.contact;
   const ContactLaw law = state_contact_law(d, s);
   std::vector<double> f(s.U.size(), 0.0);
   std::fill(full, full + d.dofs.free.size(), 0.0);
-  std::vector<double> wl(cp.size());
-  for (size_t q = 0; q < cp.size(); ++q) {
+  std::vector<double> wl(cp.size(), 0.0);
+  auto each = [&](auto &&visit) {  // ascending either way: the same sums
+    if (points) {
+      for (int64_t q : *points) visit(static_cast<size_t>(q));
+    } else {
+      for (size_t q = 0; q < cp.size(); ++q) visit(q);
+    }
+  };
+  each([&](size_t q) {
     const double P = law.P(q, s.U.data());
     wl[q] = P > 0 ? -cp.w[q] * P / cp.gamma[q] : 0.0;  // w_q lambda_q
     const SparseRow &a = cp.a[q];
     for (size_t k = 0; k < a.idx.size(); ++k) f[a.idx[k]] += wl[q] * a.val[k];
-  }
+  });
   d.dofs.extend_to_full(f.data(), full);
-  for (size_t q = 0; q < cp.size(); ++q) {
+  each([&](size_t q) {
     const SparseRow &af = cp.a_fixed[q];
     for (size_t k = 0; k < af.idx.size(); ++k) full[af.idx[k]] += wl[q] * af.val[k];
-  }
+  });
 }
 
 }  // namespace nd

@@ -31,7 +31,10 @@ std::vector<double> clamped_residual(const Discretization &d, const std::vector<
                                      const std::vector<double> &Fbar_D);
 
 // sum_q w_q lambda_q a_q over all DOFs (n_dofs values): the force the
-// obstacle exerts on the body at the state's time.
-void contact_force_field(const Discretization &d, const State &s, double *full);
+// obstacle exerts on the body at the state's time. With `points` (a
+// distributed state's, HeldPoints) from those only: right, with the same
+// bits, at the DOFs whose every point is among them (a rank's own nodes).
+void contact_force_field(const Discretization &d, const State &s, double *full,
+                         const std::vector<int64_t> *points = nullptr);
 
 }  // namespace nd

@@ -1,6 +1,7 @@
 #include "problem/integrator.hpp"
 
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "common/format.hpp"
@@ -40,6 +41,15 @@ Structure tangent_structure(double theta) {
 
 }  // namespace
 
+namespace {
+// Newton refactors its tangent: when asked, or in 3D with an iterative solver
+// (see make_integrator's choice below)
+bool refactoring_tangent(const Definition &def, const Discretization &d) {
+  return def.tangent == TangentChoice::Refactor ||
+         (def.tangent == TangentChoice::Auto && d.geometry.dim == 3 && linear_solver_iterative(def.solver));
+}
+}  // namespace
+
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
                                             std::unique_ptr<Factorization> reuse,
                                             const std::function<Csr(double)> &own_part) {
@@ -54,10 +64,14 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   in->coef = in->scheme->coefficients(def.tau);
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
+  const bool refactors = !d.contact.a.empty() && refactoring_tangent(def, d);
+  // on split operators a Newton pass that refactors reads the points whose rows touch the rank's rows
+  if (refactors && d.rows_split) in->halo = contact_point_halo(d.contact, *d.rows);
   if (d.rows_split && def.distributed_state) {
     std::vector<const Csr *> clamped;  // (their reactions read these columns)
     if (d.clamped) clamped = {&d.clamped->K, &d.clamped->M};
-    in->held = newton_held_rows(in->A, *d.rows, d.contact, clamped);
+    if (in->halo) in->points = held_points(d.contact, *in->halo);
+    in->held = newton_held_rows(in->A, *d.rows, d.contact, clamped, in->points ? &in->points->points : nullptr);
   }
   in->A_factor = reuse ? std::move(reuse)
                        : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters,
@@ -94,17 +108,15 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   // 38.9-41.0 against 34.6-45.6 for the condensed Newton: no gain in 2D).
   if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta);
-    const bool three_d_auto = def.tangent == TangentChoice::Auto && d.geometry.dim == 3;
-    const bool updown =
-        updown_tangent_applies(def.solver, s) && (def.tangent == TangentChoice::Updown || three_d_auto);
-    if (def.tangent == TangentChoice::Refactor || (three_d_auto && linear_solver_iterative(def.solver))) {
+    const bool updown = updown_tangent_applies(def.solver, s) &&
+                        (def.tangent == TangentChoice::Updown ||
+                         (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
+    if (refactors) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
-      // and a Newton pass reads the points whose rows touch the rank's rows
       std::vector<int64_t> held = in->held;  // a distributed state's rows, else those Newton reads
       if (held.empty() && d.rows_split) held = newton_held_rows(in->A, *d.rows, d.contact);
       in->tangent = make_refactoring_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry,
                                              std::move(held), !in->held.empty());
-      if (d.rows_split) in->halo = contact_point_halo(d.contact, *d.rows);
     } else if (updown) {
       in->tangent = make_updown_tangent(in->A, *in->A_factor, d.counters);
     } else {
@@ -169,6 +181,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       // a distributed state: every iterate is right at every contact point's
       // DOFs on every rank, so each rank evaluates the points it reads itself
       if (!in.held.empty()) (in.halo ? law.halo_here : law.local) = true;
+      law.held = in.points.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
       sys.complete = in.held.empty();
       in.tangent->begin_step(old.tangent_log);
@@ -218,13 +231,23 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // One pass over the points: phi is also the applied pressure (kept in the state).
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
-  compute_products(d, next, &at_U);  // (empty for an implicit step: evaluated there)
+  compute_products(d, next, &at_U, in.points.get());  // (at_U empty for an implicit step: evaluated there)
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
-  for (size_t q = 0; q < phi.size(); ++q) {
+  // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks
+  std::vector<double> dW(in.points ? phi.size() : 0);
+  auto apply = [&](size_t q) {
     double slope;
     law.law(q, next.products.points.P[q], phi[q], slope);
-    next.W_obstacle -= d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
+    const double w = -d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
+    if (in.points) dW[q] = w;
+    else next.W_obstacle += w;
+  };
+  if (in.points) {
+    std::fill(phi.begin(), phi.end(), std::numeric_limits<double>::quiet_NaN());
+    for (int64_t q : in.points->points) apply(static_cast<size_t>(q));
+  } else {
+    for (size_t q = 0; q < phi.size(); ++q) apply(q);
   }
   if (d.clamped) {
     const double a = scheme.mean_weight();
@@ -233,6 +256,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     next.reaction = clamped_residual(d, Abar, step_mean(next.U, old.U, a), phi, step_mean(next.F_fixed, old.F_fixed, a));
   }
   next.phi = std::move(phi);
+  if (in.points) sum_points(d, next, dW);  // (collective: every rank's step comes here)
   return next;
 }
 

@@ -35,6 +35,10 @@ struct Integrator {
   // rows every solve of a step keeps, the new state right there only
   // (newton_held_rows with the clamped rows' columns); empty: whole vectors
   std::vector<int64_t> held;
+  // with a distributed state and a halo (slice 12): the contact points this
+  // rank holds (held_points); the state is right at their DOFs only, and the
+  // new state's pass evaluates them only. Null: every point on every rank.
+  std::shared_ptr<const HeldPoints> points;
   std::unique_ptr<CondensedCache> condensed;
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)

@@ -348,6 +348,13 @@ void Problem::complete_state() {
   std::vector<double *> fields{state_.U.data(), state_.V.data()};
   if (state_.A_valid) fields.push_back(state_.A.data());
   gather(*rows, fields);  // (the held rows keep their bits: the owners' values)
+  PointValues &points = state_.products.points;
+  if (points.partial) {  // each rank's own points are right (their sums stay the step's)
+    const Share *owners = discretization_().contact.share.get();
+    if (!owners) fail(ND_ERR_INTERNAL, "a distributed state's points without their ranks");
+    gather(*owners, {points.P.data(), points.un.data(), state_.phi.data()});
+    points.partial = false;
+  }
   state_.partial = false;
 }
 
@@ -383,8 +390,11 @@ void Problem::prepare() {
     d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit(), true);
   }
   // the products the first step's right-hand side reads (each step leaves
-  // its own), and the initial energy of the guard
-  if (state_.products.of != d.id) compute_products(d, state_);
+  // its own), and the initial energy of the guard (of a whole state)
+  if (state_.products.of != d.id) {
+    complete_state();
+    compute_products(d, state_);
+  }
   if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_);
   initial_guarded_ = true;  // checked once, not again at every step
   setup_done_ = true;
@@ -586,7 +596,8 @@ const std::vector<double> *state_vector(const State &s, int which) {
 
 void Problem::field(int which, double *full) {
   const State &s = state();
-  if (which == ND_FIELD_CONTACT_FORCE) {  // (U at the points' DOFs: held by every rank)
+  if (which == ND_FIELD_CONTACT_FORCE) {
+    complete_state();  // (a distributed state holds the rank's points only)
     contact_force_field(discretization_(), s, full);
     return;
   }
@@ -620,6 +631,9 @@ void Problem::owned_field(int which, double *values, int64_t *nodes) {
     const std::vector<double> *v = state_vector(s, which);
     if (s.partial && v && (v != &s.A || s.A_valid))  // this rank's rows are right: no message
       discretization_().dofs.extend_to_full(v->data(), full.data());
+    else if (s.partial && which == ND_FIELD_CONTACT_FORCE)  // from the points the rank holds (all of its nodes')
+      contact_force_field(discretization_(), s, full.data(),
+                          integrator_ && integrator_->points ? &integrator_->points->points : nullptr);
     else
       field(which, full.data());
     for (size_t k = 0; k < own.size(); ++k) std::copy_n(&full[own[k] * d], d, &values[k * d]);
@@ -645,11 +659,13 @@ void Problem::gathered_field(int which, int root, double *full) {
 
 std::vector<double> Problem::contact_pressure() {
   const State &s = state();
+  complete_state();  // a distributed state's points: collective
   return nd::contact_pressure(discretization_(), s);
 }
 
 std::vector<double> Problem::contact_pressure_applied() {
   const State &s = state();
+  complete_state();
   if (s.phi.empty()) return contact_pressure();  // no step yet: the state's own
   const ContactPoints &cp = discretization_().contact;
   std::vector<double> lam(cp.size());
@@ -724,12 +740,8 @@ double Problem::scalar(int key) {
       return mechanical_energy(d, s) - d.theta * nitsche_energy(d, s);
     case ND_CONTACT_FORCE:
       return contact_force(d, s);
-    case ND_CONTACT_FORCE_APPLIED: {
-      if (s.phi.empty()) return contact_force(d, s);
-      double F = 0;
-      for (size_t q = 0; q < s.phi.size(); ++q) F += d.contact.w[q] * s.phi[q] / d.contact.gamma[q];
-      return F;
-    }
+    case ND_CONTACT_FORCE_APPLIED:
+      return contact_force_applied(d, s);
     case ND_ACTIVE_POINTS:
       return static_cast<double>(active_points(d, s));
     case ND_MAX_PENETRATION:

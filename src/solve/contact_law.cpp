@@ -78,21 +78,26 @@ void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) 
 }
 
 bool ContactLaw::contact_free(const std::vector<double> &U) const {
-  if (certainly_free(U)) return true;  // far from the obstacle: no point evaluated
-  thread_local std::vector<double> P;
-  P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
-  auto busy = [&](int64_t q) {
-    double value, slope;
-    law(static_cast<size_t>(q), P[q], value, slope);
-    return value != 0 || slope != 0;
-  };
-  if (!halo || local) {
-    for (size_t q = 0; q < P.size(); ++q)
-      if (busy(static_cast<int64_t>(q))) return false;
-    return true;
-  }
+  const bool reduced = halo && !local;
+  // far from the obstacle: no point evaluated (with `held`, this rank's points)
+  const bool bound = certainly_free(U);
+  if (bound && !(held && reduced)) return true;
   double any = 0;
-  for (const int64_t *q = halo->share->own_begin(); q != halo->share->own_end() && any == 0; ++q) any = busy(*q);
+  if (!bound) {
+    thread_local std::vector<double> P;
+    P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
+    auto busy = [&](int64_t q) {
+      double value, slope;
+      law(static_cast<size_t>(q), P[q], value, slope);
+      return value != 0 || slope != 0;
+    };
+    if (!reduced) {
+      for (size_t q = 0; q < P.size(); ++q)
+        if (busy(static_cast<int64_t>(q))) return false;
+      return true;
+    }
+    for (const int64_t *q = halo->share->own_begin(); q != halo->share->own_end() && any == 0; ++q) any = busy(*q);
+  }
   return max_over_ranks(halo->share->comm.get(), any) == 0;
 }
 
@@ -128,14 +133,14 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
   // of thousands (the whole of U cost more than evaluating the points)
   double d = 0, u_max = 0, un_max = 0;
   bool finite = true;
-  for (int64_t i : cp->dofs) {
+  for (int64_t i : held ? held->dofs : cp->dofs) {
     finite &= std::isfinite(U[i]) && std::isfinite(Un[i]);
     d = std::max(d, std::fabs(U[i] - Un[i]));
     u_max = std::max(u_max, std::fabs(U[i]));
     un_max = std::max(un_max, std::fabs(Un[i]));
   }
   if (!finite) return false;
-  for (size_t q = 0; q < nq; ++q) {
+  auto bounded = [&](size_t q) {
     const double nu = cp->nu[q], Pref = (*Pn)[q], g_now = g(q), g_ref = gap_n ? gap_n[q] : cp->gap[q];
     const double margin =
         kBoundMargin * (nu * (u_max + un_max + d) + std::fabs(g_now) + std::fabs(g_ref) + std::fabs(Pref));
@@ -143,7 +148,14 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
     if (!std::isfinite(high)) return false;  // (a law may map NaN to 0: not shown)
     double value, slope;
     law(q, high, value, slope);
-    if (!(value == 0 && slope == 0)) return false;
+    return value == 0 && slope == 0;
+  };
+  if (held) {
+    for (int64_t q : held->points)
+      if (!bounded(static_cast<size_t>(q))) return false;
+  } else {
+    for (size_t q = 0; q < nq; ++q)
+      if (!bounded(q)) return false;
   }
   count(counters, &Counters::contact_bounds);
   return true;
@@ -160,7 +172,7 @@ std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Sh
 }
 
 std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp, const Csr *A,
-                                     const std::vector<const Csr *> &also) {
+                                     const std::vector<const Csr *> &also, const std::vector<int64_t> *points) {
   std::vector<char> read(static_cast<size_t>(n), 0);
   for (const int64_t *i = rows.own_begin(); i != rows.own_end(); ++i) {
     read[*i] = 1;
@@ -169,12 +181,37 @@ std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const Contact
   }
   for (const Csr *B : also)
     for (int64_t c : B->col) read[c] = 1;
-  for (const SparseRow &a : cp.a)  // (s_q has a_q's index list)
-    for (int64_t i : a.idx) read[i] = 1;
+  auto point = [&](int64_t q) {
+    for (int64_t i : cp.a[q].idx) read[i] = 1;  // (s_q has a_q's index list)
+  };
+  if (points) {
+    for (int64_t q : *points) point(q);
+  } else {
+    for (int64_t q = 0, m = static_cast<int64_t>(cp.size()); q < m; ++q) point(q);
+  }
   std::vector<int64_t> held;
   for (int64_t i = 0; i < n; ++i)
     if (read[i]) held.push_back(i);
   return held;
+}
+
+std::shared_ptr<const HeldPoints> held_points(const ContactPoints &cp, const Halo &halo) {
+  auto h = std::make_shared<HeldPoints>();
+  std::vector<char> in(cp.size(), 0);
+  for (int64_t q : halo.read) in[q] = 1;
+  for (size_t q = 0; q < cp.a_fixed.size(); ++q) in[q] |= !cp.a_fixed[q].idx.empty();  // (the reactions')
+  std::vector<char> dof;
+  for (size_t q = 0; q < in.size(); ++q) {
+    if (!in[q]) continue;
+    h->points.push_back(static_cast<int64_t>(q));
+    for (int64_t i : cp.a[q].idx) {
+      if (static_cast<size_t>(i) >= dof.size()) dof.resize(static_cast<size_t>(i) + 1, 0);
+      dof[i] = 1;
+    }
+  }
+  for (size_t i = 0; i < dof.size(); ++i)
+    if (dof[i]) h->dofs.push_back(static_cast<int64_t>(i));
+  return h;
 }
 
 double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place) {

@@ -34,8 +34,22 @@ std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Sh
 // of every contact point's rows, with, given A, the columns of A's entries
 // in the own rows, and the columns of every row of `also` (the clamped rows,
 // whose reactions read them): what a rank reads of a vector held on split rows.
+// points (ascending; null: all) limits the contact points to those.
 std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp,
-                                     const Csr *A = nullptr, const std::vector<const Csr *> &also = {});
+                                     const Csr *A = nullptr, const std::vector<const Csr *> &also = {},
+                                     const std::vector<int64_t> *points = nullptr);
+
+// The contact points a rank holds with a distributed state whose Newton
+// passes read a halo (slice 12): the halo's points (its own and those whose
+// rows touch its rows) and every point with rows on clamped DOFs (every
+// rank computes the reactions); the state is right at their DOFs only, and
+// the state's pass, the bound of certainly_free and the applied term phi
+// cover them only.
+struct HeldPoints {
+  std::vector<int64_t> points;  // ascending
+  std::vector<int64_t> dofs;    // the free DOFs their rows touch, ascending
+};
+std::shared_ptr<const HeldPoints> held_points(const ContactPoints &cp, const Halo &halo);
 
 struct ContactLaw {
   const ContactPoints *cp = nullptr;
@@ -61,6 +75,10 @@ struct ContactLaw {
   // distributed state holds U right at every contact point's DOFs on every
   // rank: the same bits, no message)
   bool halo_here = false;
+  // With a halo and a distributed state: the points this rank holds
+  // (held_points). certainly_free's bound then covers them only, and
+  // contact_free reduces the ranks' verdicts, bound or not (null: every point)
+  const HeldPoints *held = nullptr;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   // sa = a_q.U and ss = s_q.U, each summed in index order (the bits of
@@ -95,7 +113,8 @@ struct ContactLaw {
   // with a margin far above the round-off of either evaluation, for a law
   // that is nondecreasing in P (TimeScheme::contact). False says nothing:
   // then evaluate. The same answer on every rank (U, U^n and P^n are the
-  // same there), no message. Counts ND_STAT_CONTACT_BOUNDS when true.
+  // same there), no message; with `held`, over the rank's points only (an
+  // answer for this rank). Counts ND_STAT_CONTACT_BOUNDS when true.
   bool certainly_free(const std::vector<double> &U) const;
   // P[q] = eval(q) for the points this process evaluates (with several ranks,
   // those of its own cells; cp->share, parallel/share.hpp), except where

@@ -36,8 +36,8 @@ double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r) {
 }
 
 std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp,
-                                      const std::vector<const Csr *> &also) {
-  return rows_and_points(A.n, rows, cp, &A, also);
+                                      const std::vector<const Csr *> &also, const std::vector<int64_t> *points) {
+  return rows_and_points(A.n, rows, cp, &A, also, points);
 }
 
 namespace {

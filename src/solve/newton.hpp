@@ -58,8 +58,10 @@ double rhs_norm(const NewtonSystem &sys, const std::vector<double> &r);
 // contact point's rows (P_q of the rank's points; the bound of
 // ContactLaw::certainly_free reads the same DOFs). Ascending. A solve that keeps these rows
 // (make_refactoring_tangent) receives only their values from other ranks.
+// `points` (null: every point) limits the contact points (HeldPoints).
 std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const ContactPoints &cp,
-                                      const std::vector<const Csr *> &also = {});
+                                      const std::vector<const Csr *> &also = {},
+                                      const std::vector<int64_t> *points = nullptr);
 
 // U holds the initial guess on entry and the solution on exit (on every row:
 // when the tangent keeps only its held rows, the others are gathered from

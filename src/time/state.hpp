@@ -16,8 +16,22 @@ struct GuardState {
 
 // P_q(U) and u_n - g0 = a_q.U - g_q at every contact point of a state, with
 // its gaps, from one pass over the points (ContactLaw::P_all).
+// With a distributed state on the refactoring tangent (Integrator::points)
+// they are right only at the points a rank holds, NaN elsewhere (partial),
+// and the monitors' sums over the points are those of the step, each rank's
+// own points added rank after rank (summed): what a query on one rank reads.
+struct PointSums {
+  double nitsche = 0;        // sum_q w_q (gamma_q (s_q.U)^2 - [P_q]_+^2/gamma_q) / 2
+  double force = 0;          // sum_q w_q [P_q]_+/gamma_q
+  double force_applied = 0;  // sum_q w_q phi_q/gamma_q
+  double active = 0;         // the points with P_q > 0
+  double penetration = 0;    // max_q (u_n - g0)_+
+};
 struct PointValues {
   std::vector<double> P, un;
+  bool partial = false;
+  bool summed = false;
+  PointSums sums;
 };
 
 // M U, M V, M A (when A is valid), K U and the two sums of the mechanical
