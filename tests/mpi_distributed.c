@@ -1142,6 +1142,41 @@ static void compare_layouts(int dim, int solver) {
   for (int r = 0; r < kRuns; ++r) ND_OK_OR_FAIL(nd_problem_destroy(&run[r]));
 }
 
+/* A distributed state made by one integrator and stepped by another: the
+ * ball in contact with GAMG (the refactoring Newton: the rank's points),
+ * then MUMPS (the condensed Newton: every point, other held rows). The
+ * new integrator's first step completes the state; against the same run
+ * with the whole state, within GAMG's Krylov bound. Without the
+ * completion the MUMPS step reads rows and points the GAMG steps left NaN. */
+START_TEST(a_change_of_solver_completes_a_distributed_state) {
+  enum { kBefore = 42, kAfter = 3 }; /* in contact at t = 10.5 */
+  nd_problem run[2];
+  double mon[2][kAfter][4];
+  for (int r = 0; r < 2; ++r) {
+    run[r] = scene(3, ND_SOLVER_PETSC_GAMG, 1);
+    if (r == 1) ND_OK_OR_FAIL(nd_problem_set_distributed_state(run[r], 1));
+    for (int k = 0; k < kBefore; ++k) ND_OK_OR_FAIL(nd_step(run[r]));
+    ck_assert(scalar(run[r], ND_ACTIVE_POINTS) > 0);
+    ND_OK_OR_FAIL(nd_problem_set_linear_solver(run[r], ND_SOLVER_PETSC_MUMPS));
+    for (int k = 0; k < kAfter; ++k) {
+      ND_OK_OR_FAIL(nd_step(run[r]));
+      const int keys[4] = {ND_ENERGY_AUGMENTED, ND_CONTACT_FORCE, ND_ACTIVE_POINTS, ND_WORK_OBSTACLE};
+      for (int m = 0; m < 4; ++m) mon[r][k][m] = scalar(run[r], keys[m]);
+    }
+  }
+  const double bound = krylov_bound(run[0], 3, scalar(run[0], ND_STAT_SOLVES));
+  double gap = 0;
+  for (int m = 0; m < 4; ++m) {
+    double a[kAfter], b[kAfter];
+    for (int k = 0; k < kAfter; ++k) a[k] = mon[0][k][m], b[k] = mon[1][k][m];
+    gap = worse(gap, memcmp(a, b, sizeof a) == 0 ? 0 : relative_gap(a, b, kAfter));
+  }
+  if (g_rank == 0) printf("GAMG then MUMPS, %d rank(s): the distributed state %.2e off the whole one (bound %.2e)\n", g_size, gap, bound);
+  ck_assert_msg(nd_test_on_all_ranks(gap <= bound), "%.3g off (bound %.3g)", gap, bound);
+  for (int r = 0; r < 2; ++r) ND_OK_OR_FAIL(nd_problem_destroy(&run[r]));
+}
+END_TEST
+
 START_TEST(a_distributed_state_gathers_no_solution) {
   compare_layouts(3, ND_SOLVER_PETSC_GAMG);
   compare_layouts(2, ND_SOLVER_PETSC_MUMPS);
@@ -1379,6 +1414,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, each_rank_holds_its_rows_of_the_operators);
   tcase_add_test(tc, a_step_on_split_rows_receives_no_products);
   tcase_add_test(tc, a_distributed_state_gathers_no_solution);
+  tcase_add_test(tc, a_change_of_solver_completes_a_distributed_state);
   tcase_add_test(tc, a_failed_step_leaves_a_distributed_state_as_it_was);
   tcase_add_test(tc, explicit_steps_on_split_rows);
   tcase_add_test(tc, a_bar_on_more_ranks_than_cells);

@@ -303,6 +303,7 @@ Integrator &Problem::integrator_or_build() {
   if (linear_solver_distributes(def_.solver) && !d.rows_split && !ownership().node_owner.empty())
     own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
   integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
+  integrator_new_ = true;
   return *integrator_;
 }
 
@@ -370,8 +371,10 @@ void Problem::prepare() {
   Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
   // a step that reads whole vectors (an explicit scheme, a solver that does
-  // not split the rows) has the state whole (collective: on every rank)
-  if (in.held.empty()) complete_state();
+  // not split the rows), or a new integrator's first, has the state whole
+  // (collective: on every rank)
+  if (in.held.empty() || integrator_new_) complete_state();
+  integrator_new_ = false;
   if (def_.guards.unstable_scheme && in.scheme->always_unstable())
     fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "

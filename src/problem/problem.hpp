@@ -154,6 +154,10 @@ class Problem {
   // the work counters (ND_STAT_*), since creation; a stable address the derived objects keep
   std::unique_ptr<Counters> counters_ = std::make_unique<Counters>();
   std::unique_ptr<Integrator> integrator_;
+  // a new integrator since the last step: it may hold other rows and points
+  // than the one that made a distributed state (another solver, another
+  // Newton path), so the next step completes the state first
+  bool integrator_new_ = false;
   std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
   State state_;
