@@ -620,6 +620,38 @@ START_TEST(a_matrix_refused_on_one_rank_is_refused_on_every_rank) {
 }
 END_TEST
 
+// Columns asked for different sets on different ranks (a bug upstream) fail
+// on every rank before any collective solve, instead of pairing the ranks'
+// block solves wrongly (MUMPS then corrupted memory); the cache serves the
+// next, agreed set.
+START_TEST(columns_of_sets_that_differ_between_ranks_are_refused) {
+  const nd::Csr A = spd_matrix(10);
+  const int64_t n = A.n;
+  const nd::ContactPoints cp = synthetic_points(n, 9);
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;
+  auto rows = nd::make_share(comm, even_owner(n), &counters);
+  nd::DofGeometry g;
+  g.comm = comm;
+  auto f = nd::make_factorization(ND_SOLVER_PETSC_MUMPS, A, nd::Structure::SymmetricPositiveDefinite, &counters, &g);
+  f->factor(A, nd::Structure::SymmetricPositiveDefinite);
+  nd::ContactColumns columns(*f, n, 100, rows.get());
+  columns.bind(cp, 1.0);
+  std::vector<int64_t> S = {0, 2, 3};
+  if (g_rank == g_size - 1 && g_size > 1) S.push_back(5);
+  int code = ND_OK;
+  try {
+    columns.require(S);
+  } catch (const nd::Error &e) {
+    code = e.code();
+  }
+  ck_assert_msg(nd_test_on_all_ranks(code == (g_size > 1 ? ND_ERR_INTERNAL : ND_OK)), "rank %d: %d", g_rank, code);
+  ck_assert(nd_test_on_all_ranks(columns.computed() == (g_size > 1 ? 0 : 3)));
+  columns.require({0, 2, 3, 5});
+  ck_assert(nd_test_on_all_ranks(columns.computed() == 4));
+}
+END_TEST
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -635,6 +667,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, a_refactoring_tangent_keeps_the_rows_newton_reads);
   tcase_add_test(tc, a_newton_pass_reads_the_points_touching_its_rows);
   tcase_add_test(tc, a_kept_hierarchy_serves_until_it_does_not);
+  tcase_add_test(tc, columns_of_sets_that_differ_between_ranks_are_refused);
   suite_add_tcase(s, tc);
   TCase *agreement = tcase_create("agreement");
   tcase_set_timeout(agreement, 300);

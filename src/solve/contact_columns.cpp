@@ -1,7 +1,12 @@
 #include "solve/contact_columns.hpp"
 
 #include <algorithm>
+#include <string>
 
+#include "common/error.hpp"
+#include "common/hash.hpp"
+#include "nitschedyn.h"
+#include "parallel/communicator.hpp"
 #include "solve/contact_law.hpp"
 
 namespace nd {
@@ -38,6 +43,17 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
 }
 
 void ContactColumns::require(const std::vector<int64_t> &S) {
+  // The columns' solves over several ranks are collective, each rank with the
+  // same set: a set that parted (a bug: every rank evaluates the points on
+  // the same bits) would pair the ranks' block solves wrongly, and MUMPS then
+  // corrupts memory. One reduction of a digest per call makes it an error.
+  if (rows_) {
+    Hash h;
+    h.vec(S);
+    if (!same_on_all_ranks(rows_->comm.get(), h.h))
+      fail(ND_ERR_INTERNAL, "the ranks' active contact points differ (" + std::to_string(S.size()) +
+                                " on this rank): no contact column was solved");
+  }
   int64_t missing = 0;
   for (int64_t q : S) missing += Z_[q].empty();
   if (missing == 0) return;
