@@ -39,15 +39,13 @@ Structure tangent_structure(double theta) {
   return theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
 }
 
-}  // namespace
-
-namespace {
 // Newton refactors its tangent: when asked, or in 3D with an iterative solver
 // (see make_integrator's choice below)
 bool refactoring_tangent(const Definition &def, const Discretization &d) {
   return def.tangent == TangentChoice::Refactor ||
          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3 && linear_solver_iterative(def.solver));
 }
+
 }  // namespace
 
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
@@ -178,8 +176,9 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       next.last_iterations = 1;
     } else {
       law.halo = in.halo.get();
-      // a distributed state: every iterate is right at every contact point's
-      // DOFs on every rank, so each rank evaluates the points it reads itself
+      // a distributed state: every iterate is right at the DOFs of the
+      // contact points a rank reads (every point's, or with a halo the
+      // points it holds), so each rank evaluates them itself
       if (!in.held.empty()) (in.halo ? law.halo_here : law.local) = true;
       law.held = in.points.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
