@@ -1022,6 +1022,17 @@ static void compare_layouts(int dim, int solver) {
              g_size, evaluated[1][1], n_points, total[1], evaluated[0][1], total[0]);
     ck_assert_msg(total[0] == (double)n_points, "the whole state's free step: %g points over the ranks, not %" PRId64,
                   total[0], n_points);
+    /* the contact checks the bound settled: the job's count, the same on
+       every rank; with the rank's points each rank's bound reads fewer DOFs
+       (a smaller max |U - U^n|), so at least as many as the whole state's */
+    double bounds[2] = {scalar(kept, ND_STAT_CONTACT_BOUNDS), -scalar(kept, ND_STAT_CONTACT_BOUNDS)};
+    MPI_Allreduce(MPI_IN_PLACE, bounds, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    if (g_rank == 0)
+      printf("  contact checks settled by the bound: %g, %g with the whole state\n", bounds[0],
+             scalar(whole, ND_STAT_CONTACT_BOUNDS));
+    ck_assert_msg(bounds[0] == -bounds[1] && bounds[0] >= scalar(whole, ND_STAT_CONTACT_BOUNDS) && bounds[0] > 0,
+                  "contact checks settled by the bound: %g to %g over the ranks, %g with the whole state", -bounds[1],
+                  bounds[0], scalar(whole, ND_STAT_CONTACT_BOUNDS));
     if (holds_points)
       ck_assert_msg(nd_test_on_all_ranks(evaluated[1][1] < (double)n_points) && total[1] >= (double)n_points,
                     "the distributed state's free step: %g of %" PRId64 " points on this rank, %g over the ranks",

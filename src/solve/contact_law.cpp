@@ -78,11 +78,13 @@ void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) 
 }
 
 bool ContactLaw::contact_free(const std::vector<double> &U) const {
-  const bool reduced = halo && !local;
-  // far from the obstacle: no point evaluated (with `held`, this rank's points)
-  const bool bound = certainly_free(U);
-  if (bound && !(held && reduced)) return true;
-  double any = 0;
+  const bool reduced = halo && !local, per_rank = held && reduced;
+  // far from the obstacle: no point evaluated (with `held`, this rank's
+  // points: counted below when every rank's bound held, the job's count)
+  const bool bound = certainly_free(U, !per_rank);
+  if (bound && !per_rank) return true;
+  double flags[2] = {0, bound ? 0.0 : 1.0};  // a busy own point, a bound that failed
+  double &any = flags[0];
   if (!bound) {
     thread_local std::vector<double> P;
     P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
@@ -98,7 +100,10 @@ bool ContactLaw::contact_free(const std::vector<double> &U) const {
     }
     for (const int64_t *q = halo->share->own_begin(); q != halo->share->own_end() && any == 0; ++q) any = busy(*q);
   }
-  return max_over_ranks(halo->share->comm.get(), any) == 0;
+  if (!per_rank) return max_over_ranks(halo->share->comm.get(), any) == 0;
+  max_over_ranks(halo->share->comm.get(), flags, 2);
+  if (flags[1] == 0) count(counters, &Counters::contact_bounds);
+  return flags[0] == 0;
 }
 
 void ContactLaw::summarize(const std::vector<char> &active, const std::vector<char> &previous, bool &any,
@@ -126,7 +131,7 @@ namespace {
 constexpr double kBoundMargin = 1e-12;
 }  // namespace
 
-bool ContactLaw::certainly_free(const std::vector<double> &U) const {
+bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) const {
   const size_t nq = cp->size();
   if (!Un || !Pn || Pn->size() != nq || cp->nu.size() != nq) return false;
   // over the DOFs the points' rows touch: on the disks a few hundred of tens
@@ -157,7 +162,7 @@ bool ContactLaw::certainly_free(const std::vector<double> &U) const {
     for (size_t q = 0; q < nq; ++q)
       if (!bounded(q)) return false;
   }
-  count(counters, &Counters::contact_bounds);
+  if (counted) count(counters, &Counters::contact_bounds);
   return true;
 }
 

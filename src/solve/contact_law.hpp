@@ -114,8 +114,8 @@ struct ContactLaw {
   // that is nondecreasing in P (TimeScheme::contact). False says nothing:
   // then evaluate. The same answer on every rank (U, U^n and P^n are the
   // same there), no message; with `held`, over the rank's points only (an
-  // answer for this rank). Counts ND_STAT_CONTACT_BOUNDS when true.
-  bool certainly_free(const std::vector<double> &U) const;
+  // answer for this rank). Counts ND_STAT_CONTACT_BOUNDS when true (`counted`).
+  bool certainly_free(const std::vector<double> &U, bool counted = true) const;
   // P[q] = eval(q) for the points this process evaluates (with several ranks,
   // those of its own cells; cp->share, parallel/share.hpp), except where
   // skip[q] (skip empty: none is skipped; P[q] is then given, the same on
@@ -146,7 +146,9 @@ struct ContactLaw {
   // Counts one pass, each point once for the ranks together.
   void P_read(const double *U, std::vector<double> &P, bool received = true) const;
   // Whether N and N' vanish at U at every point: certainly_free, else a pass
-  // (with a halo, each rank its own points, then one reduction). Collective.
+  // (with a halo, each rank its own points, then one reduction; with `held`
+  // the ranks' bounds are reduced with it, and counted when all held).
+  // Collective.
   bool contact_free(const std::vector<double> &U) const;
   // From the active sets of add_force (`previous` may be empty): whether a
   // point is active, whether the set changed; with a halo from each rank's
