@@ -216,18 +216,18 @@ void sum_points(const Discretization &d, State &s, const std::vector<double> &dW
   PointValues &v = s.products.points;
   PointSums t;
   double W = 0;
-  auto add = [&](int64_t q) {
+  const Share *share = cp.share.get();
+  const RowSet own = own_rows(share);  // each rank its own points, added rank after rank
+  for (int64_t k = 0, m = own.size(static_cast<int64_t>(cp.size())); k < m; ++k) {
+    const int64_t q = own[k];
     add_point(cp, static_cast<size_t>(q), v.P[q], v.un[q], s.phi[q], s.U.data(), true, t);
     W += dW[q];
-  };
-  if (const Share *share = cp.share.get()) {  // each rank its own points, added rank after rank
-    for (const int64_t *q = share->own_begin(); q != share->own_end(); ++q) add(*q);
+  }
+  if (share) {
     double sums[6] = {t.nitsche, t.force, t.force_applied, t.active, W, t.penetration};
     gather(*share, {}, sums, 6, 1);
     t = PointSums{sums[0], sums[1], sums[2], sums[3], sums[5]};
     W = sums[4];
-  } else {
-    for (int64_t q = 0, m = static_cast<int64_t>(cp.size()); q < m; ++q) add(q);
   }
   v.sums = t;
   v.summed = true;
