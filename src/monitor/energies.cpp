@@ -142,7 +142,8 @@ void compute_products(const Discretization &d, State &s, PointValues *known, con
   } else {
     ContactLaw law = state_contact_law(d, s);
     law.counters = d.counters;
-    law.local = s.partial;  // (a partial state is right at every point's DOFs on every rank: no message)
+    // (a partial state without held points is right at every point's DOFs on every rank: no message)
+    law.local = s.partial;
     law.P_all(s.U.data(), s.products.points.P, &s.products.points.un);
   }
   s.products.of = d.id;

@@ -72,8 +72,8 @@ struct ContactLaw {
   // contact_free, summarize) take it; P_all always gives every point.
   const Halo *halo = nullptr;
   // With a halo: its points evaluated by this rank, not received (a
-  // distributed state holds U right at every contact point's DOFs on every
-  // rank: the same bits, no message)
+  // distributed state holds U right at the DOFs of the points the rank
+  // reads: the same bits as their owners', no message)
   bool halo_here = false;
   // With a halo and a distributed state: the points this rank holds
   // (held_points). certainly_free's bound then covers them only, and
