@@ -3,10 +3,43 @@
 #ifndef ND_TESTUTIL_MPI_H
 #define ND_TESTUTIL_MPI_H
 #include <mpi.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "testutil.h"
+
+/* A failed check ends the job. Under mpiexec Check runs without fork: a
+ * failed check leaves its test on that rank alone, and the other ranks
+ * would wait for it in their next collective call, a hang until ctest's
+ * timeout with no message. So every Check assertion of these tests (they
+ * all end in _ck_assert_failed) prints its message with the rank and calls
+ * MPI_Abort, and mpiexec exits non-zero on every rank. */
+static inline void nd_test_abort_job(const char *file, int line, const char *expr, const char *msg, ...)
+    __attribute__((noreturn, format(printf, 4, 5)));
+static inline void nd_test_abort_job(const char *file, int line, const char *expr, const char *msg, ...) {
+  int rank = -1, up = 0;
+  MPI_Initialized(&up);
+  if (up) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  /* one line, one write: the ranks' output is interleaved by lines */
+  char text[1024];
+  int used = snprintf(text, sizeof text, "%s:%d: rank %d: ", file, line, rank);
+  if (used < 0 || used >= (int)sizeof text) used = 0;
+  if (msg) {
+    va_list ap;
+    va_start(ap, msg);
+    vsnprintf(text + used, sizeof text - (size_t)used, msg, ap);
+    va_end(ap);
+  } else {
+    snprintf(text + used, sizeof text - (size_t)used, "%s", expr);
+  }
+  fprintf(stderr, "%s\n", text);
+  fflush(stderr);
+  if (up) MPI_Abort(MPI_COMM_WORLD, 1);
+  abort();
+}
+#define _ck_assert_failed nd_test_abort_job
 
 /* a verdict of every rank (a check that fails on some ranks only would
  * leave the others waiting in the next collective call) */
