@@ -11,7 +11,16 @@
  * run ended (/proc/loadavg: other work shares the cores), the time of
  * nd_problem_set_comm (it partitions the mesh), and the doubles a rank
  * received from the others in a free-flight and in a contact step (medians
- * of ND_STAT_VALUES_RECEIVED's increments, the largest rank's).
+ * of ND_STAT_VALUES_RECEIVED's increments, the largest rank's), and the
+ * library's heap (operator new, bench/heap_track.cpp: its vectors,
+ * operators and contact rows; not PETSc's nor MUMPS's), the largest rank's:
+ * what a rank holds after the set-up (MB); the whole vectors (n doubles, n
+ * the unknowns; a block of n pairs counts 2) it holds between steps (after
+ * the last), and at the peak of a free-flight and of a contact step
+ * (medians); and the peak of everything a free-flight and a contact step
+ * add above what the rank held before them, in units of 8 n bytes (medians;
+ * PETSc's copies of the matrix values on the refactoring path are among
+ * them, nnz/P long).
  *   mpiexec -n N scaling_bench MESH DEGREE SOLVER TAU T [DIM]
  *   SOLVER: mumps | gamg | cholmod; DIM: 2 (the disk, default) or 3 (the ball)
  * ND_BENCH_DISTRIBUTED_STATE=1 in the environment: the state distributed
@@ -29,7 +38,16 @@
 
 static const char *kHeader =
     "ranks,mesh,degree,unknowns,solver,setup_s,first_step_s,free_steps,free_median_ms,contact_steps,"
-    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1,set_comm_s,received_free,received_contact";
+    "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1,set_comm_s,received_free,received_contact,"
+    "heap_setup_mb,vectors_held,vectors_free_peak,vectors_contact_peak,heap_free_added,heap_contact_added";
+
+/* bench/heap_track.cpp */
+void nd_bench_heap_watch_vectors(long long doubles);
+long long nd_bench_heap_now(void);
+long long nd_bench_heap_vectors_now(void);
+long long nd_bench_heap_peak(void);
+long long nd_bench_heap_vectors_peak(void);
+void nd_bench_heap_reset_peak(void);
 
 static int by_value(const void *a, const void *b) {
   const double x = *(const double *)a, y = *(const double *)b;
@@ -77,23 +95,36 @@ int main(int argc, char **argv) {
   const int steps = (int)(T / tau + 0.5);
   double *free_ms = malloc(sizeof(double) * (size_t)steps), *contact_ms = malloc(sizeof(double) * (size_t)steps);
   double *free_recv = malloc(sizeof(double) * (size_t)steps), *contact_recv = malloc(sizeof(double) * (size_t)steps);
+  double *free_heap = malloc(sizeof(double) * (size_t)steps), *contact_heap = malloc(sizeof(double) * (size_t)steps);
+  double *free_vec = malloc(sizeof(double) * (size_t)steps), *contact_vec = malloc(sizeof(double) * (size_t)steps);
   int n_free = 0, n_contact = 0;
   double newton = 0, setup_s = 0, first_s = 0, active_before = 0, active = 0, iterations = 0, comm_s = 0;
   double received_before = 0, received = 0;
   int64_t nodes = 0;
   nd_problem p = NULL;
 
+  /* the unknowns first (no clamped DOFs in this scene), so that the heap
+     accounting knows a whole vector from the problem's first one */
   status = drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, tau, solver, &p);
+  if (status == ND_OK) status = nd_problem_get_node_count(p, &nodes);
+  nd_problem_destroy(&p);
+  const double vector_bytes = 8.0 * (double)(dim * nodes);
+  nd_bench_heap_watch_vectors(dim * nodes);
+  if (status == ND_OK) status = drop_scene_create(dim, mesh, degree, ND_SCHEME_HYBRID, NULL, 1.0, 1e-3, tau, solver, &p);
   if (status == ND_OK && solver != ND_SOLVER_CHOLMOD) comm_s = timed(p, set_world, &status);  /* partitions the mesh */
   const char *layout = getenv("ND_BENCH_DISTRIBUTED_STATE");
   if (status == ND_OK && layout && !strcmp(layout, "1")) status = nd_problem_set_distributed_state(p, 1);
   const char *coercivity = getenv("ND_BENCH_COERCIVITY");
   if (status == ND_OK && coercivity && !strcmp(coercivity, "0")) status = nd_problem_set_guard(p, ND_GUARD_COERCIVITY, 0);
-  if (status == ND_OK) status = nd_problem_get_node_count(p, &nodes);
   if (status == ND_OK) setup_s = timed(p, nd_problem_setup, &status);
+  const double heap_setup_mb = (double)nd_bench_heap_now() / (1024.0 * 1024.0);
   if (status == ND_OK) status = nd_get_scalar(p, ND_STAT_VALUES_RECEIVED, &received_before);
   for (int k = 0; k < steps && status == ND_OK; ++k) {
+    const long long before = nd_bench_heap_now();
+    nd_bench_heap_reset_peak();
     const double dt = timed(p, nd_step, &status);
+    const double added = (double)(nd_bench_heap_peak() - before) / vector_bytes;
+    const double vectors = (double)nd_bench_heap_vectors_peak() / vector_bytes;
     if (status == ND_OK) status = nd_get_scalar(p, ND_ACTIVE_POINTS, &active);
     if (status == ND_OK) status = nd_get_scalar(p, ND_NEWTON_ITERATIONS, &iterations);
     if (status == ND_OK) status = nd_get_scalar(p, ND_STAT_VALUES_RECEIVED, &received);
@@ -101,9 +132,11 @@ int main(int argc, char **argv) {
       first_s = dt;
     } else if (active_before == 0 && active == 0) {
       free_recv[n_free] = received - received_before;
+      free_heap[n_free] = added, free_vec[n_free] = vectors;
       free_ms[n_free++] = 1e3 * dt;
     } else if (active_before > 0 && active > 0) {
       contact_recv[n_contact] = received - received_before;
+      contact_heap[n_contact] = added, contact_vec[n_contact] = vectors;
       contact_ms[n_contact++] = 1e3 * dt, newton += iterations;
     }
     active_before = active, received_before = received;
@@ -119,19 +152,32 @@ int main(int argc, char **argv) {
     if (fscanf(f, "%lf", &load1) != 1) load1 = -1;
     fclose(f);
   }
-  double recv[2] = {median(free_recv, n_free), median(contact_recv, n_contact)}, recv_max[2] = {0, 0};
-  MPI_Reduce(recv, recv_max, 2, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  double mine[8] = {median(free_recv, n_free),
+                    median(contact_recv, n_contact),
+                    heap_setup_mb,
+                    (double)nd_bench_heap_vectors_now() / vector_bytes,
+                    median(free_vec, n_free),
+                    median(contact_vec, n_contact),
+                    median(free_heap, n_free),
+                    median(contact_heap, n_contact)},
+         most[8] = {0};
+  MPI_Reduce(mine, most, 8, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   const char *base = strrchr(mesh, '/');
   if (rank == 0 && status == ND_OK)
-    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f,%.0f,%.0f\n", size, base ? base + 1 : mesh,
+    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f,%.0f,%.0f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n", size,
+           base ? base + 1 : mesh,
            degree, (long long)(dim * nodes), solver_name, setup_s, first_s, n_free, median(free_ms, n_free), n_contact,
-           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1, comm_s, recv_max[0],
-           recv_max[1]);
+           median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1, comm_s, most[0], most[1],
+           most[2], most[3], most[4], most[5], most[6], most[7]);
   nd_problem_destroy(&p);
   free(free_ms);
   free(contact_ms);
   free(free_recv);
   free(contact_recv);
+  free(free_heap);
+  free(contact_heap);
+  free(free_vec);
+  free(contact_vec);
   MPI_Finalize();
   return status == ND_OK ? 0 : 1;
 }
