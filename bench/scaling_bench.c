@@ -14,9 +14,10 @@
  * of ND_STAT_VALUES_RECEIVED's increments, the largest rank's), and the
  * library's heap (operator new, bench/heap_track.cpp: its vectors,
  * operators and contact rows; not PETSc's nor MUMPS's), the largest rank's:
- * what a rank holds after the set-up (MB); the whole vectors (n doubles, n
- * the unknowns; a block of n pairs counts 2) it holds between steps (after
- * the last), and at the peak of a free-flight and of a contact step
+ * what a rank holds after the set-up (MB); the whole-length arrays (n
+ * doubles or 8-byte indices, n the unknowns, or an operator's n + 1 row
+ * pointers: one each; n pairs of doubles: two) it holds between steps
+ * (after the last), and at the peak of a free-flight and of a contact step
  * (medians); and the peak of everything a free-flight and a contact step
  * add above what the rank held before them, in units of 8 n bytes (medians;
  * PETSc's copies of the matrix values on the refactoring path are among
