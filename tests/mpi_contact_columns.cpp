@@ -444,6 +444,77 @@ START_TEST(a_newton_pass_reads_the_points_touching_its_rows) {
 }
 END_TEST
 
+// With a distributed state (ContactLaw::held, slice 12) each rank bounds its
+// own held points, and the bound that shows a Newton start contact-free is
+// counted (ND_STAT_CONTACT_BOUNDS) only when every rank's bound held: the
+// job's count, the same on every rank. Here one point, held by the last
+// rank alone (its own, on that rank's rows only), has P_q^n = -1e-14: not
+// busy, but within the bound's margin of the obstacle, so that rank's bound
+// fails while every other rank's holds. The start is contact-free on every
+// rank and no rank counts it (a count per rank would count it on the others).
+START_TEST(a_bound_counts_when_every_rank_held_it) {
+  const nd::Csr A0 = spd_matrix(10);
+  const int64_t n = A0.n;
+  nd::ContactPoints cp = synthetic_points(n, 9);
+  add_local_points(cp, n, 12);
+  const size_t nq = cp.size();
+  cp.gap.assign(nq, 10.0);  // every point far
+  nd::set_bounds(cp);
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;
+  const std::vector<int> owner = even_owner(n);
+  auto rows = nd::make_share(comm, owner, &counters);
+  std::vector<int> point_owner(nq);
+  for (size_t q = 0; q < nq; ++q) point_owner[q] = static_cast<int>(q) % g_size;
+  cp.share = nd::make_share(comm, point_owner, &counters);
+  auto halo = rows ? nd::contact_point_halo(cp, *rows) : nullptr;
+  auto held = halo ? nd::held_points(cp, *halo) : nullptr;
+  const int last = g_size - 1;
+  int64_t lone = -1;  // read by the last rank alone
+  for (size_t q = 0; q < nq && lone < 0; ++q) {
+    bool alone = point_owner[q] == last;
+    for (int64_t i : cp.a[q].idx) alone &= owner[i] == last;
+    if (alone) lone = static_cast<int64_t>(q);
+  }
+  ck_assert(lone >= 0);
+  if (held)
+    ck_assert(nd_test_on_all_ranks(std::binary_search(held->points.begin(), held->points.end(), lone) ==
+                                   (g_rank == last)));
+  std::vector<double> U(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) U[i] = 0.05 * std::sin(0.9 * static_cast<double>(i));
+  nd::ContactLaw at_n{&cp, 1.0};  // P_q^n at U^n = U, every point on every rank
+  at_n.local = true;
+  std::vector<double> Pn;
+  at_n.P_all(U.data(), Pn);
+  nd::ContactLaw law{&cp, 1.0};
+  law.counters = &counters;
+  law.halo = halo.get();
+  law.held = held.get();
+  law.Pn = &Pn, law.Un = U.data();
+
+  const int64_t b0 = counters.contact_bounds;
+  ck_assert(nd_test_on_all_ranks(law.contact_free(U)));
+  ck_assert_msg(nd_test_on_all_ranks(counters.contact_bounds - b0 == 1), "rank %d: %lld bounds counted, 1 expected",
+                g_rank, static_cast<long long>(counters.contact_bounds - b0));
+
+  double sa, ss;
+  law.dots(static_cast<size_t>(lone), U.data(), sa, ss);
+  cp.gap[static_cast<size_t>(lone)] = sa - cp.gamma[static_cast<size_t>(lone)] * ss + 1e-14;
+  at_n.P_all(U.data(), Pn);
+  const double P_lone = Pn[static_cast<size_t>(lone)];
+  ck_assert_msg(P_lone < 0 && P_lone > -1e-13, "P_q^n = %g at the lone point", P_lone);
+  const int64_t b1 = counters.contact_bounds;
+  ck_assert(nd_test_on_all_ranks(law.contact_free(U)));  // no point busy
+  ck_assert_msg(nd_test_on_all_ranks(counters.contact_bounds == b1),
+                "rank %d: %lld bound(s) counted; one that failed on rank %d counts on no rank", g_rank,
+                static_cast<long long>(counters.contact_bounds - b1), last);
+  if (g_rank == 0)
+    std::printf("%d rank(s): the bound counted once with every point far, not with point %lld (rank %d's) at "
+                "P_q^n = %.1e\n",
+                g_size, static_cast<long long>(lone), last, P_lone);
+}
+END_TEST
+
 // GAMG keeps the hierarchy it set up for one Newton tangent for the next
 // (Factorization::refactor) while it serves: the solves still reach their
 // tolerance (against CHOLMOD), no set-up is counted; a matrix the kept
@@ -666,6 +737,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, columns_on_own_rows_with_gamg);
   tcase_add_test(tc, a_refactoring_tangent_keeps_the_rows_newton_reads);
   tcase_add_test(tc, a_newton_pass_reads_the_points_touching_its_rows);
+  tcase_add_test(tc, a_bound_counts_when_every_rank_held_it);
   tcase_add_test(tc, a_kept_hierarchy_serves_until_it_does_not);
   tcase_add_test(tc, columns_of_sets_that_differ_between_ranks_are_refused);
   suite_add_tcase(s, tc);
