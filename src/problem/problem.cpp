@@ -290,7 +290,7 @@ const std::vector<double> &Problem::clamped_load_() {
 std::vector<double> Problem::current_gaps() { return contact_gaps(discretization_().contact, def_.planes); }
 
 const std::vector<double> &Problem::constant_load_() {
-  if (!load_) load_ = std::make_unique<std::vector<double>>(constant_load(space_, discretization_(), def_));
+  if (!load_) load_ = std::make_shared<const std::vector<double>>(constant_load(space_, discretization_(), def_));
   return *load_;
 }
 
@@ -312,11 +312,11 @@ const std::vector<double> &Problem::current_load() {
   if (step_load_) return *step_load_;
   const std::vector<double> &F_const = constant_load_();
   if (def_.nodal.empty()) {
-    step_load_ = std::make_unique<std::vector<double>>(F_const);
+    step_load_ = load_;
     return *step_load_;
   }
   count(counters_.get(), &Counters::load_assemblies);
-  auto F = std::make_unique<std::vector<double>>(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
+  auto F = std::make_shared<std::vector<double>>(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
   disc_->dofs.restrict_to_free(def_.nodal.data(), F->data());
   for (size_t i = 0; i < F_const.size(); ++i) (*F)[i] += F_const[i];
   step_load_ = std::move(F);
@@ -411,7 +411,8 @@ void Problem::step() {
       def_.comm.get(),
       [&] {
         prepare();
-        const std::vector<double> F = current_load(), gap = current_gaps();
+        const std::vector<double> &F = current_load();  // (cached: not copied)
+        const std::vector<double> gap = current_gaps();
         next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
         guard_step(*disc_, def_.guards, state_, next);
       },

@@ -148,8 +148,9 @@ class Problem {
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
-  std::unique_ptr<std::vector<double>> load_;  // body force and tractions on the free DOFs
-  std::unique_ptr<std::vector<double>> step_load_;  // with the nodal forces: F^{n+1}
+  std::shared_ptr<const std::vector<double>> load_;  // body force and tractions on the free DOFs
+  // with the nodal forces: F^{n+1} (without any: load_ itself, not a copy)
+  std::shared_ptr<const std::vector<double>> step_load_;
   std::unique_ptr<std::vector<double>> load_fixed_;  // clamped_load_()
   // the work counters (ND_STAT_*), since creation; a stable address the derived objects keep
   std::unique_ptr<Counters> counters_ = std::make_unique<Counters>();
