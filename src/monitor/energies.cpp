@@ -28,27 +28,34 @@ namespace {
 // lane sums in the same order as a scalar sum would).
 typedef double Pair __attribute__((vector_size(16)));
 
-template <bool store>
+// local: with split rows, the copies at the columns the rank's rows read
+// (their places, Discretization::own_columns), else n long
+template <bool store, bool local = false>
 void products_pass(const Discretization &d, const State &s, Products &p) {
   const Csr &M = d.M, &K = d.K;
   require_same_pattern(K, M);
   count(d.counters, &Counters::spmv);
   const size_t n = s.U.size();
   const bool acc = store && s.A_valid;
-  std::vector<Pair> x1(n), x2(n);  // store: (U, V) and (A, U); energy only: (V, U)
-  for (size_t c = 0; c < n; ++c) {
-    if (store) {
-      x1[c] = Pair{s.U[c], s.V[c]};
-      x2[c] = Pair{acc ? s.A[c] : 0.0, s.U[c]};
-    } else {
-      x1[c] = Pair{s.V[c], s.U[c]};
-    }
-  }
   // with several ranks (store only): each its own rows, gathered below
-  // unless the operators are split
+  // unless the operators are split; then the copies hold the columns those
+  // rows read (Discretization::own_columns), not n
   const Share *share = store ? d.rows.get() : nullptr;
   const bool kept = share && d.rows_split;
   const RowSet rows = own_rows(share);
+  static_assert(store || !local, "the columns' places are the stored pass's");
+  const Discretization::OwnColumns *own = local ? &d.own_columns() : nullptr;
+  const size_t n_cols = own ? own->cols.size() : n;
+  std::vector<Pair> x1(n_cols), x2(store ? n_cols : 0);  // store: (U, V) and (A, U); energy only: (V, U)
+  for (size_t l = 0; l < n_cols; ++l) {
+    const size_t c = own ? static_cast<size_t>(own->cols[l]) : l;
+    if (store) {
+      x1[l] = Pair{s.U[c], s.V[c]};
+      x2[l] = Pair{acc ? s.A[c] : 0.0, s.U[c]};
+    } else {
+      x1[l] = Pair{s.V[c], s.U[c]};
+    }
+  }
   if (store) {
     const size_t held = kept ? static_cast<size_t>(share->own_count()) : n;
     p.rows = kept ? d.rows : nullptr;
@@ -60,18 +67,27 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
     else p.MA.clear();
   }
   const double *m = M.val.data(), *k = K.val.data(), *U = s.U.data(), *V = s.V.data();
-  const int64_t *col = K.col.data(), *ptr = K.ptr.data();
+  const int64_t *ptr = K.ptr.data();
+  // an entry's column among the copies: its own, or (local) its place
+  const int64_t *col = K.col.data();
+  const int32_t *place = local ? own->place.data() : nullptr;
+  auto column = [&](int64_t j, [[maybe_unused]] int64_t shift) -> int64_t {
+    if constexpr (local) return place[j + shift];
+    return col[j];
+  };
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
+  int64_t before = 0;  // the entries of the rows before this one (own_columns' order)
   for (int64_t r = 0, n_rows = rows.size(K.n); r < n_rows; ++r) {
-    const int64_t i = rows[r];
+    const int64_t i = rows[r], shift = before - ptr[i];
+    before += ptr[i + 1] - ptr[i];
     // even and odd entries in separate sums: two chains of dependent adds
     // instead of one (the add's latency, not the memory, bounded this loop)
     Pair a = {0, 0}, b = {0, 0}, a1 = {0, 0}, b1 = {0, 0};
     const int64_t e = ptr[i + 1];
     int64_t j = ptr[i];
     for (; j + 1 < e; j += 2) {
-      const int64_t c = col[j], c1 = col[j + 1];
+      const int64_t c = column(j, shift), c1 = column(j + 1, shift);
       if (store) {
         a += Pair{m[j], m[j]} * X1[c];
         b += Pair{m[j], k[j]} * X2[c];
@@ -83,7 +99,7 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
       }
     }
     if (j < e) {
-      const int64_t c = col[j];
+      const int64_t c = column(j, shift);
       if (store) {
         a += Pair{m[j], m[j]} * X1[c];
         b += Pair{m[j], k[j]} * X2[c];
@@ -118,7 +134,8 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
 
 void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
   s.products.of = 0;  // stays 0 if anything below throws
-  products_pass<true>(d, s, s.products);
+  if (d.rows_split && d.rows) products_pass<true, true>(d, s, s.products);
+  else products_pass<true>(d, s, s.products);
   if (known && known->P.size() == d.contact.size() && known->un.size() == d.contact.size()) {
     s.products.points = std::move(*known);
   } else if (held && !d.contact.a.empty()) {  // the rank's points, evaluated here (no message)

@@ -1,6 +1,7 @@
 #include "problem/discretization.hpp"
 
 #include <atomic>
+#include <cstdint>
 
 #include <algorithm>
 #include <cmath>
@@ -208,6 +209,26 @@ void Discretization::mass_solve(double *x, int solver, bool once) {
 namespace {
 std::atomic<uint64_t> last_discretization_id{0};
 }  // namespace
+
+const Discretization::OwnColumns &Discretization::own_columns() const {
+  if (own_columns_) return *own_columns_;
+  if (!rows_split || !rows) fail(ND_ERR_INTERNAL, "the columns of a rank's rows, without split rows");
+  auto oc = std::make_shared<OwnColumns>();
+  const RowSet own = own_rows(rows.get());
+  std::vector<int64_t> entries;  // the columns entry by entry
+  for (int64_t r = 0, m = own.size(K.n); r < m; ++r)
+    entries.insert(entries.end(), K.col.begin() + K.ptr[own[r]], K.col.begin() + K.ptr[own[r] + 1]);
+  std::vector<int64_t> sorted = entries;
+  std::sort(sorted.begin(), sorted.end());
+  oc->cols.assign(sorted.begin(), std::unique(sorted.begin(), sorted.end()));
+  if (oc->cols.size() > static_cast<size_t>(INT32_MAX))
+    fail(ND_ERR_SIZE, "a rank's rows read more than 2^31 - 1 columns");
+  oc->place.resize(entries.size());
+  for (size_t k = 0; k < entries.size(); ++k)
+    oc->place[k] = static_cast<int32_t>(std::lower_bound(oc->cols.begin(), oc->cols.end(), entries[k]) - oc->cols.begin());
+  own_columns_ = std::move(oc);
+  return *own_columns_;
+}
 
 Discretization::Discretization(DofMap d, bool lump)
     : id(++last_discretization_id), dofs(std::move(d)), lumped(lump) {}

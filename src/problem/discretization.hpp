@@ -51,6 +51,19 @@ struct Discretization {
   // others are empty), so every product with them is the ranks' rows,
   // gathered: collective (own_rows_of)
   bool rows_split = false;
+  // With split rows: the columns this rank's rows of M and K read (they
+  // share a pattern), ascending, and for each entry of those rows, taken row
+  // after row in the order of `rows`, its column's place among them. The
+  // products pass packs U, V, A at these columns only, not n long
+  // (monitor/energies.cpp): 4 bytes per entry of the rank's rows (falling
+  // with P) for four whole-length arrays. Made on first use; dropped with
+  // `rows`.
+  struct OwnColumns {
+    std::vector<int64_t> cols;
+    std::vector<int32_t> place;  // (half the memory of a column index)
+  };
+  const OwnColumns &own_columns() const;
+  mutable std::shared_ptr<const OwnColumns> own_columns_;
 
   // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others).
   // once: the caller expects no more solves with M (the initial acceleration

@@ -250,6 +250,7 @@ Discretization &Problem::discretization_() {
     g.row_of.reset();
     g.row_begin = 0, g.row_end = disc_->dofs.n_free;
     disc_->rows.reset();
+    disc_->own_columns_.reset();
     disc_->contact.share.reset();
     const Ownership &own = ownership();
     if (!own.node_owner.empty()) {
