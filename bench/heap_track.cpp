@@ -5,8 +5,9 @@
 // operator new and delete of the program that links it; the library's own
 // calls bind to them (the dynamic linker looks in the executable first).
 // Each block carries its requested size in front, and whether it was
-// counted as whole: n doubles or indices, n pairs of doubles, or the n + 1
-// row pointers of an operator (n the unknowns).
+// counted as whole-length: n ints, n doubles or 8-byte indices, the n + 1
+// row pointers of an operator, n pairs or n triples of doubles (node
+// coordinates), n the unknowns.
 #include <atomic>
 #include <cstdlib>
 #include <new>
@@ -14,7 +15,7 @@
 namespace {
 constexpr std::size_t kHeader = 16;  // keeps the blocks 16-byte aligned
 std::atomic<long long> g_now{0}, g_peak{0}, g_whole{0}, g_whole_peak{0};
-std::atomic<long long> g_vector_bytes{0};  // 8 n: a block of 8 n, 16 n or 8 (n + 1) bytes is whole
+std::atomic<long long> g_vector_bytes{0};  // 8 n: blocks of 4 n, 8 n, 8 (n + 1), 16 n, 24 n bytes are whole
 
 void raise(std::atomic<long long> &peak, long long now) {
   long long seen = peak.load(std::memory_order_relaxed);
@@ -24,8 +25,8 @@ void raise(std::atomic<long long> &peak, long long now) {
 
 bool whole(std::size_t n) {
   const long long v = g_vector_bytes.load(std::memory_order_relaxed);
-  const long long b = static_cast<long long>(n);
-  return v > 0 && (b == v || b == 2 * v || b == v + 8);
+  const long long b = static_cast<long long>(n), h = v / 2;  // 4 n
+  return v > 0 && (b == h || b == v || b == v + 8 || b == 2 * v || b == 3 * v);
 }
 
 void *take(std::size_t n) {
@@ -69,8 +70,8 @@ void operator delete(void *p, const std::nothrow_t &) noexcept { give(p); }
 void operator delete[](void *p, const std::nothrow_t &) noexcept { give(p); }
 
 extern "C" {
-// From now on, blocks of exactly n = `doubles` doubles (or 8-byte indices),
-// n pairs of doubles, or n + 1 indices count as whole.
+// From now on, blocks of n = `doubles` elements of 4, 8, 16 or 24 bytes,
+// or n + 1 of 8 bytes, count as whole-length.
 void nd_bench_heap_watch_vectors(long long doubles) { g_vector_bytes = 8 * doubles; }
 // the bytes held now, and those in whole vectors
 long long nd_bench_heap_now(void) { return g_now.load(); }

@@ -15,9 +15,10 @@
  * library's heap (operator new, bench/heap_track.cpp: its vectors,
  * operators and contact rows; not PETSc's nor MUMPS's), the largest rank's:
  * what a rank holds after the set-up (MB); the whole-length arrays (n
- * doubles or 8-byte indices, n the unknowns, or an operator's n + 1 row
- * pointers: one each; n pairs of doubles: two) it holds between steps
- * (after the last), and at the peak of a free-flight and of a contact step
+ * elements, n the unknowns, or an operator's n + 1 row pointers; counted in
+ * units of 8 n bytes: n ints 0.5, n doubles or 8-byte indices 1, n pairs of
+ * doubles 2, n triples 3) at the set-up's peak, held between steps (after
+ * the last), and at the peak of a free-flight and of a contact step
  * (medians); and the peak of everything a free-flight and a contact step
  * add above what the rank held before them, in units of 8 n bytes (medians;
  * PETSc's copies of the matrix values on the refactoring path are among
@@ -40,7 +41,8 @@
 static const char *kHeader =
     "ranks,mesh,degree,unknowns,solver,setup_s,first_step_s,free_steps,free_median_ms,contact_steps,"
     "contact_median_ms,newton_per_contact_step,peak_rss_mb_max,load1,set_comm_s,received_free,received_contact,"
-    "heap_setup_mb,vectors_held,vectors_free_peak,vectors_contact_peak,heap_free_added,heap_contact_added";
+    "heap_setup_mb,vectors_held,vectors_free_peak,vectors_contact_peak,heap_free_added,heap_contact_added,"
+    "vectors_setup_peak";
 
 /* bench/heap_track.cpp */
 void nd_bench_heap_watch_vectors(long long doubles);
@@ -117,7 +119,9 @@ int main(int argc, char **argv) {
   if (status == ND_OK && layout && !strcmp(layout, "1")) status = nd_problem_set_distributed_state(p, 1);
   const char *coercivity = getenv("ND_BENCH_COERCIVITY");
   if (status == ND_OK && coercivity && !strcmp(coercivity, "0")) status = nd_problem_set_guard(p, ND_GUARD_COERCIVITY, 0);
+  nd_bench_heap_reset_peak();
   if (status == ND_OK) setup_s = timed(p, nd_problem_setup, &status);
+  const double setup_vectors = (double)nd_bench_heap_vectors_peak() / vector_bytes;
   const double heap_setup_mb = (double)nd_bench_heap_now() / (1024.0 * 1024.0);
   if (status == ND_OK) status = nd_get_scalar(p, ND_STAT_VALUES_RECEIVED, &received_before);
   for (int k = 0; k < steps && status == ND_OK; ++k) {
@@ -153,23 +157,24 @@ int main(int argc, char **argv) {
     if (fscanf(f, "%lf", &load1) != 1) load1 = -1;
     fclose(f);
   }
-  double mine[8] = {median(free_recv, n_free),
+  double mine[9] = {median(free_recv, n_free),
                     median(contact_recv, n_contact),
                     heap_setup_mb,
                     (double)nd_bench_heap_vectors_now() / vector_bytes,
                     median(free_vec, n_free),
                     median(contact_vec, n_contact),
                     median(free_heap, n_free),
-                    median(contact_heap, n_contact)},
-         most[8] = {0};
-  MPI_Reduce(mine, most, 8, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+                    median(contact_heap, n_contact),
+                    setup_vectors},
+         most[9] = {0};
+  MPI_Reduce(mine, most, 9, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   const char *base = strrchr(mesh, '/');
   if (rank == 0 && status == ND_OK)
-    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f,%.0f,%.0f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n", size,
+    printf("%d,%s,%d,%lld,%s,%.4f,%.4f,%d,%.3f,%d,%.3f,%.2f,%.1f,%.2f,%.4f,%.0f,%.0f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n", size,
            base ? base + 1 : mesh,
            degree, (long long)(dim * nodes), solver_name, setup_s, first_s, n_free, median(free_ms, n_free), n_contact,
            median(contact_ms, n_contact), n_contact ? newton / n_contact : 0.0, rss_max, load1, comm_s, most[0], most[1],
-           most[2], most[3], most[4], most[5], most[6], most[7]);
+           most[2], most[3], most[4], most[5], most[6], most[7], most[8]);
   nd_problem_destroy(&p);
   free(free_ms);
   free(contact_ms);

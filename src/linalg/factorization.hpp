@@ -105,6 +105,9 @@ struct DofGeometry {
   int dim = 0;
   std::vector<double> x;         // dim per unknown
   std::vector<int> component;    // 0 .. dim-1 per unknown
+  // x and component hold this rank's rows only, in their order (with row_of:
+  // split rows), not every unknown: GAMG's near-null space reads no other
+  bool own_rows_only = false;
   CommunicatorPtr comm;          // null: this process alone
   std::shared_ptr<const std::vector<int64_t>> row_of;
   int64_t row_begin = 0, row_end = -1;

@@ -236,7 +236,8 @@ Layout make_layout(const DofGeometry *g, int64_t n, PetscInt block_size) {
   L.size = communicator_size(c);
   const int rank = communicator_rank(c);
   L.n = petsc_int(n, "rows");
-  if (g && g->row_end >= 0 && static_cast<int64_t>(g->component.size()) == n) {
+  const int64_t described = g && g->own_rows_only ? g->row_end - g->row_begin : n;
+  if (g && g->row_end >= 0 && static_cast<int64_t>(g->component.size()) == described) {
     L.begin = static_cast<PetscInt>(g->row_begin);
     L.end = static_cast<PetscInt>(g->row_end);
     if (L.begin > L.end || L.end > L.n || (L.end - L.begin) % block_size != 0 ||
@@ -672,23 +673,44 @@ class PetscMumps : public Factorization {
 
 // ---- GAMG -----------------------------------------------------------------------
 
+// Sums of k values over the ranks of `comm`, the same bits on every rank:
+// each rank's values gathered, then added rank after rank.
+void sum_over_ranks(MPI_Comm comm, int size, double *x, int k) {
+  if (size == 1 || k == 0) return;
+  std::vector<double> all(static_cast<size_t>(size) * static_cast<size_t>(k));
+  if (MPI_Allgather(x, k, MPI_DOUBLE, all.data(), k, MPI_DOUBLE, comm) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Allgather of the ranks' sums failed");
+  for (int j = 0; j < k; ++j) {
+    x[j] = 0;
+    for (int r = 0; r < size; ++r) x[j] += all[static_cast<size_t>(r) * k + j];
+  }
+}
+
 // The rigid-body modes of the unknowns (dim translations, and 1 rotation in
 // 2D or 3 in 3D about the centroid), orthonormalized; empty when the geometry
 // does not describe these unknowns. Whether the unknowns come in whole nodes
 // (free DOFs node by node, every component free) goes to block_size.
+// With a geometry of the rank's rows only (split rows) the modes are the
+// rank's rows of them, from sums over the ranks (collective; the same
+// verdicts on every rank), and no array is n long; else every unknown's.
 std::vector<std::vector<double>> rigid_body_modes(const DofGeometry *g, int64_t n, PetscInt &block_size) {
   block_size = 1;
   std::vector<std::vector<double>> modes;
-  if (!g || g->dim < 1 || g->dim > 3 || static_cast<int64_t>(g->component.size()) != n ||
-      static_cast<int64_t>(g->x.size()) != n * g->dim || n == 0)
+  const bool own = g && g->own_rows_only;
+  const int64_t m = own ? g->row_end - g->row_begin : n;  // the unknowns described here
+  if (!g || g->dim < 1 || g->dim > 3 || static_cast<int64_t>(g->component.size()) != m ||
+      static_cast<int64_t>(g->x.size()) != m * g->dim || n == 0)
     return modes;
+  const MPI_Comm comm = mpi_comm(g->comm.get());
+  const int size = own ? communicator_size(g->comm.get()) : 1;
   const int d = g->dim;
   double centre[3] = {0, 0, 0};
-  for (int64_t i = 0; i < n; ++i)
+  for (int64_t i = 0; i < m; ++i)
     for (int k = 0; k < d; ++k) centre[k] += g->x[i * d + k] / static_cast<double>(n);
+  sum_over_ranks(comm, size, centre, d);
   const int nmodes = d == 1 ? 1 : d == 2 ? 3 : 6;
-  modes.assign(static_cast<size_t>(nmodes), std::vector<double>(static_cast<size_t>(n), 0.0));
-  for (int64_t i = 0; i < n; ++i) {
+  modes.assign(static_cast<size_t>(nmodes), std::vector<double>(static_cast<size_t>(m), 0.0));
+  for (int64_t i = 0; i < m; ++i) {
     const int c = g->component[i];
     double y[3] = {0, 0, 0};
     for (int k = 0; k < d; ++k) y[k] = g->x[i * d + k] - centre[k];
@@ -700,23 +722,33 @@ std::vector<std::vector<double>> rigid_body_modes(const DofGeometry *g, int64_t 
       if (c == 2) modes[4][i] = y[1], modes[5][i] = -y[0];
     }
   }
-  // modified Gram-Schmidt, twice; modes that vanish (all their DOFs clamped) are dropped
+  // modified Gram-Schmidt, twice; modes that vanish (all their DOFs clamped)
+  // are dropped. Each product is summed over the ranks (with one rank: the
+  // product itself).
+  auto dot = [&](const std::vector<double> &a, const std::vector<double> &b) {
+    double h = std::inner_product(a.begin(), a.end(), b.begin(), 0.0);
+    sum_over_ranks(comm, size, &h, 1);
+    return h;
+  };
   std::vector<std::vector<double>> basis;
   for (auto &v : modes) {
-    const double before = std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
+    const double before = std::sqrt(dot(v, v));
     for (int pass = 0; pass < 2; ++pass)
       for (const auto &q : basis) {
-        const double h = std::inner_product(q.begin(), q.end(), v.begin(), 0.0);
-        for (int64_t i = 0; i < n; ++i) v[i] -= h * q[i];
+        const double h = dot(q, v);
+        for (int64_t i = 0; i < m; ++i) v[i] -= h * q[i];
       }
-    const double norm = std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
+    const double norm = std::sqrt(dot(v, v));
     if (!(norm > 1e-10 * before)) continue;
     for (double &e : v) e /= norm;
     basis.push_back(std::move(v));
   }
-  bool whole_nodes = n % d == 0;
-  for (int64_t i = 0; whole_nodes && i < n; ++i)
+  // (a rank's rows are whole nodes of its own, consecutive in its order)
+  int whole_nodes = m % d == 0;
+  for (int64_t i = 0; whole_nodes && i < m; ++i)
     whole_nodes = g->component[i] == i % d && std::equal(&g->x[i * d], &g->x[i * d] + d, &g->x[(i - i % d) * d]);
+  if (own && size > 1 && MPI_Allreduce(MPI_IN_PLACE, &whole_nodes, 1, MPI_INT, MPI_MIN, comm) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Allreduce of the ranks' node blocks failed");
   if (whole_nodes) block_size = d;
   return basis;
 }
@@ -730,7 +762,7 @@ class PetscGamg : public Factorization {
     const Layout L = make_layout(geometry, n_, block_size);
     A_ = std::make_unique<Matrix>(pattern, block_size, L);
     v_ = std::make_unique<Vectors>(A_->get(), L);
-    if (!modes.empty()) set_near_null_space(modes, L);
+    if (!modes.empty()) set_near_null_space(modes, L, geometry->own_rows_only);
     check(KSPCreate(L.comm, &ksp_), "KSPCreate");
     check(KSPSetOptionsPrefix(ksp_, "nd_"), "KSPSetOptionsPrefix");
   }
@@ -740,8 +772,9 @@ class PetscGamg : public Factorization {
     v_.reset();
     A_.reset();
   }
-  // every rank has the whole modes: it gives its own rows
-  void set_near_null_space(const std::vector<std::vector<double>> &modes, const Layout &L) {
+  // the modes over every unknown (each rank gives its own rows), or (own:
+  // a geometry of the rank's rows) over those rows only
+  void set_near_null_space(const std::vector<std::vector<double>> &modes, const Layout &L, bool own) {
     std::vector<Vec> vecs;
     MatNullSpace space = nullptr;
     PetscErrorCode code = 0;
@@ -751,7 +784,7 @@ class PetscGamg : public Factorization {
       vecs.push_back(v);
       PetscScalar *a = nullptr;
       if ((code = VecGetArrayWrite(v, &a))) break;
-      for (PetscInt k = 0; k < L.end - L.begin; ++k) a[k] = m[L.unknown(k)];
+      for (PetscInt k = 0; k < L.end - L.begin; ++k) a[k] = own ? m[static_cast<size_t>(k)] : m[L.unknown(k)];
       if ((code = VecRestoreArrayWrite(v, &a))) break;
     }
     if (!code) code = MatNullSpaceCreate(L.comm, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &space);

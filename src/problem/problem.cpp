@@ -243,6 +243,8 @@ void Problem::set_guard(int guard, double value) {
 // ---- derived objects ------------------------------------------------------------
 
 Discretization &Problem::discretization_() {
+  // operators split over other ranks (another communicator) are made again
+  if (disc_ && disc_->rows_split && disc_->geometry.row_end >= 0 && disc_->geometry.comm != def_.comm) disc_.reset();
   if (!disc_) disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr);
   DofGeometry &g = disc_->geometry;
   if (g.row_end < 0 || g.comm != def_.comm) {
@@ -268,6 +270,18 @@ Discretization &Problem::discretization_() {
       auto row_of = std::make_shared<std::vector<int64_t>>(static_cast<size_t>(disc_->dofs.n_free));
       for (size_t k = 0; k < rows.order.size(); ++k) (*row_of)[rows.order[k]] = static_cast<int64_t>(k);
       g.row_of = std::move(row_of);
+      if (disc_->rows_split) {  // the coordinates of the rank's rows only (what GAMG reads)
+        std::vector<double> x;
+        std::vector<int> component;
+        x.reserve(static_cast<size_t>(rows.own_count() * g.dim));
+        component.reserve(static_cast<size_t>(rows.own_count()));
+        for (const int64_t *u = rows.own_begin(); u != rows.own_end(); ++u) {
+          x.insert(x.end(), g.x.begin() + *u * g.dim, g.x.begin() + (*u + 1) * g.dim);
+          component.push_back(g.component[static_cast<size_t>(*u)]);
+        }
+        g.x = std::move(x), g.component = std::move(component);
+        g.own_rows_only = true;
+      }
       const ContactPoints &cp = disc_->contact;
       std::vector<int> point_owner(cp.size());
       for (size_t q = 0; q < cp.size(); ++q) point_owner[q] = own.cell_owner[space_.mesh->boundary[cp.facet[q]].cell];
