@@ -1364,6 +1364,33 @@ START_TEST(a_bar_on_more_ranks_than_cells) {
 }
 END_TEST
 
+/* A communicator given again before the set-up (the same processes in the
+ * other order: each owns another part of the mesh) makes the split
+ * operators again, even when a query (ND_GAMMA0) built them over the first
+ * one: the run is that of a problem given the second alone, to round-off
+ * (bitwise with slabs; PT-Scotch may cut the mesh otherwise at its next
+ * call, and MUMPS then adds in another order). Kept, the operators of the
+ * first partition made the step matrix singular on the second. */
+START_TEST(a_second_communicator_makes_the_operators_again) {
+  MPI_Comm reversed;
+  MPI_Comm_split(MPI_COMM_WORLD, 0, g_size - 1 - g_rank, &reversed);
+  nd_problem again = scene(2, ND_SOLVER_PETSC_MUMPS, 1);
+  ck_assert(scalar(again, ND_GAMMA0) > 0); /* the operators, split over MPI_COMM_WORLD's ranks */
+  ND_OK_OR_FAIL(nd_problem_set_comm(again, reversed));
+  nd_problem alone = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
+  ND_OK_OR_FAIL(nd_problem_set_comm(alone, reversed));
+  history a, b;
+  run(again, &a);
+  run(alone, &b);
+  const double de = relative_gap(b.energy, a.energy, kSteps), df = relative_gap(b.force, a.force, kSteps);
+  ck_assert_msg(nd_test_on_all_ranks(de <= 1e-12 && df <= 1e-12),
+                "rank %d: energy %.3g, force %.3g off the problem given the second alone", g_rank, de, df);
+  ND_OK_OR_FAIL(nd_problem_destroy(&again));
+  ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+  MPI_Comm_free(&reversed);
+}
+END_TEST
+
 START_TEST(bad_communicators) {
   nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
   ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_NULL), ND_ERR_VALUE);
@@ -1414,6 +1441,7 @@ int main(int argc, char **argv) {
   TCase *tc = tcase_create("ranks");
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, bad_communicators);
+  tcase_add_test(tc, a_second_communicator_makes_the_operators_again);
   tcase_add_test(tc, each_rank_reads_its_part_of_a_field);
   tcase_add_test(tc, histories_match_the_serial_solve);
   tcase_add_test(tc, implicit_schemes_on_split_rows);
