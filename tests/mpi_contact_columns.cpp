@@ -336,6 +336,32 @@ START_TEST(a_refactoring_tangent_keeps_the_rows_newton_reads) {
 }
 END_TEST
 
+// 9 points spread over every rank's rows and 12 on 6 consecutive unknowns
+// each (most of them within one rank's rows), on the unknowns of
+// spd_matrix(10); its rows in PETSc's even split, point q owned by rank q
+// mod the ranks (so a rank also owns points that touch none of its rows),
+// and the points a Newton pass on split rows reads (null on one rank). No
+// gaps yet.
+struct PointsOnRanks {
+  const nd::Csr A0 = spd_matrix(10);
+  const int64_t n = A0.n;
+  nd::ContactPoints cp;
+  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
+  nd::Counters counters;  // the shares' (values received)
+  std::vector<int> owner = even_owner(n), point_owner;
+  std::shared_ptr<const nd::Share> rows;
+  std::shared_ptr<const nd::Halo> halo;
+  PointsOnRanks() : cp(synthetic_points(n, 9)) {
+    add_local_points(cp, n, 12);
+    rows = nd::make_share(comm, owner, &counters);
+    for (size_t q = 0; q < cp.size(); ++q) point_owner.push_back(static_cast<int>(q) % g_size);
+    cp.share = nd::make_share(comm, point_owner, &counters);
+    halo = rows ? nd::contact_point_halo(cp, *rows) : nullptr;
+  }
+  PointsOnRanks(const PointsOnRanks &) = delete;  // the shares keep &counters
+  PointsOnRanks &operator=(const PointsOnRanks &) = delete;
+};
+
 // A Newton pass of the refactoring tangent on split rows (ContactLaw::halo,
 // slice 10) reads the points that are the rank's own or whose rows touch its
 // rows, each received from its owner alone: P_q there bitwise the gathered
@@ -344,23 +370,15 @@ END_TEST
 // from every point. The points' owners here ignore the rows (q mod the
 // ranks), so a rank also owns points that touch none of its rows.
 START_TEST(a_newton_pass_reads_the_points_touching_its_rows) {
-  // 9 points spread over every rank's rows, and 12 on 6 consecutive unknowns
-  // each (most of them within one rank's rows)
-  const nd::Csr A0 = spd_matrix(10);
-  const int64_t n = A0.n;
-  nd::ContactPoints cp = synthetic_points(n, 9);
-  add_local_points(cp, n, 12);
-  const nd::Csr A = with_points(A0, cp);
+  PointsOnRanks on;
+  const int64_t n = on.n;
+  nd::ContactPoints &cp = on.cp;
+  nd::Counters &counters = on.counters;
+  const std::vector<int> &owner = on.owner, &point_owner = on.point_owner;
+  const std::shared_ptr<const nd::Halo> &halo = on.halo;
+  const nd::Csr A = with_points(on.A0, cp);
   const size_t nq = cp.size();
   for (size_t q = 0; q < nq; ++q) cp.gap.push_back(q % 3 == 0 ? 1.0 : -1.0);  // 6 active near U = 0
-  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
-  nd::Counters counters;
-  const std::vector<int> owner = even_owner(n);
-  auto rows = nd::make_share(comm, owner, &counters);
-  std::vector<int> point_owner(nq);
-  for (size_t q = 0; q < nq; ++q) point_owner[q] = static_cast<int>(q) % g_size;
-  cp.share = nd::make_share(comm, point_owner, &counters);
-  auto halo = rows ? nd::contact_point_halo(cp, *rows) : nullptr;
   ck_assert(static_cast<bool>(halo) == (g_size > 1));
   std::vector<int64_t> expected;  // entry by entry
   int64_t others = 0;
@@ -453,22 +471,15 @@ END_TEST
 // fails while every other rank's holds. The start is contact-free on every
 // rank and no rank counts it (a count per rank would count it on the others).
 START_TEST(a_bound_counts_when_every_rank_held_it) {
-  const nd::Csr A0 = spd_matrix(10);
-  const int64_t n = A0.n;
-  nd::ContactPoints cp = synthetic_points(n, 9);
-  add_local_points(cp, n, 12);
+  PointsOnRanks on;
+  const int64_t n = on.n;
+  nd::ContactPoints &cp = on.cp;
+  nd::Counters &counters = on.counters;
+  const std::vector<int> &owner = on.owner, &point_owner = on.point_owner;
   const size_t nq = cp.size();
   cp.gap.assign(nq, 10.0);  // every point far
   nd::set_bounds(cp);
-  nd::CommunicatorPtr comm = nd::communicator_from_c(MPI_COMM_WORLD);
-  nd::Counters counters;
-  const std::vector<int> owner = even_owner(n);
-  auto rows = nd::make_share(comm, owner, &counters);
-  std::vector<int> point_owner(nq);
-  for (size_t q = 0; q < nq; ++q) point_owner[q] = static_cast<int>(q) % g_size;
-  cp.share = nd::make_share(comm, point_owner, &counters);
-  auto halo = rows ? nd::contact_point_halo(cp, *rows) : nullptr;
-  auto held = halo ? nd::held_points(cp, *halo) : nullptr;
+  auto held = on.halo ? nd::held_points(cp, *on.halo) : nullptr;
   const int last = g_size - 1;
   int64_t lone = -1;  // read by the last rank alone
   for (size_t q = 0; q < nq && lone < 0; ++q) {
@@ -488,7 +499,7 @@ START_TEST(a_bound_counts_when_every_rank_held_it) {
   at_n.P_all(U.data(), Pn);
   nd::ContactLaw law{&cp, 1.0};
   law.counters = &counters;
-  law.halo = halo.get();
+  law.halo = on.halo.get();
   law.held = held.get();
   law.Pn = &Pn, law.Un = U.data();
 
