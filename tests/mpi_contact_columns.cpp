@@ -472,10 +472,7 @@ END_TEST
 // rank and no rank counts it (a count per rank would count it on the others).
 START_TEST(a_bound_counts_when_every_rank_held_it) {
   PointsOnRanks on;
-  const int64_t n = on.n;
   nd::ContactPoints &cp = on.cp;
-  nd::Counters &counters = on.counters;
-  const std::vector<int> &owner = on.owner, &point_owner = on.point_owner;
   const size_t nq = cp.size();
   cp.gap.assign(nq, 10.0);  // every point far
   nd::set_bounds(cp);
@@ -483,30 +480,30 @@ START_TEST(a_bound_counts_when_every_rank_held_it) {
   const int last = g_size - 1;
   int64_t lone = -1;  // read by the last rank alone
   for (size_t q = 0; q < nq && lone < 0; ++q) {
-    bool alone = point_owner[q] == last;
-    for (int64_t i : cp.a[q].idx) alone &= owner[i] == last;
+    bool alone = on.point_owner[q] == last;
+    for (int64_t i : cp.a[q].idx) alone &= on.owner[i] == last;
     if (alone) lone = static_cast<int64_t>(q);
   }
   ck_assert(lone >= 0);
   if (held)
     ck_assert(nd_test_on_all_ranks(std::binary_search(held->points.begin(), held->points.end(), lone) ==
                                    (g_rank == last)));
-  std::vector<double> U(static_cast<size_t>(n));
-  for (int64_t i = 0; i < n; ++i) U[i] = 0.05 * std::sin(0.9 * static_cast<double>(i));
+  std::vector<double> U(static_cast<size_t>(on.n));
+  for (int64_t i = 0; i < on.n; ++i) U[i] = 0.05 * std::sin(0.9 * static_cast<double>(i));
   nd::ContactLaw at_n{&cp, 1.0};  // P_q^n at U^n = U, every point on every rank
   at_n.local = true;
   std::vector<double> Pn;
   at_n.P_all(U.data(), Pn);
   nd::ContactLaw law{&cp, 1.0};
-  law.counters = &counters;
+  law.counters = &on.counters;
   law.halo = on.halo.get();
   law.held = held.get();
   law.Pn = &Pn, law.Un = U.data();
 
-  const int64_t b0 = counters.contact_bounds;
+  const int64_t b0 = on.counters.contact_bounds;
   ck_assert(nd_test_on_all_ranks(law.contact_free(U)));
-  ck_assert_msg(nd_test_on_all_ranks(counters.contact_bounds - b0 == 1), "rank %d: %lld bounds counted, 1 expected",
-                g_rank, static_cast<long long>(counters.contact_bounds - b0));
+  ck_assert_msg(nd_test_on_all_ranks(on.counters.contact_bounds - b0 == 1), "rank %d: %lld bounds counted, 1 expected",
+                g_rank, static_cast<long long>(on.counters.contact_bounds - b0));
 
   double sa, ss;
   law.dots(static_cast<size_t>(lone), U.data(), sa, ss);
@@ -514,11 +511,11 @@ START_TEST(a_bound_counts_when_every_rank_held_it) {
   at_n.P_all(U.data(), Pn);
   const double P_lone = Pn[static_cast<size_t>(lone)];
   ck_assert_msg(P_lone < 0 && P_lone > -1e-13, "P_q^n = %g at the lone point", P_lone);
-  const int64_t b1 = counters.contact_bounds;
+  const int64_t b1 = on.counters.contact_bounds;
   ck_assert(nd_test_on_all_ranks(law.contact_free(U)));  // no point busy
-  ck_assert_msg(nd_test_on_all_ranks(counters.contact_bounds == b1),
+  ck_assert_msg(nd_test_on_all_ranks(on.counters.contact_bounds == b1),
                 "rank %d: %lld bound(s) counted; one that failed on rank %d counts on no rank", g_rank,
-                static_cast<long long>(counters.contact_bounds - b1), last);
+                static_cast<long long>(on.counters.contact_bounds - b1), last);
   if (g_rank == 0)
     std::printf("%d rank(s): the bound counted once with every point far, not with point %lld (rank %d's) at "
                 "P_q^n = %.1e\n",

@@ -77,10 +77,10 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   };
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
-  int64_t before = 0;  // the entries of the rows before this one (own_columns' order)
+  int64_t before = 0;  // (local) the entries of the rows before this one, own_columns' order
   for (int64_t r = 0, n_rows = rows.size(K.n); r < n_rows; ++r) {
-    const int64_t i = rows[r], shift = before - ptr[i];
-    before += ptr[i + 1] - ptr[i];
+    const int64_t i = rows[r], shift = local ? before - ptr[i] : 0;
+    if constexpr (local) before += ptr[i + 1] - ptr[i];
     // even and odd entries in separate sums: two chains of dependent adds
     // instead of one (the add's latency, not the memory, bounded this loop)
     Pair a = {0, 0}, b = {0, 0}, a1 = {0, 0}, b1 = {0, 0};
