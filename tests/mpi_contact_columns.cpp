@@ -562,7 +562,7 @@ START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
   for (int64_t node = 0; node < space.n_nodes; ++node)
     for (int a = 0; a < space.dim; ++a)
       if (const int64_t r = dofs.free[node * space.dim + a]; r >= 0) {
-        std::copy_n(&space.node_coords[node * space.dim], space.dim, &g.x[r * space.dim]);
+        std::copy_n(space.node_x(node), space.dim, &g.x[r * space.dim]);
         g.component[r] = a;
       }
   const nd::Structure spd = nd::Structure::SymmetricPositiveDefinite;

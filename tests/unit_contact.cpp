@@ -70,7 +70,7 @@ START_TEST(rows_give_normal_displacement_and_stress) {
       for (int64_t i = 0; i < s.space->n_nodes; ++i)
         for (int a = 0; a < dim; ++a) {
           U[i * dim + a] = c[a];
-          for (int b = 0; b < dim; ++b) U[i * dim + a] += B[a][b] * s.space->node_coords[i * dim + b];
+          for (int b = 0; b < dim; ++b) U[i * dim + a] += B[a][b] * s.space->node_x(i)[b];
         }
       double trace = 0;
       for (int a = 0; a < dim; ++a) trace += B[a][a];

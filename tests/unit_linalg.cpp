@@ -279,7 +279,7 @@ START_TEST(petsc_gamg_conformance) {
   g.component.resize(static_cast<size_t>(A.n));
   for (int64_t i = 0; i < A.n; ++i) {
     g.component[i] = static_cast<int>(i % 2);
-    g.x[2 * i] = s.node_coords[2 * (i / 2)], g.x[2 * i + 1] = s.node_coords[2 * (i / 2) + 1];
+    g.x[2 * i] = s.node_x(i / 2)[0], g.x[2 * i + 1] = s.node_x(i / 2)[1];
   }
   const nd::DofGeometry *geometries[] = {nullptr, &g};
   for (const nd::DofGeometry *geometry : geometries) {

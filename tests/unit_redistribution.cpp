@@ -39,7 +39,7 @@ double form(const nd::Csr &A, const std::vector<double> &u, const std::vector<do
 // scalar affine function f (0: 1, k: x_k) on component `comp`, over all DOFs
 std::vector<double> affine(const nd::Space &s, int f, int comp) {
   std::vector<double> u(s.n_dofs(), 0.0);
-  for (int64_t i = 0; i < s.n_nodes; ++i) u[i * s.dim + comp] = f == 0 ? 1.0 : s.node_coords[i * s.dim + f - 1];
+  for (int64_t i = 0; i < s.n_nodes; ++i) u[i * s.dim + comp] = f == 0 ? 1.0 : s.node_x(i)[f - 1];
   return u;
 }
 

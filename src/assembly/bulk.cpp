@@ -44,7 +44,10 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
   }
   Csr A;
   A.n = dofs.n_free;
-  A.ptr.assign(static_cast<size_t>(A.n) + 1, 0);
+  // rows in node order are in row order (DofMap); a part stores the rows it
+  // holds (every free DOF of a node it touches) and no others
+  A.part = part.cells || part.rows;
+  A.ptr.assign(1, 0);
   for (int64_t v = 0; v < s.n_nodes; ++v) {
     std::vector<int64_t> &adj = adjacent[v];
     std::sort(adj.begin(), adj.end());
@@ -52,16 +55,21 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
     int64_t columns = 0;
     for (int64_t w : adj)
       for (int b = 0; b < d; ++b) columns += free[w * d + b] >= 0;
-    for (int a = 0; a < d; ++a)
-      if (held(free[v * d + a])) A.ptr[free[v * d + a] + 1] = columns;
-  }
-  for (int64_t r = 0; r < A.n; ++r) A.ptr[r + 1] += A.ptr[r];
-  A.col.resize(static_cast<size_t>(A.ptr.back()));
-  for (int64_t v = 0; v < s.n_nodes; ++v)
     for (int a = 0; a < d; ++a) {
       const int64_t r = free[v * d + a];
-      if (!held(r)) continue;
-      int64_t k = A.ptr[r];
+      if (r < 0 || (A.part && (adj.empty() || !held(r)))) continue;
+      if (A.part) A.held.push_back(r);
+      A.ptr.push_back(A.ptr.back() + (held(r) ? columns : 0));
+    }
+  }
+  if (!A.part && static_cast<int64_t>(A.ptr.size()) != A.n + 1)
+    fail(ND_ERR_INTERNAL, "the free DOFs are not numbered in node order");
+  A.col.resize(static_cast<size_t>(A.ptr.back()));
+  for (int64_t v = 0, at = 0; v < s.n_nodes; ++v)
+    for (int a = 0; a < d; ++a) {
+      const int64_t r = free[v * d + a];
+      if (r < 0 || (A.part && (adjacent[v].empty() || !held(r)))) continue;
+      int64_t k = A.ptr[at++];
       for (int64_t w : adjacent[v])
         for (int b = 0; b < d; ++b)
           if (free[w * d + b] >= 0) A.col[k++] = free[w * d + b];
@@ -144,14 +152,14 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
           for (int j = 0; j < nb; ++j) {  // node j's first free DOF; its others follow it in the row
             int b = 0;
             while (b < d && dofs.free[nodes[j] * d + b] < 0) ++b;
-            offset[j] = b == d ? -1 : ops.K.find(r, dofs.free[nodes[j] * d + b]) - ops.K.ptr[r];
+            offset[j] = b == d ? -1 : ops.K.find(r, dofs.free[nodes[j] * d + b]) - ops.K.ptr[ops.K.slot(r)];
           }
           found = true;
         }
         ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
         for (int j = 0; j < nb; ++j) {
           if (offset[j] < 0) continue;
-          int64_t k = ops.K.ptr[r] + offset[j];
+          int64_t k = ops.K.ptr[ops.K.slot(r)] + offset[j];
           for (int b = 0; b < d; ++b) {
             if (dofs.free[nodes[j] * d + b] < 0) continue;
             ops.K.val[k] += ke[(i * d + a) * nb * d + j * d + b];

@@ -51,12 +51,12 @@ void redistribute_element_mass(const Space &s, int64_t cell, const std::vector<c
   // (the centring puts the constants in P_I's row space: the mass is kept)
   double c[3] = {0, 0, 0};
   for (int i : I)
-    for (int a = 0; a < d; ++a) c[a] += s.node_coords[nodes[i] * d + a] / k;
+    for (int a = 0; a < d; ++a) c[a] += s.node_x(nodes[i])[a] / k;
   const double h = s.mesh->cell_diameter(cell);
   std::vector<double> P(static_cast<size_t>(nb * m)), PI(static_cast<size_t>(k * m)), MII(static_cast<size_t>(k * k));
   for (int i = 0; i < nb; ++i) {
     P[i * m] = 1;
-    for (int a = 0; a < d; ++a) P[i * m + 1 + a] = (s.node_coords[nodes[i] * d + a] - c[a]) / h;
+    for (int a = 0; a < d; ++a) P[i * m + 1 + a] = (s.node_x(nodes[i])[a] - c[a]) / h;
   }
   for (int r = 0; r < k; ++r) {
     std::copy(&P[I[r] * m], &P[I[r] * m] + m, &PI[r * m]);

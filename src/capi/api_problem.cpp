@@ -224,8 +224,8 @@ ND_EXPORT int nd_problem_get_node_coordinates(nd_problem p, int64_t n, double *c
     nd::Problem &pr = nd::problem_of(p);
     need_node_array(pr, n, "coords");
     nd::need(coords, "coords");
-    const auto &x = pr.space().node_coords;
-    std::copy(x.begin(), x.end(), coords);
+    const nd::Space &s = pr.space();
+    for (int64_t node = 0; node < s.n_nodes; ++node) std::copy_n(s.node_x(node), s.dim, coords + node * s.dim);
     return ND_OK;
   });
 }

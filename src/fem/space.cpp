@@ -31,16 +31,14 @@ Space::Space(std::shared_ptr<const Mesh> m, int p)
       }
   }
   n_nodes = next;
-  node_coords.assign(static_cast<size_t>(n_nodes) * dim, 0.0);
-  for (int64_t v = 0; v < msh.n_vertices; ++v)
-    for (int k = 0; k < dim; ++k) node_coords[v * dim + k] = msh.x(v)[k];
+  edge_coords_.assign(static_cast<size_t>(n_nodes - msh.n_vertices) * dim, 0.0);
   for (int64_t c = 0; c < msh.n_cells && degree == 2; ++c)
     for (int e = 0; e < Lagrange::n_edges(dim); ++e) {
       int a, b;
       Lagrange::edge_vertices(dim, e, a, b);
       const int64_t node = nodes_of(c)[nv + e];
       for (int k = 0; k < dim; ++k)
-        node_coords[node * dim + k] = 0.5 * (msh.x(msh.cell(c)[a])[k] + msh.x(msh.cell(c)[b])[k]);
+        edge_coords_[(node - msh.n_vertices) * dim + k] = 0.5 * (msh.x(msh.cell(c)[a])[k] + msh.x(msh.cell(c)[b])[k]);
     }
 }
 

@@ -17,13 +17,20 @@ struct Space {
   Lagrange basis{1, 1};
   int64_t n_nodes = 0;
   std::vector<int64_t> cell_nodes;  // n_cells * basis.n
-  std::vector<double> node_coords;  // n_nodes * dim
 
   Space(std::shared_ptr<const Mesh> m, int degree);
+  // a node's dim coordinates: a vertex's are the mesh's (not copied), an
+  // edge node's (P2) its edge's midpoint
+  const double *node_x(int64_t node) const {
+    return node < mesh->n_vertices ? mesh->x(node) : &edge_coords_[(node - mesh->n_vertices) * dim];
+  }
   const int64_t *nodes_of(int64_t c) const { return &cell_nodes[c * basis.n]; }
   int64_t n_dofs() const { return n_nodes * dim; }
   // The FE nodes lying on a boundary facet (vertices and, for P2, edges).
   std::vector<int64_t> facet_nodes(const Facet &f) const;
+
+ private:
+  std::vector<double> edge_coords_;  // (n_nodes - n_vertices) * dim
 };
 
 // Free DOFs: free[dof] = index in the unknown vector U, or -1 if clamped.

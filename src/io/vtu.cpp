@@ -99,7 +99,7 @@ void write_vtu(Problem &p, const char *path) {
                static_cast<long long>(s.n_nodes), static_cast<long long>(n_cells + n_facets));
   std::fprintf(o, "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
   for (int64_t i = 0; i < s.n_nodes; ++i)
-    for (int k = 0; k < 3; ++k) std::fprintf(o, "%.17g%c", k < d ? s.node_coords[i * d + k] : 0.0, k == 2 ? '\n' : ' ');
+    for (int k = 0; k < 3; ++k) std::fprintf(o, "%.17g%c", k < d ? s.node_x(i)[k] : 0.0, k == 2 ? '\n' : ' ');
   std::fprintf(o, "        </DataArray>\n      </Points>\n      <Cells>\n");
   std::fprintf(o, "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
   for (int64_t c = 0; c < n_cells; ++c)

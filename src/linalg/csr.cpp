@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
@@ -12,11 +13,12 @@ namespace nd {
 // the single sum on these patterns (10-40 entries a row).
 void Csr::multiply(const double *x, double *y, RowSet rows) const {
   const int64_t m = rows.size(n);
+  const bool place = by_place(rows);
   for (int64_t r = 0; r < m; ++r) {
-    const int64_t i = rows[r];
+    const int64_t i = rows[r], at = place ? r : i;
     double s = 0, s1 = 0;
-    const int64_t e = ptr[i + 1];
-    int64_t k = ptr[i];
+    const int64_t e = ptr[at + 1];
+    int64_t k = ptr[at];
     for (; k + 1 < e; k += 2) {
       s += val[k] * x[col[k]];
       s1 += val[k + 1] * x[col[k + 1]];
@@ -27,19 +29,36 @@ void Csr::multiply(const double *x, double *y, RowSet rows) const {
 }
 
 void require_same_pattern(const Csr &A, const Csr &B) {
-  if (B.n != A.n || B.val.size() != A.val.size())
+  if (B.n != A.n || B.val.size() != A.val.size() || B.part != A.part || B.held.size() != A.held.size())
     fail(ND_ERR_INTERNAL, "two operators that should share a pattern do not");
 }
 
+int64_t Csr::slot(int64_t i) const {
+  if (!part) return i;
+  auto it = std::lower_bound(held.begin(), held.end(), i);
+  return it != held.end() && *it == i ? it - held.begin() : -1;
+}
+
+bool Csr::by_place(RowSet rows) const {
+  if (!part) return false;
+  const int64_t m = rows.size(n);
+  if (m != stored() || (m > 0 && (rows[0] != held.front() || rows[m - 1] != held.back())))
+    fail(ND_ERR_INTERNAL, "a pass over other rows than the " + std::to_string(stored()) + " an operator's part holds");
+  return true;
+}
+
 int64_t Csr::find(int64_t i, int64_t j) const {
-  auto b = col.begin() + ptr[i], e = col.begin() + ptr[i + 1];
+  const int64_t at = slot(i);
+  if (at < 0) return -1;
+  auto b = col.begin() + ptr[at], e = col.begin() + ptr[at + 1];
   auto it = std::lower_bound(b, e, j);
   return it != e && *it == j ? it - col.begin() : -1;
 }
 
 void Csr::add_outer(const std::vector<int64_t> &idx, const double *u, const double *v, double f) {
   for (size_t i = 0; i < idx.size(); ++i) {
-    if (ptr[idx[i]] == ptr[idx[i] + 1]) continue;  // a row this part does not hold
+    const int64_t at = slot(idx[i]);
+    if (at < 0 || ptr[at] == ptr[at + 1]) continue;  // a row this part does not hold
     for (size_t j = 0; j < idx.size(); ++j) val[find(idx[i], idx[j])] += f * u[i] * v[j];
   }
 }
@@ -62,6 +81,8 @@ Csr csr_from_rows(std::vector<std::vector<int64_t>> rows) {
 
 void csr_combine(double a, const Csr &A, double b, const Csr &B, Csr &C) {
   C.n = A.n;
+  C.part = A.part;
+  C.held = A.held;
   C.ptr = A.ptr;
   C.col = A.col;
   C.val.resize(A.val.size());

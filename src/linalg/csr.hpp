@@ -17,9 +17,22 @@ struct RowSet {
 };
 
 struct Csr {
-  int64_t n = 0;
+  int64_t n = 0;                  // rows and columns
   std::vector<int64_t> ptr, col;  // col sorted within each row
   std::vector<double> val;
+  // A part of an operator (a rank's own rows, or the rows its own cells
+  // touch) stores only the rows of `held`, ascending: ptr has held.size() + 1
+  // entries, not n + 1, so its row pointers fall with the ranks (issue 15).
+  // Its columns keep the whole numbering. Not a part: every row, ptr n + 1.
+  bool part = false;
+  std::vector<int64_t> held;  // (part) the rows stored
+  int64_t stored() const { return part ? static_cast<int64_t>(held.size()) : n; }
+  int64_t row_at(int64_t s) const { return part ? held[s] : s; }  // the row stored at s
+  int64_t slot(int64_t i) const;                                   // row i's place, -1 if not stored
+  // the place of rows[r] for each r of a pass over `rows`: r when a part
+  // (`rows` must then be its held rows, checked here: ND_ERR_INTERNAL), else
+  // the row itself
+  bool by_place(RowSet rows) const;
 
   // y = A x (each row's even and odd entries summed apart, then added), on
   // the rows of `rows` (the others of y untouched)
@@ -53,11 +66,12 @@ void multiply_pair(const Csr &A, const double *x, const Csr &B, const double *y,
   const double *a = A.val.data(), *b = B.val.data();
   const int64_t *col = A.col.data(), *ptr = A.ptr.data();
   const int64_t m = rows.size(A.n);
+  const bool place = A.by_place(rows);
   for (int64_t r = 0; r < m; ++r) {
-    const int64_t i = rows[r];
+    const int64_t i = rows[r], at = place ? r : i;
     Pair s = {0, 0}, s1 = {0, 0};
-    const int64_t e = ptr[i + 1];
-    int64_t k = ptr[i];
+    const int64_t e = ptr[at + 1];
+    int64_t k = ptr[at];
     for (; k + 1 < e; k += 2) {
       const int64_t c = col[k], c1 = col[k + 1];
       s += Pair{a[k], b[k]} * Pair{x[c], y[c]};

@@ -120,6 +120,7 @@ class Counted : public Factorization {
     c_->values_received += f_->received_per_solve();
     observed([&] { f_->solve(x); });
   }
+  bool starts_from_guess() const override { return f_->starts_from_guess(); }
   void solve_from(double *x, const double *guess) const override {
     ++c_->solves;
     c_->values_received += f_->received_per_solve();
@@ -216,7 +217,7 @@ void require_finite(const Csr &A) {
   for (size_t k = 0; k < A.val.size(); ++k)
     if (!std::isfinite(A.val[k]))
       fail(ND_ERR_NONFINITE_STATE, "the matrix has a non-finite entry (row " +
-                                       std::to_string(std::upper_bound(A.ptr.begin(), A.ptr.end(), static_cast<int64_t>(k)) - A.ptr.begin() - 1) +
+                                       std::to_string(A.row_at(std::upper_bound(A.ptr.begin(), A.ptr.end(), static_cast<int64_t>(k)) - A.ptr.begin() - 1)) +
                                        ", column " + std::to_string(A.col[k]) + ")");
 }
 

@@ -53,6 +53,9 @@ class Factorization {
     (void)guess;
     solve(x);
   }
+  // does solve_from read its guess (an iterative backend)? A caller keeps
+  // one only for such a backend
+  virtual bool starts_from_guess() const { return false; }
   // in place, k right-hand sides (column j at x + j n): each column as
   // solve() would make it (the same bits), unless a backend that is not
   // bitwise reproducible anyway solves them as one block (MUMPS over several

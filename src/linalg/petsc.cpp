@@ -270,21 +270,30 @@ class Matrix {
     // entry k is the pattern's first_ + k)
     const PetscInt rows = L.end - L.begin;
     ptr_.assign(static_cast<size_t>(rows + 1), 0);
-    first_ = L.row_of ? 0 : pattern.ptr[L.begin];
+    // the entries of unknown i's row in the pattern (which may store a rank's rows only)
+    auto entries_of = [&pattern](int64_t i) {
+      const int64_t at = pattern.slot(i);
+      if (at < 0) fail(ND_ERR_INTERNAL, "the pattern does not hold row " + std::to_string(i) + " of the rank's rows");
+      return std::make_pair(pattern.ptr[at], pattern.ptr[at + 1]);
+    };
+    first_ = L.row_of || rows == 0 ? 0 : entries_of(L.begin).first;
     int64_t entries = 0;
-    for (PetscInt k = 0; k < rows; ++k) entries += pattern.ptr[L.unknown(k) + 1] - pattern.ptr[L.unknown(k)];
+    for (PetscInt k = 0; k < rows; ++k) {
+      const auto [b, e] = entries_of(L.unknown(k));
+      entries += e - b;
+    }
     col_.reserve(static_cast<size_t>(entries));
     if (L.row_of) src_.reserve(static_cast<size_t>(entries));
     std::vector<std::pair<PetscInt, int64_t>> row;
     for (PetscInt k = 0; k < rows; ++k) {
-      const int64_t i = L.unknown(k);
+      const auto [b, e] = entries_of(L.unknown(k));
       if (!L.row_of) {
-        col_.insert(col_.end(), pattern.col.begin() + pattern.ptr[i], pattern.col.begin() + pattern.ptr[i + 1]);
+        col_.insert(col_.end(), pattern.col.begin() + b, pattern.col.begin() + e);
       } else {
         row.clear();
-        for (int64_t e = pattern.ptr[i]; e < pattern.ptr[i + 1]; ++e) row.emplace_back(L.row(pattern.col[e]), e);
+        for (int64_t j = b; j < e; ++j) row.emplace_back(L.row(pattern.col[j]), j);
         std::sort(row.begin(), row.end());
-        for (const auto &[col, e] : row) col_.push_back(col), src_.push_back(e);
+        for (const auto &[col, j] : row) col_.push_back(col), src_.push_back(j);
       }
       ptr_[k + 1] = static_cast<PetscInt>(col_.size());
     }
@@ -350,10 +359,10 @@ class Matrix {
     if (own.n != L_.n) fail(ND_ERR_INTERNAL, "the rank's part of the matrix has another size than the matrix");
     check(MatZeroEntries(A_), "MatZeroEntries");
     std::vector<PetscInt> cols;
-    for (int64_t i = 0; i < own.n; ++i) {
-      const int64_t b = own.ptr[i], e = own.ptr[i + 1];
+    for (int64_t at = 0; at < own.stored(); ++at) {
+      const int64_t b = own.ptr[at], e = own.ptr[at + 1];
       if (b == e) continue;
-      const PetscInt r = L_.row(i);
+      const PetscInt r = L_.row(own.row_at(at));
       cols.resize(static_cast<size_t>(e - b));
       for (int64_t k = b; k < e; ++k) cols[k - b] = L_.row(own.col[k]);
       check(MatSetValues(A_, 1, &r, static_cast<PetscInt>(e - b), cols.data(), &own.val[b], ADD_VALUES),
@@ -857,6 +866,7 @@ class PetscGamg : public Factorization {
   // (on ball_h2 P1 a time step's predictor saves 13 % of the CG iterations
   // of a bounce, a quarter of a free-flight step)
   void solve_from(double *x, const double *guess) const override { solve_keeping(x, {}, guess); }
+  bool starts_from_guess() const override { return true; }
   // each column a Krylov solve, of each solution only the rows `at` gathered
   void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override {
     if (!v_->distributed()) return Factorization::solve_many_at(x, n, k, at, out);

@@ -71,23 +71,22 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   // an entry's column among the copies: its own, or (local) its place
   const int64_t *col = K.col.data();
   const int32_t *place = local ? own->place.data() : nullptr;
-  auto column = [&](int64_t j, [[maybe_unused]] int64_t shift) -> int64_t {
-    if constexpr (local) return place[j + shift];
+  auto column = [&](int64_t j) -> int64_t {
+    if constexpr (local) return place[j];
     return col[j];
   };
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
-  int64_t before = 0;  // (local) the entries of the rows before this one, own_columns' order
+  const bool by_place = K.by_place(rows);
   for (int64_t r = 0, n_rows = rows.size(K.n); r < n_rows; ++r) {
-    const int64_t i = rows[r], shift = local ? before - ptr[i] : 0;
-    if constexpr (local) before += ptr[i + 1] - ptr[i];
+    const int64_t i = rows[r], at = by_place ? r : i;
     // even and odd entries in separate sums: two chains of dependent adds
     // instead of one (the add's latency, not the memory, bounded this loop)
     Pair a = {0, 0}, b = {0, 0}, a1 = {0, 0}, b1 = {0, 0};
-    const int64_t e = ptr[i + 1];
-    int64_t j = ptr[i];
+    const int64_t e = ptr[at + 1];
+    int64_t j = ptr[at];
     for (; j + 1 < e; j += 2) {
-      const int64_t c = column(j, shift), c1 = column(j + 1, shift);
+      const int64_t c = column(j), c1 = column(j + 1);
       if (store) {
         a += Pair{m[j], m[j]} * X1[c];
         b += Pair{m[j], k[j]} * X2[c];
@@ -99,7 +98,7 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
       }
     }
     if (j < e) {
-      const int64_t c = column(j, shift);
+      const int64_t c = column(j);
       if (store) {
         a += Pair{m[j], m[j]} * X1[c];
         b += Pair{m[j], k[j]} * X2[c];

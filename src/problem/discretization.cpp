@@ -86,7 +86,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   for (int64_t node = 0; node < space.n_nodes; ++node)
     for (int a = 0; a < space.dim; ++a)
       if (const int64_t r = d->dofs.free[node * space.dim + a]; r >= 0) {
-        std::copy_n(&space.node_coords[node * space.dim], space.dim, &d->geometry.x[r * space.dim]);
+        std::copy_n(space.node_x(node), space.dim, &d->geometry.x[r * space.dim]);
         d->geometry.component[r] = a;
       }
   BulkOperators bulk = mass_and_stiffness(space, d->dofs, def, &on_contact, part);
@@ -214,10 +214,8 @@ const Discretization::OwnColumns &Discretization::own_columns() const {
   if (own_columns_) return *own_columns_;
   if (!rows_split || !rows) fail(ND_ERR_INTERNAL, "the columns of a rank's rows, without split rows");
   auto oc = std::make_shared<OwnColumns>();
-  const RowSet own = own_rows(rows.get());
-  std::vector<int64_t> entries;  // the columns entry by entry
-  for (int64_t r = 0, m = own.size(K.n); r < m; ++r)
-    entries.insert(entries.end(), K.col.begin() + K.ptr[own[r]], K.col.begin() + K.ptr[own[r] + 1]);
+  K.by_place(own_rows(rows.get()));  // K holds the rank's rows only: its entries are theirs, row after row
+  const std::vector<int64_t> &entries = K.col;
   std::vector<int64_t> sorted = entries;
   std::sort(sorted.begin(), sorted.end());
   oc->cols.assign(sorted.begin(), std::unique(sorted.begin(), sorted.end()));

@@ -47,14 +47,15 @@ struct Discretization {
   // with several ranks: which rank computes which row of the step's products
   // (the rank of its node; monitor/energies.cpp); null: this process, all
   std::shared_ptr<const Share> rows;
-  // M, K and K_Theta hold this rank's rows only (issue 15, slice 5: the
-  // others are empty), so every product with them is the ranks' rows,
-  // gathered: collective (own_rows_of)
+  // M, K and K_Theta hold this rank's rows only (issue 15, slice 5), and
+  // store no others (Csr::part: their row pointers fall with the ranks), so
+  // every product with them is the ranks' rows, gathered: collective
+  // (own_rows_of)
   bool rows_split = false;
   // With split rows: the columns this rank's rows of M and K read (they
-  // share a pattern), ascending, and for each entry of those rows, taken row
-  // after row in the order of `rows`, its column's place among them. The
-  // products pass packs U, V, A at these columns only, not n long
+  // share a pattern), ascending, and for each entry of K (those rows'
+  // entries, row after row), its column's place among them. The products
+  // pass packs U, V, A at these columns only, not n long
   // (monitor/energies.cpp): 4 bytes per entry of the rank's rows (falling
   // with P) for four whole-length arrays. Made on first use; dropped with
   // `rows`.

@@ -183,6 +183,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       law.held = in.points.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
       sys.complete = in.held.empty();
+      sys.guess = in.A_factor->starts_from_guess();
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be

@@ -23,6 +23,7 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver) : theta_(d.t
   const int64_t m = static_cast<int64_t>(dofs_.size());
   // (K_Theta)_mm and (K_Theta)_mf, row by row (local numbering keeps the columns sorted)
   const Csr &K = d.K_theta;
+  if (K.part) fail(ND_ERR_INTERNAL, "mass redistribution on operators split over the ranks");  // (splits_rows)
   A_.n = m;
   A_.ptr.assign(1, 0);
   cptr_.assign(1, 0);
@@ -99,6 +100,7 @@ int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F
   for (size_t q = 0; q < gap_.size(); ++q) gap_[q] = (gap.empty() ? cp_.gap[q] : gap[point_[q]]) - pf_[q].dot(U.data());
   ContactLaw law{&cp_, theta_, nullptr, nullptr, gap_.data(), counters_};
   NewtonSystem sys{&A_, tangent_.get(), &M0_, 0.0, 1.0, &law};
+  sys.guess = factor_->starts_from_guess();
   // Newton's rules, with atol at least the round-off of r: U_m can be exactly
   // 0 (the bar's contact node in contact, Theta = 1), where the rule "update
   // at the round-off of U" cannot hold and rtol = atol = 0 would ask for less

@@ -181,8 +181,8 @@ std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const Contact
   std::vector<char> read(static_cast<size_t>(n), 0);
   for (const int64_t *i = rows.own_begin(); i != rows.own_end(); ++i) {
     read[*i] = 1;
-    if (A)
-      for (int64_t k = A->ptr[*i]; k < A->ptr[*i + 1]; ++k) read[A->col[k]] = 1;
+    if (const int64_t at = A ? A->slot(*i) : -1; at >= 0)
+      for (int64_t k = A->ptr[at]; k < A->ptr[at + 1]; ++k) read[A->col[k]] = 1;
   }
   for (const Csr *B : also)
     for (int64_t c : B->col) read[c] = 1;

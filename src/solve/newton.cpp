@@ -53,12 +53,13 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
   // (to the solve's round-off): Newton's first iteration would only repeat it.
   if (opt.max_iter >= 1 && sys.law->contact_free(U)) {
-    // the predictor: where the solve is iterative, its start (the buffers
-    // swapped, no allocation after the first step)
-    thread_local std::vector<double> predictor;
-    predictor.swap(U);
+    // the predictor: where the solve is iterative, its start (a copy for
+    // the step: nothing n long is kept between steps, none made for a
+    // direct solve, which would not read it)
+    std::vector<double> predictor;
+    if (sys.guess) predictor = U;
     U = r;
-    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data(), predictor.data());
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data(), sys.guess ? predictor.data() : nullptr);
     res.iterations = 1;
     if (sys.law->contact_free(U)) {
       res.converged = true;

@@ -29,6 +29,9 @@ struct NewtonSystem {
   // only): r, G and M U are right on this rank's rows alone, nothing is
   // gathered, and their norms are the ranks' sums (norm2_rows)
   bool split = false;
+  // the solve with A is iterative (Factorization::starts_from_guess): the
+  // linear step starts it from the predictor
+  bool guess = false;
   // false: a solve that kept the tangent's held rows leaves U so (a
   // distributed state, Definition::distributed_state), not gathered at the end
   bool complete = true;
