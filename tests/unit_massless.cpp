@@ -96,7 +96,7 @@ void massless_residual(nd_problem p, double rtol, double &res, double &tol) {
   double g2 = 0, r2 = 0, a2 = 0;
   for (size_t i = 0; i < n; ++i) {
     if (!d.massless[i]) continue;
-    const double F = s.F.empty() ? 0.0 : s.F[i];
+    const double F = s.load().empty() ? 0.0 : s.load()[i];
     g2 += (G[i] - F) * (G[i] - F);
     r2 += (F - KUf[i]) * (F - KUf[i]);
     a2 += KUm[i] * KUm[i];

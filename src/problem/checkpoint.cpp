@@ -142,7 +142,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.vec(s.U);
   payload.vec(s.V);
   payload.vec(s.A);
-  payload.padded(s.F, n_free);
+  payload.padded(s.load(), n_free);
   payload.value(static_cast<uint8_t>(s.A_valid));
   payload.value(s.W);
   payload.value(static_cast<int64_t>(s.last_iterations));
@@ -204,7 +204,8 @@ void refuse_oversized_state(const unsigned char *head, int64_t nbytes, uint64_t 
 int64_t max_state_size(const StateSizes &sizes) {
   State s;  // every vector at its full length: the layout's size, without a second copy of it
   s.U.resize(static_cast<size_t>(sizes.n_free));
-  s.V = s.A = s.F = s.U;
+  s.V = s.A = s.U;
+  s.F = std::make_shared<const std::vector<double>>(s.U);
   s.F_fixed.resize(static_cast<size_t>(sizes.n_clamped));
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
@@ -245,7 +246,7 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.U = r.vec(n_free, false, "displacement");
   s.V = r.vec(n_free, false, "velocity");
   s.A = r.vec(n_free, false, "acceleration");
-  s.F = optional(n_free, "load");
+  s.F = std::make_shared<const std::vector<double>>(optional(n_free, "load"));
   s.A_valid = r.value<uint8_t>() != 0;
   s.W = r.value<double>();
   s.last_iterations = static_cast<int>(r.value<int64_t>());

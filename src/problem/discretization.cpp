@@ -249,7 +249,8 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   } else {
     law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
   }
-  for (size_t i = 0; i < n; ++i) rhs[i] = (s.F.empty() ? 0.0 : s.F[i]) - rhs[i];
+  const std::vector<double> &F = s.load();
+  for (size_t i = 0; i < n; ++i) rhs[i] = (F.empty() ? 0.0 : F[i]) - rhs[i];
   mass_solve(rhs.data(), solver, once);
   s.A = std::move(rhs);
   s.A_valid = true;

@@ -22,12 +22,13 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
   const Share *mine = d.rows_split ? d.rows.get() : nullptr;
   const RowSet rows = own_rows(mine);
   const int64_t n = static_cast<int64_t>(next.U.size());
-  const bool loaded = !next.F.empty(), acc = next.A.size() == next.U.size();
+  const std::vector<double> &F = next.load();
+  const bool loaded = !F.empty(), acc = next.A.size() == next.U.size();
   double sums[2] = {mine ? 0.0 : old.W, 0.0};  // the work, the rows with a non-finite value
   for (int64_t k = 0, m = rows.size(n); k < m; ++k) {
     const int64_t i = rows[k];
     if (!std::isfinite(next.U[i]) || !std::isfinite(next.V[i]) || (acc && !std::isfinite(next.A[i]))) sums[1] += 1;
-    if (loaded) sums[0] += 0.5 * (next.F[i] + F_old[i]) * (next.U[i] - old.U[i]);
+    if (loaded) sums[0] += 0.5 * (F[i] + F_old[i]) * (next.U[i] - old.U[i]);
   }
   if (mine) gather(*mine, {}, sums, 2);
   next.W = mine ? old.W + sums[0] : sums[0];
@@ -133,7 +134,6 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
 }
 
 State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new) {
-  const std::vector<double> &F_new = at_new.F;
   const TimeScheme &scheme = *in.scheme;
   const double tau = in.tau;
   const size_t n = old.U.size();
@@ -142,11 +142,13 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   next.t_ref = old.t_ref, next.n_ref = old.n_ref, next.tau_ref = old.tau_ref;
   if (old.tau_ref != tau) next.t_ref = old.t, next.n_ref = old.n, next.tau_ref = tau;
   next.t = next.t_ref + static_cast<double>(next.n - next.n_ref) * tau;
-  next.F = F_new;
+  next.F = at_new.F;  // (shared, not copied)
   // an empty load vector means no load; both ends of the step need one if either has
-  if (next.F.empty() && !old.F.empty()) next.F.assign(n, 0.0);  // nodal forces withdrawn
-  const std::vector<double> F_old =
-      !next.F.empty() && old.F.empty() ? std::vector<double>(n, 0.0) : old.F;
+  auto zeros = [n] { return std::make_shared<const std::vector<double>>(n, 0.0); };
+  if (next.load().empty() && !old.load().empty()) next.F = zeros();  // nodal forces withdrawn
+  const std::shared_ptr<const std::vector<double>> no_load_before =
+      !next.load().empty() && old.load().empty() ? zeros() : nullptr;
+  const std::vector<double> &F_old = no_load_before ? *no_load_before : old.load();
   next.F_fixed = at_new.F_fixed;
   next.gap = at_new.gap;
   // the contact term of the step: P^n with the obstacle where it was at t^n,
@@ -164,11 +166,11 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
-    if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.F, next.gap, next.t, next.U);
+    if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.load(), next.gap, next.t, next.U);
     d.equilibrium_acceleration(next, def.solver, false, true, &at_U);  // every step: M factored once, kept
   } else {
     std::vector<double> r;
-    scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.F}, tau, old, r);
+    scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load()}, tau, old, r);
     if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
       next.U.swap(r);  // r: the predictor, where an iterative solve starts
       if (in.held.empty()) in.A_factor->solve_from(next.U.data(), r.data());

@@ -56,7 +56,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
 // What is prescribed at t^{n+1}: the load on the free DOFs and on the clamped
 // ones (empty: none), and the gaps g_q of the obstacle where it is then.
 struct StepData {
-  const std::vector<double> &F, &F_fixed, &gap;
+  std::shared_ptr<const std::vector<double>> F;  // (the next state shares it)
+  const std::vector<double> &F_fixed, &gap;
 };
 
 // The state at t^{n+1} from `old` with the data at t^{n+1}; also the

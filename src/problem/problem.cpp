@@ -323,19 +323,19 @@ Integrator &Problem::integrator_or_build() {
 }
 
 // built once per change of a load, not every step (DESIGN §4)
-const std::vector<double> &Problem::current_load() {
-  if (step_load_) return *step_load_;
+const std::shared_ptr<const std::vector<double>> &Problem::current_load() {
+  if (step_load_) return step_load_;
   const std::vector<double> &F_const = constant_load_();
   if (def_.nodal.empty()) {
     step_load_ = load_;
-    return *step_load_;
+    return step_load_;
   }
   count(counters_.get(), &Counters::load_assemblies);
   auto F = std::make_shared<std::vector<double>>(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
   disc_->dofs.restrict_to_free(def_.nodal.data(), F->data());
   for (size_t i = 0; i < F_const.size(); ++i) (*F)[i] += F_const[i];
   step_load_ = std::move(F);
-  return *step_load_;
+  return step_load_;
 }
 
 const State &Problem::state() {
@@ -426,9 +426,8 @@ void Problem::step() {
       def_.comm.get(),
       [&] {
         prepare();
-        const std::vector<double> &F = current_load();  // (cached: not copied)
         const std::vector<double> gap = current_gaps();
-        next = advance(*integrator_, *disc_, def_, state_, StepData{F, clamped_load_(), gap});
+        next = advance(*integrator_, *disc_, def_, state_, StepData{current_load(), clamped_load_(), gap});
         guard_step(*disc_, def_.guards, state_, next);
       },
       "the step", "no rank took it");

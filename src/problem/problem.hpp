@@ -135,7 +135,7 @@ class Problem {
   // nothing when the state is whole)
   void complete_state();
   StateSizes state_sizes();
-  const std::vector<double> &current_load();
+  const std::shared_ptr<const std::vector<double>> &current_load();
   const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)
   std::vector<double> current_gaps();          // g_q with the planes where the definition has them
   std::vector<double> reaction_at_equilibrium(const State &s);

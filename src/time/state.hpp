@@ -87,7 +87,14 @@ struct State {
   // DOFs), elsewhere any value (NaN): a distributed state
   // (Definition::distributed_state). Problem::complete_state gathers the rest.
   bool partial = false;
-  std::vector<double> F;  // the load F^n of the last step (empty: no load)
+  // the load F^n of the last step (null or empty: no load), immutable: the
+  // problem's load and the states of the steps it does not change share one
+  // array, not a copy each
+  std::shared_ptr<const std::vector<double>> F;
+  const std::vector<double> &load() const {
+    static const std::vector<double> none;
+    return F ? *F : none;
+  }
   std::vector<double> F_fixed;  // its part on the clamped DOFs (ClampedRows order)
   bool A_valid = false;   // schemes without acceleration (hybrid) compute it on demand
   double W = 0;
