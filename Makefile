@@ -14,6 +14,10 @@
 #                   2 cores): bench/results/*.csv and report/PERFORMANCE.md
 #   make bench-quick  the same, small (< 3 min, CI): $(BUILD)/bench-quick/
 #   make bench-tangent  the Newton tangent paths (bench/tangent.sh): bench/results/tangent_*.csv
+#   make bench-same  are the serial histories bitwise the committed bench's (bench/same_histories.sh,
+#                   ~10 s; only on the CPU bench/results/machine.txt names)
+#   make bench-heap  the whole-length arrays a rank holds, on 1, 2, 4 MPI ranks in $(PETSC_BUILD)
+#                   (bench/heap_count.sh, ~1 min): bench/results/scaling_heap.csv
 #   make bench-scaling  strong and weak scaling on 1 and 2 MPI ranks in $(PETSC_BUILD)
 #                   (bench/scaling.sh, ~3 min on a quiet machine): bench/results/scaling.csv
 #                   and the tables of report/SCALING.md on stdout
@@ -30,7 +34,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 PETSC_BUILD ?= build-petsc
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps petsc-build check-petsc check-valgrind-mpi meshes bench bench-quick bench-tangent bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps petsc-build check-petsc check-valgrind-mpi meshes bench bench-quick bench-tangent bench-same bench-heap bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -104,6 +108,15 @@ bench-quick: all bench-deps
 
 bench-tangent: all
 	sh bench/tangent.sh $(BUILD)
+
+bench-same: all
+	sh bench/same_histories.sh $(BUILD)
+
+bench-heap: petsc-deps
+	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ]; then \
+	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
+	cmake --build $(PETSC_BUILD) -j $(JOBS) --target scaling_bench
+	sh bench/heap_count.sh $(PETSC_BUILD)
 
 bench-scaling: petsc-deps
 	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ]; then \
