@@ -57,9 +57,10 @@ int64_t Csr::find(int64_t i, int64_t j) const {
 
 void Csr::add_outer(const std::vector<int64_t> &idx, const double *u, const double *v, double f) {
   for (size_t i = 0; i < idx.size(); ++i) {
-    const int64_t at = slot(idx[i]);
+    const int64_t at = slot(idx[i]);  // (once per row: a part searches its rows)
     if (at < 0 || ptr[at] == ptr[at + 1]) continue;  // a row this part does not hold
-    for (size_t j = 0; j < idx.size(); ++j) val[find(idx[i], idx[j])] += f * u[i] * v[j];
+    const auto b = col.begin() + ptr[at], e = col.begin() + ptr[at + 1];
+    for (size_t j = 0; j < idx.size(); ++j) val[std::lower_bound(b, e, idx[j]) - col.begin()] += f * u[i] * v[j];
   }
 }
 
