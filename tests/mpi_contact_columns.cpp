@@ -646,6 +646,8 @@ START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
   direct->solve(y.data());
   direct->solve_from(y_from.data(), junk.data());
   ck_assert(nd_test_on_all_ranks(std::memcmp(y.data(), y_from.data(), sizeof(double) * y.size()) == 0));
+  // what Newton asks before it keeps a predictor for the step (NewtonSystem::guess), through the counting wrapper
+  ck_assert(f2->starts_from_guess() && !direct->starts_from_guess());
   if (g_rank == 0)
     std::printf("GAMG on %d rank(s): %lld CG iterations from 0, %lld from a guess 1e-4 off\n", g_size,
                 static_cast<long long>(from_zero), static_cast<long long>(from_near));
