@@ -9,6 +9,7 @@
 // not held left out).
 // 2D P1/P2 and 3D P1 drops (the contact rows cross the cuts), Theta = 1
 // and -1.
+#include <cmath>
 #include <cstring>
 #include <initializer_list>
 #include <vector>
@@ -114,6 +115,66 @@ START_TEST(each_part_holds_its_rows_bitwise) {
 }
 END_TEST
 
+// A pass over a part's rows (Csr::by_place) reads its rows at their places:
+// the products on its rows are the whole operator's, bitwise, with
+// multiply and multiply_pair. A pass over other rows (all of them, or a list
+// that is not the part's) is refused with ND_ERR_INTERNAL, not read out of
+// bounds.
+START_TEST(a_pass_over_a_part_reads_its_rows_or_is_refused) {
+  nd_problem p = ndtest::drop_scene(2, 2, ndtest::kSchemes[3], 1.0);
+  nd::Problem &pb = p->problem;
+  const nd::Discretization &whole = pb.discretization();
+  const nd::Space &space = pb.space();
+  const int64_t n = whole.dofs.n_free;
+  const std::vector<int> cells = nd::slab_partition(*space.mesh, 2);
+  const nd::Ownership own = nd::ownership_of_cells(space, cells, 1, 2);
+  nd::Counters counters;
+  const auto d = nd::discretize(space, pb.definition(), &counters, &own);
+  const nd::Csr &K = d->K_theta;
+  const nd::RowSet rows{K.held.data(), static_cast<int64_t>(K.held.size())};
+  std::vector<double> x(static_cast<size_t>(n)), y(x.size(), 0.0), z(x.size(), 0.0), y_whole(x.size()),
+      z_whole(x.size());
+  for (int64_t i = 0; i < n; ++i) x[i] = std::sin(0.7 * static_cast<double>(i)) + 0.01 * static_cast<double>(i % 5);
+  whole.K_theta.multiply(x.data(), y_whole.data());
+  whole.M.multiply(x.data(), z_whole.data());
+  K.multiply(x.data(), y.data(), rows);
+  std::vector<double> y2(x.size(), 0.0), z2(x.size(), 0.0);
+  nd::multiply_pair(
+      K, x.data(), d->M, x.data(),
+      [&](int64_t i, double Kx, double Mx) {
+        y2[i] = Kx;
+        z2[i] = Mx;
+      },
+      rows);
+  for (int64_t i : K.held) {
+    ck_assert_msg(std::memcmp(&y[i], &y_whole[i], sizeof(double)) == 0, "row %lld: %.17g, whole %.17g",
+                  (long long)i, y[i], y_whole[i]);
+    ck_assert(std::memcmp(&y2[i], &y_whole[i], sizeof(double)) == 0);
+    ck_assert(std::memcmp(&z2[i], &z_whole[i], sizeof(double)) == 0);
+  }
+  // refused: every row, and as many rows as the part's but others (shifted by one)
+  std::vector<int64_t> shifted(K.held.begin(), K.held.end());
+  for (int64_t &i : shifted) i = (i + 1) % n;
+  for (const nd::RowSet &other : {nd::RowSet{}, nd::RowSet{shifted.data(), static_cast<int64_t>(shifted.size())}}) {
+    int code = ND_OK;
+    try {
+      K.multiply(x.data(), y.data(), other);
+    } catch (const nd::Error &e) {
+      code = e.code();
+    }
+    ck_assert_int_eq(code, ND_ERR_INTERNAL);
+    code = ND_OK;
+    try {
+      nd::multiply_pair(K, x.data(), d->M, x.data(), [](int64_t, double, double) {}, other);
+    } catch (const nd::Error &e) {
+      code = e.code();
+    }
+    ck_assert_int_eq(code, ND_ERR_INTERNAL);
+  }
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 }  // namespace
 
 int main(void) {
@@ -121,6 +182,7 @@ int main(void) {
   TCase *tc = tcase_create("core");
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, each_part_holds_its_rows_bitwise);
+  tcase_add_test(tc, a_pass_over_a_part_reads_its_rows_or_is_refused);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
