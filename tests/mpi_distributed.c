@@ -1368,10 +1368,12 @@ END_TEST
  * other order: each owns another part of the mesh) makes the split
  * operators again, even when a query (ND_GAMMA0) built them over the first
  * one: the run is that of a problem given the second alone, to round-off
- * (bitwise with slabs; with PT-Scotch measured 1.3e-14 apart, the ranks
- * owning as many nodes in both: where the bits part is not known). Kept,
- * the operators of the first partition made the step matrix singular on
- * the second. */
+ * (bitwise with slabs; with PT-Scotch up to 1e-13 apart on 4 ranks, though
+ * every rank owns the same nodes in both: two problems made alike, with no
+ * first communicator, part as much, 1e-14 to 1e-13 and not the same from
+ * run to run, so the bits part in MUMPS's solves on several ranks, not
+ * here). Kept, the operators of the first partition made the step matrix
+ * singular on the second. */
 START_TEST(a_second_communicator_makes_the_operators_again) {
   MPI_Comm reversed;
   MPI_Comm_split(MPI_COMM_WORLD, 0, g_size - 1 - g_rank, &reversed);
