@@ -148,18 +148,19 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
       for (int a = 0; a < d; ++a) {
         const int64_t r = dofs.free[nodes[i] * d + a];
         if (r < 0 || (part.rows && !(*part.rows)[r])) continue;
+        const int64_t row_start = ops.K.ptr[ops.K.slot(r)];  // (a part searches its rows once per row)
         if (!found) {  // the rows of a node share their columns, in DOF order (operator_pattern): one search per node pair
           for (int j = 0; j < nb; ++j) {  // node j's first free DOF; its others follow it in the row
             int b = 0;
             while (b < d && dofs.free[nodes[j] * d + b] < 0) ++b;
-            offset[j] = b == d ? -1 : ops.K.find(r, dofs.free[nodes[j] * d + b]) - ops.K.ptr[ops.K.slot(r)];
+            offset[j] = b == d ? -1 : ops.K.find(r, dofs.free[nodes[j] * d + b]) - row_start;
           }
           found = true;
         }
         ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
         for (int j = 0; j < nb; ++j) {
           if (offset[j] < 0) continue;
-          int64_t k = ops.K.ptr[ops.K.slot(r)] + offset[j];
+          int64_t k = row_start + offset[j];
           for (int b = 0; b < d; ++b) {
             if (dofs.free[nodes[j] * d + b] < 0) continue;
             ops.K.val[k] += ke[(i * d + a) * nb * d + j * d + b];
