@@ -115,7 +115,7 @@ START_TEST(each_part_holds_its_rows_bitwise) {
 }
 END_TEST
 
-// A pass over a part's rows (Csr::by_place) reads its rows at their places:
+// A pass over a part's rows (Csr::for_rows) reads its rows at their places:
 // the products on its rows are the whole operator's, bitwise, with
 // multiply and multiply_pair. A pass over other rows (all of them, or a list
 // that is not the part's) is refused with ND_ERR_INTERNAL, not read out of

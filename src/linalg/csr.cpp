@@ -12,20 +12,15 @@ namespace nd {
 // Two sums per row: the latency of the dependent adds, not memory, bounded
 // the single sum on these patterns (10-40 entries a row).
 void Csr::multiply(const double *x, double *y, RowSet rows) const {
-  const int64_t m = rows.size(n);
-  const bool place = by_place(rows);
-  for (int64_t r = 0; r < m; ++r) {
-    const int64_t i = rows[r], at = place ? r : i;
+  for_rows(rows, [&](int64_t, int64_t i, int64_t k, int64_t e) __attribute__((always_inline)) {
     double s = 0, s1 = 0;
-    const int64_t e = ptr[at + 1];
-    int64_t k = ptr[at];
     for (; k + 1 < e; k += 2) {
       s += val[k] * x[col[k]];
       s1 += val[k + 1] * x[col[k + 1]];
     }
     if (k < e) s += val[k] * x[col[k]];
     y[i] = s + s1;
-  }
+  });
 }
 
 void require_same_pattern(const Csr &A, const Csr &B) {
@@ -39,12 +34,10 @@ int64_t Csr::slot(int64_t i) const {
   return it != held.end() && *it == i ? it - held.begin() : -1;
 }
 
-bool Csr::by_place(RowSet rows) const {
-  if (!part) return false;
+void Csr::require_places(RowSet rows) const {
   const int64_t m = rows.size(n);
   if (m != stored() || (m > 0 && (rows[0] != held.front() || rows[m - 1] != held.back())))
     fail(ND_ERR_INTERNAL, "a pass over other rows than the " + std::to_string(stored()) + " an operator's part holds");
-  return true;
 }
 
 int64_t Csr::find(int64_t i, int64_t j) const {

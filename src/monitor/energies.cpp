@@ -67,7 +67,6 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
     else p.MA.clear();
   }
   const double *m = M.val.data(), *k = K.val.data(), *U = s.U.data(), *V = s.V.data();
-  const int64_t *ptr = K.ptr.data();
   // an entry's column among the copies: its own, or (local) its place
   const int64_t *col = K.col.data();
   const int32_t *place = local ? own->place.data() : nullptr;
@@ -77,14 +76,10 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   };
   const Pair *X1 = x1.data(), *X2 = x2.data();
   double kinetic = 0, strain = 0;
-  const bool by_place = K.by_place(rows);
-  for (int64_t r = 0, n_rows = rows.size(K.n); r < n_rows; ++r) {
-    const int64_t i = rows[r], at = by_place ? r : i;
+  K.for_rows(rows, [&](int64_t r, int64_t i, int64_t j, int64_t e) __attribute__((always_inline)) {
     // even and odd entries in separate sums: two chains of dependent adds
     // instead of one (the add's latency, not the memory, bounded this loop)
     Pair a = {0, 0}, b = {0, 0}, a1 = {0, 0}, b1 = {0, 0};
-    const int64_t e = ptr[at + 1];
-    int64_t j = ptr[at];
     for (; j + 1 < e; j += 2) {
       const int64_t c = column(j), c1 = column(j + 1);
       if (store) {
@@ -116,7 +111,7 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
       p.MU[o] = a[0], p.MV[o] = mv, p.KU[o] = ku;
       if (acc) p.MA[o] = b[0];
     }
-  }
+  });
   if (share) {
     double sums[2] = {kinetic, strain};
     std::vector<double *> fields;

@@ -214,7 +214,8 @@ const Discretization::OwnColumns &Discretization::own_columns() const {
   if (own_columns_) return *own_columns_;
   if (!rows_split || !rows) fail(ND_ERR_INTERNAL, "the columns of a rank's rows, without split rows");
   auto oc = std::make_shared<OwnColumns>();
-  K.by_place(own_rows(rows.get()));  // K holds the rank's rows only: its entries are theirs, row after row
+  if (!K.part) fail(ND_ERR_INTERNAL, "split rows whose operators are not the rank's part");
+  K.require_places(own_rows(rows.get()));  // K's entries are then the rank's rows', row after row
   const std::vector<int64_t> &entries = K.col;
   std::vector<int64_t> sorted = entries;
   std::sort(sorted.begin(), sorted.end());
