@@ -132,13 +132,17 @@ START_TEST(a_pass_over_a_part_reads_its_rows_or_is_refused) {
   const auto d = nd::discretize(space, pb.definition(), &counters, &own);
   const nd::Csr &K = d->K_theta;
   const nd::RowSet rows{K.held.data(), static_cast<int64_t>(K.held.size())};
-  std::vector<double> x(static_cast<size_t>(n)), y(x.size(), 0.0), z(x.size(), 0.0), y_whole(x.size()),
-      z_whole(x.size());
+  const size_t size = static_cast<size_t>(n);
+  std::vector<double> x(size);
+  std::vector<double> y(size);
+  std::vector<double> y_whole(size);
+  std::vector<double> z_whole(size);
   for (int64_t i = 0; i < n; ++i) x[i] = std::sin(0.7 * static_cast<double>(i)) + 0.01 * static_cast<double>(i % 5);
   whole.K_theta.multiply(x.data(), y_whole.data());
   whole.M.multiply(x.data(), z_whole.data());
   K.multiply(x.data(), y.data(), rows);
-  std::vector<double> y2(x.size(), 0.0), z2(x.size(), 0.0);
+  std::vector<double> y2(size);
+  std::vector<double> z2(size);
   nd::multiply_pair(
       K, x.data(), d->M, x.data(),
       [&](int64_t i, double Kx, double Mx) {
