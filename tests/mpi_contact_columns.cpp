@@ -25,18 +25,22 @@
 #include <vector>
 
 #include "assembly/bulk.hpp"
+#include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "common/error.hpp"
 #include "linalg/factorization.hpp"
 #include "parallel/communicator_mpi.hpp"
 #include "parallel/share.hpp"
+#include "problem/discretization.hpp"
 #include "solve/contact_columns.hpp"
 #include "solve/contact_law.hpp"
 #include "solve/newton.hpp"
 #include "solve/tangent_solver.hpp"
+#include "unit_drop.hpp"
 #include "unit_fixtures.hpp"
 // last: check.h's fail() macro would clash with nd::fail and std::ios::fail
 #include <check.h>
 
+#include "nitschedyn_mpi.h"
 #include "testutil_mpi.h"
 
 namespace {
@@ -556,15 +560,7 @@ START_TEST(a_kept_hierarchy_serves_until_it_does_not) {
   nd::Counters counters;
   nd::DofGeometry g;  // the rigid-body modes GAMG is given in a problem
   g.comm = comm;
-  g.dim = space.dim;
-  g.x.resize(static_cast<size_t>(n * space.dim));
-  g.component.resize(static_cast<size_t>(n));
-  for (int64_t node = 0; node < space.n_nodes; ++node)
-    for (int a = 0; a < space.dim; ++a)
-      if (const int64_t r = dofs.free[node * space.dim + a]; r >= 0) {
-        std::copy_n(space.node_x(node), space.dim, &g.x[r * space.dim]);
-        g.component[r] = a;
-      }
+  nd::locate_unknowns(space, dofs, g);
   const nd::Structure spd = nd::Structure::SymmetricPositiveDefinite;
   std::vector<double> b(static_cast<size_t>(n));
   for (int64_t i = 0; i < n; ++i) b[i] = std::cos(0.3 * static_cast<double>(i));
@@ -733,6 +729,46 @@ START_TEST(columns_of_sets_that_differ_between_ranks_are_refused) {
 }
 END_TEST
 
+// Where the unknowns sit (DofGeometry::x, component) is built for GAMG, the
+// one solver that reads it (its rigid-body modes), and for no other: on
+// split rows for the rank's rows only, each row the whole geometry's at its
+// unknown; choosing another solver drops it, and GAMG again builds it again.
+START_TEST(the_unknowns_are_located_for_gamg_only) {
+  for (int dim : {2, 3}) {
+    nd_problem p = ndtest::drop_scene(dim, 1, ndtest::kSchemes[2], 1.0);
+    nd::Problem &pb = p->problem;
+    nd::DofGeometry whole;  // every unknown's, made apart
+    nd::locate_unknowns(pb.space(), pb.discretization().dofs, whole);
+    const int64_t n = pb.discretization().dofs.n_free;
+    ck_assert(whole.located && static_cast<int64_t>(whole.component.size()) == n);
+    ck_assert(!pb.discretization().geometry.located && pb.discretization().geometry.x.empty());  // AUTO: none
+    ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+    for (int solver : {ND_SOLVER_PETSC_MUMPS, ND_SOLVER_PETSC_GAMG, ND_SOLVER_PETSC_MUMPS, ND_SOLVER_PETSC_GAMG}) {
+      ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, solver));
+      ND_OK_OR_FAIL(nd_step(p));  // (GAMG solves with the modes of what it was given)
+      const nd::Discretization &d = pb.discretization();
+      const nd::DofGeometry &g = d.geometry;
+      if (solver != ND_SOLVER_PETSC_GAMG) {
+        ck_assert_msg(!g.located && g.x.empty() && g.component.empty(), "dim %d: located for MUMPS", dim);
+        continue;
+      }
+      ck_assert_msg(g.located && g.own_rows_only == d.rows_split && d.rows_split == (g_size > 1), "dim %d", dim);
+      const nd::RowSet rows = nd::own_rows(d.rows_split ? d.rows.get() : nullptr);
+      const int64_t m = rows.size(n);
+      ck_assert_msg(static_cast<int64_t>(g.component.size()) == m && static_cast<int64_t>(g.x.size()) == m * dim,
+                    "dim %d, rank %d: %zu unknowns described, %lld rows", dim, g_rank, g.component.size(),
+                    (long long)m);
+      for (int64_t k = 0; k < m; ++k) {
+        const int64_t u = rows[k];
+        ck_assert_int_eq(g.component[k], whole.component[u]);
+        ck_assert(std::memcmp(&g.x[k * dim], &whole.x[u * dim], sizeof(double) * dim) == 0);
+      }
+    }
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -750,6 +786,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, a_bound_counts_when_every_rank_held_it);
   tcase_add_test(tc, a_kept_hierarchy_serves_until_it_does_not);
   tcase_add_test(tc, columns_of_sets_that_differ_between_ranks_are_refused);
+  tcase_add_test(tc, the_unknowns_are_located_for_gamg_only);
   suite_add_tcase(s, tc);
   TCase *agreement = tcase_create("agreement");
   tcase_set_timeout(agreement, 300);

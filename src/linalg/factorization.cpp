@@ -1,10 +1,8 @@
 #include "linalg/factorization.hpp"
 
 #include <algorithm>
-#include <limits>
-
-#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "common/error.hpp"
@@ -177,6 +175,8 @@ bool linear_solver_known(int solver) { return solver == ND_SOLVER_AUTO || find_b
 bool linear_solver_iterative(int solver) { return solver == ND_SOLVER_PETSC_GAMG; }
 
 bool linear_solver_certifies_definiteness(int solver) { return !linear_solver_iterative(solver); }
+
+bool linear_solver_reads_coordinates(int solver) { return solver == ND_SOLVER_PETSC_GAMG; }
 
 bool linear_solver_distributes(int solver) {
   return solver == ND_SOLVER_PETSC_MUMPS || solver == ND_SOLVER_PETSC_GAMG;

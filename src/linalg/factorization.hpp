@@ -95,9 +95,11 @@ class Factorization {
   virtual const Factorization &backend() const { return *this; }
 };
 
-// Where the unknowns sit: for each unknown (free DOF) its node's coordinates
-// and its component. Algebraic multigrid (ND_SOLVER_PETSC_GAMG) builds the
-// rigid-body modes from it (its near-null space); the direct solvers ignore it.
+// Where the unknowns sit and which ranks solve for them.
+// x, component: for each unknown (free DOF) its node's coordinates and its
+// component. Algebraic multigrid (ND_SOLVER_PETSC_GAMG) builds the rigid-body
+// modes from them (its near-null space); the other solvers ignore them, so
+// they are filled only for it (linear_solver_reads_coordinates; empty: none).
 // comm: the ranks that solve together (the PETSc backends distribute their
 // rows over them; the others solve the whole system on every rank);
 // row_of: each unknown's row in the distributed matrix, where the rows of
@@ -106,8 +108,9 @@ class Factorization {
 // (parallel/ownership.hpp; row_end < 0: an even split of the rows).
 struct DofGeometry {
   int dim = 0;
-  std::vector<double> x;         // dim per unknown
-  std::vector<int> component;    // 0 .. dim-1 per unknown
+  std::vector<double> x;         // dim per unknown described
+  std::vector<int> component;    // 0 .. dim-1 per unknown described
+  bool located = false;          // x and component filled (else empty)
   // x and component hold this rank's rows only, in their order (with row_of:
   // split rows), not every unknown: GAMG's near-null space reads no other
   bool own_rows_only = false;
@@ -134,6 +137,9 @@ bool linear_solver_certifies_definiteness(int solver);
 // whether each solve is a Krylov iteration (GAMG): a solve costs many
 // products with the matrix and the preconditioner, a set-up a few solves
 bool linear_solver_iterative(int solver);
+// whether the solver reads where the unknowns sit (DofGeometry::x and
+// component: GAMG's rigid-body modes); for the others they are not built
+bool linear_solver_reads_coordinates(int solver);
 // whether the solver spreads its matrices' rows over a communicator's ranks
 // (the PETSc backends; the others solve the whole system on every rank)
 bool linear_solver_distributes(int solver);

@@ -236,8 +236,7 @@ Layout make_layout(const DofGeometry *g, int64_t n, PetscInt block_size) {
   L.size = communicator_size(c);
   const int rank = communicator_rank(c);
   L.n = petsc_int(n, "rows");
-  const int64_t described = g && g->own_rows_only ? g->row_end - g->row_begin : n;
-  if (g && g->row_end >= 0 && static_cast<int64_t>(g->component.size()) == described) {
+  if (g && g->row_end >= 0) {  // the rows given
     L.begin = static_cast<PetscInt>(g->row_begin);
     L.end = static_cast<PetscInt>(g->row_end);
     if (L.begin > L.end || L.end > L.n || (L.end - L.begin) % block_size != 0 ||

@@ -50,6 +50,25 @@ bool splits_rows(const Definition &def) {
          !def.redistributed;
 }
 
+void locate_unknowns(const Space &space, const DofMap &dofs, DofGeometry &g) {
+  const bool own = g.own_rows_only;
+  if (own && (!g.row_of || g.row_end < g.row_begin))
+    fail(ND_ERR_INTERNAL, "the coordinates of a rank's rows, without its rows");
+  const int64_t m = own ? g.row_end - g.row_begin : dofs.n_free;  // the unknowns described
+  g.dim = space.dim;
+  g.x.assign(static_cast<size_t>(m * space.dim), 0.0);
+  g.component.assign(static_cast<size_t>(m), 0);
+  for (int64_t dof = 0; dof < space.n_dofs(); ++dof) {
+    const int64_t r = dofs.free[dof];
+    if (r < 0) continue;
+    const int64_t k = own ? (*g.row_of)[r] - g.row_begin : r;  // its place among those described
+    if (k < 0 || k >= m) continue;
+    std::copy_n(space.node_x(dof / space.dim), space.dim, &g.x[k * space.dim]);
+    g.component[k] = static_cast<int>(dof % space.dim);
+  }
+  g.located = true;
+}
+
 const Share *own_rows_of(const Discretization &d, bool in_step) {
   return in_step || d.rows_split ? d.rows.get() : nullptr;
 }
@@ -80,15 +99,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
       }
     if (std::find(d->massless.begin(), d->massless.end(), 1) == d->massless.end()) d->massless.clear();
   }
-  d->geometry.dim = space.dim;
-  d->geometry.x.resize(static_cast<size_t>(d->dofs.n_free * space.dim));
-  d->geometry.component.resize(static_cast<size_t>(d->dofs.n_free));
-  for (int64_t node = 0; node < space.n_nodes; ++node)
-    for (int a = 0; a < space.dim; ++a)
-      if (const int64_t r = d->dofs.free[node * space.dim + a]; r >= 0) {
-        std::copy_n(space.node_x(node), space.dim, &d->geometry.x[r * space.dim]);
-        d->geometry.component[r] = a;
-      }
+  d->geometry.dim = space.dim;  // (where the unknowns sit: locate_unknowns, for the solver that reads it)
   BulkOperators bulk = mass_and_stiffness(space, d->dofs, def, &on_contact, part);
   d->K = std::move(bulk.K);
   d->M = std::move(bulk.M);

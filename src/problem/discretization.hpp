@@ -43,7 +43,7 @@ struct Discretization {
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
   std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
   Counters *counters = nullptr;             // the problem's (ND_STAT_*)
-  DofGeometry geometry;                     // node coordinates and component of each free DOF (for AMG)
+  DofGeometry geometry;                     // the solvers' ranks and rows; the unknowns' coordinates for AMG
   // with several ranks: which rank computes which row of the step's products
   // (the rank of its node; monitor/energies.cpp); null: this process, all
   std::shared_ptr<const Share> rows;
@@ -89,6 +89,10 @@ constexpr double kAutomaticGamma0Fraction = 0.5;
 // rows of own's nodes only, each entry with the bits of the whole operator's.
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
                                            const Ownership *own = nullptr);
+// Where the unknowns sit (g.x, g.component), which GAMG's near-null space
+// reads: for every unknown, or with g.own_rows_only for the rows
+// [g.row_begin, g.row_end) of g.row_of's numbering only (no array n long).
+void locate_unknowns(const Space &space, const DofMap &dofs, DofGeometry &g);
 // Can the operators hold a rank's rows only (discretize's `own`)? With a
 // distributed solver on several ranks (which reads no other rows), and
 // neither mass lumping nor redistribution (whose diagonal and massless rows

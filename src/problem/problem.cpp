@@ -251,6 +251,9 @@ Discretization &Problem::discretization_() {
     g.comm = def_.comm;  // the factorizations' ranks
     g.row_of.reset();
     g.row_begin = 0, g.row_end = disc_->dofs.n_free;
+    g.own_rows_only = false;
+    g.x = {}, g.component = {};  // (located again below for these rows)
+    g.located = false;
     disc_->rows.reset();
     disc_->own_columns_.reset();
     disc_->contact.share.reset();
@@ -270,22 +273,21 @@ Discretization &Problem::discretization_() {
       auto row_of = std::make_shared<std::vector<int64_t>>(static_cast<size_t>(disc_->dofs.n_free));
       for (size_t k = 0; k < rows.order.size(); ++k) (*row_of)[rows.order[k]] = static_cast<int64_t>(k);
       g.row_of = std::move(row_of);
-      if (disc_->rows_split) {  // the coordinates of the rank's rows only (what GAMG reads)
-        std::vector<double> x;
-        std::vector<int> component;
-        x.reserve(static_cast<size_t>(rows.own_count() * g.dim));
-        component.reserve(static_cast<size_t>(rows.own_count()));
-        for (const int64_t *u = rows.own_begin(); u != rows.own_end(); ++u) {
-          x.insert(x.end(), g.x.begin() + *u * g.dim, g.x.begin() + (*u + 1) * g.dim);
-          component.push_back(g.component[static_cast<size_t>(*u)]);
-        }
-        g.x = std::move(x), g.component = std::move(component);
-        g.own_rows_only = true;
-      }
+      g.own_rows_only = disc_->rows_split;  // GAMG reads the coordinates of the rank's rows only
       const ContactPoints &cp = disc_->contact;
       std::vector<int> point_owner(cp.size());
       for (size_t q = 0; q < cp.size(); ++q) point_owner[q] = own.cell_owner[space_.mesh->boundary[cp.facet[q]].cell];
       disc_->contact.share = make_share(def_.comm, point_owner, counters_.get());
+    }
+  }
+  // where the unknowns sit: built for the solver that reads it (GAMG), and
+  // dropped when another is chosen
+  if (linear_solver_reads_coordinates(def_.solver) != g.located) {
+    if (g.located) {
+      g.x = {}, g.component = {};
+      g.located = false;
+    } else {
+      locate_unknowns(space_, disc_->dofs, g);
     }
   }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
