@@ -34,7 +34,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 PETSC_BUILD ?= build-petsc
 
-.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps petsc-build check-petsc check-valgrind-mpi meshes bench bench-quick bench-tangent bench-same bench-heap bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
+.PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps petsc-configure petsc-build check-petsc check-valgrind-mpi meshes bench bench-quick bench-tangent bench-same bench-heap bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -80,9 +80,12 @@ fuzz: fuzz-deps
 petsc-deps:
 	@sh scripts/install-deps.sh petsc
 
-petsc-build: petsc-deps
+# configured once (again when CMAKE_FLAGS are given)
+petsc-configure: petsc-deps
 	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ] || [ -n "$(CMAKE_FLAGS)" ]; then \
 	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
+
+petsc-build: petsc-configure
 	cmake --build $(PETSC_BUILD) -j $(JOBS)
 
 check-petsc: petsc-build
@@ -112,15 +115,11 @@ bench-tangent: all
 bench-same: all
 	sh bench/same_histories.sh $(BUILD)
 
-bench-heap: petsc-deps
-	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ]; then \
-	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
+bench-heap: petsc-configure
 	cmake --build $(PETSC_BUILD) -j $(JOBS) --target scaling_bench
 	sh bench/heap_count.sh $(PETSC_BUILD)
 
-bench-scaling: petsc-deps
-	@if [ ! -f $(PETSC_BUILD)/CMakeCache.txt ]; then \
-	  cmake -S . -B $(PETSC_BUILD) -DND_WITH_PETSC=ON -DND_WERROR=ON $(CMAKE_FLAGS); fi
+bench-scaling: petsc-configure
 	cmake --build $(PETSC_BUILD) -j $(JOBS) --target scaling_bench
 	sh bench/scaling.sh $(PETSC_BUILD)
 

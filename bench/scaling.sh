@@ -21,8 +21,10 @@ meshes=examples/meshes
 mkdir -p "$out" "$build/bench-scaling"
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-# a rank waiting in MPI yields its core (another job may share the machine)
-export OMPI_MCA_mpi_yield_when_idle=1
+# Open MPI's default polling, what a user has: with mpi_yield_when_idle=1 (set
+# here until 27 November 2026) a step of disk_h0.5 P2 on 2 ranks took 2.5x
+# as long on this machine (MUMPS: free flight 36.5 against 14.4 ms, contact
+# 154 against 81 ms), on 1 rank 1.2-2x
 # the library partitions the mesh with PT-Scotch only with one Scotch thread
 # (or MPI_THREAD_MULTIPLE, which scaling_bench does not ask for)
 export SCOTCH_PTHREAD_NUMBER=1

@@ -18,7 +18,7 @@ scenes=${MESHES:-disk ball}
 meshes=examples/meshes
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-export OMPI_MCA_mpi_yield_when_idle=1 SCOTCH_PTHREAD_NUMBER=1
+export SCOTCH_PTHREAD_NUMBER=1  # (Open MPI's default polling, as bench/scaling.sh)
 printf 'version,%s\n' "$("$b/scaling_bench" --header)" > "$out"
 run() {  # build label env ranks mesh degree [dim]
   env ${3:-ND_BENCH_NOTHING=} mpiexec -n "$4" "$1/scaling_bench" "$5" "$6" "$solver" 0.25 12 ${7:-} |
