@@ -202,7 +202,8 @@ void Discretization::mass_solve(double *x, int solver, bool once) {
   Csr Mf = M;
   for (size_t i = 0; i < massless.size(); ++i)
     if (massless[i]) Mf.val[Mf.find(static_cast<int64_t>(i), static_cast<int64_t>(i))] = 1;
-  if (once && solver == ND_SOLVER_AUTO && Mf.n >= kMassCgMinSize) {
+  // (whole M only: a rank's rows of a split M are not an operator on its own)
+  if (once && !rows_split && Mf.n >= kMassCgMinSize) {
     std::vector<double> y(x, x + Mf.n);
     const PcgResult r = pcg_jacobi(Mf, y.data(), kMassCgTolerance, kMassCgMaxIterations);
     count(counters, &Counters::spmv, r.iterations + 1);
