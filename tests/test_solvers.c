@@ -8,6 +8,7 @@
  * path (same total iteration count). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "testutil.h"
 
@@ -206,6 +207,39 @@ START_TEST(initial_acceleration_by_conjugate_gradients) {
 }
 END_TEST
 
+/* The hybrid scheme does not carry the acceleration: a caller reading it
+   after every step asks for a mass solve each time. M is then factored at the
+   first read after a step and kept (one factorization for any number of
+   reads); a read before the set-up, made once, is a CG solve (no factor). */
+START_TEST(acceleration_reads_of_the_hybrid_scheme_factor_m_once) {
+  for (int b = 0; b < 2; ++b) {
+    const int solver = b == 0 ? ND_SOLVER_CHOLMOD : ND_SOLVER_AUTO;
+    nd_problem p = block_2d_cells(48, 24, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.0005, 0.02); /* 2,450 unknowns */
+    ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, solver));
+    int64_t n = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+    double *a = malloc(sizeof(double) * (size_t)(2 * n)), *again = malloc(sizeof(double) * (size_t)(2 * n));
+    double before = -1, after = -1, setup = -1;
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, n, a));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_STAT_FACTORIZATIONS, &before));
+    ck_assert_msg(before == 0, "solver %d: a read before the set-up factored %g times", solver, before);
+    ND_OK_OR_FAIL(nd_problem_setup(p));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_STAT_FACTORIZATIONS, &setup)); /* A's */
+    for (int k = 0; k < 3; ++k) {
+      ND_OK_OR_FAIL(nd_step(p));
+      ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, n, a));
+      ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, n, again));
+      ck_assert_msg(memcmp(a, again, sizeof(double) * (size_t)(2 * n)) == 0, "solver %d: two reads differ", solver);
+    }
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_STAT_FACTORIZATIONS, &after));
+    ck_assert_msg(after - setup == 1, "solver %d: 6 reads after 3 steps factored %g times", solver, after - setup);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    free(a);
+    free(again);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("solvers");
   TCase *tc = tcase_create("conformance");
@@ -213,6 +247,7 @@ int main(void) {
   tcase_add_test(tc, every_backend_gives_the_same_answer);
   tcase_add_test(tc, every_backend_reports_an_indefinite_step);
   tcase_add_test(tc, initial_acceleration_by_conjugate_gradients);
+  tcase_add_test(tc, acceleration_reads_of_the_hybrid_scheme_factor_m_once);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
