@@ -208,10 +208,12 @@ START_TEST(initial_acceleration_by_conjugate_gradients) {
 END_TEST
 
 /* The hybrid scheme does not carry the acceleration: a caller reading it
-   after every step asks for a mass solve each time. M is then factored at the
-   first read after a step and kept (one factorization for any number of
-   reads); a read before the set-up, made once, is a CG solve (no factor). */
-START_TEST(acceleration_reads_of_the_hybrid_scheme_factor_m_once) {
+   after every step asks for a mass solve each time. Each is a CG solve, and
+   M is never factored: on disk_h0.5 P2 a read by CG took 9-12 ms, about a
+   solve with M's factor (8-12 ms), while factoring M would cost 0.87 s once
+   and hold a factor as large as A's for the run (measured 27 November
+   2026). Two reads of one state give the same bits. */
+START_TEST(acceleration_reads_of_the_hybrid_scheme_factor_nothing) {
   for (int b = 0; b < 2; ++b) {
     const int solver = b == 0 ? ND_SOLVER_CHOLMOD : ND_SOLVER_AUTO;
     nd_problem p = block_2d_cells(48, 24, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.0005, 0.02); /* 2,450 unknowns */
@@ -232,7 +234,7 @@ START_TEST(acceleration_reads_of_the_hybrid_scheme_factor_m_once) {
       ck_assert_msg(memcmp(a, again, sizeof(double) * (size_t)(2 * n)) == 0, "solver %d: two reads differ", solver);
     }
     ND_OK_OR_FAIL(nd_get_scalar(p, ND_STAT_FACTORIZATIONS, &after));
-    ck_assert_msg(after - setup == 1, "solver %d: 6 reads after 3 steps factored %g times", solver, after - setup);
+    ck_assert_msg(after == setup, "solver %d: 6 reads after 3 steps factored %g times", solver, after - setup);
     ND_OK_OR_FAIL(nd_problem_destroy(&p));
     free(a);
     free(again);
@@ -247,7 +249,7 @@ int main(void) {
   tcase_add_test(tc, every_backend_gives_the_same_answer);
   tcase_add_test(tc, every_backend_reports_an_indefinite_step);
   tcase_add_test(tc, initial_acceleration_by_conjugate_gradients);
-  tcase_add_test(tc, acceleration_reads_of_the_hybrid_scheme_factor_m_once);
+  tcase_add_test(tc, acceleration_reads_of_the_hybrid_scheme_factor_nothing);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

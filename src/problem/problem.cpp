@@ -631,12 +631,7 @@ void Problem::field(int which, double *full) {
     return;
   }
   complete_state();  // whole vectors: collective when the state is partial
-  if (which == ND_FIELD_ACCELERATION && !s.A_valid) {
-    // a scheme that does not carry A (hybrid) is asked again after every
-    // step: then M is factored once and kept, not solved by CG each time
-    const bool again = integrator_ && !integrator_->scheme->uses_acceleration();
-    discretization_().equilibrium_acceleration(state_, def_.solver, !again);
-  }
+  if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
   discretization_().dofs.extend_to_full(state_vector(s, which)->data(), full);
 }
 
