@@ -111,6 +111,7 @@ struct DofGeometry {
   std::vector<double> x;         // dim per unknown described
   std::vector<int> component;    // 0 .. dim-1 per unknown described
   bool located = false;          // x and component filled (else empty)
+  void forget_coordinates() { x = {}, component = {}, located = false; }
   // x and component hold this rank's rows only, in their order (with row_of:
   // split rows), not every unknown: GAMG's near-null space reads no other
   bool own_rows_only = false;

@@ -252,8 +252,7 @@ Discretization &Problem::discretization_() {
     g.row_of.reset();
     g.row_begin = 0, g.row_end = disc_->dofs.n_free;
     g.own_rows_only = false;
-    g.x = {}, g.component = {};  // (located again below for these rows)
-    g.located = false;
+    g.forget_coordinates();  // (located again below for these rows)
     disc_->rows.reset();
     disc_->own_columns_.reset();
     disc_->contact.share.reset();
@@ -283,12 +282,8 @@ Discretization &Problem::discretization_() {
   // where the unknowns sit: built for the solver that reads it (GAMG), and
   // dropped when another is chosen
   if (linear_solver_reads_coordinates(def_.solver) != g.located) {
-    if (g.located) {
-      g.x = {}, g.component = {};
-      g.located = false;
-    } else {
-      locate_unknowns(space_, disc_->dofs, g);
-    }
+    if (g.located) g.forget_coordinates();
+    else locate_unknowns(space_, disc_->dofs, g);
   }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
   if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
