@@ -553,7 +553,16 @@ START_TEST(reads_version_4_checkpoints) {
   double force = 0;
   ND_OK_OR_FAIL(nd_get_scalar(b, ND_CONTACT_FORCE, &force));
   ck_assert_msg(force > 0, "the fixture is not in contact");
+  /* The fixture's library solved every step; this one took the box's rigid
+     fall before the impact as its predictor (nd_step(3)): the fixture's
+     total of Newton iterations is larger by those steps, one each */
+  double predicted = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(a, ND_STAT_PREDICTED_STEPS, &predicted));
+  ck_assert_double_gt(predicted, 0);
   snap sa = take(a, 3), sb = take(b, 3);
+  double *total_b = sb.f + sb.n - N_SCALARS + (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME);
+  ck_assert_double_eq(*total_b - sa.f[sa.n - N_SCALARS + (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME)], predicted);
+  *total_b -= predicted;
   ck_assert_msg(snap_diff(sb, sa) <= 1e-12, "restored from version 4: %g", snap_diff(sb, sa));
   free(sa.f);
   free(sb.f);
@@ -562,6 +571,7 @@ START_TEST(reads_version_4_checkpoints) {
     ND_OK_OR_FAIL(nd_step(b));
   }
   sa = take(a, 3), sb = take(b, 3);
+  sb.f[sb.n - N_SCALARS + (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME)] -= predicted;
   ck_assert_msg(snap_diff(sb, sa) <= 1e-10, "20 steps after: %g", snap_diff(sb, sa));
   free(sa.f);
   free(sb.f);

@@ -5,6 +5,8 @@
 // products, against a factorization (and the memory of a second factor)
 // when the mass matrix is solved once, for the initial acceleration.
 #pragma once
+#include <cmath>
+
 #include "linalg/csr.hpp"
 
 namespace nd {
@@ -16,9 +18,11 @@ struct PcgResult {
 };
 
 // x = A^{-1} b for symmetric positive definite A (x: b on entry, the
-// solution on return), until ||b - A x|| <= rtol ||b||. Not converged (x then
-// unspecified) after max_iter iterations or when the residual stops
-// decreasing, for the caller to fall back on a factorization.
-PcgResult pcg_jacobi(const Csr &A, double *x, double rtol, int max_iter);
+// solution on return), until ||b - A x|| <= target ||b|| (target <= rtol;
+// by default rtol), or until the residual stops decreasing or max_iter
+// iterations are done: converged if then ||b - A x|| <= rtol ||b||. Not
+// converged (x then unspecified), for the caller to fall back on a
+// factorization.
+PcgResult pcg_jacobi(const Csr &A, double *x, double rtol, int max_iter, double target = INFINITY);
 
 }  // namespace nd

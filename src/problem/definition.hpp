@@ -61,6 +61,9 @@ struct Definition {
   // the contact checks a step may settle by a bound from P^n (white-box, not
   // in the C API: tests compare the trajectories without it)
   bool contact_bounds = true;
+  // whether a step may be its predictor (solve/predictor_check.hpp;
+  // white-box, not in the C API: tests compare the trajectories without it)
+  bool predicted_steps = true;
   // with split rows, each rank keeps the state right on the rows its steps
   // read only (State::partial): a step gathers no whole solution, and the
   // calls that read whole vectors complete them, collectively

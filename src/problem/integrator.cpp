@@ -9,6 +9,7 @@
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
 #include "solve/newton.hpp"
+#include "solve/predictor_check.hpp"
 
 namespace nd {
 
@@ -45,6 +46,23 @@ Structure tangent_structure(double theta) {
 bool refactoring_tangent(const Definition &def, const Discretization &d) {
   return def.tangent == TangentChoice::Refactor ||
          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3 && linear_solver_iterative(def.solver));
+}
+
+// A step may be its predictor (solve/predictor_check.hpp) when the scheme's
+// predictor is exact at constant acceleration, the state has one, and the
+// last step was its predictor, or applied no contact term and every
+// kPredictorProbe-th step tries it (a deformed body's free flight pays one
+// pass in kPredictorProbe for the try). Serial operators, every DOF with
+// mass. From the state alone: a resumed run tries the same steps.
+constexpr int64_t kPredictorProbe = 16;
+bool predictor_may_solve(const Integrator &in, const Discretization &d, const Definition &def, const State &old) {
+  if (!def.predicted_steps || !in.scheme->predicts_constant_acceleration() || !old.A_valid || d.rows ||
+      !in.held.empty() || !d.massless.empty())
+    return false;
+  if (old.last_iterations == 0) return true;
+  for (double phi : old.phi)
+    if (phi != 0) return false;
+  return old.n % kPredictorProbe == 0;
 }
 
 }  // namespace
@@ -163,6 +181,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   if (def.contact_bounds) law.Un = old.U.data(), law.gap_n = old.gap.empty() ? nullptr : old.gap.data();
   scheme.predict(tau, old, next.U);
   PointValues at_U;  // an explicit step's P_q(U^{n+1}), for the new state's products
+  bool predicted = false;  // an implicit step that is its predictor: updated, its pass made
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
@@ -171,7 +190,16 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   } else {
     std::vector<double> r;
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load()}, tau, old, r);
-    if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
+    if (predictor_may_solve(in, d, def, old)) {  // the new state's pass, made now, checks the predictor
+      constant_acceleration_update(tau, old, next);
+      compute_products(d, next);
+      predicted = predictor_solves_step(law, in.coef.c, r, next);
+      if (predicted) next.last_iterations = 0, count(d.counters, &Counters::predicted_steps);
+      else next.products = Products{};  // (U is still the predictor: where the solves start)
+    }
+    if (predicted) {
+      // nothing to solve: the new state and its pass are made
+    } else if (d.contact.a.empty()) {  // no contact: one solve with the cached factor
       next.U.swap(r);  // r: the predictor, where an iterative solve starts
       if (in.held.empty()) in.A_factor->solve_from(next.U.data(), r.data());
       else in.A_factor->solve_at(next.U.data(), static_cast<int64_t>(n), in.held, r.data());
@@ -209,7 +237,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     }
   }
   if (next.tangent_log.i.empty()) next.tangent_log = old.tangent_log;  // no contact solve: the history stays
-  scheme.update(tau, old, next);
+  if (!predicted) scheme.update(tau, old, next);
   // Massless DOFs (mass redistribution): no equation holds their V and A, and
   // the schemes' recursions for them are at best neutral (the hybrid's
   // V^{n+1} = 2 dU/tau - V^n keeps every error). They feed nothing back (M's
@@ -233,7 +261,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // One pass over the points: phi is also the applied pressure (kept in the state).
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
-  compute_products(d, next, &at_U, in.points.get());  // (at_U empty for an implicit step: evaluated there)
+  if (!predicted) compute_products(d, next, &at_U, in.points.get());  // (at_U empty for an implicit step: evaluated there)
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks

@@ -710,6 +710,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_VALUES_RECEIVED, &Counters::values_received},
     {ND_STAT_POINT_VALUES_RECEIVED, &Counters::point_values_received},
     {ND_STAT_KRYLOV_ITERATIONS, &Counters::krylov_iterations},
+    {ND_STAT_PREDICTED_STEPS, &Counters::predicted_steps},
 };
 }  // namespace
 

@@ -72,6 +72,8 @@ class Problem {
   // white-box: whether a step may show its contact checks by the bound
   // (ContactLaw::certainly_free); the same bits either way
   void set_contact_bounds(bool on) { def_.contact_bounds = on; }
+  // white-box: whether a step may be its predictor (solve/predictor_check.hpp)
+  void set_predicted_steps(bool on) { def_.predicted_steps = on; }
 
   // ---- queries
   const Space &space() const { return space_; }

@@ -42,6 +42,7 @@ class GeneralizedAlpha : public TimeScheme {
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, true, U);
   }
+  bool predicts_constant_acceleration() const override { return true; }
   void contact(double P, double Pn, double &value, double &slope) const override {
     const double Y = (1 - af_) * P + af_ * Pn;
     value = Y > 0 ? Y : 0;

@@ -30,6 +30,7 @@ class Newmark : public TimeScheme {
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, true, U);
   }
+  bool predicts_constant_acceleration() const override { return true; }
   void update(double tau, const State &old, State &next) const override {
     if (is_explicit())
       newmark_velocity(gamma_, tau, old, next);

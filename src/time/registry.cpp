@@ -58,6 +58,13 @@ void predict_taylor(double tau, const State &old, bool with_acceleration, std::v
     U[i] = old.U[i] + tau * old.V[i] + (acc ? 0.5 * tau * tau * old.A[i] : 0.0);
 }
 
+void constant_acceleration_update(double tau, const State &old, State &next) {
+  next.A = old.A;
+  next.A_valid = true;
+  next.V.resize(old.V.size());
+  for (size_t i = 0; i < next.V.size(); ++i) next.V[i] = old.V[i] + tau * old.A[i];
+}
+
 // Entry k of a product is row rows[k]: all rows, or this rank's when the
 // products stay on them (Products::rows); the other rows of the result are
 // zero there, and no solve reads them.

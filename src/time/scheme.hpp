@@ -49,7 +49,11 @@ class TimeScheme {
   virtual StepCoefficients coefficients(double tau) const = 0;  // implicit schemes
   virtual void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const = 0;
   // The first guess of U^{n+1}; for an explicit scheme, U^{n+1} itself.
+  // Exact when the acceleration does not change over the step (the Taylor
+  // predictor of the Newmark family): a step may then be its predictor
+  // (solve/predictor_check.hpp).
   virtual void predict(double tau, const State &old, std::vector<double> &U) const = 0;
+  virtual bool predicts_constant_acceleration() const { return false; }
   // phi and d phi / dP at P = P_q(U), given P^n = P_q(U^n); [P]_+ by default.
   // Nondecreasing in P, and zero with its slope below any P where both are
   // zero: ContactLaw::certainly_free relies on it (tests/unit_contact_bounds.cpp).
@@ -85,6 +89,12 @@ std::unique_ptr<TimeScheme> make_generalized_alpha_scheme(const std::vector<doub
 // U = U^n + tau V^n (+ tau^2/2 A^n when with_acceleration and A^n is known):
 // the Taylor predictor the schemes share.
 void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U);
+
+// A step at constant acceleration, the predictor's (predicts_constant_acceleration):
+// U^{n+1} given, A^{n+1} = A^n and V^{n+1} = V^n + tau A^n, what the Newmark
+// relations give from that U^{n+1} without c (U^{n+1} - U^n)'s round-off
+// (c = 1/(beta tau^2) times the round-off of U).
+void constant_acceleration_update(double tau, const State &old, State &next);
 
 // A parameter check shared by the schemes: lo <= x <= hi (NaN fails).
 void require_parameter(double x, double lo, double hi, const char *what);

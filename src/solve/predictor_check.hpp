@@ -1,0 +1,31 @@
+// A step its predictor already solves (DESIGN §4: leave out what a scene does
+// not need). A body in free flight whose acceleration does not change (a
+// rigid motion under a uniform body force: the drop before its impact) has
+// U^{n+1} = U^n + tau V^n + tau^2/2 A^n exactly, the Taylor predictor of
+// Newmark and generalized-alpha. A nonlinear solver checks its first guess
+// before it iterates; here the check costs no product of its own: it reads
+// the new state's pass (M U, K U, P_q), which the step makes anyway.
+#pragma once
+#include <vector>
+
+#include "solve/contact_law.hpp"
+#include "time/state.hpp"
+
+namespace nd {
+
+// Round-offs a predictor's residual may hold: ||G|| <= k eps (||r|| + c ||M U||),
+// newton_tolerance's scale with k eps for its rtol (1e-10 by default).
+// Measured through the drop before the impact (bench/disk_bench, Newmark,
+// tau = 0.05, 200 steps): a direct solve's own residual, computed the same
+// way, is 0.6-1.2 of these units; the predicted steps' at most 0.55-1.23 on
+// disk_h4 P2, disk_h1 P2, disk_h0.5 P1, ball_h4 P2 and ball_h2 P1, 4.3 on
+// disk_h0.5 P2, where A^0's round-off weighs (omega tau)^2/2 more.
+constexpr double kPredictorRoundOffs = 16;
+
+// Whether s.U solves the implicit step G(U) = (c M + K_Theta) U + kappa N(U) - r = 0
+// to round-off, from s.products (valid for s): no contact point active at U
+// (phi_q and its slope zero at every point: N and its tangent vanish) and the
+// residual within kPredictorRoundOffs. Serial operators only.
+bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s);
+
+}  // namespace nd
