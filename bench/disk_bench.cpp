@@ -2,14 +2,19 @@
 // configuration per process so that the peak memory is its own. Prints one
 // CSV row (the header: disk_bench --header): the setup time, the first step
 // (assembly and factorization), the median step of each kind (free flight:
-// no contact before or after; impact: the first step with contact; contact:
-// contact before and after), Newton iterations, the physical floor of a step
+// no contact before or after, solved; predicted: a free-flight step that is
+// its predictor, no solve (solve/predictor_check.hpp); impact: the first
+// step with contact; contact: contact before and after), Newton
+// iterations, the physical floor of a step
 // (one solve with the cached factor of c M + K_Theta, timed in the same run)
 // and each median as a ratio to it, the pass a step makes over M, K and the
 // contact points for its new state (compute_products: the next right-hand
 // side, the energy, P_q), timed alone on the last state, nnz(L) of CHOLMOD's analysis of A
 // (what the library's CHOLMOD backend computes), peak memory (RSS high-water
-// mark). With HISTORY, writes t, E, contact force, Newton iterations and the
+// mark). The solved free-flight steps are those of the run and 20 more
+// timed after it from the state of its first step with the predictor off
+// (Problem::set_predicted_steps): what a free-flight step of a deformed body
+// costs, where a rigid fall is predicted. With HISTORY, writes t, E, contact force, Newton iterations and the
 // step's time per step, to compare with another code (bench/getfem_drop.py).
 //   disk_bench DIM MESH DEGREE TAU T SOLVER [SCHEME [HISTORY]]
 //   SCHEME: hybrid (default) | newmark (Newmark(1/4, 1/2))
@@ -38,7 +43,8 @@ const char *kHeader =
     "dim,mesh,degree,scheme,unknowns,nnz_L,steps,solver,blas_threads,setup_s,first_step_s,loop_s,floor_ms,"
     "free_steps,free_median_ms,impact_steps,impact_median_ms,contact_steps,contact_median_ms,"
     "newton_per_contact_step,contact_per_newton_ms,free_over_floor,impact_over_floor,contact_over_floor,"
-    "contact_per_newton_over_floor,peak_rss_mb,pass_ms,pass_over_floor";
+    "contact_per_newton_over_floor,peak_rss_mb,pass_ms,pass_over_floor,predicted_steps,predicted_median_ms,"
+    "predicted_over_floor";
 
 // nnz(L) of the library's CHOLMOD analysis of A's pattern (its ordering);
 // 0 if the analysis fails.
@@ -96,7 +102,8 @@ int main(int argc, char **argv) {
   }
   const double setup = seconds() - t0;
   const int steps = static_cast<int>(T / tau + 0.5);
-  std::vector<double> free_flight, impact, contact, per_newton;
+  std::vector<double> free_flight, predicted, impact, contact, per_newton;
+  std::vector<unsigned char> after_first;  // the state after the first step
   double newton_contact = 0, first = 0, loop = 0;
   if (history) std::fprintf(history, "t,E,contact_force,newton,step_s\n%.10g,%.12g,%.12g,0,0\n", 0.0,
                             get(p, ND_ENERGY_MECHANICAL), get(p, ND_CONTACT_FORCE));
@@ -112,8 +119,12 @@ int main(int argc, char **argv) {
     const double it = get(p, ND_NEWTON_ITERATIONS), force = get(p, ND_CONTACT_FORCE);
     if (k == 0) {
       first = dt;  // includes assembly and the factorization of c M + K_Theta
+      int64_t size = 0;
+      nd_problem_get_state_size(p, &size);
+      after_first.resize(static_cast<size_t>(size));
+      nd_problem_save_state(p, size, after_first.data());
     } else if (force_before == 0 && force == 0) {
-      free_flight.push_back(dt);
+      (it == 0 ? predicted : free_flight).push_back(dt);
     } else if (force_before == 0) {
       impact.push_back(dt);
     } else if (force > 0) {
@@ -147,6 +158,21 @@ int main(int argc, char **argv) {
     pass_times.push_back(seconds() - t0);
   }
   const double pass = median(pass_times);
+  // solved free-flight steps from the state after the first step
+  p->problem.set_predicted_steps(false);
+  if (nd_problem_load_state(p, static_cast<int64_t>(after_first.size()), after_first.data()) != ND_OK) {
+    std::fprintf(stderr, "%s\n", nd_last_error());
+    return 1;
+  }
+  for (int k = 0; k < 20 && k + 1 < steps; ++k) {
+    t0 = seconds();
+    if (nd_step(p) != ND_OK) {
+      std::fprintf(stderr, "%s\n", nd_last_error());
+      return 1;
+    }
+    const double dt = seconds() - t0;
+    if (get(p, ND_CONTACT_FORCE) == 0 && get(p, ND_NEWTON_ITERATIONS) >= 1) free_flight.push_back(dt);
+  }
   struct rusage ru;
   getrusage(RUSAGE_SELF, &ru);
   const double peak_mb = ru.ru_maxrss / 1024.0;  // before the analysis below allocates
@@ -154,13 +180,13 @@ int main(int argc, char **argv) {
   if (!threads && limit && std::atoi(limit) == 0) threads = "unlimited";
   const char *mesh = std::strrchr(argv[2], '/') ? std::strrchr(argv[2], '/') + 1 : argv[2];
   std::printf("%d,%s,%d,%s,%lld,%lld,%d,%s,%s,%.6f,%.6f,%.6f,%.6f,%zu,%.6f,%zu,%.6f,%zu,%.6f,%.4f,%.6f,%.3f,%.3f,%.3f,"
-              "%.3f,%.1f,%.6f,%.3f\n",
+              "%.3f,%.1f,%.6f,%.3f,%zu,%.6f,%.3f\n",
               dim, mesh, degree, scheme_name, static_cast<long long>(so->A.n), nnz_L(so->A), steps,
               so->A_factor->name(), threads ? threads : "default", setup, first, loop, 1e3 * fl, free_flight.size(),
               1e3 * median(free_flight), impact.size(), 1e3 * median(impact), contact.size(), 1e3 * median(contact),
               contact.empty() ? 0.0 : newton_contact / static_cast<double>(contact.size()), 1e3 * median(per_newton),
               median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb,
-              1e3 * pass, pass / fl);
+              1e3 * pass, pass / fl, predicted.size(), 1e3 * median(predicted), median(predicted) / fl);
   nd_problem_destroy(&p);
   return 0;
 }

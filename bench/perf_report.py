@@ -59,6 +59,12 @@ def pass_over_floor(o):
     return fmt(float(v)) if v else "–"
 
 
+def predicted_over_floor(o):
+    """a predicted free-flight step / floor, or None (none predicted, or a CSV from before that column)"""
+    v = o.get("predicted_over_floor")
+    return float(v) if v and int(o.get("predicted_steps") or 0) > 0 else None
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--results", required=True)
@@ -145,19 +151,27 @@ def main():
     w("- Step kinds: free flight (no contact before or after), impact (the first step with contact), contact "
       "(contact before and after); medians. The floor is one solve with the cached factor of A = cM + K_Θ, "
       "timed in the same process. The first step (assembly and factorization) is in the whole run only.")
+    w("- Free flight is of two kinds. Predicted: a step that is its predictor U^n + τV^n + τ²/2 A^n, no solve "
+      "(`nd_step(3)`; the disk and the ball fall rigidly before the impact, so that these are most of a run's "
+      "free-flight steps). Solved: every other free-flight step (after the release), and 20 more timed after the "
+      "run from the state of its first step with the predictor off: what a free-flight step of a deformed body "
+      "costs. The column free / floor, the GetFEM comparison of free steps and the target below are the solved "
+      "steps'.")
     w("- Peak memory: the RSS high-water mark of each process (GetFEM's includes the Python interpreter, "
       "NumPy and GetFEM's module, about 50 MB).")
     w("")
     w("## Our steps")
     w("")
-    w("| body | P | h | T | unknowns | nnz(L) | setup s | floor ms | free / floor | pass / floor | impact / floor "
+    w("| body | P | h | T | unknowns | nnz(L) | setup s | floor ms | free / floor | predicted / floor (steps) "
+      "| pass / floor | impact / floor "
       "| contact / floor | Newton its / contact step | contact per Newton it. / floor | peak MB |")
-    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    w("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         o = r["o"]
-        w("| %s | %s | %s | %g | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        w("| %s | %s | %s | %g | %s | %s | %s | %s | %s | %s (%s) | %s | %s | %s | %s | %s | %s |" % (
             r["body"], o["degree"], r["h"], r["T"], o["unknowns"], o["nnz_L"], fmt(float(o["setup_s"])),
-            fmt(float(o["floor_ms"])), fmt(float(o["free_over_floor"])), pass_over_floor(o),
+            fmt(float(o["floor_ms"])), fmt(float(o["free_over_floor"])), fmt(predicted_over_floor(o)),
+            o.get("predicted_steps") or "–", pass_over_floor(o),
             fmt(float(o["impact_over_floor"])), fmt(float(o["contact_over_floor"])),
             fmt(float(o["newton_per_contact_step"])), fmt(float(o["contact_per_newton_over_floor"])),
             o["peak_rss_mb"]))
@@ -268,8 +282,14 @@ def main():
     name = lambda r: "%s P%s h=%s" % (r["body"], r["o"]["degree"], r["h"])
     v, r = worst_of(free, max)
     if r:
-        w("- Median free-flight step ≤ 1.3 floor solves: %s (worst %s floors, %s; its new state's pass alone "
-          "costs %s floors)." % (verdict(v <= 1.3), fmt(v), name(r), pass_over_floor(r["o"])))
+        w("- Median free-flight step ≤ 1.3 floor solves, solved steps: %s (worst %s floors, %s; its new state's "
+          "pass alone costs %s floors)." % (verdict(v <= 1.3), fmt(v), name(r), pass_over_floor(r["o"])))
+        pred = [(predicted_over_floor(r["o"]), r) for r in rows]
+        lo, rl = worst_of(pred, min)
+        hi, rh = worst_of(pred, max)
+        if rl:
+            w("  Predicted free-flight steps (the rigid fall, no solve) cost %s (%s) to %s (%s) floors; they "
+              "are not counted against this target." % (fmt(lo), name(rl), fmt(hi), name(rh)))
         over = [r for r in rows if r["o"].get("pass_over_floor") and float(r["o"]["pass_over_floor"]) > 0.3]
         if over:
             w("  Floor + pass exceeds 1.3 floors on %d of %d meshes (%s)." % (
