@@ -85,7 +85,8 @@ nd_problem rigid_fall(int dim, int degree, const SchemeCase &sc, double gap, dou
   int64_t nodes = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   std::vector<double> v0(static_cast<size_t>(nodes * dim));
-  for (size_t i = 0; i < v0.size(); ++i) v0[i] = clamped ? 0.0 : (dim == 2 ? kV2 : kV3)[i % dim];
+  const double *v = dim == 2 ? kV2 : kV3;
+  for (size_t i = 0; i < v0.size(); ++i) v0[i] = clamped ? 0.0 : v[i % static_cast<size_t>(dim)];
   ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nodes, nullptr, v0.data()));
   return p;
 }
