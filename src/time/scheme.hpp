@@ -49,10 +49,10 @@ class TimeScheme {
   virtual StepCoefficients coefficients(double tau) const = 0;  // implicit schemes
   virtual void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const = 0;
   // The first guess of U^{n+1}; for an explicit scheme, U^{n+1} itself.
-  // Exact when the acceleration does not change over the step (the Taylor
-  // predictor of the Newmark family): a step may then be its predictor
-  // (solve/predictor_check.hpp).
   virtual void predict(double tau, const State &old, std::vector<double> &U) const = 0;
+  // Whether predict() is exact when the acceleration does not change over
+  // the step (the Taylor predictor of the Newmark family): a step may then
+  // be its predictor (solve/predictor_check.hpp).
   virtual bool predicts_constant_acceleration() const { return false; }
   // phi and d phi / dP at P = P_q(U), given P^n = P_q(U^n); [P]_+ by default.
   // Nondecreasing in P, and zero with its slope below any P where both are
