@@ -1,8 +1,8 @@
 // A step its predictor already solves (DESIGN §4: leave out what a scene does
 // not need). A body in free flight whose acceleration does not change (a
 // rigid motion under a uniform body force: the drop before its impact) has
-// U^{n+1} = U^n + tau V^n + tau^2/2 A^n exactly, the Taylor predictor of
-// Newmark and generalized-alpha. A nonlinear solver checks its first guess
+// U^{n+1} = U^n + tau V^n + w tau^2 A^n exactly, the predictor of Newmark and
+// generalized-alpha (w = 1/2) and of the theta-scheme (w = theta). A nonlinear solver checks its first guess
 // before it iterates; here the check costs no product of its own: it reads
 // the new state's pass (M U, K U, P_q), which the step makes anyway.
 #pragma once

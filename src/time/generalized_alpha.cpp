@@ -40,7 +40,7 @@ class GeneralizedAlpha : public TimeScheme {
     }
   }
   void predict(double tau, const State &old, std::vector<double> &U) const override {
-    predict_taylor(tau, old, true, U);
+    predict_taylor(tau, old, 0.5, U);
   }
   bool predicts_constant_acceleration() const override { return true; }
   void contact(double P, double Pn, double &value, double &slope) const override {

@@ -24,7 +24,7 @@ class Hybrid : public TimeScheme {
     }
   }
   void predict(double tau, const State &old, std::vector<double> &U) const override {
-    predict_taylor(tau, old, false, U);
+    predict_taylor(tau, old, 0, U);
   }
   // Phi = H(P^n) [(P^n + P)/2]_+ + H(-P^n) ([P^n]_+ + [P]_+)/2, H(0) = 1/2 (paper)
   void contact(double P, double Pn, double &value, double &slope) const override {

@@ -28,7 +28,7 @@ class Newmark : public TimeScheme {
       for (size_t i = 0; i < r.size(); ++i) r[i] += in.F_new[i];
   }
   void predict(double tau, const State &old, std::vector<double> &U) const override {
-    predict_taylor(tau, old, true, U);
+    predict_taylor(tau, old, 0.5, U);
   }
   bool predicts_constant_acceleration() const override { return true; }
   void update(double tau, const State &old, State &next) const override {

@@ -51,11 +51,10 @@ void require_parameter(double x, double lo, double hi, const char *what) {
 
 namespace nd {
 
-void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U) {
+void predict_taylor(double tau, const State &old, double w, std::vector<double> &U) {
   U.resize(old.U.size());
-  const bool acc = with_acceleration && old.A_valid;
-  for (size_t i = 0; i < U.size(); ++i)
-    U[i] = old.U[i] + tau * old.V[i] + (acc ? 0.5 * tau * tau * old.A[i] : 0.0);
+  const bool acc = w != 0 && old.A_valid;
+  for (size_t i = 0; i < U.size(); ++i) U[i] = old.U[i] + tau * old.V[i] + (acc ? w * tau * tau * old.A[i] : 0.0);
 }
 
 void constant_acceleration_update(double tau, const State &old, State &next) {

@@ -86,9 +86,10 @@ std::unique_ptr<TimeScheme> make_newmark_scheme(const std::vector<double> &param
 std::unique_ptr<TimeScheme> make_hybrid_scheme(const std::vector<double> &params);
 std::unique_ptr<TimeScheme> make_generalized_alpha_scheme(const std::vector<double> &params);
 
-// U = U^n + tau V^n (+ tau^2/2 A^n when with_acceleration and A^n is known):
-// the Taylor predictor the schemes share.
-void predict_taylor(double tau, const State &old, bool with_acceleration, std::vector<double> &U);
+// U = U^n + tau V^n (+ w tau^2 A^n when w != 0 and A^n is known): the
+// predictor the schemes share; w = 1/2 (Newmark's Taylor predictor) or the
+// theta-scheme's theta makes it exact at constant acceleration.
+void predict_taylor(double tau, const State &old, double w, std::vector<double> &U);
 
 // A step at constant acceleration, the predictor's (predicts_constant_acceleration):
 // U^{n+1} given, A^{n+1} = A^n and V^{n+1} = V^n + tau A^n, what the Newmark

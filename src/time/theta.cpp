@@ -20,9 +20,12 @@ class Theta : public TimeScheme {
     if (!in.F_new.empty())
       for (size_t i = 0; i < r.size(); ++i) r[i] += in.F_new[i];
   }
+  // U^n + tau V^n + theta tau^2 A^n: with V^{n+1} = V^n + tau A^n it is
+  // U^n + tau (theta V^{n+1} + (1 - theta) V^n), exact at constant acceleration
   void predict(double tau, const State &old, std::vector<double> &U) const override {
-    predict_taylor(tau, old, false, U);
+    predict_taylor(tau, old, th_, U);
   }
+  bool predicts_constant_acceleration() const override { return !is_explicit(); }
   void update(double tau, const State &old, State &next) const override {
     const size_t n = old.U.size();
     next.V.resize(n);
