@@ -22,11 +22,13 @@ inline const SchemeCase kSchemes[] = {
     {ND_SCHEME_GENERALIZED_ALPHA, {0.8}, "generalized-alpha 0.8"},
 };
 
-// speed: the downward velocity at x = 0 (it grows with x: the body turns)
-inline nd_problem drop_scene(int dim, int degree, const SchemeCase &sc, double theta, double gap = 0.02,
-                             double speed = 0.1) {
+// The block of the drops: a rectangle [0,2]x[0,1] (2D) or box [0,2]x[0,1]^2
+// (3D), E = 10, nu = 0.3, rho = 1, its bottom facets (region 1) `gap` above
+// a plane (no contact region when gap <= 0), tau = 0.01; with clamp_x0 its
+// face x = 0 (region 2) clamped. The initial state is the caller's.
+inline nd_problem block_scene(int dim, int degree, const SchemeCase &sc, double theta, double gap,
+                              bool clamp_x0 = false) {
   const double *params = sc.params.empty() ? nullptr : sc.params.data();
-  if (dim == 1) return nd_test_bar(10, degree, sc.scheme, params, theta, 0.0, 0.025);  // (gap, speed: its own)
   nd_mesh m = nullptr;
   nd_problem p = nullptr;
   const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1};
@@ -37,15 +39,29 @@ inline nd_problem drop_scene(int dim, int degree, const SchemeCase &sc, double t
   // the bottom facets (y = 0 in 2D, z = 0 in 3D)
   const double blo[3] = {-1, dim == 2 ? -0.1 : -1, -0.1}, bhi[3] = {3, dim == 2 ? 0.1 : 2, 0.1};
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  const double clo[3] = {-0.1, -1, -1}, chi[3] = {0.1, 2, 2};
+  if (clamp_x0) ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, clo, chi));
   ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  if (clamp_x0) ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
   ND_OK_OR_FAIL(nd_problem_set_material(p, 10.0, 0.3, 1.0));
-  const double plane[3] = {0, dim == 2 ? -gap : 0, dim == 3 ? -gap : 0};
-  const double up[3] = {0, dim == 2 ? 1.0 : 0, dim == 3 ? 1.0 : 0};
-  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, plane, up));
+  if (gap > 0) {
+    const double plane[3] = {0, dim == 2 ? -gap : 0, dim == 3 ? -gap : 0};
+    const double up[3] = {0, dim == 2 ? 1.0 : 0, dim == 3 ? 1.0 : 0};
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, plane, up));
+  }
   ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, 0.0));
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, sc.scheme, params));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  return p;
+}
+
+// speed: the downward velocity at x = 0 (it grows with x: the body turns)
+inline nd_problem drop_scene(int dim, int degree, const SchemeCase &sc, double theta, double gap = 0.02,
+                             double speed = 0.1) {
+  const double *params = sc.params.empty() ? nullptr : sc.params.data();
+  if (dim == 1) return nd_test_bar(10, degree, sc.scheme, params, theta, 0.0, 0.025);  // (gap, speed: its own)
+  nd_problem p = block_scene(dim, degree, sc, theta, gap);
   int64_t nodes = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   std::vector<double> x(static_cast<size_t>(nodes * dim)), v0(x.size(), 0.0);

@@ -42,7 +42,6 @@ const SchemeCase kPredicting[] = {
 // the weight w of tau^2 A^n in the scheme's step at constant acceleration:
 // 1/2 in the Newmark family, theta in the theta-scheme
 double acceleration_weight(const SchemeCase &sc) { return sc.scheme == ND_SCHEME_THETA ? sc.params[0] : 0.5; }
-const double kTau = 0.01;
 
 double scalar(nd_problem p, int key) {
   double x = 0;
@@ -58,36 +57,13 @@ std::vector<double> field(nd_problem p, int which) {
   return f;
 }
 
-// The unit rectangle [0,2]x[0,1] (2D) or box [0,2]x[0,1]^2 (3D), rho = 1
-// (mass 2), moving at v0 under the body force g; its bottom (region 1) is
-// `gap` above a plane (no contact region when gap <= 0).
+// ndtest::block_scene (mass 2) moving at v0 under the body force g; its
+// bottom `gap` above a plane (no contact region when gap <= 0). clamped: the
+// face x = 0 clamped, from rest.
 const double kV2[2] = {0.3, -0.5}, kV3[3] = {0.3, 0.2, -0.5}, kG2[3] = {0, -1, 0}, kG3[3] = {0, 0, -1};
-// clamped: the face x = 0 clamped (region 2), from rest.
 nd_problem rigid_fall(int dim, int degree, const SchemeCase &sc, double gap, double theta = 1, bool clamped = false) {
-  nd_mesh m = nullptr;
-  nd_problem p = nullptr;
-  const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1};
-  if (dim == 2)
-    ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 2, lo, hi, &m));
-  else
-    ND_OK_OR_FAIL(nd_mesh_create_box(2, 1, 1, lo, hi, &m));
-  const double blo[3] = {-1, dim == 2 ? -0.1 : -1, -0.1}, bhi[3] = {3, dim == 2 ? 0.1 : 2, 0.1};
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
-  const double clo[3] = {-0.1, -1, -1}, chi[3] = {0.1, 2, 2};
-  if (clamped) ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, clo, chi));
-  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
-  if (clamped) ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
-  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-  ND_OK_OR_FAIL(nd_problem_set_material(p, 10.0, 0.3, 1.0));
+  nd_problem p = ndtest::block_scene(dim, degree, sc, theta, gap, clamped);
   ND_OK_OR_FAIL(nd_problem_set_body_force(p, dim == 2 ? kG2 : kG3));
-  if (gap > 0) {
-    const double plane[3] = {0, dim == 2 ? -gap : 0, dim == 3 ? -gap : 0};
-    const double up[3] = {0, dim == 2 ? 1.0 : 0, dim == 3 ? 1.0 : 0};
-    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, plane, up));
-  }
-  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, 0.0));
-  ND_OK_OR_FAIL(nd_problem_set_scheme(p, sc.scheme, sc.params.data()));
-  ND_OK_OR_FAIL(nd_problem_set_timestep(p, kTau));
   int64_t nodes = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   std::vector<double> v0(static_cast<size_t>(nodes * dim));
@@ -129,11 +105,11 @@ START_TEST(rigid_fall_is_predicted) {
           for (int k = 1; k <= steps; ++k) {
             ND_OK_OR_FAIL(nd_step(p));
             ck_assert_msg(scalar(p, ND_NEWTON_ITERATIONS) == 0, "%s: step %d solved", what.c_str(), k);
-            const double t = scalar(p, ND_TIME);
+            const double t = scalar(p, ND_TIME), tau = scalar(p, ND_TIMESTEP);
             const std::vector<double> U = field(p, ND_FIELD_DISPLACEMENT);
             double d = 0, m = 0, v2 = 0, gU = 0;
             for (int c = 0; c < dim; ++c) {
-              const double exact = v0[c] * t + g[c] * (0.5 * t * t + (acceleration_weight(sc) - 0.5) * kTau * t);
+              const double exact = v0[c] * t + g[c] * (0.5 * t * t + (acceleration_weight(sc) - 0.5) * tau * t);
               for (int64_t i = 0; i < nodes; ++i) d = std::max(d, std::fabs(U[i * dim + c] - exact));
               m = std::max(m, std::fabs(exact));
               gU += g[c] * exact;
