@@ -64,7 +64,8 @@ inline nd_problem drop_scene(int dim, int degree, const SchemeCase &sc, double t
   nd_problem p = block_scene(dim, degree, sc, theta, gap);
   int64_t nodes = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
-  std::vector<double> x(static_cast<size_t>(nodes * dim)), v0(x.size(), 0.0);
+  const size_t len = static_cast<size_t>(nodes * dim);
+  std::vector<double> x(len), v0(len, 0.0);
   ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nodes, x.data()));
   for (int64_t i = 0; i < nodes; ++i)  // falling and turning: the active set grows from x = 2
     v0[i * dim + dim - 1] = -speed - 0.6 * x[i * dim] + 0.1 * x[i * dim + dim - 1];
