@@ -36,7 +36,7 @@ namespace {
 // factorization) and the symbolic factor.
 class CholmodPattern {
  public:
-  explicit CholmodPattern(const Csr &pattern) : n_(pattern.n) {
+  explicit CholmodPattern(const Csr &pattern) : n_(pattern.n), nnz_(pattern.col.size()) {
     cholmod_l_start(&c_);
     c_.print = 0;  // the library never prints
     // One ordering: METIS's nested dissection (linalg/ordering.hpp), given
@@ -52,10 +52,20 @@ class CholmodPattern {
     c_.nmethods = 1;
     c_.method[0].ordering = perm.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
     c_.postorder = 1;
-    A_ = cholmod_l_allocate_sparse(n_, n_, pattern.col.size(), 1, 1, 1, CHOLMOD_REAL, &c_);
+    // CHOLMOD reads the upper triangle alone (stype 1): it is given only
+    // that, half the entries for its transposes and copies
+    int64_t upper = 0;
+    for (int64_t i = 0; i < n_; ++i)
+      for (int64_t k = pattern.ptr[i]; k < pattern.ptr[i + 1] && pattern.col[k] <= i; ++k) ++upper;
+    A_ = cholmod_l_allocate_sparse(n_, n_, upper, 1, 1, 1, CHOLMOD_REAL, &c_);
     if (A_) {
-      std::memcpy(A_->p, pattern.ptr.data(), sizeof(int64_t) * pattern.ptr.size());
-      std::memcpy(A_->i, pattern.col.data(), sizeof(int64_t) * pattern.col.size());
+      auto *p = static_cast<int64_t *>(A_->p), *r = static_cast<int64_t *>(A_->i);
+      p[0] = 0;
+      for (int64_t i = 0; i < n_; ++i) {  // CSR row i read as CSC column i: its rows <= i
+        int64_t e = p[i];
+        for (int64_t k = pattern.ptr[i]; k < pattern.ptr[i + 1] && pattern.col[k] <= i; ++k) r[e++] = pattern.col[k];
+        p[i + 1] = e;
+      }
       L_ = cholmod_l_analyze_p(A_, perm.empty() ? nullptr : perm.data(), nullptr, 0, &c_);
     }
     if (!L_) {  // a constructor that throws runs no destructor: release here
@@ -76,7 +86,10 @@ class CholmodPattern {
   void factor(const Csr &A, Definiteness &def, cholmod_factor *L) {
     def = Definiteness::Unknown;
     require_finite(A);
-    std::memcpy(A_->x, A.val.data(), sizeof(double) * A.val.size());
+    if (A.n != n_ || A.col.size() != nnz_) fail(ND_ERR_INTERNAL, "CHOLMOD given a matrix of another pattern");
+    auto *upper = static_cast<double *>(A_->x);
+    for (int64_t i = 0, e = 0; i < n_; ++i)  // the upper triangle's values (the pattern's)
+      for (int64_t k = A.ptr[i]; k < A.ptr[i + 1] && A.col[k] <= i; ++k) upper[e++] = A.val[k];
     cholmod_l_factorize(A_, L, &c_);
     if (c_.status == CHOLMOD_NOT_POSDEF)
       fail_not_positive_definite(def, "leading minor " + std::to_string(L->minor + 1) + " is not positive");
@@ -107,6 +120,7 @@ class CholmodPattern {
   }
 
   int64_t n_;
+  size_t nnz_;  // the pattern's entries
   mutable cholmod_common c_;
   cholmod_sparse *A_ = nullptr;
   cholmod_factor *L_ = nullptr;

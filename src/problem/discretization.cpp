@@ -206,10 +206,16 @@ void Discretization::mass_solve(double *x, int solver, bool once) {
     M_factor->solve(x);
     return;
   }
-  // massless DOFs: M + diag(massless) is block diagonal, a unit block on them
-  Csr Mf = M;
-  for (size_t i = 0; i < massless.size(); ++i)
-    if (massless[i]) Mf.val[Mf.find(static_cast<int64_t>(i), static_cast<int64_t>(i))] = 1;
+  // massless DOFs: M + diag(massless) is block diagonal, a unit block on
+  // them (a copy of M only then: 17 MB at disk P2 h=0.5)
+  Csr with_unit_block;
+  if (std::any_of(massless.begin(), massless.end(), [](char m) { return m != 0; })) {
+    with_unit_block = M;
+    for (size_t i = 0; i < massless.size(); ++i)
+      if (massless[i])
+        with_unit_block.val[with_unit_block.find(static_cast<int64_t>(i), static_cast<int64_t>(i))] = 1;
+  }
+  const Csr &Mf = with_unit_block.n ? with_unit_block : M;
   // (whole M only: a rank's rows of a split M are not an operator on its own)
   if (once && !rows_split && Mf.n >= kMassCgMinSize) {
     std::vector<double> y(x, x + Mf.n);
