@@ -210,6 +210,42 @@ START_TEST(every_backend_solves_many_as_one_by_one) {
 }
 END_TEST
 
+// CHOLMOD's forward solve of a column with few nonzeros runs only over the
+// supernodes they reach (the contact points' columns): each column must
+// still be the bits of solve(), whatever its nonzeros, on a factor large
+// enough to be supernodal (1,922 unknowns).
+START_TEST(cholmod_solves_sparse_columns_as_one_by_one) {
+  const nd::Csr A = spd_matrix(30);
+  const int64_t n = A.n;
+  // nonzeros: a contact point's few neighbouring rows; one row at each end;
+  // rows in distant parts of the mesh; none; every row
+  const std::vector<std::vector<int64_t>> nonzeros = {
+      {40, 41, 42, 43}, {0}, {n - 1}, {7, n / 3, n / 2 + 5, n - 20}, {}, {}};
+  const int64_t k = static_cast<int64_t>(nonzeros.size());
+  std::vector<double> X(static_cast<size_t>(n * k), 0.0);
+  for (int64_t j = 0; j < k; ++j)
+    for (int64_t i : nonzeros[j]) X[j * n + i] = 1.0 + 0.25 * static_cast<double>(i % 5);
+  for (int64_t i = 0; i < n; ++i) X[(k - 1) * n + i] = std::cos(0.3 * static_cast<double>(i));
+  nd::Counters counters;
+  auto f = nd::make_factorization(ND_SOLVER_CHOLMOD, A, Structure::SymmetricPositiveDefinite, &counters);
+  f->factor(A, Structure::SymmetricPositiveDefinite);
+  std::vector<double> many = X, one = X;
+  f->solve_many(many.data(), n, k);
+  ck_assert_int_eq(counters.solves, k);
+  for (int64_t j = 0; j < k; ++j) f->solve(one.data() + j * n);
+  for (int64_t j = 0; j < k; ++j)
+    ck_assert_msg(std::memcmp(many.data() + j * n, one.data() + j * n, sizeof(double) * static_cast<size_t>(n)) == 0,
+                  "column %lld differs from solve()'s", static_cast<long long>(j));
+  for (int64_t i = 0; i < n; ++i) ck_assert(many[4 * n + i] == 0);  // the zero column stays zero
+  // and they solve: A x = b for the column with nonzeros in distant rows
+  std::vector<double> Ax(static_cast<size_t>(n));
+  A.multiply(many.data() + 3 * n, Ax.data());
+  double err = 0;
+  for (int64_t i = 0; i < n; ++i) err = std::max(err, std::fabs(Ax[i] - X[3 * n + i]));
+  ck_assert_double_le(err, 1e-12);
+}
+END_TEST
+
 START_TEST(petsc_ids_are_refused_or_solve) {
   const nd::Csr A = spd_matrix(10);
   for (int id : kPetscIds) {
@@ -439,6 +475,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, every_backend_reports_indefinite);
     tcase_add_test(tc, every_backend_solves_nonsymmetric);
     tcase_add_test(tc, every_backend_solves_many_as_one_by_one);
+    tcase_add_test(tc, cholmod_solves_sparse_columns_as_one_by_one);
     tcase_add_test(tc, updatable_cholesky_updates_and_costs);
     tcase_add_test(tc, conjugate_gradients_on_the_mass_matrix);
   }
