@@ -179,6 +179,30 @@ START_TEST(a_pass_over_a_part_reads_its_rows_or_is_refused) {
 }
 END_TEST
 
+// The operators of one problem (M, K, K_Theta, A = c M + K_Theta) share
+// one index array (linalg/csr.hpp's SharedIndex): one copy of the pattern,
+// not four. Writing a shared array copies it first, so the others keep
+// theirs.
+START_TEST(operators_share_one_pattern) {
+  nd_problem p = ndtest::drop_scene(2, 2, ndtest::kSchemes[3], 1.0);
+  ND_OK_OR_FAIL(nd_step(p));
+  nd::Problem &pb = p->problem;
+  const nd::Discretization &d = pb.discretization();
+  const nd::Csr &A = pb.integrator()->A;
+  for (const nd::Csr *op : {&d.K, &d.K_theta, &A}) {
+    ck_assert(op->col.shared_with(d.M.col));
+    ck_assert(op->ptr.shared_with(d.M.ptr));
+  }
+  nd::Csr copy = A;
+  const std::vector<int64_t> before = A.col.vec();
+  copy.col.mut()[0] += 1;  // a copy written apart
+  ck_assert(!copy.col.shared_with(A.col));
+  ck_assert(A.col.vec() == before && d.M.col.shared_with(A.col));
+  ck_assert_int_eq(copy.col[0], before[0] + 1);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 }  // namespace
 
 int main(void) {
@@ -187,6 +211,7 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, each_part_holds_its_rows_bitwise);
   tcase_add_test(tc, a_pass_over_a_part_reads_its_rows_or_is_refused);
+  tcase_add_test(tc, operators_share_one_pattern);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -65,9 +65,10 @@ nd::Csr pattern_of_dof_pairs(const nd::Space &s, const nd::DofMap &dofs, const n
   if (!part.rows && !part.cells) return whole;
   nd::Csr A = whole;  // a part stores its rows that have entries, and no others
   A.part = true;
-  A.ptr.assign(1, 0);
+  std::vector<int64_t> &ptr = A.ptr.mut();
+  ptr.assign(1, 0);
   for (int64_t i = 0; i < whole.n; ++i)
-    if (whole.ptr[i + 1] > whole.ptr[i]) A.held.push_back(i), A.ptr.push_back(whole.ptr[i + 1]);
+    if (whole.ptr[i + 1] > whole.ptr[i]) A.held.push_back(i), ptr.push_back(whole.ptr[i + 1]);
   return A;
 }
 

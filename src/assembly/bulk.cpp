@@ -47,7 +47,8 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
   // rows in node order are in row order (DofMap); a part stores the rows it
   // holds (every free DOF of a node it touches) and no others
   A.part = part.cells || part.rows;
-  A.ptr.assign(1, 0);
+  std::vector<int64_t> &ptr = A.ptr.mut(), &col = A.col.mut();
+  ptr.assign(1, 0);
   for (int64_t v = 0; v < s.n_nodes; ++v) {
     std::vector<int64_t> &adj = adjacent[v];
     std::sort(adj.begin(), adj.end());
@@ -59,20 +60,20 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
       const int64_t r = free[v * d + a];
       if (r < 0 || (A.part && (adj.empty() || !held(r)))) continue;
       if (A.part) A.held.push_back(r);
-      A.ptr.push_back(A.ptr.back() + (held(r) ? columns : 0));
+      ptr.push_back(ptr.back() + (held(r) ? columns : 0));
     }
   }
-  if (!A.part && static_cast<int64_t>(A.ptr.size()) != A.n + 1)
+  if (!A.part && static_cast<int64_t>(ptr.size()) != A.n + 1)
     fail(ND_ERR_INTERNAL, "the free DOFs are not numbered in node order");
-  A.col.resize(static_cast<size_t>(A.ptr.back()));
+  col.resize(static_cast<size_t>(ptr.back()));
   for (int64_t v = 0, at = 0; v < s.n_nodes; ++v)
     for (int a = 0; a < d; ++a) {
       const int64_t r = free[v * d + a];
       if (r < 0 || (A.part && (adjacent[v].empty() || !held(r)))) continue;
-      int64_t k = A.ptr[at++];
+      int64_t k = ptr[at++];
       for (int64_t w : adjacent[v])
         for (int b = 0; b < d; ++b)
-          if (free[w * d + b] >= 0) A.col[k++] = free[w * d + b];
+          if (free[w * d + b] >= 0) col[k++] = free[w * d + b];
     }
   A.val.assign(A.col.size(), 0.0);
   return A;

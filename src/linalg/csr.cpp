@@ -60,15 +60,16 @@ void Csr::add_outer(const std::vector<int64_t> &idx, const double *u, const doub
 Csr csr_from_rows(std::vector<std::vector<int64_t>> rows) {
   Csr A;
   A.n = static_cast<int64_t>(rows.size());
-  A.ptr.assign(rows.size() + 1, 0);
+  std::vector<int64_t> &ptr = A.ptr.mut(), &col = A.col.mut();
+  ptr.assign(rows.size() + 1, 0);
   for (size_t i = 0; i < rows.size(); ++i) {
     auto &r = rows[i];
     std::sort(r.begin(), r.end());
     r.erase(std::unique(r.begin(), r.end()), r.end());
-    A.ptr[i + 1] = A.ptr[i] + static_cast<int64_t>(r.size());
+    ptr[i + 1] = ptr[i] + static_cast<int64_t>(r.size());
   }
-  A.col.reserve(A.ptr.back());
-  for (auto &r : rows) A.col.insert(A.col.end(), r.begin(), r.end());
+  col.reserve(static_cast<size_t>(ptr.back()));
+  for (auto &r : rows) col.insert(col.end(), r.begin(), r.end());
   A.val.assign(A.col.size(), 0.0);
   return A;
 }
@@ -77,7 +78,7 @@ void csr_combine(double a, const Csr &A, double b, const Csr &B, Csr &C) {
   C.n = A.n;
   C.part = A.part;
   C.held = A.held;
-  C.ptr = A.ptr;
+  C.ptr = A.ptr;  // shared, not copied
   C.col = A.col;
   C.val.resize(A.val.size());
   for (size_t k = 0; k < A.val.size(); ++k) C.val[k] = a * A.val[k] + b * B.val[k];

@@ -26,7 +26,7 @@ namespace {
 
 class Klu : public Factorization {
  public:
-  explicit Klu(const Csr &pattern) : n_(pattern.n), ptr_(pattern.ptr), col_(pattern.col) {
+  explicit Klu(const Csr &pattern) : n_(pattern.n), ptr_(pattern.ptr.vec()), col_(pattern.col.vec()) {
     klu_l_defaults(&c_);
     symbolic_ = klu_l_analyze(n_, ptr_.data(), col_.data(), &c_);
     if (!symbolic_) fail_klu(c_.status, "analysis");

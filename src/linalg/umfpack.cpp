@@ -27,7 +27,7 @@ void check_umfpack(int64_t status, const char *what) {
 
 class Umfpack : public Factorization {
  public:
-  explicit Umfpack(const Csr &pattern) : n_(pattern.n), ptr_(pattern.ptr), col_(pattern.col) {
+  explicit Umfpack(const Csr &pattern) : n_(pattern.n), ptr_(pattern.ptr.vec()), col_(pattern.col.vec()) {
     umfpack_dl_defaults(control_);
     std::vector<double> ones(col_.size(), 1.0);  // the ordering depends on the pattern only
     check_umfpack(umfpack_dl_symbolic(n_, n_, ptr_.data(), col_.data(), ones.data(), &symbolic_, control_, nullptr),

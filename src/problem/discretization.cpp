@@ -242,7 +242,7 @@ const Discretization::OwnColumns &Discretization::own_columns() const {
   auto oc = std::make_shared<OwnColumns>();
   if (!K.part) fail(ND_ERR_INTERNAL, "split rows whose operators are not the rank's part");
   K.require_places(own_rows(rows.get()));  // K's entries are then the rank's rows', row after row
-  const std::vector<int64_t> &entries = K.col;
+  const std::vector<int64_t> &entries = K.col.vec();
   std::vector<int64_t> sorted = entries;
   std::sort(sorted.begin(), sorted.end());
   oc->cols.assign(sorted.begin(), std::unique(sorted.begin(), sorted.end()));

@@ -25,20 +25,21 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver) : theta_(d.t
   const Csr &K = d.K_theta;
   if (K.part) fail(ND_ERR_INTERNAL, "mass redistribution on operators split over the ranks");  // (splits_rows)
   A_.n = m;
-  A_.ptr.assign(1, 0);
+  std::vector<int64_t> &ptr = A_.ptr.mut(), &col = A_.col.mut();
+  ptr.assign(1, 0);
   cptr_.assign(1, 0);
   for (int64_t i : dofs_) {
     for (int64_t k = K.ptr[i]; k < K.ptr[i + 1]; ++k) {
       const int64_t j = local[static_cast<size_t>(K.col[k])];
       if (j >= 0) {
-        A_.col.push_back(j);
+        col.push_back(j);
         A_.val.push_back(K.val[k]);
       } else {
         ccol_.push_back(K.col[k]);
         cval_.push_back(K.val[k]);
       }
     }
-    A_.ptr.push_back(static_cast<int64_t>(A_.col.size()));
+    ptr.push_back(static_cast<int64_t>(col.size()));
     cptr_.push_back(static_cast<int64_t>(ccol_.size()));
   }
   M0_ = A_.zeros_like();
