@@ -38,7 +38,10 @@ namespace {
 // factorization) and the symbolic factor.
 class CholmodPattern {
  public:
-  explicit CholmodPattern(const Csr &pattern) : n_(pattern.n), nnz_(pattern.col.size()) {
+  // ordering: METIS's ordering of this pattern if already made (that of
+  // another CholmodPattern's; empty: AMD), else made here
+  explicit CholmodPattern(const Csr &pattern, const std::vector<int64_t> *ordering = nullptr)
+      : n_(pattern.n), nnz_(pattern.col.size()) {
     cholmod_l_start(&c_);
     c_.print = 0;  // the library never prints
     // One ordering: METIS's nested dissection (linalg/ordering.hpp), given
@@ -50,7 +53,8 @@ class CholmodPattern {
     // measured on the bench meshes: nnz(L) 7-26% and the factorization's
     // flops 25-51% lower (disk P2 h=1 and h=0.5, ball P1 h=4 and h=2, ball
     // P2 h=4; the largest gains in 3D).
-    std::vector<int64_t> perm = nested_dissection(pattern);
+    ordering_ = ordering ? *ordering : nested_dissection(pattern);
+    std::vector<int64_t> &perm = ordering_;
     c_.nmethods = 1;
     c_.method[0].ordering = perm.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
     c_.postorder = 1;
@@ -122,7 +126,8 @@ class CholmodPattern {
   }
 
   int64_t n_;
-  size_t nnz_;  // the pattern's entries
+  size_t nnz_;                       // the pattern's entries
+  std::vector<int64_t> ordering_;    // METIS's (empty: AMD's, CHOLMOD's own)
   mutable cholmod_common c_;
   cholmod_sparse *A_ = nullptr;
   cholmod_factor *L_ = nullptr;
@@ -176,6 +181,7 @@ class Cholmod : public Factorization {
   const char *name() const override { return "cholmod"; }
   // the numeric factor (null before the first factorization)
   const cholmod_factor *numeric() const { return def_ == Definiteness::PositiveDefinite ? f_.L_ : nullptr; }
+  const std::vector<int64_t> &ordering() const { return f_.ordering_; }
 
  private:
   CholmodPattern f_;
@@ -259,7 +265,8 @@ double cholmod_factor_nonzeros(const Csr &pattern) {
 // meshes: a simplicial factorization of ball_h2 took 15x longer), then
 // converted to the simplicial LDL^T that the updates modify and the solves use.
 struct UpdatableCholesky::Impl {
-  explicit Impl(const Csr &pattern) : f(pattern), flops(f.c_.fl), lnz(f.c_.lnz) {
+  Impl(const Csr &pattern, const std::vector<int64_t> *ordering)
+      : f(pattern, ordering), flops(f.c_.fl), lnz(f.c_.lnz) {
     const auto *perm = static_cast<const int64_t *>(f.L_->Perm);
     row_of.resize(static_cast<size_t>(f.n_));
     for (int64_t i = 0; i < f.n_; ++i) row_of[perm[i]] = i;  // CHOLMOD wants C(Perm, :)
@@ -282,8 +289,16 @@ struct UpdatableCholesky::Impl {
   std::vector<double> path;                        // see find_paths (empty: not yet)
 };
 
-UpdatableCholesky::UpdatableCholesky(const Csr &pattern, Counters *counters)
-    : impl_(std::make_unique<Impl>(pattern)), counters_(counters) {
+namespace {
+// the ordering of A's CHOLMOD factor, if that is what A_factor is (else null)
+const std::vector<int64_t> *ordering_of(const Factorization *A_factor) {
+  const auto *c = A_factor ? dynamic_cast<const Cholmod *>(&A_factor->backend()) : nullptr;
+  return c ? &c->ordering() : nullptr;
+}
+}  // namespace
+
+UpdatableCholesky::UpdatableCholesky(const Csr &pattern, Counters *counters, const Factorization *ordered_like)
+    : impl_(std::make_unique<Impl>(pattern, ordering_of(ordered_like))), counters_(counters) {
   count(counters_, &Counters::symbolic_analyses);
 }
 UpdatableCholesky::~UpdatableCholesky() = default;

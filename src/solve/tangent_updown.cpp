@@ -78,7 +78,7 @@ class UpdownTangent : public TangentSolver {
       A_factor_.solve_from(x, guess);
       return;
     }
-    if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_);
+    if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_, &A_factor_);
     if (!synced_) replay(cp, d_new_);
     update_to(cp, d_new_);
     ++stats.lowrank;
