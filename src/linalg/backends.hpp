@@ -11,6 +11,8 @@ std::unique_ptr<Factorization> make_banded_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &pattern);
 // nnz(L) of the CHOLMOD backend's analysis of the pattern (its ordering), for reports
 double cholmod_factor_nonzeros(const Csr &pattern);
+// does that analysis choose a supernodal factor? (for tests of its paths)
+bool cholmod_is_supernodal(const Csr &pattern);
 std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_klu_factorization(const Csr &pattern);
 #ifdef ND_HAVE_PETSC

@@ -25,13 +25,10 @@ class SharedIndex {
  public:
   SharedIndex() : v_(std::make_shared<std::vector<int64_t>>()) {}
   size_t size() const { return v_->size(); }
-  bool empty() const { return v_->empty(); }
   const int64_t &operator[](size_t i) const { return (*v_)[i]; }
   const int64_t *data() const { return v_->data(); }
   std::vector<int64_t>::const_iterator begin() const { return v_->cbegin(); }
   std::vector<int64_t>::const_iterator end() const { return v_->cend(); }
-  int64_t front() const { return v_->front(); }
-  int64_t back() const { return v_->back(); }
   const std::vector<int64_t> &vec() const { return *v_; }
   // the array to write (its own, copied first when shared)
   std::vector<int64_t> &mut() {
@@ -40,7 +37,6 @@ class SharedIndex {
   }
   bool shared_with(const SharedIndex &o) const { return v_ == o.v_; }
   bool operator==(const SharedIndex &o) const { return v_ == o.v_ || *v_ == *o.v_; }
-  bool operator!=(const SharedIndex &o) const { return !(*this == o); }
 
  private:
   std::shared_ptr<std::vector<int64_t>> v_;
