@@ -25,15 +25,16 @@ inline const SchemeCase kSchemes[] = {
 // The block of the drops: a rectangle [0,2]x[0,1] (2D) or box [0,2]x[0,1]^2
 // (3D), E = 10, nu = 0.3, rho = 1, its bottom facets (region 1) `gap` above
 // a plane (no contact region when gap <= 0), tau = 0.01; with clamp_x0 its
-// face x = 0 (region 2) clamped. The initial state is the caller's.
+// face x = 0 (region 2) clamped; refine (2D): 4 refine x 2 refine cells.
+// The initial state is the caller's.
 inline nd_problem block_scene(int dim, int degree, const SchemeCase &sc, double theta, double gap,
-                              bool clamp_x0 = false) {
+                              bool clamp_x0 = false, int refine = 1) {
   const double *params = sc.params.empty() ? nullptr : sc.params.data();
   nd_mesh m = nullptr;
   nd_problem p = nullptr;
   const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1};
   if (dim == 2)
-    ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 2, lo, hi, &m));
+    ND_OK_OR_FAIL(nd_mesh_create_rectangle(4 * refine, 2 * refine, lo, hi, &m));
   else
     ND_OK_OR_FAIL(nd_mesh_create_box(2, 1, 1, lo, hi, &m));
   // the bottom facets (y = 0 in 2D, z = 0 in 3D)
@@ -58,10 +59,10 @@ inline nd_problem block_scene(int dim, int degree, const SchemeCase &sc, double 
 
 // speed: the downward velocity at x = 0 (it grows with x: the body turns)
 inline nd_problem drop_scene(int dim, int degree, const SchemeCase &sc, double theta, double gap = 0.02,
-                             double speed = 0.1) {
+                             double speed = 0.1, int refine = 1) {
   const double *params = sc.params.empty() ? nullptr : sc.params.data();
   if (dim == 1) return nd_test_bar(10, degree, sc.scheme, params, theta, 0.0, 0.025);  // (gap, speed: its own)
-  nd_problem p = block_scene(dim, degree, sc, theta, gap);
+  nd_problem p = block_scene(dim, degree, sc, theta, gap, false, refine);
   int64_t nodes = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   const size_t len = static_cast<size_t>(nodes * dim);

@@ -225,19 +225,26 @@ END_TEST
 // supernodes they reach (the contact points' columns): each column must
 // still be the bits of solve(), whatever its nonzeros, on a factor large
 // enough to be supernodal (1,922 unknowns).
-START_TEST(cholmod_solves_sparse_columns_as_one_by_one) {
-  const nd::Csr A = spd_matrix(30);
-  ck_assert(nd::cholmod_is_supernodal(A));  // else the path under test is not taken
-  const int64_t n = A.n;
-  // nonzeros: a contact point's few neighbouring rows; one row at each end;
-  // rows in distant parts of the mesh; none; every row
+// right-hand sides with nonzeros at: a contact point's few neighbouring
+// rows; one row at each end; rows in distant parts of the mesh; none (the
+// 5th); every row (the 6th)
+std::vector<double> sparse_columns(int64_t n, int64_t &k) {
   const std::vector<std::vector<int64_t>> nonzeros = {
       {40, 41, 42, 43}, {0}, {n - 1}, {7, n / 3, n / 2 + 5, n - 20}, {}, {}};
-  const int64_t k = static_cast<int64_t>(nonzeros.size());
+  k = static_cast<int64_t>(nonzeros.size());
   std::vector<double> X(static_cast<size_t>(n * k), 0.0);
   for (int64_t j = 0; j < k; ++j)
     for (int64_t i : nonzeros[j]) X[j * n + i] = 1.0 + 0.25 * static_cast<double>(i % 5);
   for (int64_t i = 0; i < n; ++i) X[(k - 1) * n + i] = std::cos(0.3 * static_cast<double>(i));
+  return X;
+}
+
+START_TEST(cholmod_solves_sparse_columns_as_one_by_one) {
+  const nd::Csr A = spd_matrix(30);
+  ck_assert(nd::cholmod_is_supernodal(A));  // else the path under test is not taken
+  const int64_t n = A.n;
+  int64_t k = 0;
+  const std::vector<double> X = sparse_columns(n, k);
   nd::Counters counters;
   auto f = nd::make_factorization(ND_SOLVER_CHOLMOD, A, Structure::SymmetricPositiveDefinite, &counters);
   f->factor(A, Structure::SymmetricPositiveDefinite);
@@ -252,6 +259,53 @@ START_TEST(cholmod_solves_sparse_columns_as_one_by_one) {
   double err = 0;
   for (int64_t i = 0; i < n; ++i) err = std::max(err, std::fabs(Ax[i] - X[3 * n + i]));
   ck_assert_double_le(err, 1e-12);
+}
+END_TEST
+
+// CHOLMOD's solve of a block kept at a few rows (the contact points' DOFs)
+// runs its backward solve only over the supernodes of those rows and their
+// ancestors: each kept value must be the bits of solve()'s, whatever the
+// rows; a factor too small to be supernodal solves whole, as before.
+START_TEST(cholmod_solves_columns_at_few_rows_as_whole) {
+  const nd::Csr A = spd_matrix(30);
+  ck_assert(nd::cholmod_is_supernodal(A));
+  const int64_t n = A.n;
+  int64_t k = 0;
+  const std::vector<double> X = sparse_columns(n, k);
+  nd::Counters counters;
+  auto f = nd::make_factorization(ND_SOLVER_CHOLMOD, A, Structure::SymmetricPositiveDefinite, &counters);
+  f->factor(A, Structure::SymmetricPositiveDefinite);
+  ck_assert(f->solves_at_rows_only());
+  std::vector<double> whole = X;
+  for (int64_t j = 0; j < k; ++j) f->solve(whole.data() + j * n);
+  // kept rows: a few neighbours; the first; the last; spread out (unsorted); every row
+  std::vector<int64_t> every(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) every[i] = i;
+  const std::vector<std::vector<int64_t>> kept = {{40, 41, 42, 43}, {0}, {n - 1}, {n - 20, 7, n / 2, n / 3}, every};
+  for (const std::vector<int64_t> &at : kept) {
+    const size_t m = at.size();
+    std::vector<double> x = X, out(m * static_cast<size_t>(k));
+    const int64_t before = counters.solves;
+    f->solve_many_at(x.data(), n, k, at, out.data());
+    ck_assert_int_eq(counters.solves - before, k);
+    for (int64_t j = 0; j < k; ++j)
+      for (size_t i = 0; i < m; ++i)
+        ck_assert_msg(std::memcmp(&out[j * m + i], &whole[j * n + at[i]], sizeof(double)) == 0,
+                      "column %lld at row %lld: %.17g, solve() %.17g", static_cast<long long>(j),
+                      static_cast<long long>(at[i]), out[j * m + i], whole[j * n + at[i]]);
+  }
+  // simplicial: whole solves, the same values
+  const nd::Csr B = spd_matrix(4);
+  ck_assert(!nd::cholmod_is_supernodal(B));
+  auto g = nd::make_factorization(ND_SOLVER_CHOLMOD, B, Structure::SymmetricPositiveDefinite);
+  g->factor(B, Structure::SymmetricPositiveDefinite);
+  ck_assert(!g->solves_at_rows_only());
+  std::vector<double> b(static_cast<size_t>(B.n)), b_whole, b_out(2);
+  for (int64_t i = 0; i < B.n; ++i) b[i] = std::sin(1.0 + static_cast<double>(i));
+  b_whole = b;
+  g->solve(b_whole.data());
+  g->solve_many_at(b.data(), B.n, 1, {3, 1}, b_out.data());
+  ck_assert(b_out[0] == b_whole[3] && b_out[1] == b_whole[1]);
 }
 END_TEST
 
@@ -485,6 +539,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, every_backend_solves_nonsymmetric);
     tcase_add_test(tc, every_backend_solves_many_as_one_by_one);
     tcase_add_test(tc, cholmod_solves_sparse_columns_as_one_by_one);
+    tcase_add_test(tc, cholmod_solves_columns_at_few_rows_as_whole);
     tcase_add_test(tc, updatable_cholesky_updates_and_costs);
     tcase_add_test(tc, conjugate_gradients_on_the_mass_matrix);
   }

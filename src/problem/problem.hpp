@@ -69,6 +69,12 @@ class Problem {
     def_.tangent = t;
     integrator_.reset();
   }
+  // white-box: whether the contact columns may be held at the points' DOFs
+  // alone (else whole); drops the integrator
+  void set_columns_at_points(bool on) {
+    def_.columns_at_points = on;
+    integrator_.reset();
+  }
   // white-box: whether a step may show its contact checks by the bound
   // (ContactLaw::certainly_free); the same bits either way
   void set_contact_bounds(bool on) { def_.contact_bounds = on; }

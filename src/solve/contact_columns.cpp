@@ -25,8 +25,11 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
   if (&cp == cp_ && theta == theta_) return false;
   std::vector<std::vector<double>> Z(cp.size());  // allocate first, commit after
   std::vector<int64_t> position(cp.size(), -1), at, place;
-  if (rows_) {  // own rows and the points' DOFs (a distributed state's rows)
-    at = state_rows_ ? *state_rows_ : rows_and_points(n_, *rows_, cp);
+  // own rows and the points' DOFs (a distributed state's rows); on one
+  // process the points' DOFs alone when the solves make only those
+  if (rows_) at = state_rows_ ? *state_rows_ : rows_and_points(n_, *rows_, cp);
+  else if (at_points_ && A_factor_.solves_at_rows_only()) at = point_unknowns(n_, cp);
+  if (!at.empty()) {
     place.assign(static_cast<size_t>(n_), -1);
     for (size_t k = 0; k < at.size(); ++k) place[at[k]] = static_cast<int64_t>(k);
   }
@@ -132,7 +135,7 @@ void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const doubl
 }
 
 bool ContactColumns::solve_held(double *x, const double *guess) const {
-  if (at_.empty()) {
+  if (at_.empty() || !rows_) {  // (a sum of columns at the points' DOFs alone is no state: whole)
     A_factor_.solve_from(x, guess);
     return false;
   }

@@ -14,6 +14,12 @@
 // rest. A solve then gathers those few values, not the whole solution. With
 // a distributed state the columns are held at its rows instead, and a sum
 // of them is left there.
+//
+// On one process, when A's factor solves for a few unknowns at a fraction
+// of a solve's cost (Factorization::solves_at_rows_only: supernodal
+// CHOLMOD), a column is held at the contact points' DOFs alone: G and P
+// read nothing else, and the sum of columns that would make a whole vector
+// is then a solve instead (sums_whole() false).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -29,10 +35,16 @@ class ContactColumns {
   // state_rows (with rows): a distributed state's rows (Integrator::held, a
   // superset of those above): the columns are held there, and a sum of them
   // is then all a step reads (complete() does nothing)
+  // at_points: on one process, the columns may be held at the points' DOFs
+  // alone (when the factor solves for those alone); else whole
   ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns, const Share *rows = nullptr,
-                 const std::vector<int64_t> *state_rows = nullptr)
-      : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows), state_rows_(state_rows) {}
+                 const std::vector<int64_t> *state_rows = nullptr, bool at_points = true)
+      : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows), state_rows_(state_rows),
+        at_points_(at_points) {}
   bool holds_state() const { return state_rows_ != nullptr; }
+  // is a sum of columns, after complete(), right at every unknown? (not
+  // when they are held at the points' DOFs alone: then b_q's sum is solved)
+  bool sums_whole() const { return at_.empty() || rows_ != nullptr; }
   // for one set of contact rows and one Theta; true when that changed (the cache is then empty)
   bool bind(const ContactPoints &cp, double theta);
   // Z_q for every q of S
@@ -67,6 +79,7 @@ class ContactColumns {
   int64_t n_, max_columns_, held_ = 0, computed_ = 0;
   const Share *rows_;
   const std::vector<int64_t> *state_rows_;
+  bool at_points_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
   std::vector<int64_t> at_;     // the unknowns a column holds, ascending (empty: all n)

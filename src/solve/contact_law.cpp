@@ -176,6 +176,23 @@ std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Sh
   });
 }
 
+namespace {
+// the unknowns marked, ascending
+std::vector<int64_t> marked(const std::vector<char> &read) {
+  std::vector<int64_t> held;
+  for (size_t i = 0; i < read.size(); ++i)
+    if (read[i]) held.push_back(static_cast<int64_t>(i));
+  return held;
+}
+}  // namespace
+
+std::vector<int64_t> point_unknowns(int64_t n, const ContactPoints &cp) {
+  std::vector<char> read(static_cast<size_t>(n), 0);
+  for (size_t q = 0; q < cp.size(); ++q)
+    for (int64_t i : cp.a[q].idx) read[i] = 1;  // (s_q has a_q's index list)
+  return marked(read);
+}
+
 std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const ContactPoints &cp, const Csr *A,
                                      const std::vector<const Csr *> &also, const std::vector<int64_t> *points) {
   std::vector<char> read(static_cast<size_t>(n), 0);
@@ -194,10 +211,7 @@ std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const Contact
   } else {
     for (int64_t q = 0, m = static_cast<int64_t>(cp.size()); q < m; ++q) point(q);
   }
-  std::vector<int64_t> held;
-  for (int64_t i = 0; i < n; ++i)
-    if (read[i]) held.push_back(i);
-  return held;
+  return marked(read);
 }
 
 std::shared_ptr<const HeldPoints> held_points(const ContactPoints &cp, const Halo &halo) {

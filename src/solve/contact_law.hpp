@@ -39,6 +39,9 @@ std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const Contact
                                      const Csr *A = nullptr, const std::vector<const Csr *> &also = {},
                                      const std::vector<int64_t> *points = nullptr);
 
+// The unknowns (ascending) of every contact point's rows: all that P_q reads.
+std::vector<int64_t> point_unknowns(int64_t n, const ContactPoints &cp);
+
 // The contact points a rank holds with a distributed state whose Newton
 // passes read a halo (slice 12): the halo's points (its own and those whose
 // rows touch its rows) and every point with rows on clamped DOFs (every

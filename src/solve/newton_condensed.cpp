@@ -36,6 +36,17 @@ void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const 
   columns.subtract_each(S, f.data(), U.data());
 }
 
+// U = A^{-1} (r - sum_{j in S} c_j phi_j b_j), the same as form_U's sum in
+// exact arithmetic: one solve, for columns held at the points' DOFs alone
+void solve_U(const Factorization &A_factor, const ContactLaw &law, const std::vector<double> &r,
+             const std::vector<int64_t> &S, const std::vector<double> &phi, const std::vector<double> &c,
+             std::vector<double> &U) {
+  U = r;
+  for (size_t j = 0; j < S.size(); ++j)
+    if (phi[j] != 0) add_b(*law.cp, law.theta, static_cast<size_t>(S[j]), -c[S[j]] * phi[j], U.data());
+  A_factor.solve(U.data());
+}
+
 }  // namespace
 
 CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
@@ -175,6 +186,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (grew || active != previous) continue;
     // the set held through an iteration: F is linear there and the step solved it
     if (!any_force) U.swap(y0);  // no contact force: U = A^{-1} r
+    else if (!columns.sums_whole()) solve_U(A_factor, law, r, S, phi, c, U);
     else if (through_U) U.swap(Ut);
     else form_U(y0, S, phi, c, columns, U);
     if (any_force || y0_held) columns.complete(U.data());  // (Ut read only the points' DOFs, which are held)

@@ -15,7 +15,9 @@
 // active are kept. A Newton iteration in persistent contact costs
 // one solve with A's factor, k sparse dot products, the k x k triangular solves
 // with the capacitance's LU (kept while the active set and D stay) and n k for
-// Z w. Only D changes between iterations (the slopes), so only I + D G is rebuilt.
+// Z w (or, past two_solve_rank, and always when the columns are held at the
+// points' DOFs alone, a second solve). Only D changes between iterations (the
+// slopes), so only I + D G is rebuilt.
 #include <lapacke.h>
 
 #include <algorithm>
@@ -86,7 +88,8 @@ class LowRankTangent : public TangentSolver {
     ++stats.lowrank;
     columns_->require(active_);
     stats.columns = columns_->computed();
-    const bool two_solves = two_solve_rank_ >= 0 && k > two_solve_rank_;
+    // (columns held at the points' DOFs alone: Z w is not whole, the second solve is)
+    const bool two_solves = (two_solve_rank_ >= 0 && k > two_solve_rank_) || !columns_->sums_whole();
     if (two_solves) x0_.assign(x, x + A_.n);
     solve_y(x);  // y
     // (I + D G) w = D P^T y; its LU is kept while the active set and D stay
