@@ -186,7 +186,7 @@ class Cholmod : public Factorization {
   // ancestors (which alone they read): the contact points' DOFs reach 20-40 %
   // of L's entries in 2D, and a column then costs a fraction of a solve.
   void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override;
-  bool solves_at_rows_only() const override { return sparse_solves(f_.n_); }
+  double backward_share_at(const std::vector<int64_t> &at) const override;
   Definiteness definiteness() const override { return def_; }
   const char *name() const override { return "cholmod"; }
   // the numeric factor (null before the first factorization)
@@ -202,6 +202,10 @@ class Cholmod : public Factorization {
            def_ == Definiteness::PositiveDefinite && L->maxesize <= static_cast<size_t>(INT32_MAX) &&
            n <= INT32_MAX && n == f_.n_;
   }
+  // the supernodes the backward solve needs for the unknowns `at`: theirs
+  // and their ancestors' (a supernode reads the rows below its diagonal
+  // block, which are its ancestors'); and each unknown's row in L
+  std::vector<char> needed_for(const std::vector<int64_t> &at, std::vector<int64_t> &kept_row) const;
   // y = L^{-1} P x over the supernodes x's nonzeros reach (the others stay
   // zero); reached and e are workspaces (ns and maxesize long)
   void forward(const double *x, std::vector<double> &y, std::vector<char> &reached, std::vector<double> &e) const;
@@ -275,26 +279,45 @@ void Cholmod::solve_many(double *x, int64_t n, int64_t k) const {
   }
 }
 
+std::vector<char> Cholmod::needed_for(const std::vector<int64_t> &at, std::vector<int64_t> &kept_row) const {
+  const int64_t n = f_.n_;
+  const auto *perm = static_cast<const int64_t *>(f_.L_->Perm);
+  std::vector<int64_t> row_of(static_cast<size_t>(n));
+  for (int64_t c = 0; c < n; ++c) row_of[perm[c]] = c;
+  std::vector<char> needed(f_.L_->nsuper, 0);
+  kept_row.resize(at.size());
+  for (size_t i = 0; i < at.size(); ++i) {
+    if (at[i] < 0 || at[i] >= n) fail(ND_ERR_INTERNAL, "solve_many_at: an unknown out of range");
+    kept_row[i] = row_of[at[i]];
+    for (int64_t s = tree_->of_column[kept_row[i]]; s >= 0 && !needed[s]; s = tree_->parent[s]) needed[s] = 1;
+  }
+  return needed;
+}
+
+double Cholmod::backward_share_at(const std::vector<int64_t> &at) const {
+  if (!sparse_solves(f_.n_)) return 1.0;
+  const auto *px = static_cast<const int64_t *>(f_.L_->px);
+  std::vector<int64_t> kept_row;
+  const std::vector<char> needed = needed_for(at, kept_row);
+  double part = 0, all = 0;  // L's entries, those of the needed supernodes
+  for (size_t s = 0; s < needed.size(); ++s) {
+    const double entries = static_cast<double>(px[s + 1] - px[s]);
+    all += entries;
+    if (needed[s]) part += entries;
+  }
+  return all > 0 ? part / all : 1.0;
+}
+
 void Cholmod::solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const {
   if (!sparse_solves(n)) return Factorization::solve_many_at(x, n, k, at, out);
   const cholmod_factor *L = f_.L_;
   const auto *super = static_cast<const int64_t *>(L->super), *pi = static_cast<const int64_t *>(L->pi);
   const auto *px = static_cast<const int64_t *>(L->px), *rows = static_cast<const int64_t *>(L->s);
-  const auto *perm = static_cast<const int64_t *>(L->Perm);
   const auto *Lx = static_cast<const double *>(L->x);
   const int64_t ns = static_cast<int64_t>(L->nsuper);
   const size_t m = at.size();
-  // each kept unknown's row in L, and the supernodes the backward solve needs
-  // for them: theirs and the ancestors (a supernode reads the rows below its
-  // diagonal block, which are its ancestors')
-  std::vector<int64_t> row_of(static_cast<size_t>(n)), kept_row(m);
-  for (int64_t c = 0; c < n; ++c) row_of[perm[c]] = c;
-  std::vector<char> needed(static_cast<size_t>(ns), 0);
-  for (size_t i = 0; i < m; ++i) {
-    if (at[i] < 0 || at[i] >= n) fail(ND_ERR_INTERNAL, "solve_many_at: an unknown out of range");
-    kept_row[i] = row_of[at[i]];
-    for (int64_t s = tree_->of_column[kept_row[i]]; s >= 0 && !needed[s]; s = tree_->parent[s]) needed[s] = 1;
-  }
+  std::vector<int64_t> kept_row;
+  const std::vector<char> needed = needed_for(at, kept_row);
   std::vector<double> y(static_cast<size_t>(n)), e(std::max<size_t>(L->maxesize, 1));
   std::vector<char> reached(static_cast<size_t>(ns));
   const int one = 1;

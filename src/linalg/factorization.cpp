@@ -134,7 +134,7 @@ class Counted : public Factorization {
     c_->values_received += k * f_->received_at(at);
     observed([&] { f_->solve_many_at(x, n, k, at, out); });
   }
-  bool solves_at_rows_only() const override { return f_->solves_at_rows_only(); }
+  double backward_share_at(const std::vector<int64_t> &at) const override { return f_->backward_share_at(at); }
   void solve_from_at(double *x, int64_t n, const double *guess, const std::vector<int64_t> &at,
                      double *out) const override {
     ++c_->solves;

@@ -71,10 +71,14 @@ class Factorization {
   // rows gathers only those to this rank, not every row; the others solve
   // as solve_many (the same bits) and copy.
   virtual void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const;
-  // does solve_many_at compute the unknowns `at` alone (a fraction of a
-  // solve when they are few, supernodal CHOLMOD), rather than whole solves?
-  // A caller then keeps columns at few rows (solve/contact_columns.hpp)
-  virtual bool solves_at_rows_only() const { return false; }
+  // the part of a whole solve's backward work that solve_many_at makes for
+  // the unknowns `at`: 1 when it solves whole (every backend but supernodal
+  // CHOLMOD, which solves only for those). A caller may keep columns at few
+  // rows when that is small (solve/contact_columns.hpp).
+  virtual double backward_share_at(const std::vector<int64_t> &at) const {
+    (void)at;
+    return 1.0;
+  }
   // solve_from, keeping only the unknowns `at`: out[i] = x[at[i]] (one
   // column of solve_many_at, which a direct backend makes; an iterative one
   // starts from the guess)

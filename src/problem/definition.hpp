@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator.hpp"
+#include "solve/contact_columns.hpp"
 #include "solve/newton.hpp"
 
 namespace nd {
@@ -58,9 +59,9 @@ struct Definition {
   int solver = ND_SOLVER_AUTO;
   // the Newton tangent solver (white-box, not in the C API: tests and benchmarks)
   TangentChoice tangent = TangentChoice::Auto;
-  // whether the contact columns may be held at the points' DOFs alone
-  // (solve/contact_columns.hpp; white-box: tests compare with whole columns)
-  bool columns_at_points = true;
+  // where the contact columns are held (solve/contact_columns.hpp;
+  // white-box: tests compare the choices)
+  ColumnRows column_rows = ColumnRows::Auto;
   // the contact checks a step may settle by a bound from P^n (white-box, not
   // in the C API: tests compare the trajectories without it)
   bool contact_bounds = true;

@@ -142,7 +142,7 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
       // on split operators each on the rank's rows and the points' DOFs
       in->columns = std::make_unique<ContactColumns>(
           *in->A_factor, in->A.n, in->max_rank >= 0 ? 2 * in->max_rank : static_cast<int64_t>(d.contact.size()),
-          d.rows_split ? d.rows.get() : nullptr, in->held.empty() ? nullptr : &in->held, def.columns_at_points);
+          d.rows_split ? d.rows.get() : nullptr, in->held.empty() ? nullptr : &in->held, def.column_rows);
       in->tangent = make_lowrank_tangent(in->A, *in->A_factor, def.solver, s, in->max_rank, kLowRankTwoSolveRank,
                                          d.counters, &d.geometry, in->columns.get());
       if (def.tangent != TangentChoice::LowRank) in->condensed = std::make_unique<CondensedCache>(*in->columns);

@@ -69,10 +69,9 @@ class Problem {
     def_.tangent = t;
     integrator_.reset();
   }
-  // white-box: whether the contact columns may be held at the points' DOFs
-  // alone (else whole); drops the integrator
-  void set_columns_at_points(bool on) {
-    def_.columns_at_points = on;
+  // white-box: where the contact columns are held; drops the integrator
+  void set_column_rows(ColumnRows at) {
+    def_.column_rows = at;
     integrator_.reset();
   }
   // white-box: whether a step may show its contact checks by the bound

@@ -28,7 +28,11 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
   // own rows and the points' DOFs (a distributed state's rows); on one
   // process the points' DOFs alone when the solves make only those
   if (rows_) at = state_rows_ ? *state_rows_ : rows_and_points(n_, *rows_, cp);
-  else if (at_points_ && A_factor_.solves_at_rows_only()) at = point_unknowns(n_, cp);
+  else if (at_rows_ != ColumnRows::Whole) {
+    at = point_unknowns(n_, cp);
+    const double share = A_factor_.backward_share_at(at);
+    if (share >= 1 || (at_rows_ == ColumnRows::Auto && share > kColumnsAtPointsShare)) at.clear();
+  }
   if (!at.empty()) {
     place.assign(static_cast<size_t>(n_), -1);
     for (size_t k = 0; k < at.size(); ++k) place[at[k]] = static_cast<int64_t>(k);

@@ -15,11 +15,11 @@
 // a distributed state the columns are held at its rows instead, and a sum
 // of them is left there.
 //
-// On one process, when A's factor solves for a few unknowns at a fraction
-// of a solve's cost (Factorization::solves_at_rows_only: supernodal
-// CHOLMOD), a column is held at the contact points' DOFs alone: G and P
-// read nothing else, and the sum of columns that would make a whole vector
-// is then a solve instead (sums_whole() false).
+// On one process, when A's factor solves for the contact points' DOFs at a
+// small part of a solve's cost (Factorization::backward_share_at, supernodal
+// CHOLMOD), a column is held at those DOFs alone: G and P read nothing
+// else, and the sum of columns that would make a whole vector is then a
+// solve instead (sums_whole() false).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -30,17 +30,30 @@
 
 namespace nd {
 
+// Where the columns are held on one process: at the points' DOFs when the
+// factor's backward solve for them is at most kColumnsAtPointsShare of a
+// whole one (Auto), whole, or at the points' DOFs whenever the factor
+// solves for them alone (white-box: tests compare the two).
+enum class ColumnRows { Auto, Whole, Points };
+
+// Measured (disk_bench, Newmark, the bounce; contact step per Newton
+// iteration, in floors, whole columns -> at the points): the share of
+// L's entries the points' DOFs need 0.43 (disk_h2 P2, 3,250 unknowns)
+// 2.37 -> 2.73; 0.40 (disk_h1 P1, 3,190) 1.38 -> 1.51; 0.35 (disk_h1 P2,
+// 12,498) 2.12 -> 1.79; 0.32 (disk_h0.5 P1) 2.0 -> 1.07; 0.28 (disk_h0.5
+// P2) 1.91 -> 1.27. The balls need 0.82-0.91: whole there.
+constexpr double kColumnsAtPointsShare = 0.375;
+
 class ContactColumns {
  public:
   // state_rows (with rows): a distributed state's rows (Integrator::held, a
   // superset of those above): the columns are held there, and a sum of them
   // is then all a step reads (complete() does nothing)
-  // at_points: on one process, the columns may be held at the points' DOFs
-  // alone (when the factor solves for those alone); else whole
+  // at: on one process, where the columns are held (ColumnRows)
   ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns, const Share *rows = nullptr,
-                 const std::vector<int64_t> *state_rows = nullptr, bool at_points = true)
+                 const std::vector<int64_t> *state_rows = nullptr, ColumnRows at = ColumnRows::Auto)
       : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows), state_rows_(state_rows),
-        at_points_(at_points) {}
+        at_rows_(at) {}
   bool holds_state() const { return state_rows_ != nullptr; }
   // is a sum of columns, after complete(), right at every unknown? (not
   // when they are held at the points' DOFs alone: then b_q's sum is solved)
@@ -79,7 +92,7 @@ class ContactColumns {
   int64_t n_, max_columns_, held_ = 0, computed_ = 0;
   const Share *rows_;
   const std::vector<int64_t> *state_rows_;
-  bool at_points_;
+  ColumnRows at_rows_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
   std::vector<int64_t> at_;     // the unknowns a column holds, ascending (empty: all n)

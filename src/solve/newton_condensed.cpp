@@ -36,15 +36,19 @@ void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const 
   columns.subtract_each(S, f.data(), U.data());
 }
 
-// U = A^{-1} (r - sum_{j in S} c_j phi_j b_j), the same as form_U's sum in
-// exact arithmetic: one solve, for columns held at the points' DOFs alone
-void solve_U(const Factorization &A_factor, const ContactLaw &law, const std::vector<double> &r,
+// U = y0 - A^{-1} sum_{j in S} c_j phi_j b_j, form_U's sum in exact
+// arithmetic, for columns held at the points' DOFs alone: one solve of a
+// right-hand side with the active points' few nonzeros (solve_many: its
+// forward solve only where they reach)
+void solve_U(const Factorization &A_factor, const ContactLaw &law, const std::vector<double> &y0,
              const std::vector<int64_t> &S, const std::vector<double> &phi, const std::vector<double> &c,
              std::vector<double> &U) {
-  U = r;
+  const int64_t n = static_cast<int64_t>(y0.size());
+  U.assign(y0.size(), 0.0);
   for (size_t j = 0; j < S.size(); ++j)
-    if (phi[j] != 0) add_b(*law.cp, law.theta, static_cast<size_t>(S[j]), -c[S[j]] * phi[j], U.data());
-  A_factor.solve(U.data());
+    if (phi[j] != 0) add_b(*law.cp, law.theta, static_cast<size_t>(S[j]), c[S[j]] * phi[j], U.data());
+  A_factor.solve_many(U.data(), n, 1);
+  for (int64_t i = 0; i < n; ++i) U[i] = y0[i] - U[i];
 }
 
 }  // namespace
@@ -186,7 +190,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (grew || active != previous) continue;
     // the set held through an iteration: F is linear there and the step solved it
     if (!any_force) U.swap(y0);  // no contact force: U = A^{-1} r
-    else if (!columns.sums_whole()) solve_U(A_factor, law, r, S, phi, c, U);
+    else if (!columns.sums_whole()) solve_U(A_factor, law, y0, S, phi, c, U);
     else if (through_U) U.swap(Ut);
     else form_U(y0, S, phi, c, columns, U);
     if (any_force || y0_held) columns.complete(U.data());  // (Ut read only the points' DOFs, which are held)
