@@ -221,10 +221,6 @@ START_TEST(every_backend_solves_many_as_one_by_one) {
 }
 END_TEST
 
-// CHOLMOD's forward solve of a column with few nonzeros runs only over the
-// supernodes they reach (the contact points' columns): each column must
-// still be the bits of solve(), whatever its nonzeros, on a factor large
-// enough to be supernodal (1,922 unknowns).
 // right-hand sides with nonzeros at: a contact point's few neighbouring
 // rows; one row at each end; rows in distant parts of the mesh; none (the
 // 5th); every row (the 6th)
@@ -239,15 +235,32 @@ std::vector<double> sparse_columns(int64_t n, int64_t &k) {
   return X;
 }
 
-START_TEST(cholmod_solves_sparse_columns_as_one_by_one) {
-  const nd::Csr A = spd_matrix(30);
-  ck_assert(nd::cholmod_is_supernodal(A));  // else the path under test is not taken
-  const int64_t n = A.n;
-  int64_t k = 0;
-  const std::vector<double> X = sparse_columns(n, k);
+// A CHOLMOD factor large enough to be supernodal (1,922 unknowns), with
+// the right-hand sides of sparse_columns
+struct SupernodalCase {
+  SupernodalCase() : A(spd_matrix(30)), n(A.n), X(sparse_columns(n, k)) {
+    ck_assert(nd::cholmod_is_supernodal(A));  // else the paths under test are not taken
+    f = nd::make_factorization(ND_SOLVER_CHOLMOD, A, Structure::SymmetricPositiveDefinite, &counters);
+    f->factor(A, Structure::SymmetricPositiveDefinite);
+  }
+  nd::Csr A;
+  int64_t n, k = 0;
+  std::vector<double> X;
   nd::Counters counters;
-  auto f = nd::make_factorization(ND_SOLVER_CHOLMOD, A, Structure::SymmetricPositiveDefinite, &counters);
-  f->factor(A, Structure::SymmetricPositiveDefinite);
+  std::unique_ptr<nd::Factorization> f;
+};
+
+// CHOLMOD's forward solve of a column with few nonzeros runs only over the
+// supernodes they reach (the contact points' columns): each column must
+// still be the bits of solve(), whatever its nonzeros, on a factor large
+// enough to be supernodal (1,922 unknowns).
+START_TEST(cholmod_solves_sparse_columns_as_one_by_one) {
+  SupernodalCase c;
+  const nd::Csr &A = c.A;
+  const int64_t n = c.n, k = c.k;
+  const std::vector<double> &X = c.X;
+  const nd::Factorization *f = c.f.get();
+  const nd::Counters &counters = c.counters;
   std::vector<double> many, one;
   const int64_t off = first_column_off(*f, X, n, k, many, one);
   ck_assert_msg(off < 0, "column %lld differs from solve()'s", static_cast<long long>(off));
@@ -267,14 +280,11 @@ END_TEST
 // ancestors: each kept value must be the bits of solve()'s, whatever the
 // rows; a factor too small to be supernodal solves whole, as before.
 START_TEST(cholmod_solves_columns_at_few_rows_as_whole) {
-  const nd::Csr A = spd_matrix(30);
-  ck_assert(nd::cholmod_is_supernodal(A));
-  const int64_t n = A.n;
-  int64_t k = 0;
-  const std::vector<double> X = sparse_columns(n, k);
-  nd::Counters counters;
-  auto f = nd::make_factorization(ND_SOLVER_CHOLMOD, A, Structure::SymmetricPositiveDefinite, &counters);
-  f->factor(A, Structure::SymmetricPositiveDefinite);
+  SupernodalCase c;
+  const int64_t n = c.n, k = c.k;
+  const std::vector<double> &X = c.X;
+  const nd::Factorization *f = c.f.get();
+  const nd::Counters &counters = c.counters;
   // a few rows need a part of the backward solve; every row all of it
   const double share = f->backward_share_at({40, 41, 42, 43});
   ck_assert_msg(share > 0 && share < 0.5, "%g", share);
