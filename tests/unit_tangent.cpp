@@ -52,7 +52,7 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
   int64_t nodes = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(ref, &nodes));
   double worst = 0;
-  int iteration_mismatch = 0;
+  int iteration_mismatch = 0, one_earlier = 0;  // steps; of them, the fast path one iteration fewer
   for (int k = 0; k < steps; ++k) {
     ND_OK_OR_FAIL(nd_step(ref));
     ND_OK_OR_FAIL(nd_step(fast));
@@ -64,6 +64,7 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
     ND_OK_OR_FAIL(nd_get_scalar(ref, ND_NEWTON_ITERATIONS, &it_ref));
     ND_OK_OR_FAIL(nd_get_scalar(fast, ND_NEWTON_ITERATIONS, &it_fast));
     if (it_ref != it_fast) ++iteration_mismatch;
+    if (it_fast == it_ref - 1) ++one_earlier;
   }
   const nd::TangentStats &sr = ref->problem.integrator()->tangent->stats,
                          &sf = fast->problem.integrator()->tangent->stats;
@@ -75,12 +76,16 @@ void compare(int dim, int degree, const SchemeCase &sc, double theta, nd::Tangen
                            " Theta=" + std::to_string(theta);
   ck_assert_msg(worst <= 1e-10, "%s: trajectories differ by %g relative", what.c_str(), worst);
   // (refine > 1: the condensed Newton, which stops when the active set holds,
-  // ends one iteration before the reference, which stops when the residual
-  // is below the tolerance, at one step of the finer rectangle, with whole
-  // columns as with columns at the points' DOFs: compare_columns below
-  // holds those two to the same counts)
-  ck_assert_msg(iteration_mismatch == 0 || (refine > 1 && other == nd::TangentChoice::Condensed),
-                "%s: Newton iteration counts differ at %d steps", what.c_str(), iteration_mismatch);
+  // may end one iteration before the reference, which stops when the
+  // residual is below the tolerance: at 1-2 steps of 30 on the finer
+  // rectangle with Newmark, with whole columns as with columns at the
+  // points' DOFs (compare_columns below holds those two to the same
+  // counts). Only that: never more iterations, never two fewer.)
+  const bool each_one_earlier =
+      refine > 1 && other == nd::TangentChoice::Condensed && one_earlier == iteration_mismatch;
+  ck_assert_msg(iteration_mismatch == 0 || each_one_earlier,
+                "%s: Newton iteration counts differ at %d steps (%d of them one fewer)", what.c_str(),
+                iteration_mismatch, one_earlier);
   ck_assert_msg(sr.refactorizations > 0, "%s: the scene never came into contact", what.c_str());
   const bool updown = other == nd::TangentChoice::Updown;
   ck_assert_msg(std::string(fast->problem.integrator()->tangent->name()) == (updown ? "updown" : "lowrank"), "%s",
