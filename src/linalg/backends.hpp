@@ -13,6 +13,11 @@ std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &pattern);
 double cholmod_factor_nonzeros(const Csr &pattern);
 // does that analysis choose a supernodal factor? (for tests of its paths)
 bool cholmod_is_supernodal(const Csr &pattern);
+// the most columns of one of its supernodes (0: a simplicial factor)
+int64_t cholmod_widest_supernode(const Csr &pattern);
+// Diagonal blocks of a supernodal factor up to this many columns are solved
+// by the library's own loops, wider ones by the BLAS (linalg/cholmod.cpp)
+constexpr int kCholmodOwnTriangle = 32;
 std::unique_ptr<Factorization> make_umfpack_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_klu_factorization(const Csr &pattern);
 #ifdef ND_HAVE_PETSC

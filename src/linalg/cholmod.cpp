@@ -180,7 +180,18 @@ class Cholmod : public Factorization {
     if (s != Structure::SymmetricPositiveDefinite) fail(ND_ERR_INTERNAL, "CHOLMOD given a non-symmetric matrix");
     f_.factor(A, def_);
   }
-  void solve(double *x) const override { f_.solve(x); }
+  // A supernodal factor is solved here (forward and backward below), not by
+  // cholmod_l_solve: its small diagonal blocks (kOwnTriangle) by our own
+  // loops, where OpenBLAS's dtrsv costs more in its call (a buffer taken
+  // under a mutex) than in its arithmetic. Measured against cholmod_l_solve
+  // with one thread: 0.80-0.85 of its time on disk P2 h = 4 ... 1 and P1
+  // h = 1, 0.5, 0.90 on disk P2 h = 0.5, 0.92-0.96 on the balls. The
+  // solves of few nonzeros or few rows below share these loops, so that
+  // they make solve()'s bits.
+  void solve(double *x) const override {
+    if (sparse_solves(f_.n_)) solve_many(x, f_.n_, 1);
+    else f_.solve(x);
+  }
   // Each column as solve() makes it, bit for bit (tests/unit_linalg.cpp),
   // its forward solve only over the supernodes its nonzeros reach: the
   // columns of the contact points (solve/contact_columns.hpp) have a few
@@ -214,18 +225,46 @@ class Cholmod : public Factorization {
   // y = L^{-1} P x over the supernodes x's nonzeros reach (the others stay
   // zero); reached and e are workspaces (ns and maxesize long)
   void forward(const double *x, std::vector<double> &y, std::vector<char> &reached, std::vector<double> &e) const;
+  // y = L^{-T} y over the supernodes `needed` marks (null: all), root
+  // first; e is a workspace (maxesize long)
+  void backward(std::vector<double> &y, std::vector<double> &e, const std::vector<char> *needed) const;
   CholmodPattern f_;
   Definiteness def_ = Definiteness::Unknown;
   std::unique_ptr<SupernodalTree> tree_;  // (supernodal factors)
 };
 
-// The Fortran BLAS, which CHOLMOD's own solve calls: the same routines on
-// the same arguments give the same bits
+// The Fortran BLAS, as CHOLMOD's own solve calls it (its large diagonal
+// blocks and the rows below them)
 extern "C" {
 void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a, const int *lda,
             double *x, const int *incx);
 void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a, const int *lda,
             const double *x, const int *incx, const double *beta, double *y, const int *incy);
+}
+
+// Diagonal blocks of at most kCholmodOwnTriangle columns are solved by the
+// loops below, larger ones by dtrsv (whose blocked kernels win there: our
+// loops on every block made the balls' solves 1.3-1.4x slower). 16, 32 and
+// 64 measured alike on the disks; 32 was the best on the balls.
+constexpr int kOwnTriangle = kCholmodOwnTriangle;
+
+// y = L^{-1} y, L lower triangular, column-major with leading dimension ld
+void lower_solve(int cols, const double *L, int ld, double *y) {
+  for (int j = 0; j < cols; ++j) {
+    const double *Lj = L + static_cast<int64_t>(j) * ld;
+    const double yj = y[j] / Lj[j];
+    y[j] = yj;
+    for (int i = j + 1; i < cols; ++i) y[i] -= Lj[i] * yj;
+  }
+}
+// y = L^{-T} y, L as above
+void lower_transpose_solve(int cols, const double *L, int ld, double *y) {
+  for (int j = cols - 1; j >= 0; --j) {
+    const double *Lj = L + static_cast<int64_t>(j) * ld;
+    double t = y[j];
+    for (int i = j + 1; i < cols; ++i) t -= Lj[i] * y[i];
+    y[j] = t / Lj[j];
+  }
 }
 
 void Cholmod::forward(const double *x, std::vector<double> &y, std::vector<char> &reached,
@@ -249,7 +288,8 @@ void Cholmod::forward(const double *x, std::vector<double> &y, std::vector<char>
     const int below = ld - cols;
     const int64_t *r = rows + pi[s] + cols;
     for (int i = 0; i < below; ++i) e[i] = y[r[i]];
-    dtrsv_("L", "N", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
+    if (cols <= kOwnTriangle) lower_solve(cols, Lx + px[s], ld, y.data() + super[s]);
+    else dtrsv_("L", "N", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
     if (below > 0) {
       dgemv_("N", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, y.data() + super[s], &one, &plus_one,
              e.data(), &one);
@@ -258,27 +298,37 @@ void Cholmod::forward(const double *x, std::vector<double> &y, std::vector<char>
   }
 }
 
+void Cholmod::backward(std::vector<double> &y, std::vector<double> &e, const std::vector<char> *needed) const {
+  const cholmod_factor *L = f_.L_;
+  const auto *super = static_cast<const int64_t *>(L->super), *pi = static_cast<const int64_t *>(L->pi);
+  const auto *px = static_cast<const int64_t *>(L->px), *rows = static_cast<const int64_t *>(L->s);
+  const auto *Lx = static_cast<const double *>(L->x);
+  const int one = 1;
+  const double minus_one = -1.0, plus_one = 1.0;
+  for (int64_t s = static_cast<int64_t>(L->nsuper) - 1; s >= 0; --s) {
+    if (needed && !(*needed)[s]) continue;
+    const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
+    const int below = ld - cols;
+    const int64_t *r = rows + pi[s] + cols;
+    for (int i = 0; i < below; ++i) e[i] = y[r[i]];
+    if (below > 0)
+      dgemv_("C", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, e.data(), &one, &plus_one, y.data() + super[s],
+             &one);
+    if (cols <= kOwnTriangle) lower_transpose_solve(cols, Lx + px[s], ld, y.data() + super[s]);
+    else dtrsv_("L", "C", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
+  }
+}
+
 void Cholmod::solve_many(double *x, int64_t n, int64_t k) const {
   if (!sparse_solves(n)) return Factorization::solve_many(x, n, k);
-  cholmod_factor *L = f_.L_;
+  const cholmod_factor *L = f_.L_;
   const auto *perm = static_cast<const int64_t *>(L->Perm);
   std::vector<double> y(static_cast<size_t>(n)), e(std::max<size_t>(L->maxesize, 1));
   std::vector<char> reached(L->nsuper);
   for (int64_t j = 0; j < k; ++j) {
     double *xj = x + j * n;
     forward(xj, y, reached, e);
-    cholmod_dense Y, E;  // y = L^{-T} y, CHOLMOD's own backward solve
-    std::memset(&Y, 0, sizeof Y);
-    std::memset(&E, 0, sizeof E);
-    Y.nrow = Y.nzmax = Y.d = static_cast<size_t>(n);
-    Y.ncol = 1;
-    Y.x = y.data();
-    E.nrow = E.nzmax = E.d = e.size();
-    E.ncol = 1;
-    E.x = e.data();
-    Y.xtype = E.xtype = CHOLMOD_REAL;
-    Y.dtype = E.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_l_super_ltsolve(L, &Y, &E, &f_.c_)) fail_cholmod(f_.c_.status, "solve");
+    backward(y, e, nullptr);
     for (int64_t c = 0; c < n; ++c) xj[perm[c]] = y[c];  // x = P^T y
   }
 }
@@ -315,31 +365,14 @@ double Cholmod::backward_share_at(const std::vector<int64_t> &at) const {
 void Cholmod::solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const {
   if (!sparse_solves(n)) return Factorization::solve_many_at(x, n, k, at, out);
   const cholmod_factor *L = f_.L_;
-  const auto *super = static_cast<const int64_t *>(L->super), *pi = static_cast<const int64_t *>(L->pi);
-  const auto *px = static_cast<const int64_t *>(L->px), *rows = static_cast<const int64_t *>(L->s);
-  const auto *Lx = static_cast<const double *>(L->x);
-  const int64_t ns = static_cast<int64_t>(L->nsuper);
   const size_t m = at.size();
   std::vector<int64_t> kept_row;
   const std::vector<char> needed = needed_for(at, kept_row);
   std::vector<double> y(static_cast<size_t>(n)), e(std::max<size_t>(L->maxesize, 1));
-  std::vector<char> reached(static_cast<size_t>(ns));
-  const int one = 1;
-  const double minus_one = -1.0, plus_one = 1.0;
+  std::vector<char> reached(L->nsuper);
   for (int64_t j = 0; j < k; ++j) {
     forward(x + j * n, y, reached, e);
-    // y = L^{-T} y on the needed supernodes, root first: the calls of
-    // CHOLMOD's one-column backward solve (cholmod_super_ltsolve)
-    for (int64_t s = ns - 1; s >= 0; --s) {
-      if (!needed[s]) continue;
-      const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
-      const int below = ld - cols;
-      const int64_t *r = rows + pi[s] + cols;
-      for (int i = 0; i < below; ++i) e[i] = y[r[i]];
-      dgemv_("C", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, e.data(), &one, &plus_one,
-             y.data() + super[s], &one);
-      dtrsv_("L", "C", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
-    }
+    backward(y, e, &needed);
     for (size_t i = 0; i < m; ++i) out[static_cast<size_t>(j) * m + i] = y[kept_row[i]];
   }
 }
@@ -353,7 +386,17 @@ double cholmod_factor_nonzeros(const Csr &pattern) {
   return f.c_.lnz;
 }
 
-bool cholmod_is_supernodal(const Csr &pattern) { return CholmodPattern(pattern).L_->is_super; }
+bool cholmod_is_supernodal(const Csr &pattern) { return cholmod_widest_supernode(pattern) > 0; }
+
+int64_t cholmod_widest_supernode(const Csr &pattern) {
+  const CholmodPattern f(pattern);
+  const cholmod_factor *L = f.L_;
+  if (!L->is_super) return 0;
+  const auto *super = static_cast<const int64_t *>(L->super);
+  int64_t widest = 0;
+  for (size_t s = 0; s < L->nsuper; ++s) widest = std::max(widest, super[s + 1] - super[s]);
+  return widest;
+}
 
 // ---- the updatable factor ------------------------------------------------------
 
