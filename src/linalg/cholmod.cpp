@@ -181,13 +181,13 @@ class Cholmod : public Factorization {
     f_.factor(A, def_);
   }
   // A supernodal factor is solved here (forward and backward below), not by
-  // cholmod_l_solve: its small diagonal blocks (kOwnTriangle) by our own
-  // loops, where OpenBLAS's dtrsv costs more in its call (a buffer taken
-  // under a mutex) than in its arithmetic. Measured against cholmod_l_solve
-  // with one thread: 0.80-0.85 of its time on disk P2 h = 4 ... 1 and P1
-  // h = 1, 0.5, 0.90 on disk P2 h = 0.5, 0.92-0.96 on the balls. The
-  // solves of few nonzeros or few rows below share these loops, so that
-  // they make solve()'s bits.
+  // cholmod_l_solve: its small diagonal blocks (kCholmodOwnTriangle) by our
+  // own loops, where OpenBLAS's dtrsv costs more in its call (a buffer taken
+  // under a mutex) than in its arithmetic. Against cholmod_l_solve, one
+  // thread, alternating in one process: 0.77-0.87 of its time on disk P2
+  // h = 4 ... 1 and P1 h = 1, 0.5; 0.90-0.95 on disk P2 h = 0.5; 0.92-1.0
+  // on the balls. The solves of few nonzeros or few rows below share these
+  // loops, so that they make solve()'s bits.
   void solve(double *x) const override {
     if (sparse_solves(f_.n_)) solve_many(x, f_.n_, 1);
     else f_.solve(x);
@@ -242,12 +242,10 @@ void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, 
             const double *x, const int *incx, const double *beta, double *y, const int *incy);
 }
 
-// Diagonal blocks of at most kCholmodOwnTriangle columns are solved by the
-// loops below, larger ones by dtrsv (whose blocked kernels win there: our
+// The diagonal blocks of at most kCholmodOwnTriangle columns are solved by
+// these two loops, wider ones by dtrsv (whose blocked kernels win there: our
 // loops on every block made the balls' solves 1.3-1.4x slower). 16, 32 and
 // 64 measured alike on the disks; 32 was the best on the balls.
-constexpr int kOwnTriangle = kCholmodOwnTriangle;
-
 // y = L^{-1} y, L lower triangular, column-major with leading dimension ld
 void lower_solve(int cols, const double *L, int ld, double *y) {
   for (int j = 0; j < cols; ++j) {
@@ -288,7 +286,7 @@ void Cholmod::forward(const double *x, std::vector<double> &y, std::vector<char>
     const int below = ld - cols;
     const int64_t *r = rows + pi[s] + cols;
     for (int i = 0; i < below; ++i) e[i] = y[r[i]];
-    if (cols <= kOwnTriangle) lower_solve(cols, Lx + px[s], ld, y.data() + super[s]);
+    if (cols <= kCholmodOwnTriangle) lower_solve(cols, Lx + px[s], ld, y.data() + super[s]);
     else dtrsv_("L", "N", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
     if (below > 0) {
       dgemv_("N", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, y.data() + super[s], &one, &plus_one,
@@ -314,7 +312,7 @@ void Cholmod::backward(std::vector<double> &y, std::vector<double> &e, const std
     if (below > 0)
       dgemv_("C", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, e.data(), &one, &plus_one, y.data() + super[s],
              &one);
-    if (cols <= kOwnTriangle) lower_transpose_solve(cols, Lx + px[s], ld, y.data() + super[s]);
+    if (cols <= kCholmodOwnTriangle) lower_transpose_solve(cols, Lx + px[s], ld, y.data() + super[s]);
     else dtrsv_("L", "C", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
   }
 }
