@@ -265,55 +265,67 @@ void lower_transpose_solve(int cols, const double *L, int ld, double *y) {
   }
 }
 
+// A numeric supernodal factor's supernodes, its arrays read once per sweep
+// (not from the factor again behind each BLAS call). Block s: its
+// diagonal block (cols columns from `first`, column-major with leading
+// dimension ld) and the block below it (`below` rows, at the unknowns
+// `rows`), both in L.
+struct Supernodes {
+  explicit Supernodes(const cholmod_factor *F)
+      : count(static_cast<int64_t>(F->nsuper)), super(static_cast<const int64_t *>(F->super)),
+        pi(static_cast<const int64_t *>(F->pi)), px(static_cast<const int64_t *>(F->px)),
+        s_rows(static_cast<const int64_t *>(F->s)), x(static_cast<const double *>(F->x)) {}
+  struct Block {
+    int64_t first;
+    int cols, ld, below;
+    const int64_t *rows;
+    const double *L;
+  };
+  Block operator[](int64_t s) const {
+    const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
+    return Block{super[s], cols, ld, ld - cols, s_rows + pi[s] + cols, x + px[s]};
+  }
+  int64_t count;
+  const int64_t *super, *pi, *px, *s_rows;
+  const double *x;
+};
+const int kOne = 1;
+const double kMinusOne = -1.0, kPlusOne = 1.0;
+
 void Cholmod::forward(const double *x, std::vector<double> &y, std::vector<char> &reached,
                       std::vector<double> &e) const {
-  const cholmod_factor *L = f_.L_;
-  const auto *super = static_cast<const int64_t *>(L->super), *pi = static_cast<const int64_t *>(L->pi);
-  const auto *px = static_cast<const int64_t *>(L->px), *rows = static_cast<const int64_t *>(L->s);
-  const auto *perm = static_cast<const int64_t *>(L->Perm);
-  const auto *Lx = static_cast<const double *>(L->x);
-  const int64_t n = f_.n_, ns = static_cast<int64_t>(L->nsuper);
-  const int one = 1;
-  const double minus_one = -1.0, plus_one = 1.0;
+  const Supernodes L(f_.L_);
+  const auto *perm = static_cast<const int64_t *>(f_.L_->Perm);
   std::fill(reached.begin(), reached.end(), 0);
-  for (int64_t c = 0; c < n; ++c) {  // y = P x, and the supernodes its nonzeros reach
+  for (int64_t c = 0; c < f_.n_; ++c) {  // y = P x, and the supernodes its nonzeros reach
     y[c] = x[perm[c]];
     if (y[c] != 0) tree_->mark_path(c, reached);
   }
-  for (int64_t s = 0; s < ns; ++s) {  // y = L^{-1} y over those (a parent comes after its children)
+  for (int64_t s = 0; s < L.count; ++s) {  // y = L^{-1} y over those (a parent comes after its children)
     if (!reached[s]) continue;
-    const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
-    const int below = ld - cols;
-    const int64_t *r = rows + pi[s] + cols;
-    for (int i = 0; i < below; ++i) e[i] = y[r[i]];
-    if (cols <= kCholmodOwnTriangle) lower_solve(cols, Lx + px[s], ld, y.data() + super[s]);
-    else dtrsv_("L", "N", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
-    if (below > 0) {
-      dgemv_("N", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, y.data() + super[s], &one, &plus_one,
-             e.data(), &one);
-      for (int i = 0; i < below; ++i) y[r[i]] = e[i];
+    const Supernodes::Block b = L[s];
+    double *ys = y.data() + b.first;
+    for (int i = 0; i < b.below; ++i) e[i] = y[b.rows[i]];
+    if (b.cols <= kCholmodOwnTriangle) lower_solve(b.cols, b.L, b.ld, ys);
+    else dtrsv_("L", "N", "N", &b.cols, b.L, &b.ld, ys, &kOne);
+    if (b.below > 0) {
+      dgemv_("N", &b.below, &b.cols, &kMinusOne, b.L + b.cols, &b.ld, ys, &kOne, &kPlusOne, e.data(), &kOne);
+      for (int i = 0; i < b.below; ++i) y[b.rows[i]] = e[i];
     }
   }
 }
 
 void Cholmod::backward(std::vector<double> &y, std::vector<double> &e, const std::vector<char> *needed) const {
-  const cholmod_factor *L = f_.L_;
-  const auto *super = static_cast<const int64_t *>(L->super), *pi = static_cast<const int64_t *>(L->pi);
-  const auto *px = static_cast<const int64_t *>(L->px), *rows = static_cast<const int64_t *>(L->s);
-  const auto *Lx = static_cast<const double *>(L->x);
-  const int one = 1;
-  const double minus_one = -1.0, plus_one = 1.0;
-  for (int64_t s = static_cast<int64_t>(L->nsuper) - 1; s >= 0; --s) {
+  const Supernodes L(f_.L_);
+  for (int64_t s = L.count - 1; s >= 0; --s) {
     if (needed && !(*needed)[s]) continue;
-    const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
-    const int below = ld - cols;
-    const int64_t *r = rows + pi[s] + cols;
-    for (int i = 0; i < below; ++i) e[i] = y[r[i]];
-    if (below > 0)
-      dgemv_("C", &below, &cols, &minus_one, Lx + px[s] + cols, &ld, e.data(), &one, &plus_one, y.data() + super[s],
-             &one);
-    if (cols <= kCholmodOwnTriangle) lower_transpose_solve(cols, Lx + px[s], ld, y.data() + super[s]);
-    else dtrsv_("L", "C", "N", &cols, Lx + px[s], &ld, y.data() + super[s], &one);
+    const Supernodes::Block b = L[s];
+    double *ys = y.data() + b.first;
+    for (int i = 0; i < b.below; ++i) e[i] = y[b.rows[i]];
+    if (b.below > 0)
+      dgemv_("C", &b.below, &b.cols, &kMinusOne, b.L + b.cols, &b.ld, e.data(), &kOne, &kPlusOne, ys, &kOne);
+    if (b.cols <= kCholmodOwnTriangle) lower_transpose_solve(b.cols, b.L, b.ld, ys);
+    else dtrsv_("L", "C", "N", &b.cols, b.L, &b.ld, ys, &kOne);
   }
 }
 
