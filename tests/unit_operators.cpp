@@ -1,11 +1,15 @@
 // Mass and stiffness: total mass, rigid motions, symmetry, and P1 = P2 on
-// fields both spaces represent exactly.
-#include <check.h>
-
+// fields both spaces represent exactly; the products pass by node blocks.
 #include <cmath>
+#include <cstring>
 
 #include "assembly/bulk.hpp"
+#include "linalg/node_blocks.hpp"
 #include "mesh/mesh.hpp"
+#include "monitor/energies.hpp"
+#include "problem/discretization.hpp"  // before check.h, whose fail() macro hides nd::fail
+
+#include <check.h>
 #include "testutil.h"
 #include "unit_fixtures.hpp"
 
@@ -72,13 +76,9 @@ nd::Csr pattern_of_dof_pairs(const nd::Space &s, const nd::DofMap &dofs, const n
   return A;
 }
 
-}  // namespace
-
-// operator_pattern builds the pattern over nodes and expands it: the same
-// rows and columns as the DOF pairs of the cells, with clamped DOFs, on a
-// part of the rows and of the cells (which stores those rows only), in 1D,
-// 2D and 3D, P1 and P2.
-START_TEST(the_pattern_is_the_dof_pairs_of_the_cells) {
+// A line, an irregular rectangle and a cube of 2 x 2 x 2 cells, each with
+// region 7 on its side x = 0 (the cube: z = 0), to clamp.
+std::vector<std::shared_ptr<nd::Mesh>> meshes_with_region_7() {
   const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1}, face_z0[3] = {1, 1, 0}, side_x0[3] = {0, 1, 0};
   auto box = std::make_shared<nd::Mesh>(nd::make_box(2, 2, 2, lo, hi));
   nd::add_region_box(*box, 7, lo, face_z0);
@@ -86,7 +86,17 @@ START_TEST(the_pattern_is_the_dof_pairs_of_the_cells) {
   nd::add_region_box(*rect, 7, lo, side_x0);
   auto line = ndtest::irregular_interval(6, 0, 1);
   nd::add_region_box(*line, 7, lo, lo);  // the end x = 0
-  const std::shared_ptr<nd::Mesh> meshes[] = {line, rect, box};
+  return {line, rect, box};
+}
+
+}  // namespace
+
+// operator_pattern builds the pattern over nodes and expands it: the same
+// rows and columns as the DOF pairs of the cells, with clamped DOFs, on a
+// part of the rows and of the cells (which stores those rows only), in 1D,
+// 2D and 3D, P1 and P2.
+START_TEST(the_pattern_is_the_dof_pairs_of_the_cells) {
+  const std::vector<std::shared_ptr<nd::Mesh>> meshes = meshes_with_region_7();
   int compared = 0;
   for (const auto &mesh : meshes)
     for (int degree = 1; degree <= 2; ++degree) {
@@ -274,6 +284,87 @@ START_TEST(patch_test_constant_strain) {
 }
 END_TEST
 
+// The products pass by node blocks (linalg/node_blocks.hpp) has the bits of
+// the CSR pass: M U, M V, M A, K U and the energy's sums, stored or not, with
+// and without A, consistent and lumped mass, with and without clamped nodes
+// (whose DOFs all leave the numbering), 2D and 3D, P1 and P2 (P2 in 3D has
+// rows of an odd number of blocks: the even and odd sums alternate by
+// block). And the blocks are refused where the operators do not have their
+// form: 1D, M coupling two components or differing between them, a row
+// whose columns are not whole nodes.
+START_TEST(the_node_blocks_pass_has_the_csr_pass_bits) {
+  const std::vector<std::shared_ptr<nd::Mesh>> all = meshes_with_region_7(), meshes = {all[1], all[2]};
+  const std::shared_ptr<nd::Mesh> &box = all[2];
+  int compared = 0;
+  for (const auto &mesh : meshes)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (int clamped = 0; clamped <= 1; ++clamped)
+        for (int lumped = 0; lumped <= 1; ++lumped) {
+          nd::Space s(mesh, degree);
+          nd::Discretization d(nd::DofMap(s, clamped ? std::vector<int>{7} : std::vector<int>{}), lumped);
+          ck_assert(clamped ? d.dofs.n_free < s.n_dofs() : d.dofs.n_free == s.n_dofs());
+          nd::BulkOperators ops = nd::assemble_bulk(s, d.dofs, steel_like);
+          d.K = ops.K;
+          d.M = ops.M;
+          if (lumped)  // the lumped diagonal on the same pattern, as discretize makes it
+            for (int64_t i = 0; i < d.M.n; ++i)
+              for (int64_t k = d.M.ptr[i]; k < d.M.ptr[i + 1]; ++k)
+                d.M.val[k] = d.M.col[k] == i ? ops.M_lumped[i] : 0.0;
+          const auto blocks = nd::make_node_blocks(d.K, d.M, s.dim);
+          ck_assert_msg(blocks != nullptr, "%dD P%d: no blocks", s.dim, degree);
+          const size_t n = static_cast<size_t>(d.K.n);
+          for (int with_A = 0; with_A <= 1; ++with_A) {
+            nd::State st;
+            st.U.resize(n), st.V.resize(n), st.A.resize(n);
+            for (size_t i = 0; i < n; ++i)  // signs and magnitudes that vary
+              st.U[i] = std::sin(1.3 * i + 0.2), st.V[i] = std::cos(0.7 * i) * (i % 3 ? 1 : -40),
+              st.A[i] = std::sin(0.37 * i * i);
+            st.A_valid = with_A;
+            nd::State by_csr = st, by_blocks = st;
+            d.node_blocks = nullptr;
+            nd::compute_products(d, by_csr);
+            const double e_csr = nd::mechanical_energy(d, st);  // (the unstored pass)
+            d.node_blocks = blocks;
+            nd::compute_products(d, by_blocks);
+            const double e_blocks = nd::mechanical_energy(d, st);
+            const nd::Products &a = by_csr.products, &b = by_blocks.products;
+            auto same = [](const std::vector<double> &x, const std::vector<double> &y) {
+              return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
+            };
+            ck_assert_msg(same(a.MU, b.MU) && same(a.MV, b.MV) && same(a.MA, b.MA) && same(a.KU, b.KU),
+                          "%dD P%d clamped %d lumped %d A %d: the products differ", s.dim, degree, clamped, lumped,
+                          with_A);
+            ck_assert(a.MU.size() == n && a.MA.size() == (with_A ? n : 0));
+            ck_assert(std::memcmp(&a.kinetic, &b.kinetic, sizeof(double)) == 0 &&
+                      std::memcmp(&a.strain, &b.strain, sizeof(double)) == 0);
+            ck_assert(std::memcmp(&e_csr, &e_blocks, sizeof(double)) == 0);
+            ck_assert(a.kinetic != 0 && a.strain != 0);
+            ++compared;
+          }
+        }
+  ck_assert_int_eq(compared, 32);
+  {
+    nd::Space s(all[0], 1);
+    nd::BulkOperators ops = nd::assemble_bulk(s, nd::DofMap(s, {}), steel_like);
+    ck_assert(nd::make_node_blocks(ops.K, ops.M, 1) == nullptr);
+  }
+  nd::Space s(box, 1);
+  nd::BulkOperators ops = nd::assemble_bulk(s, nd::DofMap(s, {}), steel_like);
+  ck_assert(nd::make_node_blocks(ops.K, ops.M, 3) != nullptr);
+  nd::Csr coupled = ops.M;
+  coupled.val[coupled.ptr[0] + 1] = 1e-3;  // row 0 (component 0), column 1 (component 1)
+  ck_assert(nd::make_node_blocks(ops.K, coupled, 3) == nullptr);
+  nd::Csr uneven = ops.M;
+  uneven.val[uneven.ptr[1] + 1] *= 1.5;  // row 1's entry on the diagonal of its first block
+  ck_assert(nd::make_node_blocks(ops.K, uneven, 3) == nullptr);
+  nd::Csr K = ops.K, M = ops.M;  // row 0's first two columns swapped: not node 0's DOFs in order
+  std::vector<int64_t> &col = K.col.mut();
+  std::swap(col[0], col[1]);
+  M.col = K.col;
+  ck_assert(nd::make_node_blocks(K, M, 3) == nullptr);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("operators");
   TCase *tc = tcase_create("bulk");
@@ -283,6 +374,7 @@ int main(void) {
   tcase_add_test(tc, p1_and_p2_agree_on_linear_fields);
   tcase_add_test(tc, load_vector_integrates_the_body_force);
   tcase_add_test(tc, patch_test_constant_strain);
+  tcase_add_test(tc, the_node_blocks_pass_has_the_csr_pass_bits);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -28,6 +28,82 @@ namespace {
 // lane sums in the same order as a scalar sum would).
 typedef double Pair __attribute__((vector_size(16)));
 
+// The same pass over K and M by nodes (linalg/node_blocks.hpp), with the
+// same bits: an entry of row i at offset o in the row (o = dim b + e, block
+// b, column component e) is summed in the even or odd sum as o is, in the
+// same order; an entry of M off a block's diagonal is a stored zero that the
+// CSR pass adds as 0 U = +-0, which changes no sum that starts from +0 (of
+// finite values). One process, every row (the stored pass with several ranks
+// keeps to the CSR pattern).
+template <int dim>
+struct NodeSums {
+  // [row component][even, odd]
+  double mu[dim][2] = {}, mv[dim][2] = {}, ma[dim][2] = {}, ku[dim][2] = {};
+};
+
+// the block of column node j (U, V, A at its DOFs), at an even or odd block
+// offset within the row (which of the two sums each entry goes to)
+template <int dim, bool store, bool acc, bool odd_block>
+inline __attribute__((always_inline)) void add_block(NodeSums<dim> &s, const double *k, double m,
+                                                     const double *U, const double *V, const double *A) {
+#pragma GCC unroll 3
+  for (int e = 0; e < dim; ++e) {
+    const int h = ((odd_block ? dim : 0) + e) & 1;
+#pragma GCC unroll 3
+    for (int c = 0; c < dim; ++c) s.ku[c][h] += k[c * dim + e] * U[e];
+    s.mv[e][h] += m * V[e];
+    if (store) {
+      s.mu[e][h] += m * U[e];
+      if (acc) s.ma[e][h] += m * A[e];
+    }
+  }
+}
+
+template <int dim, bool store, bool acc>
+void node_pass(const NodeBlocks &b, const State &s, Products &p) {
+  const int64_t nodes = static_cast<int64_t>(b.ptr.size()) - 1;
+  if (store) {
+    const size_t n = s.U.size();
+    p.rows = nullptr;
+    p.n = static_cast<int64_t>(n);
+    p.MU.resize(n), p.MV.resize(n), p.KU.resize(n);
+    if (acc) p.MA.resize(n);
+    else p.MA.clear();
+  }
+  const double *U = s.U.data(), *V = s.V.data(), *A = s.A.data();
+  const double *k = b.k.data(), *m = b.m.data();
+  const int32_t *node = b.node.data();
+  double kinetic = 0, strain = 0;
+  for (int64_t N = 0; N < nodes; ++N) {
+    NodeSums<dim> t;
+    int64_t j = b.ptr[N];
+    const int64_t end = b.ptr[N + 1];
+    auto at = [&](int64_t jj) { return static_cast<int64_t>(node[jj]) * dim; };
+    for (; j + 1 < end; j += 2) {  // (o = dim b: for odd dim, odd blocks start at odd offsets)
+      const int64_t c0 = at(j), c1 = at(j + 1);
+      add_block<dim, store, acc, false>(t, k + j * dim * dim, m[j], U + c0, V + c0, acc ? A + c0 : nullptr);
+      add_block<dim, store, acc, true>(t, k + (j + 1) * dim * dim, m[j + 1], U + c1, V + c1, acc ? A + c1 : nullptr);
+    }
+    if (j < end) {
+      const int64_t c0 = at(j);
+      add_block<dim, store, acc, false>(t, k + j * dim * dim, m[j], U + c0, V + c0, acc ? A + c0 : nullptr);
+    }
+#pragma GCC unroll 3
+    for (int c = 0; c < dim; ++c) {
+      const int64_t i = dim * N + c;
+      const double mv = t.mv[c][0] + t.mv[c][1], ku = t.ku[c][0] + t.ku[c][1];
+      kinetic += V[i] * mv;
+      strain += U[i] * ku;
+      if (store) {
+        p.MU[i] = t.mu[c][0] + t.mu[c][1], p.MV[i] = mv, p.KU[i] = ku;
+        if (acc) p.MA[i] = t.ma[c][0] + t.ma[c][1];
+      }
+    }
+  }
+  p.kinetic = kinetic;
+  p.strain = strain;
+}
+
 // local: with split rows, the copies at the columns the rank's rows read
 // (their places, Discretization::own_columns), else n long
 template <bool store, bool local = false>
@@ -37,6 +113,10 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   count(d.counters, &Counters::spmv);
   const size_t n = s.U.size();
   const bool acc = store && s.A_valid;
+  if (const NodeBlocks *b = d.node_blocks.get(); b && !local && !(store && d.rows)) {
+    if (b->dim == 2) return acc ? node_pass<2, store, store>(*b, s, p) : node_pass<2, store, false>(*b, s, p);
+    if (b->dim == 3) return acc ? node_pass<3, store, store>(*b, s, p) : node_pass<3, store, false>(*b, s, p);
+  }
   // with several ranks (store only): each its own rows, gathered below
   // unless the operators are split; then the copies hold the columns those
   // rows read (Discretization::own_columns), not n

@@ -128,6 +128,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
   if (counters)
     counters->matrix_entries = static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size());
+  if (!d->rows_split) d->node_blocks = make_node_blocks(d->K, d->M, space.dim);
   if (d->dofs.n_free < space.n_dofs())
     d->clamped = std::make_unique<ClampedRows>(
         clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));

@@ -9,6 +9,7 @@
 #include "fem/space.hpp"
 #include "linalg/csr.hpp"
 #include "linalg/factorization.hpp"
+#include "linalg/node_blocks.hpp"
 #include "parallel/ownership.hpp"
 #include "problem/definition.hpp"
 #include "time/state.hpp"
@@ -59,6 +60,9 @@ struct Discretization {
   // (monitor/energies.cpp): 4 bytes per entry of the rank's rows (falling
   // with P) for four whole-length arrays. Made on first use; dropped with
   // `rows`.
+  // K and M by nodes, for the products pass (one process; null where they
+  // have no such form: linalg/node_blocks.hpp)
+  std::shared_ptr<const NodeBlocks> node_blocks;
   struct OwnColumns {
     std::vector<int64_t> cols;
     std::vector<int32_t> place;  // (half the memory of a column index)
