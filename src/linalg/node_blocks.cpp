@@ -25,14 +25,13 @@ std::shared_ptr<const NodeBlocks> make_node_blocks(const Csr &K, const Csr &M, i
       const int64_t col = K.col[begin + o];
       if (col % dim != 0) return nullptr;
       const double m = M.val[begin + o];
-      for (int c = 0; c < dim; ++c) {
-        const int64_t at = K.ptr[first + c] + o;  // row dim N + c's block
-        for (int e = 0; e < dim; ++e) {
-          if (K.col[at + e] != col + e) return nullptr;
-          if (M.val[at + e] != (c == e ? m : 0.0)) return nullptr;
-          b->k.push_back(K.val[at + e]);
+      for (int e = 0; e < dim; ++e)
+        for (int c = 0; c < dim; ++c) {
+          const int64_t at = K.ptr[first + c] + o + e;  // row dim N + c, column dim J + e
+          if (K.col[at] != col + e) return nullptr;
+          if (M.val[at] != (c == e ? m : 0.0)) return nullptr;
+          b->k.push_back(K.val[at]);
         }
-      }
       b->node.push_back(static_cast<int32_t>(col / dim));
       b->m.push_back(m);
     }

@@ -17,7 +17,7 @@ struct NodeBlocks {
   int dim = 0;
   std::vector<int64_t> ptr;   // node N's blocks: [ptr[N], ptr[N + 1])
   std::vector<int32_t> node;  // a block's column node
-  std::vector<double> k;      // dim * dim per block, row by row: K(dim N + c, dim J + e) at c * dim + e
+  std::vector<double> k;      // dim * dim per block, column by column: K(dim N + c, dim J + e) at e * dim + c
   std::vector<double> m;      // one per block: M(dim N + c, dim J + c), the same for every c
 };
 

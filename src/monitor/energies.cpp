@@ -1,6 +1,7 @@
 #include "monitor/energies.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #include "parallel/share.hpp"
@@ -37,25 +38,27 @@ typedef double Pair __attribute__((vector_size(16)));
 // keeps to the CSR pattern).
 template <int dim>
 struct NodeSums {
-  // [row component][even, odd]
-  double mu[dim][2] = {}, mv[dim][2] = {}, ma[dim][2] = {}, ku[dim][2] = {};
+  // [even, odd]: K U of rows 0 and 1 of the node in one pair, row 2's alone;
+  // per row component c, (M U, M V) and M A
+  Pair ku01[2] = {}, uv[dim][2] = {};
+  double ku2[2] = {}, ma[dim][2] = {};
 };
 
-// the block of column node j (U, V, A at its DOFs), at an even or odd block
-// offset within the row (which of the two sums each entry goes to)
+// the block of column node j (U, V, A at its DOFs; k: K's block column by
+// column), at an even or odd block offset within the row (which of the two
+// sums each entry goes to)
 template <int dim, bool store, bool acc, bool odd_block>
-inline __attribute__((always_inline)) void add_block(NodeSums<dim> &s, const double *k, double m,
-                                                     const double *U, const double *V, const double *A) {
+inline __attribute__((always_inline)) void add_block(NodeSums<dim> &s, const double *k, double m, const double *U,
+                                                     const double *V, const double *A) {
 #pragma GCC unroll 3
   for (int e = 0; e < dim; ++e) {
     const int h = ((odd_block ? dim : 0) + e) & 1;
-#pragma GCC unroll 3
-    for (int c = 0; c < dim; ++c) s.ku[c][h] += k[c * dim + e] * U[e];
-    s.mv[e][h] += m * V[e];
-    if (store) {
-      s.mu[e][h] += m * U[e];
-      if (acc) s.ma[e][h] += m * A[e];
-    }
+    Pair k01;
+    std::memcpy(&k01, k + e * dim, sizeof k01);  // K(row 0, e), K(row 1, e)
+    s.ku01[h] += k01 * Pair{U[e], U[e]};
+    if (dim == 3) s.ku2[h] += k[e * dim + 2] * U[e];
+    s.uv[e][h] += Pair{m, m} * Pair{U[e], V[e]};  // (M U is not stored without `store`: unused)
+    if (acc) s.ma[e][h] += m * A[e];
   }
 }
 
@@ -88,14 +91,16 @@ void node_pass(const NodeBlocks &b, const State &s, Products &p) {
       const int64_t c0 = at(j);
       add_block<dim, store, acc, false>(t, k + j * dim * dim, m[j], U + c0, V + c0, acc ? A + c0 : nullptr);
     }
+    const Pair ku01 = t.ku01[0] + t.ku01[1];
 #pragma GCC unroll 3
     for (int c = 0; c < dim; ++c) {
       const int64_t i = dim * N + c;
-      const double mv = t.mv[c][0] + t.mv[c][1], ku = t.ku[c][0] + t.ku[c][1];
-      kinetic += V[i] * mv;
+      const Pair uv = t.uv[c][0] + t.uv[c][1];
+      const double ku = c < 2 ? ku01[c] : t.ku2[0] + t.ku2[1];
+      kinetic += V[i] * uv[1];
       strain += U[i] * ku;
       if (store) {
-        p.MU[i] = t.mu[c][0] + t.mu[c][1], p.MV[i] = mv, p.KU[i] = ku;
+        p.MU[i] = uv[0], p.MV[i] = uv[1], p.KU[i] = ku;
         if (acc) p.MA[i] = t.ma[c][0] + t.ma[c][1];
       }
     }
