@@ -8,6 +8,7 @@
 #include "mesh/mesh.hpp"
 #include "monitor/energies.hpp"
 #include "problem/discretization.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "solve/newton.hpp"
 
 #include <check.h>
 #include "testutil.h"
@@ -284,15 +285,15 @@ START_TEST(patch_test_constant_strain) {
 }
 END_TEST
 
-// The products pass by node blocks (linalg/node_blocks.hpp) has the bits of
-// the CSR pass: M U, M V, M A, K U and the energy's sums, stored or not, with
-// and without A, consistent and lumped mass, with and without clamped nodes
+// The passes by node blocks (linalg/node_blocks.hpp) have the bits of the
+// CSR passes: the products pass's M U, M V, M A, K U and the energy's sums,
+// stored or not, with and without A, and Newton's residual A U - r and M U, consistent and lumped mass, with and without clamped nodes
 // (whose DOFs all leave the numbering), 2D and 3D, P1 and P2 (P2 in 3D has
 // rows of an odd number of blocks: the even and odd sums alternate by
 // block). And the blocks are refused where the operators do not have their
 // form: 1D, M coupling two components or differing between them, a row
 // whose columns are not whole nodes.
-START_TEST(the_node_blocks_pass_has_the_csr_pass_bits) {
+START_TEST(node_block_passes_have_the_csr_bits) {
   const std::vector<std::shared_ptr<nd::Mesh>> all = meshes_with_region_7(), meshes = {all[1], all[2]};
   const std::shared_ptr<nd::Mesh> &box = all[2];
   int compared = 0;
@@ -339,6 +340,22 @@ START_TEST(the_node_blocks_pass_has_the_csr_pass_bits) {
                       std::memcmp(&a.strain, &b.strain, sizeof(double)) == 0);
             ck_assert(std::memcmp(&e_csr, &e_blocks, sizeof(double)) == 0);
             ck_assert(a.kinetic != 0 && a.strain != 0);
+            // Newton's residual A U - r and M U (multiply_pair), A = c M + K
+            nd::Csr A;
+            nd::csr_combine(1e3, d.M, 1.0, d.K, A);
+            const auto A_blocks = nd::make_node_blocks(A, d.M, s.dim);
+            ck_assert(A_blocks != nullptr);
+            nd::ContactPoints none;
+            nd::ContactLaw law;
+            law.cp = &none;
+            nd::NewtonSystem sys{&A, nullptr, &d.M, 1e3, 1.0, &law};
+            std::vector<double> G_csr(n), MU_csr(n), G_blocks(n), MU_blocks(n);
+            const double norm_csr = nd::newton_residual(sys, st.A, st.U, G_csr, nullptr, MU_csr);
+            sys.blocks = A_blocks.get();
+            const double norm_blocks = nd::newton_residual(sys, st.A, st.U, G_blocks, nullptr, MU_blocks);
+            ck_assert_msg(same(G_csr, G_blocks) && same(MU_csr, MU_blocks) && norm_csr == norm_blocks,
+                          "%dD P%d: the residuals differ", s.dim, degree);
+            ck_assert(same(MU_csr, a.MU) && norm_csr > 0);
             ++compared;
           }
         }
@@ -374,7 +391,7 @@ int main(void) {
   tcase_add_test(tc, p1_and_p2_agree_on_linear_fields);
   tcase_add_test(tc, load_vector_integrates_the_body_force);
   tcase_add_test(tc, patch_test_constant_strain);
-  tcase_add_test(tc, the_node_blocks_pass_has_the_csr_pass_bits);
+  tcase_add_test(tc, node_block_passes_have_the_csr_bits);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -29,82 +29,30 @@ namespace {
 // lane sums in the same order as a scalar sum would).
 typedef double Pair __attribute__((vector_size(16)));
 
-// The same pass over K and M by nodes (linalg/node_blocks.hpp), with the
-// same bits: an entry of row i at offset o in the row (o = dim b + e, block
-// b, column component e) is summed in the even or odd sum as o is, in the
-// same order; an entry of M off a block's diagonal is a stored zero that the
-// CSR pass adds as 0 U = +-0, which changes no sum that starts from +0 (of
-// finite values). One process, every row (the stored pass with several ranks
-// keeps to the CSR pattern).
-template <int dim>
-struct NodeSums {
-  // [even, odd]: K U of rows 0 and 1 of the node in one pair, row 2's alone;
-  // per row component c, (M U, M V) and M A
-  Pair ku01[2] = {}, uv[dim][2] = {};
-  double ku2[2] = {}, ma[dim][2] = {};
-};
-
-// the block of column node j (U, V, A at its DOFs; k: K's block column by
-// column), at an even or odd block offset within the row (which of the two
-// sums each entry goes to)
-template <int dim, bool store, bool acc, bool odd_block>
-inline __attribute__((always_inline)) void add_block(NodeSums<dim> &s, const double *k, double m, const double *U,
-                                                     const double *V, const double *A) {
-#pragma GCC unroll 3
-  for (int e = 0; e < dim; ++e) {
-    const int h = ((odd_block ? dim : 0) + e) & 1;
-    Pair k01;
-    std::memcpy(&k01, k + e * dim, sizeof k01);  // K(row 0, e), K(row 1, e)
-    s.ku01[h] += k01 * Pair{U[e], U[e]};
-    if (dim == 3) s.ku2[h] += k[e * dim + 2] * U[e];
-    s.uv[e][h] += Pair{m, m} * Pair{U[e], V[e]};  // (M U is not stored without `store`: unused)
-    if (acc) s.ma[e][h] += m * A[e];
-  }
-}
-
+// The same pass over K and M by nodes (linalg/node_blocks.hpp: the same
+// bits), where they have that form: one process, every row (the stored pass
+// with several ranks keeps to the CSR pattern).
 template <int dim, bool store, bool acc>
 void node_pass(const NodeBlocks &b, const State &s, Products &p) {
-  const int64_t nodes = static_cast<int64_t>(b.ptr.size()) - 1;
+  const size_t n = s.U.size();
   if (store) {
-    const size_t n = s.U.size();
     p.rows = nullptr;
     p.n = static_cast<int64_t>(n);
     p.MU.resize(n), p.MV.resize(n), p.KU.resize(n);
     if (acc) p.MA.resize(n);
     else p.MA.clear();
   }
-  const double *U = s.U.data(), *V = s.V.data(), *A = s.A.data();
-  const double *k = b.k.data(), *m = b.m.data();
-  const int32_t *node = b.node.data();
+  const double *U = s.U.data(), *V = s.V.data();
   double kinetic = 0, strain = 0;
-  for (int64_t N = 0; N < nodes; ++N) {
-    NodeSums<dim> t;
-    int64_t j = b.ptr[N];
-    const int64_t end = b.ptr[N + 1];
-    auto at = [&](int64_t jj) { return static_cast<int64_t>(node[jj]) * dim; };
-    for (; j + 1 < end; j += 2) {  // (o = dim b: for odd dim, odd blocks start at odd offsets)
-      const int64_t c0 = at(j), c1 = at(j + 1);
-      add_block<dim, store, acc, false>(t, k + j * dim * dim, m[j], U + c0, V + c0, acc ? A + c0 : nullptr);
-      add_block<dim, store, acc, true>(t, k + (j + 1) * dim * dim, m[j + 1], U + c1, V + c1, acc ? A + c1 : nullptr);
-    }
-    if (j < end) {
-      const int64_t c0 = at(j);
-      add_block<dim, store, acc, false>(t, k + j * dim * dim, m[j], U + c0, V + c0, acc ? A + c0 : nullptr);
-    }
-    const Pair ku01 = t.ku01[0] + t.ku01[1];
-#pragma GCC unroll 3
-    for (int c = 0; c < dim; ++c) {
-      const int64_t i = dim * N + c;
-      const Pair uv = t.uv[c][0] + t.uv[c][1];
-      const double ku = c < 2 ? ku01[c] : t.ku2[0] + t.ku2[1];
-      kinetic += V[i] * uv[1];
-      strain += U[i] * ku;
-      if (store) {
-        p.MU[i] = uv[0], p.MV[i] = uv[1], p.KU[i] = ku;
-        if (acc) p.MA[i] = t.ma[c][0] + t.ma[c][1];
-      }
-    }
-  }
+  b.for_rows<dim, acc>(U, V, s.A.data(),
+                       [&](int64_t i, double ku, double mu, double mv, double ma) __attribute__((always_inline)) {
+                         kinetic += V[i] * mv;
+                         strain += U[i] * ku;
+                         if (store) {
+                           p.MU[i] = mu, p.MV[i] = mv, p.KU[i] = ku;
+                           if (acc) p.MA[i] = ma;
+                         }
+                       });
   p.kinetic = kinetic;
   p.strain = strain;
 }

@@ -81,6 +81,7 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   in->coef = in->scheme->coefficients(def.tau);
   count(d.counters, &Counters::matrix_assemblies);
   csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
+  if (d.node_blocks && !d.contact.a.empty()) in->A_blocks = make_node_blocks(in->A, d.M, d.node_blocks->dim);
   const bool refactors = !d.contact.a.empty() && refactoring_tangent(def, d);
   // on split operators a Newton pass that refactors reads the points whose rows touch the rank's rows
   if (refactors && d.rows_split) in->halo = contact_point_halo(d.contact, *d.rows);
@@ -212,6 +213,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       if (!in.held.empty()) (in.halo ? law.halo_here : law.local) = true;
       law.held = in.points.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
+      sys.blocks = in.A_blocks.get();
       sys.complete = in.held.empty();
       sys.guess = in.A_factor->starts_from_guess();
       in.tangent->begin_step(old.tangent_log);

@@ -21,6 +21,9 @@ struct Integrator {
   double tau = 0;
   StepCoefficients coef{0, 0};
   Csr A;  // c M + K_Theta (implicit schemes)
+  // A and M by nodes for Newton's residual, where the discretization has
+  // its operators so (Discretization::node_blocks) and contact points
+  std::shared_ptr<const NodeBlocks> A_blocks;
   std::unique_ptr<Factorization> A_factor;
   // the columns A^{-1} b_q of both fast paths (before them: they hold it),
   // the low-rank or refactoring tangent when there are contact points, and

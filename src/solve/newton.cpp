@@ -12,13 +12,17 @@ namespace nd {
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU) {
   count(sys.law->counters, &Counters::spmv);
-  multiply_pair(
-      *sys.A, U.data(), *sys.M, U.data(),
-      [&](int64_t i, double AU, double MUi) {
-        G[i] = AU;
-        MU[i] = MUi;
-      },
-      own_rows(sys.rows));
+  auto keep = [&](int64_t i, double AU, double MUi) __attribute__((always_inline)) {
+    G[i] = AU;
+    MU[i] = MUi;
+  };
+  auto keep_block = [&](int64_t i, double AU, double MUi, double, double) __attribute__((always_inline)) {
+    keep(i, AU, MUi);
+  };
+  const NodeBlocks *b = sys.rows ? nullptr : sys.blocks;  // (the same bits)
+  if (b && b->dim == 2) b->for_rows<2, false>(U.data(), U.data(), nullptr, keep_block);
+  else if (b && b->dim == 3) b->for_rows<3, false>(U.data(), U.data(), nullptr, keep_block);
+  else multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
   sys.law->add_force(U.data(), sys.kappa, G.data(), active);
   const RowSet rows = own_rows(sys.held_rows());

@@ -6,6 +6,7 @@
 #pragma once
 #include <vector>
 
+#include "linalg/node_blocks.hpp"
 #include "solve/contact_law.hpp"
 #include "solve/tangent_solver.hpp"
 
@@ -35,6 +36,8 @@ struct NewtonSystem {
   // false: a solve that kept the tangent's held rows leaves U so (a
   // distributed state, Definition::distributed_state), not gathered at the end
   bool complete = true;
+  // A and M by nodes (Integrator::A_blocks), or null: the CSR pattern
+  const NodeBlocks *blocks = nullptr;
   // the rows r, G and M U are right on: this rank's when split, else all (null)
   const Share *held_rows() const { return split ? rows : nullptr; }
 };
