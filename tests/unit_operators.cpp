@@ -6,6 +6,7 @@
 #include "assembly/bulk.hpp"
 #include "linalg/node_blocks.hpp"
 #include "mesh/mesh.hpp"
+#include "nitschedyn.h"
 #include "monitor/energies.hpp"
 #include "problem/discretization.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "solve/newton.hpp"
@@ -287,12 +288,14 @@ END_TEST
 
 // The passes by node blocks (linalg/node_blocks.hpp) have the bits of the
 // CSR passes: the products pass's M U, M V, M A, K U and the energy's sums,
-// stored or not, with and without A, and Newton's residual A U - r and M U, consistent and lumped mass, with and without clamped nodes
-// (whose DOFs all leave the numbering), 2D and 3D, P1 and P2 (P2 in 3D has
-// rows of an odd number of blocks: the even and odd sums alternate by
-// block). And the blocks are refused where the operators do not have their
-// form: 1D, M coupling two components or differing between them, a row
-// whose columns are not whole nodes.
+// stored or not, with and without A; Newton's residual A U - r and M U; an
+// explicit step's K_Theta U (through the acceleration it gives). With
+// consistent and lumped mass, with and without clamped nodes (whose DOFs
+// all leave the numbering), 2D and 3D, P1 and P2 (P2 in 3D has rows of an
+// odd number of blocks: the even and odd sums alternate by block). And the
+// blocks are refused where the operators do not have their form: 1D, M
+// coupling two components or differing between them, a row whose columns
+// are not whole nodes.
 START_TEST(node_block_passes_have_the_csr_bits) {
   const std::vector<std::shared_ptr<nd::Mesh>> all = meshes_with_region_7(), meshes = {all[1], all[2]};
   const std::shared_ptr<nd::Mesh> &box = all[2];
@@ -357,6 +360,17 @@ START_TEST(node_block_passes_have_the_csr_bits) {
             ck_assert_msg(same(G_csr, G_blocks) && same(MU_csr, MU_blocks) && norm_csr == norm_blocks,
                           "%dD P%d: the residuals differ", s.dim, degree);
             ck_assert(same(MU_csr, a.MU) && norm_csr > 0);
+            // an explicit step's M A = -K_Theta U (no load, no contact; K_Theta = K)
+            d.K_theta = d.K;
+            if (lumped) d.M_lumped = ops.M_lumped;
+            nd::State by_csr_A = st, by_blocks_A = st;
+            d.node_blocks = nullptr, d.k_theta_blocks = nullptr;
+            d.equilibrium_acceleration(by_csr_A, ND_SOLVER_AUTO, false);
+            d.node_blocks = blocks;
+            d.equilibrium_acceleration(by_blocks_A, ND_SOLVER_AUTO, false);
+            ck_assert(d.k_theta_blocks != nullptr);
+            ck_assert_msg(same(by_csr_A.A, by_blocks_A.A), "%dD P%d: the accelerations differ", s.dim, degree);
+            d.k_theta_blocks = nullptr;
             ++compared;
           }
         }

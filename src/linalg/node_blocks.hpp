@@ -1,6 +1,6 @@
 // An operator and M by nodes, for the passes that multiply both (the
 // products pass, monitor/energies.cpp: K and M; Newton's residual: A and
-// M): the operator's dim x dim blocks and one entry of M per block, a
+// M) or the operator alone (an explicit step's K_Theta U): the operator's dim x dim blocks and one entry of M per block, a
 // block's column as its node in 4 bytes. A pass then reads about 11 bytes
 // per entry of the operator in 2D and 9 in 3D, against 24 on the CSR
 // pattern they share (two values, a column index), half (2D) or two thirds
@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "linalg/csr.hpp"
@@ -23,14 +24,15 @@ struct NodeBlocks {
   std::vector<double> m;      // one per block: M(dim N + c, dim J + c), the same for every c
 
   // f(i, (K U)_i, (M U)_i, (M V)_i, (M A)_i) for every row i, ascending
-  // (M A: 0 without acc), in one pass: with the bits of the CSR passes
+  // (without mass: K U only, the others 0; M A: 0 without acc), in one
+  // pass: with the bits of the CSR passes
   // (Csr::multiply, multiply_pair, the products pass), which sum the
   // entries of a row at even and odd offsets apart, then add the two: an
   // entry at offset dim b + e (block b, column component e) goes to the sum
   // its offset's parity says, in the same order. M's entries off a block's
   // diagonal are stored zeros there, added as 0 x = +-0, which changes no
   // sum that starts from +0 (of finite values).
-  template <int d, bool acc, class F>
+  template <int d, bool mass, bool acc, class F>
   void for_rows(const double *U, const double *V, const double *A, F &&f) const;
 };
 
@@ -56,7 +58,7 @@ struct Sums {
 
 // the block of a column node (U, V, A at its DOFs; k: the block column by
 // column), at an even or odd block offset within the row
-template <int dim, bool acc, bool odd_block>
+template <int dim, bool mass, bool acc, bool odd_block>
 inline __attribute__((always_inline)) void add_block(Sums<dim> &s, const double *k, double m, const double *U,
                                                      const double *V, const double *A) {
 #pragma GCC unroll 3
@@ -66,14 +68,14 @@ inline __attribute__((always_inline)) void add_block(Sums<dim> &s, const double 
     std::memcpy(&k01, k + e * dim, sizeof k01);  // rows 0 and 1 at column e
     s.ku01[h] += k01 * Pair{U[e], U[e]};
     if (dim == 3) s.ku2[h] += k[e * dim + 2] * U[e];
-    s.uv[e][h] += Pair{m, m} * Pair{U[e], V[e]};
-    if (acc) s.ma[e][h] += m * A[e];
+    if (mass) s.uv[e][h] += Pair{m, m} * Pair{U[e], V[e]};
+    if (mass && acc) s.ma[e][h] += m * A[e];
   }
 }
 
 }  // namespace node_blocks_detail
 
-template <int dim, bool acc, class F>
+template <int dim, bool mass, bool acc, class F>
 void NodeBlocks::for_rows(const double *U, const double *V, const double *A, F &&f) const {
   using namespace node_blocks_detail;
   static_assert(dim == 2 || dim == 3, "blocks of 2 or 3 components");
@@ -83,22 +85,25 @@ void NodeBlocks::for_rows(const double *U, const double *V, const double *A, F &
   constexpr int64_t bb = dim * dim;
   for (int64_t N = 0; N < nodes; ++N) {
     Sums<dim> t;
+    // block jj at an even or odd block offset within the row
+    auto add = [&](auto odd, int64_t jj) __attribute__((always_inline)) {
+      const int64_t c = static_cast<int64_t>(nn[jj]) * dim;
+      add_block<dim, mass, acc, decltype(odd)::value>(t, kk + jj * bb, mm[jj], U + c, mass ? V + c : nullptr,
+                                                      acc ? A + c : nullptr);
+    };
     int64_t j = ptr[N];
     const int64_t end = ptr[N + 1];
     for (; j + 1 < end; j += 2) {  // (for odd dim, odd blocks start at odd offsets)
-      const int64_t c0 = static_cast<int64_t>(nn[j]) * dim, c1 = static_cast<int64_t>(nn[j + 1]) * dim;
-      add_block<dim, acc, false>(t, kk + j * bb, mm[j], U + c0, V + c0, acc ? A + c0 : nullptr);
-      add_block<dim, acc, true>(t, kk + (j + 1) * bb, mm[j + 1], U + c1, V + c1, acc ? A + c1 : nullptr);
+      add(std::false_type{}, j);
+      add(std::true_type{}, j + 1);
     }
-    if (j < end) {
-      const int64_t c0 = static_cast<int64_t>(nn[j]) * dim;
-      add_block<dim, acc, false>(t, kk + j * bb, mm[j], U + c0, V + c0, acc ? A + c0 : nullptr);
-    }
+    if (j < end) add(std::false_type{}, j);
     const Pair ku01 = t.ku01[0] + t.ku01[1];
 #pragma GCC unroll 3
     for (int c = 0; c < dim; ++c) {
       const Pair uv = t.uv[c][0] + t.uv[c][1];
-      f(dim * N + c, c < 2 ? ku01[c] : t.ku2[0] + t.ku2[1], uv[0], uv[1], acc ? t.ma[c][0] + t.ma[c][1] : 0.0);
+      f(dim * N + c, c < 2 ? ku01[c] : t.ku2[0] + t.ku2[1], uv[0], uv[1],
+        mass && acc ? t.ma[c][0] + t.ma[c][1] : 0.0);
     }
   }
 }

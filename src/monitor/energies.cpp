@@ -1,7 +1,6 @@
 #include "monitor/energies.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <limits>
 
 #include "parallel/share.hpp"
@@ -44,7 +43,7 @@ void node_pass(const NodeBlocks &b, const State &s, Products &p) {
   }
   const double *U = s.U.data(), *V = s.V.data();
   double kinetic = 0, strain = 0;
-  b.for_rows<dim, acc>(U, V, s.A.data(),
+  b.for_rows<dim, true, acc>(U, V, s.A.data(),
                        [&](int64_t i, double ku, double mu, double mv, double ma) __attribute__((always_inline)) {
                          kinetic += V[i] * mv;
                          strain += U[i] * ku;

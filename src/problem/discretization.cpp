@@ -265,7 +265,14 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   std::vector<double> rhs(n);
   count(counters, &Counters::spmv);
   const Share *share = own_rows_of(*this, in_step);
-  K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
+  // an explicit step (not once) in one process: by nodes (the same bits)
+  if (!once && !share && node_blocks && !k_theta_blocks)
+    k_theta_blocks = make_node_blocks(K_theta, M, node_blocks->dim);
+  const NodeBlocks *b = !once && !share ? k_theta_blocks.get() : nullptr;
+  auto keep = [&](int64_t i, double ku, double, double, double) __attribute__((always_inline)) { rhs[i] = ku; };
+  if (b && b->dim == 2) b->for_rows<2, false, false>(s.U.data(), nullptr, nullptr, keep);
+  else if (b && b->dim == 3) b->for_rows<3, false, false>(s.U.data(), nullptr, nullptr, keep);
+  else K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
   // split operators: the mass solve is distributed and reads this rank's rows only
   if (share && !rows_split) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};

@@ -48,6 +48,11 @@ struct Discretization {
   // with several ranks: which rank computes which row of the step's products
   // (the rank of its node; monitor/energies.cpp); null: this process, all
   std::shared_ptr<const Share> rows;
+  // K and M by nodes, for the products pass (made when the rows are not
+  // split; null where they have no such form: linalg/node_blocks.hpp)
+  std::shared_ptr<const NodeBlocks> node_blocks;
+  // K_Theta and M so, for the explicit steps' K_Theta U (made at the first)
+  std::shared_ptr<const NodeBlocks> k_theta_blocks;
   // M, K and K_Theta hold this rank's rows only (issue 15, slice 5), and
   // store no others (Csr::part: their row pointers fall with the ranks), so
   // every product with them is the ranks' rows, gathered: collective
@@ -60,9 +65,6 @@ struct Discretization {
   // (monitor/energies.cpp): 4 bytes per entry of the rank's rows (falling
   // with P) for four whole-length arrays. Made on first use; dropped with
   // `rows`.
-  // K and M by nodes, for the products pass (one process; null where they
-  // have no such form: linalg/node_blocks.hpp)
-  std::shared_ptr<const NodeBlocks> node_blocks;
   struct OwnColumns {
     std::vector<int64_t> cols;
     std::vector<int32_t> place;  // (half the memory of a column index)

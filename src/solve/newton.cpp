@@ -20,8 +20,8 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
     keep(i, AU, MUi);
   };
   const NodeBlocks *b = sys.rows ? nullptr : sys.blocks;  // (the same bits)
-  if (b && b->dim == 2) b->for_rows<2, false>(U.data(), U.data(), nullptr, keep_block);
-  else if (b && b->dim == 3) b->for_rows<3, false>(U.data(), U.data(), nullptr, keep_block);
+  if (b && b->dim == 2) b->for_rows<2, true, false>(U.data(), U.data(), nullptr, keep_block);
+  else if (b && b->dim == 3) b->for_rows<3, true, false>(U.data(), U.data(), nullptr, keep_block);
   else multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
   sys.law->add_force(U.data(), sys.kappa, G.data(), active);
