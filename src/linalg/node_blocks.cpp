@@ -5,7 +5,7 @@
 namespace nd {
 
 std::shared_ptr<const NodeBlocks> make_node_blocks(const Csr &K, const Csr &M, int dim) {
-  if (dim < 2 || K.part || M.part || K.n % dim != 0 || M.n != K.n || !(M.ptr == K.ptr) || !(M.col == K.col) ||
+  if (dim < 2 || dim > 3 || K.part || M.part || K.n % dim != 0 || M.n != K.n || !(M.ptr == K.ptr) || !(M.col == K.col) ||
       K.n / dim > INT32_MAX)
     return nullptr;
   const int64_t nodes = K.n / dim;

@@ -40,12 +40,23 @@ struct NodeBlocks {
 };
 
 // The blocks of K and M (same pattern, every row stored), or null where
-// they do not have that form: dim < 2, a row count not a multiple of dim
+// they do not have that form: dim not 2 or 3, a row count not a multiple of dim
 // (clamped DOFs, each with its node's others: a multiple), a row whose
 // columns are not whole nodes in order, the rows of a node with different
 // columns, M coupling two components or differing between them, or more
 // than 2^31 nodes.
 std::shared_ptr<const NodeBlocks> make_node_blocks(const Csr &K, const Csr &M, int dim);
+
+// b->for_rows at b's dimension (2 or 3: the only ones make_node_blocks
+// makes); false, and nothing done, without blocks (b null): the caller's
+// CSR pass then
+template <bool mass, bool acc, class F>
+bool for_node_rows(const NodeBlocks *b, const double *U, const double *V, const double *A, F &&f) {
+  if (!b) return false;
+  if (b->dim == 2) b->template for_rows<2, mass, acc>(U, V, A, f);
+  else b->template for_rows<3, mass, acc>(U, V, A, f);
+  return true;
+}
 
 namespace node_blocks_detail {
 

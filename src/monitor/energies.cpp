@@ -31,7 +31,7 @@ typedef double Pair __attribute__((vector_size(16)));
 // The same pass over K and M by nodes (linalg/node_blocks.hpp: the same
 // bits), where they have that form: one process, every row (the stored pass
 // with several ranks keeps to the CSR pattern).
-template <int dim, bool store, bool acc>
+template <bool store, bool acc>
 void node_pass(const NodeBlocks &b, const State &s, Products &p) {
   const size_t n = s.U.size();
   if (store) {
@@ -43,15 +43,15 @@ void node_pass(const NodeBlocks &b, const State &s, Products &p) {
   }
   const double *U = s.U.data(), *V = s.V.data();
   double kinetic = 0, strain = 0;
-  b.for_rows<dim, true, acc>(U, V, s.A.data(),
-                       [&](int64_t i, double ku, double mu, double mv, double ma) __attribute__((always_inline)) {
-                         kinetic += V[i] * mv;
-                         strain += U[i] * ku;
-                         if (store) {
-                           p.MU[i] = mu, p.MV[i] = mv, p.KU[i] = ku;
-                           if (acc) p.MA[i] = ma;
-                         }
-                       });
+  auto keep = [&](int64_t i, double ku, double mu, double mv, double ma) __attribute__((always_inline)) {
+    kinetic += V[i] * mv;
+    strain += U[i] * ku;
+    if (store) {
+      p.MU[i] = mu, p.MV[i] = mv, p.KU[i] = ku;
+      if (acc) p.MA[i] = ma;
+    }
+  };
+  for_node_rows<true, acc>(&b, U, V, s.A.data(), keep);
   p.kinetic = kinetic;
   p.strain = strain;
 }
@@ -65,10 +65,8 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
   count(d.counters, &Counters::spmv);
   const size_t n = s.U.size();
   const bool acc = store && s.A_valid;
-  if (const NodeBlocks *b = d.node_blocks.get(); b && !local && !(store && d.rows)) {
-    if (b->dim == 2) return acc ? node_pass<2, store, store>(*b, s, p) : node_pass<2, store, false>(*b, s, p);
-    if (b->dim == 3) return acc ? node_pass<3, store, store>(*b, s, p) : node_pass<3, store, false>(*b, s, p);
-  }
+  if (const NodeBlocks *b = d.node_blocks.get(); b && !local && !(store && d.rows))
+    return acc ? node_pass<store, store>(*b, s, p) : node_pass<store, false>(*b, s, p);
   // with several ranks (store only): each its own rows, gathered below
   // unless the operators are split; then the copies hold the columns those
   // rows read (Discretization::own_columns), not n

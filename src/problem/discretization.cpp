@@ -266,13 +266,11 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   count(counters, &Counters::spmv);
   const Share *share = own_rows_of(*this, in_step);
   // an explicit step (not once) in one process: by nodes (the same bits)
-  if (!once && !share && node_blocks && !k_theta_blocks)
-    k_theta_blocks = make_node_blocks(K_theta, M, node_blocks->dim);
-  const NodeBlocks *b = !once && !share ? k_theta_blocks.get() : nullptr;
+  const bool by_nodes = !once && !share && node_blocks;
+  if (by_nodes && !k_theta_blocks) k_theta_blocks = make_node_blocks(K_theta, M, node_blocks->dim);
   auto keep = [&](int64_t i, double ku, double, double, double) __attribute__((always_inline)) { rhs[i] = ku; };
-  if (b && b->dim == 2) b->for_rows<2, false, false>(s.U.data(), nullptr, nullptr, keep);
-  else if (b && b->dim == 3) b->for_rows<3, false, false>(s.U.data(), nullptr, nullptr, keep);
-  else K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
+  if (!for_node_rows<false, false>(by_nodes ? k_theta_blocks.get() : nullptr, s.U.data(), nullptr, nullptr, keep))
+    K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
   // split operators: the mass solve is distributed and reads this rank's rows only
   if (share && !rows_split) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};

@@ -19,10 +19,9 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
   auto keep_block = [&](int64_t i, double AU, double MUi, double, double) __attribute__((always_inline)) {
     keep(i, AU, MUi);
   };
-  const NodeBlocks *b = sys.rows ? nullptr : sys.blocks;  // (the same bits)
-  if (b && b->dim == 2) b->for_rows<2, true, false>(U.data(), U.data(), nullptr, keep_block);
-  else if (b && b->dim == 3) b->for_rows<3, true, false>(U.data(), U.data(), nullptr, keep_block);
-  else multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
+  // by nodes in one process (the same bits), else on the CSR pattern
+  if (!for_node_rows<true, false>(sys.rows ? nullptr : sys.blocks, U.data(), U.data(), nullptr, keep_block))
+    multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
   sys.law->add_force(U.data(), sys.kappa, G.data(), active);
   const RowSet rows = own_rows(sys.held_rows());
