@@ -19,6 +19,7 @@
 #include "assembly/bulk.hpp"
 #include "linalg/backends.hpp"
 #include "linalg/factorization.hpp"
+#include "linalg/ordering.hpp"
 #include "linalg/pcg.hpp"
 #include "linalg/updatable_cholesky.hpp"
 #include "testutil.h"
@@ -520,6 +521,61 @@ START_TEST(updatable_cholesky_updates_and_costs) {
 }
 END_TEST
 
+// METIS's ordering of the pattern's supervariables (linalg/nested_dissection.cpp):
+// a permutation in which consecutive rows with the same columns (a node's
+// DOFs) stay consecutive and in order, in 1D (no two such rows: METIS's
+// ordering of the whole graph), 2D and 3D, P1 and P2, and with one
+// component of some nodes removed (a node's DOFs then differ in number).
+START_TEST(nested_dissection_keeps_nodes_together) {
+  const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+  const std::vector<std::shared_ptr<nd::Mesh>> meshes = {
+      ndtest::irregular_interval(40, 0, 1), ndtest::irregular_rectangle(12),
+      std::make_shared<nd::Mesh>(nd::make_box(3, 3, 3, lo, hi))};
+  for (const auto &mesh : meshes)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (int removed = 0; removed <= 1; ++removed) {
+        nd::Space sp(mesh, degree);
+        nd::DofMap dofs(sp, {});
+        nd::Csr A = nd::assemble_bulk(sp, dofs, nd::Material{50, 0.25, 1}).K;
+        const int dim = sp.dim;
+        if (removed) {  // the first component of every fifth node
+          std::vector<int64_t> keep(static_cast<size_t>(A.n), -1);
+          int64_t kept = 0;
+          for (int64_t i = 0; i < A.n; ++i)
+            if (!(i % dim == 0 && (i / dim) % 5 == 0)) keep[i] = kept++;
+          std::vector<std::vector<int64_t>> rows(static_cast<size_t>(kept));
+          for (int64_t i = 0; i < A.n; ++i)
+            for (int64_t k = A.ptr[i]; k < A.ptr[i + 1] && keep[i] >= 0; ++k)
+              if (keep[A.col[k]] >= 0) rows[keep[i]].push_back(keep[A.col[k]]);
+          A = nd::csr_from_rows(std::move(rows));
+        }
+        const std::vector<int64_t> perm = nd::nested_dissection(A);
+        ck_assert_int_eq(static_cast<int64_t>(perm.size()), A.n);
+        std::vector<int64_t> at(static_cast<size_t>(A.n), -1);
+        for (int64_t r = 0; r < A.n; ++r) {
+          ck_assert(perm[r] >= 0 && perm[r] < A.n && at[perm[r]] < 0);
+          at[perm[r]] = r;
+        }
+        int64_t joined = 0;  // rows with their predecessor's columns
+        for (int64_t i = 1; i < A.n; ++i) {
+          const bool same = A.ptr[i + 1] - A.ptr[i] == A.ptr[i] - A.ptr[i - 1] &&
+                            std::equal(A.col.begin() + A.ptr[i], A.col.begin() + A.ptr[i + 1],
+                                       A.col.begin() + A.ptr[i - 1]);
+          if (!same) continue;
+          ++joined;
+          ck_assert_msg(at[i] == at[i - 1] + 1, "dim %d P%d: row %lld at %lld, row %lld at %lld", dim, degree,
+                        static_cast<long long>(i), static_cast<long long>(at[i]), static_cast<long long>(i - 1),
+                        static_cast<long long>(at[i - 1]));
+        }
+        // a node's DOFs share their columns (and so may two nodes with the
+        // same neighbours, at a corner); in 1D no two rows do
+        if (dim == 1) ck_assert_int_eq(joined, 0);
+        else if (!removed) ck_assert_int_ge(joined, sp.n_nodes * (dim - 1));
+        else ck_assert(joined > 0);
+      }
+}
+END_TEST
+
 // Conjugate gradients on the mass matrix (P1 and P2): a random right-hand
 // side solved to the factored answer's round-off within a few dozen
 // iterations; and an honest failure where the method does not apply (a
@@ -581,6 +637,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, cholmod_solves_sparse_columns_as_one_by_one);
     tcase_add_test(tc, cholmod_solves_columns_at_few_rows_as_whole);
     tcase_add_test(tc, updatable_cholesky_updates_and_costs);
+    tcase_add_test(tc, nested_dissection_keeps_nodes_together);
     tcase_add_test(tc, conjugate_gradients_on_the_mass_matrix);
   }
   tcase_add_test(tc, petsc_ids_are_refused_or_solve);
