@@ -19,8 +19,8 @@ namespace {
 class Wobbly : public nd::TangentSolver {
  public:
   Wobbly(double A, double d) : A_(A), d_(d) {}
-  void solve(const nd::ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
-             const double *) override {
+  void solve(const nd::ContactLaw &law, double kappa, const double *U, bool any_active, double *x, const double *,
+             const std::vector<double> *) override {
     double value = 0, slope = 0;
     if (any_active) law.law(0, law.P(0, U), value, slope);
     x[0] = x[0] / (A_ + kappa * law.cp->w[0] / law.cp->gamma[0] * slope) + (flips_++ % 2 ? -d_ : d_);

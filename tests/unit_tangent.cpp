@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -313,6 +315,71 @@ START_TEST(random_active_sets) {
 }
 END_TEST
 
+// A tangent solve given the points' values P_q(U) that Newton's residual at
+// U evaluated (ContactLaw::add_force) makes the bits it makes evaluating them
+// itself, and evaluates nothing: each solver twice, one always given P and
+// one never, on the same random states (the solvers keep state from solve
+// to solve: the two see the same sequence), 2D P1 and 3D P2, Theta = 1 and -1.
+START_TEST(tangent_given_the_residuals_points) {
+  for (int dim : {2, 3})
+    for (double theta : {1.0, -1.0}) {
+      nd_problem p = scene(dim, dim == 2 ? 1 : 2, kSchemes[3], theta);
+      ND_OK_OR_FAIL(nd_step(p));
+      const nd::Integrator &in = *p->problem.integrator();
+      const nd::Discretization &d = p->problem.discretization();
+      const int64_t n = in.A.n;
+      const size_t Q = d.contact.size();
+      const nd::Structure s = theta == 1 ? nd::Structure::SymmetricPositiveDefinite : nd::Structure::General;
+      std::vector<double> Pn(Q, 0.0);
+      nd::Counters given_count, evaluated_count;
+      nd::ContactLaw given{&d.contact, d.theta, in.scheme.get(), &Pn}, evaluated = given;
+      given.counters = &given_count, evaluated.counters = &evaluated_count;
+      auto make = [&](int which) -> std::unique_ptr<nd::TangentSolver> {
+        if (which == 0) return nd::make_refactoring_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO, s);
+        if (which == 1) return nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO, s, -1);
+        if (which == 2) return nd::make_lowrank_tangent(in.A, *in.A_factor, ND_SOLVER_AUTO, s, 4);  // past 4: inside
+        return nd::make_updown_tangent(in.A, *in.A_factor);
+      };
+      for (int which = 0; which < (theta == 1 ? 4 : 3); ++which) {
+        auto with_P = make(which), without = make(which);
+        unsigned seed = 777;
+        auto rnd = [&seed] {  // in [-1, 1)
+          seed = seed * 1103515245u + 12345u;
+          return static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+        };
+        std::vector<double> U(static_cast<size_t>(n)), r(U.size()), x1, x2, P;
+        int active_solves = 0;
+        for (int trial = 0; trial < 12; ++trial) {
+          const double shift = 0.05 * rnd();
+          for (auto &u : U) u = 0.01 * rnd() - shift;
+          for (auto &v : r) v = rnd();
+          given.P_all(U.data(), P);  // (what the residual's add_force leaves in one process)
+          bool any = false;
+          for (size_t q = 0; q < Q; ++q) {
+            double value, slope;
+            given.law(q, P[q], value, slope);
+            any |= slope != 0;
+          }
+          active_solves += any;
+          x1 = r, x2 = r;
+          const int64_t before_given = given_count.contact_evaluations;
+          const int64_t before_evaluated = evaluated_count.contact_evaluations;
+          with_P->solve(given, in.coef.kappa, U.data(), any, x1.data(), nullptr, &P);
+          without->solve(evaluated, in.coef.kappa, U.data(), any, x2.data());
+          ck_assert_msg(std::memcmp(x1.data(), x2.data(), x1.size() * sizeof(double)) == 0,
+                        "%dD Theta = %g, solver %s, trial %d: the bits differ", dim, theta, with_P->name(), trial);
+          ck_assert_int_eq(given_count.contact_evaluations, before_given);
+          // (evaluated: once, and once more by the solver inside past the rank limit)
+          if (any) ck_assert_int_gt(evaluated_count.contact_evaluations, before_evaluated);
+          else ck_assert_int_eq(evaluated_count.contact_evaluations, before_evaluated);
+        }
+        ck_assert_int_gt(active_solves, 3);
+      }
+      nd_problem_destroy(&p);
+    }
+}
+END_TEST
+
 // The automatic choice is the low-rank solver; with a rank limit of 0 it
 // hands every contact solve to the refactoring inside and still agrees.
 START_TEST(automatic_choice) {
@@ -413,6 +480,7 @@ int main(void) {
   tcase_add_test(tc, box_p1);
   tcase_add_test(tc, box_p2);
   tcase_add_test(tc, random_active_sets);
+  tcase_add_test(tc, tangent_given_the_residuals_points);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history);
   tcase_add_test(tc, malformed_histories);

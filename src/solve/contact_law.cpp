@@ -255,14 +255,24 @@ void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y)
   for (size_t k = 0; k < a.idx.size(); ++k) y[a.idx[k]] += f * (a.val[k] - tg * s.val[k]);
 }
 
-void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active) const {
+void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active,
+                           std::vector<double> *P) const {
   if (cp->size() == 0) {
     if (active) active->clear();
+    if (P) P->clear();
     return;
   }
   thread_local std::vector<double> Pq;
-  P_read(U, Pq);
-  add_force_from(Pq, kappa, y, active);
+  std::vector<double> &at = P ? *P : Pq;
+  P_read(U, at);
+  add_force_from(at, kappa, y, active);
+}
+
+const std::vector<double> &ContactLaw::P_at(const double *U, const std::vector<double> *P,
+                                             std::vector<double> &scratch) const {
+  if (P && P->size() == cp->size() && (!halo || local)) return *P;  // P_read was P_all
+  P_all(U, scratch);
+  return scratch;
 }
 
 void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, double *y,
@@ -289,13 +299,13 @@ void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f
   T.add_outer(a.idx, b.data(), p.data(), f);
 }
 
-void ContactLaw::add_tangent(const double *U, double kappa, Csr &T) const {
+void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::vector<double> *P) const {
   count(counters, &Counters::tangent_updates);
   thread_local std::vector<double> Pq;
-  P_read(U, Pq);
+  if (!P || P->size() != cp->size()) P_read(U, Pq), P = &Pq;
   for_read([&](size_t q) {
     double value, slope;
-    law(q, Pq[q], value, slope);
+    law(q, (*P)[q], value, slope);
     if (slope != 0) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T);
   });
 }

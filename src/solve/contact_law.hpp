@@ -171,11 +171,17 @@ struct ContactLaw {
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given (with a
   // halo: y right on this rank's rows, active at the points it reads, else 0)
-  void add_force(const double *U, double kappa, double *y, std::vector<char> *active) const;
+  // P (if given): P_q(U) as P_read leaves it, for the tangent at U (P_at)
+  void add_force(const double *U, double kappa, double *y, std::vector<char> *active,
+                 std::vector<double> *P = nullptr) const;
   // the same from P = P_q(U) already evaluated
   void add_force_from(const std::vector<double> &P, double kappa, double *y, std::vector<char> *active) const;
   // T += kappa N'(U) (T has the operator pattern, which holds every a_q, s_q pair)
-  void add_tangent(const double *U, double kappa, Csr &T) const;
+  // P: P_q(U) as add_force left it at this U, or null (evaluated here)
+  void add_tangent(const double *U, double kappa, Csr &T, const std::vector<double> *P = nullptr) const;
+  // P_q(U) for every point: P if given (what add_force left at this U, when
+  // P_read reads every point), else evaluated into `scratch` by P_all
+  const std::vector<double> &P_at(const double *U, const std::vector<double> *P, std::vector<double> &scratch) const;
 };
 
 }  // namespace nd

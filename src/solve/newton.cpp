@@ -10,7 +10,8 @@
 namespace nd {
 
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
-                       std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU) {
+                       std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
+                       std::vector<double> *P) {
   count(sys.law->counters, &Counters::spmv);
   auto keep = [&](int64_t i, double AU, double MUi) __attribute__((always_inline)) {
     G[i] = AU;
@@ -23,7 +24,7 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
   if (!for_node_rows<true, false>(sys.rows ? nullptr : sys.blocks, U.data(), U.data(), nullptr, keep_block))
     multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
-  sys.law->add_force(U.data(), sys.kappa, G.data(), active);
+  sys.law->add_force(U.data(), sys.kappa, G.data(), active, P);
   const RowSet rows = own_rows(sys.held_rows());
   for (int64_t k = 0, m = rows.size(static_cast<int64_t>(G.size())); k < m; ++k) G[rows[k]] -= r[rows[k]];
   return rhs_norm(sys, G);
@@ -71,21 +72,22 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     first = 2;  // contact starts within the step: Newton from the linear step
   }
   std::vector<double> G(U.size()), MU(U.size());
+  std::vector<double> P;  // P_q at U, from the residual, for the tangent there
   std::vector<char> active, previous;
   const double r_norm = rhs_norm(sys, r);
-  res.residual = newton_residual(sys, r, U, G, &active, MU);
+  res.residual = newton_residual(sys, r, U, G, &active, MU, &P);
   bool any_active = false, changed = true;
   sys.law->summarize(active, previous, any_active, changed);
   for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))
       fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
     for (auto &g : G) g = -g;
-    sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data());
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data(), nullptr, &P);
     partial |= any_active && sys.tangent->held();
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2_rows(sys.held_rows(), n, G.data());
     previous.swap(active);
-    res.residual = newton_residual(sys, r, U, G, &active, MU);
+    res.residual = newton_residual(sys, r, U, G, &active, MU, &P);
     sys.law->summarize(active, previous, any_active, changed);
     res.iterations = it;
     const double u_norm = norm2_rows(sys.held_rows(), n, U.data());

@@ -50,9 +50,11 @@ struct NewtonResult {
 
 // G = A U + kappa N(U) - r; returns ||G||, fills the active set (if given)
 // and MU = M U from the same pass over the pattern A and M share (split: on
-// this rank's rows; collective with rows)
+// this rank's rows; collective with rows); P (if given): P_q(U) as
+// ContactLaw::add_force leaves it, for the tangent solve at U
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
-                       std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU);
+                       std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
+                       std::vector<double> *P = nullptr);
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);

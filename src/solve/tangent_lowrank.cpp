@@ -46,7 +46,7 @@ class LowRankTangent : public TangentSolver {
   }
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
-             const double *guess) override {
+             const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
     if (!any_active) {
       A_factor_.solve_from(x, guess);
@@ -57,8 +57,8 @@ class LowRankTangent : public TangentSolver {
     const ContactPoints &cp = *law.cp;
     active_.clear();
     d_.clear();
-    thread_local std::vector<double> P;
-    law.P_all(U, P);
+    thread_local std::vector<double> scratch;
+    const std::vector<double> &P = law.P_at(U, P_U, scratch);
     for (size_t q = 0; q < cp.size(); ++q) {
       double value, slope;
       law.law(q, P[q], value, slope);
@@ -80,7 +80,7 @@ class LowRankTangent : public TangentSolver {
         fallback_->begin_step(committed_);
       }
       const TangentStats before = fallback_->stats;
-      fallback_->solve(law, kappa, U, true, x);
+      fallback_->solve(law, kappa, U, true, x, nullptr, P_U);
       stats.refactorizations += fallback_->stats.refactorizations - before.refactorizations;
       stats.restarts += fallback_->stats.restarts - before.restarts;
       return;

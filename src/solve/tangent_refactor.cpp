@@ -14,7 +14,7 @@ class RefactoringTangent : public TangentSolver {
       : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)),
         held_(std::move(held)), linear_held_(linear_held && !held_.empty()) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
-             const double *guess) override {
+             const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
     if (!any_active) {  // Newton's linear step, which often ends it: every row, or the held ones
       if (linear_held_) return A_factor_.solve_at(x, A_.n, held_, guess);
@@ -22,7 +22,7 @@ class RefactoringTangent : public TangentSolver {
       return;
     }
     T_.val = A_.val;  // same size: no allocation
-    law.add_tangent(U, kappa, T_);
+    law.add_tangent(U, kappa, T_, P_U);
     // (GAMG keeps its preconditioner from tangent to tangent while it serves)
     if (T_factor_->refactor(T_, structure_)) ++stats.refactorizations;
     if (held_.empty()) return T_factor_->solve(x);

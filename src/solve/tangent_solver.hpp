@@ -32,9 +32,11 @@ class TangentSolver {
  public:
   virtual ~TangentSolver() = default;
   // x <- T(U)^{-1} x; with no active point T(U) = A, solved from `guess`
-  // where the solver is iterative (Factorization::solve_from; null: from 0)
+  // where the solver is iterative (Factorization::solve_from; null: from 0).
+  // P: P_q(U) as Newton's residual at this U left it (ContactLaw::add_force),
+  // or null: the solver evaluates the points (the same bits either way)
   virtual void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
-                     const double *guess = nullptr) = 0;
+                     const double *guess = nullptr, const std::vector<double> *P = nullptr) = 0;
   virtual const char *name() const = 0;
   // The step starts from a state whose tangent history is `committed`
   // (TangentLog, time/state.hpp); log(): the history after the step's

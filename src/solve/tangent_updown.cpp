@@ -59,17 +59,17 @@ class UpdownTangent : public TangentSolver {
   const TangentLog *log() const override { return &log_; }
 
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
-             const double *guess) override {
+             const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
     if (law.theta != 1) fail(ND_ERR_INTERNAL, "the updated tangent factor needs Theta = 1");
     const ContactPoints &cp = *law.cp;
     d_new_.assign(cp.size(), 0.0);
     int64_t k = 0;
     if (any_active) {
-      law.P_all(U, P_);
+      const std::vector<double> &P = law.P_at(U, P_U, P_);
       for (size_t q = 0; q < cp.size(); ++q) {
         double value, slope;
-        law.law(q, P_[q], value, slope);
+        law.law(q, P[q], value, slope);
         if (slope != 0) d_new_[q] = kappa * cp.w[q] / cp.gamma[q] * slope, ++k;
       }
     }
