@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "monitor/energies.hpp"
 #include "testutil.h"
 #include "unit_drop.hpp"
 #include "unit_fixtures.hpp"
@@ -380,6 +381,62 @@ START_TEST(tangent_given_the_residuals_points) {
 }
 END_TEST
 
+double scalar(nd_problem p, int key) {
+  double v = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(p, key, &v));
+  return v;
+}
+
+// The new state's points (P_q and u_n - g0) come from Newton's last
+// residual, at the solution: the bits of a pass over the points on the
+// state's U and gaps, on every tangent path, 2D P2 and 3D P1, Theta = 1
+// and 0. And a step of the full Newton that starts in contact evaluates the
+// points its + 2 times (the check of the predictor, the residual there and
+// after each iteration): none for a tangent solve, none for the new state.
+START_TEST(new_state_points_from_newton) {
+  const nd::TangentChoice choices[] = {nd::TangentChoice::Refactor, nd::TangentChoice::LowRank,
+                                       nd::TangentChoice::Condensed, nd::TangentChoice::Updown};
+  for (int dim : {2, 3})
+    for (double theta : {1.0, 0.0})
+      for (nd::TangentChoice choice : choices) {
+        if (choice == nd::TangentChoice::Updown && theta != 1) continue;
+        nd_problem p = scene(dim, dim == 2 ? 2 : 1, kSchemes[3], theta);
+        p->problem.set_tangent(choice);
+        const nd::Discretization &d = p->problem.discretization();
+        int contact_steps = 0, counted = 0, was_active = 0;
+        double before = scalar(p, ND_STAT_CONTACT_EVALUATIONS);
+        for (int k = 0; k < 40; ++k) {
+          ND_OK_OR_FAIL(nd_step(p));
+          const nd::State &s = p->problem.current_state();
+          nd::ContactLaw law = nd::state_contact_law(d, s);
+          law.local = true;
+          std::vector<double> P, un;
+          law.P_all(s.U.data(), P, &un);
+          const nd::PointValues &kept = s.products.points;
+          ck_assert(kept.P.size() == P.size() && kept.un.size() == un.size());
+          ck_assert_msg(std::memcmp(kept.P.data(), P.data(), P.size() * sizeof(double)) == 0 &&
+                            std::memcmp(kept.un.data(), un.data(), un.size() * sizeof(double)) == 0,
+                        "%dD Theta = %g, tangent %d, step %d: the state's points differ", dim, theta,
+                        static_cast<int>(choice), k + 1);
+          const double evaluations = scalar(p, ND_STAT_CONTACT_EVALUATIONS) - before;
+          before += evaluations;
+          const int active = scalar(p, ND_ACTIVE_POINTS) > 0;
+          contact_steps += active;
+          const bool full = choice != nd::TangentChoice::Condensed;
+          if (full && active && was_active) {
+            ck_assert_msg(evaluations == scalar(p, ND_NEWTON_ITERATIONS) + 2, "%dD, tangent %d, step %d: %g passes",
+                          dim, static_cast<int>(choice), k + 1, evaluations);
+            ++counted;
+          }
+          was_active = active;
+        }
+        ck_assert_int_gt(contact_steps, 5);
+        if (choice != nd::TangentChoice::Condensed) ck_assert_int_gt(counted, 3);
+        nd_problem_destroy(&p);
+      }
+}
+END_TEST
+
 // The automatic choice is the low-rank solver; with a rank limit of 0 it
 // hands every contact solve to the refactoring inside and still agrees.
 START_TEST(automatic_choice) {
@@ -481,6 +538,7 @@ int main(void) {
   tcase_add_test(tc, box_p2);
   tcase_add_test(tc, random_active_sets);
   tcase_add_test(tc, tangent_given_the_residuals_points);
+  tcase_add_test(tc, new_state_points_from_newton);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history);
   tcase_add_test(tc, malformed_histories);

@@ -216,18 +216,23 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       sys.blocks = in.A_blocks.get();
       sys.complete = in.held.empty();
       sys.guess = in.A_factor->starts_from_guess();
+      // the points at the solution from Newton's last residual, for the new
+      // state's products (one process, every point and row its own: the same
+      // bits as that pass's; else the pass evaluates them)
+      PointValues *solution_points = in.held.empty() && !d.contact.share && !d.rows_split ? &at_U : nullptr;
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
-        const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton, next.U);
+        const CondensedResult cr =
+            newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton, next.U, solution_points);
         res = cr.newton;
         if (!res.converged) {
           const int before = res.iterations;
-          res = newton_solve(sys, r, def.newton, next.U);
+          res = newton_solve(sys, r, def.newton, next.U, solution_points);
           res.iterations += before;
         }
       } else {
-        res = newton_solve(sys, r, def.newton, next.U);
+        res = newton_solve(sys, r, def.newton, next.U, solution_points);
       }
       if (!res.converged)
         fail(ND_ERR_NEWTON, "Newton did not converge in " + std::to_string(res.iterations) + " iterations at t = " +

@@ -256,7 +256,8 @@ void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y)
 }
 
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active,
-                           std::vector<double> *P) const {
+                           std::vector<double> *P, std::vector<double> *un) const {
+  if (un) un->clear();
   if (cp->size() == 0) {
     if (active) active->clear();
     if (P) P->clear();
@@ -264,7 +265,8 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
   }
   thread_local std::vector<double> Pq;
   std::vector<double> &at = P ? *P : Pq;
-  P_read(U, at);
+  if (un && P && (!halo || local)) P_all(U, at, un);  // P_read's pass, u_n - g0 with it
+  else P_read(U, at);
   add_force_from(at, kappa, y, active);
 }
 

@@ -171,9 +171,11 @@ struct ContactLaw {
   void law(size_t q, double P, double &value, double &slope) const;
   // y += kappa N(U); active[q] = (slope != 0) if active is given (with a
   // halo: y right on this rank's rows, active at the points it reads, else 0)
-  // P (if given): P_q(U) as P_read leaves it, for the tangent at U (P_at)
+  // P (if given): P_q(U) as P_read leaves it, for the tangent at U (P_at);
+  // un (with P): u_n - g0 from the same pass where P_read is P_all, else
+  // left empty (the new state's products take both: PointValues)
   void add_force(const double *U, double kappa, double *y, std::vector<char> *active,
-                 std::vector<double> *P = nullptr) const;
+                 std::vector<double> *P = nullptr, std::vector<double> *un = nullptr) const;
   // the same from P = P_q(U) already evaluated
   void add_force_from(const std::vector<double> &P, double kappa, double *y, std::vector<char> *active) const;
   // T += kappa N'(U) (T has the operator pattern, which holds every a_q, s_q pair)

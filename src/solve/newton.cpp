@@ -11,7 +11,7 @@ namespace nd {
 
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
-                       std::vector<double> *P) {
+                       PointValues *points) {
   count(sys.law->counters, &Counters::spmv);
   auto keep = [&](int64_t i, double AU, double MUi) __attribute__((always_inline)) {
     G[i] = AU;
@@ -24,7 +24,8 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
   if (!for_node_rows<true, false>(sys.rows ? nullptr : sys.blocks, U.data(), U.data(), nullptr, keep_block))
     multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
-  sys.law->add_force(U.data(), sys.kappa, G.data(), active, P);
+  if (points) sys.law->add_force(U.data(), sys.kappa, G.data(), active, &points->P, &points->un);
+  else sys.law->add_force(U.data(), sys.kappa, G.data(), active);
   const RowSet rows = own_rows(sys.held_rows());
   for (int64_t k = 0, m = rows.size(static_cast<int64_t>(G.size())); k < m; ++k) G[rows[k]] -= r[rows[k]];
   return rhs_norm(sys, G);
@@ -48,7 +49,7 @@ namespace {
 
 // partial: set when a solve left U right at the tangent's held rows only
 NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, const NewtonOptions &opt,
-                     std::vector<double> &U, bool &partial) {
+                     std::vector<double> &U, bool &partial, PointValues *points) {
   const int64_t n = static_cast<int64_t>(U.size());
   NewtonResult res;
   int first = 1;
@@ -72,22 +73,22 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     first = 2;  // contact starts within the step: Newton from the linear step
   }
   std::vector<double> G(U.size()), MU(U.size());
-  std::vector<double> P;  // P_q at U, from the residual, for the tangent there
+  PointValues at;  // the points at U, from the residual: for the tangent there, and the new state's
   std::vector<char> active, previous;
   const double r_norm = rhs_norm(sys, r);
-  res.residual = newton_residual(sys, r, U, G, &active, MU, &P);
+  res.residual = newton_residual(sys, r, U, G, &active, MU, &at);
   bool any_active = false, changed = true;
   sys.law->summarize(active, previous, any_active, changed);
   for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))
       fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
     for (auto &g : G) g = -g;
-    sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data(), nullptr, &P);
+    sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data(), nullptr, &at.P);
     partial |= any_active && sys.tangent->held();
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
     const double step = norm2_rows(sys.held_rows(), n, G.data());
     previous.swap(active);
-    res.residual = newton_residual(sys, r, U, G, &active, MU, &P);
+    res.residual = newton_residual(sys, r, U, G, &active, MU, &at);
     sys.law->summarize(active, previous, any_active, changed);
     res.iterations = it;
     const double u_norm = norm2_rows(sys.held_rows(), n, U.data());
@@ -99,6 +100,8 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     const bool small = res.residual <= res.tolerance, still = step <= 64 * DBL_EPSILON * u_norm;
     if ((!changed && (small || still)) || (small && still)) {
       res.converged = true;
+      // the points at the solution, every one of them (un made with P): the new state's
+      if (points && !partial && !at.P.empty() && at.un.size() == at.P.size()) *points = std::move(at);
       return res;
     }
   }
@@ -108,9 +111,9 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
 }  // namespace
 
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r, const NewtonOptions &opt,
-                          std::vector<double> &U) {
+                          std::vector<double> &U, PointValues *points) {
   bool partial = false;
-  const NewtonResult res = iterate(sys, r, opt, U, partial);
+  const NewtonResult res = iterate(sys, r, opt, U, partial, points);
   if (partial && sys.complete) gather(*sys.rows, {U.data()});  // the rows other ranks own
   return res;
 }

@@ -50,11 +50,12 @@ struct NewtonResult {
 
 // G = A U + kappa N(U) - r; returns ||G||, fills the active set (if given)
 // and MU = M U from the same pass over the pattern A and M share (split: on
-// this rank's rows; collective with rows); P (if given): P_q(U) as
-// ContactLaw::add_force leaves it, for the tangent solve at U
+// this rank's rows; collective with rows); points (if given): P_q(U) as
+// ContactLaw::add_force leaves it, for the tangent solve at U, and u_n - g0
+// from the same pass where that pass is every point's (else un empty)
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
-                       std::vector<double> *P = nullptr);
+                       PointValues *points = nullptr);
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);
@@ -73,8 +74,10 @@ std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const Con
 
 // U holds the initial guess on entry and the solution on exit (on every row:
 // when the tangent keeps only its held rows, the others are gathered from
-// their ranks at the end, unless !sys.complete).
+// their ranks at the end, unless !sys.complete). points (if given): set to
+// P_q and u_n - g0 at the solution when its last residual evaluated every
+// point at every row (else left as it was), for the new state's products.
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
-                          const NewtonOptions &opt, std::vector<double> &U);
+                          const NewtonOptions &opt, std::vector<double> &U, PointValues *points = nullptr);
 
 }  // namespace nd

@@ -55,7 +55,7 @@ void solve_U(const Factorization &A_factor, const ContactLaw &law, const std::ve
 
 CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
                                  int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
-                                 std::vector<double> &U) {
+                                 std::vector<double> &U, PointValues *points) {
   const ContactLaw &law = *sys.law;
   const ContactPoints &cp = *law.cp;
   const int64_t n = static_cast<int64_t>(U.size()), nq = static_cast<int64_t>(cp.size());
@@ -200,9 +200,11 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     }
     // the full residual, DESIGN §3's test
     std::vector<double> Gr(U.size()), MU(U.size());
-    res.residual = newton_residual(sys, r, U, Gr, nullptr, MU);
+    PointValues at;
+    res.residual = newton_residual(sys, r, U, Gr, nullptr, MU, &at);
     res.tolerance = newton_tolerance(sys, opt, rhs_norm(sys, r), MU);
     res.converged = res.residual <= res.tolerance;
+    if (res.converged && points && !at.P.empty() && at.un.size() == at.P.size()) *points = std::move(at);
     return out;
   }
   return out;

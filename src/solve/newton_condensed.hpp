@@ -52,8 +52,9 @@ struct CondensedResult {
 // max_rank: the most points S may hold (negative: no limit), past which the
 // caller's tangent solver (refactoring) takes over; with more than half of it
 // active at the predictor the condensed Newton does not start (too_large).
+// points: as newton_solve's, from the full residual's check
 CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
                                  int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
-                                 std::vector<double> &U);
+                                 std::vector<double> &U, PointValues *points = nullptr);
 
 }  // namespace nd
