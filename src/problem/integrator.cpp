@@ -181,7 +181,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   law.Pn = &old_products.points.P;
   if (def.contact_bounds) law.Un = old.U.data(), law.gap_n = old.gap.empty() ? nullptr : old.gap.data();
   scheme.predict(tau, old, next.U);
-  PointValues at_U;  // an explicit step's P_q(U^{n+1}), for the new state's products
+  PointValues at_U;  // P_q(U^{n+1}) and u_n - g0 if the step made them (explicit, or Newton), for the products
   bool predicted = false;  // an implicit step that is its predictor: updated, its pass made
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
@@ -217,9 +217,9 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       sys.complete = in.held.empty();
       sys.guess = in.A_factor->starts_from_guess();
       // the points at the solution from Newton's last residual, for the new
-      // state's products (one process, every point and row its own: the same
-      // bits as that pass's; else the pass evaluates them)
-      PointValues *solution_points = in.held.empty() && !d.contact.share && !d.rows_split ? &at_U : nullptr;
+      // state's products where that pass is the products' (every point, on a
+      // whole state: Newton hands them over only then), the same bits
+      PointValues *solution_points = in.held.empty() && !in.points ? &at_U : nullptr;
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
@@ -268,7 +268,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // One pass over the points: phi is also the applied pressure (kept in the state).
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
-  if (!predicted) compute_products(d, next, &at_U, in.points.get());  // (at_U empty for an implicit step: evaluated there)
+  // (at_U: an explicit step's, or Newton's at its solution; empty: evaluated there)
+  if (!predicted) compute_products(d, next, &at_U, in.points.get());
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks

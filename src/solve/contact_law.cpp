@@ -77,8 +77,9 @@ void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) 
   if (received) receiving_points(share.counters, [&] { exchange(*halo, P.data()); });
 }
 
-bool ContactLaw::contact_free(const std::vector<double> &U) const {
+bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> *P_out) const {
   const bool reduced = halo && !local, per_rank = held && reduced;
+  if (P_out) P_out->clear();
   // far from the obstacle: no point evaluated (with `held`, this rank's
   // points: counted below when every rank's bound held, the job's count)
   const bool bound = certainly_free(U, !per_rank);
@@ -86,7 +87,8 @@ bool ContactLaw::contact_free(const std::vector<double> &U) const {
   double flags[2] = {0, bound ? 0.0 : 1.0};  // a busy own point, a bound that failed
   double &any = flags[0];
   if (!bound) {
-    thread_local std::vector<double> P;
+    thread_local std::vector<double> own;
+    std::vector<double> &P = P_out && !reduced ? *P_out : own;  // (not reduced: P_read is P_all)
     P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
     auto busy = [&](int64_t q) {
       double value, slope;

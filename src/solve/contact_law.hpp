@@ -151,8 +151,9 @@ struct ContactLaw {
   // Whether N and N' vanish at U at every point: certainly_free, else a pass
   // (with a halo, each rank its own points, then one reduction; with `held`
   // the ranks' bounds are reduced with it, and counted when all held).
-  // Collective.
-  bool contact_free(const std::vector<double> &U) const;
+  // Collective. P (if given): P_q(U) at every point when the pass was made
+  // and was every point's (one process), else left empty.
+  bool contact_free(const std::vector<double> &U, std::vector<double> *P = nullptr) const;
   // From the active sets of add_force (`previous` may be empty): whether a
   // point is active, whether the set changed; with a halo from each rank's
   // own points, reduced in one message (the same answer on every rank).

@@ -11,7 +11,7 @@ namespace nd {
 
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
-                       PointValues *points) {
+                       PointValues *points, bool known) {
   count(sys.law->counters, &Counters::spmv);
   auto keep = [&](int64_t i, double AU, double MUi) __attribute__((always_inline)) {
     G[i] = AU;
@@ -24,8 +24,14 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
   if (!for_node_rows<true, false>(sys.rows ? nullptr : sys.blocks, U.data(), U.data(), nullptr, keep_block))
     multiply_pair(*sys.A, U.data(), *sys.M, U.data(), keep, own_rows(sys.rows));
   if (sys.rows && !sys.split) gather(*sys.rows, {G.data(), MU.data()});
-  if (points) sys.law->add_force(U.data(), sys.kappa, G.data(), active, &points->P, &points->un);
-  else sys.law->add_force(U.data(), sys.kappa, G.data(), active);
+  if (points && known) {
+    points->un.clear();
+    sys.law->add_force_from(points->P, sys.kappa, G.data(), active);
+  } else if (points) {
+    sys.law->add_force(U.data(), sys.kappa, G.data(), active, &points->P, &points->un);
+  } else {
+    sys.law->add_force(U.data(), sys.kappa, G.data(), active);
+  }
   const RowSet rows = own_rows(sys.held_rows());
   for (int64_t k = 0, m = rows.size(static_cast<int64_t>(G.size())); k < m; ++k) G[rows[k]] -= r[rows[k]];
   return rhs_norm(sys, G);
@@ -53,11 +59,14 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   const int64_t n = static_cast<int64_t>(U.size());
   NewtonResult res;
   int first = 1;
+  // the points at U, from the residual (or the check) there: for the tangent
+  // at U, and at the solution the new state's
+  PointValues at;
   // DESIGN §4: no point active at the predictor, so none can start unless the
   // linear step says so: one solve U = A^{-1} r and one check. Where no point
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
   // (to the solve's round-off): Newton's first iteration would only repeat it.
-  if (opt.max_iter >= 1 && sys.law->contact_free(U)) {
+  if (opt.max_iter >= 1 && sys.law->contact_free(U, &at.P)) {
     // the predictor: where the solve is iterative, its start (a copy for
     // the step: nothing n long is kept between steps, none made for a
     // direct solve, which would not read it)
@@ -66,17 +75,17 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     U = r;
     sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data(), sys.guess ? predictor.data() : nullptr);
     res.iterations = 1;
-    if (sys.law->contact_free(U)) {
+    if (sys.law->contact_free(U, &at.P)) {
       res.converged = true;
       return res;
     }
     first = 2;  // contact starts within the step: Newton from the linear step
   }
   std::vector<double> G(U.size()), MU(U.size());
-  PointValues at;  // the points at U, from the residual: for the tangent there, and the new state's
   std::vector<char> active, previous;
   const double r_norm = rhs_norm(sys, r);
-  res.residual = newton_residual(sys, r, U, G, &active, MU, &at);
+  // (the check's pass at this U, if it made one: P_q is not evaluated twice)
+  res.residual = newton_residual(sys, r, U, G, &active, MU, &at, at.P.size() == sys.law->cp->size() && !at.P.empty());
   bool any_active = false, changed = true;
   sys.law->summarize(active, previous, any_active, changed);
   for (int it = first; it <= opt.max_iter; ++it) {

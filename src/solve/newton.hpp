@@ -52,10 +52,12 @@ struct NewtonResult {
 // and MU = M U from the same pass over the pattern A and M share (split: on
 // this rank's rows; collective with rows); points (if given): P_q(U) as
 // ContactLaw::add_force leaves it, for the tangent solve at U, and u_n - g0
-// from the same pass where that pass is every point's (else un empty)
+// from the same pass where that pass is every point's (else un empty);
+// with known, points->P is P_q(U) already (ContactLaw::contact_free's): not
+// evaluated again, and un left empty
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
-                       PointValues *points = nullptr);
+                       PointValues *points = nullptr, bool known = false);
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);
