@@ -80,7 +80,7 @@ class LowRankTangent : public TangentSolver {
         fallback_->begin_step(committed_);
       }
       const TangentStats before = fallback_->stats;
-      fallback_->solve(law, kappa, U, true, x, nullptr, P_U);
+      fallback_->solve(law, kappa, U, true, x, nullptr, &P);  // (the points just read)
       stats.refactorizations += fallback_->stats.refactorizations - before.refactorizations;
       stats.restarts += fallback_->stats.restarts - before.restarts;
       return;
