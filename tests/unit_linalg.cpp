@@ -521,6 +521,39 @@ START_TEST(updatable_cholesky_updates_and_costs) {
 }
 END_TEST
 
+// A factor made like another (make_factorization's ordered_like: the
+// coercivity check reuses the step matrix's ordering) takes that ordering:
+// given the ordering of another pattern of as many unknowns (a chain), its
+// solves still reach round-off, and their bits differ from those of the
+// matrix's own ordering; given its own matrix's factor, they are those bits.
+START_TEST(cholmod_factor_made_like_another) {
+  const nd::Csr A = spd_matrix(20);
+  std::vector<std::vector<int64_t>> chain(static_cast<size_t>(A.n));
+  for (int64_t i = 0; i < A.n; ++i)
+    for (int64_t j = std::max<int64_t>(0, i - 1); j <= std::min<int64_t>(A.n - 1, i + 1); ++j) chain[i].push_back(j);
+  nd::Csr B = nd::csr_from_rows(std::move(chain));
+  B.val.assign(B.col.size(), -1.0);
+  for (int64_t i = 0; i < B.n; ++i) B.val[B.find(i, i)] = 4.0;
+  const Structure spd = Structure::SymmetricPositiveDefinite;
+  auto own = nd::make_factorization(ND_SOLVER_CHOLMOD, A, spd);
+  auto chain_factor = nd::make_factorization(ND_SOLVER_CHOLMOD, B, spd);
+  auto like_chain = nd::make_factorization(ND_SOLVER_CHOLMOD, A, spd, nullptr, nullptr, chain_factor.get());
+  auto like_own = nd::make_factorization(ND_SOLVER_CHOLMOD, A, spd, nullptr, nullptr, own.get());
+  for (auto *f : {own.get(), like_chain.get(), like_own.get()}) f->factor(A, spd);
+  for (auto *f : {own.get(), like_chain.get(), like_own.get()})
+    ck_assert_msg(solve_error(*f, A) <= 1e-12, "error %g", solve_error(*f, A));
+  std::vector<double> x(static_cast<size_t>(A.n)), y, z;
+  for (int64_t i = 0; i < A.n; ++i) x[i] = std::cos(0.3 * static_cast<double>(i));
+  y = x, z = x;
+  own->solve(y.data());
+  like_chain->solve(z.data());
+  ck_assert(std::memcmp(y.data(), z.data(), y.size() * sizeof(double)) != 0);
+  z = x;
+  like_own->solve(z.data());
+  ck_assert(std::memcmp(y.data(), z.data(), y.size() * sizeof(double)) == 0);
+}
+END_TEST
+
 // METIS's ordering of the pattern's supervariables (linalg/nested_dissection.cpp):
 // a permutation in which consecutive rows with the same columns (a node's
 // DOFs) stay consecutive and in order, in 1D (no two such rows: METIS's
@@ -638,6 +671,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, cholmod_solves_columns_at_few_rows_as_whole);
     tcase_add_test(tc, updatable_cholesky_updates_and_costs);
     tcase_add_test(tc, nested_dissection_keeps_nodes_together);
+    tcase_add_test(tc, cholmod_factor_made_like_another);
     tcase_add_test(tc, conjugate_gradients_on_the_mass_matrix);
   }
   tcase_add_test(tc, petsc_ids_are_refused_or_solve);

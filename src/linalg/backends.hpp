@@ -9,6 +9,9 @@ namespace nd {
 std::unique_ptr<Factorization> make_dense_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_banded_factorization(const Csr &pattern);
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &pattern);
+// the same with the ordering of ordered_like where that is a CHOLMOD factor
+// of as many unknowns (its METIS run not made again), else its own
+std::unique_ptr<Factorization> make_cholmod_factorization_like(const Csr &pattern, const Factorization *ordered_like);
 // nnz(L) of the CHOLMOD backend's analysis of the pattern (its ordering), for reports
 double cholmod_factor_nonzeros(const Csr &pattern);
 // does that analysis choose a supernodal factor? (for tests of its paths)

@@ -172,7 +172,7 @@ struct SupernodalTree {
 
 class Cholmod : public Factorization {
  public:
-  explicit Cholmod(const Csr &pattern) : f_(pattern) {
+  explicit Cholmod(const Csr &pattern, const std::vector<int64_t> *ordering = nullptr) : f_(pattern, ordering) {
     if (f_.L_->is_super) tree_ = std::make_unique<SupernodalTree>(f_.L_);
   }
   void factor(const Csr &A, Structure s) override;
@@ -411,9 +411,20 @@ void Cholmod::solve_many_at(double *x, int64_t n, int64_t k, const std::vector<i
   }
 }
 
+// the ordering of A's CHOLMOD factor, if that is what A_factor is (else null)
+const std::vector<int64_t> *ordering_of(const Factorization *A_factor) {
+  const auto *c = A_factor ? dynamic_cast<const Cholmod *>(&A_factor->backend()) : nullptr;
+  return c ? &c->ordering() : nullptr;
+}
+
 }  // namespace
 
 std::unique_ptr<Factorization> make_cholmod_factorization(const Csr &p) { return std::make_unique<Cholmod>(p); }
+
+std::unique_ptr<Factorization> make_cholmod_factorization_like(const Csr &p, const Factorization *ordered_like) {
+  const std::vector<int64_t> *ordering = ordering_of(ordered_like);
+  return std::make_unique<Cholmod>(p, ordering && static_cast<int64_t>(ordering->size()) == p.n ? ordering : nullptr);
+}
 
 double cholmod_factor_nonzeros(const Csr &pattern) {
   CholmodPattern f(pattern);
@@ -462,13 +473,6 @@ struct UpdatableCholesky::Impl {
   std::vector<double> path;                        // see find_paths (empty: not yet)
 };
 
-namespace {
-// the ordering of A's CHOLMOD factor, if that is what A_factor is (else null)
-const std::vector<int64_t> *ordering_of(const Factorization *A_factor) {
-  const auto *c = A_factor ? dynamic_cast<const Cholmod *>(&A_factor->backend()) : nullptr;
-  return c ? &c->ordering() : nullptr;
-}
-}  // namespace
 
 UpdatableCholesky::UpdatableCholesky(const Csr &pattern, Counters *counters, const Factorization *ordered_like)
     : impl_(std::make_unique<Impl>(pattern, ordering_of(ordered_like))), counters_(counters) {

@@ -191,13 +191,17 @@ const char *linear_solver_unavailable(int solver) {
 }
 
 std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s,
-                                                  Counters *counters, const DofGeometry *geometry) {
+                                                  Counters *counters, const DofGeometry *geometry,
+                                                  const Factorization *ordered_like) {
   const Backend *b = find_backend(backend_for(solver, pattern, s));
   if (!b) {
     if (const char *why = linear_solver_unavailable(solver)) fail(ND_ERR_KEY, why);
     fail(ND_ERR_KEY, "solver " + std::to_string(solver) + " is not an ND_SOLVER_* value");
   }
-  std::unique_ptr<Factorization> f = b->make_geometric ? b->make_geometric(pattern, geometry) : b->make(pattern);
+  std::unique_ptr<Factorization> f = b->make_geometric ? b->make_geometric(pattern, geometry)
+                                     : ordered_like && b->id == ND_SOLVER_CHOLMOD
+                                         ? make_cholmod_factorization_like(pattern, ordered_like)
+                                         : b->make(pattern);
   if (!counters) return f;
   ++counters->symbolic_analyses;
   return std::make_unique<Counted>(std::move(f), counters);

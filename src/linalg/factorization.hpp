@@ -133,10 +133,14 @@ struct DofGeometry {
 // for non-symmetric matrices. Any other id throws ND_ERR_KEY, and so does a
 // known id whose backend this build lacks (linear_solver_unavailable). With
 // counters, the making (symbolic analysis), every factor() and every solve()
-// are counted there. geometry (may be null): see DofGeometry.
+// are counted there. geometry (may be null): see DofGeometry. ordered_like
+// (may be null): a factor of a matrix of the same pattern whose fill-reducing
+// ordering the new one reuses where both are CHOLMOD's (any ordering is
+// correct: only the fill depends on it)
 std::unique_ptr<Factorization> make_factorization(int solver, const Csr &pattern, Structure s,
                                                   Counters *counters = nullptr,
-                                                  const DofGeometry *geometry = nullptr);
+                                                  const DofGeometry *geometry = nullptr,
+                                                  const Factorization *ordered_like = nullptr);
 // whether make_factorization accepts this id (AUTO or a registered backend)
 bool linear_solver_known(int solver);
 // whether this backend's factor() decides positive definiteness (a direct

@@ -154,7 +154,7 @@ std::vector<double> constant_load(const Space &space, const Discretization &d, c
   return assemble_load(space, d.dofs, def.has_body_force ? def.body_force : nullptr, def.neumann);
 }
 
-void check_coercivity(Discretization &d, int solver) {
+void check_coercivity(Discretization &d, int solver, const Factorization *A_factor) {
   if (d.coercive || !(d.theta > 0) || d.theta * d.gamma0 <= d.gamma0_limit) {
     d.coercive = true;
     return;
@@ -182,7 +182,7 @@ void check_coercivity(Discretization &d, int solver) {
   const int checker = linear_solver_certifies_definiteness(solver) ? solver
                       : d.rows_split                                 ? ND_SOLVER_PETSC_MUMPS
                                                                      : ND_SOLVER_AUTO;
-  auto f = make_factorization(checker, A, Structure::SymmetricPositiveDefinite, d.counters, &d.geometry);
+  auto f = make_factorization(checker, A, Structure::SymmetricPositiveDefinite, d.counters, &d.geometry, A_factor);
   try {
     f->factor(A, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {

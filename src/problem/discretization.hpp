@@ -118,7 +118,9 @@ Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const 
                              double c);
 // With Theta > 0 and Theta gamma0 above the element bound, the exact check:
 // K_Theta + delta M must factor as positive definite (ND_ERR_NOT_COERCIVE).
-void check_coercivity(Discretization &d, int solver);
+// A_factor (may be null): the step matrix's factor, whose ordering the
+// check's factorization reuses (the same pattern: no second METIS run)
+void check_coercivity(Discretization &d, int solver, const Factorization *A_factor = nullptr);
 // The constant load on the free DOFs: body force and tractions (empty: none).
 std::vector<double> constant_load(const Space &space, const Discretization &d, const Definition &def);
 

@@ -391,7 +391,7 @@ void Problem::prepare() {
     fail(ND_ERR_UNSTABLE, "the scheme amplifies every undamped oscillation, whatever the time step "
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
                           "gamma >= 1/2, or allow it with the unstable-scheme guard for a study");
-  if (def_.guards.coercivity) check_coercivity(d, def_.solver);
+  if (def_.guards.coercivity) check_coercivity(d, def_.solver, in.A_factor.get());
   const double limit = in.scheme->stability_limit();
   if (def_.guards.critical_timestep && std::isfinite(limit) && def_.tau * omega_max() > limit)
     fail(ND_ERR_UNSTABLE, "the time step " + num(def_.tau) + " exceeds the scheme's critical step " +
