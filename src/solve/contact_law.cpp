@@ -61,7 +61,7 @@ void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<doub
 }
 
 void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) const {
-  if (!halo || local) return P_all(U, P);
+  if (reads_all()) return P_all(U, P);
   P.assign(cp->size(), std::numeric_limits<double>::quiet_NaN());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
@@ -78,7 +78,7 @@ void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) 
 }
 
 bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> *P_out) const {
-  const bool reduced = halo && !local, per_rank = held && reduced;
+  const bool reduced = !reads_all(), per_rank = held && reduced;
   if (P_out) P_out->clear();
   // far from the obstacle: no point evaluated (with `held`, this rank's
   // points: counted below when every rank's bound held, the job's count)
@@ -88,7 +88,7 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
   double &any = flags[0];
   if (!bound) {
     thread_local std::vector<double> own;
-    std::vector<double> &P = P_out && !reduced ? *P_out : own;  // (not reduced: P_read is P_all)
+    std::vector<double> &P = P_out && !reduced ? *P_out : own;
     P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
     auto busy = [&](int64_t q) {
       double value, slope;
@@ -111,7 +111,7 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
 void ContactLaw::summarize(const std::vector<char> &active, const std::vector<char> &previous, bool &any,
                            bool &changed) const {
   any = false;
-  if (!halo || local) {
+  if (reads_all()) {
     for (char a : active) any |= a != 0;
     changed = active != previous;
     return;
@@ -267,14 +267,14 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
   }
   thread_local std::vector<double> Pq;
   std::vector<double> &at = P ? *P : Pq;
-  if (un && P && (!halo || local)) P_all(U, at, un);  // P_read's pass, u_n - g0 with it
+  if (un && P && reads_all()) P_all(U, at, un);  // P_read's pass, u_n - g0 with it
   else P_read(U, at);
   add_force_from(at, kappa, y, active);
 }
 
 const std::vector<double> &ContactLaw::P_at(const double *U, const std::vector<double> *P,
                                              std::vector<double> &scratch) const {
-  if (P && P->size() == cp->size() && (!halo || local)) return *P;  // P_read was P_all
+  if (P && P->size() == cp->size() && reads_all()) return *P;
   P_all(U, scratch);
   return scratch;
 }

@@ -84,6 +84,9 @@ struct ContactLaw {
   const HeldPoints *held = nullptr;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
+  // no halo narrows the passes: P_read is P_all, and its values can stand
+  // for any pass over every point at the same U
+  bool reads_all() const { return !halo || local; }
   // sa = a_q.U and ss = s_q.U, each summed in index order (the bits of
   // SparseRow::dot), in one loop: a_q and s_q share their index list
   void dots(size_t q, const double *U, double &sa, double &ss) const {
@@ -162,7 +165,7 @@ struct ContactLaw {
   // f(q) for every point this rank reads (halo->read), or every point
   template <class F>
   void for_read(F &&f) const {
-    if (halo && !local) {
+    if (!reads_all()) {
       for (int64_t q : halo->read) f(static_cast<size_t>(q));
       return;
     }

@@ -85,7 +85,7 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   std::vector<char> active, previous;
   const double r_norm = rhs_norm(sys, r);
   // (the check's pass at this U, if it made one: P_q is not evaluated twice)
-  res.residual = newton_residual(sys, r, U, G, &active, MU, &at, at.P.size() == sys.law->cp->size() && !at.P.empty());
+  res.residual = newton_residual(sys, r, U, G, &active, MU, &at, !at.P.empty());
   bool any_active = false, changed = true;
   sys.law->summarize(active, previous, any_active, changed);
   for (int it = first; it <= opt.max_iter; ++it) {
