@@ -18,21 +18,42 @@ namespace {
 // Whether the new state is finite, and its W (the loads' trapezoidal work
 // added to old.W), over the rows each rank has right: with split rows its
 // own (the ranks' counts and sums joined rank after rank, the same bits on
-// every rank), else every row in order
+// every rank), else every row in order. The test and the sum in their own
+// loops, in registers: one loop summing into the array `gather` reads kept
+// the running sum in memory (6.6 % of a disk P1 h = 1 free-flight step).
 bool finite_with_work(const Discretization &d, const State &old, const std::vector<double> &F_old, State &next) {
   const Share *mine = d.rows_split ? d.rows.get() : nullptr;
   const RowSet rows = own_rows(mine);
-  const int64_t n = static_cast<int64_t>(next.U.size());
+  const int64_t n = static_cast<int64_t>(next.U.size()), m = rows.size(n);
   const std::vector<double> &F = next.load();
   const bool loaded = !F.empty(), acc = next.A.size() == next.U.size();
-  double sums[2] = {mine ? 0.0 : old.W, 0.0};  // the work, the rows with a non-finite value
-  for (int64_t k = 0, m = rows.size(n); k < m; ++k) {
-    const int64_t i = rows[k];
-    if (!std::isfinite(next.U[i]) || !std::isfinite(next.V[i]) || (acc && !std::isfinite(next.A[i]))) sums[1] += 1;
-    if (loaded) sums[0] += 0.5 * (F[i] + F_old[i]) * (next.U[i] - old.U[i]);
+  const double *U = next.U.data(), *V = next.V.data(), *A = next.A.data(), *U0 = old.U.data();
+  // |x| <= max is false for inf and NaN: no branch per row
+  auto finite = [](double x) { return std::fabs(x) <= std::numeric_limits<double>::max(); };
+  bool ok = true;
+  if (!mine) {
+    for (int64_t i = 0; i < n; ++i) ok &= finite(U[i]) & finite(V[i]);
+    if (acc)
+      for (int64_t i = 0; i < n; ++i) ok &= finite(A[i]);
+  } else {
+    for (int64_t k = 0; k < m; ++k) {
+      const int64_t i = rows[k];
+      ok &= finite(U[i]) & finite(V[i]) & (!acc || finite(A[i]));
+    }
   }
-  if (mine) gather(*mine, {}, sums, 2);
-  next.W = mine ? old.W + sums[0] : sums[0];
+  double work = mine ? 0.0 : old.W;
+  auto add_work = [&](int64_t i) { work += 0.5 * (F[i] + F_old[i]) * (U[i] - U0[i]); };
+  if (loaded && !mine)
+    for (int64_t i = 0; i < n; ++i) add_work(i);
+  else if (loaded)
+    for (int64_t k = 0; k < m; ++k) add_work(rows[k]);
+  if (!mine) {
+    next.W = work;
+    return ok;
+  }
+  double sums[2] = {work, ok ? 0.0 : 1.0};  // the work, the ranks with a non-finite value
+  gather(*mine, {}, sums, 2);
+  next.W = old.W + sums[0];
   return sums[1] == 0;
 }
 
