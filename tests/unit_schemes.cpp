@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <cstdio>
 #include <vector>
 
 #include "capi/handles.hpp"
 #include "common/error.hpp"
 #include "nitschedyn.h"
+#include "solve/contact_law.hpp"
 #include "time/scheme.hpp"
 // check.h last: it defines a macro `fail` that the library's headers would meet
 #include <check.h>
@@ -49,6 +51,49 @@ START_TEST(every_listed_scheme_is_registered) {
   } catch (const nd::Error &e) {
     ck_assert_int_eq(e.code(), ND_ERR_SCHEME);
   }
+}
+END_TEST
+
+// A scheme that says its contact term is [P]_+ (TimeScheme::
+// contact_is_positive_part, which the passes then apply inline) has that
+// term, value and slope, at every sample; and ContactLaw::law gives the
+// scheme's own term whichever way it takes. A scheme overriding contact()
+// without clearing the flag fails here (hybrid, generalized-alpha with
+// rho_inf > 0: their terms differ from [P]_+).
+START_TEST(positive_part_flag_tells_the_truth) {
+  const struct {
+    int id;
+    std::vector<double> params;
+  } cases[] = {{ND_SCHEME_THETA, {0.5}},      {ND_SCHEME_THETA, {1.0}},          {ND_SCHEME_NEWMARK, {0.25, 0.5}},
+               {ND_SCHEME_NEWMARK, {0.0, 0.5}}, {ND_SCHEME_HYBRID, {}},          {ND_SCHEME_GENERALIZED_ALPHA, {0.0}},
+               {ND_SCHEME_GENERALIZED_ALPHA, {0.5}}, {ND_SCHEME_GENERALIZED_ALPHA, {1.0}}};
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const std::vector<double> Ps = {-3, -1, -tiny, -0.0, 0.0, tiny, 1e-300, 0.5, 2};
+  std::vector<double> Pn = {-2, -0.5, 0.0, 0.5, 2};
+  nd::ContactPoints cp;  // (the law reads only P^n from its point)
+  int positive = 0, other = 0;
+  for (const auto &c : cases) {
+    const auto scheme = nd::make_scheme(c.id, c.params);
+    bool differs = false;
+    for (size_t k = 0; k < Pn.size(); ++k) {
+      nd::ContactLaw law{&cp, 1.0, scheme.get(), &Pn};
+      for (double P : Ps) {
+        double v, sl, lv, lsl;
+        scheme->contact(P, Pn[k], v, sl);
+        law.law(k, P, lv, lsl);
+        ck_assert(lv == v && lsl == sl);
+        differs |= v != (P > 0 ? P : 0) || sl != (P > 0 ? 1 : 0);
+      }
+    }
+    if (scheme->contact_is_positive_part()) {
+      ck_assert_msg(!differs, "scheme %d says [P]_+ and is not", c.id);
+      ++positive;
+    } else {
+      other += differs;
+    }
+  }
+  ck_assert_int_eq(positive, 4);  // theta and Newmark
+  ck_assert_int_eq(other, 3);     // hybrid, generalized-alpha at rho_inf 0.5 and 1
 }
 END_TEST
 
@@ -181,6 +226,7 @@ int main(void) {
   Suite *s = suite_create("schemes");
   TCase *tc = tcase_create("registry_and_damping");
   tcase_add_test(tc, every_listed_scheme_is_registered);
+  tcase_add_test(tc, positive_part_flag_tells_the_truth);
   tcase_add_test(tc, amplification_matrix_tends_to_rho_inf);
   tcase_add_test(tc, highest_mode_decays_at_the_spectral_radius);
   suite_add_tcase(s, tc);

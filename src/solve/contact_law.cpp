@@ -6,15 +6,6 @@
 
 namespace nd {
 
-void ContactLaw::law(size_t q, double P, double &value, double &slope) const {
-  if (scheme) {
-    scheme->contact(P, Pn ? (*Pn)[q] : 0.0, value, slope);
-    return;
-  }
-  value = P > 0 ? P : 0;
-  slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
-}
-
 namespace {
 // what `receive` adds to values_received is also the points' (point_values_received)
 template <class Receive>
@@ -147,12 +138,14 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
     un_max = std::max(un_max, std::fabs(Un[i]));
   }
   if (!finite) return false;
+  const bool positive_part = !scheme || scheme->contact_is_positive_part();
   auto bounded = [&](size_t q) {
     const double nu = cp->nu[q], Pref = (*Pn)[q], g_now = g(q), g_ref = gap_n ? gap_n[q] : cp->gap[q];
     const double margin =
         kBoundMargin * (nu * (u_max + un_max + d) + std::fabs(g_now) + std::fabs(g_ref) + std::fabs(Pref));
     const double high = Pref + nu * d + (g_ref - g_now) + margin;
     if (!std::isfinite(high)) return false;  // (a law may map NaN to 0: not shown)
+    if (positive_part) return high <= 0;      // [P]_+ and its slope vanish at P <= 0 (law)
     double value, slope;
     law(q, high, value, slope);
     return value == 0 && slope == 0;

@@ -171,8 +171,12 @@ struct ContactLaw {
     }
     for (size_t q = 0, m = cp->size(); q < m; ++q) f(q);
   }
-  // phi and its slope at P for point q
-  void law(size_t q, double P, double &value, double &slope) const;
+  // phi and its slope at P for point q ([P]_+ inline where that is the law)
+  void law(size_t q, double P, double &value, double &slope) const {
+    if (scheme && !scheme->contact_is_positive_part()) return scheme->contact(P, Pn ? (*Pn)[q] : 0.0, value, slope);
+    value = P > 0 ? P : 0;
+    slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
+  }
   // y += kappa N(U); active[q] = (slope != 0) if active is given (with a
   // halo: y right on this rank's rows, active at the points it reads, else 0)
   // P (if given): P_q(U) as P_read leaves it, for the tangent at U (P_at);

@@ -19,7 +19,9 @@ class GeneralizedAlpha : public TimeScheme {
       : am_((2 * rho - 1) / (rho + 1)),
         af_(rho / (rho + 1)),
         gamma_(0.5 - am_ + af_),
-        beta_(0.25 * (1 - am_ + af_) * (1 - am_ + af_)) {}
+        beta_(0.25 * (1 - am_ + af_) * (1 - am_ + af_)) {
+    positive_part_ = false;
+  }
   bool is_explicit() const override { return false; }
   StepCoefficients coefficients(double tau) const override {
     return {(1 - am_) / ((1 - af_) * beta_ * tau * tau), 1 / (1 - af_)};

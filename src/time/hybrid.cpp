@@ -9,6 +9,7 @@ namespace {
 
 class Hybrid : public TimeScheme {
  public:
+  Hybrid() { positive_part_ = false; }
   bool is_explicit() const override { return false; }
   bool uses_acceleration() const override { return false; }
   StepCoefficients coefficients(double tau) const override { return {4 / (tau * tau), 2}; }

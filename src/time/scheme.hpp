@@ -61,6 +61,10 @@ class TimeScheme {
     value = P > 0 ? P : 0;
     slope = P > 0 ? 1 : 0;
   }
+  // contact() is [P]_+ (not overridden): the passes over the points apply it
+  // inline (ContactLaw::law), without a call per point
+  // (tests/unit_schemes.cpp checks every registered scheme's answer)
+  bool contact_is_positive_part() const { return positive_part_; }
   // Implicit: V^{n+1}, A^{n+1} from U^{n+1}. Explicit: V^{n+1} from A^{n+1}.
   virtual void update(double tau, const State &old, State &next) const = 0;
   // The equation a step satisfies on the free DOFs, M Abar + K_Theta Ubar +
@@ -72,6 +76,9 @@ class TimeScheme {
     (void)tau, (void)old;
     A = next.A;
   }
+
+ protected:
+  bool positive_part_ = true;  // false in a scheme that overrides contact()
 };
 
 // The registry: how many parameters an ND_SCHEME_* id reads (throws
