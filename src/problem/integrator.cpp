@@ -298,6 +298,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   auto apply = [&](size_t q) {
     double slope;
     law.law(q, next.products.points.P[q], phi[q], slope);
+    if (phi[q] == 0) return;  // (a term -0 or +0 changes no sum of W_obstacle, which is never -0)
     const double w = -d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
     if (in.points) dW[q] = w;
     else next.W_obstacle += w;
