@@ -161,22 +161,17 @@ void check_split_columns(int solver, double tol) {
   // sums of columns: right at the rank's rows, then completed from the others
   std::vector<double> f = {0.5, 0.0, -1.25, 2.0, 0.75, -0.3}, x0(static_cast<size_t>(n));
   for (int64_t i = 0; i < n; ++i) x0[i] = std::cos(0.37 * static_cast<double>(i));
-  for (int blocked = 0; blocked <= 1; ++blocked) {
+  {
     std::vector<double> x = x0, x_all = x0;
-    if (blocked) {
-      on_rows.subtract_blocked(T, f.data(), x.data());
-      all.subtract_blocked(T, f.data(), x_all.data());
-    } else {
-      on_rows.subtract_each(T, f.data(), x.data());
-      all.subtract_each(T, f.data(), x_all.data());
-    }
+    on_rows.subtract_blocked(T, f.data(), x.data());
+    all.subtract_blocked(T, f.data(), x_all.data());
     const int64_t before = counters.values_received;
     on_rows.complete(x.data());
     int64_t own = 0;
     for (int o : owner) own += o == g_rank;
     ck_assert(nd_test_on_all_ranks(counters.values_received - before == (g_size > 1 ? n - own : 0)));
-    ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(x, x_all) <= tol * max_abs(x_all)), "%s sum off by %g",
-                  blocked ? "blocked" : "column-wise", max_abs_diff(x, x_all) / max_abs(x_all));
+    ck_assert_msg(nd_test_on_all_ranks(max_abs_diff(x, x_all) <= tol * max_abs(x_all)), "sum off by %g",
+                  max_abs_diff(x, x_all) / max_abs(x_all));
     ck_assert(same_on_all_ranks(x));
   }
   // a solve kept at the held rows (the condensed Newton's y0), then completed

@@ -108,18 +108,6 @@ void ContactColumns::with_rows(F &&f) const {
   f([at](int64_t i) { return at[i]; });
 }
 
-void ContactColumns::subtract_each(const std::vector<int64_t> &S, const double *f, double *__restrict x) const {
-  const int64_t m = held();
-  with_rows([&](auto row) {
-    for (size_t j = 0; j < S.size(); ++j) {
-      if (f[j] == 0) continue;
-      const double *__restrict z = column(S[j]);
-      const double fj = f[j];
-      for (int64_t i = 0; i < m; ++i) x[row(i)] -= fj * z[i];
-    }
-  });
-}
-
 void ContactColumns::subtract_blocked(const std::vector<int64_t> &S, const double *f, double *__restrict x) const {
   const int64_t m = held(), k = static_cast<int64_t>(S.size());
   with_rows([&](auto row) {

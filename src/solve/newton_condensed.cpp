@@ -33,7 +33,7 @@ void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const 
   U = y0;
   std::vector<double> f(S.size());
   for (size_t j = 0; j < S.size(); ++j) f[j] = c[S[j]] * phi[j];
-  columns.subtract_each(S, f.data(), U.data());
+  columns.subtract_blocked(S, f.data(), U.data());
 }
 
 // U = y0 - A^{-1} sum_{j in S} c_j phi_j b_j, form_U's sum in exact
