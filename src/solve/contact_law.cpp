@@ -132,27 +132,41 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   double d = 0, u_max = 0, un_max = 0;
   bool finite = true;
   for (int64_t i : held ? held->dofs : cp->dofs) {
-    finite &= std::isfinite(U[i]) && std::isfinite(Un[i]);
+    finite &= std::isfinite(U[i]) & std::isfinite(Un[i]);
     d = std::max(d, std::fabs(U[i] - Un[i]));
     u_max = std::max(u_max, std::fabs(U[i]));
     un_max = std::max(un_max, std::fabs(Un[i]));
   }
   if (!finite) return false;
-  const bool positive_part = !scheme || scheme->contact_is_positive_part();
-  auto bounded = [&](size_t q) {
-    const double nu = cp->nu[q], Pref = (*Pn)[q], g_now = g(q), g_ref = gap_n ? gap_n[q] : cp->gap[q];
+  // the arrays read per point, in locals (the compiler reloaded them at every
+  // point: they might alias what the loop writes)
+  const double *nu = cp->nu.data(), *Pref = Pn->data(), *g_now = gap ? gap : cp->gap.data(),
+               *g_ref = gap_n ? gap_n : cp->gap.data();
+  const double reach = u_max + un_max + d;
+  auto high = [&](size_t q) {
     const double margin =
-        kBoundMargin * (nu * (u_max + un_max + d) + std::fabs(g_now) + std::fabs(g_ref) + std::fabs(Pref));
-    const double high = Pref + nu * d + (g_ref - g_now) + margin;
-    if (!std::isfinite(high)) return false;  // (a law may map NaN to 0: not shown)
-    if (positive_part) return high <= 0;      // [P]_+ and its slope vanish at P <= 0 (law)
+        kBoundMargin * (nu[q] * reach + std::fabs(g_now[q]) + std::fabs(g_ref[q]) + std::fabs(Pref[q]));
+    return Pref[q] + nu[q] * d + (g_ref[q] - g_now[q]) + margin;
+  };
+  auto bounded = [&](size_t q) {
+    const double h = high(q);
+    if (!std::isfinite(h)) return false;  // (a law may map NaN to 0: not shown)
     double value, slope;
-    law(q, high, value, slope);
+    law(q, h, value, slope);
     return value == 0 && slope == 0;
   };
   if (held) {
     for (int64_t q : held->points)
       if (!bounded(static_cast<size_t>(q))) return false;
+  } else if (!scheme || scheme->contact_is_positive_part()) {
+    // [P]_+ and its slope vanish at P <= 0 (law): every point's test, no
+    // branch (-max <= h <= 0 also fails NaN and infinities)
+    bool all = true;
+    for (size_t q = 0; q < nq; ++q) {
+      const double h = high(q);
+      all &= (h <= 0) & (h >= -std::numeric_limits<double>::max());
+    }
+    if (!all) return false;
   } else {
     for (size_t q = 0; q < nq; ++q)
       if (!bounded(q)) return false;
