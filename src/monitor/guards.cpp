@@ -12,16 +12,19 @@ namespace nd {
 namespace {
 
 constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
-// the deepest point relative to its cell size: (penetration / h, index);
-// of a distributed state's points, the deepest of the rank's own (the rank
-// that has the deepest fails with it, the others with it failing there:
-// guard_step runs inside the step's agreement)
+// the deepest point relative to its cell size: (penetration / h, index),
+// (0, 0) where no point penetrates (the guards' limits are positive: a
+// point off the obstacle costs no division); of a distributed state's
+// points, the deepest of the rank's own (the rank that has the deepest
+// fails with it, the others with it failing there: guard_step runs inside
+// the step's agreement)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
   PointValues scratch;
   const PointValues &points = state_points(d, s, scratch, d.counters);
   const std::vector<double> &un = points.un;
-  std::pair<double, size_t> worst{-INFINITY, 0};
+  std::pair<double, size_t> worst{0, 0};
   auto visit = [&](size_t q) {
+    if (!(un[q] > 0)) return;
     const double r = un[q] / d.contact.h[q];
     if (r > worst.first) worst = {r, q};
   };

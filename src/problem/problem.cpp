@@ -61,6 +61,7 @@ void Problem::changed(unsigned aspects) {
     step_load_.reset();
   }
   if (aspects & kContact) obstacle_redefined_ = true;
+  if (aspects & (kContact | kObstacle)) gaps_of_ = 0;
   if (aspects & kIntegratorDeps) {
     // a new tau or scheme refactors A = c M + K_Theta on the same pattern:
     // its symbolic analysis is kept for the next integrator
@@ -299,7 +300,14 @@ const std::vector<double> &Problem::clamped_load_() {
   return *load_fixed_;
 }
 
-std::vector<double> Problem::current_gaps() { return contact_gaps(discretization_().contact, def_.planes); }
+const std::vector<double> &Problem::current_gaps() {
+  const Discretization &d = discretization_();
+  if (gaps_of_ != d.id) {
+    gaps_ = contact_gaps(d.contact, def_.planes);
+    gaps_of_ = d.id;
+  }
+  return gaps_;
+}
 
 const std::vector<double> &Problem::constant_load_() {
   if (!load_) load_ = std::make_shared<const std::vector<double>>(constant_load(space_, discretization_(), def_));
@@ -423,7 +431,7 @@ void Problem::step() {
       def_.comm.get(),
       [&] {
         prepare();
-        const std::vector<double> gap = current_gaps();
+        const std::vector<double> &gap = current_gaps();
         next = advance(*integrator_, *disc_, def_, state_, StepData{current_load(), clamped_load_(), gap});
         guard_step(*disc_, def_.guards, state_, next);
       },

@@ -144,7 +144,9 @@ class Problem {
   StateSizes state_sizes();
   const std::shared_ptr<const std::vector<double>> &current_load();
   const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)
-  std::vector<double> current_gaps();          // g_q with the planes where the definition has them
+  // g_q with the planes where the definition has them (kept until a plane or
+  // the discretization changes: a step copies them, not computes them)
+  const std::vector<double> &current_gaps();
   std::vector<double> reaction_at_equilibrium(const State &s);
   void require_region(int region, const char *what) const;
 
@@ -155,6 +157,8 @@ class Problem {
   Definition def_;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
+  std::vector<double> gaps_;  // current_gaps() of the discretization whose id gaps_of_ holds (0: none)
+  uint64_t gaps_of_ = 0;
   std::shared_ptr<const std::vector<double>> load_;  // body force and tractions on the free DOFs
   // with the nodal forces: F^{n+1} (without any: load_ itself, not a copy)
   std::shared_ptr<const std::vector<double>> step_load_;
