@@ -17,6 +17,8 @@
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "monitor/energies.hpp"
+#include "solve/contact_columns.hpp"
+#include "solve/contact_law.hpp"
 #include "testutil.h"
 #include "unit_drop.hpp"
 #include "unit_fixtures.hpp"
@@ -382,6 +384,47 @@ START_TEST(tangent_given_the_residuals_points) {
 }
 END_TEST
 
+// The dots a column keeps (ContactColumns::keeps_dots: P^T Z_j, made with
+// the column) are the bits of p_q . Z_j evaluated on that column, made here
+// by a solve of b_j alone, for every point q: columns that keep them,
+// columns that evaluate them, and the automatic choice, which keeps them
+// exactly where the points are no more than a whole column's rows; 1D, 2D
+// and 3D, P1 and P2.
+START_TEST(columns_keep_their_dots_bitwise) {
+  for (int dim : {1, 2, 3})
+    for (int degree : {1, 2}) {
+      nd_problem p = scene(dim, degree, kSchemes[3], 1.0);
+      ND_OK_OR_FAIL(nd_step(p));
+      const nd::Integrator &in = *p->problem.integrator();
+      const nd::ContactPoints &cp = p->problem.discretization().contact;
+      const int64_t n = in.A.n, nq = static_cast<int64_t>(cp.size());
+      std::vector<int64_t> S;
+      for (int64_t q = nq > 1 ? 1 : 0; q < nq; q += 3) S.push_back(q);
+      for (nd::ColumnDots dots : {nd::ColumnDots::Keep, nd::ColumnDots::Evaluate, nd::ColumnDots::Auto}) {
+        nd::ContactColumns columns(*in.A_factor, n, nq, nullptr, nullptr, nd::ColumnRows::Whole, dots);
+        columns.bind(cp, 1.0);
+        ck_assert(columns.keeps_dots() == (dots == nd::ColumnDots::Keep || (dots == nd::ColumnDots::Auto && nq <= n)));
+        columns.require(S);
+        std::vector<double> z(static_cast<size_t>(n));
+        for (int64_t j : S) {
+          std::fill(z.begin(), z.end(), 0.0);
+          nd::add_b(cp, 1.0, static_cast<size_t>(j), 1.0, z.data());
+          in.A_factor->solve_many(z.data(), n, 1);
+          for (int64_t q = 0; q < nq; ++q) {
+            const double read = columns.dot(static_cast<size_t>(q), j),
+                         evaluated = nd::p_dot(cp, static_cast<size_t>(q), z.data());
+            ck_assert_msg(std::memcmp(&read, &evaluated, sizeof(double)) == 0,
+                          "%dD P%d, dots %d: p_%lld . Z_%lld = %.17g read, %.17g evaluated", dim, degree,
+                          static_cast<int>(dots), static_cast<long long>(q), static_cast<long long>(j), read,
+                          evaluated);
+          }
+        }
+      }
+      nd_problem_destroy(&p);
+    }
+}
+END_TEST
+
 double scalar(nd_problem p, int key) {
   double v = 0;
   ND_OK_OR_FAIL(nd_get_scalar(p, key, &v));
@@ -541,6 +584,7 @@ int main(void) {
   tcase_add_test(tc, random_active_sets);
   tcase_add_test(tc, tangent_given_the_residuals_points);
   tcase_add_test(tc, new_state_points_from_newton);
+  tcase_add_test(tc, columns_keep_their_dots_bitwise);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history);
   tcase_add_test(tc, malformed_histories);

@@ -37,7 +37,9 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
     place.assign(static_cast<size_t>(n_), -1);
     for (size_t k = 0; k < at.size(); ++k) place[at[k]] = static_cast<int64_t>(k);
   }
+  std::vector<std::vector<double>> D(cp.size());
   Z_.swap(Z);
+  D_.swap(D);
   position_.swap(position);
   at_.swap(at);
   place_.swap(place);
@@ -46,6 +48,7 @@ bool ContactColumns::bind(const ContactPoints &cp, double theta) {
   G_.clear();
   cp_ = &cp;
   theta_ = theta;
+  keeps_dots_ = dots_ == ColumnDots::Keep || (dots_ == ColumnDots::Auto && static_cast<int64_t>(cp.size()) <= held());
   return true;
 }
 
@@ -68,7 +71,7 @@ void ContactColumns::require(const std::vector<int64_t> &S) {
     std::vector<char> keep(Z_.size(), 0);
     for (int64_t q : S) keep[q] = 1;
     for (size_t q = 0; q < Z_.size(); ++q)
-      if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), --held_;
+      if (!keep[q] && !Z_[q].empty()) std::vector<double>().swap(Z_[q]), std::vector<double>().swap(D_[q]), --held_;
     G_S_.clear();  // G's entries of dropped points go with them
   }
   // the missing columns kBlock at a time (a backend may solve a block as one)
@@ -90,14 +93,22 @@ void ContactColumns::require(const std::vector<int64_t> &S) {
       z = kept.data();
     }
     for (size_t j = 0; j < m; ++j) {
-      Z_[made[first + j]].assign(z + j * m_held, z + (j + 1) * m_held);
+      const int64_t q = made[first + j];
+      Z_[q].assign(z + j * m_held, z + (j + 1) * m_held);
       ++held_;
       ++computed_;
+      if (keeps_dots_) {
+        std::vector<double> &D = D_[q];
+        D.resize(cp_->size());
+        for (size_t i = 0; i < D.size(); ++i) D[i] = p_dot(*cp_, i, column(q), place_.empty() ? nullptr : place_.data());
+      }
     }
   }
 }
 
 double ContactColumns::dot(size_t q, int64_t j) const {
+  const std::vector<double> &D = D_[static_cast<size_t>(j)];
+  if (!D.empty()) return D[q];
   return p_dot(*cp_, q, column(j), place_.empty() ? nullptr : place_.data());
 }
 

@@ -44,6 +44,11 @@ enum class ColumnRows { Auto, Whole, Points };
 // P2) 1.91 -> 1.27. The balls need 0.82-0.91: whole there.
 constexpr double kColumnsAtPointsShare = 0.375;
 
+// Whether a column keeps every point's dot with it (keeps_dots): where that
+// takes at most the column's memory (Auto), always, or never (white-box:
+// tests compare the two).
+enum class ColumnDots { Auto, Keep, Evaluate };
+
 class ContactColumns {
  public:
   // state_rows (with rows): a distributed state's rows (Integrator::held, a
@@ -51,9 +56,10 @@ class ContactColumns {
   // is then all a step reads (complete() does nothing)
   // at: on one process, where the columns are held (ColumnRows)
   ContactColumns(const Factorization &A_factor, int64_t n, int64_t max_columns, const Share *rows = nullptr,
-                 const std::vector<int64_t> *state_rows = nullptr, ColumnRows at = ColumnRows::Auto)
+                 const std::vector<int64_t> *state_rows = nullptr, ColumnRows at = ColumnRows::Auto,
+                 ColumnDots dots = ColumnDots::Auto)
       : A_factor_(A_factor), n_(n), max_columns_(max_columns), rows_(rows), state_rows_(state_rows),
-        at_rows_(at) {}
+        at_rows_(at), dots_(dots) {}
   bool holds_state() const { return state_rows_ != nullptr; }
   // is a sum of columns, after complete(), right at every unknown? (not
   // when they are held at the points' DOFs alone: then b_q's sum is solved)
@@ -63,8 +69,14 @@ class ContactColumns {
   // Z_q for every q of S
   void require(const std::vector<int64_t> &S);
   int64_t computed() const { return computed_; }  // columns made (each one solve)
-  // p_q . Z_j (after require of a set with j)
+  // p_q . Z_j (after require of a set with j): from the column's dots where
+  // they are kept, else evaluated (the same bits)
   double dot(size_t q, int64_t j) const;
+  // Are every point's dots with a column kept with it (P^T Z_j, made with
+  // the column: p_q . Z_j then costs a read)? Where they take at most the
+  // column's own memory: the points no more than a column's held rows (the
+  // disks; not the balls, whose points outnumber the unknowns).
+  bool keeps_dots() const { return keeps_dots_; }
   // x -= sum_j f[j] Z_{S[j]} at the held rows, four columns at a time,
   // (f0 z0 + f1 z1) + (f2 z2 + f3 z3): each held row of x read once per four
   // columns (summed column after column, disk P1 h = 2's contact steps on the
@@ -93,11 +105,14 @@ class ContactColumns {
   const Share *rows_;
   const std::vector<int64_t> *state_rows_;
   ColumnRows at_rows_;
+  ColumnDots dots_;
   const ContactPoints *cp_ = nullptr;
   double theta_ = 0;
   std::vector<int64_t> at_;     // the unknowns a column holds, ascending (empty: all n)
   std::vector<int64_t> place_;  // an unknown's index in at_ (-1: not held); empty with at_
   std::vector<std::vector<double>> Z_;   // per point; empty until needed
+  std::vector<std::vector<double>> D_;   // per point with its column where keeps_dots_: p_i . Z_q for every i
+  bool keeps_dots_ = false;
   std::vector<int64_t> G_S_, position_;  // the S that G_ was built for; a point's place in it (-1: none)
   std::vector<double> G_;
 };

@@ -159,11 +159,12 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     active.assign(static_cast<size_t>(nq), 0);
     for (int64_t j = 0; j < k; ++j) active[S[j]] = slope[j] != 0;
     bool grew = false;
-    // off S: through G's rows (12 k each) or, when that is more, through U
+    // off S: through G's rows (k reads each where the columns keep their
+    // dots, else 12 k), or through U where that is less
     bool any_force = false;
     for (int64_t j = 0; j < k; ++j) any_force |= phi[j] != 0;
     if (any_force) count(law.counters, &Counters::contact_evaluations);  // (none: P0's pass above)
-    const bool through_U = any_force && (nq - k) * 24 > n;  // (no force: P = P0 off S)
+    const bool through_U = any_force && !columns.keeps_dots() && (nq - k) * 24 > n;  // (no force: P = P0 off S)
     if (through_U) form_U(y0, S, phi, c, columns, Ut);
     if (any_force) {  // off S, each rank its own points, then gathered (on S, P as iterated)
       law.evaluate(in_S, P.data(), [&](size_t q) {
