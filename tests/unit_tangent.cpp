@@ -425,6 +425,62 @@ START_TEST(columns_keep_their_dots_bitwise) {
 }
 END_TEST
 
+// The full residual from a state's products (newton_residual_from_products,
+// the condensed Newton's check: c M U + K_Theta U + kappa N(U) - r from M U,
+// K U and P_q(U)) is newton_residual's to round-off, at states with points
+// active and off the solution (the residual of the order of A U), 1D-3D,
+// P1/P2, Theta = 1, 0, -1, Newmark and the hybrid scheme (whose contact
+// term reads P^n); and each of its terms counts (a wrong r, or a contact term left
+// out, is seen).
+START_TEST(residual_from_products_is_newton_residual) {
+  for (int dim : {1, 2, 3})
+    for (int degree : {1, 2})
+      for (double theta : kThetas)
+        for (const SchemeCase &sc : {kSchemes[2], kSchemes[3]}) {
+          nd_problem p = scene(dim, degree, sc, theta);
+          ND_OK_OR_FAIL(nd_step(p));
+          const nd::Integrator &in = *p->problem.integrator();
+          const nd::Discretization &d = p->problem.discretization();
+          nd::State st = p->problem.current_state();
+          const std::vector<double> Pn = st.products.points.P;
+          nd::ContactLaw law{&d.contact, d.theta, in.scheme.get(), &Pn};
+          nd::NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
+          Uniform rnd(4242);
+          const size_t n = st.U.size();
+          const std::vector<double> U0 = st.U;
+          int checked = 0;
+          for (int trial = 0; trial < 6; ++trial) {
+            // towards the obstacle by up to about a cell (the blocks' gap
+            // 0.02; the bar's end 0.5 away from it, its plane on the left)
+            const double shift = (dim == 1 ? 0.6 : 0.05) * (1 + rnd());
+            for (size_t i = 0; i < n; ++i) st.U[i] = U0[i] + 0.01 * rnd() - shift;
+            std::vector<double> r(n), G(n), MU(n), active_P;
+            for (auto &v : r) v = rnd();
+            std::vector<char> active;
+            const double full = nd::newton_residual(sys, r, st.U, G, &active, MU);
+            int any = 0;
+            for (char a : active) any += a != 0;
+            nd::compute_products(d, st);
+            const double from = nd::newton_residual_from_products(sys, st.products, st.U, r);
+            ck_assert_msg(std::fabs(from - full) <= 1e-12 * full, "%dD P%d %s Theta = %g: %.17g from the products, %.17g",
+                          dim, degree, sc.name, theta, from, full);
+            // with the contact term left out, or r changed, it is another residual
+            std::vector<double> r2 = r;
+            r2[n / 2] += 1e-6 * full;
+            ck_assert(std::fabs(nd::newton_residual_from_products(sys, st.products, st.U, r2) - full) > 1e-12 * full);
+            if (any) {
+              nd::Products no_contact = st.products;
+              for (auto &P : no_contact.points.P) P = -1;
+              ck_assert(std::fabs(nd::newton_residual_from_products(sys, no_contact, st.U, r) - full) > 1e-10 * full);
+              ++checked;
+            }
+          }
+          ck_assert_msg(checked > 0, "%dD P%d: no point active", dim, degree);
+          nd_problem_destroy(&p);
+        }
+}
+END_TEST
+
 double scalar(nd_problem p, int key) {
   double v = 0;
   ND_OK_OR_FAIL(nd_get_scalar(p, key, &v));
@@ -585,6 +641,7 @@ int main(void) {
   tcase_add_test(tc, tangent_given_the_residuals_points);
   tcase_add_test(tc, new_state_points_from_newton);
   tcase_add_test(tc, columns_keep_their_dots_bitwise);
+  tcase_add_test(tc, residual_from_products_is_newton_residual);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history);
   tcase_add_test(tc, malformed_histories);

@@ -1,6 +1,7 @@
 #include "problem/integrator.hpp"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <utility>
 
@@ -204,6 +205,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   scheme.predict(tau, old, next.U);
   PointValues at_U;  // P_q(U^{n+1}) and u_n - g0 if the step made them (explicit, or Newton), for the products
   bool predicted = false;  // an implicit step that is its predictor: updated, its pass made
+  bool made = false;       // the condensed Newton's check updated the state and made its pass
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
@@ -244,8 +246,24 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
-        const CondensedResult cr =
-            newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton, next.U, solution_points);
+        // its full residual from the new state's products, made then (one
+        // process, a whole state, every DOF with mass: the products are
+        // then the state's own, whole)
+        std::function<void(NewtonResult &)> check;
+        if (!d.rows && in.held.empty() && !in.points && d.massless.empty())
+          check = [&](NewtonResult &result) {
+            scheme.update(tau, old, next);
+            compute_products(d, next);
+            // DESIGN §3's test (G's bits differ from newton_residual's by
+            // round-off; G only decides convergence here)
+            result.residual = newton_residual_from_products(sys, next.products, next.U, r);
+            result.tolerance = newton_tolerance(sys, def.newton, rhs_norm(sys, r), next.products.MU);
+            result.converged = result.residual <= result.tolerance;
+            made = result.converged;
+            if (!made) next.products = Products{};  // (Newton goes on from U)
+          };
+        const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton,
+                                                    next.U, solution_points, check ? &check : nullptr);
         res = cr.newton;
         if (!res.converged) {
           const int before = res.iterations;
@@ -265,7 +283,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     }
   }
   if (next.tangent_log.i.empty()) next.tangent_log = old.tangent_log;  // no contact solve: the history stays
-  if (!predicted) scheme.update(tau, old, next);
+  if (!predicted && !made) scheme.update(tau, old, next);
   // Massless DOFs (mass redistribution): no equation holds their V and A, and
   // the schemes' recursions for them are at best neutral (the hybrid's
   // V^{n+1} = 2 dU/tau - V^n keeps every error). They feed nothing back (M's
@@ -290,7 +308,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
   // (at_U: an explicit step's, or Newton's at its solution; empty: evaluated there)
-  if (!predicted) compute_products(d, next, &at_U, in.points.get());
+  if (!predicted && !made) compute_products(d, next, &at_U, in.points.get());
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks

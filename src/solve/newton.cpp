@@ -37,6 +37,17 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
   return rhs_norm(sys, G);
 }
 
+double newton_residual_from_products(const NewtonSystem &sys, const Products &p, const std::vector<double> &U,
+                                     const std::vector<double> &r) {
+  static const std::vector<double> none;
+  std::vector<double> G;
+  StepInputs{p, *sys.law->cp, sys.law->theta, none, none}.k_theta_u(U, G);  // K_Theta U
+  for (size_t i = 0; i < G.size(); ++i) G[i] += sys.c * p.MU[i];
+  sys.law->add_force_from(p.points.P, sys.kappa, G.data(), nullptr);
+  for (size_t i = 0; i < G.size(); ++i) G[i] -= r[i];
+  return rhs_norm(sys, G);
+}
+
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU) {
   return opt.rtol * (r_norm + sys.c * rhs_norm(sys, MU)) + opt.atol;

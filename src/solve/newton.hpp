@@ -58,6 +58,13 @@ struct NewtonResult {
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
                        PointValues *points = nullptr, bool known = false);
+// ||G||, G = c M U + K_Theta U + kappa N(U) - r from the products of a
+// state at U (M U, K U and P_q(U): time/state.hpp's Products, whole, one
+// process): newton_residual's to round-off (A = c M + K_Theta), without a
+// pass over A and M (the condensed Newton's check, from the products the new
+// state makes anyway)
+double newton_residual_from_products(const NewtonSystem &sys, const Products &p, const std::vector<double> &U,
+                                     const std::vector<double> &r);
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);

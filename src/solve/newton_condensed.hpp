@@ -17,6 +17,7 @@
 // fails, or S outgrows max_rank, the caller runs the full Newton from U.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -53,8 +54,12 @@ struct CondensedResult {
 // caller's tangent solver (refactoring) takes over; with more than half of it
 // active at the predictor the condensed Newton does not start (too_large).
 // points: as newton_solve's, from the full residual's check
+// check (if given): makes that check itself at the formed U (setting the
+// result's residual, tolerance and converged) in place of the pass over A
+// and M: the integrator's, from the new state's products (one pass for both)
 CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
                                  int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
-                                 std::vector<double> &U, PointValues *points = nullptr);
+                                 std::vector<double> &U, PointValues *points = nullptr,
+                                 const std::function<void(NewtonResult &)> *check = nullptr);
 
 }  // namespace nd
