@@ -481,6 +481,47 @@ START_TEST(residual_from_products_is_newton_residual) {
 }
 END_TEST
 
+// The pass over the points run by run (ContactLaw::P_by_runs: U read once
+// per facet, a shared s_q.U once) gives every point the bits of P(q, U) and
+// of a_q.U - g_q, 1D-3D, P1/P2; the runs are the facets' points, sharing
+// s_q on P1 cells (constant stress) and not on P2 in 2D and 3D; and a run
+// whose s_q differ in one point is found so and still right.
+START_TEST(points_by_runs_bitwise) {
+  for (int dim : {1, 2, 3})
+    for (int degree : {1, 2}) {
+      nd_problem p = scene(dim, degree, kSchemes[2], 1.0);
+      nd::ContactPoints cp = p->problem.discretization().contact;  // a copy: one s_q changed below
+      ck_assert(cp.runs.size() >= 2 && cp.runs.back() == static_cast<int64_t>(cp.size()));
+      ck_assert_uint_eq(cp.run_shares_s.size() + 1, cp.runs.size());
+      size_t sharing = 0;
+      for (char c : cp.run_shares_s) sharing += c != 0;
+      if (degree == 1) ck_assert_uint_eq(sharing, cp.run_shares_s.size());
+      if (degree == 2 && dim > 1) ck_assert_uint_eq(sharing, 0);
+      for (int changed = 0; changed <= (degree == 1 && dim > 1 ? 1 : 0); ++changed) {
+        if (changed) {  // the second point of the first run with two or more
+          size_t r = 0;
+          while (cp.runs[r + 1] - cp.runs[r] < 2) ++r;
+          cp.s[cp.runs[r] + 1].val[0] *= 1.5;
+          nd::set_bounds(cp);
+          ck_assert(!cp.run_shares_s[r]);
+        }
+        nd::ContactLaw law{&cp, 1.0};
+        Uniform rnd(99);
+        std::vector<double> U(static_cast<size_t>(p->problem.discretization().dofs.n_free)), P, un;
+        for (auto &u : U) u = rnd();
+        law.P_all(U.data(), P, &un);
+        for (size_t q = 0; q < cp.size(); ++q) {
+          const double Pq = law.P(q, U.data()), unq = cp.a[q].dot(U.data()) - cp.gap[q];
+          ck_assert_msg(std::memcmp(&P[q], &Pq, sizeof(double)) == 0 && std::memcmp(&un[q], &unq, sizeof(double)) == 0,
+                        "%dD P%d point %zu: %.17g, %.17g by runs; %.17g, %.17g alone", dim, degree, q, P[q], un[q],
+                        Pq, unq);
+        }
+      }
+      nd_problem_destroy(&p);
+    }
+}
+END_TEST
+
 double scalar(nd_problem p, int key) {
   double v = 0;
   ND_OK_OR_FAIL(nd_get_scalar(p, key, &v));
@@ -642,6 +683,7 @@ int main(void) {
   tcase_add_test(tc, new_state_points_from_newton);
   tcase_add_test(tc, columns_keep_their_dots_bitwise);
   tcase_add_test(tc, residual_from_products_is_newton_residual);
+  tcase_add_test(tc, points_by_runs_bitwise);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history);
   tcase_add_test(tc, malformed_histories);

@@ -1,6 +1,7 @@
 #include "assembly/contact.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 
 #include "fem/facet.hpp"
@@ -72,6 +73,17 @@ void set_bounds(ContactPoints &cp) {
   }
   std::sort(cp.dofs.begin(), cp.dofs.end());
   cp.dofs.erase(std::unique(cp.dofs.begin(), cp.dofs.end()), cp.dofs.end());
+  cp.runs.clear();
+  cp.run_shares_s.clear();
+  for (size_t q = 0; q < cp.size(); ++q) {
+    if (q == 0 || cp.a[q].idx != cp.a[q - 1].idx) {
+      cp.runs.push_back(static_cast<int64_t>(q));
+      cp.run_shares_s.push_back(1);
+    } else if (std::memcmp(cp.s[q].val.data(), cp.s[q - 1].val.data(), cp.s[q].val.size() * sizeof(double))) {
+      cp.run_shares_s.back() = 0;
+    }
+  }
+  cp.runs.push_back(static_cast<int64_t>(cp.size()));
 }
 
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes) {

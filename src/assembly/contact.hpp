@@ -47,6 +47,14 @@ struct ContactPoints {
   // ContactLaw::certainly_free then always evaluates)
   std::vector<double> nu;
   std::vector<int64_t> dofs;
+  // runs of consecutive points with one index list (a facet's points: 9 on
+  // the ball's P1 cells, 16 on P2), run r the points [runs[r], runs[r + 1])
+  // (the last entry size()), and whether a run's points have the same s_q,
+  // bit for bit (P1: the stress of a cell is constant): set_bounds; empty,
+  // each point alone. ContactLaw::P_all reads U at a run's DOFs once for
+  // all its points, and a shared s_q once.
+  std::vector<int64_t> runs;
+  std::vector<char> run_shares_s;
   // which rank evaluates which point in a step (the rank of its facet's
   // cell); null: this process evaluates every point
   std::shared_ptr<const Share> share;
@@ -57,7 +65,7 @@ struct ContactPoints {
 // (the point may move in time; the rows and weights do not).
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes);
 
-// nu and dofs, with the gammas the points have now
+// nu, dofs and the runs, with the gammas the points have now
 void set_bounds(ContactPoints &cp);
 
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,

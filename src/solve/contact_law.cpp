@@ -30,11 +30,91 @@ void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, do
   count(counters, &Counters::own_point_evaluations, own);
 }
 
+namespace {
+typedef double Pair __attribute__((vector_size(16)));
+constexpr size_t kRunEntries = 64;  // the longest index list read into a run's copy of U (P2 3D: 30)
+}  // namespace
+
+bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
+  const std::vector<int64_t> &runs = cp->runs;
+  const size_t nq = cp->size();
+  if (runs.size() != cp->run_shares_s.size() + 1 || runs.back() != static_cast<int64_t>(nq) ||
+      (!local && cp->share))
+    return false;
+  auto finish = [&](size_t q, double sa, double ss) {
+    P[q] = sa - cp->gamma[q] * ss - g(q);  // P(q, U)'s expression
+    if (un) un[q] = sa - g(q);
+  };
+  double u[kRunEntries];
+  for (size_t r = 0; r + 1 < runs.size(); ++r) {
+    size_t q = static_cast<size_t>(runs[r]);
+    const size_t end = static_cast<size_t>(runs[r + 1]), m = cp->a[q].idx.size();
+    if (m > kRunEntries) {
+      for (; q < end; ++q) {
+        double sa, ss;
+        dots(q, U, sa, ss);
+        finish(q, sa, ss);
+      }
+      continue;
+    }
+    const int64_t *idx = cp->a[q].idx.data();
+    for (size_t k = 0; k < m; ++k) u[k] = U[idx[k]];
+    // each sum in index order, dots()'s bits; two points in an SSE2 pair
+    auto dot = [&](const double *v) {
+      double sum = 0;
+      for (size_t k = 0; k < m; ++k) sum += v[k] * u[k];
+      return sum;
+    };
+    if (cp->run_shares_s[r]) {  // s_q.U once for the run
+      const double ss = dot(cp->s[q].val.data());
+      for (; q + 3 < end; q += 4) {  // two pairs: two chains of dependent adds (their latency bounds the loop)
+        const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data(), *a2 = cp->a[q + 2].val.data(),
+                     *a3 = cp->a[q + 3].val.data();
+        Pair sa = {0, 0}, sb = {0, 0};
+        for (size_t k = 0; k < m; ++k) {
+          const Pair uk = {u[k], u[k]};
+          sa += Pair{a0[k], a1[k]} * uk;
+          sb += Pair{a2[k], a3[k]} * uk;
+        }
+        finish(q, sa[0], ss);
+        finish(q + 1, sa[1], ss);
+        finish(q + 2, sb[0], ss);
+        finish(q + 3, sb[1], ss);
+      }
+      for (; q + 1 < end; q += 2) {
+        const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data();
+        Pair sa = {0, 0};
+        for (size_t k = 0; k < m; ++k) sa += Pair{a0[k], a1[k]} * Pair{u[k], u[k]};
+        finish(q, sa[0], ss);
+        finish(q + 1, sa[1], ss);
+      }
+      if (q < end) finish(q, dot(cp->a[q].val.data()), ss);
+      continue;
+    }
+    for (; q + 1 < end; q += 2) {
+      const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data();
+      const double *s0 = cp->s[q].val.data(), *s1 = cp->s[q + 1].val.data();
+      Pair sa = {0, 0}, ss = {0, 0};
+      for (size_t k = 0; k < m; ++k) {
+        const Pair uk = {u[k], u[k]};
+        sa += Pair{a0[k], a1[k]} * uk;
+        ss += Pair{s0[k], s1[k]} * uk;
+      }
+      finish(q, sa[0], ss[0]);
+      finish(q + 1, sa[1], ss[1]);
+    }
+    if (q < end) finish(q, dot(cp->a[q].val.data()), dot(cp->s[q].val.data()));
+  }
+  evaluated(nullptr, {}, P, {}, static_cast<int64_t>(nq));
+  return true;
+}
+
 void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<double> *un) const {
   P.resize(cp->size());
   if (un) un->resize(cp->size());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
+  if (P_by_runs(U, P.data(), un ? un->data() : nullptr)) return;
   if (!un) {
     evaluate({}, P.data(), [&](size_t q) { return this->P(q, U); });
     return;

@@ -112,6 +112,11 @@ struct ContactLaw {
   // un[q] = a_q.U - g_q (u_n - g0, the penetration guard's) from the same
   // pass, bitwise SparseRow::dot's.
   void P_all(const double *U, std::vector<double> &P, std::vector<double> *un = nullptr) const;
+  // P_all's values (and un's, if given) where one process evaluates every
+  // point (no share, or local), run by run of cp->runs (U read once per run,
+  // a shared s_q.U once), the bits of P(q, U); false, nothing done, without
+  // runs or with several ranks
+  bool P_by_runs(const double *U, double *P, double *un) const;
   // True only if the law and its slope vanish at every point at U, shown
   // without evaluating a point: from P^n (Pn at Un, gaps gap_n) and
   //   P_q(U) <= P_q(U^n) + nu_q max_i |U_i - U^n_i| + g^n_q - g_q
