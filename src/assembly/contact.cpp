@@ -1,8 +1,8 @@
 #include "assembly/contact.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 
 #include "fem/facet.hpp"
 

@@ -65,45 +65,26 @@ bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
       for (size_t k = 0; k < m; ++k) sum += v[k] * u[k];
       return sum;
     };
-    if (cp->run_shares_s[r]) {  // s_q.U once for the run
-      const double ss = dot(cp->s[q].val.data());
-      for (; q + 3 < end; q += 4) {  // two pairs: two chains of dependent adds (their latency bounds the loop)
-        const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data(), *a2 = cp->a[q + 2].val.data(),
-                     *a3 = cp->a[q + 3].val.data();
-        Pair sa = {0, 0}, sb = {0, 0};
+    const bool shared = cp->run_shares_s[r] != 0;
+    const double ss_run = shared ? dot(cp->s[q].val.data()) : 0;  // s_q.U once for the run
+    for (; q + 1 < end; q += 2) {
+      const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data();
+      Pair sa = {0, 0}, ss = {ss_run, ss_run};
+      if (shared) {
+        for (size_t k = 0; k < m; ++k) sa += Pair{a0[k], a1[k]} * Pair{u[k], u[k]};
+      } else {
+        const double *s0 = cp->s[q].val.data(), *s1 = cp->s[q + 1].val.data();
+        ss = Pair{0, 0};
         for (size_t k = 0; k < m; ++k) {
           const Pair uk = {u[k], u[k]};
           sa += Pair{a0[k], a1[k]} * uk;
-          sb += Pair{a2[k], a3[k]} * uk;
+          ss += Pair{s0[k], s1[k]} * uk;
         }
-        finish(q, sa[0], ss);
-        finish(q + 1, sa[1], ss);
-        finish(q + 2, sb[0], ss);
-        finish(q + 3, sb[1], ss);
-      }
-      for (; q + 1 < end; q += 2) {
-        const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data();
-        Pair sa = {0, 0};
-        for (size_t k = 0; k < m; ++k) sa += Pair{a0[k], a1[k]} * Pair{u[k], u[k]};
-        finish(q, sa[0], ss);
-        finish(q + 1, sa[1], ss);
-      }
-      if (q < end) finish(q, dot(cp->a[q].val.data()), ss);
-      continue;
-    }
-    for (; q + 1 < end; q += 2) {
-      const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data();
-      const double *s0 = cp->s[q].val.data(), *s1 = cp->s[q + 1].val.data();
-      Pair sa = {0, 0}, ss = {0, 0};
-      for (size_t k = 0; k < m; ++k) {
-        const Pair uk = {u[k], u[k]};
-        sa += Pair{a0[k], a1[k]} * uk;
-        ss += Pair{s0[k], s1[k]} * uk;
       }
       finish(q, sa[0], ss[0]);
       finish(q + 1, sa[1], ss[1]);
     }
-    if (q < end) finish(q, dot(cp->a[q].val.data()), dot(cp->s[q].val.data()));
+    if (q < end) finish(q, dot(cp->a[q].val.data()), shared ? ss_run : dot(cp->s[q].val.data()));
   }
   evaluated(nullptr, {}, P, {}, static_cast<int64_t>(nq));
   return true;
