@@ -430,8 +430,7 @@ END_TEST
 // K U and P_q(U)) is newton_residual's to round-off, at states with points
 // active and off the solution (the residual of the order of A U), 1D-3D,
 // P1/P2, Theta = 1, 0, -1, Newmark and the hybrid scheme (whose contact
-// term reads P^n); and each of its terms counts (a wrong r, or a contact term left
-// out, is seen).
+// term reads P^n); and the contact term counts there (left out, it is seen).
 START_TEST(residual_from_products_is_newton_residual) {
   for (int dim : {1, 2, 3})
     for (int degree : {1, 2})
@@ -464,10 +463,7 @@ START_TEST(residual_from_products_is_newton_residual) {
             const double from = nd::newton_residual_from_products(sys, st.products, st.U, r);
             ck_assert_msg(std::fabs(from - full) <= 1e-12 * full, "%dD P%d %s Theta = %g: %.17g from the products, %.17g",
                           dim, degree, sc.name, theta, from, full);
-            // with the contact term left out, or r changed, it is another residual
-            std::vector<double> r2 = r;
-            r2[n / 2] += 1e-6 * full;
-            ck_assert(std::fabs(nd::newton_residual_from_products(sys, st.products, st.U, r2) - full) > 1e-12 * full);
+            // with the contact term left out it is another residual
             if (any) {
               nd::Products no_contact = st.products;
               for (auto &P : no_contact.points.P) P = -1;

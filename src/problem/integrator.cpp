@@ -246,26 +246,23 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
       if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
-        // its full residual from the new state's products, made then (one
-        // process, a whole state, every DOF with mass: the products are
-        // then the state's own, whole)
-        std::function<void(NewtonResult &)> check;
-        if (!d.rows && in.held.empty() && !in.points && d.massless.empty())
-          check = [&](NewtonResult &result) {
+        // its last residual checked from the new state's products, made
+        // then: in one process (a distributed state, Integrator::held, needs
+        // several ranks) with every DOF with mass, where the products are the
+        // state's own, whole
+        std::function<const Products &()> products_at;
+        if (!d.rows && d.massless.empty())
+          products_at = [&]() -> const Products & {
             scheme.update(tau, old, next);
             compute_products(d, next);
-            // DESIGN §3's test (G's bits differ from newton_residual's by
-            // round-off; G only decides convergence here)
-            result.residual = newton_residual_from_products(sys, next.products, next.U, r);
-            result.tolerance = newton_tolerance(sys, def.newton, rhs_norm(sys, r), next.products.MU);
-            result.converged = result.residual <= result.tolerance;
-            made = result.converged;
-            if (!made) next.products = Products{};  // (Newton goes on from U)
+            made = true;
+            return next.products;
           };
         const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton,
-                                                    next.U, solution_points, check ? &check : nullptr);
+                                                    next.U, solution_points, products_at ? &products_at : nullptr);
         res = cr.newton;
         if (!res.converged) {
+          if (made) next.products = Products{}, made = false;  // (Newton goes on from U)
           const int before = res.iterations;
           res = newton_solve(sys, r, def.newton, next.U, solution_points);
           res.iterations += before;

@@ -5,7 +5,9 @@
 // were made with it, so a run resumed from a checkpoint, whose cache starts
 // empty, is bitwise the uninterrupted one. At most max_columns are held:
 // past that the columns of the points off the current set are dropped (and
-// made again, with the same bits, when needed).
+// made again, with the same bits, when needed). Where it costs no more
+// memory than the column, a column keeps every point's dot with it
+// (keeps_dots): p_q . Z_j is then a read.
 //
 // With split operators over several ranks (rows: Discretization::rows) a
 // column is held only at the rank's own rows and at the DOFs of the contact

@@ -54,12 +54,13 @@ struct CondensedResult {
 // caller's tangent solver (refactoring) takes over; with more than half of it
 // active at the predictor the condensed Newton does not start (too_large).
 // points: as newton_solve's, from the full residual's check
-// check (if given): makes that check itself at the formed U (setting the
-// result's residual, tolerance and converged) in place of the pass over A
-// and M: the integrator's, from the new state's products (one pass for both)
+// products_at (if given): the new state's products at the formed U (the
+// integrator's: its update and pass, one for both), from which the full
+// residual is checked (newton_residual_from_products) instead of a pass over
+// A and M of its own; points is then left as it is
 CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A_factor, CondensedCache &cache,
                                  int64_t max_rank, const std::vector<double> &r, const NewtonOptions &opt,
                                  std::vector<double> &U, PointValues *points = nullptr,
-                                 const std::function<void(NewtonResult &)> *check = nullptr);
+                                 const std::function<const Products &()> *products_at = nullptr);
 
 }  // namespace nd
