@@ -295,15 +295,25 @@ END_TEST
 // odd number of blocks: the even and odd sums alternate by block). And the
 // blocks are refused where the operators do not have their form: 1D, M
 // coupling two components or differing between them, a row whose columns
-// are not whole nodes.
+// are not whole nodes. Each pass in both its forms: the scalar one and,
+// where the CPU has AVX2, the wide one (which then runs by default).
 START_TEST(node_block_passes_have_the_csr_bits) {
   const std::vector<std::shared_ptr<nd::Mesh>> all = meshes_with_region_7(), meshes = {all[1], all[2]};
   const std::shared_ptr<nd::Mesh> &box = all[2];
+#if defined(__x86_64__) && defined(__GNUC__)
+  const bool avx2 = __builtin_cpu_supports("avx2");
+#else
+  const bool avx2 = false;
+#endif
+  ck_assert(nd::node_blocks_simd() == avx2);  // on by default where the CPU has it
   int compared = 0;
+  for (int simd = 0; simd <= 1; ++simd)
   for (const auto &mesh : meshes)
     for (int degree = 1; degree <= 2; ++degree)
       for (int clamped = 0; clamped <= 1; ++clamped)
         for (int lumped = 0; lumped <= 1; ++lumped) {
+          nd::set_node_blocks_simd(simd == 1);
+          ck_assert(nd::node_blocks_simd() == (simd == 1 && avx2));
           nd::Space s(mesh, degree);
           nd::Discretization d(nd::DofMap(s, clamped ? std::vector<int>{7} : std::vector<int>{}), lumped);
           ck_assert(clamped ? d.dofs.n_free < s.n_dofs() : d.dofs.n_free == s.n_dofs());
@@ -374,7 +384,7 @@ START_TEST(node_block_passes_have_the_csr_bits) {
             ++compared;
           }
         }
-  ck_assert_int_eq(compared, 32);
+  ck_assert_int_eq(compared, 64);
   {
     nd::Space s(all[0], 1);
     nd::BulkOperators ops = nd::assemble_bulk(s, nd::DofMap(s, {}), steel_like);

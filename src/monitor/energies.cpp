@@ -42,18 +42,17 @@ void node_pass(const NodeBlocks &b, const State &s, Products &p) {
     else p.MA.clear();
   }
   const double *U = s.U.data(), *V = s.V.data();
-  double kinetic = 0, strain = 0;
-  auto keep = [&](int64_t i, double ku, double mu, double mv, double ma) __attribute__((always_inline)) {
-    kinetic += V[i] * mv;
-    strain += U[i] * ku;
+  double *MU = p.MU.data(), *MV = p.MV.data(), *KU = p.KU.data(), *MA = p.MA.data();
+  auto keep = [=](int64_t i, double ku, double mu, double mv, double ma) __attribute__((always_inline)) {
     if (store) {
-      p.MU[i] = mu, p.MV[i] = mv, p.KU[i] = ku;
-      if (acc) p.MA[i] = ma;
+      MU[i] = mu, MV[i] = mv, KU[i] = ku;
+      if (acc) MA[i] = ma;
     }
   };
-  for_node_rows<true, acc>(&b, U, V, s.A.data(), keep);
-  p.kinetic = kinetic;
-  p.strain = strain;
+  double energy[2];  // V.MV and U.KU, summed in the pass
+  for_node_rows<true, acc>(&b, U, V, s.A.data(), keep, energy);
+  p.kinetic = energy[0];
+  p.strain = energy[1];
 }
 
 // local: with split rows, the copies at the columns the rank's rows read
