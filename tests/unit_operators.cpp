@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "assembly/bulk.hpp"
+#include "common/simd.hpp"
 #include "linalg/node_blocks.hpp"
 #include "mesh/mesh.hpp"
 #include "nitschedyn.h"
@@ -305,15 +306,15 @@ START_TEST(node_block_passes_have_the_csr_bits) {
 #else
   const bool avx2 = false;
 #endif
-  ck_assert(nd::node_blocks_simd() == avx2);  // on by default where the CPU has it
+  ck_assert(nd::simd_on() == avx2);  // on by default where the CPU has it
   int compared = 0;
   for (int simd = 0; simd <= 1; ++simd)
   for (const auto &mesh : meshes)
     for (int degree = 1; degree <= 2; ++degree)
       for (int clamped = 0; clamped <= 1; ++clamped)
         for (int lumped = 0; lumped <= 1; ++lumped) {
-          nd::set_node_blocks_simd(simd == 1);
-          ck_assert(nd::node_blocks_simd() == (simd == 1 && avx2));
+          nd::set_simd(simd == 1);
+          ck_assert(nd::simd_on() == (simd == 1 && avx2));
           nd::Space s(mesh, degree);
           nd::Discretization d(nd::DofMap(s, clamped ? std::vector<int>{7} : std::vector<int>{}), lumped);
           ck_assert(clamped ? d.dofs.n_free < s.n_dofs() : d.dofs.n_free == s.n_dofs());

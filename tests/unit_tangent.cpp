@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "common/simd.hpp"
 #include "monitor/energies.hpp"
 #include "solve/contact_columns.hpp"
 #include "solve/contact_law.hpp"
@@ -481,7 +482,8 @@ END_TEST
 // per facet, a shared s_q.U once) gives every point the bits of P(q, U) and
 // of a_q.U - g_q, 1D-3D, P1/P2; the runs are the facets' points, sharing
 // s_q on P1 cells (constant stress) and not on P2 in 2D and 3D; and a run
-// whose s_q differ in one point is found so and still right.
+// whose s_q differ in one point is found so and still right. Both forms:
+// scalar, and four points per load (ContactPoints::run_rows) with AVX2.
 START_TEST(points_by_runs_bitwise) {
   for (int dim : {1, 2, 3})
     for (int degree : {1, 2}) {
@@ -505,12 +507,16 @@ START_TEST(points_by_runs_bitwise) {
         Uniform rnd(99);
         std::vector<double> U(static_cast<size_t>(p->problem.discretization().dofs.n_free)), P, un;
         for (auto &u : U) u = rnd();
-        law.P_all(U.data(), P, &un);
-        for (size_t q = 0; q < cp.size(); ++q) {
-          const double Pq = law.P(q, U.data()), unq = cp.a[q].dot(U.data()) - cp.gap[q];
-          ck_assert_msg(std::memcmp(&P[q], &Pq, sizeof(double)) == 0 && std::memcmp(&un[q], &unq, sizeof(double)) == 0,
-                        "%dD P%d point %zu: %.17g, %.17g by runs; %.17g, %.17g alone", dim, degree, q, P[q], un[q],
-                        Pq, unq);
+        for (int simd = 0; simd <= 1; ++simd) {  // the scalar form, and the wide one where the CPU has AVX2
+          nd::set_simd(simd == 1);
+          law.P_all(U.data(), P, &un);
+          for (size_t q = 0; q < cp.size(); ++q) {
+            const double Pq = law.P(q, U.data()), unq = cp.a[q].dot(U.data()) - cp.gap[q];
+            ck_assert_msg(std::memcmp(&P[q], &Pq, sizeof(double)) == 0 &&
+                              std::memcmp(&un[q], &unq, sizeof(double)) == 0,
+                          "%dD P%d simd %d point %zu: %.17g, %.17g by runs; %.17g, %.17g alone", dim, degree, simd, q,
+                          P[q], un[q], Pq, unq);
+          }
         }
       }
       nd_problem_destroy(&p);

@@ -84,6 +84,17 @@ void set_bounds(ContactPoints &cp) {
     }
   }
   cp.runs.push_back(static_cast<int64_t>(cp.size()));
+  cp.run_rows.clear();
+  cp.run_row_at.clear();
+  for (size_t r = 0; r + 1 < cp.runs.size(); ++r) {
+    cp.run_row_at.push_back(static_cast<int64_t>(cp.run_rows.size()));
+    const size_t first = static_cast<size_t>(cp.runs[r]), n = static_cast<size_t>(cp.runs[r + 1]) - first;
+    for (const std::vector<SparseRow> *rows : {&cp.a, &cp.s}) {
+      if (rows == &cp.s && cp.run_shares_s[r]) continue;
+      for (size_t k = 0; k < cp.a[first].idx.size(); ++k)
+        for (size_t p = 0; p < n; ++p) cp.run_rows.push_back((*rows)[first + p].val[k]);
+    }
+  }
 }
 
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes) {

@@ -55,6 +55,12 @@ struct ContactPoints {
   // all its points, and a shared s_q once.
   std::vector<int64_t> runs;
   std::vector<char> run_shares_s;
+  // the runs' rows interleaved, for ContactLaw::P_all's wide form (four
+  // points per load): run r's a values from run_rows[run_row_at[r]], entry
+  // k of its point p (of n) at k n + p, then its s values likewise unless
+  // the run shares s_q (set_bounds, with runs)
+  std::vector<double> run_rows;
+  std::vector<int64_t> run_row_at;
   // which rank evaluates which point in a step (the rank of its facet's
   // cell); null: this process evaluates every point
   std::shared_ptr<const Share> share;

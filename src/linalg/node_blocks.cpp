@@ -1,22 +1,8 @@
 #include "linalg/node_blocks.hpp"
 
-#include <atomic>
 #include <cstdint>
 
 namespace nd {
-
-namespace {
-#ifdef ND_NODE_BLOCKS_AVX2
-const bool cpu_has_avx2 = __builtin_cpu_supports("avx2");
-#else
-const bool cpu_has_avx2 = false;
-#endif
-std::atomic<bool> simd_on{true};
-}  // namespace
-
-bool node_blocks_simd() { return cpu_has_avx2 && simd_on.load(std::memory_order_relaxed); }
-
-bool set_node_blocks_simd(bool on) { return simd_on.exchange(on); }
 
 std::shared_ptr<const NodeBlocks> make_node_blocks(const Csr &K, const Csr &M, int dim) {
   if (dim < 2 || dim > 3 || K.part || M.part || K.n % dim != 0 || M.n != K.n || !(M.ptr == K.ptr) || !(M.col == K.col) ||

@@ -8,9 +8,8 @@
 // are zeros: M couples no two components. The copies cost memory: measured
 // peaks 123 -> 145 MB on disk P2 h = 0.5, 226 -> 246 MB on ball P2 h = 4
 // (K's blocks, and A's with contact points).
-// On x86-64 with AVX2 (checked at run time) a pass runs four lanes wide:
-// each lane one of the scalar pass's sums, added in the same order, so the
-// bits are the same (no FMA: a fused multiply-add rounds once). Measured
+// On x86-64 with AVX2 (checked at run time, common/simd.hpp) a pass runs
+// four lanes wide, with the scalar pass's bits. Measured
 // (the products pass alone, AMD EPYC): disk P1 h = 4 to P2 h = 0.5 33-36 %
 // faster, ball P1 and P2 h = 4 18-24 %.
 #pragma once
@@ -20,11 +19,7 @@
 #include <type_traits>
 #include <vector>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define ND_NODE_BLOCKS_AVX2 1
-#endif
-
+#include "common/simd.hpp"
 #include "linalg/csr.hpp"
 
 namespace nd {
@@ -51,19 +46,13 @@ struct NodeBlocks {
   // waited for the store of the one before: a third of the pass on disk P1)
   template <int d, bool mass, bool acc, bool sums, class F>
   void for_rows(const double *U, const double *V, const double *A, F &&f, double *energy) const;
-#ifdef ND_NODE_BLOCKS_AVX2
+#ifdef ND_AVX2
   // the same, the operator's part in AVX2 (the bits of for_rows)
   template <int d, bool mass, bool acc, bool sums, class F>
   __attribute__((target("avx2"))) void for_rows_avx2(const double *U, const double *V, const double *A, F &f,
                                                      double *energy) const;
 #endif
 };
-
-// Whether the passes run the AVX2 form: the CPU has AVX2 and no one turned
-// it off; set_node_blocks_simd(false) turns it off (tests compare the two
-// forms' bits), returning the previous setting.
-bool node_blocks_simd();
-bool set_node_blocks_simd(bool on);
 
 // The blocks of K and M (same pattern, every row stored), or null where
 // they do not have that form: dim not 2 or 3, a row count not a multiple of dim
@@ -84,8 +73,8 @@ bool for_node_rows(const NodeBlocks *b, const double *U, const double *V, const 
   auto run = [&](auto d, auto sums) {
     constexpr int dim = decltype(d)::value;
     constexpr bool with_sums = mass && decltype(sums)::value;
-#ifdef ND_NODE_BLOCKS_AVX2
-    if (node_blocks_simd()) return b->template for_rows_avx2<dim, mass, acc, with_sums>(U, V, A, f, energy);
+#ifdef ND_AVX2
+    if (simd_on()) return b->template for_rows_avx2<dim, mass, acc, with_sums>(U, V, A, f, energy);
 #endif
     b->template for_rows<dim, mass, acc, with_sums>(U, V, A, f, energy);
   };
@@ -125,7 +114,7 @@ inline __attribute__((always_inline)) void add_block(Sums<dim> &s, const double 
   }
 }
 
-#ifdef ND_NODE_BLOCKS_AVX2
+#ifdef ND_AVX2
 // The wide form's sums, set to zero by for_rows_avx2 (a constructor would
 // not be AVX2 code).
 // 2D, where a block's column component e is its parity h: k[0] = (row 0,
@@ -224,7 +213,7 @@ void NodeBlocks::for_rows(const double *U, const double *V, const double *A, F &
   if (sums) energy[0] = kinetic, energy[1] = strain;
 }
 
-#ifdef ND_NODE_BLOCKS_AVX2
+#ifdef ND_AVX2
 template <int dim, bool mass, bool acc, bool sums, class F>
 __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, const double *V, const double *A,
                                                                 F &f, double *energy) const {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/simd.hpp"
+
 namespace nd {
 
 namespace {
@@ -33,6 +35,32 @@ void ContactLaw::evaluated(const Share *share, const std::vector<char> &skip, do
 namespace {
 typedef double Pair __attribute__((vector_size(16)));
 constexpr size_t kRunEntries = 64;  // the longest index list read into a run's copy of U (P2 3D: 30)
+constexpr size_t kRunPoints = 64;   // the most points of a run the wide form takes (P2 3D: 16)
+
+#ifdef ND_AVX2
+// out[p] = sum_k rows[k n + p] u[k] for the n points of a run (rows:
+// ContactPoints::run_rows), each sum in index order from +0 (dots()'s
+// bits): four points per lane group, then two, then one
+__attribute__((target("avx2"))) void run_dots_avx2(const double *rows, size_t n, size_t m, const double *u,
+                                                   double *out) {
+  size_t p = 0;
+  for (; p + 4 <= n; p += 4) {
+    __m256d x = _mm256_setzero_pd();
+    for (size_t k = 0; k < m; ++k) x += _mm256_loadu_pd(rows + k * n + p) * _mm256_broadcast_sd(u + k);
+    _mm256_storeu_pd(out + p, x);
+  }
+  for (; p + 2 <= n; p += 2) {
+    __m128d x = _mm_setzero_pd();
+    for (size_t k = 0; k < m; ++k) x += _mm_loadu_pd(rows + k * n + p) * _mm_set1_pd(u[k]);
+    _mm_storeu_pd(out + p, x);
+  }
+  for (; p < n; ++p) {
+    double x = 0;
+    for (size_t k = 0; k < m; ++k) x += rows[k * n + p] * u[k];
+    out[p] = x;
+  }
+}
+#endif
 }  // namespace
 
 bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
@@ -46,6 +74,7 @@ bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
     if (un) un[q] = sa - g(q);
   };
   double u[kRunEntries];
+  const bool wide = simd_on() && cp->run_row_at.size() + 1 == runs.size();
   for (size_t r = 0; r + 1 < runs.size(); ++r) {
     size_t q = static_cast<size_t>(runs[r]);
     const size_t end = static_cast<size_t>(runs[r + 1]), m = cp->a[q].idx.size();
@@ -67,6 +96,18 @@ bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
     };
     const bool shared = cp->run_shares_s[r] != 0;
     const double ss_run = shared ? dot(cp->s[q].val.data()) : 0;  // s_q.U once for the run
+#ifdef ND_AVX2
+    if (wide && end - q <= kRunPoints) {  // the run's rows interleaved: four points per load
+      const size_t n = end - q;
+      const double *rows = cp->run_rows.data() + cp->run_row_at[r];
+      double sa[kRunPoints], ss[kRunPoints];
+      run_dots_avx2(rows, n, m, u, sa);
+      if (shared) std::fill(ss, ss + n, ss_run);
+      else run_dots_avx2(rows + m * n, n, m, u, ss);
+      for (size_t p = 0; p < n; ++p) finish(q + p, sa[p], ss[p]);
+      continue;
+    }
+#endif
     for (; q + 1 < end; q += 2) {
       const double *a0 = cp->a[q].val.data(), *a1 = cp->a[q + 1].val.data();
       Pair sa = {0, 0}, ss = {ss_run, ss_run};
