@@ -30,8 +30,9 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
   const bool loaded = !F.empty(), acc = next.A.size() == next.U.size();
   const double *U = next.U.data(), *V = next.V.data(), *A = next.A.data(), *U0 = old.U.data();
   // |x| <= max is false for inf and NaN: no branch per row
-  auto finite = [](double x) { return std::fabs(x) <= std::numeric_limits<double>::max(); };
-  bool ok = true;
+  // (as int: & of two bools reads as a mistaken &&)
+  auto finite = [](double x) -> int { return std::fabs(x) <= std::numeric_limits<double>::max(); };
+  int ok = 1;
   if (!mine) {
     for (int64_t i = 0; i < n; ++i) ok &= finite(U[i]) & finite(V[i]);
     if (acc)

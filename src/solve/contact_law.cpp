@@ -234,7 +234,7 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   double d = 0, u_max = 0, un_max = 0;
   bool finite = true;
   for (int64_t i : held ? held->dofs : cp->dofs) {
-    finite &= std::isfinite(U[i]) & std::isfinite(Un[i]);
+    finite &= static_cast<int>(std::isfinite(U[i])) & static_cast<int>(std::isfinite(Un[i]));  // (no branch)
     d = std::max(d, std::fabs(U[i] - Un[i]));
     u_max = std::max(u_max, std::fabs(U[i]));
     un_max = std::max(un_max, std::fabs(Un[i]));
