@@ -1,6 +1,8 @@
 #include "common/simd.hpp"
 
 #include <atomic>
+#include <cmath>
+#include <limits>
 
 namespace nd {
 
@@ -16,5 +18,32 @@ std::atomic<bool> enabled{true};
 bool simd_on() { return cpu_has_avx2 && enabled.load(std::memory_order_relaxed); }
 
 bool set_simd(bool on) { return enabled.exchange(on); }
+
+namespace {
+// |x| <= max is false for inf and NaN (as int: & of two bools reads as a mistaken &&)
+int finite_from(const double *x, size_t from, size_t n) {
+  int ok = 1;
+  for (size_t i = from; i < n; ++i) ok &= std::fabs(x[i]) <= std::numeric_limits<double>::max();
+  return ok;
+}
+
+#ifdef ND_AVX2
+__attribute__((target("avx2"))) bool all_finite_avx2(const double *x, size_t n) {
+  const __m256d max = _mm256_set1_pd(std::numeric_limits<double>::max());
+  const __m256d abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
+  __m256d ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_and_pd(_mm256_loadu_pd(x + i), abs), max, _CMP_LE_OQ));
+  return _mm256_movemask_pd(ok) == 0xf && finite_from(x, i, n);
+}
+#endif
+}  // namespace
+
+bool all_finite(const double *x, size_t n) {
+#ifdef ND_AVX2
+  if (simd_on()) return all_finite_avx2(x, n);
+#endif
+  return finite_from(x, 0, n);
+}
 
 }  // namespace nd

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/format.hpp"
+#include "common/simd.hpp"
 #include "monitor/energies.hpp"
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
@@ -34,9 +35,8 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
   auto finite = [](double x) -> int { return std::fabs(x) <= std::numeric_limits<double>::max(); };
   int ok = 1;
   if (!mine) {
-    for (int64_t i = 0; i < n; ++i) ok &= finite(U[i]) & finite(V[i]);
-    if (acc)
-      for (int64_t i = 0; i < n; ++i) ok &= finite(A[i]);
+    const size_t all = static_cast<size_t>(n);
+    ok = all_finite(U, all) && all_finite(V, all) && (!acc || all_finite(A, all));
   } else {
     for (int64_t k = 0; k < m; ++k) {
       const int64_t i = rows[k];
