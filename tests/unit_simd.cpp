@@ -5,7 +5,9 @@
 //    for arrays of finite extremes (+-DBL_MAX, the least subnormal, -0);
 //  - the Newmark update (A^{n+1}, V^{n+1}): the same bits for lengths 0 to
 //    1,001 and three (beta, gamma, tau), against the header's formulas
-//    evaluated here term by term.
+//    evaluated here term by term;
+//  - combine, (a x + b y) + c z, + 0.0 or nothing: the scalar expressions'
+//    bits, signed zeros included (+ 0.0 turns -0 into +0, nothing keeps it).
 // (The node-block passes and the contact points' pass are compared with
 // their CSR and point-by-point forms in unit_operators and unit_tangent.)
 #include <cfloat>
@@ -100,12 +102,41 @@ START_TEST(newmark_update_has_the_formulas_bits) {
 }
 END_TEST
 
+START_TEST(combine_has_the_expressions_bits) {
+  int compared = 0;
+  for (size_t n : {0, 1, 3, 4, 5, 17, 1001}) {
+    std::vector<double> x(n), y(n), z(n);
+    for (size_t i = 0; i < n; ++i)  // every fifth entry: -0 from -0 and -0 products
+      x[i] = i % 5 ? std::sin(1.3 * i) : -0.0, y[i] = i % 5 ? 40 * std::cos(0.7 * i) : -0.0,
+      z[i] = 1e3 * std::sin(0.37 * i * i);
+    const double a = 1.0, b = 0.05, c = 1.25e-3;
+    for (int tail = 0; tail < 3; ++tail) {  // c z, + 0.0, nothing
+      std::vector<double> expect(n);
+      for (size_t i = 0; i < n; ++i)
+        expect[i] = tail == 0 ? a * x[i] + b * y[i] + c * z[i] : tail == 1 ? a * x[i] + b * y[i] + 0.0 : a * x[i] + b * y[i];
+      if (n >= 5 && tail == 2) ck_assert(std::signbit(expect[0]) && expect[0] == 0);  // a -0 to keep
+      if (n >= 5 && tail == 1) ck_assert(!std::signbit(expect[0]));
+      for (int simd = 0; simd <= 1; ++simd) {
+        nd::set_simd(simd == 1);
+        std::vector<double> out(n, 7.0);
+        nd::combine(n, a, x.data(), b, y.data(), c, tail == 0 ? z.data() : nullptr, tail == 1, out.data());
+        ck_assert_msg(same_bits(out, expect), "simd %d tail %d n %zu: other bits", simd, tail, n);
+        ++compared;
+      }
+    }
+  }
+  nd::set_simd(true);
+  ck_assert_int_eq(compared, 7 * 3 * 2);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("simd");
   TCase *tc = tcase_create("simd");
   tcase_add_test(tc, simd_is_on_where_the_cpu_has_avx2);
   tcase_add_test(tc, all_finite_finds_every_non_finite_entry);
   tcase_add_test(tc, newmark_update_has_the_formulas_bits);
+  tcase_add_test(tc, combine_has_the_expressions_bits);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

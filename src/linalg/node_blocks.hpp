@@ -270,6 +270,7 @@ __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, 
       f(i, ku[c], mu[c], mv[c], mass && acc ? ma[c] : 0.0);
     }
   }
+  _mm256_zeroupper();
   if (sums) energy[0] = kinetic, energy[1] = strain;
 }
 #endif

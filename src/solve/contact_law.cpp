@@ -49,6 +49,7 @@ __attribute__((target("avx2"))) void run_dots_avx2(const double *rows, size_t n,
     for (size_t k = 0; k < m; ++k) x += _mm256_loadu_pd(rows + k * n + p) * _mm256_broadcast_sd(u + k);
     _mm256_storeu_pd(out + p, x);
   }
+  _mm256_zeroupper();
   for (; p + 2 <= n; p += 2) {
     __m128d x = _mm_setzero_pd();
     for (size_t k = 0; k < m; ++k) x += _mm_loadu_pd(rows + k * n + p) * _mm_set1_pd(u[k]);

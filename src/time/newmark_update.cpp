@@ -34,6 +34,7 @@ __attribute__((target("avx2"))) void update_avx2(const Coefficients &k, size_t n
     _mm256_storeu_pd(A1 + i, a1);
     _mm256_storeu_pd(V1 + i, v0 + tau * (g1 * a0 + g * a1));
   }
+  _mm256_zeroupper();
   update_rows(k, i, n, U1, U0, V0, A0, A1, V1);
 }
 #endif

@@ -4,6 +4,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/simd.hpp"
 #include "nitschedyn.h"
 #include "parallel/share.hpp"
 #include "time/scheme.hpp"
@@ -53,8 +54,9 @@ namespace nd {
 
 void predict_taylor(double tau, const State &old, double w, std::vector<double> &U) {
   U.resize(old.U.size());
+  // U + tau V + w tau^2 A, or + 0.0 without A
   const bool acc = w != 0 && old.A_valid;
-  for (size_t i = 0; i < U.size(); ++i) U[i] = old.U[i] + tau * old.V[i] + (acc ? w * tau * tau * old.A[i] : 0.0);
+  combine(U.size(), 1.0, old.U.data(), tau, old.V.data(), w * tau * tau, acc ? old.A.data() : nullptr, true, U.data());
 }
 
 void constant_acceleration_update(double tau, const State &old, State &next) {
@@ -72,7 +74,10 @@ void StepInputs::mass_combination(double a, double b, double e, std::vector<doub
   const int64_t m = rows.size(old.n);
   if (old.rows) r.assign(static_cast<size_t>(old.n), 0.0);
   else r.resize(static_cast<size_t>(old.n));
-  if (e != 0 && old.MA.size() == old.MU.size()) {
+  const bool with_A = e != 0 && old.MA.size() == old.MU.size();
+  if (!old.rows) {  // every row, in order
+    combine(r.size(), a, old.MU.data(), b, old.MV.data(), e, with_A ? old.MA.data() : nullptr, false, r.data());
+  } else if (with_A) {
     for (int64_t k = 0; k < m; ++k) r[rows[k]] = a * old.MU[k] + b * old.MV[k] + e * old.MA[k];
   } else {
     for (int64_t k = 0; k < m; ++k) r[rows[k]] = a * old.MU[k] + b * old.MV[k];
