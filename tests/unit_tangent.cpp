@@ -478,6 +478,42 @@ START_TEST(residual_from_products_is_newton_residual) {
 }
 END_TEST
 
+// K_Theta U (StepInputs::k_theta_u: the hybrid and generalized-alpha
+// right-hand sides, the predictor's check) with s_q.U once per run that
+// shares s_q has the bits of the point-by-point sum (the runs cleared),
+// 1D-3D, P1/P2, Theta = 1, -1.
+START_TEST(k_theta_u_by_runs_bitwise) {
+  int compared = 0;
+  for (int dim : {1, 2, 3})
+    for (int degree : {1, 2}) {
+      nd_problem p = scene(dim, degree, kSchemes[2], 1.0);
+      const nd::ContactPoints &cp = p->problem.discretization().contact;
+      nd::ContactPoints alone = cp;
+      alone.runs.clear(), alone.run_shares_s.clear();
+      const size_t n = static_cast<size_t>(p->problem.discretization().dofs.n_free);
+      nd::Products old;
+      old.n = static_cast<int64_t>(n);
+      old.KU.resize(n);
+      std::vector<double> U(n);
+      Uniform rnd(5);
+      for (size_t i = 0; i < n; ++i) U[i] = rnd(), old.KU[i] = rnd();
+      const std::vector<double> none;
+      for (double theta : {1.0, -1.0}) {
+        std::vector<double> by_runs, by_points;
+        nd::StepInputs{old, cp, theta, none, none}.k_theta_u(U, by_runs);
+        nd::StepInputs{old, alone, theta, none, none}.k_theta_u(U, by_points);
+        ck_assert(by_runs.size() == n && by_points.size() == n);
+        ck_assert_msg(std::memcmp(by_runs.data(), by_points.data(), n * sizeof(double)) == 0, "%dD P%d Theta %g", dim,
+                      degree, theta);
+        ck_assert(!(by_runs == old.KU));  // the contact term is there
+        ++compared;
+      }
+      nd_problem_destroy(&p);
+    }
+  ck_assert_int_eq(compared, 12);
+}
+END_TEST
+
 // The pass over the points run by run (ContactLaw::P_by_runs: U read once
 // per facet, a shared s_q.U once) gives every point the bits of P(q, U) and
 // of a_q.U - g_q, 1D-3D, P1/P2; the runs are the facets' points, sharing
@@ -686,6 +722,7 @@ int main(void) {
   tcase_add_test(tc, columns_keep_their_dots_bitwise);
   tcase_add_test(tc, residual_from_products_is_newton_residual);
   tcase_add_test(tc, points_by_runs_bitwise);
+  tcase_add_test(tc, k_theta_u_by_runs_bitwise);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history);
   tcase_add_test(tc, malformed_histories);
