@@ -46,6 +46,19 @@ struct NodeBlocks {
   // waited for the store of the one before: a third of the pass on disk P1)
   template <int d, bool mass, bool acc, bool sums, class F>
   void for_rows(const double *U, const double *V, const double *A, F &&f, double *energy) const;
+  // the arrays a pass reads, as pointers (locals the compiler need not
+  // reload where the pass's callback stores)
+  template <int d>
+  struct Raw {
+    static_assert(d == 2 || d == 3, "blocks of 2 or 3 components");
+    int64_t nodes;
+    const double *k, *m;
+    const int32_t *node;
+  };
+  template <int d>
+  Raw<d> raw() const {
+    return {static_cast<int64_t>(ptr.size()) - 1, k.data(), m.data(), node.data()};
+  }
 #ifdef ND_AVX2
   // the same, the operator's part in AVX2 (the bits of for_rows)
   template <int d, bool mass, bool acc, bool sums, class F>
@@ -179,18 +192,14 @@ __attribute__((target("avx2"), always_inline)) inline void add_m_3d(__m256d *sum
 template <int dim, bool mass, bool acc, bool sums, class F>
 void NodeBlocks::for_rows(const double *U, const double *V, const double *A, F &&f, double *energy) const {
   using namespace node_blocks_detail;
-  static_assert(dim == 2 || dim == 3, "blocks of 2 or 3 components");
-  const int64_t nodes = static_cast<int64_t>(ptr.size()) - 1;
-  const double *kk = k.data(), *mm = m.data();
-  const int32_t *nn = node.data();
-  constexpr int64_t bb = dim * dim;
+  const Raw<dim> b = raw<dim>();
   double kinetic = 0, strain = 0;
-  for (int64_t N = 0; N < nodes; ++N) {
+  for (int64_t N = 0; N < b.nodes; ++N) {
     Sums<dim> t;
     // block jj at an even or odd block offset within the row
     auto add = [&](auto odd, int64_t jj) __attribute__((always_inline)) {
-      const int64_t c = static_cast<int64_t>(nn[jj]) * dim;
-      add_block<dim, mass, acc, decltype(odd)::value>(t, kk + jj * bb, mm[jj], U + c, mass ? V + c : nullptr,
+      const int64_t c = static_cast<int64_t>(b.node[jj]) * dim;
+      add_block<dim, mass, acc, decltype(odd)::value>(t, b.k + jj * dim * dim, b.m[jj], U + c, mass ? V + c : nullptr,
                                                       acc ? A + c : nullptr);
     };
     int64_t j = ptr[N];
@@ -218,25 +227,21 @@ template <int dim, bool mass, bool acc, bool sums, class F>
 __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, const double *V, const double *A,
                                                                 F &f, double *energy) const {
   using namespace node_blocks_detail;
-  static_assert(dim == 2 || dim == 3, "blocks of 2 or 3 components");
-  const int64_t nodes = static_cast<int64_t>(ptr.size()) - 1;
-  const double *kk = k.data(), *mm = m.data();
-  const int32_t *nn = node.data();
-  constexpr int64_t bb = dim * dim;
+  const Raw<dim> b = raw<dim>();
   double kinetic = 0, strain = 0;
-  for (int64_t N = 0; N < nodes; ++N) {
+  for (int64_t N = 0; N < b.nodes; ++N) {
     WideSums t;
     t.k[0] = t.k[1] = t.mu[0] = t.mu[1] = t.mv[0] = t.mv[1] = t.ma3[0] = t.ma3[1] = _mm256_setzero_pd();
     t.ma = _mm_setzero_pd();
     int64_t j = ptr[N];
     const int64_t end = ptr[N + 1];
     auto at = [&](const double *x, int64_t jj) __attribute__((always_inline)) {
-      return x + static_cast<int64_t>(nn[jj]) * dim;
+      return x + static_cast<int64_t>(b.node[jj]) * dim;
     };
     if (dim == 2) {
       for (; j < end; ++j) {
-        add_k_avx2<2, false>(t, kk + j * bb, at(U, j));
-        if (mass) add_m_2d<acc>(t, mm[j], at(U, j), at(V, j), acc ? at(A, j) : nullptr);
+        add_k_avx2<2, false>(t, b.k + j * 4, at(U, j));
+        if (mass) add_m_2d<acc>(t, b.m[j], at(U, j), at(V, j), acc ? at(A, j) : nullptr);
       }
       // (Sums' other parity of uv and ma: +0, which changes no sum)
       const __m128d ku = _mm256_castpd256_pd128(t.k[0]) + _mm256_extractf128_pd(t.k[0], 1);
@@ -251,13 +256,13 @@ __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, 
     }
     for (; j < end; j += 2) {
       const bool pair = j + 1 < end;
-      add_k_avx2<3, false>(t, kk + j * bb, at(U, j));
-      if (pair) add_k_avx2<3, true>(t, kk + (j + 1) * bb, at(U, j + 1));
+      add_k_avx2<3, false>(t, b.k + j * 9, at(U, j));
+      if (pair) add_k_avx2<3, true>(t, b.k + (j + 1) * 9, at(U, j + 1));
       if (mass) {
-        const double m1 = pair ? mm[j + 1] : 0;
-        add_m_3d(t.mu, mm[j], at(U, j), m1, pair ? at(U, j + 1) : nullptr);
-        add_m_3d(t.mv, mm[j], at(V, j), m1, pair ? at(V, j + 1) : nullptr);
-        if (acc) add_m_3d(t.ma3, mm[j], at(A, j), m1, pair ? at(A, j + 1) : nullptr);
+        const double m0 = b.m[j], m1 = pair ? b.m[j + 1] : 0;
+        add_m_3d(t.mu, m0, at(U, j), m1, pair ? at(U, j + 1) : nullptr);
+        add_m_3d(t.mv, m0, at(V, j), m1, pair ? at(V, j + 1) : nullptr);
+        if (acc) add_m_3d(t.ma3, m0, at(A, j), m1, pair ? at(A, j + 1) : nullptr);
       }
     }
     // the lanes read without a store (a wide store read back narrow was a
