@@ -94,18 +94,19 @@ void StepInputs::k_theta_u(const std::vector<double> &U, std::vector<double> &ou
   }
   if (theta == 0) return;  // K_Theta = K
   // s_q.U once per run that shares s_q (P1: a facet's points, the same
-  // bits), else per point (runs empty: each point alone)
+  // bits), else per point (no runs: each point its own)
   const std::vector<int64_t> &runs = contact.runs;
   const bool by_runs = runs.size() == contact.run_shares_s.size() + 1 && runs.back() == int64_t(contact.size());
-  size_t r = 0;
-  double sU = 0;
-  for (size_t q = 0; q < contact.size(); ++q) {
-    const SparseRow &s = contact.s[q];
-    const bool first = !by_runs || q == static_cast<size_t>(runs[r]);
-    if (first || !contact.run_shares_s[r - 1]) sU = s.dot(U.data());
-    if (by_runs && first) ++r;  // r - 1: q's run
-    const double f = theta * contact.w[q] * contact.gamma[q] * sU;
-    for (size_t k = 0; k < s.idx.size(); ++k) out[s.idx[k]] -= f * s.val[k];
+  for (size_t r = 0, q = 0; q < contact.size(); ++r) {
+    const size_t first = q, end = by_runs ? static_cast<size_t>(runs[r + 1]) : q + 1;
+    const bool shared = by_runs && contact.run_shares_s[r];
+    double sU = 0;
+    for (; q < end; ++q) {
+      const SparseRow &s = contact.s[q];
+      if (q == first || !shared) sU = s.dot(U.data());
+      const double f = theta * contact.w[q] * contact.gamma[q] * sU;
+      for (size_t k = 0; k < s.idx.size(); ++k) out[s.idx[k]] -= f * s.val[k];
+    }
   }
 }
 
