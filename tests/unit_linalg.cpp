@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "assembly/bulk.hpp"
+#include "common/simd.hpp"
 #include "linalg/backends.hpp"
 #include "linalg/factorization.hpp"
 #include "linalg/ordering.hpp"
@@ -456,16 +457,12 @@ START_TEST(petsc_gamg_conformance) {
 END_TEST
 #endif
 
-// The updatable factor alone: L D L^T + C C^T then - C C^T, each against a
-// factorization of the modified matrix (1e-12); and its cost model, which
-// decides between updating and refactoring: a set of columns costs the sum
-// of its columns, each positive and below a factorization (a path holds at
-// most nnz(L) entries), and a factor made anew on the same pattern gives the
-// same costs (the model reads the structure, not the clock).
-START_TEST(updatable_cholesky_updates_and_costs) {
-  const nd::Csr A = spd_matrix(30);  // 1,922 unknowns: CHOLMOD goes supernodal
-  nd::SparseColumns C;               // three columns, each on a clique of A's graph (an element's DOFs)
-  for (int64_t j = 0; j < 3; ++j) {
+// Columns on cliques of A's graph (an element's DOFs: each row a neighbour
+// of the others), as the contact points' columns are: count of them, of
+// 4 to 6 entries, the j-th at scale sqrt(scale)
+nd::SparseColumns clique_columns(const nd::Csr &A, int64_t count, double scale) {
+  nd::SparseColumns C;
+  for (int64_t j = 0; j < count; ++j) {
     const int64_t i = (j * 617 + 5) % A.n;
     std::vector<int64_t> clique{i};
     for (int64_t k = A.ptr[i]; k < A.ptr[i + 1] && clique.size() < 6; ++k) {
@@ -476,48 +473,141 @@ START_TEST(updatable_cholesky_updates_and_costs) {
     ck_assert_int_ge(static_cast<int64_t>(clique.size()), 4);
     for (size_t e = 0; e < clique.size(); ++e) {
       C.idx.push_back(clique[e]);
-      C.val.push_back(std::sqrt(1e4) * (1 + 0.1 * static_cast<double>(e) - 0.2 * static_cast<double>(j)));
+      C.val.push_back(std::sqrt(scale) * (1 + 0.1 * static_cast<double>(e) - 0.2 * static_cast<double>(j % 3)));
     }
     C.ptr.push_back(static_cast<int64_t>(C.idx.size()));
   }
-  nd::Csr B = A;  // A + C C^T, in A's pattern (the rows of a column are neighbours)
-  for (int64_t j = 0; j < C.count(); ++j)
-    for (int64_t a = C.ptr[j]; a < C.ptr[j + 1]; ++a)
-      for (int64_t b = C.ptr[j]; b < C.ptr[j + 1]; ++b) {
-        const int64_t k = B.find(C.idx[a], C.idx[b]);
-        ck_assert_msg(k >= 0, "column %lld leaves the pattern", static_cast<long long>(j));
-        B.val[k] += C.val[a] * C.val[b];
-      }
-  nd::UpdatableCholesky f(A, nullptr), g(A, nullptr);
-  f.factor(A);
-  g.factor(B);
-  ck_assert(f.modify(true, C));
-  std::vector<double> x(static_cast<size_t>(A.n)), y(x.size());
-  for (int64_t i = 0; i < A.n; ++i) x[i] = y[i] = std::cos(0.3 * i);
-  f.solve(x.data());
-  g.solve(y.data());
-  ck_assert_double_le(rel_diff(x, y), 1e-12);
-  ck_assert(f.modify(false, C));  // back to A
-  g.factor(A);
-  for (int64_t i = 0; i < A.n; ++i) x[i] = y[i] = std::cos(0.3 * i);
-  f.solve(x.data());
-  g.solve(y.data());
-  ck_assert_double_le(rel_diff(x, y), 1e-12);
+  return C;
+}
 
-  double sum = 0;
-  for (int64_t j = 0; j < C.count(); ++j) {
-    nd::SparseColumns one;
-    one.idx.assign(C.idx.begin() + C.ptr[j], C.idx.begin() + C.ptr[j + 1]);
-    one.val.assign(C.val.begin() + C.ptr[j], C.val.begin() + C.ptr[j + 1]);
-    one.ptr.push_back(static_cast<int64_t>(one.idx.size()));
-    const double c = f.modify_cost(one);
-    ck_assert_msg(c > 0 && c < f.factor_cost(), "column %lld costs %g, a factorization %g", static_cast<long long>(j),
-                  c, f.factor_cost());
-    sum += c;
+// column j of C alone
+nd::SparseColumns column_of(const nd::SparseColumns &C, int64_t j) {
+  nd::SparseColumns one;
+  one.idx.assign(C.idx.begin() + C.ptr[j], C.idx.begin() + C.ptr[j + 1]);
+  one.val.assign(C.val.begin() + C.ptr[j], C.val.begin() + C.ptr[j + 1]);
+  one.ptr.push_back(static_cast<int64_t>(one.idx.size()));
+  return one;
+}
+
+// The updatable factor alone, in both of its forms (supernodal LL^T with our
+// updates where CHOLMOD's analysis is supernodal, else simplicial LDL^T with
+// CHOLMOD's): L L^T + C C^T then - C C^T, each against a factorization of
+// the modified matrix (1e-12); and its cost model, which decides between
+// updating and refactoring: a set of columns costs the sum of its columns,
+// each positive and below a factorization (a path holds at most nnz(L)
+// entries), and a factor made anew on the same pattern gives the same
+// costs (the model reads the structure, not the clock).
+START_TEST(updatable_cholesky_updates_and_costs) {
+  bool seen[2] = {false, false};
+  for (int nx : {30, 3}) {  // 1,922 unknowns (supernodal), 32 (simplicial)
+    const nd::Csr A = spd_matrix(nx);
+    const bool super = nd::cholmod_is_supernodal(A);
+    seen[super] = true;
+    const nd::SparseColumns C = clique_columns(A, 3, 1e4);
+    nd::Csr B = A;  // A + C C^T, in A's pattern (the rows of a column are neighbours)
+    for (int64_t j = 0; j < C.count(); ++j)
+      for (int64_t a = C.ptr[j]; a < C.ptr[j + 1]; ++a)
+        for (int64_t b = C.ptr[j]; b < C.ptr[j + 1]; ++b) {
+          const int64_t k = B.find(C.idx[a], C.idx[b]);
+          ck_assert_msg(k >= 0, "column %lld leaves the pattern", static_cast<long long>(j));
+          B.val[k] += C.val[a] * C.val[b];
+        }
+    nd::UpdatableCholesky f(A, nullptr), g(A, nullptr);
+    f.factor(A);
+    g.factor(B);
+    ck_assert(f.modify(true, C));
+    std::vector<double> x(static_cast<size_t>(A.n)), y(x.size());
+    for (int64_t i = 0; i < A.n; ++i) x[i] = y[i] = std::cos(0.3 * i);
+    f.solve(x.data());
+    g.solve(y.data());
+    ck_assert_msg(rel_diff(x, y) <= 1e-12, "n = %lld: updated %g from the factor", static_cast<long long>(A.n),
+                  rel_diff(x, y));
+    ck_assert(f.modify(false, C));  // back to A
+    g.factor(A);
+    for (int64_t i = 0; i < A.n; ++i) x[i] = y[i] = std::cos(0.3 * i);
+    f.solve(x.data());
+    g.solve(y.data());
+    ck_assert_msg(rel_diff(x, y) <= 1e-12, "n = %lld: downdated %g from the factor", static_cast<long long>(A.n),
+                  rel_diff(x, y));
+
+    double sum = 0;
+    for (int64_t j = 0; j < C.count(); ++j) {
+      const double c = f.modify_cost(column_of(C, j));
+      ck_assert_msg(c > 0 && c < f.factor_cost(), "column %lld costs %g, a factorization %g",
+                    static_cast<long long>(j), c, f.factor_cost());
+      sum += c;
+    }
+    ck_assert_double_eq_tol(f.modify_cost(C), sum, 1e-12 * sum);
+    ck_assert_double_eq(g.modify_cost(C), f.modify_cost(C));
+    ck_assert_double_eq(g.factor_cost(), f.factor_cost());
   }
-  ck_assert_double_eq_tol(f.modify_cost(C), sum, 1e-12 * sum);
-  ck_assert_double_eq(g.modify_cost(C), f.modify_cost(C));
-  ck_assert_double_eq(g.factor_cost(), f.factor_cost());
+  ck_assert(seen[0] && seen[1]);
+}
+END_TEST
+
+// The supernodal updates (linalg/supernodal.hpp) take their columns four at
+// a time up their paths, each column of L modified by one after the other:
+// the bits of one column per call, in the scalar form as in the wide one
+// (AVX2, common/simd.hpp). Checked on the solves after 7 columns (two
+// batches, one not full), updated then downdated.
+START_TEST(supernodal_updates_in_batches_have_the_bits_one_by_one) {
+  const nd::Csr A = spd_matrix(30);
+  ck_assert(nd::cholmod_is_supernodal(A));
+  const nd::SparseColumns C = clique_columns(A, 7, 1e4);
+  std::vector<double> b(static_cast<size_t>(A.n));
+  for (int64_t i = 0; i < A.n; ++i) b[i] = std::cos(0.3 * i);
+  const bool simd_before = nd::simd_on();
+  std::vector<std::vector<double>> solutions;  // batched, one by one, batched without the wide form
+  for (int way = 0; way < 3; ++way) {
+    nd::set_simd(way == 2 ? false : simd_before);
+    nd::UpdatableCholesky f(A, nullptr);
+    f.factor(A);
+    for (bool add : {true, false}) {
+      if (way == 1) {
+        for (int64_t j = 0; j < C.count(); ++j) ck_assert(f.modify(add, column_of(C, j)));
+      } else {
+        ck_assert(f.modify(add, C));
+      }
+      std::vector<double> x = b;
+      f.solve(x.data());
+      solutions.push_back(x);
+    }
+  }
+  nd::set_simd(simd_before);
+  for (size_t k = 2; k < solutions.size(); ++k)
+    ck_assert_msg(std::memcmp(solutions[k].data(), solutions[k % 2].data(), b.size() * sizeof(double)) == 0,
+                  "solve %zu differs from the batched one's bits", k);
+  ck_assert(std::memcmp(solutions[0].data(), solutions[1].data(), b.size() * sizeof(double)) != 0);
+}
+END_TEST
+
+// What an update refuses, in the supernodal form: a downdate that leaves
+// the matrix indefinite (false, and no factor until the next factor(): a
+// solve is then an internal error), and a column with a row where its first
+// column of L has none (it would fill L: false)
+START_TEST(supernodal_updates_refuse_indefinite_and_fill) {
+  const nd::Csr A = spd_matrix(30);
+  ck_assert(nd::cholmod_is_supernodal(A));
+  nd::UpdatableCholesky f(A, nullptr);
+  f.factor(A);
+  ck_assert(!f.modify(false, clique_columns(A, 2, 1e8)));  // A - C C^T: far from positive
+  int code = ND_OK;
+  std::vector<double> x(static_cast<size_t>(A.n), 1.0);
+  try {
+    f.solve(x.data());
+  } catch (const nd::Error &e) {
+    code = e.code();
+  }
+  ck_assert_int_eq(code, ND_ERR_INTERNAL);
+  f.factor(A);
+  nd::SparseColumns far;  // two unknowns far apart: no entry of A, nor of L, joins them
+  far.idx = {0, A.n - 1};
+  far.val = {1.0, 1.0};
+  far.ptr.push_back(2);
+  ck_assert(A.find(0, A.n - 1) < 0);
+  ck_assert(!f.modify(true, far));
+  f.factor(A);
+  ck_assert(f.modify(true, clique_columns(A, 2, 1e4)));  // factored anew: updates go on
 }
 END_TEST
 
@@ -670,6 +760,8 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, cholmod_solves_sparse_columns_as_one_by_one);
     tcase_add_test(tc, cholmod_solves_columns_at_few_rows_as_whole);
     tcase_add_test(tc, updatable_cholesky_updates_and_costs);
+    tcase_add_test(tc, supernodal_updates_in_batches_have_the_bits_one_by_one);
+    tcase_add_test(tc, supernodal_updates_refuse_indefinite_and_fill);
     tcase_add_test(tc, nested_dissection_keeps_nodes_together);
     tcase_add_test(tc, cholmod_factor_made_like_another);
     tcase_add_test(tc, conjugate_gradients_on_the_mass_matrix);

@@ -1,5 +1,5 @@
 // CHOLMOD: sparse Cholesky (supernodal LL^T or simplicial LDL^T, CHOLMOD's
-// choice), and the simplicial LDL^T that is updated in place
+// choice), and the factor that is updated in place
 // (linalg/updatable_cholesky.hpp). The pattern is analysed once (ordering,
 // symbolic factorization), each matrix of it factored numerically. Our CSR
 // arrays, read as CSC, describe A^T = A.
@@ -18,11 +18,17 @@
 #include "linalg/backends.hpp"
 #include "linalg/ordering.hpp"
 #include "linalg/suitesparse.hpp"
+#include "linalg/supernodal.hpp"
 #include "linalg/updatable_cholesky.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
 namespace {
+
+// A supernodal rank-one modification's cost per entry of L on its path, ns:
+// 0.21-0.27 measured over the bounces of ball P1 h = 4, h = 2 and P2 h = 4
+// (AMD EPYC); the simplicial LDL^T's (cholmod_l_updown) 0.7
+constexpr double kSupernodalModifyNs = 0.25;
 
 // A CHOLMOD status that is not OK: out of memory is ND_ERR_NOMEM, a problem
 // too large for its integers ND_ERR_SIZE, anything else ND_ERR_INTERNAL
@@ -145,35 +151,30 @@ class CholmodPattern {
   }
 };
 
-// A supernodal factor's elimination tree: which supernodes a right-hand
-// side with few nonzeros reaches in the forward solve (those of its
-// nonzeros' columns and their ancestors; the others stay zero), and which
-// the backward solve needs for a few rows (theirs and their ancestors).
-struct SupernodalTree {
-  explicit SupernodalTree(const cholmod_factor *L) {
-    const auto *super = static_cast<const int64_t *>(L->super), *pi = static_cast<const int64_t *>(L->pi);
-    const auto *rows = static_cast<const int64_t *>(L->s);
-    const int64_t ns = static_cast<int64_t>(L->nsuper);
-    of_column.resize(L->n);
-    parent.assign(static_cast<size_t>(ns), -1);
-    for (int64_t s = 0; s < ns; ++s)
-      for (int64_t j = super[s]; j < super[s + 1]; ++j) of_column[j] = s;
-    for (int64_t s = 0; s < ns; ++s) {  // the parent holds the first row below the diagonal block
-      const int64_t cols = super[s + 1] - super[s];
-      if (pi[s + 1] - pi[s] > cols) parent[s] = of_column[rows[pi[s] + cols]];
-    }
+// CHOLMOD's supernodal factor, as the sweeps and updates read it
+SupernodalFactor view(const cholmod_factor *F) {
+  SupernodalFactor L;
+  L.n = static_cast<int64_t>(F->n), L.count = static_cast<int64_t>(F->nsuper);
+  L.super = static_cast<const int64_t *>(F->super), L.pi = static_cast<const int64_t *>(F->pi);
+  L.px = static_cast<const int64_t *>(F->px), L.s_rows = static_cast<const int64_t *>(F->s);
+  L.perm = static_cast<const int64_t *>(F->Perm);
+  L.x = static_cast<double *>(F->x);
+  return L;
+}
+
+// the reciprocals of a numeric supernodal factor's diagonal (the sweeps' small blocks)
+void diagonal_reciprocals(const SupernodalFactor &L, std::vector<double> &inv) {
+  inv.resize(static_cast<size_t>(L.n));
+  for (int64_t k = 0; k < L.count; ++k) {
+    const SupernodalFactor::Block b = L[k];
+    for (int j = 0; j < b.cols; ++j) inv[b.first + j] = 1.0 / b.L[static_cast<int64_t>(j) * b.ld + j];
   }
-  // marks column c's supernode and its ancestors (stops at one already marked)
-  void mark_path(int64_t c, std::vector<char> &marked) const {
-    for (int64_t s = of_column[c]; s >= 0 && !marked[s]; s = parent[s]) marked[s] = 1;
-  }
-  std::vector<int64_t> of_column, parent;  // a column's supernode; a supernode's parent (-1: a root)
-};
+}
 
 class Cholmod : public Factorization {
  public:
   explicit Cholmod(const Csr &pattern, const std::vector<int64_t> *ordering = nullptr) : f_(pattern, ordering) {
-    if (f_.L_->is_super) tree_ = std::make_unique<SupernodalTree>(f_.L_);
+    if (f_.L_->is_super) tree_ = std::make_unique<SupernodalTree>(view(f_.L_));
   }
   void factor(const Csr &A, Structure s) override;
   // A supernodal factor is solved here (forward and backward below), not by
@@ -218,140 +219,25 @@ class Cholmod : public Factorization {
   // and their ancestors' (a supernode reads the rows below its diagonal
   // block, which are its ancestors'); and each unknown's row in L
   std::vector<char> needed_for(const std::vector<int64_t> &at, std::vector<int64_t> &kept_row) const;
-  // y = L^{-1} P x over the supernodes x's nonzeros reach (the others stay
-  // zero); reached and e are workspaces (ns and maxesize long)
-  void forward(const double *x, std::vector<double> &y, std::vector<char> &reached, std::vector<double> &e) const;
-  // y = L^{-T} y over the supernodes `needed` marks (null: all), root
-  // first; e is a workspace (maxesize long)
-  void backward(std::vector<double> &y, std::vector<double> &e, const std::vector<char> *needed) const;
+  void forward(const double *x, std::vector<double> &y, std::vector<char> &reached, std::vector<double> &e) const {
+    supernodal_forward(view(f_.L_), *tree_, inv_.data(), x, y, reached, e);
+  }
+  void backward(std::vector<double> &y, std::vector<double> &e, const std::vector<char> *needed) const {
+    supernodal_backward(view(f_.L_), inv_.data(), y, e, needed);
+  }
   CholmodPattern f_;
   Definiteness def_ = Definiteness::Unknown;
   std::unique_ptr<SupernodalTree> tree_;  // (supernodal factors)
   std::vector<double> inv_;               // 1 / L(j, j) (sparse_solves: made with the factor)
 };
 
-// The Fortran BLAS, as CHOLMOD's own solve calls it (its large diagonal
-// blocks and the rows below them)
-extern "C" {
-void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a, const int *lda,
-            double *x, const int *incx);
-void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a, const int *lda,
-            const double *x, const int *incx, const double *beta, double *y, const int *incy);
-}
-
-// The diagonal blocks of at most kCholmodOwnTriangle columns are solved by
-// these two loops, wider ones by dtrsv (whose blocked kernels win there: our
-// loops on every block made the balls' solves 1.3-1.4x slower). 16, 32 and
-// 64 measured alike on the disks; 32 was the best on the balls.
-// Both multiply by the diagonal's reciprocals (inv) rather than divide (a
-// division's latency sits on the chain from column to column), and L, inv
-// and y do not overlap (__restrict: the updates vectorize). One solve, 201
-// timed: 0.92 of the time before on disk P1 h = 1, 0.94-0.97 on disk P2
-// h = 1 and ball P1 h = 4; unchanged where wide blocks (the BLAS) dominate.
-// y = L^{-1} y, L lower triangular, column-major with leading dimension ld
-void lower_solve(int cols, const double *__restrict L, int ld, const double *__restrict inv, double *__restrict y) {
-  for (int j = 0; j < cols; ++j) {
-    const double *__restrict Lj = L + static_cast<int64_t>(j) * ld;
-    const double yj = y[j] * inv[j];
-    y[j] = yj;
-    for (int i = j + 1; i < cols; ++i) y[i] -= Lj[i] * yj;
-  }
-}
-// y = L^{-T} y, L as above: each dot product in four sums (i mod 4), not
-// one chain of dependent adds
-void lower_transpose_solve(int cols, const double *__restrict L, int ld, const double *__restrict inv,
-                           double *__restrict y) {
-  for (int j = cols - 1; j >= 0; --j) {
-    const double *__restrict Lj = L + static_cast<int64_t>(j) * ld;
-    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-    int i = j + 1;
-    for (; i + 3 < cols; i += 4) {
-      s0 += Lj[i] * y[i];
-      s1 += Lj[i + 1] * y[i + 1];
-      s2 += Lj[i + 2] * y[i + 2];
-      s3 += Lj[i + 3] * y[i + 3];
-    }
-    for (; i < cols; ++i) s0 += Lj[i] * y[i];
-    y[j] = (y[j] - ((s0 + s1) + (s2 + s3))) * inv[j];
-  }
-}
-
-// A numeric supernodal factor's supernodes, its arrays read once per sweep
-// (not from the factor again behind each BLAS call). Block s: its
-// diagonal block (cols columns from `first`, column-major with leading
-// dimension ld) and the block below it (`below` rows, at the unknowns
-// `rows`), both in L.
-struct Supernodes {
-  explicit Supernodes(const cholmod_factor *F)
-      : count(static_cast<int64_t>(F->nsuper)), super(static_cast<const int64_t *>(F->super)),
-        pi(static_cast<const int64_t *>(F->pi)), px(static_cast<const int64_t *>(F->px)),
-        s_rows(static_cast<const int64_t *>(F->s)), x(static_cast<const double *>(F->x)) {}
-  struct Block {
-    int64_t first;
-    int cols, ld, below;
-    const int64_t *rows;
-    const double *L;
-  };
-  Block operator[](int64_t s) const {
-    const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
-    return Block{super[s], cols, ld, ld - cols, s_rows + pi[s] + cols, x + px[s]};
-  }
-  int64_t count;
-  const int64_t *super, *pi, *px, *s_rows;
-  const double *x;
-};
 void Cholmod::factor(const Csr &A, Structure s) {
   def_ = Definiteness::Unknown;
   if (s != Structure::SymmetricPositiveDefinite) fail(ND_ERR_INTERNAL, "CHOLMOD given a non-symmetric matrix");
   inv_.clear();
   f_.factor(A, def_);
   if (!sparse_solves(f_.n_)) return;
-  const Supernodes L(f_.L_);  // the reciprocals of L's diagonal, for the sweeps' small blocks
-  inv_.resize(static_cast<size_t>(f_.n_));
-  for (int64_t k = 0; k < L.count; ++k) {
-    const Supernodes::Block b = L[k];
-    for (int j = 0; j < b.cols; ++j) inv_[b.first + j] = 1.0 / b.L[static_cast<int64_t>(j) * b.ld + j];
-  }
-}
-
-const int kOne = 1;
-const double kMinusOne = -1.0, kPlusOne = 1.0;
-
-void Cholmod::forward(const double *x, std::vector<double> &y, std::vector<char> &reached,
-                      std::vector<double> &e) const {
-  const Supernodes L(f_.L_);
-  const auto *perm = static_cast<const int64_t *>(f_.L_->Perm);
-  std::fill(reached.begin(), reached.end(), 0);
-  for (int64_t c = 0; c < f_.n_; ++c) {  // y = P x, and the supernodes its nonzeros reach
-    y[c] = x[perm[c]];
-    if (y[c] != 0) tree_->mark_path(c, reached);
-  }
-  for (int64_t s = 0; s < L.count; ++s) {  // y = L^{-1} y over those (a parent comes after its children)
-    if (!reached[s]) continue;
-    const Supernodes::Block b = L[s];
-    double *ys = y.data() + b.first;
-    for (int i = 0; i < b.below; ++i) e[i] = y[b.rows[i]];
-    if (b.cols <= kCholmodOwnTriangle) lower_solve(b.cols, b.L, b.ld, inv_.data() + b.first, ys);
-    else dtrsv_("L", "N", "N", &b.cols, b.L, &b.ld, ys, &kOne);
-    if (b.below > 0) {
-      dgemv_("N", &b.below, &b.cols, &kMinusOne, b.L + b.cols, &b.ld, ys, &kOne, &kPlusOne, e.data(), &kOne);
-      for (int i = 0; i < b.below; ++i) y[b.rows[i]] = e[i];
-    }
-  }
-}
-
-void Cholmod::backward(std::vector<double> &y, std::vector<double> &e, const std::vector<char> *needed) const {
-  const Supernodes L(f_.L_);
-  for (int64_t s = L.count - 1; s >= 0; --s) {
-    if (needed && !(*needed)[s]) continue;
-    const Supernodes::Block b = L[s];
-    double *ys = y.data() + b.first;
-    for (int i = 0; i < b.below; ++i) e[i] = y[b.rows[i]];
-    if (b.below > 0)
-      dgemv_("C", &b.below, &b.cols, &kMinusOne, b.L + b.cols, &b.ld, e.data(), &kOne, &kPlusOne, ys, &kOne);
-    if (b.cols <= kCholmodOwnTriangle) lower_transpose_solve(b.cols, b.L, b.ld, inv_.data() + b.first, ys);
-    else dtrsv_("L", "C", "N", &b.cols, b.L, &b.ld, ys, &kOne);
-  }
+  diagonal_reciprocals(view(f_.L_), inv_);
 }
 
 void Cholmod::solve_many(double *x, int64_t n, int64_t k) const {
@@ -446,28 +332,53 @@ int64_t cholmod_widest_supernode(const Csr &pattern) {
 
 // ---- the updatable factor ------------------------------------------------------
 
-// T is factored as CHOLMOD chooses (supernodal, with the BLAS, on 3D
-// meshes: a simplicial factorization of ball_h2 took 15x longer), then
-// converted to the simplicial LDL^T that the updates modify and the solves use.
+// Where CHOLMOD's analysis is supernodal (3D meshes, the larger 2D ones) the
+// factor stays supernodal LL^T: copied from A's or factored, modified in place
+// by our rank-one updates and solved by our sweeps (linalg/supernodal.hpp).
+// Elsewhere it is a simplicial LDL^T (T factored, or A's factor copied, and
+// converted), modified by cholmod_l_updown and solved by cholmod_l_solve.
 struct UpdatableCholesky::Impl {
   Impl(const Csr &pattern, const std::vector<int64_t> *ordering)
       : f(pattern, ordering), flops(f.c_.fl), lnz(f.c_.lnz) {
     const auto *perm = static_cast<const int64_t *>(f.L_->Perm);
     row_of.resize(static_cast<size_t>(f.n_));
     for (int64_t i = 0; i < f.n_; ++i) row_of[perm[i]] = i;  // CHOLMOD wants C(Perm, :)
+    const cholmod_factor *L = f.L_;
+    super = L->is_super && L->Perm && L->maxesize <= static_cast<size_t>(INT32_MAX) && f.n_ <= INT32_MAX;
+    if (super) tree = std::make_unique<SupernodalTree>(view(L));
   }
   // path[j]: the nonzeros of L in the columns from j up to the etree's root
   // (a simplicial column's parent is its first row below the diagonal)
   void find_paths() {
+    if (super) {
+      path = supernodal_paths(view(W));
+      return;
+    }
     const auto *p = static_cast<const int64_t *>(W->p), *i = static_cast<const int64_t *>(W->i);
     const auto *nz = static_cast<const int64_t *>(W->nz);
     path.assign(static_cast<size_t>(f.n_), 0.0);
     for (int64_t j = f.n_ - 1; j >= 0; --j)  // a parent comes after its child
       path[j] = static_cast<double>(nz[j]) + (nz[j] > 1 ? path[i[p[j] + 1]] : 0.0);
   }
+  // W made numeric (factored, or copied from A's factor): as the updates want it
+  void made() {
+    if (super) {
+      diagonal_reciprocals(view(W), inv);
+    } else if (!cholmod_l_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, W, &f.c_)) {
+      const int status = f.c_.status;
+      cholmod_l_free_factor(&W, &f.c_);
+      fail_cholmod(status, "conversion to LDL^T");
+    }
+    if (path.empty()) find_paths();  // the structure is the analysis': found once
+  }
   ~Impl() { cholmod_l_free_factor(&W, &f.c_); }
   CholmodPattern f;
-  cholmod_factor *W = nullptr;                     // the simplicial LDL^T (null: none valid)
+  bool super = false;                              // the supernodal form (else simplicial LDL^T)
+  cholmod_factor *W = nullptr;                     // the numeric factor (null: none valid)
+  std::unique_ptr<SupernodalTree> tree;            // (super)
+  std::vector<double> inv;                         // (super) 1 / L(j, j)
+  SupernodalModifier modifier;                     // (super)
+  std::vector<int64_t> rows;                       // (super) scratch: the columns' permuted rows
   std::vector<int64_t> row_of;                     // a DOF's row in the permuted order
   std::vector<std::pair<int64_t, double>> column;  // scratch: one column, sorted
   double flops, lnz;                               // of the factorization, from the analysis
@@ -485,8 +396,8 @@ void UpdatableCholesky::factor(const Csr &T) {
   count(counters_, &Counters::factorizations);
   Impl &m = *impl_;
   cholmod_l_free_factor(&m.W, &m.f.c_);
-  // the analysis (f.L_ stays symbolic) copied and factored there, then
-  // converted in place: one numeric factor is held, not a second copy
+  // the analysis (f.L_ stays symbolic) copied and factored there: one
+  // numeric factor is held, not a second copy
   m.W = cholmod_l_copy_factor(m.f.L_, &m.f.c_);
   if (!m.W) fail_cholmod(m.f.c_.status, "factor copy");
   try {
@@ -496,31 +407,21 @@ void UpdatableCholesky::factor(const Csr &T) {
     cholmod_l_free_factor(&m.W, &m.f.c_);
     throw;
   }
-  if (!cholmod_l_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, m.W, &m.f.c_)) {
-    const int status = m.f.c_.status;
-    cholmod_l_free_factor(&m.W, &m.f.c_);
-    fail_cholmod(status, "conversion to LDL^T");
-  }
-  if (m.path.empty()) m.find_paths();  // the structure is the analysis': found once
+  m.made();
 }
 
 bool UpdatableCholesky::start_from(const Factorization &A_factor) {
   Impl &m = *impl_;
   const auto *c = dynamic_cast<const Cholmod *>(&A_factor.backend());
   const cholmod_factor *L = c ? c->numeric() : nullptr;
-  if (!L || static_cast<int64_t>(L->n) != m.f.n_) return false;
+  if (!L || static_cast<int64_t>(L->n) != m.f.n_ || static_cast<bool>(L->is_super) != m.super) return false;
   const auto *perm = static_cast<const int64_t *>(L->Perm), *ours = static_cast<const int64_t *>(m.f.L_->Perm);
   if (!std::equal(perm, perm + m.f.n_, ours)) return false;  // another analysis: its rows are not ours
   cholmod_factor *W = cholmod_l_copy_factor(const_cast<cholmod_factor *>(L), &m.f.c_);
   if (!W) fail_cholmod(m.f.c_.status, "factor copy");
-  if (!cholmod_l_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, W, &m.f.c_)) {
-    const int status = m.f.c_.status;
-    cholmod_l_free_factor(&W, &m.f.c_);
-    fail_cholmod(status, "conversion to LDL^T");
-  }
   cholmod_l_free_factor(&m.W, &m.f.c_);
   m.W = W;
-  if (m.path.empty()) m.find_paths();
+  m.made();
   return true;
 }
 
@@ -537,32 +438,43 @@ double UpdatableCholesky::modify_cost(const SparseColumns &C) const {
     for (int64_t e = C.ptr[j]; e < C.ptr[j + 1]; ++e) first = std::min(first, m.row_of[C.idx[e]]);
     if (first < m.f.n_) entries += m.path[first];
   }
-  return 0.7 * entries;
+  return (m.super ? kSupernodalModifyNs : 0.7) * entries;
 }
 
 bool UpdatableCholesky::modify(bool add, const SparseColumns &C) {
-  CholmodPattern &f = impl_->f;
+  Impl &m = *impl_;
+  CholmodPattern &f = m.f;
   const int64_t k = C.count();
-  if (!impl_->W) return false;
+  if (!m.W) return false;
   if (k == 0) return true;
+  if (m.super) {
+    std::vector<int64_t> &rows = m.rows;  // C's rows, permuted
+    rows.resize(C.idx.size());
+    for (size_t e = 0; e < rows.size(); ++e) rows[e] = m.row_of[C.idx[e]];
+    if (!m.modifier.modify(view(m.W), *m.tree, m.inv.data(), add, C.ptr.data(), rows.data(), C.val.data(), k)) {
+      cholmod_l_free_factor(&m.W, &f.c_);  // (possibly) half modified: no longer a factor of anything
+      return false;
+    }
+    return true;
+  }
   cholmod_sparse *S = cholmod_l_allocate_sparse(f.n_, k, C.idx.size(), 1, 1, 0, CHOLMOD_REAL, &f.c_);
   if (!S) fail_cholmod(f.c_.status, "update allocation");
   auto *Sp = static_cast<int64_t *>(S->p), *Si = static_cast<int64_t *>(S->i);
   auto *Sx = static_cast<double *>(S->x);
   for (int64_t j = 0; j < k; ++j) {  // permuted rows, sorted as CHOLMOD requires
-    auto &col = impl_->column;
+    auto &col = m.column;
     col.clear();
-    for (int64_t e = C.ptr[j]; e < C.ptr[j + 1]; ++e) col.emplace_back(impl_->row_of[C.idx[e]], C.val[e]);
+    for (int64_t e = C.ptr[j]; e < C.ptr[j + 1]; ++e) col.emplace_back(m.row_of[C.idx[e]], C.val[e]);
     std::sort(col.begin(), col.end());
     Sp[j] = C.ptr[j];
     for (size_t e = 0; e < col.size(); ++e) Si[Sp[j] + e] = col[e].first, Sx[Sp[j] + e] = col[e].second;
   }
   Sp[k] = C.ptr[k];
-  cholmod_factor *W = impl_->W;
+  cholmod_factor *W = m.W;
   const int ok = cholmod_l_updown(add ? 1 : 0, S, W, &f.c_);
   const int status = f.c_.status;
   cholmod_l_free_sparse(&S, &f.c_);
-  if (!ok) cholmod_l_free_factor(&impl_->W, &f.c_);  // half modified: no longer a factor of anything
+  if (!ok) cholmod_l_free_factor(&m.W, &f.c_);  // half modified: no longer a factor of anything
   if (!ok && status == CHOLMOD_OUT_OF_MEMORY) fail_cholmod(status, "update");
   if (!ok || status < CHOLMOD_OK) return false;
   const auto *p = static_cast<const int64_t *>(W->p);
@@ -574,8 +486,16 @@ bool UpdatableCholesky::modify(bool add, const SparseColumns &C) {
 
 void UpdatableCholesky::solve(double *x) const {
   count(counters_, &Counters::solves);
-  if (!impl_->W) fail(ND_ERR_INTERNAL, "a solve with no valid updated factor");
-  impl_->f.solve(impl_->W, x);
+  const Impl &m = *impl_;
+  if (!m.W) fail(ND_ERR_INTERNAL, "a solve with no valid updated factor");
+  if (!m.super) return m.f.solve(m.W, x);
+  const SupernodalFactor L = view(m.W);
+  const int64_t n = m.f.n_;
+  std::vector<double> y(static_cast<size_t>(n)), e(std::max<size_t>(m.W->maxesize, 1));
+  std::vector<char> reached(static_cast<size_t>(L.count));
+  supernodal_forward(L, *m.tree, m.inv.data(), x, y, reached, e);
+  supernodal_backward(L, m.inv.data(), y, e, nullptr);
+  for (int64_t c = 0; c < n; ++c) x[L.perm[c]] = y[c];  // x = P^T y
 }
 
 }  // namespace nd

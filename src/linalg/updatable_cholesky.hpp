@@ -1,8 +1,10 @@
-// A sparse LDL^T factor that is modified in place by rank updates and
-// downdates (CHOLMOD's Modify module): L D L^T +/- C C^T for a few sparse
-// columns C costs what the columns' paths in the elimination tree touch, a
-// small part of a factorization. Simplicial (not supernodal), which updates
-// need. The Newton tangent of the symmetric contact problem (Theta = 1)
+// A sparse Cholesky factor that is modified in place by rank updates and
+// downdates: L L^T +/- C C^T for a few sparse columns C costs what the
+// columns' paths in the elimination tree touch, a small part of a
+// factorization. Where CHOLMOD's analysis is supernodal (3D meshes, the
+// larger 2D ones), a supernodal LL^T modified by our updates and solved by
+// our sweeps (linalg/supernodal.hpp); elsewhere a simplicial LDL^T modified
+// by CHOLMOD's (its Modify module, which needs that form). The Newton tangent of the symmetric contact problem (Theta = 1)
 // changes by such terms as contact points come and go (solve/tangent_updown.cpp).
 #pragma once
 #include <cstdint>
@@ -51,9 +53,11 @@ class UpdatableCholesky {
   // that a run's choices between updating and refactoring, and its bits, do
   // not depend on timings. A factorization: max(50 ns nnz(L), flops / 40
   // GFlop/s) (measured within 15% from the disk P2 h=0.5 to the ball P1
-  // h=1, 4e6 to 1.3e8 nonzeros); an update or downdate: 0.7 ns for each
-  // nonzero of L on each column's path in the elimination tree (0.67-0.72 ns
-  // measured on ball_h4 and ball_h2). modify_cost: once has_costs().
+  // h=1, 4e6 to 1.3e8 nonzeros); an update or downdate: for each nonzero of
+  // L on each column's path in the elimination tree, 0.25 ns in the
+  // supernodal form (0.21-0.27 measured on the bounces of ball P1 h = 4, h = 2
+  // and P2 h = 4), 0.7 ns in the simplicial one (0.67-0.72 on ball_h4 and
+  // ball_h2). modify_cost: once has_costs().
   double factor_cost() const;
   double modify_cost(const SparseColumns &C) const;
   bool has_costs() const;  // modify_cost is known (after a factor() or start_from())

@@ -1,9 +1,10 @@
 // The updated factor of the Newton tangent (Theta = 1): T = A + sum_{q in S}
 // d_q p_q p_q^T, d_q = kappa w_q/gamma_q phi'_q, is symmetric positive
 // definite, and a point entering or leaving S (or changing its slope)
-// changes it by +-c p_q p_q^T: a rank-one update or downdate of T's LDL^T
-// (linalg/updatable_cholesky.hpp), about half a solve with A's factor per
-// point on the ball (n = 2,097), against 100-200 solves for a refactorization.
+// changes it by +-c p_q p_q^T: a rank-one update or downdate of T's factor
+// (linalg/updatable_cholesky.hpp), about a fifth of a solve with A's factor
+// per point on ball P1 h = 4 (n = 2,097; a tenth on ball P1 h = 2 and P2
+// h = 4), against 100-200 solves for a refactorization.
 // Where hundreds of points are active (the ball presses a whole cap on the
 // plane) and a few change per step, the low-rank tangent's k x k capacitance
 // (2/3 k^3 per new set) and the refactoring tangent both cost 50-200 solves
