@@ -17,6 +17,7 @@
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "common/simd.hpp"
+#include "linalg/backends.hpp"
 #include "monitor/energies.hpp"
 #include "solve/contact_columns.hpp"
 #include "solve/contact_law.hpp"
@@ -202,14 +203,17 @@ END_TEST
 START_TEST(rectangle_p2) { all_cases(2, 2, 30); }
 END_TEST
 // CHOLMOD's supernodal factor (1,722 unknowns): the columns held at the
-// points' DOFs alone, solved only there, and the final displacement a solve
+// points' DOFs alone, solved only there, and the final displacement a solve;
+// and the updated factor in its supernodal form (our updates), Theta = 1
 START_TEST(rectangle_p2_supernodal) {
   for (const SchemeCase &sc : kSchemes)
-    for (double theta : kThetas)
+    for (double theta : kThetas) {
       for (nd::TangentChoice other : {nd::TangentChoice::LowRank, nd::TangentChoice::Condensed}) {
         if (sc.scheme == ND_SCHEME_NEWMARK) compare(2, 2, sc, theta, other, 30, 5);
         compare_columns(sc, theta, other, 20, 5);
       }
+      if (theta == 1) compare(2, 2, sc, theta, nd::TangentChoice::Updown, 30, 5);
+    }
 }
 END_TEST
 START_TEST(box_p1) { all_cases(3, 1, 30); }
@@ -632,8 +636,10 @@ END_TEST
 // a run resumed from a checkpoint taken in contact, with updates in its
 // history, and a run that retries steps after failing them (Newton limited
 // to one iteration: the failed step changed the factor), are bitwise the
-// uninterrupted run. The 3D default (Theta = 1) is the updated factor.
-START_TEST(updated_factor_history) {
+// uninterrupted run. The 3D default (Theta = 1) is the updated factor, on
+// the box a simplicial LDL^T (CHOLMOD's updates); on the refined rectangle
+// (asked for) a supernodal LL^T (ours, linalg/supernodal.hpp).
+void updated_factor_history(int dim, int refine, bool supernodal) {
   const SchemeCase &sc = kSchemes[0];  // theta 0.5: steps of two Newton iterations in this scene
   const int first = 30, then = 30;
   auto bits = [](nd_problem p) {
@@ -642,27 +648,40 @@ START_TEST(updated_factor_history) {
     b.insert(b.end(), st.V.begin(), st.V.end());
     return b;
   };
-  nd_problem a = scene(3, 2, sc, 1.0), retry = scene(3, 2, sc, 1.0);
+  auto make = [&] {
+    nd_problem p = scene(dim, 2, sc, 1.0, refine);
+    if (dim == 2) p->problem.set_tangent(nd::TangentChoice::Updown);
+    return p;
+  };
+  nd_problem a = make(), retry = make();
   int64_t size1 = 0, size2 = 0;
   ND_OK_OR_FAIL(nd_problem_get_state_size(a, &size1));
-  for (int k = 0; k < first; ++k) ND_OK_OR_FAIL(nd_step(a));
+  // the checkpoint at step `first`, or at the first step after it with updates in the history
+  int taken = 0;
+  auto updated = [&] {
+    const nd::TangentLog &h = a->problem.current_state().tangent_log;
+    return !h.i.empty() && static_cast<int64_t>(h.i.size()) > 1 + h.i[0];
+  };
+  for (; taken < first || (!updated() && taken < 3 * first); ++taken) ND_OK_OR_FAIL(nd_step(a));
   ND_OK_OR_FAIL(nd_problem_get_state_size(a, &size2));
   ck_assert_int_eq(size1, size2);  // the history takes its longest form's room: no change as it grows
   ck_assert_str_eq(a->problem.integrator()->tangent->name(), "updown");
+  // (the updated factor's form is that of CHOLMOD's analysis of A's pattern)
+  ck_assert(nd::cholmod_is_supernodal(a->problem.integrator()->A) == supernodal);
   const nd::TangentLog &log = a->problem.current_state().tangent_log;
   ck_assert_msg(!log.i.empty() && static_cast<int64_t>(log.i.size()) > 1 + log.i[0],
                 "no update in the history at the checkpoint (%zu entries)", log.i.size());
   ck_assert(nd::tangent_log_well_formed(log, static_cast<int64_t>(a->problem.discretization().contact.size())));
   const std::vector<unsigned char> saved = a->problem.save_state();
   for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(a));
-  nd_problem b = scene(3, 2, sc, 1.0);
+  nd_problem b = make();
   ND_OK_OR_FAIL(nd_problem_load_state(b, static_cast<int64_t>(saved.size()), saved.data()));
   for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(b));
   ck_assert_msg(bits(a) == bits(b), "the resumed run differs");
 
   const nd::NewtonOptions defaults;
   int failed = 0, diverged = 0;
-  for (int k = 0; k < first + then; ++k) {
+  for (int k = 0; k < taken + then; ++k) {
     ND_OK_OR_FAIL(nd_problem_set_newton(retry, defaults.rtol, defaults.atol, 1));
     const int status = nd_step(retry);
     if (status != ND_OK) {
@@ -680,6 +699,9 @@ START_TEST(updated_factor_history) {
   nd_problem_destroy(&b);
   nd_problem_destroy(&retry);
 }
+START_TEST(updated_factor_history_simplicial) { updated_factor_history(3, 1, false); }
+END_TEST
+START_TEST(updated_factor_history_supernodal) { updated_factor_history(2, 5, true); }
 END_TEST
 
 // What a checkpoint's history must look like before it is replayed.
@@ -724,7 +746,8 @@ int main(void) {
   tcase_add_test(tc, points_by_runs_bitwise);
   tcase_add_test(tc, k_theta_u_by_runs_bitwise);
   tcase_add_test(tc, automatic_choice);
-  tcase_add_test(tc, updated_factor_history);
+  tcase_add_test(tc, updated_factor_history_simplicial);
+  tcase_add_test(tc, updated_factor_history_supernodal);
   tcase_add_test(tc, malformed_histories);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
