@@ -26,7 +26,9 @@
 // count of columns did not fit every mesh: 128 columns at once were a
 // factorization's cost on ball_h4, but on ball_h1 an update costs 1/650 of a
 // factorization, and its impact changes more than 128 points per Newton
-// iteration, so that each iteration refactored.
+// iteration, so that each iteration refactored. (Those counts are the
+// simplicial updates'; the supernodal ones cost about a third as much per
+// entry of L: linalg/updatable_cholesky.hpp.)
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -42,7 +44,8 @@ namespace {
 
 // Updates since the factorization cost at most this many factorizations:
 // a replay (a restart, a retried step) costs at most one more than that.
-// Measured on ball_h2 P1 (a factorization: 225 updated columns), a bound of
+// Measured on ball_h2 P1 (a factorization: 225 updated columns with the
+// simplicial updates, about 2.8 times as many with the supernodal), a bound of
 // one refactored three times within the bounce, each time a whole
 // factorization for nothing: the set changes by 30-50 points per step.
 constexpr double kReplayFactorizations = 8;
