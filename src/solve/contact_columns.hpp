@@ -79,6 +79,12 @@ class ContactColumns {
   // column's own memory: the points no more than a column's held rows (the
   // disks; not the balls, whose points outnumber the unknowns).
   bool keeps_dots() const { return keeps_dots_; }
+  // p_i . Z_j for every point i (after require of a set with j), where kept
+  // (else null)
+  const double *kept_dots(int64_t j) const {
+    const std::vector<double> &D = D_[static_cast<size_t>(j)];
+    return D.empty() ? nullptr : D.data();
+  }
   // x -= sum_j f[j] Z_{S[j]} at the held rows, four columns at a time,
   // (f0 z0 + f1 z1) + (f2 z2 + f3 z3): each held row of x read once per four
   // columns (summed column after column, disk P1 h = 2's contact steps on the

@@ -105,7 +105,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     for (int64_t q = 0; q < nq; ++q) P[q] = P0[q];
 
   std::vector<double> F, phi, slope, dP;
-  std::vector<double> Ut;
+  std::vector<double> Ut, off_S;
   std::vector<char> in_S(static_cast<size_t>(nq), 0);
   for (int64_t q : S) in_S[q] = 1;
   for (int it = 1; it <= opt.max_iter; ++it) {
@@ -167,9 +167,25 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (any_force) count(law.counters, &Counters::contact_evaluations);  // (none: P0's pass above)
     const bool through_U = any_force && !columns.keeps_dots() && (nq - k) * 24 > n;  // (no force: P = P0 off S)
     if (through_U) form_U(y0, S, phi, c, columns, Ut);
+    // with the dots kept, P0 - sum_j (p_q . Z_j) c_j phi_j for every point,
+    // column after column: each point's terms in the order of j, as the
+    // point-by-point sum below adds them (the same bits), the kept dots read
+    // as streams (point by point, the column lookups were most of this
+    // function's time on disk P1 h = 2)
+    const bool by_columns = any_force && !through_U && columns.keeps_dots();
+    if (by_columns) {
+      off_S.assign(P0.begin(), P0.end());
+      for (int64_t j = 0; j < k; ++j) {
+        if (phi[j] == 0) continue;
+        const double *D = columns.kept_dots(S[j]), cj = c[S[j]], fj = phi[j];
+        double *o = off_S.data();
+        for (int64_t q = 0; q < nq; ++q) o[q] -= D[q] * cj * fj;
+      }
+    }
     if (any_force) {  // off S, each rank its own points, then gathered (on S, P as iterated)
       law.evaluate(in_S, P.data(), [&](size_t q) {
         if (through_U) return law.P(q, Ut.data());
+        if (by_columns) return off_S[q];
         double Pq = P0[q];
         for (int64_t j = 0; j < k; ++j)
           if (phi[j] != 0) Pq -= columns.dot(q, S[j]) * c[S[j]] * phi[j];
