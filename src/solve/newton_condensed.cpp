@@ -179,7 +179,10 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
         if (phi[j] == 0) continue;
         const double *D = columns.kept_dots(S[j]), cj = c[S[j]], fj = phi[j];
         double *o = off_S.data();
-        for (int64_t q = 0; q < nq; ++q) o[q] -= D[q] * cj * fj;
+        if (D)
+          for (int64_t q = 0; q < nq; ++q) o[q] -= D[q] * cj * fj;
+        else  // (a column whose dots are not kept: evaluated, as dot() does)
+          for (int64_t q = 0; q < nq; ++q) o[q] -= columns.dot(static_cast<size_t>(q), S[j]) * cj * fj;
       }
     }
     if (any_force) {  // off S, each rank its own points, then gathered (on S, P as iterated)
