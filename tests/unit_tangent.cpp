@@ -704,6 +704,46 @@ END_TEST
 START_TEST(updated_factor_history_supernodal) { updated_factor_history(2, 5, true); }
 END_TEST
 
+// A whole run has the same bits with and without the wide (AVX2) forms
+// (common/simd.hpp): the condensed Newton with whole columns (their sums in
+// subtract_blocked), 2D P1 and P2, and the updated factor in its supernodal
+// form (its rotations), on the refined rectangle; besides the passes every
+// step makes. U and V at every step, bit for bit.
+START_TEST(runs_have_the_bits_without_the_wide_forms) {
+  struct Case {
+    int degree, refine;
+    nd::TangentChoice tangent;
+  };
+  const bool before = nd::simd_on();
+  for (const Case &c : {Case{1, 1, nd::TangentChoice::Condensed}, Case{2, 1, nd::TangentChoice::Condensed},
+                        Case{2, 5, nd::TangentChoice::Updown}}) {
+    nd_problem run[2];
+    for (nd_problem &p : run) {
+      p = scene(2, c.degree, kSchemes[2], 1.0, c.refine);
+      p->problem.set_tangent(c.tangent);
+      if (c.tangent == nd::TangentChoice::Condensed) p->problem.set_column_rows(nd::ColumnRows::Whole);
+    }
+    int contact = 0;
+    for (int k = 0; k < 40; ++k) {
+      for (int wide = 0; wide < 2; ++wide) {
+        nd::set_simd(wide == 1 && before);
+        ND_OK_OR_FAIL(nd_step(run[wide]));
+      }
+      const nd::State &a = run[0]->problem.current_state(), &b = run[1]->problem.current_state();
+      auto same = [](const std::vector<double> &x, const std::vector<double> &y) {
+        return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
+      };
+      ck_assert_msg(same(a.U, b.U) && same(a.V, b.V), "P%d refine %d, step %d: the wide forms' run differs",
+                    c.degree, c.refine, k + 1);
+      contact += scalar(run[0], ND_ACTIVE_POINTS) > 0;
+    }
+    ck_assert_msg(contact > 5, "P%d refine %d: %d steps in contact", c.degree, c.refine, contact);
+    for (nd_problem &p : run) nd_problem_destroy(&p);
+  }
+  nd::set_simd(before);
+}
+END_TEST
+
 // What a checkpoint's history must look like before it is replayed.
 START_TEST(malformed_histories) {
   const int64_t points = 10;
@@ -749,6 +789,7 @@ int main(void) {
   tcase_add_test(tc, updated_factor_history_simplicial);
   tcase_add_test(tc, updated_factor_history_supernodal);
   tcase_add_test(tc, malformed_histories);
+  tcase_add_test(tc, runs_have_the_bits_without_the_wide_forms);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
