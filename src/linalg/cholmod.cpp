@@ -171,6 +171,21 @@ void diagonal_reciprocals(const SupernodalFactor &L, std::vector<double> &inv) {
   }
 }
 
+// x <- P^T L^{-T} L^{-1} P x for k columns of n, over a numeric supernodal
+// factor: the solves of A's factor and of the updated one
+void supernodal_solve(const cholmod_factor *F, const SupernodalTree &tree, const double *inv, double *x,
+                      int64_t k) {
+  const SupernodalFactor L = view(F);
+  std::vector<double> y(static_cast<size_t>(L.n)), e(std::max<size_t>(F->maxesize, 1));
+  std::vector<char> reached(static_cast<size_t>(L.count));
+  for (int64_t j = 0; j < k; ++j) {
+    double *xj = x + j * L.n;
+    supernodal_forward(L, tree, inv, xj, y, reached, e);
+    supernodal_backward(L, inv, y, e, nullptr);
+    for (int64_t c = 0; c < L.n; ++c) xj[L.perm[c]] = y[c];  // x = P^T y
+  }
+}
+
 class Cholmod : public Factorization {
  public:
   explicit Cholmod(const Csr &pattern, const std::vector<int64_t> *ordering = nullptr) : f_(pattern, ordering) {
@@ -242,16 +257,7 @@ void Cholmod::factor(const Csr &A, Structure s) {
 
 void Cholmod::solve_many(double *x, int64_t n, int64_t k) const {
   if (!sparse_solves(n)) return Factorization::solve_many(x, n, k);
-  const cholmod_factor *L = f_.L_;
-  const auto *perm = static_cast<const int64_t *>(L->Perm);
-  std::vector<double> y(static_cast<size_t>(n)), e(std::max<size_t>(L->maxesize, 1));
-  std::vector<char> reached(L->nsuper);
-  for (int64_t j = 0; j < k; ++j) {
-    double *xj = x + j * n;
-    forward(xj, y, reached, e);
-    backward(y, e, nullptr);
-    for (int64_t c = 0; c < n; ++c) xj[perm[c]] = y[c];  // x = P^T y
-  }
+  supernodal_solve(f_.L_, *tree_, inv_.data(), x, k);
 }
 
 std::vector<char> Cholmod::needed_for(const std::vector<int64_t> &at, std::vector<int64_t> &kept_row) const {
@@ -489,13 +495,7 @@ void UpdatableCholesky::solve(double *x) const {
   const Impl &m = *impl_;
   if (!m.W) fail(ND_ERR_INTERNAL, "a solve with no valid updated factor");
   if (!m.super) return m.f.solve(m.W, x);
-  const SupernodalFactor L = view(m.W);
-  const int64_t n = m.f.n_;
-  std::vector<double> y(static_cast<size_t>(n)), e(std::max<size_t>(m.W->maxesize, 1));
-  std::vector<char> reached(static_cast<size_t>(L.count));
-  supernodal_forward(L, *m.tree, m.inv.data(), x, y, reached, e);
-  supernodal_backward(L, m.inv.data(), y, e, nullptr);
-  for (int64_t c = 0; c < n; ++c) x[L.perm[c]] = y[c];  // x = P^T y
+  supernodal_solve(m.W, *m.tree, m.inv.data(), x, 1);
 }
 
 }  // namespace nd
