@@ -229,20 +229,15 @@ __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, 
   using namespace node_blocks_detail;
   const Raw<dim> b = raw<dim>();
   double kinetic = 0, strain = 0;
-  for (int64_t N = 0; N < b.nodes; ++N) {
-    WideSums t;
-    t.k[0] = t.k[1] = t.mu[0] = t.mu[1] = t.mv[0] = t.mv[1] = t.ma3[0] = t.ma3[1] = _mm256_setzero_pd();
-    t.ma = _mm_setzero_pd();
-    int64_t j = ptr[N];
-    const int64_t end = ptr[N + 1];
-    auto at = [&](const double *x, int64_t jj) __attribute__((always_inline)) {
-      return x + static_cast<int64_t>(b.node[jj]) * dim;
+  auto at = [&](const double *x, int64_t jj) __attribute__((always_inline)) {
+    return x + static_cast<int64_t>(b.node[jj]) * dim;
+  };
+  if (dim == 2) {
+    auto add = [&](WideSums &t, int64_t jj) __attribute__((target("avx2"), always_inline)) {
+      add_k_avx2<2, false>(t, b.k + jj * 4, at(U, jj));
+      if (mass) add_m_2d<acc>(t, b.m[jj], at(U, jj), at(V, jj), acc ? at(A, jj) : nullptr);
     };
-    if (dim == 2) {
-      for (; j < end; ++j) {
-        add_k_avx2<2, false>(t, b.k + j * 4, at(U, j));
-        if (mass) add_m_2d<acc>(t, b.m[j], at(U, j), at(V, j), acc ? at(A, j) : nullptr);
-      }
+    auto rows = [&](const WideSums &t, int64_t N) __attribute__((target("avx2"), always_inline)) {
       // (Sums' other parity of uv and ma: +0, which changes no sum)
       const __m128d ku = _mm256_castpd256_pd128(t.k[0]) + _mm256_extractf128_pd(t.k[0], 1);
       const __m128d mu = _mm256_castpd256_pd128(t.mu[0]), mv = _mm256_extractf128_pd(t.mu[0], 1);
@@ -252,8 +247,46 @@ __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, 
         if (sums) kinetic += V[i] * mv[c], strain += U[i] * ku[c];
         f(i, ku[c], mu[c], mv[c], mass && acc ? t.ma[c] : 0.0);
       }
-      continue;
+    };
+    auto zero = [](WideSums &t) __attribute__((target("avx2"), always_inline)) {
+      t.k[0] = t.mu[0] = _mm256_setzero_pd();
+      t.ma = _mm_setzero_pd();
+    };
+    // Two nodes at a time, their blocks side by side: each node's sums
+    // still add its blocks one after the other (their bits), but the two
+    // chains of dependent adds overlap. The rows then in order. The pass
+    // alone (disk_bench's pass_ms, 2 rounds): disk P1 h = 4 1.02 -> 0.97
+    // us, P1 h = 2 3.28 -> 3.02 us, P2 h = 4 4.95 -> 4.71 us, P2 h = 1
+    // 79.7 -> 78.3 us (memory-bound there). In 3D (8 sums a node) two
+    // nodes spill registers: slower (ball P1 h = 4 33 -> 38 us).
+    int64_t N = 0;
+    for (; N + 1 < b.nodes; N += 2) {
+      WideSums t0, t1;
+      zero(t0), zero(t1);
+      int64_t j0 = ptr[N], j1 = ptr[N + 1];
+      const int64_t end0 = ptr[N + 1], end1 = ptr[N + 2];
+      for (; j0 < end0 && j1 < end1; ++j0, ++j1) add(t0, j0), add(t1, j1);
+      for (; j0 < end0; ++j0) add(t0, j0);
+      for (; j1 < end1; ++j1) add(t1, j1);
+      rows(t0, N);
+      rows(t1, N + 1);
     }
+    if (N < b.nodes) {
+      WideSums t;
+      zero(t);
+      for (int64_t j = ptr[N]; j < ptr[N + 1]; ++j) add(t, j);
+      rows(t, N);
+    }
+    _mm256_zeroupper();
+    if (sums) energy[0] = kinetic, energy[1] = strain;
+    return;
+  }
+  for (int64_t N = 0; N < b.nodes; ++N) {
+    WideSums t;
+    t.k[0] = t.k[1] = t.mu[0] = t.mu[1] = t.mv[0] = t.mv[1] = t.ma3[0] = t.ma3[1] = _mm256_setzero_pd();
+    t.ma = _mm_setzero_pd();
+    int64_t j = ptr[N];
+    const int64_t end = ptr[N + 1];
     for (; j < end; j += 2) {
       const bool pair = j + 1 < end;
       add_k_avx2<3, false>(t, b.k + j * 9, at(U, j));
