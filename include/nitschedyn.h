@@ -118,7 +118,7 @@ extern "C" {
   X(ND_CONTACT_FORCE_APPLIED, 24, "sum_q w_q phi_q/gamma_q, resultant contact force the last step applied") \
   X(ND_STAT_POINT_EVALUATIONS, 25, "P_q of one contact point evaluated by a step, summed over the ranks")  \
   X(ND_STAT_POINT_EVALUATIONS_OWN, 26, "the same, by this rank (the points of its cells)")            \
-  X(ND_STAT_CONTACT_BOUNDS, 27, "contact checks settled by a bound from P^n, no point evaluated")   \
+  X(ND_STAT_CONTACT_BOUNDS, 27, "contact checks settled by a bound from the last evaluated P_q, no point evaluated")   \
   X(ND_STAT_MATRIX_ENTRIES_OWN, 28, "entries of M, K and K_Theta this rank holds now (its rows when split)") \
   X(ND_STAT_VALUES_RECEIVED, 29, "values this rank received from the other ranks (gathered work and solutions)") \
   X(ND_STAT_POINT_VALUES_RECEIVED, 30, "of them, the contact points' values (P_q, u_n - g0) other ranks evaluated") \

@@ -63,12 +63,16 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
 
 void set_bounds(ContactPoints &cp) {
   cp.nu.assign(cp.size(), 0.0);
+  cp.a_sum.assign(cp.size(), 0.0);
   cp.dofs.clear();
   for (size_t q = 0; q < cp.size(); ++q) {
-    double sum = 0;
-    for (size_t k = 0; k < cp.a[q].val.size(); ++k)
+    double sum = 0, a_sum = 0;
+    for (size_t k = 0; k < cp.a[q].val.size(); ++k) {
       sum += std::fabs(cp.a[q].val[k]) + cp.gamma[q] * std::fabs(cp.s[q].val[k]);
+      a_sum += std::fabs(cp.a[q].val[k]);
+    }
     cp.nu[q] = sum;
+    cp.a_sum[q] = a_sum;
     cp.dofs.insert(cp.dofs.end(), cp.a[q].idx.begin(), cp.a[q].idx.end());
   }
   std::sort(cp.dofs.begin(), cp.dofs.end());

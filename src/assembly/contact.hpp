@@ -47,6 +47,8 @@ struct ContactPoints {
   // ContactLaw::certainly_free then always evaluates)
   std::vector<double> nu;
   std::vector<int64_t> dofs;
+  // sum_k |a_qk| >= ||a_q||_1: u_n - g0 likewise (the penetration guard's bound)
+  std::vector<double> a_sum;
   // runs of consecutive points with one index list (a facet's points: 9 on
   // the ball's P1 cells, 16 on P2), run r the points [runs[r], runs[r + 1])
   // (the last entry size()), and whether a run's points have the same s_q,

@@ -155,10 +155,33 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
 
 }  // namespace
 
-void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
+namespace {
+void products_of_state(const Discretization &d, State &s) {
   s.products.of = 0;  // stays 0 if anything below throws
   if (d.rows_split && d.rows) products_pass<true, true>(d, s, s.products);
   else products_pass<true>(d, s, s.products);
+}
+}  // namespace
+
+void compute_products_bounded(const Discretization &d, State &s, std::shared_ptr<const PointReference> ref) {
+  products_of_state(d, s);
+  s.products.points = PointValues{};
+  s.products.points.ref = std::move(ref);
+  s.products.of = d.id;
+}
+
+std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s,
+                                                      const Products &p) {
+  if (p.points.ref) return p.points.ref;
+  const size_t nq = d.contact.size();
+  if (p.points.partial || p.points.P.size() != nq || p.points.un.size() != nq || s.U.empty()) return nullptr;
+  auto ref = std::make_shared<PointReference>();
+  ref->U = s.U, ref->P = p.points.P, ref->un = p.points.un, ref->gap = s.gap;
+  return ref;
+}
+
+void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
+  products_of_state(d, s);
   if (known && known->P.size() == d.contact.size() && known->un.size() == d.contact.size()) {
     s.products.points = std::move(*known);
   } else if (held && !d.contact.a.empty()) {  // the rank's points, evaluated here (no message)
@@ -211,7 +234,7 @@ double mechanical_energy(const Discretization &d, const State &s) {
 }
 
 const PointValues &state_points(const Discretization &d, const State &s, PointValues &scratch, Counters *counters) {
-  if (s.products.of == d.id) return s.products.points;
+  if (s.products.of == d.id && !s.products.points.ref) return s.products.points;
   count(counters, &Counters::contact_evaluations);
   ContactLaw law = state_contact_law(d, s);
   law.local = true;  // a query: every point here, no message

@@ -22,6 +22,15 @@ ContactLaw state_contact_law(const Discretization &d, const State &s);
 // evaluated at those points only (PointValues::partial), by this rank.
 void compute_products(const Discretization &d, State &s, PointValues *known = nullptr,
                       const HeldPoints *held = nullptr);
+// The same for a state shown contact-free by the bound from `ref` (its
+// points not evaluated: PointValues::ref)
+void compute_products_bounded(const Discretization &d, State &s, std::shared_ptr<const PointReference> ref);
+// The reference of a state's points for the bound of the steps after it:
+// where they were evaluated, the state itself (its U, points and gaps,
+// copied), else its own reference. Null if its points are not every
+// point's (a distributed state's), or not there.
+std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s,
+                                                      const Products &p);
 // The step's sums over the points (PointValues::sums) of s, from its
 // products' P_q and u_n - g0 and its phi: each rank adds its own points and
 // the ranks' sums are added rank after rank (collective with several
@@ -39,9 +48,9 @@ double contact_force(const Discretization &d, const State &s);
 double contact_force_applied(const Discretization &d, const State &s);
 int64_t active_points(const Discretization &d, const State &s);
 // P_q(U) and u_n - g0 of the state at every point: its products' (in a
-// step, each evaluated by its point's rank) when they are valid, else
-// evaluated here into `scratch` (counted in `counters` as a pass over the
-// points); the same bits either way. Not collective: a query.
+// step, each evaluated by its point's rank) when they are valid and were
+// evaluated, else evaluated here into `scratch` (counted in `counters` as a
+// pass over the points); the same bits either way. Not collective: a query.
 const PointValues &state_points(const Discretization &d, const State &s, PointValues &scratch,
                                 Counters *counters = nullptr);
 // max_q (u_n - g0)_+

@@ -65,7 +65,12 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   GuardState &gs = next.guard;
   gs = old.guard;
   gs.budget = std::max(gs.budget, gs.E0 + next.W + next.W_obstacle);  // a moving obstacle puts energy in too
-  if (g.penetration > 0 && d.contact.size() > 0) {
+  // (a state whose points the step did not evaluate: first from their
+  // reference, without a pass)
+  const PointReference *ref = next.products.of == d.id ? next.products.points.ref.get() : nullptr;
+  if (g.penetration > 0 && d.contact.size() > 0 &&
+      !(ref && penetration_within(d.contact, next.U.data(), next.gap.empty() ? nullptr : next.gap.data(), *ref,
+                                  g.penetration))) {
     const auto [r, q] = deepest(d, next);
     if (r > g.penetration)
       fail(ND_ERR_PENETRATION, "the step to t = " + num(next.t) + " sinks contact point " + std::to_string(q) + " " +

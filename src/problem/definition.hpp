@@ -62,8 +62,9 @@ struct Definition {
   // where the contact columns are held (solve/contact_columns.hpp;
   // white-box: tests compare the choices)
   ColumnRows column_rows = ColumnRows::Auto;
-  // the contact checks a step may settle by a bound from P^n (white-box, not
-  // in the C API: tests compare the trajectories without it)
+  // the contact checks a step may settle by a bound from the last evaluated
+  // P_q, and the new states' points it then leaves unevaluated (white-box,
+  // not in the C API: tests compare the trajectories without it)
   bool contact_bounds = true;
   // whether a step may be its predictor (solve/predictor_check.hpp;
   // white-box, not in the C API: tests compare the trajectories without it)

@@ -210,12 +210,38 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // contact terms read them) and what the right-hand side is made of
   Products scratch;  // only when the state has none (restart, new state): the same pass
   const Products &old_products = products_of(d, old, scratch);
-  law.Pn = &old_products.points.P;
-  if (def.contact_bounds) law.Un = old.U.data(), law.gap_n = old.gap.empty() ? nullptr : old.gap.data();
+  // points the step before left unevaluated (PointValues::ref): the bound
+  // from their reference, whose P_q stand as P^n (all <= 0, as P^n's are);
+  // a law that reads more of P^n than that (a scheme changed since) has
+  // them evaluated
+  const PointReference *ref = old_products.points.ref.get();
+  PointValues old_points;
+  if (ref && !scheme.contact_same_for_nonpositive_Pn()) {
+    ContactLaw at_old = state_contact_law(d, old);
+    at_old.counters = d.counters;
+    at_old.local = true;  // (every rank evaluates every point: no message)
+    at_old.P_all(old.U.data(), old_points.P);
+    ref = nullptr;
+  }
+  law.Pn = ref ? &ref->P : old_points.P.empty() ? &old_products.points.P : &old_points.P;
+  if (def.contact_bounds) {
+    const std::vector<double> &Un = ref ? ref->U : old.U, &gap_n = ref ? ref->gap : old.gap;
+    law.Un = Un.data(), law.gap_n = gap_n.empty() ? nullptr : gap_n.data();
+  }
   scheme.predict(tau, old, next.U);
+  // Shown contact-free by the bound (every law and its slope zero: phi = 0),
+  // the new state's points are left unevaluated, the bound's reference in
+  // their place, from which the next step's bound is made: a free flight
+  // evaluates them only when the body has come near enough the obstacle
+  // since the last evaluation for the bound to fail. Where the scheme's law
+  // reads only that P^n <= 0 (the next step's, TimeScheme), and every rank
+  // holds the whole state (a distributed state's points stay the ranks').
+  const bool may_leave_points = scheme.contact_same_for_nonpositive_Pn() && def.contact_bounds && !in.points &&
+                                in.held.empty() && !d.contact.a.empty();
   PointValues at_U;  // P_q(U^{n+1}) and u_n - g0 if the step made them (explicit, or Newton), for the products
   bool predicted = false;  // an implicit step that is its predictor: updated, its pass made
   bool made = false;       // the condensed Newton's check updated the state and made its pass
+  bool bounded = false;    // Newton's solution shown contact-free by the bound from law.Un
   if (scheme.is_explicit()) {
     next.last_iterations = 0;
     // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
@@ -226,7 +252,11 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load()}, tau, old, r);
     if (predictor_may_solve(in, d, def, old)) {  // the new state's pass, made now, checks the predictor
       constant_acceleration_update(tau, old, next);
-      compute_products(d, next);
+      // (its points shown free by the bound: left unevaluated, as below)
+      std::shared_ptr<const PointReference> from;
+      if (may_leave_points && law.certainly_free(next.U)) from = point_reference(d, old, old_products);
+      if (from) compute_products_bounded(d, next, std::move(from));
+      else compute_products(d, next);
       predicted = predictor_solves_step(law, in.coef.c, r, next);
       if (predicted) next.last_iterations = 0, count(d.counters, &Counters::predicted_steps);
       else next.products = Products{};  // (U is still the predictor: where the solves start)
@@ -285,6 +315,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
                                 num(next.t) + " (residual " + num(res.residual) + ", tolerance " +
                                 num(res.tolerance) + "); the step was not taken");
       next.last_iterations = res.iterations;
+      bounded = res.bounded;
       const TangentLog *history = in.tangent->log();
       if (history) next.tangent_log = *history;
     }
@@ -315,7 +346,13 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
   // (at_U: an explicit step's, or Newton's at its solution; empty: evaluated there)
-  if (!predicted && !made) compute_products(d, next, &at_U, in.points.get());
+  if (!predicted && !made) {
+    std::shared_ptr<const PointReference> from;
+    if (bounded && may_leave_points) from = point_reference(d, old, old_products);
+    if (from) compute_products_bounded(d, next, std::move(from));
+    else compute_products(d, next, &at_U, in.points.get());
+  }
+  const bool unevaluated = next.products.points.ref != nullptr;
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks
@@ -328,7 +365,9 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     if (in.points) dW[q] = w;
     else next.W_obstacle += w;
   };
-  if (in.points) {
+  if (unevaluated) {
+    // phi = 0 at every point: nothing applied, no work
+  } else if (in.points) {
     std::fill(phi.begin(), phi.end(), std::numeric_limits<double>::quiet_NaN());
     for (int64_t q : in.points->points) apply(static_cast<size_t>(q));
   } else {

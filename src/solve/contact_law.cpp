@@ -171,13 +171,17 @@ void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) 
   if (received) receiving_points(share.counters, [&] { exchange(*halo, P.data()); });
 }
 
-bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> *P_out) const {
+bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> *P_out, bool *by_bound) const {
   const bool reduced = !reads_all(), per_rank = held && reduced;
   if (P_out) P_out->clear();
+  if (by_bound) *by_bound = false;
   // far from the obstacle: no point evaluated (with `held`, this rank's
   // points: counted below when every rank's bound held, the job's count)
   const bool bound = certainly_free(U, !per_rank);
-  if (bound && !per_rank) return true;
+  if (bound && !per_rank) {
+    if (by_bound) *by_bound = true;
+    return true;
+  }
   double flags[2] = {0, bound ? 0.0 : 1.0};  // a busy own point, a bound that failed
   double &any = flags[0];
   if (!bound) {
@@ -199,6 +203,7 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
   if (!per_rank) return max_over_ranks(halo->share->comm.get(), any) == 0;
   max_over_ranks(halo->share->comm.get(), flags, 2);
   if (flags[1] == 0) count(counters, &Counters::contact_bounds);
+  if (by_bound) *by_bound = flags[1] == 0;
   return flags[0] == 0;
 }
 
@@ -227,25 +232,32 @@ namespace {
 constexpr double kBoundMargin = 1e-12;
 }  // namespace
 
+Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref) {
+  Reach r;
+  int finite = 1;
+  for (int64_t i : dofs) {
+    finite &= static_cast<int>(std::isfinite(U[i])) & static_cast<int>(std::isfinite(Uref[i]));  // (no branch)
+    r.d = std::max(r.d, std::fabs(U[i] - Uref[i]));
+    r.u_max = std::max(r.u_max, std::fabs(U[i]));
+    r.ref_max = std::max(r.ref_max, std::fabs(Uref[i]));
+  }
+  r.finite = finite != 0;
+  return r;
+}
+
 bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) const {
   const size_t nq = cp->size();
   if (!Un || !Pn || Pn->size() != nq || cp->nu.size() != nq) return false;
   // over the DOFs the points' rows touch: on the disks a few hundred of tens
   // of thousands (the whole of U cost more than evaluating the points)
-  double d = 0, u_max = 0, un_max = 0;
-  bool finite = true;
-  for (int64_t i : held ? held->dofs : cp->dofs) {
-    finite &= static_cast<int>(std::isfinite(U[i])) & static_cast<int>(std::isfinite(Un[i]));  // (no branch)
-    d = std::max(d, std::fabs(U[i] - Un[i]));
-    u_max = std::max(u_max, std::fabs(U[i]));
-    un_max = std::max(un_max, std::fabs(Un[i]));
-  }
-  if (!finite) return false;
+  const Reach r = nd::reach(held ? held->dofs : cp->dofs, U.data(), Un);
+  if (!r.finite) return false;
+  const double d = r.d;
   // the arrays read per point, in locals (the compiler reloaded them at every
   // point: they might alias what the loop writes)
   const double *nu = cp->nu.data(), *Pref = Pn->data(), *g_now = gap ? gap : cp->gap.data(),
                *g_ref = gap_n ? gap_n : cp->gap.data();
-  const double reach = u_max + un_max + d;
+  const double reach = r.u_max + r.ref_max + d;
   auto high = [&](size_t q) {
     const double margin =
         kBoundMargin * (nu[q] * reach + std::fabs(g_now[q]) + std::fabs(g_ref[q]) + std::fabs(Pref[q]));
@@ -276,6 +288,25 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   }
   if (counted) count(counters, &Counters::contact_bounds);
   return true;
+}
+
+bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
+                        double limit) {
+  const size_t nq = cp.size();
+  if (cp.a_sum.size() != nq || ref.un.size() != nq || cp.h.size() != nq) return false;
+  const Reach r = reach(cp.dofs, U, ref.U.data());
+  if (!r.finite) return false;
+  const double *a_sum = cp.a_sum.data(), *un = ref.un.data(), *h = cp.h.data(),
+               *g_now = gap ? gap : cp.gap.data(), *g_ref = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
+  const double reach = r.u_max + r.ref_max + r.d;
+  bool all = true;
+  for (size_t q = 0; q < nq; ++q) {
+    const double margin =
+        kBoundMargin * (a_sum[q] * reach + std::fabs(g_now[q]) + std::fabs(g_ref[q]) + std::fabs(un[q]));
+    const double high = un[q] + a_sum[q] * r.d + (g_ref[q] - g_now[q]) + margin;
+    all &= high / h[q] <= limit;  // (false for NaN: not shown)
+  }
+  return all;
 }
 
 std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows) {

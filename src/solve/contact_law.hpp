@@ -54,6 +54,24 @@ struct HeldPoints {
 };
 std::shared_ptr<const HeldPoints> held_points(const ContactPoints &cp, const Halo &halo);
 
+// Over `dofs`: max |U_i - Uref_i|, max |U_i|, max |Uref_i|, and whether
+// every value read is finite (the bounds below read nothing else of U)
+struct Reach {
+  double d = 0, u_max = 0, ref_max = 0;
+  bool finite = true;
+};
+Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref);
+
+// Whether every point's u_n - g0 at U (gaps `gap`, null: the assembled
+// ones), evaluated, would be at most limit h_q, shown without evaluating
+// one: from the point reference's (time/state.hpp),
+//   u_n(U) <= u_n(U_ref) + sum_k |a_qk| max_i |U_i - U_ref_i| + g_ref - g
+// (i over cp.dofs) with certainly_free's margin. False says nothing: then
+// evaluate. The penetration guard's test for a state whose points were not
+// evaluated (monitor/guards.cpp).
+bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
+                        double limit);
+
 struct ContactLaw {
   const ContactPoints *cp = nullptr;
   double theta = 1;                         // Nitsche's Theta
@@ -160,8 +178,9 @@ struct ContactLaw {
   // (with a halo, each rank its own points, then one reduction; with `held`
   // the ranks' bounds are reduced with it, and counted when all held).
   // Collective. P (if given): P_q(U) at every point when the pass was made
-  // and was every point's (one process), else left empty.
-  bool contact_free(const std::vector<double> &U, std::vector<double> *P = nullptr) const;
+  // and was every point's (one process), else left empty. by_bound (if
+  // given): whether the bound alone said free, on every rank.
+  bool contact_free(const std::vector<double> &U, std::vector<double> *P = nullptr, bool *by_bound = nullptr) const;
   // From the active sets of add_force (`previous` may be empty): whether a
   // point is active, whether the set changed; with a halo from each rank's
   // own points, reduced in one message (the same answer on every rank).

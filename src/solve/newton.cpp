@@ -86,7 +86,7 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     U = r;
     sys.tangent->solve(*sys.law, sys.kappa, U.data(), false, U.data(), sys.guess ? predictor.data() : nullptr);
     res.iterations = 1;
-    if (sys.law->contact_free(U, &at.P)) {
+    if (sys.law->contact_free(U, &at.P, &res.bounded)) {
       res.converged = true;
       return res;
     }

@@ -46,6 +46,9 @@ struct NewtonResult {
   int iterations = 0;
   bool converged = false;
   double residual = 0, tolerance = 0;
+  // the solution shown contact-free by ContactLaw::certainly_free's bound
+  // (every law and slope zero there), no point evaluated at it
+  bool bounded = false;
 };
 
 // G = A U + kappa N(U) - r; returns ||G||, fills the active set (if given)

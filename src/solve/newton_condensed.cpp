@@ -96,6 +96,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     U.swap(y0);
     res.iterations = 1;
     res.converged = true;
+    res.bounded = true;
     return out;
   }
   std::vector<double> P0, c(nq);

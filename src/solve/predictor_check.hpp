@@ -24,8 +24,9 @@ constexpr double kPredictorRoundOffs = 16;
 
 // Whether s.U solves the implicit step G(U) = (c M + K_Theta) U + kappa N(U) - r = 0
 // to round-off, from s.products (valid for s): no contact point active at U
-// (phi_q and its slope zero at every point: N and its tangent vanish) and the
-// residual within kPredictorRoundOffs. Serial operators only.
+// (phi_q and its slope zero at every point: N and its tangent vanish; or
+// the points left unevaluated, shown free by the bound: PointValues::ref)
+// and the residual within kPredictorRoundOffs. Serial operators only.
 bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s);
 
 }  // namespace nd

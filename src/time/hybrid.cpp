@@ -34,6 +34,8 @@ class Hybrid : public TimeScheme {
     value = h_pos * (mid > 0 ? mid : 0) + h_neg * 0.5 * ((Pn > 0 ? Pn : 0) + (P > 0 ? P : 0));
     slope = h_pos * (mid > 0 ? 0.5 : 0) + h_neg * (P > 0 ? 0.5 : 0);
   }
+  // Pn < 0: [P]_+ / 2; Pn = 0 (H = 1/2): [P/2]_+ / 2 + [P]_+ / 4, the same bits
+  bool contact_same_for_nonpositive_Pn() const override { return true; }
   void update(double tau, const State &old, State &next) const override {
     const size_t n = old.U.size();
     next.V.resize(n);

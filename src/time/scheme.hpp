@@ -65,6 +65,10 @@ class TimeScheme {
   // inline (ContactLaw::law), without a call per point
   // (tests/unit_schemes.cpp checks every registered scheme's answer)
   bool contact_is_positive_part() const { return positive_part_; }
+  // contact(P, Pn) is the same, bit for bit, for every Pn <= 0: a state
+  // whose P_q are only known to be <= 0 (PointValues::ref) can stand as
+  // P^n (tests/unit_contact_bounds.cpp checks every scheme that says so)
+  virtual bool contact_same_for_nonpositive_Pn() const { return positive_part_; }
   // Implicit: V^{n+1}, A^{n+1} from U^{n+1}. Explicit: V^{n+1} from A^{n+1}.
   virtual void update(double tau, const State &old, State &next) const = 0;
   // The equation a step satisfies on the free DOFs, M Abar + K_Theta Ubar +

@@ -27,11 +27,23 @@ struct PointSums {
   double active = 0;         // the points with P_q > 0
   double penetration = 0;    // max_q (u_n - g0)_+
 };
+// Where a state's points were last evaluated, for the states after it whose
+// own were not: a step shown contact-free by ContactLaw::certainly_free's
+// bound from here (every law and slope zero, so phi = 0) leaves its points
+// unevaluated and this in their place, and the next step's bound and the
+// penetration guard's (monitor/guards.cpp) are made from it. U whole, P_q
+// and u_n - g0 there, its gaps (empty: the assembled ones).
+struct PointReference {
+  std::vector<double> U, P, un, gap;
+};
 struct PointValues {
   std::vector<double> P, un;
   bool partial = false;
   bool summed = false;
   PointSums sums;
+  // non-null: P and un not evaluated (empty), the state contact-free by
+  // the bound from *ref; a reader evaluates them (state_points)
+  std::shared_ptr<const PointReference> ref;
 };
 
 // M U, M V, M A (when A is valid), K U and the two sums of the mechanical
