@@ -2,8 +2,9 @@
 // (ContactLaw::certainly_free): P_q(U) <= P_q(U^n) + nu_q max_i |U_i - U^n_i|
 // + g^n_q - g_q, i over the DOFs of the points' rows, with a margin for
 // round-off.
-//  - Every scheme's contact law is nondecreasing in P and vanishes with its
-//    slope below a point where both vanish: the bound relies on it.
+//  - Every scheme's contact law is nondecreasing in P, vanishes with its
+//    slope below a point where both vanish, and where P <= 0 and P^n <= 0:
+//    the bound relies on it.
 //  - Sound: on random states around a step's U^n (the maximum taken over
 //    the DOFs the points' rows touch), at every scale of
 //    max|U - U^n| and with the obstacle moved, whenever the bound says
@@ -16,6 +17,7 @@
 //    condensed, low-rank and updated-factor tangents: U and V bitwise equal
 //    with and without the bound at every step, the bound used in one run
 //    only, with fewer passes over the points.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "common/simd.hpp"
 #include "monitor/energies.hpp"
 #include "testutil.h"
 #include "time/scheme.hpp"
@@ -68,6 +71,14 @@ START_TEST(laws_are_monotone) {
       }
     }
   ck_assert(zero_regions > 0);
+  // every law vanishes with its slope where P <= 0 and P^n <= 0
+  for (const auto &law : laws)
+    for (double Pn : {-1e300, -1.0, -0.25, -1e-300, -0.0, 0.0})
+      for (double P : {-1e300, -1.0, -0.25, -1e-300, -0.0, 0.0}) {
+        double value = 1, slope = 1;
+        law->contact(P, Pn, value, slope);
+        ck_assert_msg(value == 0 && slope == 0, "contact(%g, %g) = (%g, %g)", P, Pn, value, slope);
+      }
   // a law that says it reads of P^n only that it is <= 0
   // (TimeScheme::contact_same_for_nonpositive_Pn: a state whose points were
   // left unevaluated then stands as P^n) gives the same bits at every
@@ -150,6 +161,12 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
       exceeds |= (sa - gap[q]) / cp.h[q] > limit;  // (u_n - g0's bits: ContactLaw::P_all)
     }
     const bool shown_within = nd::penetration_within(cp, U.data(), gap.data(), at_n, limit);
+    // the tests' wide form (AVX2, on by default where the CPU has it) and
+    // the scalar one say the same
+    nd::set_simd(false);
+    ck_assert(law.certainly_free(U, false) == bound &&
+              nd::penetration_within(cp, U.data(), gap.data(), at_n, limit) == shown_within);
+    nd::set_simd(true);
     ck_assert_msg(!shown_within || !exceeds, "%dD P%d %s Theta = %g, trial %d: shown within %g h, but a point is not",
                   dim, degree, sc.name, theta, trial, limit);
     within += shown_within, within_missed += !exceeds && !shown_within, beyond += exceeds;
@@ -162,6 +179,27 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
                  theta, shown, missed, active);
   ck_assert_msg(shown > 0 && missed > 0 && active > 0, "%dD P%d %s: %d shown free, %d free not shown, %d active", dim,
                 degree, sc.name, shown, missed, active);
+  // a law that reads P^n's value (the hybrid, generalized-alpha): the body
+  // translated into the obstacle at U^n (every P_q^n > 0), then the
+  // obstacle moved away by 1.5 max P^n: the bound on P_q(U) is <= 0 at
+  // every point, but the law at those P^n is not zero where P_q^n > 3/4
+  // max P^n: never shown free
+  if (!in.scheme->contact_is_positive_part()) {
+    for (auto &u : Un) u = -1;  // (down and sideways by 1: into the plane 0.3 below)
+    nd::ContactLaw at_n{&cp, d.theta, nullptr, nullptr, gap_n.data()};
+    at_n.P_all(Un.data(), Pn);
+    const double most = *std::max_element(Pn.begin(), Pn.end());
+    ck_assert(*std::min_element(Pn.begin(), Pn.end()) > 0);
+    for (size_t q = 0; q < Q; ++q) gap[q] = gap_n[q] + 1.5 * most;
+    nd::ContactLaw moved{&cp, d.theta, in.scheme.get(), &Pn, gap.data()};
+    moved.Un = Un.data(), moved.gap_n = gap_n.data();
+    U = Un;
+    ck_assert(!free_at(moved, U));
+    for (int simd = 0; simd <= 1; ++simd) {
+      nd::set_simd(simd == 1);
+      ck_assert_msg(!moved.certainly_free(U, false), "%s: shown free, P^n active", sc.name);
+    }
+  }
   // never for a non-finite state, nor without U^n
   nd::ContactLaw law{&cp, d.theta, in.scheme.get(), &Pn, nullptr};
   law.Un = Un.data();

@@ -230,6 +230,69 @@ namespace {
 // |s_qk U_k| + |g_q|), m <= 30 entries (P2 in 3D): 7e-15 of it; this is 150
 // times that.
 constexpr double kBoundMargin = 1e-12;
+
+// The bounds' test at every point q (certainly_free's on P_q, x = P_q(U_r),
+// c = nu; penetration_within's on u_n, x = u_n(U_r), c = sum |a_q|):
+//   high_q = x_q + c_q d + (gr_q - gn_q) + margin_q,
+//   margin_q = kBoundMargin (c_q reach + |gn_q| + |gr_q| + |x_q|),
+// and without `scale` -max <= high_q <= 0 (also false for NaN and
+// infinities), and x_q <= 0 if `x_nonpositive`; with it high_q / scale_q
+// <= limit. Whether it holds at every point. No branch per point.
+struct BoundTest {
+  const double *x, *c, *gn, *gr, *scale;
+  double d, reach, limit;
+  bool x_nonpositive;
+};
+
+bool all_within_scalar(const BoundTest &t, size_t begin, size_t end) {
+  bool all = true;
+  for (size_t q = begin; q < end; ++q) {
+    const double margin = kBoundMargin * (t.c[q] * t.reach + std::fabs(t.gn[q]) + std::fabs(t.gr[q]) + std::fabs(t.x[q]));
+    const double high = t.x[q] + t.c[q] * t.d + (t.gr[q] - t.gn[q]) + margin;
+    if (t.scale)
+      all &= high / t.scale[q] <= t.limit;
+    else
+      all &= (high <= 0) & (high >= -std::numeric_limits<double>::max()) & (!t.x_nonpositive || t.x[q] <= 0);
+  }
+  return all;
+}
+
+#ifdef ND_AVX2
+// four points a lane group, each lane the scalar test's operations in its
+// order (the same verdict)
+__attribute__((target("avx2"))) bool all_within_avx2(const BoundTest &t, size_t nq) {
+  const __m256d d = _mm256_set1_pd(t.d), reach = _mm256_set1_pd(t.reach), km = _mm256_set1_pd(kBoundMargin),
+                zero = _mm256_setzero_pd(), lowest = _mm256_set1_pd(-std::numeric_limits<double>::max()),
+                limit = _mm256_set1_pd(t.limit),
+                no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+  __m256d ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  size_t q = 0;
+  for (; q + 4 <= nq; q += 4) {
+    const __m256d x = _mm256_loadu_pd(t.x + q), c = _mm256_loadu_pd(t.c + q), gn = _mm256_loadu_pd(t.gn + q),
+                  gr = _mm256_loadu_pd(t.gr + q);
+    const __m256d margin = km * (c * reach + _mm256_and_pd(gn, no_sign) + _mm256_and_pd(gr, no_sign) +
+                                 _mm256_and_pd(x, no_sign));
+    const __m256d high = x + c * d + (gr - gn) + margin;
+    if (t.scale) {
+      ok = _mm256_and_pd(ok, _mm256_cmp_pd(high / _mm256_loadu_pd(t.scale + q), limit, _CMP_LE_OQ));
+    } else {
+      ok = _mm256_and_pd(ok, _mm256_and_pd(_mm256_cmp_pd(high, zero, _CMP_LE_OQ),
+                                           _mm256_cmp_pd(high, lowest, _CMP_GE_OQ)));
+      if (t.x_nonpositive) ok = _mm256_and_pd(ok, _mm256_cmp_pd(x, zero, _CMP_LE_OQ));
+    }
+  }
+  const bool all = _mm256_movemask_pd(ok) == 0xF;
+  _mm256_zeroupper();
+  return all_within_scalar(t, q, nq) && all;
+}
+#endif
+
+bool all_within(const BoundTest &t, size_t nq) {
+#ifdef ND_AVX2
+  if (simd_on()) return all_within_avx2(t, nq);
+#endif
+  return all_within_scalar(t, 0, nq);
+}
 }  // namespace
 
 Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref) {
@@ -258,6 +321,7 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   const double *nu = cp->nu.data(), *Pref = Pn->data(), *g_now = gap ? gap : cp->gap.data(),
                *g_ref = gap_n ? gap_n : cp->gap.data();
   const double reach = r.u_max + r.ref_max + d;
+  const BoundTest test{Pref, nu, g_now, g_ref, nullptr, d, reach, 0, false};
   auto high = [&](size_t q) {
     const double margin =
         kBoundMargin * (nu[q] * reach + std::fabs(g_now[q]) + std::fabs(g_ref[q]) + std::fabs(Pref[q]));
@@ -276,15 +340,15 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   } else if (!scheme || scheme->contact_is_positive_part()) {
     // [P]_+ and its slope vanish at P <= 0 (law): every point's test, no
     // branch (-max <= h <= 0 also fails NaN and infinities)
-    bool all = true;
-    for (size_t q = 0; q < nq; ++q) {
-      const double h = high(q);
-      all &= (h <= 0) & (h >= -std::numeric_limits<double>::max());
-    }
-    if (!all) return false;
+    if (!all_within(test, nq)) return false;
   } else {
-    for (size_t q = 0; q < nq; ++q)
-      if (!bounded(q)) return false;
+    // every law vanishes with its slope where P <= 0 and P^n <= 0
+    // (TimeScheme::contact): that test first, then each point's law
+    BoundTest below = test;
+    below.x_nonpositive = true;
+    if (!all_within(below, nq))
+      for (size_t q = 0; q < nq; ++q)
+        if (!bounded(q)) return false;
   }
   if (counted) count(counters, &Counters::contact_bounds);
   return true;
@@ -299,14 +363,7 @@ bool penetration_within(const ContactPoints &cp, const double *U, const double *
   const double *a_sum = cp.a_sum.data(), *un = ref.un.data(), *h = cp.h.data(),
                *g_now = gap ? gap : cp.gap.data(), *g_ref = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
   const double reach = r.u_max + r.ref_max + r.d;
-  bool all = true;
-  for (size_t q = 0; q < nq; ++q) {
-    const double margin =
-        kBoundMargin * (a_sum[q] * reach + std::fabs(g_now[q]) + std::fabs(g_ref[q]) + std::fabs(un[q]));
-    const double high = un[q] + a_sum[q] * r.d + (g_ref[q] - g_now[q]) + margin;
-    all &= high / h[q] <= limit;  // (false for NaN: not shown)
-  }
-  return all;
+  return all_within(BoundTest{un, a_sum, g_now, g_ref, h, r.d, reach, limit, false}, nq);  // (false for NaN: not shown)
 }
 
 std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows) {

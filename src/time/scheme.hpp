@@ -55,8 +55,9 @@ class TimeScheme {
   // be its predictor (solve/predictor_check.hpp).
   virtual bool predicts_constant_acceleration() const { return false; }
   // phi and d phi / dP at P = P_q(U), given P^n = P_q(U^n); [P]_+ by default.
-  // Nondecreasing in P, and zero with its slope below any P where both are
-  // zero: ContactLaw::certainly_free relies on it (tests/unit_contact_bounds.cpp).
+  // Nondecreasing in P, zero with its slope below any P where both are
+  // zero, and zero with its slope where P <= 0 and P^n <= 0:
+  // ContactLaw::certainly_free relies on it (tests/unit_contact_bounds.cpp).
   virtual void contact(double P, double Pn, double &value, double &slope) const {
     value = P > 0 ? P : 0;
     slope = P > 0 ? 1 : 0;
