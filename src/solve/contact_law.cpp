@@ -244,11 +244,16 @@ struct BoundTest {
   bool x_nonpositive;
 };
 
+double high_at(const BoundTest &t, size_t q) {
+  const double margin =
+      kBoundMargin * (t.c[q] * t.reach + std::fabs(t.gn[q]) + std::fabs(t.gr[q]) + std::fabs(t.x[q]));
+  return t.x[q] + t.c[q] * t.d + (t.gr[q] - t.gn[q]) + margin;
+}
+
 bool all_within_scalar(const BoundTest &t, size_t begin, size_t end) {
   bool all = true;
   for (size_t q = begin; q < end; ++q) {
-    const double margin = kBoundMargin * (t.c[q] * t.reach + std::fabs(t.gn[q]) + std::fabs(t.gr[q]) + std::fabs(t.x[q]));
-    const double high = t.x[q] + t.c[q] * t.d + (t.gr[q] - t.gn[q]) + margin;
+    const double high = high_at(t, q);
     if (t.scale)
       all &= high / t.scale[q] <= t.limit;
     else
@@ -322,13 +327,8 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
                *g_ref = gap_n ? gap_n : cp->gap.data();
   const double reach = r.u_max + r.ref_max + d;
   const BoundTest test{Pref, nu, g_now, g_ref, nullptr, d, reach, 0, false};
-  auto high = [&](size_t q) {
-    const double margin =
-        kBoundMargin * (nu[q] * reach + std::fabs(g_now[q]) + std::fabs(g_ref[q]) + std::fabs(Pref[q]));
-    return Pref[q] + nu[q] * d + (g_ref[q] - g_now[q]) + margin;
-  };
   auto bounded = [&](size_t q) {
-    const double h = high(q);
+    const double h = high_at(test, q);
     if (!std::isfinite(h)) return false;  // (a law may map NaN to 0: not shown)
     double value, slope;
     law(q, h, value, slope);
