@@ -238,6 +238,14 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // holds the whole state (a distributed state's points stay the ranks').
   const bool may_leave_points = scheme.contact_same_for_nonpositive_Pn() && def.contact_bounds && !in.points &&
                                 in.held.empty() && !d.contact.a.empty();
+  // the new state's pass (compute_products), its points left unevaluated
+  // where shown free
+  auto new_state_products = [&](bool shown_free, PointValues *known, const HeldPoints *held) {
+    std::shared_ptr<const PointReference> from;
+    if (shown_free && may_leave_points) from = point_reference(d, old, old_products);
+    if (from) compute_products_bounded(d, next, std::move(from));
+    else compute_products(d, next, known, held);
+  };
   PointValues at_U;  // P_q(U^{n+1}) and u_n - g0 if the step made them (explicit, or Newton), for the products
   bool predicted = false;  // an implicit step that is its predictor: updated, its pass made
   bool made = false;       // the condensed Newton's check updated the state and made its pass
@@ -252,11 +260,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load()}, tau, old, r);
     if (predictor_may_solve(in, d, def, old)) {  // the new state's pass, made now, checks the predictor
       constant_acceleration_update(tau, old, next);
-      // (its points shown free by the bound: left unevaluated, as below)
-      std::shared_ptr<const PointReference> from;
-      if (may_leave_points && law.certainly_free(next.U)) from = point_reference(d, old, old_products);
-      if (from) compute_products_bounded(d, next, std::move(from));
-      else compute_products(d, next);
+      new_state_products(may_leave_points && law.certainly_free(next.U), nullptr, nullptr);
       predicted = predictor_solves_step(law, in.coef.c, r, next);
       if (predicted) next.last_iterations = 0, count(d.counters, &Counters::predicted_steps);
       else next.products = Products{};  // (U is still the predictor: where the solves start)
@@ -346,12 +350,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // (the products of the new state: its energy for the guard, its P_q for
   // phi and for the next step, and the next right-hand side)
   // (at_U: an explicit step's, or Newton's at its solution; empty: evaluated there)
-  if (!predicted && !made) {
-    std::shared_ptr<const PointReference> from;
-    if (bounded && may_leave_points) from = point_reference(d, old, old_products);
-    if (from) compute_products_bounded(d, next, std::move(from));
-    else compute_products(d, next, &at_U, in.points.get());
-  }
+  if (!predicted && !made) new_state_products(bounded, &at_U, in.points.get());
   const bool unevaluated = next.products.points.ref != nullptr;
   std::vector<double> phi(d.contact.size());
   next.W_obstacle = old.W_obstacle;
