@@ -150,8 +150,7 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
     // the penetration guard's bound (nd::penetration_within) from the same
     // reference: shown within limit h_q only where u_n - g0 evaluated is
     // (the guard's test, monitor/guards.cpp)
-    nd::PointReference at_n;
-    at_n.U = Un, at_n.gap = gap_n;
+    nd::PointReference at_n{Un, {}, {}, gap_n};  // (constructed: GCC 12 -O3 warns of a null in the assignments)
     ref.P_all(Un.data(), at_n.P, &at_n.un);
     const double limit = trial % 4 == 0 ? 1e-3 : trial % 4 == 1 ? 0.05 : 0.5;
     bool exceeds = false;
@@ -205,8 +204,7 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
   law.Un = Un.data();
   U = Un;
   ck_assert(!law.certainly_free(U) || free_at(law, U));
-  nd::PointReference at_n;
-  at_n.U = Un;
+  nd::PointReference at_n{Un, {}, {}, {}};
   nd::ContactLaw{&cp, d.theta, nullptr, nullptr, nullptr}.P_all(Un.data(), at_n.P, &at_n.un);
   const double huge = std::numeric_limits<double>::max();  // (every finite u_n within it)
   ck_assert(nd::penetration_within(cp, Un.data(), nullptr, at_n, huge));
