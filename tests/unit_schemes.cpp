@@ -15,6 +15,7 @@
 #include "nitschedyn.h"
 #include "solve/contact_law.hpp"
 #include "time/scheme.hpp"
+#include "time/state.hpp"
 // check.h last: it defines a macro `fail` that the library's headers would meet
 #include <check.h>
 
@@ -220,6 +221,49 @@ START_TEST(highest_mode_decays_at_the_spectral_radius) {
 }
 END_TEST
 
+
+// A used state's memory handed to the next step (reuse_storage) comes back
+// as a new state: every vector empty (its capacity kept, the point of it),
+// every other field as State{} has it.
+START_TEST(reused_storage_is_a_new_state) {
+  nd::State used;
+  used.t = 1, used.n = 3, used.t_ref = 0.5, used.tau_ref = 0.25, used.n_ref = 1;
+  for (std::vector<double> *v : {&used.U, &used.V, &used.A, &used.F_fixed, &used.gap, &used.reaction, &used.phi,
+                                 &used.products.MU, &used.products.MV, &used.products.MA, &used.products.KU,
+                                 &used.products.points.P, &used.products.points.un, &used.tangent_log.x})
+    v->assign(5, 2.0);
+  used.tangent_log.i.assign(5, 7);
+  used.partial = used.A_valid = used.products.points.partial = used.products.points.summed = true;
+  used.F = std::make_shared<const std::vector<double>>(5, 1.0);
+  used.products.points.ref = std::make_shared<const nd::PointReference>();
+  used.products.of = 9, used.products.n = 5, used.products.kinetic = used.products.strain = 4;
+  used.products.points.sums.force = 6;
+  used.W = used.W_obstacle = 8, used.last_iterations = 2, used.total_iterations = 10;
+  used.guard.E0 = used.guard.budget = 3;
+  const double *U_memory = used.U.data();
+
+  const nd::State s = nd::reuse_storage(std::move(used));
+  const nd::State fresh;
+  ck_assert_ptr_eq(s.U.data(), U_memory);  // the memory, not a copy
+  for (const std::vector<double> *v : {&s.U, &s.V, &s.A, &s.F_fixed, &s.gap, &s.reaction, &s.phi, &s.products.MU,
+                                       &s.products.MV, &s.products.MA, &s.products.KU, &s.products.points.P,
+                                       &s.products.points.un, &s.tangent_log.x}) {
+    ck_assert(v->empty());
+    ck_assert_uint_ge(v->capacity(), 5);
+  }
+  ck_assert(s.tangent_log.i.empty());
+  ck_assert(s.t == fresh.t && s.n == fresh.n && s.t_ref == fresh.t_ref && s.tau_ref == fresh.tau_ref &&
+            s.n_ref == fresh.n_ref && s.W == fresh.W && s.W_obstacle == fresh.W_obstacle);
+  ck_assert(s.partial == fresh.partial && s.A_valid == fresh.A_valid);
+  ck_assert(!s.F && !s.products.rows && !s.products.points.ref);
+  ck_assert(s.products.of == fresh.products.of && s.products.n == fresh.products.n &&
+            s.products.kinetic == fresh.products.kinetic && s.products.strain == fresh.products.strain);
+  ck_assert(!s.products.points.partial && !s.products.points.summed && s.products.points.sums.force == 0);
+  ck_assert(s.last_iterations == fresh.last_iterations && s.total_iterations == fresh.total_iterations);
+  ck_assert(s.guard.E0 == fresh.guard.E0 && s.guard.budget == fresh.guard.budget);
+}
+END_TEST
+
 }  // namespace
 
 int main(void) {
@@ -229,6 +273,7 @@ int main(void) {
   tcase_add_test(tc, positive_part_flag_tells_the_truth);
   tcase_add_test(tc, amplification_matrix_tends_to_rho_inf);
   tcase_add_test(tc, highest_mode_decays_at_the_spectral_radius);
+  tcase_add_test(tc, reused_storage_is_a_new_state);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

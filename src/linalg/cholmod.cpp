@@ -129,10 +129,10 @@ class CholmodPattern {
     b.x = x;
     b.xtype = CHOLMOD_REAL;
     b.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense *r = cholmod_l_solve(CHOLMOD_A, L, &b, &c_);
-    if (!r) fail_cholmod(c_.status, "solve");
-    std::memcpy(x, r->x, sizeof(double) * static_cast<size_t>(n_));
-    cholmod_l_free_dense(&r, &c_);
+    // (cholmod_l_solve's arithmetic, its result and workspaces kept from
+    // solve to solve rather than allocated and freed at each)
+    if (!cholmod_l_solve2(CHOLMOD_A, L, &b, nullptr, &X_, nullptr, &Y_, &E_, &c_)) fail_cholmod(c_.status, "solve");
+    std::memcpy(x, X_->x, sizeof(double) * static_cast<size_t>(n_));
   }
 
   int64_t n_;
@@ -144,7 +144,9 @@ class CholmodPattern {
   std::vector<double> d_;
 
  private:
+  mutable cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;  // solve's
   void release() {
+    for (cholmod_dense **w : {&X_, &Y_, &E_}) cholmod_l_free_dense(w, &c_);
     cholmod_l_free_factor(&L_, &c_);
     cholmod_l_free_sparse(&A_, &c_);
     cholmod_l_finish(&c_);

@@ -184,11 +184,12 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   return in;
 }
 
-State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new) {
+State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new,
+              State &&storage) {
   const TimeScheme &scheme = *in.scheme;
   const double tau = in.tau;
   const size_t n = old.U.size();
-  State next;
+  State next = reuse_storage(std::move(storage));
   next.n = old.n + 1;
   next.t_ref = old.t_ref, next.n_ref = old.n_ref, next.tau_ref = old.tau_ref;
   if (old.tau_ref != tau) next.t_ref = old.t, next.n_ref = old.n, next.tau_ref = tau;
@@ -256,7 +257,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     if (in.massless) next.last_iterations = in.massless->solve(def.newton, next.load(), next.gap, next.t, next.U);
     d.equilibrium_acceleration(next, def.solver, false, true, &at_U);  // every step: M factored once, kept
   } else {
-    std::vector<double> r;
+    std::vector<double> &r = in.rhs;  // (its memory kept from step to step)
+    r.clear();  // (the scheme's rhs finds it empty, as a new vector)
     scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load()}, tau, old, r);
     if (predictor_may_solve(in, d, def, old)) {  // the new state's pass, made now, checks the predictor
       constant_acceleration_update(tau, old, next);
@@ -294,14 +296,14 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
         // then: in one process (a distributed state, Integrator::held, needs
         // several ranks) with every DOF with mass, where the products are the
         // state's own, whole
-        std::function<const Products &()> products_at;
-        if (!d.rows && d.massless.empty())
-          products_at = [&]() -> const Products & {
-            scheme.update(tau, old, next);
-            compute_products(d, next);
-            made = true;
-            return next.products;
-          };
+        auto update_and_pass = [&]() -> const Products & {
+          scheme.update(tau, old, next);
+          compute_products(d, next);
+          made = true;
+          return next.products;
+        };
+        std::function<const Products &()> products_at;  // (by reference: no allocation)
+        if (!d.rows && d.massless.empty()) products_at = std::ref(update_and_pass);
         const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def.newton,
                                                     next.U, solution_points, products_at ? &products_at : nullptr);
         res = cr.newton;
@@ -352,7 +354,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // (at_U: an explicit step's, or Newton's at its solution; empty: evaluated there)
   if (!predicted && !made) new_state_products(bounded, &at_U, in.points.get());
   const bool unevaluated = next.products.points.ref != nullptr;
-  std::vector<double> phi(d.contact.size());
+  std::vector<double> phi = std::move(next.phi);  // (empty, its memory reused)
+  phi.assign(d.contact.size(), 0.0);
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks
   std::vector<double> dW(in.points ? phi.size() : 0);

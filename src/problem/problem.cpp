@@ -432,10 +432,12 @@ void Problem::step() {
       [&] {
         prepare();
         const std::vector<double> &gap = current_gaps();
-        next = advance(*integrator_, *disc_, def_, state_, StepData{current_load(), clamped_load_(), gap});
+        next = advance(*integrator_, *disc_, def_, state_, StepData{current_load(), clamped_load_(), gap},
+                       std::move(spare_));
         guard_step(*disc_, def_.guards, state_, next);
       },
       "the step", "no rank took it");
+  spare_ = std::move(state_);  // its memory serves the next step's state
   state_ = std::move(next);
 }
 

@@ -173,6 +173,7 @@ class Problem {
   std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
   State state_;
+  State spare_;  // the state before state_ (values not read): the next step reuses its memory
   bool state_ready_ = false;
   bool initial_guarded_ = false;  // the initial state passed guard_initial_state
   bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (DESIGN §8)

@@ -66,9 +66,11 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   NewtonResult &res = out.newton;
 
   // S: the points active at the predictor; their P start there
-  std::vector<double> P(nq);
+  std::vector<double> &P = cache.P;
+  P.assign(static_cast<size_t>(nq), 0.0);
   std::vector<int64_t> S;
-  std::vector<char> active(static_cast<size_t>(nq), 0), previous;
+  std::vector<char> &active = cache.active, previous;
+  active.assign(static_cast<size_t>(nq), 0);
   if (!law.certainly_free(U)) {  // (shown free: S is empty, and P is P0 below)
     law.P_all(U.data(), P);
     for (int64_t q = 0; q < nq; ++q) {
@@ -83,7 +85,8 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     out.too_large = true;
     return out;
   }
-  std::vector<double> y0 = r;
+  std::vector<double> &y0 = cache.y0;
+  y0 = r;
   // points active at the predictor: y0 is read where the columns are held
   // (their P, the sums of columns), so on split rows only those rows travel
   bool y0_held = false;

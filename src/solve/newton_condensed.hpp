@@ -38,6 +38,9 @@ class CondensedCache {
   ContactColumns &columns;  // the integrator's, shared with the low-rank tangent
   struct Lu;  // newton_condensed.cpp: LAPACK's types stay there
   Lu &lu();
+  // a step's vectors, kept from step to step for their memory (values not read again)
+  std::vector<double> P, y0;
+  std::vector<char> active;
 
  private:
   std::unique_ptr<Lu> lu_;

@@ -127,4 +127,9 @@ struct State {
   Products products;
 };
 
+// A new state (every field as State{} has it) that holds `used`'s vectors'
+// memory, emptied: their values are not read again, their allocations are
+// reused.
+State reuse_storage(State &&used);
+
 }  // namespace nd
