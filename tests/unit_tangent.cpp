@@ -484,9 +484,10 @@ START_TEST(residual_from_products_is_newton_residual) {
 END_TEST
 
 // K_Theta U (StepInputs::k_theta_u: the hybrid and generalized-alpha
-// right-hand sides, the predictor's check) with s_q.U once per run that
-// shares s_q has the bits of the point-by-point sum (the runs cleared),
-// 1D-3D, P1/P2, Theta = 1, -1.
+// right-hand sides, the predictor's check) run by run (s_q.U once per run
+// that shares s_q; each entry of a run's index list read and written once,
+// the points' terms subtracted in their order) has the bits of the
+// point-by-point sum (the runs cleared), 1D-3D, P1/P2, Theta = 1, -1.
 START_TEST(k_theta_u_by_runs_bitwise) {
   int compared = 0;
   for (int dim : {1, 2, 3})
