@@ -29,9 +29,10 @@ namespace {
 // U = y0 - sum_{j in S} c_j phi_j Z_j at the columns' held rows (every row
 // but on split operators: then complete() gives the rest)
 void form_U(const std::vector<double> &y0, const std::vector<int64_t> &S, const std::vector<double> &phi,
-            const std::vector<double> &c, const ContactColumns &columns, std::vector<double> &U) {
+            const std::vector<double> &c, const ContactColumns &columns, std::vector<double> &f,
+            std::vector<double> &U) {
   U = y0;
-  std::vector<double> f(S.size());
+  f.resize(S.size());
   for (size_t j = 0; j < S.size(); ++j) f[j] = c[S[j]] * phi[j];
   columns.subtract_blocked(S, f.data(), U.data());
 }
@@ -65,18 +66,26 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
   CondensedResult out;
   NewtonResult &res = out.newton;
 
-  // S: the points active at the predictor; their P start there
-  std::vector<double> &P = cache.P;
+  CondensedCache::Work &w = cache.work;
+  // S: the points active at the predictor; their P start there. c_q =
+  // kappa w_q / gamma_q, read at S's points only, set as they join it
+  std::vector<double> &P = w.P, &c = w.c;
   P.assign(static_cast<size_t>(nq), 0.0);
-  std::vector<int64_t> S;
-  std::vector<char> &active = cache.active, previous;
+  c.resize(static_cast<size_t>(nq));
+  std::vector<int64_t> &S = w.S;
+  S.clear();
+  auto join = [&](int64_t q) {
+    S.push_back(q);
+    c[q] = sys.kappa * cp.w[q] / cp.gamma[q];
+  };
+  std::vector<char> &active = w.active, &previous = w.previous;
   active.assign(static_cast<size_t>(nq), 0);
   if (!law.certainly_free(U)) {  // (shown free: S is empty, and P is P0 below)
     law.P_all(U.data(), P);
     for (int64_t q = 0; q < nq; ++q) {
       double v, s;
       law.law(q, P[q], v, s);
-      if (s != 0) S.push_back(q), active[q] = 1;
+      if (s != 0) join(q), active[q] = 1;
     }
   }
   // many points active already: the set will likely outgrow max_rank, and the
@@ -85,7 +94,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     out.too_large = true;
     return out;
   }
-  std::vector<double> &y0 = cache.y0;
+  std::vector<double> &y0 = w.y0;
   y0 = r;
   // points active at the predictor: y0 is read where the columns are held
   // (their P, the sums of columns), so on split rows only those rows travel
@@ -102,15 +111,15 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     res.bounded = true;
     return out;
   }
-  std::vector<double> P0, c(nq);
+  std::vector<double> &P0 = w.P0;
   law.P_all(y0.data(), P0);
-  for (int64_t q = 0; q < nq; ++q) c[q] = sys.kappa * cp.w[q] / cp.gamma[q];
   if (S.empty())  // no point active at the predictor: the linear step's P
     for (int64_t q = 0; q < nq; ++q) P[q] = P0[q];
 
-  std::vector<double> F, phi, slope, dP;
-  std::vector<double> Ut, off_S;
-  std::vector<char> in_S(static_cast<size_t>(nq), 0);
+  std::vector<double> &F = w.F, &phi = w.phi, &slope = w.slope, &dP = w.dP;
+  std::vector<double> &Ut = w.Ut, &off_S = w.off_S;
+  std::vector<char> &in_S = w.in_S;
+  in_S.assign(static_cast<size_t>(nq), 0);
   for (int64_t q : S) in_S[q] = 1;
   for (int it = 1; it <= opt.max_iter; ++it) {
     res.iterations = it;
@@ -170,7 +179,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     for (int64_t j = 0; j < k; ++j) any_force |= phi[j] != 0;
     if (any_force) count(law.counters, &Counters::contact_evaluations);  // (none: P0's pass above)
     const bool through_U = any_force && !columns.keeps_dots() && (nq - k) * 24 > n;  // (no force: P = P0 off S)
-    if (through_U) form_U(y0, S, phi, c, columns, Ut);
+    if (through_U) form_U(y0, S, phi, c, columns, w.f, Ut);
     // with the dots kept, P0 - sum_j (p_q . Z_j) c_j phi_j for every point,
     // column after column: each point's terms in the order of j, as the
     // point-by-point sum below adds them (the same bits), the kept dots read
@@ -206,7 +215,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
       double v, s;
       law.law(q, Pq, v, s);
       if (s != 0) {
-        S.push_back(q);
+        join(q);
         in_S[q] = 1;
         active[q] = 1;
         grew = true;
@@ -217,7 +226,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     if (!any_force) U.swap(y0);  // no contact force: U = A^{-1} r
     else if (!columns.sums_whole()) solve_U(A_factor, law, y0, S, phi, c, U);
     else if (through_U) U.swap(Ut);
-    else form_U(y0, S, phi, c, columns, U);
+    else form_U(y0, S, phi, c, columns, w.f, U);
     if (any_force || y0_held) columns.complete(U.data());  // (Ut read only the points' DOFs, which are held)
     if (!any_force) {  // U = A^{-1} r with N(U) = 0: exact to the solve's round-off
       res.converged = true;
