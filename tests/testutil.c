@@ -48,3 +48,12 @@ const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES] = {
     {ND_SCHEME_NEWMARK, {0, 0.5}}, {ND_SCHEME_HYBRID, {0, 0}}, {ND_SCHEME_GENERALIZED_ALPHA, {0.8, 0}}};
 
 int nd_test_is_explicit(const nd_test_scheme *s) { return s->scheme == ND_SCHEME_NEWMARK && s->params[0] == 0; }
+
+unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size) {
+  *size = 0;
+  ND_OK_OR_FAIL(nd_problem_get_state_size(p, size));
+  unsigned char *buf = malloc((size_t)*size);
+  ck_assert_ptr_nonnull(buf);
+  ND_OK_OR_FAIL(nd_problem_save_state(p, *size, buf));
+  return buf;
+}

@@ -33,6 +33,10 @@ extern const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES];
 /* explicit Newmark (beta = 0): lumped mass and small steps */
 int nd_test_is_explicit(const nd_test_scheme *s);
 
+/* p's checkpoint (nd_problem_save_state; collective), malloc'ed, its size in
+   *size; NULL (and a failed check) when it cannot be made */
+unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size);
+
 #ifdef __cplusplus
 }
 #endif
