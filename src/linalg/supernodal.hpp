@@ -33,7 +33,9 @@ struct SupernodalFactor {
   };
   Block operator[](int64_t s) const {
     const int cols = static_cast<int>(super[s + 1] - super[s]), ld = static_cast<int>(pi[s + 1] - pi[s]);
-    return Block{super[s], cols, ld, ld - cols, s_rows + pi[s] + cols, x + px[s]};
+    // (x null: a symbolic factor, before its numeric factorization; the
+    // tree reads its structure alone)
+    return Block{super[s], cols, ld, ld - cols, s_rows + pi[s] + cols, x ? x + px[s] : nullptr};
   }
 };
 
