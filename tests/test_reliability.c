@@ -438,6 +438,40 @@ START_TEST(extreme_parameters_are_refused_not_internal) {
 }
 END_TEST
 
+/* The check of the Nitsche terms' coercivity (nd_problem_setup) with a
+   stiffness near the bottom of the doubles: refused as a material out of
+   range, or taken, never an internal error (fuzz_api found E = 1e-300
+   failing in LAPACK on 0/0, the product of two eigenvalues underflowed) */
+static int setup_contact_with(double young) {
+  const double lo[2] = {0, 0}, hi[2] = {1, 1}, top_lo[2] = {-1, 0.5}, top_hi[2] = {2, 2}, bot_lo[2] = {-1, -1},
+               bot_hi[2] = {2, 0.5}, point[2] = {0, -0.1}, normal[2] = {0, 1};
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(3, 3, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, top_lo, top_hi));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, bot_lo, bot_hi));
+  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, young, 0.3, 1));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 2, point, normal));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1, 1e-3));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 1e-3));
+  const int st = nd_problem_setup(p);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  return st;
+}
+
+START_TEST(tiny_stiffness_with_contact_is_not_internal) {
+  for (double young = 1e-290; young > 0; young *= 1e-3) {
+    const int st = setup_contact_with(young);
+    ck_assert_msg(st == ND_OK || st == ND_ERR_MATERIAL, "E = %g: %d %s", young, st, nd_last_error());
+  }
+  ck_assert_int_eq(setup_contact_with(1), ND_OK);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("reliability");
   TCase *tc = tcase_create("issue 14");
@@ -455,6 +489,7 @@ int main(void) {
   tcase_add_test(tc, a_failed_vtu_write_keeps_the_previous_file);
   tcase_add_test(tc, pvd_names_are_escaped);
   tcase_add_test(tc, extreme_parameters_are_refused_not_internal);
+  tcase_add_test(tc, tiny_stiffness_with_contact_is_not_internal);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -40,10 +40,16 @@ double largest_relative_eigenvalue(int m, std::vector<double> &K, const std::vec
   // scaled reduced problem: Lambda^{-1/2} B_rr Lambda^{-1/2}
   const int n = m - r;
   if (n == 0) return 0;
+  // (sqrt(w_i) sqrt(w_j), not sqrt(w_i w_j): with a tiny stiffness, E =
+  // 1e-300, the product underflowed to 0 and C became 0/0)
   std::vector<double> C(static_cast<size_t>(n * n)), e(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
-      C[i * n + j] = B[(r + i) * m + (r + j)] / std::sqrt(w[r + i] * w[r + j]);
+      C[i * n + j] = B[(r + i) * m + (r + j)] / (std::sqrt(w[r + i]) * std::sqrt(w[r + j]));
+  for (double x : C)
+    if (!std::isfinite(x))
+      fail(ND_ERR_MATERIAL, "the check of the Nitsche terms' coercivity over- or underflows with this material on "
+                            "this mesh: rescale the units");
   if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'N', 'U', n, C.data(), n, e.data()) != 0)
     fail(ND_ERR_INTERNAL, "the element coercivity eigenproblem failed");
   return std::max(e[n - 1], 0.0);
