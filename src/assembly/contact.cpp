@@ -83,7 +83,8 @@ void set_bounds(ContactPoints &cp) {
     if (q == 0 || cp.a[q].idx != cp.a[q - 1].idx) {
       cp.runs.push_back(static_cast<int64_t>(q));
       cp.run_shares_s.push_back(1);
-    } else if (std::memcmp(cp.s[q].val.data(), cp.s[q - 1].val.data(), cp.s[q].val.size() * sizeof(double))) {
+    } else if (!cp.s[q].val.empty() &&  // (every DOF of the cell clamped: no row, and no pointer for memcmp)
+               std::memcmp(cp.s[q].val.data(), cp.s[q - 1].val.data(), cp.s[q].val.size() * sizeof(double))) {
       cp.run_shares_s.back() = 0;
     }
   }

@@ -132,7 +132,7 @@ class CholmodPattern {
     // (cholmod_l_solve's arithmetic, its result and workspaces kept from
     // solve to solve rather than allocated and freed at each)
     if (!cholmod_l_solve2(CHOLMOD_A, L, &b, nullptr, &X_, nullptr, &Y_, &E_, &c_)) fail_cholmod(c_.status, "solve");
-    std::memcpy(x, X_->x, sizeof(double) * static_cast<size_t>(n_));
+    if (n_ > 0) std::memcpy(x, X_->x, sizeof(double) * static_cast<size_t>(n_));
   }
 
   int64_t n_;
