@@ -32,7 +32,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "testutil.h"
 
@@ -377,39 +376,6 @@ START_TEST(guards_cost_no_pass) {
 }
 END_TEST
 
-START_TEST(acceleration_query_is_a_read) {
-  /* the hybrid scheme's state has no acceleration: a query makes it
-     (Remark 3.2) without touching the state, so the step after a query
-     costs what one without costs (its right-hand side from the products
-     the step before left), and the state has the same bytes */
-  nd_problem p = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
-  nd_problem q = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
-  double a[21];
-  ND_OK_OR_FAIL(nd_step(p));  /* (the set-up's work in the first step) */
-  ND_OK_OR_FAIL(nd_step(q));
-  for (int k = 0; k < 5; ++k) {
-    const stats p0 = get(p);
-    ND_OK_OR_FAIL(nd_step(p));
-    const stats dp = since(p0, get(p));
-    ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, 21, a));
-    const stats q0 = get(q);
-    ND_OK_OR_FAIL(nd_step(q));
-    const stats dq = since(q0, get(q));
-    EXPECT(dp, "hybrid step", 0, 0, 1, 0, 0, 0, 0, 1);
-    EXPECT(dq, "hybrid step after a query", (int)dp.fact, (int)dp.symb, (int)dp.solves, (int)dp.mat, (int)dp.load,
-           (int)dp.tangent, (int)dp.contact, (int)dp.spmv);
-  }
-  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, 21, a));
-  int64_t np = 0, nq = 0;
-  unsigned char *bp = nd_test_checkpoint(p, &np), *bq = nd_test_checkpoint(q, &nq);
-  ck_assert(np == nq && memcmp(bp, bq, (size_t)np) == 0);
-  free(bp);
-  free(bq);
-  ND_OK_OR_FAIL(nd_problem_destroy(&p));
-  ND_OK_OR_FAIL(nd_problem_destroy(&q));
-}
-END_TEST
-
 START_TEST(counters_are_not_state) {
   /* a checkpoint restores the state, not the counters: they go on counting */
   nd_problem p = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
@@ -443,7 +409,6 @@ int main(void) {
   tcase_add_test(tc, change_of_tau);
   tcase_add_test(tc, guards_cost_no_pass);
   tcase_add_test(tc, counters_are_not_state);
-  tcase_add_test(tc, acceleration_query_is_a_read);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -636,16 +636,7 @@ void Problem::field(int which, double *full) {
     return;
   }
   complete_state();  // whole vectors: collective when the state is partial
-  if (which == ND_FIELD_ACCELERATION && !s.A_valid) {
-    // a scheme without acceleration (hybrid): Remark 3.2's, on a copy. A
-    // query is a read: the state keeps its bytes and its products, which
-    // the next step's right-hand side is made of (stored here, A made them
-    // stale, and the next step passed over M and K once more).
-    State e = s;
-    discretization_().equilibrium_acceleration(e, def_.solver);
-    discretization_().dofs.extend_to_full(e.A.data(), full);
-    return;
-  }
+  if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
   discretization_().dofs.extend_to_full(state_vector(s, which)->data(), full);
 }
 
