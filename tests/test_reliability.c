@@ -438,17 +438,18 @@ START_TEST(extreme_parameters_are_refused_not_internal) {
 }
 END_TEST
 
-/* The check of the Nitsche terms' coercivity (nd_problem_setup) with a
-   stiffness near the bottom of the doubles: refused as a material out of
-   range, or taken, never an internal error (fuzz_api found E = 1e-300
-   failing in LAPACK on 0/0, the product of two eigenvalues underflowed) */
-static int setup_contact_with(double young) {
-  const double lo[2] = {0, 0}, hi[2] = {1, 1}, top_lo[2] = {-1, 0.5}, top_hi[2] = {2, 2}, bot_lo[2] = {-1, -1},
-               bot_hi[2] = {2, 0.5}, point[2] = {0, -0.1}, normal[2] = {0, 1};
+/* A unit square of cells x cells, clamped on the boundary facets in the box
+   [clamp_lo, clamp_hi], in contact with the plane y = -0.1 on those below
+   y = contact_top (Nitsche: Theta = 1, gamma0 = 1e-3), E = young, the hybrid
+   scheme */
+static nd_problem square_over_plane(int cells, const double clamp_lo[2], const double clamp_hi[2], double contact_top,
+                                    double young) {
+  const double lo[2] = {0, 0}, hi[2] = {1, 1}, bot_lo[2] = {-1, -1}, bot_hi[2] = {2, contact_top},
+               point[2] = {0, -0.1}, normal[2] = {0, 1};
   nd_mesh m = NULL;
   nd_problem p = NULL;
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(3, 3, lo, hi, &m));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, top_lo, top_hi));
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(cells, cells, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, clamp_lo, clamp_hi));
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, bot_lo, bot_hi));
   ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
@@ -458,6 +459,16 @@ static int setup_contact_with(double young) {
   ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1, 1e-3));
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 1e-3));
+  return p;
+}
+
+/* The check of the Nitsche terms' coercivity (nd_problem_setup) with a
+   stiffness near the bottom of the doubles: refused as a material out of
+   range, or taken, never an internal error (fuzz_api found E = 1e-300
+   failing in LAPACK on 0/0, the product of two eigenvalues underflowed) */
+static int setup_contact_with(double young) {
+  const double top_lo[2] = {-1, 0.5}, top_hi[2] = {2, 2};
+  nd_problem p = square_over_plane(3, top_lo, top_hi, 0.5, young);
   const int st = nd_problem_setup(p);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   return st;
@@ -477,21 +488,8 @@ END_TEST
    pointers, undefined behaviour that check-sanitize reports; fuzz_api found
    it). The step is taken and the contact force of those points is zero. */
 START_TEST(contact_points_on_clamped_cells) {
-  const double lo[2] = {0, 0}, hi[2] = {1, 1}, all_lo[2] = {-1, -1}, all_hi[2] = {2, 2}, bot_lo[2] = {-1, -1},
-               bot_hi[2] = {2, 0.1}, point[2] = {0, -0.1}, normal[2] = {0, 1};
-  nd_mesh m = NULL;
-  nd_problem p = NULL;
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(2, 2, lo, hi, &m));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, all_lo, all_hi));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, bot_lo, bot_hi));
-  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
-  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-  ND_OK_OR_FAIL(nd_problem_set_material(p, 1, 0.3, 1));
-  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
-  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 2, point, normal));
-  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1, 1e-3));
-  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
-  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 1e-3));
+  const double all_lo[2] = {-1, -1}, all_hi[2] = {2, 2};
+  nd_problem p = square_over_plane(2, all_lo, all_hi, 0.1, 1);
   ND_OK_OR_FAIL(nd_step(p));
   double force = -1;
   ND_OK_OR_FAIL(nd_get_scalar(p, ND_CONTACT_FORCE, &force));
