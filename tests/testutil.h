@@ -33,8 +33,8 @@ extern const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES];
 /* explicit Newmark (beta = 0): lumped mass and small steps */
 int nd_test_is_explicit(const nd_test_scheme *s);
 
-/* p's checkpoint (nd_problem_save_state; collective), malloc'ed, its size in
-   *size; NULL (and a failed check) when it cannot be made */
+/* p's checkpoint (nd_problem_save_state; collective), malloc'ed (the caller
+   frees it), its size in *size; a check fails when it cannot be made */
 unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size);
 
 #ifdef __cplusplus

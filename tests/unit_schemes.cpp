@@ -221,7 +221,6 @@ START_TEST(highest_mode_decays_at_the_spectral_radius) {
 }
 END_TEST
 
-
 // A used state's memory handed to the next step (reuse_storage) comes back
 // as a new state: every vector empty (its capacity kept, the point of it),
 // every other field as State{} has it.

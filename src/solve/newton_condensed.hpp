@@ -39,8 +39,8 @@ class CondensedCache {
   struct Lu;  // newton_condensed.cpp: LAPACK's types stay there
   Lu &lu();
   // a step's vectors, kept from step to step for their memory (their
-  // values are not read again): a contact step of a small mesh spent 5 % of
-  // its time allocating and freeing them
+  // values are not read again): allocated at each step, they cost a contact
+  // step of disk P1 h = 4 3 % (7.27 -> 7.03 us)
   struct Work {
     std::vector<double> P, y0, P0, c, F, phi, slope, dP, Ut, off_S, f;
     std::vector<int64_t> S;

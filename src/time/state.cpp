@@ -6,7 +6,8 @@
 namespace nd {
 
 namespace {
-void take(std::vector<double> &to, std::vector<double> &from) {
+template <class T>
+void take(std::vector<T> &to, std::vector<T> &from) {
   to.swap(from);
   to.clear();  // (the capacity stays)
 }
@@ -20,7 +21,7 @@ State reuse_storage(State &&used) {
     take(s.products.*field, used.products.*field);
   take(s.products.points.P, used.products.points.P);
   take(s.products.points.un, used.products.points.un);
-  s.tangent_log.i.swap(used.tangent_log.i), s.tangent_log.i.clear();
+  take(s.tangent_log.i, used.tangent_log.i);
   take(s.tangent_log.x, used.tangent_log.x);
   return s;
 }
