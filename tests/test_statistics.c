@@ -32,6 +32,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "testutil.h"
 
@@ -376,6 +377,75 @@ START_TEST(guards_cost_no_pass) {
 }
 END_TEST
 
+/* the two problems' displacements and velocities, bitwise */
+static void same_fields(nd_problem p, nd_problem q) {
+  const int which[2] = {ND_FIELD_DISPLACEMENT, ND_FIELD_VELOCITY};
+  for (int f = 0; f < 2; ++f) {
+    double a[21], b[21];
+    ND_OK_OR_FAIL(nd_get_field(p, which[f], 21, a));
+    ND_OK_OR_FAIL(nd_get_field(q, which[f], 21, b));
+    ck_assert(memcmp(a, b, sizeof a) == 0);
+  }
+}
+
+START_TEST(acceleration_query_keeps_products) {
+  /* the hybrid scheme's state has no acceleration: a query makes it
+     (Remark 3.2) and keeps the products the step before left, which the next
+     step's right-hand side is made of (it reads no M A): the step after a
+     query costs what one without costs, and gives the same bits */
+  nd_problem p = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
+  nd_problem q = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
+  double a[21];
+  ND_OK_OR_FAIL(nd_step(p)); /* (the set-up's work in the first step) */
+  ND_OK_OR_FAIL(nd_step(q));
+  for (int k = 0; k < 5; ++k) {
+    const stats p0 = get(p);
+    ND_OK_OR_FAIL(nd_step(p));
+    const stats dp = since(p0, get(p));
+    ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, 21, a));
+    const stats q0 = get(q);
+    ND_OK_OR_FAIL(nd_step(q));
+    const stats dq = since(q0, get(q));
+    EXPECT(dp, "hybrid step", 0, 0, 1, 0, 0, 0, 0, 1);
+    EXPECT(dq, "hybrid step after a query", 0, 0, 1, 0, 0, 0, 0, 1);
+    same_fields(p, q);
+  }
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+END_TEST
+
+START_TEST(scheme_reading_acceleration_after_a_query) {
+  /* after a query of the hybrid scheme's acceleration the products hold no
+     M A; a change to Newmark, whose right-hand side reads it, has them made
+     again. Against the same change on a state restored from its checkpoint
+     (products are not checkpointed: all made anew), the same bits; a
+     right-hand side without its M A term differs (the bar is strained:
+     A != 0) */
+  const double nm[2] = {0.25, 0.5};
+  nd_problem p = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
+  nd_problem q = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
+  double a[21], b[21];
+  steps(p, 3, 1);
+  steps(q, 3, 1);
+  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, 21, a));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, nm));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(q, ND_SCHEME_NEWMARK, nm));
+  int64_t size = 0;
+  unsigned char *saved = nd_test_checkpoint(p, &size);
+  ND_OK_OR_FAIL(nd_problem_load_state(p, size, saved));
+  free(saved);
+  steps(p, 3, 1);
+  steps(q, 3, 1);
+  same_fields(p, q);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_ACCELERATION, 21, a));
+  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_ACCELERATION, 21, b));
+  ck_assert(memcmp(a, b, sizeof a) == 0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+END_TEST
+
 START_TEST(counters_are_not_state) {
   /* a checkpoint restores the state, not the counters: they go on counting */
   nd_problem p = nd_test_bar_at(20, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, kTau, kFar, NULL);
@@ -409,6 +479,8 @@ int main(void) {
   tcase_add_test(tc, change_of_tau);
   tcase_add_test(tc, guards_cost_no_pass);
   tcase_add_test(tc, counters_are_not_state);
+  tcase_add_test(tc, acceleration_query_keeps_products);
+  tcase_add_test(tc, scheme_reading_acceleration_after_a_query);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -212,8 +212,13 @@ void compute_products(const Discretization &d, State &s, PointValues *known, con
   s.products.of = d.id;
 }
 
-const Products &products_of(const Discretization &d, const State &s, Products &scratch) {
-  if (s.products.of == d.id) return s.products;
+bool products_current(const Discretization &d, const State &s, bool with_acceleration) {
+  const Products &p = s.products;
+  return p.of == d.id && (!with_acceleration || !s.A_valid || p.MA.size() == p.MU.size());
+}
+
+const Products &products_of(const Discretization &d, const State &s, Products &scratch, bool with_acceleration) {
+  if (products_current(d, s, with_acceleration)) return s.products;
   State copy;  // the same pass as compute_products, on a state we may not change
   copy.U = s.U, copy.V = s.V, copy.A = s.A, copy.A_valid = s.A_valid, copy.gap = s.gap, copy.partial = s.partial;
   compute_products(d, copy);

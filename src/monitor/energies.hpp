@@ -36,8 +36,15 @@ std::shared_ptr<const PointReference> point_reference(const Discretization &d, c
 // the ranks' sums are added rank after rank (collective with several
 // ranks). Also adds the obstacle's work, sum_q dW[q], to s.W_obstacle.
 void sum_points(const Discretization &d, State &s, const std::vector<double> &dW);
-// s.products if they are valid for d, else the same pass into `scratch`
-const Products &products_of(const Discretization &d, const State &s, Products &scratch);
+// Whether s.products are d's and, where a reader takes M A (with_acceleration)
+// and s has A, hold it: a query of the hybrid scheme's acceleration makes A
+// without touching U or V and drops M A only (Discretization::
+// equilibrium_acceleration), so that the next hybrid step, which reads no
+// M A, does not pass over M and K again
+bool products_current(const Discretization &d, const State &s, bool with_acceleration);
+// s.products if they are current for d, else the same pass into `scratch`
+const Products &products_of(const Discretization &d, const State &s, Products &scratch,
+                            bool with_acceleration = false);
 // E = 1/2 V'MV + 1/2 U'KU (the sums of s.products when valid: the same bits)
 double mechanical_energy(const Discretization &d, const State &s);
 // R = 1/2 sum_q w_q (gamma_q (s_q.U)^2 - [P_q]_+^2/gamma_q)

@@ -260,7 +260,9 @@ Discretization::Discretization(DofMap d, bool lump)
     : id(++last_discretization_id), dofs(std::move(d)), lumped(lump) {}
 
 void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step, PointValues *at_U) {
-  s.products.of = 0;  // A changes under them
+  // U and V stay: of the products only M A changes (products_current);
+  // dropped first, so that a throw below leaves none of the old A's
+  s.products.MA.clear();
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
   count(counters, &Counters::spmv);

@@ -210,7 +210,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
   // contact terms read them) and what the right-hand side is made of
   Products scratch;  // only when the state has none (restart, new state): the same pass
-  const Products &old_products = products_of(d, old, scratch);
+  const Products &old_products = products_of(d, old, scratch, scheme.uses_acceleration());
   // points the step before left unevaluated (PointValues::ref): the bound
   // from their reference, whose P_q stand as P^n (all <= 0, as P^n's are);
   // a law that reads more of P^n than that (a scheme changed since) has

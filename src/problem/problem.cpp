@@ -414,7 +414,7 @@ void Problem::prepare() {
   }
   // the products the first step's right-hand side reads (each step leaves
   // its own), and the initial energy of the guard (of a whole state)
-  if (state_.products.of != d.id) {
+  if (!products_current(d, state_, in.scheme->uses_acceleration())) {
     complete_state();
     compute_products(d, state_);
   }
