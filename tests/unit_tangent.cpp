@@ -466,14 +466,14 @@ START_TEST(residual_from_products_is_newton_residual) {
             int any = 0;
             for (char a : active) any += a != 0;
             nd::compute_products(d, st);
-            const double from = nd::newton_residual_from_products(sys, st.products, st.U, r);
+            const double from = nd::newton_residual_from_products(sys, st.products, st.U, r, G);
             ck_assert_msg(std::fabs(from - full) <= 1e-12 * full, "%dD P%d %s Theta = %g: %.17g from the products, %.17g",
                           dim, degree, sc.name, theta, from, full);
             // with the contact term left out it is another residual
             if (any) {
               nd::Products no_contact = st.products;
               for (auto &P : no_contact.points.P) P = -1;
-              ck_assert(std::fabs(nd::newton_residual_from_products(sys, no_contact, st.U, r) - full) > 1e-10 * full);
+              ck_assert(std::fabs(nd::newton_residual_from_products(sys, no_contact, st.U, r, G) - full) > 1e-10 * full);
               ++checked;
             }
           }

@@ -176,10 +176,11 @@ void diagonal_reciprocals(const SupernodalFactor &L, std::vector<double> &inv) {
 // x <- P^T L^{-T} L^{-1} P x for k columns of n, over a numeric supernodal
 // factor: the solves of A's factor and of the updated one
 void supernodal_solve(const cholmod_factor *F, const SupernodalTree &tree, const double *inv, double *x,
-                      int64_t k) {
+                      int64_t k, SupernodalWork &w) {
   const SupernodalFactor L = view(F);
-  std::vector<double> y(static_cast<size_t>(L.n)), e(std::max<size_t>(F->maxesize, 1));
-  std::vector<char> reached(static_cast<size_t>(L.count));
+  w.fit(L, F->maxesize);
+  std::vector<double> &y = w.y, &e = w.e;
+  std::vector<char> &reached = w.reached;
   for (int64_t j = 0; j < k; ++j) {
     double *xj = x + j * L.n;
     supernodal_forward(L, tree, inv, xj, y, reached, e);
@@ -246,6 +247,7 @@ class Cholmod : public Factorization {
   Definiteness def_ = Definiteness::Unknown;
   std::unique_ptr<SupernodalTree> tree_;  // (supernodal factors)
   std::vector<double> inv_;               // 1 / L(j, j) (sparse_solves: made with the factor)
+  mutable SupernodalWork work_;           // solve_many's
 };
 
 void Cholmod::factor(const Csr &A, Structure s) {
@@ -259,7 +261,7 @@ void Cholmod::factor(const Csr &A, Structure s) {
 
 void Cholmod::solve_many(double *x, int64_t n, int64_t k) const {
   if (!sparse_solves(n)) return Factorization::solve_many(x, n, k);
-  supernodal_solve(f_.L_, *tree_, inv_.data(), x, k);
+  supernodal_solve(f_.L_, *tree_, inv_.data(), x, k, work_);
 }
 
 std::vector<char> Cholmod::needed_for(const std::vector<int64_t> &at, std::vector<int64_t> &kept_row) const {
@@ -385,6 +387,7 @@ struct UpdatableCholesky::Impl {
   cholmod_factor *W = nullptr;                     // the numeric factor (null: none valid)
   std::unique_ptr<SupernodalTree> tree;            // (super)
   std::vector<double> inv;                         // (super) 1 / L(j, j)
+  mutable SupernodalWork work;                     // (super) the solves'
   SupernodalModifier modifier;                     // (super)
   std::vector<int64_t> rows;                       // (super) scratch: the columns' permuted rows
   std::vector<int64_t> row_of;                     // a DOF's row in the permuted order
@@ -497,7 +500,7 @@ void UpdatableCholesky::solve(double *x) const {
   const Impl &m = *impl_;
   if (!m.W) fail(ND_ERR_INTERNAL, "a solve with no valid updated factor");
   if (!m.super) return m.f.solve(m.W, x);
-  supernodal_solve(m.W, *m.tree, m.inv.data(), x, 1);
+  supernodal_solve(m.W, *m.tree, m.inv.data(), x, 1, m.work);
 }
 
 }  // namespace nd

@@ -9,6 +9,8 @@
 // structure as it is, so its columns must lie where L has entries (a
 // column on a clique of the matrix's graph does: an element's DOFs).
 #pragma once
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +52,20 @@ struct SupernodalTree {
     for (int64_t s = of_column[c]; s >= 0 && !marked[s]; s = parent[s]) marked[s] = 1;
   }
   std::vector<int64_t> of_column, parent;  // a column's supernode; a supernode's parent (-1: a root)
+};
+
+// A solve's workspaces (supernodal_forward's y, reached and e), kept by a
+// factor from solve to solve: made at each solve they were three
+// allocations and y's n zeros per solve. A factor is not solved from two
+// threads at once (the library calls it from one).
+struct SupernodalWork {
+  std::vector<double> y, e;
+  std::vector<char> reached;
+  void fit(const SupernodalFactor &L, std::size_t maxesize) {
+    y.resize(static_cast<std::size_t>(L.n));  // (no zeros but the first time: forward sets every entry)
+    e.resize(std::max<std::size_t>(maxesize, 1));
+    reached.resize(static_cast<std::size_t>(L.count));
+  }
 };
 
 // y = L^{-1} P x over the supernodes x's nonzeros reach (the others stay

@@ -263,7 +263,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     if (predictor_may_solve(in, d, def, old)) {  // the new state's pass, made now, checks the predictor
       constant_acceleration_update(tau, old, next);
       new_state_products(may_leave_points && law.certainly_free(next.U), nullptr, nullptr);
-      predicted = predictor_solves_step(law, in.coef.c, r, next);
+      predicted = predictor_solves_step(law, in.coef.c, r, next, in.residual);
       if (predicted) next.last_iterations = 0, count(d.counters, &Counters::predicted_steps);
       else next.products = Products{};  // (U is still the predictor: where the solves start)
     }

@@ -191,8 +191,12 @@ void ContactColumns::complete(double *x) const {
 const std::vector<double> &ContactColumns::G(const std::vector<int64_t> &S) {
   if (S == G_S_) return G_;
   const int64_t k = static_cast<int64_t>(S.size()), k_old = static_cast<int64_t>(G_S_.size());
-  std::vector<double> Gn(static_cast<size_t>(k * k));  // what may throw, before anything changes
-  std::vector<int64_t> S_copy(S);
+  // what may throw, before anything changes; the last G and S's memory
+  // (not their values) reused
+  std::vector<double> &Gn = G_next_;
+  std::vector<int64_t> &S_copy = G_S_next_;
+  Gn.resize(static_cast<size_t>(k * k));
+  S_copy.assign(S.begin(), S.end());
   for (int64_t i = 0; i < k_old; ++i) position_[G_S_[i]] = i;
   for (int64_t j = 0; j < k; ++j) {
     const int64_t oj = position_[S[j]];

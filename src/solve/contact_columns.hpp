@@ -123,6 +123,8 @@ class ContactColumns {
   bool keeps_dots_ = false;
   std::vector<int64_t> G_S_, position_;  // the S that G_ was built for; a point's place in it (-1: none)
   std::vector<double> G_;
+  std::vector<int64_t> G_S_next_;  // G()'s workspaces: the next S and G
+  std::vector<double> G_next_;
 };
 
 }  // namespace nd

@@ -38,9 +38,8 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
 }
 
 double newton_residual_from_products(const NewtonSystem &sys, const Products &p, const std::vector<double> &U,
-                                     const std::vector<double> &r) {
+                                     const std::vector<double> &r, std::vector<double> &G) {
   static const std::vector<double> none;
-  std::vector<double> G;
   StepInputs{p, *sys.law->cp, sys.law->theta, none, none}.k_theta_u(U, G);  // K_Theta U
   for (size_t i = 0; i < G.size(); ++i) G[i] += sys.c * p.MU[i];
   sys.law->add_force_from(p.points.P, sys.kappa, G.data(), nullptr);

@@ -66,8 +66,9 @@ double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, co
 // process): newton_residual's to round-off (A = c M + K_Theta), without a
 // pass over A and M (the condensed Newton's check, from the products the new
 // state makes anyway)
+// G: a workspace (its values are not read)
 double newton_residual_from_products(const NewtonSystem &sys, const Products &p, const std::vector<double> &U,
-                                     const std::vector<double> &r);
+                                     const std::vector<double> &r, std::vector<double> &G);
 // rtol (||r|| + c ||M U||) + atol
 double newton_tolerance(const NewtonSystem &sys, const NewtonOptions &opt, double r_norm,
                         const std::vector<double> &MU);

@@ -240,7 +240,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     const std::vector<double> *MU_at = &MU;
     if (products_at) {
       const Products &p = (*products_at)();
-      res.residual = newton_residual_from_products(sys, p, U, r);
+      res.residual = newton_residual_from_products(sys, p, U, r, w.G);
       MU_at = &p.MU;
     } else {
       Gr.resize(U.size()), MU.resize(U.size());

@@ -42,7 +42,7 @@ class CondensedCache {
   // values are not read again): allocated at each step, they cost a contact
   // step of disk P1 h = 4 3 % (7.27 -> 7.03 us)
   struct Work {
-    std::vector<double> P, y0, P0, c, F, phi, slope, dP, Ut, off_S, f;
+    std::vector<double> P, y0, P0, c, F, phi, slope, dP, Ut, off_S, f, G;
     std::vector<int64_t> S;
     std::vector<char> active, previous, in_S;
   } work;

@@ -7,7 +7,8 @@
 
 namespace nd {
 
-bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s) {
+bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s,
+                           std::vector<double> &G) {
   const Products &p = s.products;
   const ContactPoints &cp = *law.cp;
   // (points left unevaluated: shown free by the bound, PointValues::ref)
@@ -18,7 +19,6 @@ bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<do
   }
   // G = c M U + K_Theta U - r
   const std::vector<double> none;
-  std::vector<double> G;
   StepInputs{p, cp, law.theta, none, none}.k_theta_u(s.U, G);
   for (size_t i = 0; i < G.size(); ++i) G[i] += c * p.MU[i] - r[i];
   double g2 = 0, r2 = 0, m2 = 0;

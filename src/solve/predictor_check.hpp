@@ -26,7 +26,9 @@ constexpr double kPredictorRoundOffs = 16;
 // to round-off, from s.products (valid for s): no contact point active at U
 // (phi_q and its slope zero at every point: N and its tangent vanish; or
 // the points left unevaluated, shown free by the bound: PointValues::ref)
-// and the residual within kPredictorRoundOffs. Serial operators only.
-bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s);
+// and the residual within kPredictorRoundOffs. Serial operators only. G: a
+// workspace (its values are not read).
+bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s,
+                           std::vector<double> &G);
 
 }  // namespace nd
