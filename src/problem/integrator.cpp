@@ -259,13 +259,13 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   } else {
     std::vector<double> &r = in.rhs;  // (its memory kept from step to step)
     r.clear();  // (the scheme's rhs finds it empty, as a new vector)
-    scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load()}, tau, old, r);
+    scheme.rhs(StepInputs{old_products, d.contact, d.theta, F_old, next.load(), &in.scratch}, tau, old, r);
     if (predictor_may_solve(in, d, def, old)) {  // the new state's pass, made now, checks the predictor
       constant_acceleration_update(tau, old, next);
       new_state_products(may_leave_points && law.certainly_free(next.U), nullptr, nullptr);
-      predicted = predictor_solves_step(law, in.coef.c, r, next, in.residual);
+      predicted = predictor_solves_step(law, in.coef.c, r, next, in.scratch);
       if (predicted) next.last_iterations = 0, count(d.counters, &Counters::predicted_steps);
-      else next.products = Products{};  // (U is still the predictor: where the solves start)
+      else next.products = reuse_storage(std::move(next.products));  // (U is still the predictor: where the solves start)
     }
     if (predicted) {
       // nothing to solve: the new state and its pass are made
@@ -308,7 +308,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
                                                     next.U, solution_points, products_at ? &products_at : nullptr);
         res = cr.newton;
         if (!res.converged) {
-          if (made) next.products = Products{}, made = false;  // (Newton goes on from U)
+          if (made) next.products = reuse_storage(std::move(next.products)), made = false;  // (Newton goes on from U)
           const int before = res.iterations;
           res = newton_solve(sys, r, def.newton, next.U, solution_points);
           res.iterations += before;

@@ -46,7 +46,9 @@ struct Integrator {
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)
   std::vector<double> rhs;  // a step's right-hand side (kept for its memory; its values are not read again)
-  std::vector<double> residual;  // the residual checks' G (likewise)
+  // a step's n-long workspace: the schemes' K_Theta U^n, the predictor's
+  // residual (likewise)
+  std::vector<double> scratch;
 };
 
 // Factorizes A for an implicit scheme, or (K_Theta)_mm for an explicit one

@@ -32,7 +32,7 @@ class GeneralizedAlpha : public TimeScheme {
     // M y, y = (1 - alpha_m) (U^n/(beta tau^2) + V^n/(beta tau) + (1/(2 beta) - 1) A^n) - alpha_m A^n
     in.mass_combination((1 - am_) / (beta_ * tau * tau), (1 - am_) / (beta_ * tau),
                         (1 - am_) * (0.5 / beta_ - 1) - am_, r);
-    std::vector<double> KtU;
+    std::vector<double> own, &KtU = in.workspace(own);
     in.k_theta_u(old.U, KtU);
     const bool has_load = !in.F_new.empty();
     for (size_t i = 0; i < r.size(); ++i) {

@@ -16,7 +16,7 @@ class Hybrid : public TimeScheme {
   // 2 F^{n+1/2} - K_Theta U^n + M (c U^n + 4/tau V^n), F^{n+1/2} = (F^n + F^{n+1})/2
   void rhs(const StepInputs &in, double tau, const State &old, std::vector<double> &r) const override {
     in.mass_combination(coefficients(tau).c, 4 / tau, 0, r);  // M y
-    std::vector<double> KtU;
+    std::vector<double> own, &KtU = in.workspace(own);
     in.k_theta_u(old.U, KtU);
     const bool has_load = !in.F_new.empty();
     for (size_t i = 0; i < r.size(); ++i) {

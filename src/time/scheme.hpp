@@ -33,6 +33,10 @@ struct StepInputs {
   void mass_combination(double a, double b, double e, std::vector<double> &r) const;
   // K_Theta U^n = K U^n - Theta sum_q w_q gamma_q (s_q.U^n) s_q
   void k_theta_u(const std::vector<double> &U, std::vector<double> &out) const;
+  // where a right-hand side may put K_Theta U^n (its memory kept from step
+  // to step), or null: a vector of its own
+  std::vector<double> *work = nullptr;
+  std::vector<double> &workspace(std::vector<double> &own) const { return work ? *work : own; }
 };
 
 class TimeScheme {

@@ -13,14 +13,19 @@ void take(std::vector<T> &to, std::vector<T> &from) {
 }
 }  // namespace
 
+Products reuse_storage(Products &&used) {
+  Products p;
+  for (auto field : {&Products::MU, &Products::MV, &Products::MA, &Products::KU}) take(p.*field, used.*field);
+  take(p.points.P, used.points.P);
+  take(p.points.un, used.points.un);
+  return p;
+}
+
 State reuse_storage(State &&used) {
   State s;
   for (auto field : {&State::U, &State::V, &State::A, &State::F_fixed, &State::gap, &State::reaction, &State::phi})
     take(s.*field, used.*field);
-  for (auto field : {&Products::MU, &Products::MV, &Products::MA, &Products::KU})
-    take(s.products.*field, used.products.*field);
-  take(s.products.points.P, used.products.points.P);
-  take(s.products.points.un, used.products.points.un);
+  s.products = reuse_storage(std::move(used.products));
   take(s.tangent_log.i, used.tangent_log.i);
   take(s.tangent_log.x, used.tangent_log.x);
   return s;

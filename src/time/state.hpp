@@ -131,5 +131,8 @@ struct State {
 // memory, emptied: their values are not read again, their allocations are
 // reused.
 State reuse_storage(State &&used);
+// The same for products (every field as Products{} has it): those of a
+// state whose U changes again keep their memory for its next pass
+Products reuse_storage(Products &&used);
 
 }  // namespace nd
