@@ -22,13 +22,28 @@ long g_allocations = 0;
 bool g_counting = false;
 }  // namespace
 
-void *operator new(std::size_t n) {
+// every form of the plain and array operators, so that each allocation and
+// its release meet the same pair (malloc, free) under ASan
+namespace {
+void *counted(std::size_t n) noexcept {
   if (g_counting) ++g_allocations;
-  if (void *p = std::malloc(n ? n : 1)) return p;
+  return std::malloc(n ? n : 1);
+}
+void *counted_or_throw(std::size_t n) {
+  if (void *p = counted(n)) return p;
   throw std::bad_alloc();
 }
+}  // namespace
+void *operator new(std::size_t n) { return counted_or_throw(n); }
+void *operator new[](std::size_t n) { return counted_or_throw(n); }
+void *operator new(std::size_t n, const std::nothrow_t &) noexcept { return counted(n); }
+void *operator new[](std::size_t n, const std::nothrow_t &) noexcept { return counted(n); }
 void operator delete(void *p) noexcept { std::free(p); }
+void operator delete[](void *p) noexcept { std::free(p); }
 void operator delete(void *p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void *p, std::size_t) noexcept { std::free(p); }
+void operator delete(void *p, const std::nothrow_t &) noexcept { std::free(p); }
+void operator delete[](void *p, const std::nothrow_t &) noexcept { std::free(p); }
 
 namespace {
 
