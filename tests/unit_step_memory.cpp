@@ -85,13 +85,11 @@ void free_steps_allocate_nothing(int dim, int degree, int refine) {
   }
 }
 
-START_TEST(rectangle_p1_supernodal) { free_steps_allocate_nothing(2, 1, 4); }
-END_TEST
-START_TEST(rectangle_p2_supernodal) { free_steps_allocate_nothing(2, 2, 4); }
-END_TEST
-START_TEST(box_p1) { free_steps_allocate_nothing(3, 1, 1); }
-END_TEST
-START_TEST(box_p2) { free_steps_allocate_nothing(3, 2, 1); }
+// dimension, degree, refinement: the rectangles (refined) on CHOLMOD's
+// supernodal factor, the boxes
+const int kCases[][3] = {{2, 1, 4}, {2, 2, 4}, {3, 1, 1}, {3, 2, 1}};
+
+START_TEST(free_steps) { free_steps_allocate_nothing(kCases[_i][0], kCases[_i][1], kCases[_i][2]); }
 END_TEST
 
 }  // namespace
@@ -100,10 +98,7 @@ int main() {
   Suite *s = suite_create("step_memory");
   TCase *tc = tcase_create("free_flight");
   tcase_set_timeout(tc, 60);
-  tcase_add_test(tc, rectangle_p1_supernodal);
-  tcase_add_test(tc, rectangle_p2_supernodal);
-  tcase_add_test(tc, box_p1);
-  tcase_add_test(tc, box_p2);
+  tcase_add_loop_test(tc, free_steps, 0, static_cast<int>(sizeof kCases / sizeof kCases[0]));
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }
