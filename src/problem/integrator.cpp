@@ -265,7 +265,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       new_state_products(may_leave_points && law.certainly_free(next.U), nullptr, nullptr);
       predicted = predictor_solves_step(law, in.coef.c, r, next, in.scratch);
       if (predicted) next.last_iterations = 0, count(d.counters, &Counters::predicted_steps);
-      else next.products = reuse_storage(std::move(next.products));  // (U is still the predictor: where the solves start)
+      else  // (U is still the predictor: where the solves start)
+        next.products = reuse_storage(std::move(next.products));
     }
     if (predicted) {
       // nothing to solve: the new state and its pass are made
