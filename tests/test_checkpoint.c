@@ -553,25 +553,33 @@ START_TEST(reads_version_4_checkpoints) {
   double force = 0;
   ND_OK_OR_FAIL(nd_get_scalar(b, ND_CONTACT_FORCE, &force));
   ck_assert_msg(force > 0, "the fixture is not in contact");
-  /* The fixture's library solved every step; this one took the box's rigid
-     fall before the impact as its predictor (nd_step(3)): the fixture's
-     total of Newton iterations is larger by those steps, one each */
+  /* The fixture's library solved every step with Newton from the
+     predictor's tangent; this one took the box's rigid fall before the
+     impact as its predictor (nd_step(3)) and may keep the last step's
+     tangent for a contact step's first iteration (ND_STAT_LAGGED_STEPS):
+     the totals of Newton iterations differ by those, and are checked apart.
+     The fixture's: at least one per step, and counted on from there. */
   double predicted = 0;
   ND_OK_OR_FAIL(nd_get_scalar(a, ND_STAT_PREDICTED_STEPS, &predicted));
   ck_assert_double_gt(predicted, 0);
+  const int total = N_SCALARS - (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME); /* its place from a snapshot's end */
   snap sa = take(a, 3), sb = take(b, 3);
-  double *total_b = sb.f + sb.n - N_SCALARS + (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME);
-  ck_assert_double_eq(*total_b - sa.f[sa.n - N_SCALARS + (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME)], predicted);
-  *total_b -= predicted;
+  double total_b = sb.f[sb.n - total];
+  ck_assert_double_ge(total_b, CHECKPOINT_SCENE_STEPS);
+  sa.f[sa.n - total] = sb.f[sb.n - total] = 0;
   ck_assert_msg(snap_diff(sb, sa) <= 1e-12, "restored from version 4: %g", snap_diff(sb, sa));
   free(sa.f);
   free(sb.f);
   for (int k = 0; k < 20; ++k) {
     ND_OK_OR_FAIL(nd_step(a));
     ND_OK_OR_FAIL(nd_step(b));
+    double it = 0;
+    ND_OK_OR_FAIL(nd_get_scalar(b, ND_NEWTON_ITERATIONS, &it));
+    total_b += it;
   }
   sa = take(a, 3), sb = take(b, 3);
-  sb.f[sb.n - N_SCALARS + (ND_NEWTON_ITERATIONS_TOTAL - ND_TIME)] -= predicted;
+  ck_assert_double_eq(sb.f[sb.n - total], total_b);
+  sa.f[sa.n - total] = sb.f[sb.n - total] = 0;
   ck_assert_msg(snap_diff(sb, sa) <= 1e-10, "20 steps after: %g", snap_diff(sb, sa));
   free(sa.f);
   free(sb.f);

@@ -33,6 +33,9 @@ struct Counters {
   int64_t krylov_iterations = 0;
   // implicit steps their predictor solved (solve/predictor_check.hpp): no solve
   int64_t predicted_steps = 0;
+  // steps whose first Newton iteration kept the last step's tangent (the
+  // updated factor, solve/tangent_updown.cpp: kLagSolves)
+  int64_t lagged_steps = 0;
   // not a count: the entries of M, K and K_Theta held now (a rank's rows
   // when they are split over the ranks, problem/discretization.hpp)
   int64_t matrix_entries = 0;

@@ -440,6 +440,8 @@ bool UpdatableCholesky::has_costs() const { return !impl_->path.empty(); }
 
 double UpdatableCholesky::factor_cost() const { return std::max(50.0 * impl_->lnz, impl_->flops / 40.0); }
 
+double UpdatableCholesky::solve_cost() const { return 0.6 * impl_->lnz; }
+
 double UpdatableCholesky::modify_cost(const SparseColumns &C) const {
   const Impl &m = *impl_;
   if (m.path.empty()) fail(ND_ERR_INTERNAL, "an update's cost asked before the first factorization");

@@ -721,6 +721,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_POINT_VALUES_RECEIVED, &Counters::point_values_received},
     {ND_STAT_KRYLOV_ITERATIONS, &Counters::krylov_iterations},
     {ND_STAT_PREDICTED_STEPS, &Counters::predicted_steps},
+    {ND_STAT_LAGGED_STEPS, &Counters::lagged_steps},
 };
 }  // namespace
 
