@@ -61,7 +61,9 @@ constexpr double kReplayFactorizations = 8;
 // second updates it once, to the iterate's set. Newton's last iteration
 // solves its final set's linear system either way, so the solution agrees
 // to round-off (tests/unit_tangent.cpp); the choice reads the state and the
-// structure only, so a resumed or retried step chooses alike. Measured
+// structure only, so a resumed or retried step chooses alike. (As the
+// low-rank tangent's fallback, "first" is the fallback's first solve in the
+// step, which may be a later Newton iteration: a chord step there too.) Measured
 // (bounce, contact steps, one BLAS thread), against updating always:
 //   ball P1 h = 1: 3.94 -> 1.65 s a step (3.07 -> 3.87 iterations);
 //   ball P1 h = 2: 17.0 -> 14.4 ms (2.00 -> 2.05);
@@ -108,12 +110,7 @@ class UpdownTangent : public TangentSolver {
     }
     if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_, &A_factor_);
     if (!synced_) replay(cp, d_new_);
-    if (first && lags(cp)) {
-      count(counters_, &Counters::lagged_steps);
-      factor_->solve(x);
-      return;
-    }
-    update_to(cp, d_new_);
+    if (!update_to(cp, d_new_, first)) count(counters_, &Counters::lagged_steps);
     ++stats.lowrank;
     factor_->solve(x);
   }
@@ -159,17 +156,6 @@ class UpdownTangent : public TangentSolver {
     synced_ = true;
   }
   double factorization_cost() const { return factor_weight_ * factor_->factor_cost(); }
-  // whether the step's first solve keeps the factor (kLagSolves): it holds
-  // an active set, and the changes to d_new_ cost more than kLagSolves solves
-  bool lags(const ContactPoints &cp) {
-    if (!factor_->has_costs() || std::none_of(d_.begin(), d_.end(), [](double v) { return v != 0; })) return false;
-    up_q_.clear(), up_c_.clear();
-    for (size_t q = 0; q < d_new_.size(); ++q)
-      if (d_new_[q] != d_[q]) up_q_.push_back(static_cast<int64_t>(q)), up_c_.push_back(1.0);
-    if (up_q_.empty()) return false;
-    columns(cp, up_q_, up_c_, up_C_);  // (the cost reads the columns' rows only)
-    return factor_->modify_cost(up_C_) > kLagSolves * factor_->solve_cost();
-  }
   // the columns sqrt(c_j) p_{q_j} of a rank update or downdate
   static void columns(const ContactPoints &cp, const std::vector<int64_t> &q, const std::vector<double> &c,
                       SparseColumns &C) {
@@ -187,8 +173,10 @@ class UpdownTangent : public TangentSolver {
     return factor_->modify(add, C);
   }
   // from the factor's set to d: updates first (T stays further from
-  // singular on the way), then downdates; each recorded
-  void update_to(const ContactPoints &cp, const std::vector<double> &d) {
+  // singular on the way), then downdates; each recorded. first (the step's
+  // first solve, kLagSolves): where the factor holds an active set and the
+  // changes cost more than kLagSolves solves, it is kept as it is (false)
+  bool update_to(const ContactPoints &cp, const std::vector<double> &d, bool first = false) {
     up_q_.clear(), up_c_.clear(), down_q_.clear(), down_c_.clear();
     for (size_t q = 0; q < d.size(); ++q) {
       const double change = d[q] - d_[q];
@@ -196,15 +184,18 @@ class UpdownTangent : public TangentSolver {
       if (change < 0) down_q_.push_back(static_cast<int64_t>(q)), down_c_.push_back(-change);
     }
     const int64_t changes = static_cast<int64_t>(up_q_.size() + down_q_.size());
-    if (changes == 0) return;
+    if (changes == 0) return true;
     columns(cp, up_q_, up_c_, up_C_);
     columns(cp, down_q_, down_c_, down_C_);
     const double up_cost = factor_->modify_cost(up_C_), down_cost = factor_->modify_cost(down_C_);
     const double cost = up_cost + down_cost, factorization = factorization_cost();
+    if (first && cost > kLagSolves * factor_->solve_cost() &&
+        std::any_of(d_.begin(), d_.end(), [](double v) { return v != 0; }))
+      return false;
     if (cost > factorization || spent_ + cost > kReplayFactorizations * factorization ||
         updates_ + changes > updown_max_updates(static_cast<int64_t>(cp.size()))) {
       factor_at(cp, d);
-      return;
+      return true;
     }
     synced_ = false;  // until both succeed
     for (int pass = 0; pass < 2; ++pass) {
@@ -214,7 +205,7 @@ class UpdownTangent : public TangentSolver {
       if (q.empty()) continue;
       if (!modify(add, add ? up_C_ : down_C_)) {  // a pivot lost to round-off: factor anew
         factor_at(cp, d);
-        return;
+        return true;
       }
       log_.i.push_back(add ? static_cast<int64_t>(q.size()) : -static_cast<int64_t>(q.size()));
       log_.i.insert(log_.i.end(), q.begin(), q.end());
@@ -223,6 +214,7 @@ class UpdownTangent : public TangentSolver {
     }
     d_ = d;
     synced_ = true;
+    return true;
   }
   // the factor that log_ describes (checkpoint::decode_state checked its
   // form); with no history yet, the first factor (of `first`) starts one
