@@ -6,6 +6,7 @@
 // 1D (the bar), 2D (a rectangle dropped on a plane) and 3D (a box dropped on
 // a plane). Each run also shows that the path it names was taken.
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstdint>
@@ -492,38 +493,61 @@ START_TEST(residual_from_products_is_newton_residual) {
 END_TEST
 
 // K_Theta U (StepInputs::k_theta_u: the hybrid and generalized-alpha
-// right-hand sides, the predictor's check) run by run (s_q.U once per run
-// that shares s_q; each entry of a run's index list read and written once,
-// the points' terms subtracted in their order) has the bits of the
-// point-by-point sum (the runs cleared), 1D-3D, P1/P2, Theta = 1, -1.
+// right-hand sides, the predictor's check, Newton's check from the products)
+// run by run (s_q.U once per run that shares s_q; each entry of a run's index
+// list read and written once) against the point-by-point sum (the runs
+// cleared), 1D-3D, P1/P2, Theta = 1, -1: bitwise where a run's points have
+// their own s_q (the points' terms subtracted in their order); where they
+// share it (P1), the coefficients are summed first: the same sum rounded
+// otherwise, within 32 eps of the sum of the terms' magnitudes at every entry
+// (|KU_i| + theta sum_q w_q gamma_q (|s_q|.|U|) |s_qi|: the same call with
+// |s| and |U|, no KU).
 START_TEST(k_theta_u_by_runs_bitwise) {
-  int compared = 0;
+  int compared = 0, rounded = 0;
   for (int dim : {1, 2, 3})
     for (int degree : {1, 2}) {
       nd_problem p = scene(dim, degree, kSchemes[2], 1.0);
       const nd::ContactPoints &cp = p->problem.discretization().contact;
-      nd::ContactPoints alone = cp;
+      nd::ContactPoints alone = cp, magnitudes = cp;
       alone.runs.clear(), alone.run_shares_s.clear();
+      magnitudes.runs.clear(), magnitudes.run_shares_s.clear();
+      for (auto &row : magnitudes.s)
+        for (auto &v : row.val) v = std::fabs(v);
+      bool shares = false;
+      for (char c : cp.run_shares_s) shares |= c != 0;
       const size_t n = static_cast<size_t>(p->problem.discretization().dofs.n_free);
-      nd::Products old;
-      old.n = static_cast<int64_t>(n);
-      old.KU.resize(n);
-      std::vector<double> U(n);
+      nd::Products old, zero;
+      old.n = zero.n = static_cast<int64_t>(n);
+      old.KU.resize(n), zero.KU.assign(n, 0.0);
+      std::vector<double> U(n), absU(n);
       Uniform rnd(5);
-      for (size_t i = 0; i < n; ++i) U[i] = rnd(), old.KU[i] = rnd();
+      for (size_t i = 0; i < n; ++i) U[i] = rnd(), old.KU[i] = rnd(), absU[i] = std::fabs(U[i]);
       const std::vector<double> none;
       for (double theta : {1.0, -1.0}) {
-        std::vector<double> by_runs, by_points;
+        std::vector<double> by_runs, by_points, scale;
         nd::StepInputs{old, cp, theta, none, none}.k_theta_u(U, by_runs);
         nd::StepInputs{old, alone, theta, none, none}.k_theta_u(U, by_points);
-        ck_assert(by_runs.size() == n && by_points.size() == n);
-        ck_assert_msg(std::memcmp(by_runs.data(), by_points.data(), n * sizeof(double)) == 0, "%dD P%d Theta %g", dim,
-                      degree, theta);
+        nd::StepInputs{zero, magnitudes, std::fabs(theta), none, none}.k_theta_u(absU, scale);
+        ck_assert(by_runs.size() == n && by_points.size() == n && scale.size() == n);
+        if (!shares) {
+          ck_assert_msg(std::memcmp(by_runs.data(), by_points.data(), n * sizeof(double)) == 0, "%dD P%d Theta %g",
+                        dim, degree, theta);
+        } else {
+          bool differs = false;
+          for (size_t i = 0; i < n; ++i) {
+            const double bound = 32 * DBL_EPSILON * (std::fabs(old.KU[i]) + std::fabs(scale[i]));
+            ck_assert_msg(std::fabs(by_runs[i] - by_points[i]) <= bound, "%dD P%d Theta %g: entry %zu differs by %g",
+                          dim, degree, theta, i, std::fabs(by_runs[i] - by_points[i]));
+            differs |= by_runs[i] != by_points[i];
+          }
+          rounded += differs;
+        }
         ck_assert(!(by_runs == old.KU));  // the contact term is there
         ++compared;
       }
       nd_problem_destroy(&p);
     }
+  ck_assert_msg(rounded > 0, "no run shares s_q: the rounded form was not tried");
   ck_assert_int_eq(compared, 12);
 }
 END_TEST
