@@ -1,8 +1,8 @@
-// A free-flight step allocates no memory once the run is under way: the
-// state before the last lends its vectors to the next (reuse_storage), and
-// the solves, the residual checks and the Newton workspaces keep theirs
-// (linalg/supernodal.hpp's SupernodalWork, Integrator::residual,
-// CondensedCache::Work). Counted through this program's operator new, on
+// A step allocates no memory once the run is under way: the state before
+// the last lends its vectors to the next (reuse_storage), and the solves,
+// the residual checks and the Newton workspaces keep theirs
+// (linalg/supernodal.hpp's SupernodalWork, Integrator::scratch,
+// CondensedCache::Work, NewtonWork); contact steps below. Counted through this program's operator new, on
 // every step but those shown free by the bound after one that evaluated
 // the points: such a step makes the bound's reference from that state
 // (problem/integrator.cpp: U, P_q and u_n copied into an immutable shared
@@ -85,11 +85,70 @@ void free_steps_allocate_nothing(int dim, int degree, int refine) {
   }
 }
 
+// A contact step allocates nothing once the contact has been through its
+// active sets before: the points' columns of the condensed Newton (2D) are
+// made when a point is first active, and the updated factor's history (3D)
+// reserves twice its size when it outgrows it; Newton's vectors and the
+// points' values go round between the integrator's workspaces and the
+// states (NewtonWork, Integrator::at_solution). The scene falls on the
+// obstacle and turns (the active set grows and changes); 20 contact steps
+// are run from a saved state, then run again from it: the second run has
+// the first's bits (bitwise restart) and so its active sets, and allocates
+// nothing but in its first two steps (the restored state's products and
+// the updated factor's replay of its history).
+void contact_steps_allocate_nothing(int dim, int degree, int refine) {
+  for (const ndtest::SchemeCase &sc : ndtest::kSchemes) {
+    nd_problem p = ndtest::drop_scene(dim, degree, sc, 1.0, 0.02, 0.1, refine);
+    if (refine > 1) ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, ND_SOLVER_CHOLMOD));
+    int k = 0;
+    while (stat(p, ND_CONTACT_FORCE) == 0 && k++ < 200) ND_OK_OR_FAIL(nd_step(p));
+    ck_assert_msg(stat(p, ND_CONTACT_FORCE) > 0, "%dD P%d %s: no contact in 200 steps", dim, degree, sc.name);
+    int64_t size = 0;
+    ND_OK_OR_FAIL(nd_problem_get_state_size(p, &size));
+    // (no std::vector of this program's own: its instantiations would be
+    // the library's too, with this operator new inlined, which valgrind
+    // does not replace while it replaces the library's delete)
+    unsigned char *saved = static_cast<unsigned char *>(std::malloc(static_cast<size_t>(size)));
+    ck_assert(saved != nullptr);
+    ND_OK_OR_FAIL(nd_problem_save_state(p, size, saved));
+    double first_run[20];
+    for (double &force : first_run) {
+      ND_OK_OR_FAIL(nd_step(p));
+      force = stat(p, ND_CONTACT_FORCE);
+    }
+    ND_OK_OR_FAIL(nd_problem_load_state(p, size, saved));
+    std::free(saved);
+    int counted = 0, iterations = 0;
+    for (int j = 0; j < 20; ++j) {
+      g_allocations = 0;
+      g_counting = j >= 2;
+      const int status = nd_step(p);
+      g_counting = false;
+      ND_OK_OR_FAIL(status);
+      const double force = stat(p, ND_CONTACT_FORCE);
+      ck_assert_msg(force == first_run[j], "%dD P%d %s: step %d of the second run is not the first's", dim, degree,
+                    sc.name, j);
+      if (j < 2 || force == 0) continue;
+      ++counted;
+      iterations += static_cast<int>(stat(p, ND_NEWTON_ITERATIONS));
+      ck_assert_msg(g_allocations == 0, "%dD P%d refine %d %s: contact step %d allocated %ld times", dim, degree,
+                    refine, sc.name, j, g_allocations);
+    }
+    // (contact steps counted, Newton's among them)
+    ck_assert_msg(counted >= 10 && iterations >= counted, "%dD P%d %s: %d contact steps counted, %d iterations", dim,
+                  degree, sc.name, counted, iterations);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+
 // dimension, degree, refinement: the rectangles (refined) on CHOLMOD's
 // supernodal factor, the boxes
 const int kCases[][3] = {{2, 1, 4}, {2, 2, 4}, {3, 1, 1}, {3, 2, 1}};
 
 START_TEST(free_steps) { free_steps_allocate_nothing(kCases[_i][0], kCases[_i][1], kCases[_i][2]); }
+END_TEST
+
+START_TEST(contact_steps) { contact_steps_allocate_nothing(kCases[_i][0], kCases[_i][1], kCases[_i][2]); }
 END_TEST
 
 }  // namespace
@@ -100,5 +159,9 @@ int main() {
   tcase_set_timeout(tc, 60);
   tcase_add_loop_test(tc, free_steps, 0, static_cast<int>(sizeof kCases / sizeof kCases[0]));
   suite_add_tcase(s, tc);
+  TCase *contact = tcase_create("contact");
+  tcase_set_timeout(contact, 120);
+  tcase_add_loop_test(contact, contact_steps, 0, static_cast<int>(sizeof kCases / sizeof kCases[0]));
+  suite_add_tcase(s, contact);
   return nd_test_run(s);
 }

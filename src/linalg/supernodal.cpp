@@ -222,7 +222,7 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
   if (w_.size() != static_cast<size_t>(L.n) * kBatch) w_.assign(static_cast<size_t>(L.n) * kBatch, 0.0);
   if (marked_.size() != static_cast<size_t>(L.count)) marked_.assign(static_cast<size_t>(L.count), 0);
   const double sign = add ? 1.0 : -1.0;
-  std::vector<int64_t> first;
+  std::vector<int64_t> &first = first_;  // (its memory kept from call to call)
   for (int64_t j0 = 0; j0 < k; j0 += kBatch) {  // the vectors kBatch at a time
     const int r = static_cast<int>(std::min<int64_t>(kBatch, k - j0));
     first.clear();

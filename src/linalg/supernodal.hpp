@@ -100,6 +100,7 @@ class SupernodalModifier {
   std::vector<double> v_;    // a block's rows x kBatch, vector by vector
   std::vector<char> marked_;  // (zeros between calls)
   std::vector<int64_t> path_;
+  std::vector<int64_t> first_;  // a batch's vectors' first rows
 };
 
 // path[j]: the entries of L in the columns from j to the root (what a

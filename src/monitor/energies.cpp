@@ -183,7 +183,7 @@ std::shared_ptr<const PointReference> point_reference(const Discretization &d, c
 void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
   products_of_state(d, s);
   if (known && known->P.size() == d.contact.size() && known->un.size() == d.contact.size()) {
-    s.products.points = std::move(*known);
+    std::swap(s.products.points, *known);  // (known keeps the products' memory: no allocation)
   } else if (held && !d.contact.a.empty()) {  // the rank's points, evaluated here (no message)
     ContactLaw law = state_contact_law(d, s);
     PointValues &v = s.products.points;

@@ -97,6 +97,15 @@ bool predictor_may_solve(const Integrator &in, const Discretization &d, const De
   return old.n % kPredictorProbe == 0;
 }
 
+// to = from, a tangent history (TangentLog), into memory that holds its
+// largest form (reserve_tangent_log), reserved the first time: a history
+// grows step by step, and each state's copy took a little more memory
+void copy_log(TangentLog &to, const TangentLog &from, size_t n_points) {
+  if (!from.i.empty()) reserve_tangent_log(to, static_cast<int64_t>(n_points));
+  to.i.assign(from.i.begin(), from.i.end());
+  to.x.assign(from.x.begin(), from.x.end());
+}
+
 }  // namespace
 
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
@@ -247,7 +256,9 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
     if (from) compute_products_bounded(d, next, std::move(from));
     else compute_products(d, next, known, held);
   };
-  PointValues at_U;  // P_q(U^{n+1}) and u_n - g0 if the step made them (explicit, or Newton), for the products
+  // P_q(U^{n+1}) and u_n - g0 if the step made them (explicit, or Newton), for the products
+  PointValues &at_U = in.at_solution;
+  clear_keeping_memory(at_U);
   bool predicted = false;  // an implicit step that is its predictor: updated, its pass made
   bool made = false;       // the condensed Newton's check updated the state and made its pass
   bool bounded = false;    // Newton's solution shown contact-free by the bound from law.Un
@@ -284,6 +295,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       law.held = in.points.get();
       NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law, d.rows.get(), d.rows_split};
       sys.blocks = in.A_blocks.get();
+      sys.work = &in.newton;
       sys.complete = in.held.empty();
       sys.guess = in.A_factor->starts_from_guess();
       // the points at the solution from Newton's last residual, for the new
@@ -324,10 +336,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       next.last_iterations = res.iterations;
       bounded = res.bounded;
       const TangentLog *history = in.tangent->log();
-      if (history) next.tangent_log = *history;
+      if (history) copy_log(next.tangent_log, *history, d.contact.size());
     }
   }
-  if (next.tangent_log.i.empty()) next.tangent_log = old.tangent_log;  // no contact solve: the history stays
+  if (next.tangent_log.i.empty()) copy_log(next.tangent_log, old.tangent_log, d.contact.size());  // no contact solve: the history stays
   if (!predicted && !made) scheme.update(tau, old, next);
   // Massless DOFs (mass redistribution): no equation holds their V and A, and
   // the schemes' recursions for them are at best neutral (the hybrid's

@@ -49,6 +49,11 @@ struct Integrator {
   // a step's n-long workspace: the schemes' K_Theta U^n, the predictor's
   // residual (likewise)
   std::vector<double> scratch;
+  // Newton's vectors, and the points at a step's solution (a step's
+  // at_U), kept likewise: the points' memory goes round between these, the
+  // Newton's and the states' products, exchanged, never made anew
+  NewtonWork newton;
+  PointValues at_solution;
 };
 
 // Factorizes A for an implicit scheme, or (K_Theta)_mm for an explicit one

@@ -208,6 +208,10 @@ const std::vector<double> &ContactColumns::G(const std::vector<int64_t> &S) {
   for (int64_t q : G_S_) position_[q] = -1;
   G_.swap(Gn);
   G_S_.swap(S_copy);
+  // the two buffers of each take turns: both hold the larger set's room, so
+  // that the sets of a run replayed (a restart) find it whatever their turn
+  if (G_next_.capacity() < G_.capacity()) G_next_.reserve(G_.capacity());
+  if (G_S_next_.capacity() < G_S_.capacity()) G_S_next_.reserve(G_S_.capacity());
   return G_;
 }
 

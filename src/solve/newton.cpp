@@ -69,9 +69,12 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   const int64_t n = static_cast<int64_t>(U.size());
   NewtonResult res;
   int first = 1;
+  NewtonWork own;
+  NewtonWork &w = sys.work ? *sys.work : own;
   // the points at U, from the residual (or the check) there: for the tangent
   // at U, and at the solution the new state's
-  PointValues at;
+  PointValues &at = w.at;
+  clear_keeping_memory(at);
   // DESIGN §4: no point active at the predictor, so none can start unless the
   // linear step says so: one solve U = A^{-1} r and one check. Where no point
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
@@ -91,8 +94,10 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     }
     first = 2;  // contact starts within the step: Newton from the linear step
   }
-  std::vector<double> G(U.size()), MU(U.size());
-  std::vector<char> active, previous;
+  std::vector<double> &G = w.G, &MU = w.MU;
+  G.assign(U.size(), 0.0), MU.assign(U.size(), 0.0);
+  std::vector<char> &active = w.active, &previous = w.previous;
+  active.clear(), previous.clear();
   const double r_norm = rhs_norm(sys, r);
   // (the check's pass at this U, if it made one: P_q is not evaluated twice)
   res.residual = newton_residual(sys, r, U, G, &active, MU, &at, !at.P.empty());
@@ -120,7 +125,7 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     if ((!changed && (small || still)) || (small && still)) {
       res.converged = true;
       // the points at the solution, every one of them (un made with P): the new state's
-      if (points && !partial && !at.P.empty() && at.un.size() == at.P.size()) *points = std::move(at);
+      if (points && !partial && !at.P.empty() && at.un.size() == at.P.size()) std::swap(*points, at);
       return res;
     }
   }

@@ -17,6 +17,15 @@ struct NewtonOptions {
   int max_iter = 50;
 };
 
+// Newton's n-long and point-long vectors, kept by the caller from step to
+// step for their memory (their values are not read again; a step's Newton
+// made them anew: 6 allocations a contact step of the balls)
+struct NewtonWork {
+  std::vector<double> G, MU;
+  std::vector<char> active, previous;
+  PointValues at;  // the points at the iterate (exchanged with newton_solve's `points`)
+};
+
 struct NewtonSystem {
   const Csr *A;             // c M + K_Theta
   TangentSolver *tangent;   // solves with A + kappa N'(U)
@@ -38,6 +47,8 @@ struct NewtonSystem {
   bool complete = true;
   // A and M by nodes (Integrator::A_blocks), or null: the CSR pattern
   const NodeBlocks *blocks = nullptr;
+  // where Newton keeps its vectors, or null: its own
+  NewtonWork *work = nullptr;
   // the rows r, G and M U are right on: this rank's when split, else all (null)
   const Share *held_rows() const { return split ? rows : nullptr; }
 };
@@ -89,7 +100,8 @@ std::vector<int64_t> newton_held_rows(const Csr &A, const Share &rows, const Con
 // when the tangent keeps only its held rows, the others are gathered from
 // their ranks at the end, unless !sys.complete). points (if given): set to
 // P_q and u_n - g0 at the solution when its last residual evaluated every
-// point at every row (else left as it was), for the new state's products.
+// point at every row (else left as it was; exchanged with sys.work's, whose
+// memory *points then holds), for the new state's products.
 NewtonResult newton_solve(const NewtonSystem &sys, const std::vector<double> &r,
                           const NewtonOptions &opt, std::vector<double> &U, PointValues *points = nullptr);
 

@@ -87,6 +87,9 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
 // of these indices, points + these coefficients). The updated factor
 // usually refactors earlier, by its cost model (solve/tangent_updown.cpp).
 int64_t updown_max_updates(int64_t n_points);
+// Reserves the room of a history's largest form for n_points (that bound):
+// a history that grows step by step then allocates nothing.
+void reserve_tangent_log(TangentLog &log, int64_t n_points);
 // factor_weight scales the cost model's price of a factorization (tests: a
 // tiny weight refactors at every change, a huge one only updates).
 std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor,

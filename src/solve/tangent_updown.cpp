@@ -124,8 +124,12 @@ class UpdownTangent : public TangentSolver {
   // the same way.
   void factor_at(const ContactPoints &cp, const std::vector<double> &d) {
     synced_ = false;  // until the factor holds the new base
-    TangentLog base;
+    // (base_ and log_ take turns: both hold the largest history's room)
+    reserve_tangent_log(base_, static_cast<int64_t>(cp.size()));
+    reserve_tangent_log(log_, static_cast<int64_t>(cp.size()));
+    TangentLog &base = base_;
     base.i.assign(1, 0);
+    base.x.clear();
     for (size_t q = 0; q < d.size(); ++q)
       if (d[q] != 0) base.i.push_back(static_cast<int64_t>(q)), base.x.push_back(d[q]);
     base.i[0] = static_cast<int64_t>(base.x.size());
@@ -257,6 +261,7 @@ class UpdownTangent : public TangentSolver {
   Csr T_;
   std::unique_ptr<UpdatableCholesky> factor_;
   TangentLog log_;          // the factor's history (or, !synced_, the one to replay)
+  TangentLog base_;         // factor_at's new history, kept for its memory
   bool synced_ = false;     // the factor holds log_
   bool first_ = false;      // no solve yet since begin_step
   std::vector<double> d_;   // the coefficients the factor holds, per point
@@ -307,6 +312,12 @@ bool tangent_log_well_formed(const TangentLog &log, int64_t n_points) {
 }
 
 int64_t updown_max_updates(int64_t n_points) { return std::clamp<int64_t>(4 * n_points, 256, 2048); }
+
+void reserve_tangent_log(TangentLog &log, int64_t n_points) {
+  const size_t points = static_cast<size_t>(n_points), updates = static_cast<size_t>(updown_max_updates(n_points));
+  log.i.reserve(1 + points + 2 * updates);
+  log.x.reserve(points + updates);
+}
 
 bool updown_tangent_applies(int solver, Structure structure) {
   return structure == Structure::SymmetricPositiveDefinite && (solver == ND_SOLVER_AUTO || solver == ND_SOLVER_CHOLMOD);

@@ -13,6 +13,13 @@ void take(std::vector<T> &to, std::vector<T> &from) {
 }
 }  // namespace
 
+void clear_keeping_memory(PointValues &v) {
+  v.P.clear(), v.un.clear();
+  v.partial = false, v.summed = false;
+  v.sums = PointSums{};
+  v.ref.reset();
+}
+
 Products reuse_storage(Products &&used) {
   Products p;
   for (auto field : {&Products::MU, &Products::MV, &Products::MA, &Products::KU}) take(p.*field, used.*field);

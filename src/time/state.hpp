@@ -134,5 +134,7 @@ State reuse_storage(State &&used);
 // The same for products (every field as Products{} has it): those of a
 // state whose U changes again keep their memory for its next pass
 Products reuse_storage(Products &&used);
+// v as PointValues{} has it, its vectors' memory kept
+void clear_keeping_memory(PointValues &v);
 
 }  // namespace nd
