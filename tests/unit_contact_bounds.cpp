@@ -129,6 +129,7 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
     return static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
   };
   int shown = 0, missed = 0, active = 0, within = 0, within_missed = 0, beyond = 0;
+  int nonpositive = 0, nonpositive_missed = 0, any_positive = 0;
   std::vector<double> Un(n), U(n), Pn, gap_n(cp.gap), gap(Q);
   for (int trial = 0; trial < 400; ++trial) {
     // U^n: the body somewhere between 0.5 above the plane and touching it
@@ -160,16 +161,29 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
       exceeds |= (sa - gap[q]) / cp.h[q] > limit;  // (u_n - g0's bits: ContactLaw::P_all)
     }
     const bool shown_within = nd::penetration_within(cp, U.data(), gap.data(), at_n, limit);
+    // a query's bound (nd::nonpositive_within) from the same reference:
+    // every P_q <= 0 shown only where every P_q evaluated is (its contact
+    // forces are then zero)
+    bool positive = false;
+    for (size_t q = 0; q < Q; ++q) positive |= law.P(q, U.data()) > 0;
+    const bool shown_nonpositive = nd::nonpositive_within(cp, U.data(), gap.data(), at_n);
+    ck_assert_msg(!shown_nonpositive || !positive, "%dD P%d %s Theta = %g, trial %d: P <= 0 shown, but a P_q > 0",
+                  dim, degree, sc.name, theta, trial);
+    nonpositive += shown_nonpositive, nonpositive_missed += !positive && !shown_nonpositive, any_positive += positive;
     // the tests' wide form (AVX2, on by default where the CPU has it) and
     // the scalar one say the same
     nd::set_simd(false);
     ck_assert(law.certainly_free(U, false) == bound &&
-              nd::penetration_within(cp, U.data(), gap.data(), at_n, limit) == shown_within);
+              nd::penetration_within(cp, U.data(), gap.data(), at_n, limit) == shown_within &&
+              nd::nonpositive_within(cp, U.data(), gap.data(), at_n) == shown_nonpositive);
     nd::set_simd(true);
     ck_assert_msg(!shown_within || !exceeds, "%dD P%d %s Theta = %g, trial %d: shown within %g h, but a point is not",
                   dim, degree, sc.name, theta, trial, limit);
     within += shown_within, within_missed += !exceeds && !shown_within, beyond += exceeds;
   }
+  ck_assert_msg(nonpositive > 0 && nonpositive_missed > 0 && any_positive > 0,
+                "%dD P%d %s: P <= 0 %d shown, %d not shown, %d with a P_q > 0", dim, degree, sc.name, nonpositive,
+                nonpositive_missed, any_positive);
   ck_assert_msg(within > 0 && within_missed > 0 && beyond > 0,
                 "%dD P%d %s: penetration %d shown within, %d within not shown, %d beyond", dim, degree, sc.name, within,
                 within_missed, beyond);

@@ -354,16 +354,31 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   return true;
 }
 
-bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
-                        double limit) {
+namespace {
+// every point's x_q + c_q max_i |U_i - U_ref_i| + g_ref - g (with the bounds'
+// margin) within `limit` (scaled by `scale`), else at most 0: the bound
+// from a point reference's values x (its P_q or u_n - g0)
+bool within_from_reference(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
+                           const std::vector<double> &x, const std::vector<double> &c, const double *scale,
+                           double limit) {
   const size_t nq = cp.size();
-  if (cp.a_sum.size() != nq || ref.un.size() != nq || cp.h.size() != nq) return false;
+  if (x.size() != nq || c.size() != nq) return false;
   const Reach r = reach(cp.dofs, U, ref.U.data());
   if (!r.finite) return false;
-  const double *a_sum = cp.a_sum.data(), *un = ref.un.data(), *h = cp.h.data(),
-               *g_now = gap ? gap : cp.gap.data(), *g_ref = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
+  const double *g_now = gap ? gap : cp.gap.data(), *g_ref = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
   const double reach = r.u_max + r.ref_max + r.d;
-  return all_within(BoundTest{un, a_sum, g_now, g_ref, h, r.d, reach, limit, false}, nq);  // (false for NaN: not shown)
+  return all_within(BoundTest{x.data(), c.data(), g_now, g_ref, scale, r.d, reach, limit, false}, nq);  // (false for NaN)
+}
+}  // namespace
+
+bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
+                        double limit) {
+  if (cp.h.size() != cp.size()) return false;
+  return within_from_reference(cp, U, gap, ref, ref.un, cp.a_sum, cp.h.data(), limit);
+}
+
+bool nonpositive_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref) {
+  return within_from_reference(cp, U, gap, ref, ref.P, cp.nu, nullptr, 0);
 }
 
 std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows) {

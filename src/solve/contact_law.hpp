@@ -71,6 +71,11 @@ Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Ure
 // evaluated (monitor/guards.cpp).
 bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
                         double limit);
+// Whether every point's P_q at U would be at most 0, shown the same way
+// from the reference's P_q (certainly_free's bound and margin): a query of
+// a state whose points a step left unevaluated then knows its contact
+// forces are zero, the bits of their sums over the evaluated points.
+bool nonpositive_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref);
 
 struct ContactLaw {
   const ContactPoints *cp = nullptr;
