@@ -502,7 +502,7 @@ END_TEST
 // otherwise, within 32 eps of the sum of the terms' magnitudes at every entry
 // (|KU_i| + theta sum_q w_q gamma_q (|s_q|.|U|) |s_qi|: the same call with
 // |s| and |U|, no KU).
-START_TEST(k_theta_u_by_runs_bitwise) {
+START_TEST(k_theta_u_by_runs) {
   int compared = 0, rounded = 0;
   for (int dim : {1, 2, 3})
     for (int degree : {1, 2}) {
@@ -832,7 +832,7 @@ int main(void) {
   tcase_add_test(tc, columns_keep_their_dots_bitwise);
   tcase_add_test(tc, residual_from_products_is_newton_residual);
   tcase_add_test(tc, points_by_runs_bitwise);
-  tcase_add_test(tc, k_theta_u_by_runs_bitwise);
+  tcase_add_test(tc, k_theta_u_by_runs);
   tcase_add_test(tc, automatic_choice);
   tcase_add_test(tc, updated_factor_history_simplicial);
   tcase_add_test(tc, updated_factor_history_supernodal);

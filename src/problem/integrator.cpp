@@ -339,7 +339,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       if (history) copy_log(next.tangent_log, *history, d.contact.size());
     }
   }
-  if (next.tangent_log.i.empty()) copy_log(next.tangent_log, old.tangent_log, d.contact.size());  // no contact solve: the history stays
+  // no contact solve: the history stays
+  if (next.tangent_log.i.empty()) copy_log(next.tangent_log, old.tangent_log, d.contact.size());
   if (!predicted && !made) scheme.update(tau, old, next);
   // Massless DOFs (mass redistribution): no equation holds their V and A, and
   // the schemes' recursions for them are at best neutral (the hybrid's

@@ -367,7 +367,8 @@ bool within_from_reference(const ContactPoints &cp, const double *U, const doubl
   if (!r.finite) return false;
   const double *g_now = gap ? gap : cp.gap.data(), *g_ref = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
   const double reach = r.u_max + r.ref_max + r.d;
-  return all_within(BoundTest{x.data(), c.data(), g_now, g_ref, scale, r.d, reach, limit, false}, nq);  // (false for NaN)
+  // (false for NaN: not shown)
+  return all_within(BoundTest{x.data(), c.data(), g_now, g_ref, scale, r.d, reach, limit, false}, nq);
 }
 }  // namespace
 

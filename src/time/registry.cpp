@@ -100,8 +100,9 @@ void StepInputs::k_theta_u(const std::vector<double> &U, std::vector<double> &ou
   // chain of stores and loads through memory (the ball's predicted steps
   // spent 45 % of their time here). A run that shares s_q (P1): s_q.U once,
   // and the points' coefficients summed first (the sum's rounding, not one
-  // point's after the other: 9 products an entry were 1.5 times the pass
-  // over M and K of ball P1 h = 4); else per point; no runs: each point alone.
+  // point's after the other), one product an entry, not 9: ball P1 h = 4's
+  // predicted steps 0.51 -> 0.36 floors; else per point; no runs: each
+  // point alone.
   const std::vector<int64_t> &runs = contact.runs;
   const bool by_runs = runs.size() == contact.run_shares_s.size() + 1 && runs.back() == int64_t(contact.size());
   constexpr size_t kMaxRun = 32;  // (a longer run, if any: point by point)
