@@ -23,8 +23,8 @@ void clear_keeping_memory(PointValues &v) {
 Products reuse_storage(Products &&used) {
   Products p;
   for (auto field : {&Products::MU, &Products::MV, &Products::MA, &Products::KU}) take(p.*field, used.*field);
-  take(p.points.P, used.points.P);
-  take(p.points.un, used.points.un);
+  std::swap(p.points, used.points);
+  clear_keeping_memory(p.points);
   return p;
 }
 
