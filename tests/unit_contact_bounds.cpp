@@ -129,7 +129,7 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
     return static_cast<double>((seed >> 8) & 0xffff) / 32768.0 - 1.0;
   };
   int shown = 0, missed = 0, active = 0, within = 0, within_missed = 0, beyond = 0;
-  int nonpositive = 0, nonpositive_missed = 0, any_positive = 0;
+  int nonpositive = 0, nonpositive_missed = 0, any_positive = 0, made_free = 0, made_within = 0;
   std::vector<double> Un(n), U(n), Pn, gap_n(cp.gap), gap(Q);
   for (int trial = 0; trial < 400; ++trial) {
     // U^n: the body somewhere between 0.5 above the plane and touching it
@@ -179,6 +179,33 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
     nd::set_simd(true);
     ck_assert_msg(!shown_within || !exceeds, "%dD P%d %s Theta = %g, trial %d: shown within %g h, but a point is not",
                   dim, degree, sc.name, theta, trial, limit);
+    // the tests made once for the reference (nd::set_reference_reach, what
+    // a free flight's checks read): where U's reach is admitted at the
+    // reference's gaps they hold, and so do the tests at every point; the
+    // checks that read them say what they said without
+    nd::PointReference made = at_n;
+    nd::set_reference_reach(cp, made, limit);
+    const nd::Reach r = nd::reach(cp.dofs, U.data(), Un.data());
+    const bool same_gaps = nd::same_gaps(gap.data(), gap_n.data(), Q);
+    ck_assert(same_gaps == (move == 0));
+    const bool fast_free = same_gaps && nd::reach_admitted(r, made.free_reach),
+               fast_within = same_gaps && nd::reach_admitted(r, made.within_reach);
+    ck_assert_msg(!fast_free || shown_nonpositive, "%dD P%d %s trial %d: P <= 0 admitted, not shown", dim, degree,
+                  sc.name, trial);
+    ck_assert_msg(!fast_within || shown_within, "%dD P%d %s trial %d: within %g h admitted, not shown", dim, degree,
+                  sc.name, trial, limit);
+    made_free += fast_free, made_within += fast_within;
+    nd::ContactLaw from_made = law;
+    from_made.free_reach_n = made.free_reach;
+    ck_assert(from_made.certainly_free(U, false) == bound &&
+              nd::penetration_within(cp, U.data(), gap.data(), made, limit) == shown_within &&
+              nd::nonpositive_within(cp, U.data(), gap.data(), made) == shown_nonpositive);
+    // the reach's wide form gives the scalar loop's values
+    nd::set_simd(false);
+    const nd::Reach scalar_reach = nd::reach(cp.dofs, U.data(), Un.data());
+    nd::set_simd(true);
+    ck_assert(scalar_reach.finite && r.finite && scalar_reach.d == r.d && scalar_reach.u_max == r.u_max &&
+              scalar_reach.ref_max == r.ref_max);
     within += shown_within, within_missed += !exceeds && !shown_within, beyond += exceeds;
   }
   ck_assert_msg(nonpositive > 0 && nonpositive_missed > 0 && any_positive > 0,
@@ -187,9 +214,11 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
   ck_assert_msg(within > 0 && within_missed > 0 && beyond > 0,
                 "%dD P%d %s: penetration %d shown within, %d within not shown, %d beyond", dim, degree, sc.name, within,
                 within_missed, beyond);
+  ck_assert_msg(made_free > 0 && made_within > 0, "%dD P%d %s: the reference's tests held in %d, %d trials", dim,
+                degree, sc.name, made_free, made_within);
   if (std::getenv("ND_BOUNDS_TEST_VERBOSE"))
-    std::fprintf(stderr, "%dD P%d %s Theta=%g: %d shown free, %d free not shown, %d active\n", dim, degree, sc.name,
-                 theta, shown, missed, active);
+    std::fprintf(stderr, "%dD P%d %s Theta=%g: %d shown free, %d free not shown, %d active; made: %d of %d, %d of %d\n",
+                 dim, degree, sc.name, theta, shown, missed, active, made_free, nonpositive, made_within, within);
   ck_assert_msg(shown > 0 && missed > 0 && active > 0, "%dD P%d %s: %d shown free, %d free not shown, %d active", dim,
                 degree, sc.name, shown, missed, active);
   // a law that reads P^n's value (the hybrid, generalized-alpha): the body
@@ -227,6 +256,10 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
     U[cp.dofs[cp.dofs.size() / 2]] = bad;  // (off the points' DOFs it changes no P_q)
     ck_assert(!law.certainly_free(U));
     ck_assert(!nd::penetration_within(cp, U.data(), nullptr, at_n, huge));
+    for (int simd = 0; simd <= 1; ++simd) {
+      nd::set_simd(simd == 1);
+      ck_assert(!nd::reach(cp.dofs, U.data(), Un.data()).finite && !nd::reach(cp.dofs, Un.data(), U.data()).finite);
+    }
   }
   // nor with a non-finite P^n or gap, which [P]_+ would map to 0
   U = Un;

@@ -170,13 +170,14 @@ void compute_products_bounded(const Discretization &d, State &s, std::shared_ptr
   s.products.of = d.id;
 }
 
-std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s,
-                                                      const Products &p) {
+std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s, const Products &p,
+                                                      double penetration_limit) {
   if (p.points.ref) return p.points.ref;
   const size_t nq = d.contact.size();
   if (p.points.partial || p.points.P.size() != nq || p.points.un.size() != nq || s.U.empty()) return nullptr;
   auto ref = std::make_shared<PointReference>();
   ref->U = s.U, ref->P = p.points.P, ref->un = p.points.un, ref->gap = s.gap;
+  set_reference_reach(d.contact, *ref, penetration_limit);  // (one pass here, none at each check from it)
   return ref;
 }
 

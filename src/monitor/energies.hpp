@@ -28,9 +28,10 @@ void compute_products_bounded(const Discretization &d, State &s, std::shared_ptr
 // The reference of a state's points for the bound of the steps after it:
 // where they were evaluated, the state itself (its U, points and gaps,
 // copied), else its own reference. Null if its points are not every
-// point's (a distributed state's), or not there.
-std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s,
-                                                      const Products &p);
+// point's (a distributed state's), or not there. A new one has its bounds'
+// tests made (set_reference_reach) for the penetration guard's limit.
+std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s, const Products &p,
+                                                      double penetration_limit);
 // The step's sums over the points (PointValues::sums) of s, from its
 // products' P_q and u_n - g0 and its phi: each rank adds its own points and
 // the ranks' sums are added rank after rank (collective with several

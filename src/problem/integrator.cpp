@@ -237,6 +237,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   if (def.contact_bounds) {
     const std::vector<double> &Un = ref ? ref->U : old.U, &gap_n = ref ? ref->gap : old.gap;
     law.Un = Un.data(), law.gap_n = gap_n.empty() ? nullptr : gap_n.data();
+    if (ref) law.free_reach_n = ref->free_reach;
   }
   scheme.predict(tau, old, next.U);
   // Shown contact-free by the bound (every law and its slope zero: phi = 0),
@@ -252,7 +253,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // where shown free
   auto new_state_products = [&](bool shown_free, PointValues *known, const HeldPoints *held) {
     std::shared_ptr<const PointReference> from;
-    if (shown_free && may_leave_points) from = point_reference(d, old, old_products);
+    if (shown_free && may_leave_points) from = point_reference(d, old, old_products, def.guards.penetration);
     if (from) compute_products_bounded(d, next, std::move(from));
     else compute_products(d, next, known, held);
   };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "common/simd.hpp"
@@ -298,18 +299,103 @@ bool all_within(const BoundTest &t, size_t nq) {
 #endif
   return all_within_scalar(t, 0, nq);
 }
+
+// The test above at every point, made once for a reference whose gaps stay
+// (gn = gr = g): high_q <= limit scale_q (or <= 0) holds where
+//   c_q (d + 2 kBoundMargin reach) <= room_q,
+//   room_q = limit (1 - 1e-12) scale_q - x_q - 2 kBoundMargin (2 |g_q| + |x_q|),
+// twice the test's margin and 1e-12 of its limit: their excess over the test
+// covers this form's round-off (a few eps of the same terms) and the test's
+// division by scale_q, so that where d + 2 kBoundMargin reach is at most
+// min_q room_q / c_q the test holds at every point (also x_q <= 0): the
+// test's verdict. -infinity where some value is not finite.
+double admitted_reach(const double *x, const double *c, const double *g, const double *scale, double limit,
+                      size_t nq) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double below = limit * (1 - 1e-12);
+  double admitted = inf;
+  bool finite = true;
+  for (size_t q = 0; q < nq; ++q) {
+    const double room = (scale ? below * scale[q] : 0.0) - x[q] - 2 * kBoundMargin * (2 * std::fabs(g[q]) + std::fabs(x[q]));
+    finite &= std::isfinite(room) && std::isfinite(c[q]);
+    if (c[q] > 0) admitted = std::min(admitted, room / c[q]);
+    else if (!(room >= 0)) admitted = -inf;  // (c_q = 0: no reach admits it)
+  }
+  return finite ? admitted : -inf;
+}
 }  // namespace
 
-Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref) {
-  Reach r;
-  int finite = 1;
-  for (int64_t i : dofs) {
+void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit) {
+  const size_t nq = cp.size();
+  const double *g = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
+  if ((!ref.gap.empty() && ref.gap.size() != nq) || ref.P.size() != nq || cp.nu.size() != nq) return;
+  ref.free_reach = admitted_reach(ref.P.data(), cp.nu.data(), g, nullptr, 0, nq);
+  if (limit > 0 && ref.un.size() == nq && cp.a_sum.size() == nq && cp.h.size() == nq)
+    ref.within_reach = admitted_reach(ref.un.data(), cp.a_sum.data(), g, cp.h.data(), limit, nq),
+    ref.within_limit = limit;
+}
+
+bool same_gaps(const double *g, const double *g_ref, size_t nq) {
+  return g == g_ref || std::memcmp(g, g_ref, nq * sizeof(double)) == 0;  // (bitwise: g_ref - g is 0)
+}
+
+bool reach_admitted(const Reach &r, double admitted) {
+  const double needed = r.d + 2 * kBoundMargin * (r.u_max + r.ref_max + r.d);  // (the tests' reach)
+  return r.finite && std::isfinite(needed) && needed <= admitted;
+}
+
+namespace {
+void reach_scalar(const int64_t *dofs, size_t begin, size_t end, const double *U, const double *Uref, Reach &r) {
+  int finite = r.finite ? 1 : 0;
+  for (size_t k = begin; k < end; ++k) {
+    const int64_t i = dofs[k];
     finite &= static_cast<int>(std::isfinite(U[i])) & static_cast<int>(std::isfinite(Uref[i]));  // (no branch)
     r.d = std::max(r.d, std::fabs(U[i] - Uref[i]));
     r.u_max = std::max(r.u_max, std::fabs(U[i]));
     r.ref_max = std::max(r.ref_max, std::fabs(Uref[i]));
   }
   r.finite = finite != 0;
+}
+
+#ifdef ND_AVX2
+// four DOFs a lane group, gathered; maxima are exact, so the lanes' order
+// gives the scalar loop's values (they are read only where every value is
+// finite)
+__attribute__((target("avx2"))) Reach reach_avx2(const int64_t *dofs, size_t n, const double *U, const double *Uref) {
+  const __m256d no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL)),
+                most = _mm256_set1_pd(std::numeric_limits<double>::max());
+  __m256d d = _mm256_setzero_pd(), u_max = d, ref_max = d, finite = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  size_t k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const __m256i at = _mm256_loadu_si256(reinterpret_cast<const __m256i *>(dofs + k));
+    const __m256d u = _mm256_i64gather_pd(U, at, 8), ur = _mm256_i64gather_pd(Uref, at, 8);
+    const __m256d au = _mm256_and_pd(u, no_sign), ar = _mm256_and_pd(ur, no_sign);
+    // |x| <= max fails NaN and infinities
+    finite = _mm256_and_pd(finite, _mm256_and_pd(_mm256_cmp_pd(au, most, _CMP_LE_OQ), _mm256_cmp_pd(ar, most, _CMP_LE_OQ)));
+    d = _mm256_max_pd(d, _mm256_and_pd(u - ur, no_sign));
+    u_max = _mm256_max_pd(u_max, au);
+    ref_max = _mm256_max_pd(ref_max, ar);
+  }
+  alignas(32) double lanes[3][4];
+  _mm256_store_pd(lanes[0], d), _mm256_store_pd(lanes[1], u_max), _mm256_store_pd(lanes[2], ref_max);
+  const bool all_finite = _mm256_movemask_pd(finite) == 0xF;
+  _mm256_zeroupper();
+  Reach r;
+  for (int l = 0; l < 4; ++l)
+    r.d = std::max(r.d, lanes[0][l]), r.u_max = std::max(r.u_max, lanes[1][l]), r.ref_max = std::max(r.ref_max, lanes[2][l]);
+  r.finite = all_finite;
+  reach_scalar(dofs, k, n, U, Uref, r);
+  return r;
+}
+#endif
+}  // namespace
+
+Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref) {
+#ifdef ND_AVX2
+  if (simd_on()) return reach_avx2(dofs.data(), dofs.size(), U, Uref);
+#endif
+  Reach r;
+  reach_scalar(dofs.data(), 0, dofs.size(), U, Uref, r);
   return r;
 }
 
@@ -325,6 +411,11 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   // point: they might alias what the loop writes)
   const double *nu = cp->nu.data(), *Pref = Pn->data(), *g_now = gap ? gap : cp->gap.data(),
                *g_ref = gap_n ? gap_n : cp->gap.data();
+  // the reference's test, made once: where it holds, so does every point's below
+  if (!held && reach_admitted(r, free_reach_n) && same_gaps(g_now, g_ref, nq)) {
+    if (counted) count(counters, &Counters::contact_bounds);
+    return true;
+  }
   const double reach = r.u_max + r.ref_max + d;
   const BoundTest test{Pref, nu, g_now, g_ref, nullptr, d, reach, 0, false};
   auto bounded = [&](size_t q) {
@@ -360,12 +451,13 @@ namespace {
 // from a point reference's values x (its P_q or u_n - g0)
 bool within_from_reference(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
                            const std::vector<double> &x, const std::vector<double> &c, const double *scale,
-                           double limit) {
+                           double limit, double admitted) {
   const size_t nq = cp.size();
   if (x.size() != nq || c.size() != nq) return false;
   const Reach r = reach(cp.dofs, U, ref.U.data());
   if (!r.finite) return false;
   const double *g_now = gap ? gap : cp.gap.data(), *g_ref = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
+  if (reach_admitted(r, admitted) && same_gaps(g_now, g_ref, nq)) return true;  // (the test made once)
   const double reach = r.u_max + r.ref_max + r.d;
   // (false for NaN: not shown)
   return all_within(BoundTest{x.data(), c.data(), g_now, g_ref, scale, r.d, reach, limit, false}, nq);
@@ -375,11 +467,12 @@ bool within_from_reference(const ContactPoints &cp, const double *U, const doubl
 bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
                         double limit) {
   if (cp.h.size() != cp.size()) return false;
-  return within_from_reference(cp, U, gap, ref, ref.un, cp.a_sum, cp.h.data(), limit);
+  const double admitted = limit == ref.within_limit ? ref.within_reach : -std::numeric_limits<double>::infinity();
+  return within_from_reference(cp, U, gap, ref, ref.un, cp.a_sum, cp.h.data(), limit, admitted);
 }
 
 bool nonpositive_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref) {
-  return within_from_reference(cp, U, gap, ref, ref.P, cp.nu, nullptr, 0);
+  return within_from_reference(cp, U, gap, ref, ref.P, cp.nu, nullptr, 0, ref.free_reach);
 }
 
 std::shared_ptr<const Halo> contact_point_halo(const ContactPoints &cp, const Share &rows) {

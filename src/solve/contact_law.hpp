@@ -6,6 +6,7 @@
 // [P]_+ when no scheme is given (energies, pressure, explicit steps). The
 // tangent is N'(U) = sum_q (w_q/gamma_q) phi'(P_q(U), P_q^n) b_q p_q^T.
 #pragma once
+#include <limits>
 #include <vector>
 
 #include "assembly/contact.hpp"
@@ -62,6 +63,16 @@ struct Reach {
 };
 Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref);
 
+// The reference's free_reach and within_reach (time/state.hpp) for the
+// penetration limit `limit` (0: none), where its gaps are the assembled ones
+// (else left at -infinity): the bounds below then hold at a U whose reach
+// (over cp.dofs, from ref.U) admits it, one comparison instead of one a point.
+void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit);
+// Whether r admits a reach made by set_reference_reach, and whether the gaps
+// at the check are bitwise the reference's (what the checks ask)
+bool reach_admitted(const Reach &r, double admitted);
+bool same_gaps(const double *g, const double *g_ref, size_t nq);
+
 // Whether every point's u_n - g0 at U (gaps `gap`, null: the assembled
 // ones), evaluated, would be at most limit h_q, shown without evaluating
 // one: from the point reference's (time/state.hpp),
@@ -90,6 +101,10 @@ struct ContactLaw {
   // U^n and its gaps (nullptr: cp->gap), where Pn was evaluated: with them a
   // U near U^n may be shown contact-free without a pass (certainly_free)
   const double *Un = nullptr, *gap_n = nullptr;
+  // Where Un and Pn are a point reference's (time/state.hpp): its
+  // free_reach, with which certainly_free reads only U's reach where the
+  // gaps are bitwise gap_n (-infinity: every point is tested)
+  double free_reach_n = -std::numeric_limits<double>::infinity();
   // A Newton pass whose solves and residual read this rank's rows only (the
   // refactoring tangent on split rows, slice 10): the points it reads, its
   // own and those whose rows touch its rows, received from their owners

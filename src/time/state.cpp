@@ -22,7 +22,7 @@ void clear_keeping_memory(PointValues &v) {
 
 Products reuse_storage(Products &&used) {
   Products p;
-  for (auto field : {&Products::MU, &Products::MV, &Products::MA, &Products::KU}) take(p.*field, used.*field);
+  for (auto field : {&Products::MU, &Products::MV, &Products::MA, &Products::KU}) std::swap(p.*field, used.*field);
   std::swap(p.points, used.points);
   clear_keeping_memory(p.points);
   return p;

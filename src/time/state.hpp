@@ -1,6 +1,7 @@
 // The state at t^n, in free DOFs: what a step reads and the next step writes.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -35,6 +36,12 @@ struct PointSums {
 // and u_n - g0 there, its gaps (empty: the assembled ones).
 struct PointReference {
   std::vector<double> U, P, un, gap;
+  // The bounds' tests over every point made once, for the gaps the
+  // reference has (set_reference_reach, solve/contact_law.hpp): from here a
+  // check at the same gaps (a static obstacle) reads only U's reach.
+  // -infinity: not made. within_reach is for the penetration limit within_limit.
+  double free_reach = -std::numeric_limits<double>::infinity();
+  double within_reach = -std::numeric_limits<double>::infinity(), within_limit = 0;
 };
 struct PointValues {
   std::vector<double> P, un;
@@ -131,8 +138,11 @@ struct State {
 // memory, emptied: their values are not read again, their allocations are
 // reused.
 State reuse_storage(State &&used);
-// The same for products (every field as Products{} has it): those of a
-// state whose U changes again keep their memory for its next pass
+// The same for products (every field as Products{} has it, except that
+// M U, M V, M A and K U keep their sizes too: their values are not read
+// again, `of` = 0 says so, and the next pass writes every entry without
+// filling them with zeros first): those of a state whose U changes again
+// keep their memory for its next pass
 Products reuse_storage(Products &&used);
 // v as PointValues{} has it, its vectors' memory kept
 void clear_keeping_memory(PointValues &v);
