@@ -22,6 +22,7 @@
 #include "linalg/factorization.hpp"
 #include "linalg/ordering.hpp"
 #include "linalg/pcg.hpp"
+#include "linalg/supernodal.hpp"
 #include "linalg/updatable_cholesky.hpp"
 #include "testutil.h"
 #include "unit_fixtures.hpp"
@@ -545,15 +546,15 @@ START_TEST(updatable_cholesky_updates_and_costs) {
 }
 END_TEST
 
-// The supernodal updates (linalg/supernodal.hpp) take their columns four at
-// a time up their paths, each column of L modified by one after the other:
-// the bits of one column per call, in the scalar form as in the wide one
-// (AVX2, common/simd.hpp). Checked on the solves after 7 columns (two
-// batches, one not full), updated then downdated.
+// The supernodal updates (linalg/supernodal.hpp) take their columns kBatch
+// at a time up their paths, each column of L modified by one after the
+// other: the bits of one column per call, in the scalar form as in the
+// wide one (AVX2, common/simd.hpp). Checked on the solves after 2 kBatch + 3
+// columns (three batches, the last not full), updated then downdated.
 START_TEST(supernodal_updates_in_batches_have_the_bits_one_by_one) {
   const nd::Csr A = spd_matrix(30);
   ck_assert(nd::cholmod_is_supernodal(A));
-  const nd::SparseColumns C = clique_columns(A, 7, 1e4);
+  const nd::SparseColumns C = clique_columns(A, 2 * nd::SupernodalModifier::kBatch + 3, 1e4);
   std::vector<double> b(static_cast<size_t>(A.n));
   for (int64_t i = 0; i < A.n; ++i) b[i] = std::cos(0.3 * i);
   const bool simd_before = nd::simd_on();

@@ -219,7 +219,14 @@ void supernodal_backward(const SupernodalFactor &L, const double *inv, std::vect
 
 bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree &tree, double *inv, bool add,
                                 const int64_t *ptr, const int64_t *rows, const double *vals, int64_t k) {
-  if (w_.size() != static_cast<size_t>(L.n) * kBatch) w_.assign(static_cast<size_t>(L.n) * kBatch, 0.0);
+  // w_'s width: the widest batch met so far (a power of two), so that a
+  // scene whose calls carry few vectors holds no more than it uses
+  int width = std::max(width_, 4);
+  while (width < std::min<int64_t>(kBatch, k)) width *= 2;
+  if (width != width_ || w_.size() != static_cast<size_t>(L.n) * width) {
+    width_ = width;
+    w_.assign(static_cast<size_t>(L.n) * width_, 0.0);
+  }
   if (marked_.size() != static_cast<size_t>(L.count)) marked_.assign(static_cast<size_t>(L.count), 0);
   const double sign = add ? 1.0 : -1.0;
   std::vector<int64_t> &first = first_;  // (its memory kept from call to call)
@@ -239,7 +246,7 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
           clear(L, tree, first);
           return false;
         }
-      for (int64_t e = 0; e < m; ++e) w_[rt[e] * kBatch + t] = vals[ptr[j0 + t] + e];
+      for (int64_t e = 0; e < m; ++e) w_[rt[e] * width_ + t] = vals[ptr[j0 + t] + e];
       first.push_back(j);
     }
     union_of_paths(tree, first, marked_, path_);
@@ -248,13 +255,13 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
       int c0 = b.cols;  // the first column a vector has an entry at
       for (int t = 0; t < b.cols && c0 == b.cols; ++t)
         for (int u = 0; u < r; ++u)
-          if (w_[(b.first + t) * kBatch + u] != 0) c0 = t;
+          if (w_[(b.first + t) * width_ + u] != 0) c0 = t;
       const int len = b.ld - c0;
-      if (v_.size() < static_cast<size_t>(len) * kBatch) v_.resize(static_cast<size_t>(len) * kBatch);
+      if (v_.size() < static_cast<size_t>(len) * r) v_.resize(static_cast<size_t>(len) * r);
       // the vectors at the block's rows from column c0's diagonal on, one after the other
       auto row_at = [&](int i) { return i < b.cols - c0 ? b.first + c0 + i : b.rows[i - (b.cols - c0)]; };
       for (int i = 0; i < len; ++i) {
-        const int64_t at = row_at(i) * kBatch;
+        const int64_t at = row_at(i) * width_;
         for (int u = 0; u < r; ++u) v_[static_cast<size_t>(u) * len + i] = w_[at + u], w_[at + u] = 0;
       }
       bool ok = true;
@@ -268,7 +275,7 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
         return false;
       }
       for (int i = b.cols - c0; i < len; ++i) {
-        const int64_t at = row_at(i) * kBatch;
+        const int64_t at = row_at(i) * width_;
         for (int u = 0; u < r; ++u) w_[at + u] = v_[static_cast<size_t>(u) * len + i];
       }
     }
@@ -281,7 +288,7 @@ void SupernodalModifier::clear(const SupernodalFactor &L, const SupernodalTree &
   for (int64_t j : first)
     for (int64_t s = tree.of_column[j]; s >= 0; s = tree.parent[s]) {
       const SupernodalFactor::Block b = L[s];
-      for (int t = 0; t < b.cols; ++t) std::fill_n(w_.begin() + (b.first + t) * kBatch, kBatch, 0.0);
+      for (int t = 0; t < b.cols; ++t) std::fill_n(w_.begin() + (b.first + t) * width_, width_, 0.0);
     }
   // (a vector's rows are on its path: its first row's column and ancestors)
 }
