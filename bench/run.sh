@@ -25,17 +25,13 @@ else
   report=report/PERFORMANCE.md
   # the whole bounce (T = 32) where GetFEM's run stays short; T = 12 (the
   # impact at t = 10 and 2 time units of contact) or 11 on the biggest meshes.
-  # Not here: ball_h2 P2 and ball_h1 (GetFEM's runs would take hours). Our
-  # ball_h1 P1 (84,066 unknowns, one BLAS thread, 2026-11-25) to T = 10.5,
-  # the impact and 9 contact steps: with AMD and refactors past 128 changes,
-  # nnz(L) = 1.28e8, floor 111 ms, contact steps 42 s (3.1 Newton iterations
-  # at 90-99 floors each), 5.5 GB, 15 min to T = 11. With METIS's ordering,
-  # the cost-model updates, the restart from A's factor and the CG mass solve
-  # (14:05 UTC, the machine half busy): nnz(L) = 7.2e7, floor 79 ms, first
-  # step 10.5 s, free flight 1.24 floors, impact 3.0 s, contact steps 9.2 s
-  # (3.1 iterations at 39 floors), 117 s in all, 2.55 GB.
+  # Not here: ball_h2 P2 (GetFEM's run would take hours). ball_h1 P1
+  # (84,066 unknowns) ours alone (the fifth field, "ours": no GetFEM run,
+  # one round of the BLAS settings), to T = 10.5: the impact and 9 contact
+  # steps. On 2026-11-25 with AMD its contact steps took 42 s each; with
+  # METIS 9.2 s.
   plan="disk_h4:2:1:32 disk_h4:2:2:32 disk_h2:2:1:32 disk_h2:2:2:32 disk_h1:2:1:32 disk_h1:2:2:32
-        disk_h0.5:2:1:12 disk_h0.5:2:2:11 ball_h4:3:1:32 ball_h4:3:2:11 ball_h2:3:1:11"
+        disk_h0.5:2:1:12 disk_h0.5:2:2:11 ball_h4:3:1:32 ball_h4:3:2:11 ball_h2:3:1:11 ball_h1:3:1:10.5:ours"
 fi
 mkdir -p "$out/history"
 [ -f "$meshes/disk_h0.5.msh" ] || gmsh -2 -setnumber h 0.5 -format msh41 "$meshes/disk.geo" -o "$meshes/disk_h0.5.msh" >/dev/null
@@ -58,14 +54,14 @@ EOF
   $py bench/getfem_drop.py --check-brick "$meshes/$mesh.msh" "$dim" "$degree" >> "$out/check_brick.txt"
 done
 for entry in $plan; do
-  IFS=: read -r mesh dim degree T <<EOF
+  IFS=: read -r mesh dim degree T only <<EOF
 $entry
 EOF
   tag=${mesh}_P$degree
   OPENBLAS_NUM_THREADS=1 "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark \
     "$out/history/ours_$tag.csv" >> "$ours"
-  OPENBLAS_NUM_THREADS=1 $py bench/getfem_drop.py "$meshes/$mesh.msh" "$dim" "$degree" 0.05 "$T" \
-    "$out/history/getfem_$tag.csv" >> "$getfem"
+  [ "$only" = ours ] || OPENBLAS_NUM_THREADS=1 $py bench/getfem_drop.py "$meshes/$mesh.msh" "$dim" "$degree" 0.05 \
+    "$T" "$out/history/getfem_$tag.csv" >> "$getfem"
   # the BLAS comparison: alternating rounds (bench/perf_report.py keeps the
   # fastest run of each setting); a loop under a second is at the mercy of the
   # machine's other jobs (a 65 ms loop differed by 1.35x between two runs of
@@ -76,6 +72,7 @@ EOF
   run="$build/disk_bench $dim $meshes/$mesh.msh $degree 0.05 $T 0 newmark"
   rounds=3
   awk -v s="$(tail -1 "$ours" | cut -d, -f12)" 'BEGIN { exit !(s < 1) }' && rounds=5
+  [ "$only" = ours ] && rounds=1
   i=0
   while [ $i -lt $rounds ]; do
     case $((i % 3)) in
@@ -92,7 +89,7 @@ EOF
     done
     i=$((i + 1))
   done
-  echo "$tag: $(tail -3 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $(tail -1 "$getfem" | cut -d, -f7,8,11)"
+  echo "$tag: $(tail -3 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $([ -n "$only" ] && echo not run || tail -1 "$getfem" | cut -d, -f7,8,11)"
 done
 echo "load=$(cut -d' ' -f1-3 /proc/loadavg) (end)" >> "$out/machine.txt"
 if [ "$mode" != quick ]; then
