@@ -31,7 +31,8 @@ else
   # steps. On 2026-11-25 with AMD its contact steps took 42 s each; with
   # METIS 9.2 s.
   plan="disk_h4:2:1:32 disk_h4:2:2:32 disk_h2:2:1:32 disk_h2:2:2:32 disk_h1:2:1:32 disk_h1:2:2:32
-        disk_h0.5:2:1:12 disk_h0.5:2:2:11 ball_h4:3:1:32 ball_h4:3:2:11 ball_h2:3:1:11 ball_h1:3:1:10.5:ours"
+        disk_h0.5:2:1:12 disk_h0.5:2:2:11 ball_h4:3:1:32 ball_h4:3:2:11 ball_h2:3:1:11
+        ball_h1:3:1:10.5:ours"
 fi
 mkdir -p "$out/history"
 [ -f "$meshes/disk_h0.5.msh" ] || gmsh -2 -setnumber h 0.5 -format msh41 "$meshes/disk.geo" -o "$meshes/disk_h0.5.msh" >/dev/null
@@ -89,7 +90,8 @@ EOF
     done
     i=$((i + 1))
   done
-  echo "$tag: $(tail -3 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $([ -n "$only" ] && echo not run || tail -1 "$getfem" | cut -d, -f7,8,11)"
+  theirs=$([ -n "$only" ] && echo not run || tail -1 "$getfem" | cut -d, -f7,8,11)
+  echo "$tag: $(tail -3 "$ours" | cut -d, -f9,13,19,20 | tr '\n' ' ')| getfem $theirs"
 done
 echo "load=$(cut -d' ' -f1-3 /proc/loadavg) (end)" >> "$out/machine.txt"
 if [ "$mode" != quick ]; then

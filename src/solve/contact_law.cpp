@@ -316,7 +316,8 @@ double admitted_reach(const double *x, const double *c, const double *g, const d
   double admitted = inf;
   bool finite = true;
   for (size_t q = 0; q < nq; ++q) {
-    const double room = (scale ? below * scale[q] : 0.0) - x[q] - 2 * kBoundMargin * (2 * std::fabs(g[q]) + std::fabs(x[q]));
+    const double room =
+        (scale ? below * scale[q] : 0.0) - x[q] - 2 * kBoundMargin * (2 * std::fabs(g[q]) + std::fabs(x[q]));
     finite &= std::isfinite(room) && std::isfinite(c[q]);
     if (c[q] > 0) admitted = std::min(admitted, room / c[q]);
     else if (!(room >= 0)) admitted = -inf;  // (c_q = 0: no reach admits it)
@@ -371,7 +372,8 @@ __attribute__((target("avx2"))) Reach reach_avx2(const int64_t *dofs, size_t n, 
     const __m256d u = _mm256_i64gather_pd(U, at, 8), ur = _mm256_i64gather_pd(Uref, at, 8);
     const __m256d au = _mm256_and_pd(u, no_sign), ar = _mm256_and_pd(ur, no_sign);
     // |x| <= max fails NaN and infinities
-    finite = _mm256_and_pd(finite, _mm256_and_pd(_mm256_cmp_pd(au, most, _CMP_LE_OQ), _mm256_cmp_pd(ar, most, _CMP_LE_OQ)));
+    finite = _mm256_and_pd(finite,
+                           _mm256_and_pd(_mm256_cmp_pd(au, most, _CMP_LE_OQ), _mm256_cmp_pd(ar, most, _CMP_LE_OQ)));
     d = _mm256_max_pd(d, _mm256_and_pd(u - ur, no_sign));
     u_max = _mm256_max_pd(u_max, au);
     ref_max = _mm256_max_pd(ref_max, ar);
@@ -381,8 +383,11 @@ __attribute__((target("avx2"))) Reach reach_avx2(const int64_t *dofs, size_t n, 
   const bool all_finite = _mm256_movemask_pd(finite) == 0xF;
   _mm256_zeroupper();
   Reach r;
-  for (int l = 0; l < 4; ++l)
-    r.d = std::max(r.d, lanes[0][l]), r.u_max = std::max(r.u_max, lanes[1][l]), r.ref_max = std::max(r.ref_max, lanes[2][l]);
+  for (int l = 0; l < 4; ++l) {
+    r.d = std::max(r.d, lanes[0][l]);
+    r.u_max = std::max(r.u_max, lanes[1][l]);
+    r.ref_max = std::max(r.ref_max, lanes[2][l]);
+  }
   r.finite = all_finite;
   reach_scalar(dofs, k, n, U, Uref, r);
   return r;

@@ -63,10 +63,11 @@ struct Reach {
 };
 Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Uref);
 
-// The reference's free_reach and within_reach (time/state.hpp) for the
-// penetration limit `limit` (0: none), where its gaps are the assembled ones
-// (else left at -infinity): the bounds below then hold at a U whose reach
-// (over cp.dofs, from ref.U) admits it, one comparison instead of one a point.
+// The reference's free_reach and within_reach (time/state.hpp), the latter
+// for the penetration limit `limit` (0: none), made for the reference's
+// gaps: at a U whose reach (over cp.dofs, from ref.U) they admit, with the
+// gaps bitwise the reference's, certainly_free's test and the bounds below
+// hold at every point (the same verdicts), one comparison instead of one a point.
 void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit);
 // Whether r admits a reach made by set_reference_reach, and whether the gaps
 // at the check are bitwise the reference's (what the checks ask)
