@@ -90,11 +90,12 @@ void supernodal_backward(const SupernodalFactor &L, const double *inv, std::vect
 // then half modified: no longer a factor of anything).
 class SupernodalModifier {
  public:
-  // (32, not 4: a batch walks the root's large blocks once for kBatch
-  // vectors; ball P1 h = 1's contact steps 1.57 -> 1.08 s, ball P1 h = 2's
-  // 1-2 % faster, the smaller meshes alike; w_ holds up to 256 bytes an
-  // unknown, as wide as the widest batch met)
-  static constexpr int kBatch = 32;
+  // (64, not 4: a batch walks the root's large blocks once for kBatch
+  // vectors; ball P1 h = 1's contact steps 1.57 -> 1.08 s with 32, 1.01 s
+  // with 64, 1.03 s with 128; ball P1 h = 2's 1-2 % faster, the smaller
+  // meshes alike. w_ holds up to 512 bytes an unknown, as wide as the
+  // widest batch met)
+  static constexpr int kBatch = 64;
   bool modify(const SupernodalFactor &L, const SupernodalTree &tree, double *inv, bool add, const int64_t *ptr,
               const int64_t *rows, const double *vals, int64_t k);
 
