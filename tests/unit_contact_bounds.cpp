@@ -388,6 +388,56 @@ START_TEST(same_bits_3d) {
 }
 END_TEST
 
+// A state's queries of the sums over its points (contact force, applied
+// force, active points, deepest penetration, Nitsche energy): the first
+// keeps its sums with the state's products (Products::queried), the next
+// ones read them; they are the bits of a twin problem queried in another
+// order, and after a step or nd_problem_set_state the kept sums are not
+// read: the values are the twin's that was never queried before.
+START_TEST(queried_sums_are_kept_with_their_products) {
+  const int keys[5] = {ND_CONTACT_FORCE, ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION,
+                       ND_ENERGY_NITSCHE};
+  for (int dim : {2, 3}) {
+    nd_problem a = ndtest::drop_scene(dim, 1, ndtest::kSchemes[2], 1.0, 0.3);
+    nd_problem b = ndtest::drop_scene(dim, 1, ndtest::kSchemes[2], 1.0, 0.3);
+    int contact = 0;
+    for (int k = 0; k < 60 && contact < 3; ++k) {
+      ND_OK_OR_FAIL(nd_step(a));
+      ND_OK_OR_FAIL(nd_step(b));
+      // a is queried at every step, b at every other one: sums kept from an
+      // earlier state (a's from the step before, b's from two before) would differ
+      double va[5], vb[5], again[5];
+      for (int j = 0; j < 5; ++j) va[j] = scalar(a, keys[j]);  // the force first: kept without the Nitsche sum
+      if (k % 2) continue;
+      for (int j = 4; j >= 0; --j) vb[j] = scalar(b, keys[j]);  // the Nitsche energy first: kept with it
+      for (int j = 0; j < 5; ++j) again[j] = scalar(a, keys[j]);  // read from the kept sums
+      ck_assert_msg(std::memcmp(va, vb, sizeof va) == 0 && std::memcmp(va, again, sizeof va) == 0,
+                    "%dD step %d: the queries differ", dim, k + 1);
+      const nd::Products &pa = a->problem.current_state().products;
+      ck_assert(pa.pass != 0 && pa.queried_pass == pa.pass && pa.queried_nitsche);
+      contact += va[2] > 0;
+    }
+    ck_assert_msg(contact == 3, "%dD: no contact", dim);
+    // a new state set over the queried one: its own sums, a's (queried before) as b's
+    int64_t nodes = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(a, &nodes));
+    std::vector<double> u(static_cast<size_t>(nodes * dim));
+    ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, nodes, u.data()));
+    for (int64_t i = 0; i < nodes; ++i) u[i * dim + dim - 1] -= 0.01;  // deeper into the plane
+    const double before = scalar(a, ND_CONTACT_FORCE);
+    for (nd_problem p : {a, b}) ND_OK_OR_FAIL(nd_problem_set_state(p, nodes, u.data(), nullptr));
+    for (int j = 0; j < 5; ++j) {
+      const double x = scalar(a, keys[j]), y = scalar(b, keys[j]);
+      ck_assert_msg(std::memcmp(&x, &y, sizeof x) == 0, "%dD: after set_state, key %d %.17g against %.17g", dim,
+                    keys[j], x, y);
+    }
+    ck_assert(scalar(a, ND_CONTACT_FORCE) > before);
+    nd_problem_destroy(&a);
+    nd_problem_destroy(&b);
+  }
+}
+END_TEST
+
 // The block of the drops falling without turning, at `speed`, gamma0 small
 // (nu_q = sum |a_qk| + gamma_q sum |s_qk| near 1: the bound's reach, where
 // the points move together, near the distance they move)
@@ -462,6 +512,7 @@ int main(void) {
   tcase_add_test(tc, same_bits_2d);
   tcase_add_test(tc, same_bits_3d);
   tcase_add_test(tc, scheme_change_after_unevaluated_points);
+  tcase_add_test(tc, queried_sums_are_kept_with_their_products);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -75,6 +75,15 @@ struct Products {
   // P_q(U) with the state's gaps (the next step's P^n) and u_n - g0 (the
   // penetration guard's), from one pass over the points
   PointValues points;
+  // Which pass made these products (unique in the process: products_of_state;
+  // 0: none), and the sums over the points a query made at them
+  // (state_sums): the state's next queries read those instead of passing
+  // over every point again (a coupling code reads the contact force after
+  // every step). queried_nitsche: the Nitsche energy's sum among them.
+  uint64_t pass = 0;
+  mutable uint64_t queried_pass = 0;
+  mutable bool queried_nitsche = false;
+  mutable PointSums queried;
 };
 
 // The history that fixes the bits of the Newton tangent's updated factor
