@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "common/simd.hpp"
 #include "linalg/backends.hpp"
@@ -113,18 +114,23 @@ struct WideRotation {
     return out;
   }
 };
+// rows [1, from) one by one, then four at a time from `from` (where the
+// vectors' entries, and the column's, start a 32-byte line: see
+// modify_column)
 __attribute__((target("avx2"))) void rotate_avx2(const Rotation &g, double *__restrict col, double *__restrict v,
-                                                 int len) {
+                                                 int from, int len) {
   const WideRotation G(g);
-  int t = 1;
+  rotate(g, col, v, 1, std::min(from, len));
+  int t = from;
   for (; t + 3 < len; t += 4) _mm256_storeu_pd(col + t, G.at(_mm256_loadu_pd(col + t), v + t));
   rotate(g, col, v, t, len);
   _mm256_zeroupper();
 }
 __attribute__((target("avx2"))) void rotate_avx2(const Rotation &g, const Rotation &h, double *__restrict col,
-                                                 double *__restrict v, double *__restrict w, int len) {
+                                                 double *__restrict v, double *__restrict w, int from, int len) {
   const WideRotation G(g), H(h);
-  int t = 1;
+  rotate(g, h, col, v, w, 1, std::min(from, len));
+  int t = from;
   for (; t + 3 < len; t += 4) _mm256_storeu_pd(col + t, H.at(G.at(_mm256_loadu_pd(col + t), v + t), w + t));
   rotate(g, h, col, v, w, t, len);
   _mm256_zeroupper();
@@ -135,7 +141,20 @@ __attribute__((target("avx2"))) void rotate_avx2(const Rotation &g, const Rotati
 // whose entry at the diagonal is zero changes nothing (c = 1, s = 0) and is
 // skipped. false: a pivot r^2 not positive and finite (nothing applied
 // below the diagonal then).
-bool modify_column(double sign, double *__restrict col, double *const *v, int r, int len, double &inv_diag) {
+// The wide passes read and write the vectors and the column four entries
+// at a time; where those straddle two 64-byte lines (a 32-byte access at an
+// address not a multiple of 32: three in four of them, as CHOLMOD's columns
+// and the vectors fell), each costs two, and the rotations ran 1.5 times
+// slower than aligned (AMD EPYC, a column pass over 1,000 rows: 0.22
+// against 0.33-0.39 ns an entry and vector). So the vectors are laid out
+// with their rows in step (SupernodalModifier::modify: each at a 32-byte
+// boundary, their length a multiple of four), the first rows up to the
+// vectors' next boundary are rotated one by one, and with enough vectors to
+// pay for it (kCopiedFrom) the column is copied in step with them into
+// `scratch` and back. The same operations on each entry: the same bits.
+constexpr int kCopiedFrom = 8;
+bool modify_column(double sign, double *__restrict col, double *const *v, int r, int len, double &inv_diag,
+                   double *scratch) {
   Rotation g[SupernodalModifier::kBatch];
   double *vs[SupernodalModifier::kBatch];
   int m = 0;
@@ -154,16 +173,26 @@ bool modify_column(double sign, double *__restrict col, double *const *v, int r,
   if (m == 0) return true;
   col[0] = a;
   inv_diag = 1.0 / a;
-  for (int u = 0; u < m; u += 2) {
-    const bool pair = u + 1 < m;
 #ifdef ND_AVX2
-    if (simd_on()) {
-      if (pair) rotate_avx2(g[u], g[u + 1], col, vs[u], vs[u + 1], len);
-      else rotate_avx2(g[u], col, vs[u], len);
-      continue;
+  if (simd_on()) {
+    // the vectors' first row at a 32-byte boundary (all alike), and the column in step
+    const int phase = static_cast<int>((reinterpret_cast<uintptr_t>(vs[0]) / sizeof(double)) % 4);
+    const int from = 1 + (4 - (phase + 1) % 4) % 4;
+    double *c = col;
+    if (m >= kCopiedFrom && scratch) {
+      c = scratch + phase;
+      std::copy(col + 1, col + len, c + 1);
     }
+    for (int u = 0; u < m; u += 2) {
+      if (u + 1 < m) rotate_avx2(g[u], g[u + 1], c, vs[u], vs[u + 1], from, len);
+      else rotate_avx2(g[u], c, vs[u], from, len);
+    }
+    if (c != col) std::copy(c + 1, c + len, col + 1);
+    return true;
+  }
 #endif
-    if (pair) rotate(g[u], g[u + 1], col, vs[u], vs[u + 1], 1, len);
+  for (int u = 0; u < m; u += 2) {
+    if (u + 1 < m) rotate(g[u], g[u + 1], col, vs[u], vs[u + 1], 1, len);
     else rotate(g[u], col, vs[u], 1, len);
   }
   return true;
@@ -257,18 +286,27 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
         for (int u = 0; u < r; ++u)
           if (w_[(b.first + t) * width_ + u] != 0) c0 = t;
       const int len = b.ld - c0;
-      if (v_.size() < static_cast<size_t>(len) * r) v_.resize(static_cast<size_t>(len) * r);
-      // the vectors at the block's rows from column c0's diagonal on, one after the other
+      // the vectors at the block's rows from column c0's diagonal on, one
+      // after the other, each from a 32-byte boundary (modify_column): their
+      // stride a multiple of four entries, and not of 512 (4 KB: a vector's
+      // stores and the next one's loads would share their addresses' low
+      // bits, which the CPU takes for a dependence)
+      size_t stride = (static_cast<size_t>(len) + 3) / 4 * 4;
+      if (stride % 512 == 0) stride += 4;
+      const size_t room = stride * static_cast<size_t>(r) + 4, scratch_room = stride + 8;
+      if (v_.size() < room + scratch_room) v_.resize(room + scratch_room);
+      double *vb = v_.data() + (4 - (reinterpret_cast<uintptr_t>(v_.data()) / sizeof(double)) % 4) % 4;
+      double *scratch = vb + room - 4;  // (at a boundary too: room - 4 is a multiple of four)
       auto row_at = [&](int i) { return i < b.cols - c0 ? b.first + c0 + i : b.rows[i - (b.cols - c0)]; };
       for (int i = 0; i < len; ++i) {
         const int64_t at = row_at(i) * width_;
-        for (int u = 0; u < r; ++u) v_[static_cast<size_t>(u) * len + i] = w_[at + u], w_[at + u] = 0;
+        for (int u = 0; u < r; ++u) vb[u * stride + i] = w_[at + u], w_[at + u] = 0;
       }
       bool ok = true;
       double *v[kBatch];
       for (int c = c0; ok && c < b.cols; ++c) {
-        for (int u = 0; u < r; ++u) v[u] = v_.data() + static_cast<size_t>(u) * len + (c - c0);
-        ok = modify_column(sign, b.L + static_cast<int64_t>(c) * b.ld + c, v, r, b.ld - c, inv[b.first + c]);
+        for (int u = 0; u < r; ++u) v[u] = vb + u * stride + (c - c0);
+        ok = modify_column(sign, b.L + static_cast<int64_t>(c) * b.ld + c, v, r, b.ld - c, inv[b.first + c], scratch);
       }
       if (!ok) {
         clear(L, tree, first);
@@ -276,7 +314,7 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
       }
       for (int i = b.cols - c0; i < len; ++i) {
         const int64_t at = row_at(i) * width_;
-        for (int u = 0; u < r; ++u) w_[at + u] = v_[static_cast<size_t>(u) * len + i];
+        for (int u = 0; u < r; ++u) w_[at + u] = vb[u * stride + i];
       }
     }
   }
