@@ -12,7 +12,12 @@
 // contact points for its new state (compute_products: the next right-hand
 // side, the energy, P_q), timed alone on the last state, nnz(L) of CHOLMOD's analysis of A
 // (what the library's CHOLMOD backend computes), peak memory (RSS high-water
-// mark). The solved free-flight steps are those of the run and 20 more
+// mark), and the work of the tangent factor's rank-one modifications in a
+// contact step (ND_STAT_FACTOR_MODIFIED_ENTRIES, median over the contact
+// steps; the updated factor of 3D, none in 2D) with its cost as a ratio to the
+// floor, from the time an entry takes in the same process (as many of the
+// lowest contact points' columns as a contact step modifies, median, updated
+// then downdated on a factor of A, 5 times, the fastest). The solved free-flight steps are those of the run and 20 more
 // timed after it from the state of its first step with the predictor off
 // (Problem::set_predicted_steps): what a free-flight step of a deformed body
 // costs, where a rigid fall is predicted. With HISTORY, writes t, E, contact force, Newton iterations and the
@@ -23,14 +28,19 @@
 // column blas_threads then reads "unlimited" for 0 without OPENBLAS_NUM_THREADS).
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <numeric>
 #include <vector>
 
 #include "capi/handles.hpp"
 #include "linalg/backends.hpp"
 #include "linalg/blas_threads.hpp"
+#include "linalg/updatable_cholesky.hpp"
+#include "solve/contact_law.hpp"
 #include "monitor/energies.hpp"
 #include "drop_scene.h"
 #include "timing.hpp"
@@ -45,7 +55,7 @@ const char *kHeader =
     "free_steps,free_median_ms,impact_steps,impact_median_ms,contact_steps,contact_median_ms,"
     "newton_per_contact_step,contact_per_newton_ms,free_over_floor,impact_over_floor,contact_over_floor,"
     "contact_per_newton_over_floor,peak_rss_mb,pass_ms,pass_over_floor,predicted_steps,predicted_median_ms,"
-    "predicted_over_floor";
+    "predicted_over_floor,modified_entries_per_contact_step,modify_ns_per_entry,modify_over_floor";
 
 // nnz(L) of the library's CHOLMOD analysis of A's pattern (its ordering);
 // 0 if the analysis fails.
@@ -61,6 +71,40 @@ double get(nd_problem p, int key) {
   double x = 0;
   nd_get_scalar(p, key, &x);
   return x;
+}
+
+// ns per entry of a rank-one modification of a factor of A (the updated
+// tangent's kernel): the k lowest (closest to the plane) contact points'
+// columns p_q, weighted as the contact tangent weighs them, updated then
+// downdated 5 times, the fastest; 0 where the factor is not CHOLMOD's
+double modify_ns_per_entry(const nd::Integrator &in, const nd::ContactPoints &cp, int dim, size_t k) {
+  if (cp.size() == 0 || k == 0) return 0;
+  std::vector<size_t> order(cp.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return cp.x[a * dim + dim - 1] < cp.x[b * dim + dim - 1]; });
+  nd::SparseColumns C;
+  C.ptr.assign(1, 0);
+  for (size_t j = 0; j < std::min(k, order.size()); ++j) {
+    const size_t q = order[j];
+    nd::append_p(cp, q, std::sqrt(cp.w[q] / cp.gamma[q]), C.idx, C.val);
+    C.ptr.push_back(static_cast<int64_t>(C.idx.size()));
+  }
+  try {
+    nd::UpdatableCholesky f(in.A, nullptr, in.A_factor.get());
+    if (!f.start_from(*in.A_factor)) f.factor(in.A);
+    double best = 0;
+    for (int r = 0; r < 5; ++r) {
+      const int64_t before = f.modified_entries();
+      const double t0 = seconds();
+      if (!f.modify(true, C) || !f.modify(false, C)) return 0;
+      const double ns = 1e9 * (seconds() - t0) / static_cast<double>(f.modified_entries() - before);
+      if (r == 0 || ns < best) best = ns;
+    }
+    return best;
+  } catch (const nd::Error &) {
+    return 0;
+  }
 }
 
 }  // namespace
@@ -107,11 +151,12 @@ int main(int argc, char **argv) {
   const double E0 = get(p, ND_ENERGY_MECHANICAL), force0 = get(p, ND_CONTACT_FORCE);
   const double setup = seconds() - t0;
   const int steps = static_cast<int>(T / tau + 0.5);
-  std::vector<double> free_flight, predicted, impact, contact, per_newton;
+  std::vector<double> free_flight, predicted, impact, contact, per_newton, modified, columns;
   std::vector<unsigned char> after_first;  // the state after the first step
   double newton_contact = 0, first = 0, loop = 0;
   if (history) std::fprintf(history, "t,E,contact_force,newton,step_s\n%.10g,%.12g,%.12g,0,0\n", 0.0, E0, force0);
-  double force_before = 0;
+  double force_before = 0, entries_before = get(p, ND_STAT_FACTOR_MODIFIED_ENTRIES),
+         modifications_before = get(p, ND_STAT_FACTOR_MODIFICATIONS);
   for (int k = 0; k < steps; ++k) {
     t0 = seconds();
     if (nd_step(p) != ND_OK) {
@@ -120,6 +165,9 @@ int main(int argc, char **argv) {
     }
     const double dt = seconds() - t0;
     loop += dt;
+    const double entries = get(p, ND_STAT_FACTOR_MODIFIED_ENTRIES) - entries_before;
+    const double modifications = get(p, ND_STAT_FACTOR_MODIFICATIONS) - modifications_before;
+    entries_before += entries, modifications_before += modifications;
     const double it = get(p, ND_NEWTON_ITERATIONS), force = get(p, ND_CONTACT_FORCE);
     if (k == 0) {
       first = dt;  // includes the ordering and factorization of c M + K_Theta
@@ -133,6 +181,8 @@ int main(int argc, char **argv) {
       impact.push_back(dt);
     } else if (force > 0) {
       contact.push_back(dt);
+      modified.push_back(entries);
+      columns.push_back(modifications);
       per_newton.push_back(dt / it);
       newton_contact += it;
     }  // release steps (contact before, none after) are few: not reported
@@ -162,6 +212,9 @@ int main(int argc, char **argv) {
     pass_times.push_back(seconds() - t0);
   }
   const double pass = median(pass_times);
+  const double entries_step = median(modified);
+  const size_t columns_step = static_cast<size_t>(std::max(1.0, median(columns)));
+  const double entry_ns = entries_step > 0 ? modify_ns_per_entry(*so, disc.contact, dim, columns_step) : 0;
   // solved free-flight steps from the state after the first step
   p->problem.set_predicted_steps(false);
   if (nd_problem_load_state(p, static_cast<int64_t>(after_first.size()), after_first.data()) != ND_OK) {
@@ -184,13 +237,14 @@ int main(int argc, char **argv) {
   if (!threads && limit && std::atoi(limit) == 0) threads = "unlimited";
   const char *mesh = std::strrchr(argv[2], '/') ? std::strrchr(argv[2], '/') + 1 : argv[2];
   std::printf("%d,%s,%d,%s,%lld,%lld,%d,%s,%s,%.6f,%.6f,%.6f,%.6f,%zu,%.6f,%zu,%.6f,%zu,%.6f,%.4f,%.6f,%.3f,%.3f,%.3f,"
-              "%.3f,%.1f,%.6f,%.3f,%zu,%.6f,%.3f\n",
+              "%.3f,%.1f,%.6f,%.3f,%zu,%.6f,%.3f,%.0f,%.4f,%.3f\n",
               dim, mesh, degree, scheme_name, static_cast<long long>(so->A.n), nnz_L(so->A), steps,
               so->A_factor->name(), threads ? threads : "default", setup, first, loop, 1e3 * fl, free_flight.size(),
               1e3 * median(free_flight), impact.size(), 1e3 * median(impact), contact.size(), 1e3 * median(contact),
               contact.empty() ? 0.0 : newton_contact / static_cast<double>(contact.size()), 1e3 * median(per_newton),
               median(free_flight) / fl, median(impact) / fl, median(contact) / fl, median(per_newton) / fl, peak_mb,
-              1e3 * pass, pass / fl, predicted.size(), 1e3 * median(predicted), median(predicted) / fl);
+              1e3 * pass, pass / fl, predicted.size(), 1e3 * median(predicted), median(predicted) / fl, entries_step,
+              entry_ns, 1e-9 * entry_ns * entries_step / fl);
   nd_problem_destroy(&p);
   return 0;
 }

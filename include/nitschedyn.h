@@ -124,7 +124,9 @@ extern "C" {
   X(ND_STAT_POINT_VALUES_RECEIVED, 30, "of them, the contact points' values (P_q, u_n - g0) other ranks evaluated") \
   X(ND_STAT_KRYLOV_ITERATIONS, 31, "Krylov iterations of the iterative solves (ND_SOLVER_PETSC_GAMG), summed") \
   X(ND_STAT_PREDICTED_STEPS, 32, "implicit steps their predictor solved to round-off (constant acceleration): no solve") \
-  X(ND_STAT_LAGGED_STEPS, 33, "contact steps whose first Newton iteration kept the last step's tangent factor")
+  X(ND_STAT_LAGGED_STEPS, 33, "contact steps whose first Newton iteration kept the last step's tangent factor") \
+  X(ND_STAT_FACTOR_MODIFICATIONS, 34, "rank-one updates and downdates of the Newton tangent's updated factor") \
+  X(ND_STAT_FACTOR_MODIFIED_ENTRIES, 35, "their work: entries of L times the vectors that rotated them")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \

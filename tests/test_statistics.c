@@ -265,6 +265,9 @@ START_TEST(persistent_contact_lowrank) {
      both of its branches through the contact phase (one), and at the release
      the point, still in the set from the predictor, has slope 0 (one more) */
   ck_assert_double_eq(d.tangent, 2);
+  /* the low-rank tangent leaves A's factor as it is: no rank-one modification */
+  ck_assert_double_eq(scalar(p, ND_STAT_FACTOR_MODIFICATIONS), 0);
+  ck_assert_double_eq(scalar(p, ND_STAT_FACTOR_MODIFIED_ENTRIES), 0);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST

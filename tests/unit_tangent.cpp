@@ -711,6 +711,19 @@ void updated_factor_history(int dim, int refine, bool supernodal) {
   ck_assert_msg(!log.i.empty() && static_cast<int64_t>(log.i.size()) > 1 + log.i[0],
                 "no update in the history at the checkpoint (%zu entries)", log.i.size());
   ck_assert(nd::tangent_log_well_formed(log, static_cast<int64_t>(a->problem.discretization().contact.size())));
+  // every update the history holds was a rank-one modification of the
+  // factor, counted, with its work (at least its diagonal)
+  int64_t logged = 0;
+  for (size_t at = 1 + static_cast<size_t>(log.i[0]); at < log.i.size();) {  // [+-m, q_1 .. q_m] per update
+    const int64_t m = std::abs(log.i[at]);
+    logged += m, at += 1 + static_cast<size_t>(m);
+  }
+  double modifications = 0, entries = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(a, ND_STAT_FACTOR_MODIFICATIONS, &modifications));
+  ND_OK_OR_FAIL(nd_get_scalar(a, ND_STAT_FACTOR_MODIFIED_ENTRIES, &entries));
+  ck_assert_msg(logged > 0 && modifications >= logged && entries > modifications,
+                "%lld updates in the history, %g modifications counted, %g entries", static_cast<long long>(logged),
+                modifications, entries);
   const std::vector<unsigned char> saved = a->problem.save_state();
   for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(a));
   nd_problem b = make();

@@ -36,6 +36,10 @@ struct Counters {
   // steps whose first Newton iteration kept the last step's tangent (the
   // updated factor, solve/tangent_updown.cpp: kLagSolves)
   int64_t lagged_steps = 0;
+  // the updated factor's rank-one modifications (columns updated or
+  // downdated), and their work: the entries of L times the vectors that
+  // rotated them (UpdatableCholesky::modified_entries)
+  int64_t factor_modifications = 0, factor_modified_entries = 0;
   // not a count: the entries of M, K and K_Theta held now (a rank's rows
   // when they are split over the ranks, problem/discretization.hpp)
   int64_t matrix_entries = 0;

@@ -394,6 +394,7 @@ struct UpdatableCholesky::Impl {
   std::vector<std::pair<int64_t, double>> column;  // scratch: one column, sorted
   double flops, lnz;                               // of the factorization, from the analysis
   std::vector<double> path;                        // see find_paths (empty: not yet)
+  int64_t simplicial_entries = 0;                  // modified_entries of cholmod_l_updown's calls
 };
 
 
@@ -442,7 +443,7 @@ double UpdatableCholesky::factor_cost() const { return std::max(50.0 * impl_->ln
 
 double UpdatableCholesky::solve_cost() const { return 0.6 * impl_->lnz; }
 
-double UpdatableCholesky::modify_cost(const SparseColumns &C) const {
+double UpdatableCholesky::path_entries(const SparseColumns &C) const {
   const Impl &m = *impl_;
   if (m.path.empty()) fail(ND_ERR_INTERNAL, "an update's cost asked before the first factorization");
   double entries = 0;
@@ -451,7 +452,15 @@ double UpdatableCholesky::modify_cost(const SparseColumns &C) const {
     for (int64_t e = C.ptr[j]; e < C.ptr[j + 1]; ++e) first = std::min(first, m.row_of[C.idx[e]]);
     if (first < m.f.n_) entries += m.path[first];
   }
-  return (m.super ? kSupernodalModifyNs : 0.7) * entries;
+  return entries;
+}
+
+double UpdatableCholesky::modify_cost(const SparseColumns &C) const {
+  return (impl_->super ? kSupernodalModifyNs : 0.7) * path_entries(C);
+}
+
+int64_t UpdatableCholesky::modified_entries() const {
+  return impl_->modifier.rotated_entries() + impl_->simplicial_entries;
 }
 
 bool UpdatableCholesky::modify(bool add, const SparseColumns &C) {
@@ -484,6 +493,7 @@ bool UpdatableCholesky::modify(bool add, const SparseColumns &C) {
   }
   Sp[k] = C.ptr[k];
   cholmod_factor *W = m.W;
+  if (!m.path.empty()) m.simplicial_entries += static_cast<int64_t>(path_entries(C));
   const int ok = cholmod_l_updown(add ? 1 : 0, S, W, &f.c_);
   const int status = f.c_.status;
   cholmod_l_free_sparse(&S, &f.c_);

@@ -154,7 +154,7 @@ __attribute__((target("avx2"))) void rotate_avx2(const Rotation &g, const Rotati
 // `scratch` and back. The same operations on each entry: the same bits.
 constexpr int kCopiedFrom = 8;
 bool modify_column(double sign, double *__restrict col, double *const *v, int r, int len, double &inv_diag,
-                   double *scratch) {
+                   double *scratch, int64_t &rotated) {
   Rotation g[SupernodalModifier::kBatch];
   double *vs[SupernodalModifier::kBatch];
   int m = 0;
@@ -171,6 +171,7 @@ bool modify_column(double sign, double *__restrict col, double *const *v, int r,
     a = rr;
   }
   if (m == 0) return true;
+  rotated += static_cast<int64_t>(m) * len;
   col[0] = a;
   inv_diag = 1.0 / a;
 #ifdef ND_AVX2
@@ -306,7 +307,8 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
       double *v[kBatch];
       for (int c = c0; ok && c < b.cols; ++c) {
         for (int u = 0; u < r; ++u) v[u] = vb + u * stride + (c - c0);
-        ok = modify_column(sign, b.L + static_cast<int64_t>(c) * b.ld + c, v, r, b.ld - c, inv[b.first + c], scratch);
+        ok = modify_column(sign, b.L + static_cast<int64_t>(c) * b.ld + c, v, r, b.ld - c, inv[b.first + c], scratch,
+                           rotated_);
       }
       if (!ok) {
         clear(L, tree, first);

@@ -98,6 +98,9 @@ class SupernodalModifier {
   static constexpr int kBatch = 64;
   bool modify(const SupernodalFactor &L, const SupernodalTree &tree, double *inv, bool add, const int64_t *ptr,
               const int64_t *rows, const double *vals, int64_t k);
+  // entries of L times the vectors that modified them, since construction
+  // (a column's entry rotated by m vectors counts m; its diagonal counts)
+  int64_t rotated_entries() const { return rotated_; }
 
  private:
   void clear(const SupernodalFactor &L, const SupernodalTree &tree, const std::vector<int64_t> &first);
@@ -107,6 +110,7 @@ class SupernodalModifier {
   std::vector<char> marked_;  // (zeros between calls)
   std::vector<int64_t> path_;
   std::vector<int64_t> first_;  // a batch's vectors' first rows
+  int64_t rotated_ = 0;
 };
 
 // path[j]: the entries of L in the columns from j to the root (what a

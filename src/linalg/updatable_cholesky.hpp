@@ -64,6 +64,12 @@ class UpdatableCholesky {
   double solve_cost() const;
   double modify_cost(const SparseColumns &C) const;
   bool has_costs() const;  // modify_cost is known (after a factor() or start_from())
+  // the entries of L on the columns' paths (modify_cost's measure of the work)
+  double path_entries(const SparseColumns &C) const;
+  // the work of the modifications since construction: the entries of L
+  // times the vectors that rotated them (the supernodal form's count; the
+  // simplicial form, CHOLMOD's, counts each column's path_entries)
+  int64_t modified_entries() const;
 
  private:
   struct Impl;  // CHOLMOD's types stay in cholmod.cpp

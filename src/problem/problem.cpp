@@ -722,6 +722,8 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_KRYLOV_ITERATIONS, &Counters::krylov_iterations},
     {ND_STAT_PREDICTED_STEPS, &Counters::predicted_steps},
     {ND_STAT_LAGGED_STEPS, &Counters::lagged_steps},
+    {ND_STAT_FACTOR_MODIFICATIONS, &Counters::factor_modifications},
+    {ND_STAT_FACTOR_MODIFIED_ENTRIES, &Counters::factor_modified_entries},
 };
 }  // namespace
 

@@ -140,7 +140,7 @@ class UpdownTangent : public TangentSolver {
     if (updated && factor_->modify_cost(up_C_) > factorization_cost()) updated = false;  // (costs known now)
     if (updated && up_C_.count() > 0) {
       count(counters_, &Counters::tangent_updates);
-      updated = factor_->modify(true, up_C_);  // false: a pivot lost to round-off, T factored instead
+      updated = modify_counted(true, up_C_);  // false: a pivot lost to round-off, T factored instead
     }
     if (updated) {
       ++stats.restarts;
@@ -174,7 +174,15 @@ class UpdownTangent : public TangentSolver {
   bool modify(bool add, const SparseColumns &C) {
     count(counters_, &Counters::tangent_updates);
     updates_ += C.count();
-    return factor_->modify(add, C);
+    return modify_counted(add, C);
+  }
+  // the factor modified, its columns and their work counted (ND_STAT_FACTOR_*)
+  bool modify_counted(bool add, const SparseColumns &C) {
+    count(counters_, &Counters::factor_modifications, C.count());
+    const int64_t before = factor_->modified_entries();
+    const bool ok = factor_->modify(add, C);
+    count(counters_, &Counters::factor_modified_entries, factor_->modified_entries() - before);
+    return ok;
   }
   // from the factor's set to d: updates first (T stays further from
   // singular on the way), then downdates; each recorded. first (the step's
