@@ -75,7 +75,7 @@ double get(nd_problem p, int key) {
 
 // ns per entry of a rank-one modification of a factor of A (the updated
 // tangent's kernel): the k lowest (closest to the plane) contact points'
-// columns p_q, weighted as the contact tangent weighs them, updated then
+// columns p_q, each times sqrt(w_q / gamma_q), updated then
 // downdated 5 times, the fastest; 0 where the factor is not CHOLMOD's
 double modify_ns_per_entry(const nd::Integrator &in, const nd::ContactPoints &cp, int dim, size_t k) {
   if (cp.size() == 0 || k == 0) return 0;

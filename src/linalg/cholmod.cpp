@@ -493,7 +493,7 @@ bool UpdatableCholesky::modify(bool add, const SparseColumns &C) {
   }
   Sp[k] = C.ptr[k];
   cholmod_factor *W = m.W;
-  if (!m.path.empty()) m.simplicial_entries += static_cast<int64_t>(path_entries(C));
+  m.simplicial_entries += static_cast<int64_t>(path_entries(C));  // (paths known: m.W is a factor)
   const int ok = cholmod_l_updown(add ? 1 : 0, S, W, &f.c_);
   const int status = f.c_.status;
   cholmod_l_free_sparse(&S, &f.c_);

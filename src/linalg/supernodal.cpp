@@ -178,9 +178,9 @@ bool modify_column(double sign, double *__restrict col, double *const *v, int r,
   if (simd_on()) {
     // the vectors' first row at a 32-byte boundary (all alike), and the column in step
     const int phase = static_cast<int>((reinterpret_cast<uintptr_t>(vs[0]) / sizeof(double)) % 4);
-    const int from = 1 + (4 - (phase + 1) % 4) % 4;
+    const int from = 4 - phase;  // the first row t >= 1 with phase + t a multiple of four
     double *c = col;
-    if (m >= kCopiedFrom && scratch) {
+    if (m >= kCopiedFrom) {
       c = scratch + phase;
       std::copy(col + 1, col + len, c + 1);
     }
@@ -294,10 +294,11 @@ bool SupernodalModifier::modify(const SupernodalFactor &L, const SupernodalTree 
       // bits, which the CPU takes for a dependence)
       size_t stride = (static_cast<size_t>(len) + 3) / 4 * 4;
       if (stride % 512 == 0) stride += 4;
-      const size_t room = stride * static_cast<size_t>(r) + 4, scratch_room = stride + 8;
-      if (v_.size() < room + scratch_room) v_.resize(room + scratch_room);
+      // then the scratch column (up to 3 + len entries), and 3 entries to reach the first boundary
+      const size_t vectors = stride * static_cast<size_t>(r);
+      if (v_.size() < vectors + stride + 6) v_.resize(vectors + stride + 6);
       double *vb = v_.data() + (4 - (reinterpret_cast<uintptr_t>(v_.data()) / sizeof(double)) % 4) % 4;
-      double *scratch = vb + room - 4;  // (at a boundary too: room - 4 is a multiple of four)
+      double *scratch = vb + vectors;
       auto row_at = [&](int i) { return i < b.cols - c0 ? b.first + c0 + i : b.rows[i - (b.cols - c0)]; };
       for (int i = 0; i < len; ++i) {
         const int64_t at = row_at(i) * width_;
