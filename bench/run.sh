@@ -45,6 +45,9 @@ $py bench/getfem_drop.py --header > "$getfem"
   echo "load=$(cut -d' ' -f1-3 /proc/loadavg)"
   echo "getfem=$(dpkg-query -W -f='${Version}' python3-getfem 2>/dev/null || echo unknown)"
   echo "blas=$(readlink -f /etc/alternatives/libblas.so.3-x86_64-linux-gnu 2>/dev/null || echo unknown)"
+  # the kernels OpenBLAS picked for this CPU: the histories' bits depend on
+  # them (bench/same_histories.sh asks for the same with OPENBLAS_CORETYPE)
+  echo "blas_core=$($py bench/blas_core.py 2>/dev/null || echo unknown)"
   echo "mode=$mode"; } > "$out/machine.txt"
 # GetFEM's Nitsche brick, as configured, against DESIGN §1's terms
 : > "$out/check_brick.txt"
