@@ -20,7 +20,9 @@
 // then downdated on a factor of A, 5 times, the fastest). The solved free-flight steps are those of the run and 20 more
 // timed after it from the state of its first step with the predictor off
 // (Problem::set_predicted_steps): what a free-flight step of a deformed body
-// costs, where a rigid fall is predicted. With HISTORY, writes t, E, contact force, Newton iterations and the
+// costs, where a rigid fall is predicted. Then the floor again, a solve
+// timed right after each of 20 more such steps (median), and the free-flight
+// median as a ratio to it. With HISTORY, writes t, E, contact force, Newton iterations and the
 // step's time per step, to compare with another code (bench/getfem_drop.py).
 //   disk_bench DIM MESH DEGREE TAU T SOLVER [SCHEME [HISTORY]]
 //   SCHEME: hybrid (default) | newmark (Newmark(1/4, 1/2))
