@@ -234,9 +234,10 @@ int main(int argc, char **argv) {
     const double dt = seconds() - t0;
     if (get(p, ND_CONTACT_FORCE) == 0 && get(p, ND_NEWTON_ITERATIONS) >= 1) free_flight.push_back(dt);
   }
-  // the floor right after a solved free-flight step: the step's own passes
-  // (over M, K and the contact points) leave less of the factor in cache
-  // than the back-to-back solves above; not between the timed steps, whose
+  // the floor right after a solved free-flight step: do the step's own
+  // passes (over M, K and the contact points) leave less of the factor in
+  // cache than the back-to-back solves above? (2026-12-02: 0.89-1.08 floors
+  // on every mesh of make bench, so no.) Not between the timed steps, whose
   // solves it would warm
   if (nd_problem_load_state(p, static_cast<int64_t>(after_first.size()), after_first.data()) != ND_OK) {
     std::fprintf(stderr, "%s\n", nd_last_error());
