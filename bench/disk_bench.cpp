@@ -219,41 +219,35 @@ int main(int argc, char **argv) {
     pass_times.push_back(seconds() - t0);
   }
   const double pass = median(pass_times);
-  // solved free-flight steps from the state after the first step
+  // 20 solved free-flight steps from the state after the first step (the
+  // predictor off), after_each(its time) after each; false: a step failed
   p->problem.set_predicted_steps(false);
-  if (nd_problem_load_state(p, static_cast<int64_t>(after_first.size()), after_first.data()) != ND_OK) {
-    std::fprintf(stderr, "%s\n", nd_last_error());
-    return 1;
-  }
-  for (int k = 0; k < 20 && k + 1 < steps; ++k) {
-    t0 = seconds();
-    if (nd_step(p) != ND_OK) {
-      std::fprintf(stderr, "%s\n", nd_last_error());
-      return 1;
+  auto solved_free_steps = [&](auto &&after_each) {
+    if (nd_problem_load_state(p, static_cast<int64_t>(after_first.size()), after_first.data()) != ND_OK) return false;
+    for (int k = 0; k < 20 && k + 1 < steps; ++k) {
+      const double start = seconds();
+      if (nd_step(p) != ND_OK) return false;
+      const double dt = seconds() - start;
+      if (get(p, ND_CONTACT_FORCE) == 0 && get(p, ND_NEWTON_ITERATIONS) >= 1) after_each(dt);
     }
-    const double dt = seconds() - t0;
-    if (get(p, ND_CONTACT_FORCE) == 0 && get(p, ND_NEWTON_ITERATIONS) >= 1) free_flight.push_back(dt);
-  }
-  // the floor right after a solved free-flight step: do the step's own
-  // passes (over M, K and the contact points) leave less of the factor in
-  // cache than the back-to-back solves above? (2026-12-02: 0.89-1.08 floors
-  // on every mesh of make bench, so no.) Not between the timed steps, whose
-  // solves it would warm
-  if (nd_problem_load_state(p, static_cast<int64_t>(after_first.size()), after_first.data()) != ND_OK) {
-    std::fprintf(stderr, "%s\n", nd_last_error());
-    return 1;
-  }
+    return true;
+  };
+  // the floor right after such a step: do the step's own passes (over M, K
+  // and the contact points) leave less of the factor in cache than the
+  // back-to-back solves above? (2026-12-02: 0.89-1.08 floors on every mesh
+  // of make bench, so no.) In a second series: between the timed steps it
+  // would warm their solves
   std::vector<double> floor_after_step;
-  for (int k = 0; k < 20 && k + 1 < steps; ++k) {
-    if (nd_step(p) != ND_OK) {
-      std::fprintf(stderr, "%s\n", nd_last_error());
-      return 1;
-    }
-    if (get(p, ND_CONTACT_FORCE) != 0 || get(p, ND_NEWTON_ITERATIONS) < 1) continue;
-    x = ones;
-    t0 = seconds();  // (the BLAS policy of the library's calls: `blas` above)
-    so->A_factor->solve(x.data());
-    floor_after_step.push_back(seconds() - t0);
+  const bool stepped = solved_free_steps([&](double dt) { free_flight.push_back(dt); }) &&
+                       solved_free_steps([&](double) {
+                         x = ones;
+                         t0 = seconds();  // (the BLAS policy of the library's calls: `blas` above)
+                         so->A_factor->solve(x.data());
+                         floor_after_step.push_back(seconds() - t0);
+                       });
+  if (!stepped) {
+    std::fprintf(stderr, "%s\n", nd_last_error());
+    return 1;
   }
   struct rusage ru;
   getrusage(RUSAGE_SELF, &ru);

@@ -342,10 +342,10 @@ def main():
         if over:
             w("  Floor + pass exceeds 1.3 floors on %d of %d meshes (%s)." % (
                 len(over), len(rows), ", ".join(name(r) for r in over)))
-        late = [(x, r) for x, r in ((floor_after_step(r["o"]), r) for r in rows) if x is not None]
-        if late:
-            lo, rl = min(late, key=lambda t: t[0])
-            hi, rh = max(late, key=lambda t: t[0])
+        late = [(floor_after_step(r["o"]), r) for r in rows]
+        lo, rl = worst_of(late, min)
+        hi, rh = worst_of(late, max)
+        if rl:
             w("  A solve timed right after a step costs %s (%s) to %s (%s) floors." % (
                 fmt(lo), name(rl), fmt(hi), name(rh)))
     v, r = worst_of(per_it, max)
