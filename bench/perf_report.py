@@ -219,7 +219,7 @@ def main():
       "guards, the next step's P^n), timed alone on the last state. A free-flight step is the solve, this "
       "pass and the vector work of the scheme; floor + pass is what it would cost with nothing else. "
       "a solve after a step: the same solve timed right after each of 20 solved free-flight steps (median), "
-      "when the step's passes over M, K and the contact points have left less of the factor in cache than "
+      "where the step's passes over M, K and the contact points may have left less of the factor in cache than "
       "back-to-back solves do; the floor is the back-to-back solve.")
     w("")
     w("modifications / floor: the rank-one updates and downdates of the Newton tangent's factor in a contact "
