@@ -1,4 +1,4 @@
-// Benchmark (not a test): the 2D disk or 3D ball of DESIGN §7, one
+// Benchmark (not a test): the 2D disk or 3D ball of docs/design.md §7, one
 // configuration per process so that the peak memory is its own. Prints one
 // CSV row (the header: disk_bench --header): the setup time (the scene and
 // the state at t = 0: the mesh read, the operators assembled), the first

@@ -1,5 +1,5 @@
 /* An explicit step's cost: the central difference (Newmark(0, 1/2)) with
- * lumped mass on the disk or the ball of DESIGN §7 (Theta = 1, gamma0 =
+ * lumped mass on the disk or the ball of docs/design.md §7 (Theta = 1, gamma0 =
  * 1e-3), tau half the estimated critical step. Median wall time of a step
  * over STEPS steps after the first, and the passes over the contact points
  * they made (ND_STAT_CONTACT_EVALUATIONS).

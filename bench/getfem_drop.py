@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The disk (2D) and ball (3D) of DESIGN §7 solved by GetFEM, for bench/run.sh.
+"""The disk (2D) and ball (3D) of docs/design.md §7 solved by GetFEM, for bench/run.sh.
 
 GetFEM (Debian's python3-getfem) does the finite element work: the Gmsh mesh,
 the P1/P2 Lagrange space, elasticity and mass bricks, its Nitsche contact
@@ -9,7 +9,7 @@ Newton solve of every step (Model.solve). This script runs the Newmark(1/4,
 writes the same per-step history as bench/disk_bench (t, E, contact force,
 Newton iterations, step time) and one CSV row of costs.
 
-Matching our formulation (DESIGN §1-2):
+Matching our formulation (docs/design.md §1-2):
 - gamma. GetFEM's brick uses gamma = element_size / gamma0_getfem, with its
   own element_size (not the diameter); ours is gamma0 h_K with h_K the longest
   edge of the bulk cell. gamma0_getfem is given per cell (a P0 field) as
@@ -21,7 +21,7 @@ Matching our formulation (DESIGN §1-2):
   formulation (and ours) does not have, and its normal stress is
   (sigma(u) N) . n, not n . sigma(u) n (N differs from the obstacle's n on the
   curved boundary). So the Neumann term given to the brick is
-  G = (n . sigma(u) n) n: then GetFEM's terms are exactly DESIGN §1's.
+  G = (n . sigma(u) n) n: then GetFEM's terms are exactly docs/design.md §1's.
 - The obstacle: the signed distance y (2D) or z (3D), n = -e_y or -e_z.
 - Quadrature: IM_TRIANGLE(2p) / IM_TETRAHEDRON(2 or 5), whose face rules are
   exact for the polynomial parts, as ours; the points differ in 3D (the
@@ -32,7 +32,7 @@ Matching our formulation (DESIGN §1-2):
   M A0 = F = M g: A0 = g exactly.
 
 usage: getfem_drop.py MESH.msh DIM DEGREE TAU T HISTORY.csv
-       getfem_drop.py --check-brick MESH.msh DIM DEGREE   (the brick against DESIGN §1)
+       getfem_drop.py --check-brick MESH.msh DIM DEGREE   (the brick against docs/design.md §1)
 Prints one CSV row (--header for the header). The mesh is converted to Gmsh's
 format 2.2 (GetFEM 5.4's reader) with gmsh in a temporary directory.
 """
@@ -166,7 +166,7 @@ class Drop:
 
 def check_brick(mesh, dim, degree):
     """GetFEM's contact residual (the whole model's minus elasticity and mass)
-    against DESIGN §1's Nitsche terms assembled by GWFL, at a state pushed
+    against docs/design.md §1's Nitsche terms assembled by GWFL, at a state pushed
     into the plane with random noise; prints the largest relative difference."""
     d = Drop(mesh, dim, degree, 0.05)
     U = np.random.default_rng(1).standard_normal(d.n) * 0.3

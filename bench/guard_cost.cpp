@@ -1,4 +1,4 @@
-// Benchmark (not a test): what the guards of DESIGN §3b cost a free-flight
+// Benchmark (not a test): what the guards of docs/design.md §3b cost a free-flight
 // step of the disk (hybrid, Theta = 1, gamma0 = 1e-3, tau = 0.05, the 160
 // steps before the impact at t = 10). Two copies of the problem step in
 // turn, one with the default guards, one with the energy and penetration

@@ -174,7 +174,7 @@ def main():
     w("- Date: %s. GetFEM %s (Debian's python3-getfem). BLAS: %s%s." % (
         machine.get("date", "?"), machine.get("getfem", "?"), machine.get("blas", "?"),
         " (OpenBLAS's %s kernels)" % machine["blas_core"] if machine.get("blas_core", "unknown") != "unknown" else ""))
-    w("- Scene (DESIGN §7): Newmark(1/4, 1/2), Θ = 1, γ0 = 1e-3 (γ = γ0 h_K), τ = 0.05, from t = 0 to T "
+    w("- Scene (docs/design.md §7): Newmark(1/4, 1/2), Θ = 1, γ0 = 1e-3 (γ = γ0 h_K), τ = 0.05, from t = 0 to T "
       "(T = 32: the whole bounce; impact at t = 10; a shorter T where GetFEM's run would be long, column T). "
       "Ours: bench/disk_bench; GetFEM: bench/getfem_drop.py, the same mesh, degree, scheme and discrete "
       "formulation (see its docstring); both with `OPENBLAS_NUM_THREADS=1`, run one after the other per mesh. "
@@ -253,7 +253,7 @@ def main():
       "point whose P_q is at round-off). In 3D the facet quadrature points differ (ours: collapsed Gauss; GetFEM: "
       "the IM_TRIANGLE faces of IM_TETRAHEDRON) and [P]_+ is not a polynomial, so the contact integrals differ by the "
       "quadrature error (%s at worst here), which decreases with h; with the same points (2D) the formulations "
-      "agree, and `bench/getfem_drop.py`'s brick check (GetFEM's contact residual against DESIGN §1's formula "
+      "agree, and `bench/getfem_drop.py`'s brick check (GetFEM's contact residual against docs/design.md §1's formula "
       "assembled by GWFL) agrees to 1e-13 in 2D and 3D." % (fmt(max(d2) if d2 else None, 2),
                                                             fmt(max(d3) if d3 else None, 2)))
     w("")

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Benchmarks (not tests), issue 12: the disk (2D) and ball (3D) of DESIGN §7,
+# Benchmarks (not tests), issue 12: the disk (2D) and ball (3D) of docs/design.md §7,
 # P1 and P2, Newmark(1/4, 1/2), Theta = 1, gamma0 = 1e-3, tau = 0.05, ours
 # (bench/disk_bench) and GetFEM's (bench/getfem_drop.py, Debian's
 # python3-getfem, same mesh and formulation) run one after the other for each
@@ -49,7 +49,7 @@ $py bench/getfem_drop.py --header > "$getfem"
   # them (bench/same_histories.sh asks for the same with OPENBLAS_CORETYPE)
   echo "blas_core=$($py bench/blas_core.py 2>/dev/null || echo unknown)"
   echo "mode=$mode"; } > "$out/machine.txt"
-# GetFEM's Nitsche brick, as configured, against DESIGN §1's terms
+# GetFEM's Nitsche brick, as configured, against docs/design.md §1's terms
 : > "$out/check_brick.txt"
 for c in disk_h4:2:1 disk_h4:2:2 ball_h4:3:1 ball_h4:3:2; do
   IFS=: read -r mesh dim degree <<EOF
@@ -98,7 +98,7 @@ EOF
 done
 echo "load=$(cut -d' ' -f1-3 /proc/loadavg) (end)" >> "$out/machine.txt"
 if [ "$mode" != quick ]; then
-  # what the guards cost a free-flight step (DESIGN §3b: at most 5 %)
+  # what the guards cost a free-flight step (docs/design.md §3b: at most 5 %)
   guards=$out/guard_cost.csv
   echo "degree,unknowns,median_step_ms_guarded,median_step_ms_unguarded,relative_cost,energy_evaluation_over_step" > "$guards"
   for degree in 1 2; do

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Strong and weak scaling of the distributed solve (not a test), for
-# report/SCALING.md: the 2D disk of DESIGN §7, P2, hybrid scheme, tau = 0.25
+# report/SCALING.md: the 2D disk of docs/design.md §7, P2, hybrid scheme, tau = 0.25
 # to T = 12 (39 free-flight steps, the impact at t = 10, 7 contact steps),
 # each configuration in its own mpiexec (bench/scaling_bench.c), one BLAS/OpenMP
 # thread per rank so that 2 ranks use the 2 cores and 1 rank one of them.

@@ -1,4 +1,4 @@
-/* Benchmark (not a test; builds with PETSc): the 2D disk of DESIGN §7 on the
+/* Benchmark (not a test; builds with PETSc): the 2D disk of docs/design.md §7 on the
  * ranks of MPI_COMM_WORLD, for report/SCALING.md (bench/scaling.sh runs it).
  * Every rank builds the same problem; with a PETSc solver the problem gets
  * MPI_COMM_WORLD (the solves are distributed), with cholmod it stays serial.

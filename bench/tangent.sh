@@ -1,5 +1,5 @@
 #!/bin/sh
-# Benchmark of the Newton tangent solvers (not a test), DESIGN §4:
+# Benchmark of the Newton tangent solvers (not a test), docs/design.md §4:
 #   bench/results/tangent_crossover.csv  one solve with k active points, the
 #     refactorization against the low-rank update (the rule of lowrank_rank_limit)
 #   bench/results/tangent_steps.csv      the whole bounce of the disk with each

@@ -1,4 +1,4 @@
-// Benchmark (not a test): the Newton tangent solvers of DESIGN §4 on the disk
+// Benchmark (not a test): the Newton tangent solvers of docs/design.md §4 on the disk
 // or ball dropped on a plane (hybrid scheme, Theta = 1, gamma0 = 1e-3, tau = 0.05).
 //
 //   tangent_bench run DIM MESH DEGREE [T]

@@ -1,5 +1,5 @@
 /*
- * bar1d - the 1D bar of DESIGN §7 through the public API of libnitschedyn,
+ * bar1d - the 1D bar of docs/design.md §7 through the public API of libnitschedyn,
  * compared with its exact solution.
  *
  * Omega = (0,1), rho = E = 1, clamped at x = 1, rigid obstacle at x = 0
@@ -47,7 +47,7 @@ typedef struct {
 static void usage(FILE *f, const char *prog) {
   fprintf(f,
           "usage: %s [SCHEME] [options]\n"
-          "The 1D bar with an exact solution (DESIGN §7), relative errors and energies.\n"
+          "The 1D bar with an exact solution (docs/design.md §7), relative errors and energies.\n"
           "  SCHEME, or --scheme SCHEME   hybrid (default) | theta | newmark | galpha\n"
           "  --theta-param X   theta of the theta-scheme (default 0.5)\n"
           "  --rho-inf X       generalized-alpha's rho_inf in [0,1] (default 0.8)\n"
@@ -485,7 +485,7 @@ int main(int argc, char **argv) {
   if (parsed) return parsed == 1 ? 0 : 2;
   if (!o.quiet) {
     const double h = 1.0 / (double)o.nx;
-    printf("bar1d: 1D bar against its exact solution (DESIGN §7), libnitschedyn %s\n", ND_VERSION_STRING);
+    printf("bar1d: 1D bar against its exact solution (docs/design.md §7), libnitschedyn %s\n", ND_VERSION_STRING);
     printf("Omega=(0,1) rho=1 E=1 clamped at x=1, obstacle at x=0; u0=(1-x)/2 v0=0; exact period 3, E=1/8\n");
     printf("h=%g gamma=gamma0*h=%g tau/h=%g mass=%s\n", h, o.gamma0 * h, o.tau / h,
            o.lumped ? "lumped" : "consistent");

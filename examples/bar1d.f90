@@ -1,4 +1,4 @@
-! bar1d.f90 - the 1D bar of DESIGN §7 driven step by step from Fortran
+! bar1d.f90 - the 1D bar of docs/design.md §7 driven step by step from Fortran
 ! through the module nitschedyn, compared with its exact solution.
 !
 ! The same scene as examples/bar1d.c: Omega = (0,1), rho = E = 1, clamped at
@@ -327,7 +327,7 @@ contains
       if (arg == '--help' .or. arg == '-h') then
         write (output_unit, '(a)') &
           'usage: bar1d_f90 [--scheme hybrid|galpha] [--rho-inf X] [--nx N] [--degree 1|2] [--tau X] [--T X] [--quiet]', &
-          'The 1D bar of DESIGN §7 from Fortran (Theta = 1, gamma0 = 0.2): the summary of bar1d --quiet.', &
+          'The 1D bar of docs/design.md §7 from Fortran (Theta = 1, gamma0 = 0.2): the summary of bar1d --quiet.', &
           'Defaults: hybrid scheme, rho_inf 0.8 (generalized-alpha), nx 40, degree 1, tau h/2, T 3.'
         stop
       end if

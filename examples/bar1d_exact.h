@@ -1,4 +1,4 @@
-/* The 1D bar of DESIGN §7: its exact solution, and relative space-time error
+/* The 1D bar of docs/design.md §7: its exact solution, and relative space-time error
  * norms of a P1/P2 solution against it. Shared by examples/bar1d.c and the
  * convergence test. */
 #ifndef ND_BAR1D_EXACT_H

@@ -1,4 +1,4 @@
-! disk2d_mpi.f90 - the 2D disk of DESIGN §7 dropped on a plane, driven from
+! disk2d_mpi.f90 - the 2D disk of docs/design.md §7 dropped on a plane, driven from
 ! Fortran on the ranks of MPI_COMM_WORLD (builds with PETSc).
 !
 ! The scene of examples/disk2d.c (drop_scene.c): radius 20, centre 25 above

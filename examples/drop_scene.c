@@ -1,7 +1,7 @@
 /* A linear elastic disk (2D, plane strain) or ball (3D) of radius 20, centre
  * 25 above the plane, lambda = mu = 20, rho = 1, falling under gravity
  * (0, -0.1): it hits the plane at t = 10 with speed 1, stays in contact for a
- * while and bounces off (DESIGN §7). Prints the energies, the contact force,
+ * while and bounces off (docs/design.md §7). Prints the energies, the contact force,
  * the penetration and the Newton iterations per interval, and the run time. */
 #include "drop_scene.h"
 

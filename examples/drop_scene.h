@@ -1,4 +1,4 @@
-/* The disk (2D) and ball (3D) of DESIGN §7 dropped on a plane: one driver,
+/* The disk (2D) and ball (3D) of docs/design.md §7 dropped on a plane: one driver,
  * used by examples/disk2d.c and examples/ball3d.c. */
 #ifndef ND_DROP_SCENE_H
 #define ND_DROP_SCENE_H

@@ -1,9 +1,9 @@
 #!/bin/sh
 # Demonstration scenes, run by `make demo` after the build:
 #   sh scripts/demo.sh BUILD_DIR
-# The 1D bar of DESIGN §7 against its exact solution, with the hybrid scheme
+# The 1D bar of docs/design.md §7 against its exact solution, with the hybrid scheme
 # and with Newmark (beta = 1/4, gamma = 1/2): P1, Theta = 1, gamma0 = 0.2,
-# NX = 80, T = 3 (one period); then the 2D disk of DESIGN §7 through the
+# NX = 80, T = 3 (one period); then the 2D disk of docs/design.md §7 through the
 # command-line driver (P1, h = 4) and examples/disk2d (P2, h = 2), hybrid,
 # Theta = 1, automatic gamma0. Exits non-zero as soon as a run fails.
 set -e

@@ -1,7 +1,7 @@
 /* The distributed solve (issue 15, slices 2 to 6), run under mpiexec -n 1, 2 and 4
  * (tests/CMakeLists.txt, builds with PETSc). Every rank builds the same
  * problem; nd_problem_set_comm spreads the PETSc solves over the ranks.
- *  - the disk and the ball of DESIGN §7 through the impact: the energy and
+ *  - the disk and the ball of docs/design.md §7 through the impact: the energy and
  *    contact-force histories of MUMPS and GAMG over all ranks against the
  *    serial CHOLMOD solve of the same scene in the same process;
  *  - a load refused on the last rank only: nd_step fails on every rank with
@@ -1333,12 +1333,12 @@ START_TEST(explicit_steps_on_split_rows) {
 }
 END_TEST
 
-/* More ranks than cells: the bar of DESIGN §7 (clamped at x = 1: the
+/* More ranks than cells: the bar of docs/design.md §7 (clamped at x = 1: the
  * reactions' rows) in 3 cells, so that on 4 ranks one owns no cell and no
  * row, stepped with MUMPS over the ranks against one process with CHOLMOD:
  * energy, contact force and reaction histories within 1e-8 of the largest
  * value. */
-/* The bar of DESIGN §7 (clamped at x = 1, the obstacle at x = 0), in three
+/* The bar of docs/design.md §7 (clamped at x = 1, the obstacle at x = 0), in three
  * runs: CHOLMOD in one process, MUMPS over the ranks, and MUMPS over the
  * ranks with a distributed state, whose rows include the clamped rows'
  * columns (the reactions read them). The energy, contact force and

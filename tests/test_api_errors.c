@@ -1,4 +1,4 @@
-/* Error handling of the public C API (DESIGN §6): every bad input gets its
+/* Error handling of the public C API (docs/design.md §6): every bad input gets its
  * specific status code, nd_last_error() names the function ("nd_<function>:")
  * and the argument, a rejected call leaves the object exactly as it was, and
  * the next successful call clears the message.

@@ -1,4 +1,4 @@
-/* Checkpoint and restart (DESIGN §8): a run resumed from a saved state is
+/* Checkpoint and restart (docs/design.md §8): a run resumed from a saved state is
  * bitwise the uninterrupted run, for every scheme, P1/P2, 1D/2D/3D, also
  * across a process boundary; truncated, corrupted, other-version and
  * other-problem checkpoints are refused with their codes and change nothing;

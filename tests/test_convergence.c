@@ -1,4 +1,4 @@
-/* The bar's errors against its exact solution (DESIGN §7) decrease under
+/* The bar's errors against its exact solution (docs/design.md §7) decrease under
  * refinement, NX = 40, 80, 160, 320 with tau = h/2, over one period T = 3
  * (flight, impact, contact, release), at the observed rates asserted below.
  * (The contact stress is not among them: the Nitsche stress oscillates about

@@ -5,7 +5,7 @@
  * energy guard stops them. Scenes in contact from the first step, since the
  * contact tangent sets omega_max: the 1D bar (hitting the obstacle at t = 1
  * after a flight, so with Theta = 1 and two penalties also in flight), a 2D
- * block resting on the plane under gravity, and the disk of DESIGN §7 in free
+ * block resting on the plane under gravity, and the disk of docs/design.md §7 in free
  * flight: with a contact plane the estimate counts every contact point
  * active, more than a disk touching the plane along a few facets has (it
  * then stays stable at 1.2 tau_c: the estimate is conservative); lumped and

@@ -1,7 +1,7 @@
-/* The 2D disk of DESIGN §7 (h = 4 mesh, P1 and P2, hybrid scheme, Theta = 1,
+/* The 2D disk of docs/design.md §7 (h = 4 mesh, P1 and P2, hybrid scheme, Theta = 1,
  * gamma0 = 1e-3): falling under gravity, it hits the plane at t = 10, stays in
  * contact and bounces off. Through the whole bounce E_Theta - W must not
- * increase (the hybrid scheme's energy identity with loads, DESIGN §2), and
+ * increase (the hybrid scheme's energy identity with loads, docs/design.md §2), and
  * the disk must leave the obstacle moving up. */
 #include <math.h>
 #include <stdio.h>

@@ -1,4 +1,4 @@
-/* The energy identities of DESIGN §2 on the 1D bar, to round-off:
+/* The energy identities of docs/design.md §2 on the 1D bar, to round-off:
  *  - hybrid scheme, Theta = 1, no load: E_Theta non-increasing at every step
  *    (part 2 of the paper), through impacts and releases up to T = 12;
  *  - theta = 1/2 with the obstacle out of reach: the trapezoidal rule

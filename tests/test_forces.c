@@ -1,4 +1,4 @@
-/* Forces out and the moving obstacle (DESIGN §8), through the public API:
+/* Forces out and the moving obstacle (docs/design.md §8), through the public API:
  * the nodal contact force sums to the resultant times the plane's normal
  * (clamped nodes included); nd_problem_set_contact_plane replaces a region's
  * plane; a moving plane's work closes the hybrid scheme's energy identity;

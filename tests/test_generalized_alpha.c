@@ -1,4 +1,4 @@
-/* Generalized-alpha through the public API (DESIGN §3):
+/* Generalized-alpha through the public API (docs/design.md §3):
  *  - rho_inf = 1 is Newmark(1/4, 1/2): without contact, with a load and from
  *    the equilibrium acceleration, the two march the same states to
  *    round-off, in 1D, 2D and 3D, P1 and P2;
@@ -87,7 +87,7 @@ START_TEST(rho_inf_one_is_newmark_without_contact) {
 }
 END_TEST
 
-/* The disk and the ball of DESIGN §7 (h = 4), falling under gravity onto
+/* The disk and the ball of docs/design.md §7 (h = 4), falling under gravity onto
    the plane at t = 10: every step converges, the body is in contact from
    t = 10 and leaves the plane moving up. */
 static void drop(const char *mesh, int dim, int degree, double rho_inf, double tau, double T) {

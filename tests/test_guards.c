@@ -1,4 +1,4 @@
-/* The checks made before the first step (DESIGN §3b), each on a case that
+/* The checks made before the first step (docs/design.md §3b), each on a case that
  * must trip it and on one that must not:
  *  - the coercivity limit gamma0* of K_Theta: on the 1D bar the element bound
  *    is exact and known in closed form (P1: 1/E, P2: 1/(4E)); past the exact
@@ -20,7 +20,7 @@ static double scalar(nd_problem p, int key) {
   return x;
 }
 
-/* the bar of DESIGN §7 with Young's modulus E and the obstacle at plane_x;
+/* the bar of docs/design.md §7 with Young's modulus E and the obstacle at plane_x;
    tau = h/2 in units of the wave speed sqrt(E) */
 static nd_problem bar(int degree, double young, double theta, double gamma0, double plane_x) {
   const double nm[2] = {0.25, 0.5};

@@ -1,5 +1,5 @@
 /* The library-level API: nd_version against the header macros, and the
- * monitor callback of nd_step (DESIGN §6). */
+ * monitor callback of nd_step (docs/design.md §6). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

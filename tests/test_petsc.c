@@ -2,7 +2,7 @@
  *
  * Built with PETSc (-DND_WITH_PETSC=ON): whole trajectories with
  * ND_SOLVER_PETSC_MUMPS and ND_SOLVER_PETSC_GAMG against ND_SOLVER_CHOLMOD
- * (UMFPACK for the non-symmetric tangents): the 1D bar, the disk of DESIGN §7
+ * (UMFPACK for the non-symmetric tangents): the 1D bar, the disk of docs/design.md §7
  * (examples/meshes/disk_h4.msh, P1 and P2) and the ball (ball_h4.msh, P1),
  * dropped onto the plane so that contact is active for most of the run,
  * Newmark (1/4, 1/2), Theta = 1 (SPD: MUMPS LDL^T, CG) and Theta = 0

@@ -20,7 +20,7 @@ enum { N_BACKENDS = sizeof backends / sizeof backends[0] };
    falling under gravity: it hits the plane and rebounds. gamma0 E = 0.01:
    with gamma0 E = 0.1 K_Theta (Theta = 1, P2) is indefinite and the free
    flight grows exponentially (x1.3 per step), amplifying any round-off
-   difference between backends to 1e-10 in 60 steps (DESIGN §7). */
+   difference between backends to 1e-10 in 60 steps (docs/design.md §7). */
 static nd_problem block_2d_cells(int64_t nx, int64_t ny, int degree, int scheme, const double *params,
                                  double theta, double gamma0, double tau);
 static nd_problem block_2d_gamma0(int degree, int scheme, const double *params, double theta, double gamma0,

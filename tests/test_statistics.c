@@ -1,6 +1,6 @@
 /* The work counters (ND_STAT_*) and the "leave out what a scene does not
- * need" table of DESIGN §4, asserted with exact counts derived from the
- * algorithm. On the 1D bar of DESIGN §7 (P1, 20 cells), where the work of a
+ * need" table of docs/design.md §4, asserted with exact counts derived from the
+ * algorithm. On the 1D bar of docs/design.md §7 (P1, 20 cells), where the work of a
  * step is:
  *  - set-up: M and K (2 matrix assemblies), K_Theta (1), for an implicit
  *    scheme A = c M + K_Theta (1), its symbolic analysis and factorization;
@@ -206,7 +206,7 @@ START_TEST(explicit_lumped_mass) {
 END_TEST
 
 START_TEST(persistent_contact_lowrank) {
-  /* the bar of DESIGN §7 through its contact phase: the factor of A is
+  /* the bar of docs/design.md §7 through its contact phase: the factor of A is
      reused through contact (no factorization after set-up); a step is one
      solve with A's factor (y0 = A^{-1} r) whatever its Newton iterations,
      which run on the contact points alone (the condensed Newton), plus one

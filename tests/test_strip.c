@@ -1,7 +1,7 @@
 /* A 2D strip and a 3D bar with nu = 0 and free lateral sides carry the 1D
  * bar's motion exactly (sigma = E u_x e_x e_x satisfies every boundary
  * condition), so their discrete solutions must match the 1D bar's exact
- * solution (DESIGN §7) to the 1D discretisation error: a check of the 2D and
+ * solution (docs/design.md §7) to the 1D discretisation error: a check of the 2D and
  * 3D contact terms (a_q, s_q, weights, gamma) against a known answer. */
 #include <math.h>
 #include <stdio.h>
@@ -13,7 +13,7 @@
 enum { NX = 40 };
 /* gamma0 E = 0.05: at 0.14 the P2 strip (one cell across) already has an
    indefinite K_Theta for Theta = 1, and its free flight grows exponentially
-   (DESIGN §7, "Choosing gamma0"); 1D, 2D and 3D use the same gamma. */
+   (docs/design.md §7, "Choosing gamma0"); 1D, 2D and 3D use the same gamma. */
 #define GAMMA0 0.05
 
 /* The strip [0,1] x [0,h]^(dim-1), one cell across, clamped at x = 1, in

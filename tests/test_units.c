@@ -1,5 +1,5 @@
 /* The same scene in scaled units and in SI gives the same dimensionless
- * answer: the 1D bar of DESIGN §7 (E = rho = L = 1) against a steel bar
+ * answer: the 1D bar of docs/design.md §7 (E = rho = L = 1) against a steel bar
  * (E = 2.1e11 Pa, rho = 7850 kg/m^3, L = 2.5 m), both with the automatic
  * gamma0 (so gamma0 E is the same), tau = h/(2c), c = sqrt(E/rho). Lengths
  * scale with L, times with L/c, energies (per unit area) with E L. And the

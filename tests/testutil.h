@@ -12,7 +12,7 @@ extern "C" {
 /* Runs a suite; returns the process exit status (0 when all passed). */
 int nd_test_run(Suite *s);
 
-/* The 1D bar of DESIGN §7: Omega = (0,1), rho = E = 1, clamped at x = 1,
+/* The 1D bar of docs/design.md §7: Omega = (0,1), rho = E = 1, clamped at x = 1,
    contact at x = 0 with the obstacle below (g0 = 0), u0 = (1-x)/2, v0 = 0.
    scheme/params as nd_problem_set_scheme. Fails the test on any error. */
 nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, double theta,

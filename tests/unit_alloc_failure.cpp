@@ -151,7 +151,7 @@ struct Run {
 
 using Scenario = void (*)(Run &);
 
-// The 1D bar of DESIGN §7 (AUTO solver: dense), 20 steps, contact at x = 0.
+// The 1D bar of docs/design.md §7 (AUTO solver: dense), 20 steps, contact at x = 0.
 void bar(Run &r) {
   nd_mesh m = nullptr;
   nd_problem p = nullptr;

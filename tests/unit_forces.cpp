@@ -1,4 +1,4 @@
-// Forces out (DESIGN §8), white-box where the test needs the mass: the
+// Forces out (docs/design.md §8), white-box where the test needs the mass: the
 // global balance of every scheme in its own discrete sense,
 //   sum_i (M Abar)_i = sum(reactions) + sum(contact force) + sum(loads),
 // summed over all DOFs of a component (clamped ones included). K, K_Theta's

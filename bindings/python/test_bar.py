@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""python_bar: the 1D bar of DESIGN §7 through the Python module, against
+"""python_bar: the 1D bar of docs/design.md §7 through the Python module, against
 the C example.
 
 usage: test_bar.py --bar1d BAR1D [--twin BAR_TWIN] [--workdir DIR]

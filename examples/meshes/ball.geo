@@ -1,4 +1,4 @@
-// The 3D ball of DESIGN §7: radius 20, centre (0, 0, 25), 5 above the plane z = 0.
+// The 3D ball of docs/design.md §7: radius 20, centre (0, 0, 25), 5 above the plane z = 0.
 // Physical groups (regions): 1 = lower hemisphere (contact boundary),
 // 2 = upper hemisphere, 10 = the ball. Mesh size h: gmsh -3 -setnumber h 4 ball.geo
 SetFactory("OpenCASCADE");

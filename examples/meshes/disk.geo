@@ -1,4 +1,4 @@
-// The 2D disk of DESIGN §7: radius 20, centre (0, 25), 5 above the plane y = 0.
+// The 2D disk of docs/design.md §7: radius 20, centre (0, 25), 5 above the plane y = 0.
 // Physical groups (regions): 1 = lower half of the circle (contact boundary),
 // 2 = upper half, 10 = the disk. Mesh size h: gmsh -2 -setnumber h 4 disk.geo
 DefineConstant[ h = {4, Name "mesh size"} ];

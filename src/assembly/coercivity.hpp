@@ -1,4 +1,4 @@
-// The coercivity limit of Nitsche's term (DESIGN §3b.1). K_Theta is positive
+// The coercivity limit of Nitsche's term (docs/design.md §3b.1). K_Theta is positive
 // semi-definite if, on every cell K owning contact points,
 //   K_e - Theta gamma0 h_K sum_{q in K} w_q s_q s_q^T >= 0,
 // i.e. Theta gamma0 <= 1/lambda_K, lambda_K the largest eigenvalue of

@@ -1,4 +1,4 @@
-// The contact quadrature points and their constant rows (DESIGN §2):
+// The contact quadrature points and their constant rows (docs/design.md §2):
 //   a_q . U = u_n(x_q),  s_q . U = sigma_n(u)(x_q) (gradient in the owning cell)
 // with weight w_q, gamma_q = gamma0 h_K and initial gap g_q. Assembled once.
 #pragma once

@@ -1,4 +1,4 @@
-// K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q (DESIGN §2): the part of the
+// K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q (docs/design.md §2): the part of the
 // Nitsche term that is present whether or not a point is in contact.
 #pragma once
 #include "assembly/contact.hpp"

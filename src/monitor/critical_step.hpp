@@ -1,4 +1,4 @@
-// The critical time step of the explicit schemes (DESIGN §3b.4): they are
+// The critical time step of the explicit schemes (docs/design.md §3b.4): they are
 // stable for omega_max tau below a limit of the scheme (2 for the central
 // difference), omega_max^2 the largest eigenvalue of
 //   (K_Theta + T_c) x = lambda M x,   T_c = sum_q (w_q/gamma_q) sym(b_q p_q^T),

@@ -1,4 +1,4 @@
-// The monitors of the analysis (DESIGN §2): energies, contact pressure and
+// The monitors of the analysis (docs/design.md §2): energies, contact pressure and
 // contact statistics of a state. They read the discretization and the state
 // and change neither, except compute_products and sum_points, with which a
 // step leaves them in the state it makes.

@@ -1,4 +1,4 @@
-// The guards of DESIGN §3b: a step that would silently blow up, sink into the
+// The guards of docs/design.md §3b: a step that would silently blow up, sink into the
 // obstacle or start inside it is refused with its own code and a message
 // saying what to change. They read the state and the discretization only.
 #pragma once

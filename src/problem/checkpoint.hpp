@@ -1,4 +1,4 @@
-// The state at t^n as bytes (DESIGN §8): everything a step reads, so that a
+// The state at t^n as bytes (docs/design.md §8): everything a step reads, so that a
 // run resumed from a checkpoint is bitwise the uninterrupted one. Layout
 // (little-endian, as the machine writes doubles):
 //   magic "NDSTATE\0", u32 version, u32 reserved, u64 fingerprint of the

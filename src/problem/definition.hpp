@@ -35,7 +35,7 @@ enum Aspect : unsigned {
   kObstacle = 1u << 13,  // a plane's point moved (same normal): only the gaps change
 };
 
-// What the library checks (DESIGN §3b); nd_problem_set_guard sets them.
+// What the library checks (docs/design.md §3b); nd_problem_set_guard sets them.
 struct Guards {
   double energy = 2;         // E <= f (E^0 + max_k (W^k + W_obstacle^k)); 0: off
   double penetration = 0.5;  // u_n - g0 <= f h_K; 0: off

@@ -38,7 +38,7 @@ struct Discretization {
   ContactPoints contact;
   double theta = 1;
   double gamma0 = 0;        // in use (chosen here when the definition asks for it)
-  double gamma0_limit = 0;  // gamma0* at Theta = 1 (DESIGN §3b.1); +inf without contact
+  double gamma0_limit = 0;  // gamma0* at Theta = 1 (docs/design.md §3b.1); +inf without contact
   bool coercive = false;    // K_Theta checked positive semi-definite
   double omega_max = 0;     // the explicit schemes' highest frequency, once estimated
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use

@@ -1,4 +1,4 @@
-// Forces out (DESIGN §8): the nodal contact force and the reactions on the
+// Forces out (docs/design.md §8): the nodal contact force and the reactions on the
 // clamped DOFs. Both cover every DOF of the space, clamped ones included.
 #pragma once
 #include <vector>

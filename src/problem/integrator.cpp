@@ -213,7 +213,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   next.F_fixed = at_new.F_fixed;
   next.gap = at_new.gap;
   // the contact term of the step: P^n with the obstacle where it was at t^n,
-  // P(U) with it where it is at t^{n+1} (DESIGN §8)
+  // P(U) with it where it is at t^{n+1} (docs/design.md §8)
   ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
   ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
@@ -305,7 +305,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
       PointValues *solution_points = in.held.empty() && !in.points ? &at_U : nullptr;
       in.tangent->begin_step(old.tangent_log);
       NewtonResult res;
-      if (in.condensed) {  // condensed on the contact points (DESIGN §4); the full Newton from its end if need be
+      if (in.condensed) {  // condensed on the contact points (docs/design.md §4); the full Newton from its end if need be
         // its last residual checked from the new state's products, made
         // then: in one process (a distributed state, Integrator::held, needs
         // several ranks) with every DOF with mass, where the products are the

@@ -105,7 +105,7 @@ int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F
   // Newton's rules, with atol at least the round-off of r: U_m can be exactly
   // 0 (the bar's contact node in contact, Theta = 1), where the rule "update
   // at the round-off of U" cannot hold and rtol = atol = 0 would ask for less
-  // than round-off (DESIGN §3)
+  // than round-off (docs/design.md §3)
   NewtonOptions o = opt;
   o.atol = std::max(opt.atol, 64 * DBL_EPSILON * std::sqrt(scale2));
   const NewtonResult res = newton_solve(sys, r_, o, x_);

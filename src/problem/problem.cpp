@@ -327,7 +327,7 @@ Integrator &Problem::integrator_or_build() {
   return *integrator_;
 }
 
-// built once per change of a load, not every step (DESIGN §4)
+// built once per change of a load, not every step (docs/design.md §4)
 const std::shared_ptr<const std::vector<double>> &Problem::current_load() {
   if (step_load_) return step_load_;
   const std::vector<double> &F_const = constant_load_();

@@ -1,4 +1,4 @@
-// A problem, split by lifetime (DESIGN §5): the definition (what the C API
+// A problem, split by lifetime (docs/design.md §5): the definition (what the C API
 // sets) -> the discretization derived from it -> the integrator (scheme and
 // solvers for one step size) -> the state at t^n -> the monitors. Derived
 // objects are built on demand and dropped when an aspect they depend on
@@ -176,7 +176,7 @@ class Problem {
   State spare_;  // the state before state_ (values not read): the next step reuses its memory
   bool state_ready_ = false;
   bool initial_guarded_ = false;  // the initial state passed guard_initial_state
-  bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (DESIGN §8)
+  bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (docs/design.md §8)
 };
 
 }  // namespace nd

@@ -1,4 +1,4 @@
-// The Nitsche contact term (DESIGN §2-3) as a function of U:
+// The Nitsche contact term (docs/design.md §2-3) as a function of U:
 //   P_q(U) = p_q.U - g_q,  p_q = a_q - gamma_q s_q,  b_q = a_q - Theta gamma_q s_q
 //   N(U)   = sum_q (w_q/gamma_q) phi(P_q(U), P_q^n) b_q
 // where phi is the time scheme's contact term ([P]_+ for the theta-scheme and

@@ -75,7 +75,7 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   // at U, and at the solution the new state's
   PointValues &at = w.at;
   clear_keeping_memory(at);
-  // DESIGN §4: no point active at the predictor, so none can start unless the
+  // docs/design.md §4: no point active at the predictor, so none can start unless the
   // linear step says so: one solve U = A^{-1} r and one check. Where no point
   // is active at U either, N vanishes there and U solves G(U) = 0 exactly
   // (to the solve's round-off): Newton's first iteration would only repeat it.

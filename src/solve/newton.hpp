@@ -1,4 +1,4 @@
-// Semi-smooth Newton for G(U) = A U + kappa N(U) - r = 0 (DESIGN §3).
+// Semi-smooth Newton for G(U) = A U + kappa N(U) - r = 0 (docs/design.md §3).
 // Converged when the active set did not change in the last iteration and
 // either ||G|| <= rtol (||r|| + ||cMU||) + atol or the update is at the
 // round-off level of U; or when both hold (points at P_q = 0 to round-off

@@ -232,7 +232,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
       res.converged = true;
       return out;
     }
-    // the full residual, DESIGN §3's test: from the new state's products
+    // the full residual, docs/design.md §3's test: from the new state's products
     // where the caller makes them (G's bits differ from newton_residual's by
     // round-off; G only decides convergence here), else a pass over A and M
     std::vector<double> Gr, MU;

@@ -1,5 +1,5 @@
-// The semi-smooth Newton of DESIGN §3 condensed on the contact points
-// (DESIGN §4, the dense/sparse step). With A factored once per tau and
+// The semi-smooth Newton of docs/design.md §3 condensed on the contact points
+// (docs/design.md §4, the dense/sparse step). With A factored once per tau and
 // Z_q = A^{-1} b_q, c_q = kappa w_q/gamma_q, every solution of
 //   G(U) = A U + sum_q c_q phi_q(P_q(U)) b_q - r = 0
 // is U = y0 - sum_{j in S} c_j phi_j Z_j, y0 = A^{-1} r, S the points where
@@ -13,7 +13,7 @@
 // has the row P_q = P0_q - ..., exact as well). On a fixed active set F is
 // linear, so the iteration that keeps the set solves it exactly: the
 // converged U is the full Newton's to round-off. At the end U is formed once
-// and the full residual G(U) is checked against DESIGN §3's tolerance; if it
+// and the full residual G(U) is checked against docs/design.md §3's tolerance; if it
 // fails, or S outgrows max_rank, the caller runs the full Newton from U.
 #pragma once
 #include <cstdint>

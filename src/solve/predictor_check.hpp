@@ -1,4 +1,4 @@
-// A step its predictor already solves (DESIGN §4: leave out what a scene does
+// A step its predictor already solves (docs/design.md §4: leave out what a scene does
 // not need). A body in free flight whose acceleration does not change (a
 // rigid motion under a uniform body force: the drop before its impact) has
 // U^{n+1} = U^n + tau V^n + w tau^2 A^n exactly, the predictor of Newmark and

@@ -1,4 +1,4 @@
-// The low-rank tangent solver (DESIGN §4, the dense/sparse Newton step): the
+// The low-rank tangent solver (docs/design.md §4, the dense/sparse Newton step): the
 // factor of A = c M + K_Theta is reused through contact and T = A + B D P^T is
 // solved by the Woodbury identity over the k active points,
 //   T^{-1} x = y - Z w,  (I + D G) w = D P^T y,  y = A^{-1} x,  Z = A^{-1} B,  G = P^T Z.

@@ -2,7 +2,7 @@
 // tangent T(U) = A + kappa N'(U), A = c M + K_Theta factored once per time
 // step size. Two implementations: the reference refactors T numerically at
 // every Newton iteration with an active point (the symbolic analysis of A's
-// pattern reused); the low-rank one (DESIGN §4) never refactors: with B, P the
+// pattern reused); the low-rank one (docs/design.md §4) never refactors: with B, P the
 // columns b_q, p_q of the k active points and D = diag(kappa w_q/gamma_q phi'_q),
 // T = A + B D P^T and (Woodbury, scaled capacitance)
 //   T^{-1} x = y - Z (I + D P^T Z)^{-1} D P^T y,  y = A^{-1} x,  Z = A^{-1} B,

@@ -1,5 +1,5 @@
 // Generalized-alpha (Chung-Hulbert 1993), one parameter rho_inf in [0, 1],
-// the spectral radius at infinite frequency (DESIGN §3):
+// the spectral radius at infinite frequency (docs/design.md §3):
 //   M A^{n+1-alpha_m} + K_Theta U^{n+1-alpha_f} + N(U^{n+1-alpha_f}) = F^{n+1-alpha_f}
 // with the Newmark(beta, gamma) updates, X^{n+1-a} = (1-a) X^{n+1} + a X^n.
 // Divided by (1 - alpha_f): c = (1-alpha_m)/((1-alpha_f) beta tau^2),

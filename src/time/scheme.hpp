@@ -1,4 +1,4 @@
-// A time scheme (DESIGN §3), one file per scheme behind this interface, and
+// A time scheme (docs/design.md §3), one file per scheme behind this interface, and
 // the registry from ND_SCHEME_* ids. The step driver knows no scheme by name.
 //
 // An implicit step solves for U = U^{n+1}

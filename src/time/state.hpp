@@ -130,7 +130,7 @@ struct State {
   // it has done on the body since t = 0 (a moving plane pushes)
   std::vector<double> gap;
   double W_obstacle = 0;
-  // the reactions on the clamped DOFs of the step that led here (DESIGN §8;
+  // the reactions on the clamped DOFs of the step that led here (docs/design.md §8;
   // empty: not computed yet, e.g. at t^0)
   std::vector<double> reaction;
   // the contact term phi_q that step applied (TimeScheme::mean_weight's

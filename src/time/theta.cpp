@@ -1,6 +1,6 @@
 // The theta-scheme (paper eq. (15)); theta = 0 is its explicit variant
 // (U^{n+1} = U^n + tau V^n, V^{n+1} = V^n + tau A^n). theta < 1/2 amplifies
-// every undamped oscillation (DESIGN §3).
+// every undamped oscillation (docs/design.md §3).
 #include "nitschedyn.h"
 #include "time/scheme.hpp"
 

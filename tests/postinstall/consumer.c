@@ -1,6 +1,6 @@
 /*
  * A program built against an installed libnitschedyn (pkg-config or
- * find_package): 40 steps of the 1D bar of DESIGN §7 with the hybrid scheme.
+ * find_package): 40 steps of the 1D bar of docs/design.md §7 with the hybrid scheme.
  * Every nd_step must return ND_OK and E_Theta must stay finite and positive;
  * the run-time version must be the header's.
  */

@@ -1,4 +1,4 @@
-// The 2D disk of DESIGN §7 (dropped on a plane, impact at t = 10) on the
+// The 2D disk of docs/design.md §7 (dropped on a plane, impact at t = 10) on the
 // committed meshes, P1/P2, hybrid and Newmark (1/4, 1/2), and with mass
 // redistribution and the applied force (issue 16) the hybrid and the explicit
 // central difference (Newmark (0, 1/2), lumped mass, tau = 0.9 of its critical
@@ -42,7 +42,7 @@
 namespace {
 
 constexpr double kLambda = 20, kMu = 20;  // the scene's Lame coefficients
-constexpr double kGamma0 = 1e-3;          // safe for P1 and P2 (DESIGN §7)
+constexpr double kGamma0 = 1e-3;          // safe for P1 and P2 (docs/design.md §7)
 constexpr double kTauOverH = 1.0 / 40;    // tau tied to h: 0.1 at h = 4
 constexpr double kT = 14, kSnap1 = 12, kSnap2 = 14;
 // the explicit step: kCflFraction of the critical step, rounded down so that

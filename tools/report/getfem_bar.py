@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The 1D bar of DESIGN §7 solved by GetFEM, measured by our own norm code.
+"""The 1D bar of docs/design.md §7 solved by GetFEM, measured by our own norm code.
 
 GetFEM (python3-getfem) does the finite element work: mesh, P1/P2 Lagrange
 space, assembly of mass and stiffness, the Nitsche contact term (GetFEM's
@@ -347,7 +347,7 @@ def fmt(v):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description="The 1D bar (DESIGN §7) solved by GetFEM, measured with our norms.")
+    p = argparse.ArgumentParser(description="The 1D bar (docs/design.md §7) solved by GetFEM, measured with our norms.")
     p.add_argument("--lib", required=True, help="path of libbar1d_exact.so")
     p.add_argument("--nx", type=int_list, default=[20, 40, 80], help="comma list of cell counts")
     p.add_argument("--degree", type=int_list, default=[1, 2], help="comma list of degrees (1, 2)")

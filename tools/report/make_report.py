@@ -303,10 +303,10 @@ def sec_setup(bar, energy, disk, machine):
         hl = [r for r in bar if r["study"] == "h-ladder"]
         g0 = sorted({r["gamma0"] for r in bar})
         t12 = [r["nx"] for r in hl if r["T"] == 12]
-        md.append("**1D bar** (DESIGN §7: exact solution of period 3, contact for t mod 3 in [1, 2], contact stress "
+        md.append("**1D bar** (docs/design.md §7: exact solution of period 3, contact for t mod 3 in [1, 2], contact stress "
                   "−1/2). γ0 = %s (paper convention: γ0 has units of 1/stress), Θ ∈ {%s}. The *h-ladder* uses "
                   "NX = %s with τ tied to h (table); T = 12 runs exist up to NX = %s, larger NX run to T = 3 only. "
-                  "Errors are relative, in the seven norms of DESIGN §7: %s. Newton its are totals over the run; "
+                  "Errors are relative, in the seven norms of docs/design.md §7: %s. Newton its are totals over the run; "
                   "the energy drift is max|E_Θ − E_Θ(0) − W| / E(0).\n" % (
                       ", ".join(map(g3, g0)), ", ".join(sorted({"%g" % r["Theta"] for r in bar}, key=float)),
                       ", ".join(str(int(n)) for n in sorted({r["nx"] for r in hl})),
@@ -330,7 +330,7 @@ def sec_setup(bar, energy, disk, machine):
         md.append("\nThe **energy histories** are P1, NX = 80, Θ = 1, γ0 = 0.2 (as set by run.py), τ = %s, T = %s.\n"
                   % (g3(dt), g3(e["t"][-1])))
     if disk:
-        md.append("\n**2D disk** (DESIGN §7: radius 20, gap 5, λ = μ = 20, gravity 0.1, impact at t = 10). Errors are "
+        md.append("\n**2D disk** (docs/design.md §7: radius 20, gap 5, λ = μ = 20, gravity 0.1, impact at t = 10). Errors are "
                   "relative to the finest run (status `reference`, the hybrid P2), not to an exact solution: displacement at "
                   "t = 12 and t = 14 in L² and in the energy norm, and the L²(0,T) error of the contact force; the "
                   "contact force also against the explicit redistributed P2 reference and, with no reference, as "

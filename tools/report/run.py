@@ -33,7 +33,7 @@ SCHEMES = [
     ("newmark(0,0.5)", ["newmark", "--beta", "0", "--gamma", "0.5", "--lumped", "1"], True),
 ]
 SCHEME_ARGS = {label: args for label, args, _ in SCHEMES}
-GAMMA0 = 0.2  # the bar's usual value (DESIGN §7), paper convention
+GAMMA0 = 0.2  # the bar's usual value (docs/design.md §7), paper convention
 TAU_OVER_H = 0.5  # implicit schemes: tau = h/2 (wave speed 1: CFL number 1/2 per cell)
 EXPLICIT_TAU_OVER_DX = 0.25  # explicit Newmark, lumped: tau = dx/4, dx = h/degree the node spacing
 

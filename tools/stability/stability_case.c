@@ -58,7 +58,7 @@ int main(int argc, char **argv) {
   double E = 1, nu = 0.3, h = 0, tau = 0, T = 0;
   int st = ND_OK;
   double g[3] = {0, 0, 0}, origin[3] = {0, 0, 0}, up[3] = {0, 0, 0};
-  if (!strcmp(scene, "bar")) { /* DESIGN §7: clamped at x = 1, u0 = (1-x)/2 */
+  if (!strcmp(scene, "bar")) { /* docs/design.md §7: clamped at x = 1, u0 = (1-x)/2 */
     const double lo[2] = {-0.5, 0.5}, hi[2] = {0.5, 1.5};
     h = 1.0 / 40, tau = h / 2, T = 6;
     st = nd_mesh_create_interval(40, 0, 1, &m);
@@ -71,7 +71,7 @@ int main(int argc, char **argv) {
     st = nd_mesh_create_rectangle(16, 4, lo, hi, &m);
     if (!st) st = nd_mesh_mark_boundary_box(m, 1, blo, bhi);
     up[1] = 1;
-  } else { /* the disk of DESIGN §7, h = 4 */
+  } else { /* the disk of docs/design.md §7, h = 4 */
     char path[1024];
     snprintf(path, sizeof path, "%s/disk_h4.msh", argv[6]);
     E = 50, nu = 0.25, h = 4, tau = 0.1, T = 32;

@@ -1,4 +1,4 @@
-! The 1D bar of DESIGN §7 dropped on an obstacle at x = 0, from Fortran,
+! The 1D bar of docs/design.md §7 dropped on an obstacle at x = 0, from Fortran,
 ! compiled against the installed module and libraries (postinstall_fortran).
 program consumer
   use, intrinsic :: iso_c_binding

@@ -1,4 +1,4 @@
-! The 1D bar of DESIGN §7 for the Fortran tests, set up with exactly the
+! The 1D bar of docs/design.md §7 for the Fortran tests, set up with exactly the
 ! calls of examples/bar1d.c and of its C twin bar_twin.c, in the same order:
 ! Omega = (0,1), rho = E = 1, clamped at x = 1 (region 1), rigid obstacle at
 ! x = 0 (region 2), hybrid scheme, Theta = 1, gamma0 = 0.2, u0 = (1-x)/2, v0 = 0.

@@ -1,5 +1,5 @@
 /*
- * bar_twin - the C twin of bar_history.f90: the 1D bar of DESIGN §7 set up
+ * bar_twin - the C twin of bar_history.f90: the 1D bar of docs/design.md §7 set up
  * with exactly the calls of examples/bar1d.c (hybrid scheme, Theta = 1,
  * gamma0 = 0.2, tau = h/2, T = 3), dumping u and v at every FE node at every
  * time level t_n = n tau, n = 0 .. steps, in the library's node order.

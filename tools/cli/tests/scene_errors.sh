@@ -116,7 +116,7 @@ echo "ok: --help, --version, no scene, missing scene"
   fail "--progress: $(cat progress.err)"
 echo "ok: --quiet, --progress"
 
-# generated meshes: the 1D bar of DESIGN §7 falling with speed 1/2 on x = 0
+# generated meshes: the 1D bar of docs/design.md §7 falling with speed 1/2 on x = 0
 # (clamped at x = 1), and a 2D block with a traction on its top
 cat > bar.toml <<'EOT'
 title = "1D bar"
