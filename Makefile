@@ -1,7 +1,7 @@
 # A thin driver over CMake (the one build description).
 #   make            build the library and examples in $(BUILD)
 #   make check      build and run the whole test suite (CTest)
-#   make demo       build and run the demonstration scenes
+#   make demo       build the library, the CLI and two examples, and run the demonstration scenes
 #   make install    install into $(PREFIX)
 #   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
 #   make fuzz       the libFuzzer targets (clang), $(FUZZ_TIME) s each on their seed corpora
@@ -26,6 +26,10 @@
 #   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
 #   make stability-quick  its small plan (a test of make check too): $(BUILD)/stability-quick/
 #   make meshes     regenerate examples/meshes/*.msh from the .geo sources (gmsh)
+# no "Entering/Leaving directory" lines from the makes that CMake runs
+MAKEFLAGS += --no-print-directory
+export MAKEFLAGS
+
 BUILD    ?= build
 PREFIX   ?= /usr/local
 JOBS     ?= $(shell nproc 2>/dev/null || echo 2)
@@ -50,7 +54,10 @@ configure: deps
 check: all
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-demo: all
+# only the library, the CLI and the two example programs the demo runs
+DEMO_TARGETS = nitschedyn nitschedyn_cli bar1d disk2d
+demo: configure
+	cmake --build $(BUILD) -j $(JOBS) --target $(DEMO_TARGETS)
 	@sh scripts/demo.sh $(BUILD)
 
 install: all

@@ -151,6 +151,74 @@ START_TEST(a_plane_is_replaced_not_added) {
 }
 END_TEST
 
+/* The loop a host writes: f(0) and the plane's x(0) in force with the initial
+   state, then per step f(t^{n+1}), x(t^{n+1}) and nd_step, with no other call.
+   Before the first step the first value of each load and position is t^0's
+   and a second one t^1's, so that loop, whatever the order of the initial
+   state and the loads, is the trajectory of the explicit one (nd_problem_setup
+   fixing t^0's values): bitwise, for every scheme. A run given f(t^1) alone
+   before its first step differs (F^0 enters A^0 and the work W). */
+static double load_at(double t) { return 0.3 * cos(3 * t); }
+
+static void set_time_data(nd_problem p, double t) {
+  const int64_t n = nodes(p);
+  double *f = calloc((size_t)n, sizeof(double));
+  f[n / 3] = load_at(t);
+  ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, n, f));
+  free(f);
+  set_plane_1d(p, plane_at(t));
+}
+
+enum { LOOP_SETUP, LOOP_NATURAL, LOOP_STATE_FIRST, LOOP_RESTARTED, LOOP_NO_F0 };
+
+static double *run_loop(const nd_test_scheme *sc, int how, double *work) {
+  const double tau = nd_test_is_explicit(sc) ? 1.0 / 200 : 1.0 / 40;
+  nd_problem p = nd_test_bar(20, 1, sc->scheme, sc->params, 1.0, 0.2, tau);
+  if (nd_test_is_explicit(sc)) ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+  const int64_t n = nodes(p);
+  double *x = malloc(sizeof(double) * (size_t)n), *u0 = malloc(sizeof(double) * (size_t)n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  for (int64_t i = 0; i < n; ++i) u0[i] = 0.5 * (1 - x[i]);
+  if (how == LOOP_STATE_FIRST) ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, u0, NULL));
+  if (how == LOOP_RESTARTED) { /* a first run with other loads, then a new start */
+    for (int k = 0; k < 5; ++k) {
+      set_time_data(p, 1 + k * tau);
+      ND_OK_OR_FAIL(nd_step(p));
+    }
+    ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, u0, NULL));
+  }
+  if (how != LOOP_NO_F0) set_time_data(p, 0);
+  if (how == LOOP_SETUP) ND_OK_OR_FAIL(nd_problem_setup(p));
+  for (int k = 0; k < 40; ++k) {
+    set_time_data(p, (k + 1) * tau);
+    ND_OK_OR_FAIL(nd_step(p));
+  }
+  *work = scalar(p, ND_WORK) + scalar(p, ND_WORK_OBSTACLE);
+  double *u = get(p, ND_FIELD_DISPLACEMENT, 1);
+  free(x);
+  free(u0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  return u;
+}
+
+START_TEST(the_natural_loop_starts_from_f0) {
+  const nd_test_scheme *sc = &schemes[_i];
+  const size_t bytes = sizeof(double) * 21;
+  double w_ref = 0, w = 0;
+  double *ref = run_loop(sc, LOOP_SETUP, &w_ref);
+  for (int how = LOOP_NATURAL; how <= LOOP_RESTARTED; ++how) {
+    double *u = run_loop(sc, how, &w);
+    ck_assert_msg(memcmp(u, ref, bytes) == 0 && w == w_ref, "scheme %d (%g, %g), loop %d", sc->scheme,
+                  sc->params[0], sc->params[1], how);
+    free(u);
+  }
+  double *u = run_loop(sc, LOOP_NO_F0, &w);
+  ck_assert_msg(memcmp(u, ref, bytes) != 0 || w != w_ref, "F^0 = f(t^1) left the trajectory and the work unchanged");
+  free(u);
+  free(ref);
+}
+END_TEST
+
 /* Hybrid, Theta = 1 (derived in src/problem/integrator.cpp, advance()): per step
      E_Theta^{n+1} - E_Theta^n = (W^{n+1} - W^n) + (Wo^{n+1} - Wo^n) - D,
    D = sum_q (w/gamma)(Phi_q dP_q - ([P^{n+1}]_+^2 - [P^n]_+^2)/2) >= 0,
@@ -304,6 +372,7 @@ int main(void) {
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, contact_force_sums_to_the_resultant);
   tcase_add_test(tc, a_plane_is_replaced_not_added);
+  tcase_add_loop_test(tc, the_natural_loop_starts_from_f0, 0, ND_TEST_N_SCHEMES);
   tcase_add_test(tc, hybrid_energy_identity_with_a_moving_plane);
   tcase_add_test(tc, galilean_invariance);
   tcase_add_test(tc, energy_guard_counts_the_obstacle_work);

@@ -42,13 +42,20 @@ struct Guards {
   bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
 };
 
-struct Definition {
-  Material material;
-  std::vector<int> dirichlet;
+// What may change from step to step without new operators: the loads and
+// the obstacles' positions (a plane's point). The state at t^0 keeps the
+// values of t^0 (Problem::at_start).
+struct TimeData {
   bool has_body_force = false;
   double body_force[3] = {0, 0, 0};
   std::vector<NeumannLoad> neumann;
+  std::vector<double> nodal;  // n_dofs, or empty
   std::vector<ContactPlane> planes;
+};
+
+struct Definition : TimeData {
+  Material material;
+  std::vector<int> dirichlet;
   double theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
   int scheme = 0;  // ND_SCHEME_*
   std::vector<double> scheme_params;
@@ -73,7 +80,7 @@ struct Definition {
   // read only (State::partial): a step gathers no whole solution, and the
   // calls that read whole vectors complete them, collectively
   bool distributed_state = false;
-  std::vector<double> nodal, u0, v0;  // n_dofs each, or empty
+  std::vector<double> u0, v0;  // n_dofs each, or empty
   Guards guards;
   unsigned given = 0;                 // the aspects set so far
   CommunicatorPtr comm;               // the ranks stepping this problem together; null: this process alone

@@ -69,8 +69,9 @@ void Problem::changed(unsigned aspects) {
     integrator_.reset();
   }
   if (aspects & (kDiscretizationDeps | kSolver)) spare_A_factor_.reset();
-  // after setup a load is F^{n+1} of the next step, also at n = 0
-  const unsigned initial = kInitialStateDeps & ~(setup_done_ ? kLoads | kNodal | kObstacle : 0u);
+  // once t^0's loads are fixed (set up, or a second value given) a load is
+  // F^{n+1} of the next step, also at n = 0
+  const unsigned initial = kInitialStateDeps & ~(setup_done_ || start_ ? kLoads | kNodal | kObstacle : 0u);
   if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
     state_ready_ = false;
     setup_done_ = false;
@@ -101,7 +102,27 @@ void Problem::add_dirichlet(int region) {
   changed(kDirichlet);
 }
 
+// what giving() keys a load or a position by: (kind, region)
+enum TimeDataKind { kBodyForce, kNodalForces, kTraction, kObstaclePosition };
+
+void Problem::giving(std::pair<int, int> what) {
+  const bool before_first_step = !setup_done_ && !(state_ready_ && state_.n > 0);
+  if (!before_first_step || start_) return;
+  if (given_.count(what)) {
+    start_ = std::make_unique<TimeData>(def_);  // the values so far are t^0's
+  } else {
+    given_.insert(what);
+  }
+}
+
+Definition Problem::at_start() const {
+  Definition d = def_;
+  if (start_) static_cast<TimeData &>(d) = *start_;
+  return d;
+}
+
 void Problem::set_body_force(const double *f) {
+  giving({kBodyForce, 0});
   std::copy(f, f + space_.dim, def_.body_force);
   def_.has_body_force = true;
   changed(kLoads);
@@ -111,6 +132,7 @@ void Problem::add_neumann(int region, const double *g) {
   require_region(region, "Neumann");
   NeumannLoad nl{region, {0, 0, 0}};
   std::copy(g, g + space_.dim, nl.g);
+  giving({kTraction, region});
   // a region's traction is set, not added: it replaces the previous one
   auto it = std::find_if(def_.neumann.begin(), def_.neumann.end(), [&](const NeumannLoad &x) { return x.region == region; });
   if (it != def_.neumann.end())
@@ -135,17 +157,29 @@ void Problem::set_contact_plane(int region, const double *point, const double *n
     pl.point[k] = point[k];
     pl.normal[k] = normal[k] / big / len;
   }
-  auto it = std::find_if(def_.planes.begin(), def_.planes.end(), [&](const ContactPlane &x) { return x.region == region; });
-  if (it == def_.planes.end()) {
-    def_.planes.push_back(pl);
-    changed(kContact);
-  } else if (std::equal(pl.normal, pl.normal + 3, it->normal)) {
+  auto of_region = [&](std::vector<ContactPlane> &planes) {
+    return std::find_if(planes.begin(), planes.end(), [&](const ContactPlane &x) { return x.region == region; });
+  };
+  auto it = of_region(def_.planes);
+  if (it != def_.planes.end() && std::equal(pl.normal, pl.normal + 3, it->normal)) {
+    giving({kObstaclePosition, region});
     *it = pl;  // a prescribed translation: the rows stay, the gaps follow the point
     changed(kObstacle);
-  } else {
-    *it = pl;
-    changed(kContact);
+    return;
   }
+  // another obstacle, not a motion: it holds from t^0 on
+  std::vector<ContactPlane> start_planes;
+  if (start_) {
+    start_planes = start_->planes;
+    auto s = of_region(start_planes);
+    if (s == start_planes.end()) start_planes.push_back(pl);
+    else *s = pl;
+  }
+  given_.insert({kObstaclePosition, region});
+  if (start_) start_->planes.swap(start_planes);
+  if (it == def_.planes.end()) def_.planes.push_back(pl);
+  else *it = pl;
+  changed(kContact);
 }
 
 void Problem::set_nitsche(double theta, double gamma0) {
@@ -162,6 +196,7 @@ void Problem::set_scheme(int scheme, const std::vector<double> &params) {
 }
 
 void Problem::set_nodal_forces(const double *f) {
+  giving({kNodalForces, 0});
   def_.nodal.assign(f, f + space_.n_dofs());
   changed(kNodal);
 }
@@ -204,6 +239,10 @@ void Problem::set_initial_state(const double *u0, const double *v0) {
   def_.v0.assign(n, 0.0);
   if (u0) def_.u0.assign(u0, u0 + n);
   if (v0) def_.v0.assign(v0, v0 + n);
+  if (state_ready_ && state_.n > 0) {  // a new run: its first values are t^0's again
+    given_.clear();
+    start_.reset();
+  }
   changed(kInitial);
 }
 
@@ -327,19 +366,24 @@ Integrator &Problem::integrator_or_build() {
   return *integrator_;
 }
 
-// built once per change of a load, not every step (docs/design.md §4)
-const std::shared_ptr<const std::vector<double>> &Problem::current_load() {
-  if (step_load_) return step_load_;
-  const std::vector<double> &F_const = constant_load_();
-  if (def_.nodal.empty()) {
-    step_load_ = load_;
-    return step_load_;
-  }
+// F: the body force and tractions F_const with the nodal forces (without
+// any: F_const itself, not a copy)
+std::shared_ptr<const std::vector<double>> Problem::with_nodal(std::shared_ptr<const std::vector<double>> F_const,
+                                                               const std::vector<double> &nodal) {
+  if (nodal.empty()) return F_const;
   count(counters_.get(), &Counters::load_assemblies);
   auto F = std::make_shared<std::vector<double>>(static_cast<size_t>(discretization_().dofs.n_free), 0.0);
-  disc_->dofs.restrict_to_free(def_.nodal.data(), F->data());
-  for (size_t i = 0; i < F_const.size(); ++i) (*F)[i] += F_const[i];
-  step_load_ = std::move(F);
+  disc_->dofs.restrict_to_free(nodal.data(), F->data());
+  for (size_t i = 0; i < F_const->size(); ++i) (*F)[i] += (*F_const)[i];
+  return F;
+}
+
+// built once per change of a load, not every step (docs/design.md §4)
+const std::shared_ptr<const std::vector<double>> &Problem::current_load() {
+  if (!step_load_) {
+    constant_load_();
+    step_load_ = with_nodal(load_, def_.nodal);
+  }
   return step_load_;
 }
 
@@ -353,9 +397,16 @@ const State &Problem::state() {
     s.A.assign(n, 0.0);
     if (!def_.u0.empty()) d.dofs.restrict_to_free(def_.u0.data(), s.U.data());
     if (!def_.v0.empty()) d.dofs.restrict_to_free(def_.v0.data(), s.V.data());
-    s.F = current_load();
-    s.F_fixed = clamped_load_();
-    s.gap = current_gaps();
+    if (start_) {  // t^0's loads and positions, not the next step's
+      const Definition d0 = at_start();
+      s.F = with_nodal(std::make_shared<const std::vector<double>>(constant_load(space_, d, d0)), d0.nodal);
+      if (d.clamped) s.F_fixed = clamped_load(space_, *d.clamped, d0);
+      s.gap = contact_gaps(d.contact, d0.planes);
+    } else {
+      s.F = current_load();
+      s.F_fixed = clamped_load_();
+      s.gap = current_gaps();
+    }
     state_ = std::move(s);
     state_ready_ = true;
   }
@@ -475,15 +526,23 @@ uint64_t Problem::inputs_digest() const {
                    d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration})
     h.value(x);
   for (int x : {d.scheme, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
-                int(d.redistributed), int(d.has_body_force), int(d.guards.critical_timestep),
+                int(d.redistributed), int(d.guards.critical_timestep),
                 int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
     h.value(x);
   h.vec(d.dirichlet);
-  h.bytes(d.body_force, sizeof d.body_force);
-  for (const NeumannLoad &l : d.neumann) h.value(l.region), h.bytes(l.g, sizeof l.g);
-  for (const ContactPlane &p : d.planes) h.value(p.region), h.bytes(p.point, sizeof p.point), h.bytes(p.normal, sizeof p.normal);
+  auto time_data = [&h](const TimeData &t) {
+    h.value(int(t.has_body_force));
+    h.bytes(t.body_force, sizeof t.body_force);
+    for (const NeumannLoad &l : t.neumann) h.value(l.region), h.bytes(l.g, sizeof l.g);
+    for (const ContactPlane &p : t.planes)
+      h.value(p.region), h.bytes(p.point, sizeof p.point), h.bytes(p.normal, sizeof p.normal);
+    h.vec(t.nodal);
+  };
+  time_data(d);
+  h.value(start_ != nullptr);
+  if (start_) time_data(*start_);
   h.vec(d.scheme_params);
-  h.vec(d.nodal), h.vec(d.u0), h.vec(d.v0);
+  h.vec(d.u0), h.vec(d.v0);
   h.value(state_ready_);
   if (state_ready_) h.value(state_.t), h.value(state_.n), h.value(state_.partial);
   // (a partial state differs between ranks off their rows; the steps that
@@ -577,6 +636,8 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   state_ = std::move(s);
   state_ready_ = true;
   setup_done_ = state_.n > 0;
+  // the checkpoint holds F^n: at n = 0 the loads given now are t^1's
+  if (state_.n == 0 && !start_) start_ = std::make_unique<TimeData>(def_);
   initial_guarded_ = false;
 }
 

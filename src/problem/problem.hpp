@@ -7,6 +7,8 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "fem/space.hpp"
@@ -143,6 +145,8 @@ class Problem {
   void complete_state();
   StateSizes state_sizes();
   const std::shared_ptr<const std::vector<double>> &current_load();
+  std::shared_ptr<const std::vector<double>> with_nodal(std::shared_ptr<const std::vector<double>> F_const,
+                                                        const std::vector<double> &nodal);
   const std::vector<double> &clamped_load_();  // the load on the clamped DOFs (empty: none)
   // g_q with the planes where the definition has them (kept until a plane or
   // the discretization changes: a step copies them, not computes them)
@@ -177,6 +181,16 @@ class Problem {
   bool state_ready_ = false;
   bool initial_guarded_ = false;  // the initial state passed guard_initial_state
   bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (docs/design.md §8)
+  // Before the first step a host sets f(0), then f(t^1), then steps: the
+  // first value of each load and obstacle position is t^0's, a second one
+  // t^1's (docs/design.md §8). given_ names what has a value (kind, region);
+  // start_ holds t^0's values once a second value came.
+  std::set<std::pair<int, int>> given_;
+  std::unique_ptr<TimeData> start_;
+  // before a setter changes the load or position `what`: fixes t^0's values
+  // if this is its second value before the first step
+  void giving(std::pair<int, int> what);
+  Definition at_start() const;  // the definition with t^0's loads and positions
 };
 
 }  // namespace nd
