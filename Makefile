@@ -3,7 +3,8 @@
 #   make check      build and run the whole test suite (CTest)
 #   make demo       build the library, the CLI and two examples, and run the demonstration scenes
 #   make install    install into $(PREFIX)
-#   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck
+#   make check-sanitize / check-valgrind   the tests under ASan+UBSan / memcheck (a subset;
+#                   check-valgrind-all: every test program)
 #   make fuzz       the libFuzzer targets (clang), $(FUZZ_TIME) s each on their seed corpora
 #   make check-petsc  a build with the PETSc solvers in $(PETSC_BUILD) (-DND_WITH_PETSC=ON,
 #                   warnings as errors) and its tests labelled petsc (mpi: under mpiexec)
@@ -38,6 +39,8 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_TIME  ?= 60
 PETSC_BUILD ?= build-petsc
 
+
+.PHONY: check-valgrind-all check-valgrind-mpi-all
 .PHONY: all deps configure check demo install check-sanitize check-valgrind fuzz fuzz-deps petsc-deps petsc-configure petsc-build check-petsc check-valgrind-mpi meshes bench bench-quick bench-tangent bench-same bench-heap bench-scaling bench-deps report report-quick report-deps stability stability-quick abi-update clean
 
 all: configure
@@ -69,8 +72,13 @@ check-sanitize: deps
 	cmake --build build-sanitize -j $(JOBS)
 	cd build-sanitize && CK_FORK=no ctest --output-on-failure -j $(JOBS)
 
+# a representative subset (scripts/check-valgrind.sh says which programs it
+# leaves out and why); check-valgrind-all runs every test program
 check-valgrind: all
-	sh scripts/check-valgrind.sh $(BUILD)
+	sh scripts/check-valgrind.sh $(BUILD) $(JOBS)
+
+check-valgrind-all: all
+	sh scripts/check-valgrind.sh $(BUILD) $(JOBS) all
 
 # libFuzzer (tests/fuzz): clang with ASan+UBSan; fails on any crash, leak,
 # timeout or sanitizer report (scripts/fuzz.sh)
@@ -98,8 +106,15 @@ petsc-build: petsc-configure
 check-petsc: petsc-build
 	cd $(PETSC_BUILD) && ctest --output-on-failure -L petsc -j $(JOBS)
 
-# The MPI tests of the PETSc build on 2 ranks under valgrind (memory errors, ~6 min)
+# The MPI tests of the PETSc build on 2 ranks under valgrind (memory errors):
+# the distributed linear algebra, the contact columns and the ranks' agreement
+# on a small matrix (mpi_contact_columns); check-valgrind-mpi-all adds the
+# disk and ball runs of mpi_distributed (about 5 more minutes), which run
+# without valgrind in check-petsc
 check-valgrind-mpi: petsc-build
+	cd $(PETSC_BUILD) && ctest --output-on-failure -L valgrind-ranks -R mpi_contact_columns
+
+check-valgrind-mpi-all: petsc-build
 	cd $(PETSC_BUILD) && ctest --output-on-failure -L valgrind-ranks
 
 # Record the public ABI (abi/nitschedyn.abi) after a deliberate change of the API.

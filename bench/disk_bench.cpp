@@ -149,8 +149,8 @@ int main(int argc, char **argv) {
     return 1;
   }
   // the state at t = 0, which assembles the operators (M, K, the contact
-  // points): part of the setup, with or without a history to write (until
-  // 2026-11-27 the history's query made it outside every timer)
+  // points): part of the setup, with or without a history to write (else
+  // the history's query would make it outside every timer)
   const double E0 = get(p, ND_ENERGY_MECHANICAL), force0 = get(p, ND_CONTACT_FORCE);
   const double setup = seconds() - t0;
   const int steps = static_cast<int>(T / tau + 0.5);
@@ -234,8 +234,8 @@ int main(int argc, char **argv) {
   };
   // the floor right after such a step: do the step's own passes (over M, K
   // and the contact points) leave less of the factor in cache than the
-  // back-to-back solves above? (2026-12-02: 0.89-1.08 floors on every mesh
-  // of make bench, so no.) In a second series: between the timed steps it
+  // back-to-back solves above? (docs/performance.md, "The floor after a
+  // step".) In a second series: between the timed steps it
   // would warm their solves
   std::vector<double> floor_after_step;
   const bool stepped = solved_free_steps([&](double dt) { free_flight.push_back(dt); }) &&

@@ -34,7 +34,7 @@ echo "   P1, h = 4, hybrid, Theta=1, gamma0 automatic, tau=0.05, T=32)"
 mkdir -p "$1/demo"
 "$1/tools/cli/nitschedyn" examples/scenes/disk.toml --out "$1/demo"
 echo "history (every 4 time units):"
-awk -F, 'NR == 1 || (NR - 2) % 80 == 0' "$1/demo/disk_history.csv" | cut -d, -f1-6
+grep -v '^#' "$1/demo/disk_history.csv" | awk -F, 'NR == 1 || (NR - 2) % 80 == 0' | cut -d, -f1-6
 echo
 echo "== the same disk, P2 on the finer mesh h = 2, with examples/disk2d"
 "$1/disk2d" --degree 2 --mesh examples/meshes/disk_h2.msh --scheme hybrid --Theta 1 --tau 0.05 --T 32 --every 4

@@ -9,17 +9,23 @@
 #                            Debian's libclang-rt-N-dev of the default clang, -14- on bookworm)
 #   install-deps.sh petsc    also PETSc with MPI, MUMPS and hypre (make check-petsc,
 #                            -DND_WITH_PETSC=ON; bookworm: PETSc 3.18, OpenMPI)
+# Several groups install in one apt-get run: install-deps.sh fuzz petsc report bench
 set -e
 need=""
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 pkgs="cmake g++ make pkg-config liblapack-dev liblapacke-dev libopenblas0-pthread libsuitesparse-dev libmetis-dev check binutils valgrind mandoc man-db gfortran python3-numpy libtomlplusplus-dev libcli11-dev"
-[ "${1:-}" = report ] && pkgs="$pkgs python3 python3-matplotlib python3-getfem"
-[ "${1:-}" = meshes ] && pkgs="$pkgs gmsh"
-[ "${1:-}" = bench ] && pkgs="$pkgs python3 python3-numpy python3-getfem gmsh"
-[ "${1:-}" = fuzz ] && pkgs="$pkgs clang libclang-rt-dev"
-[ "${1:-}" = petsc ] && pkgs="$pkgs petsc-dev"
+for group in "$@"; do
+  case $group in
+    report) pkgs="$pkgs python3 python3-matplotlib python3-getfem" ;;
+    meshes) pkgs="$pkgs gmsh" ;;
+    bench) pkgs="$pkgs python3 python3-numpy python3-getfem gmsh" ;;
+    fuzz) pkgs="$pkgs clang libclang-rt-dev" ;;
+    petsc) pkgs="$pkgs petsc-dev" ;;
+    *) echo "install-deps: unknown group '$group' (report, meshes, bench, fuzz, petsc)" >&2; exit 2 ;;
+  esac
+done
 for pkg in $pkgs; do
-  have_pkg "$pkg" || need="$need $pkg"
+  have_pkg "$pkg" || case " $need " in *" $pkg "*) ;; *) need="$need $pkg" ;; esac
 done
 [ -z "$need" ] && exit 0
 if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then

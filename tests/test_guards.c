@@ -4,6 +4,10 @@
  *    is exact and known in closed form (P1: 1/E, P2: 1/(4E)); past the exact
  *    global limit setup refuses Theta > 0 with ND_ERR_NOT_COERCIVE; the
  *    automatic gamma0 is half the bound;
+ *  - every refusal of a gamma0 too large states the safe bound, the value of
+ *    ND_GAMMA0_LIMIT (the coercivity check, the step operator c M + K_Theta
+ *    and the massless block of K_Theta found indefinite, the energy guard,
+ *    the overflow of the Nitsche terms);
  *  - schemes that amplify every oscillation (theta < 1/2, Newmark gamma < 1/2);
  *  - an initial state inside the obstacle.
  * The guards during stepping are in test_step_failure; that they stay quiet
@@ -11,6 +15,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "testutil.h"
 
@@ -106,6 +111,79 @@ START_TEST(automatic_gamma0) {
 }
 END_TEST
 
+/* message states "gamma0 <= X is safe" with X the bound ND_GAMMA0_LIMIT
+   reported (to the 6 significant digits of the library's messages) */
+static void assert_states_bound(const char *message, double limit) {
+  const char *at = strstr(message, "gamma0 <= ");
+  ck_assert_msg(at != NULL, "no \"gamma0 <= \" in: %s", message);
+  char *end = NULL;
+  const double x = strtod(at + strlen("gamma0 <= "), &end);
+  ck_assert_msg(end != at + strlen("gamma0 <= ") && strncmp(end, " is safe", 8) == 0, "no bound in: %s", message);
+  ck_assert_msg(fabs(x - limit) <= 5e-6 * limit, "the message's bound %.17g is not ND_GAMMA0_LIMIT %.17g: %s", x,
+                limit, message);
+}
+
+/* The bar (P2, E = 3: gamma0* = 1/12) with Theta = 1 and a gamma0 above the
+   bound, with and without the coercivity guard: each refusal states the bound
+   that nd_get_scalar(ND_GAMMA0_LIMIT) reports, read from the same problem */
+START_TEST(refusals_of_a_large_gamma0_state_the_bound) {
+  const double E = 3, central[2] = {0, 0.5};
+  for (int guard = 1; guard >= 0; --guard) {
+    /* far above: c M + K_Theta of Newmark's step is indefinite at set-up */
+    nd_problem p = bar(2, E, 1.0, 1.0, 0.0);
+    const double limit = scalar(p, ND_GAMMA0_LIMIT);
+    ck_assert(limit > 0 && isfinite(limit));
+    ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 1e3 * limit));
+    ck_assert_double_eq_tol(scalar(p, ND_GAMMA0_LIMIT), limit, 1e-15 * limit);
+    ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_COERCIVITY, guard));
+    ck_assert_int_eq(nd_problem_setup(p), ND_ERR_INDEFINITE);
+    printf("guard %d, step operator: %s\n", guard, nd_last_error());
+    assert_states_bound(nd_last_error(), limit);
+    ck_assert_ptr_nonnull(strstr(nd_last_error(), "smaller time step"));
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+    /* just above: the step is well posed; the check refuses K_Theta, or
+       without it the energy guard refuses the growing free motion */
+    p = bar(2, E, 1.0, 1.1 * limit, 0.0);
+    ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_COERCIVITY, guard));
+    int status = nd_problem_setup(p);
+    if (guard) {
+      ck_assert_int_eq(status, ND_ERR_NOT_COERCIVE);
+    } else {
+      for (int k = 0; k < 400 && status == ND_OK; ++k) status = nd_step(p);
+      ck_assert_int_eq(status, ND_ERR_ENERGY_GROWTH);
+    }
+    printf("guard %d, 1.1 gamma0*: %s\n", guard, nd_last_error());
+    assert_states_bound(nd_last_error(), limit);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+    /* the explicit central difference with the contact nodes' mass
+       redistributed: (K_Theta)_mm, factored at set-up, is indefinite */
+    p = bar(2, E, 1.0, 1e3 * limit, 0.0);
+    ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, central));
+    ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 1e-4));
+    ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_COERCIVITY, guard));
+    status = nd_problem_setup(p);
+    ck_assert_msg(status == ND_ERR_INDEFINITE || (guard && status == ND_ERR_NOT_COERCIVE), "status %d: %s", status,
+                  nd_last_error());
+    printf("guard %d, massless block: %s\n", guard, nd_last_error());
+    assert_states_bound(nd_last_error(), limit);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+
+    /* so large that the Nitsche terms overflow: the operators cannot be
+       assembled (ND_GAMMA0_LIMIT neither), the bound read before still holds */
+    p = bar(2, E, 1.0, 1e308, 0.0);
+    ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_COERCIVITY, guard));
+    ck_assert_int_eq(nd_problem_setup(p), ND_ERR_NITSCHE);
+    printf("guard %d, overflow: %s\n", guard, nd_last_error());
+    assert_states_bound(nd_last_error(), limit);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
 START_TEST(schemes_unstable_at_every_step_are_refused) {
   const double th[] = {0.0, 0.3, 0.49}, nm[2] = {0.3, 0.4};
   for (int i = 0; i < 4; ++i) {
@@ -163,6 +241,7 @@ int main(void) {
   tcase_add_test(tc, coercivity_limit_of_the_bar);
   tcase_add_test(tc, coercivity_limit_of_the_disk);
   tcase_add_test(tc, automatic_gamma0);
+  tcase_add_test(tc, refusals_of_a_large_gamma0_state_the_bound);
   tcase_add_test(tc, schemes_unstable_at_every_step_are_refused);
   tcase_add_test(tc, initial_penetration_is_refused);
   suite_add_tcase(s, tc);

@@ -47,7 +47,16 @@ import ctypes
 import os
 import weakref
 
-import numpy as np
+try:
+    import numpy as np
+except ImportError as e:  # python3 -m nitschedyn.plot runs without numpy; Mesh and Problem need it
+    _NUMPY_MISSING = "nitschedyn needs numpy (Debian: apt-get install python3-numpy): %s" % e
+
+    class _NoNumpy:
+        def __getattr__(self, name):
+            raise ImportError(_NUMPY_MISSING)
+
+    np = _NoNumpy()
 
 try:  # the package built by CMake (bindings/python) or installed
     from . import _constants

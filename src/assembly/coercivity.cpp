@@ -10,6 +10,7 @@
 
 #include "assembly/bulk.hpp"
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -93,6 +94,15 @@ double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, con
     if (std::isinf(lambda)) limit = 0;
   }
   return limit;
+}
+
+std::string safe_gamma0(double theta, double limit_at_theta_1) {
+  if (!(theta > 0)) return std::string();
+  const double bound = limit_at_theta_1 / theta;
+  if (!(bound >= 0) || !std::isfinite(bound)) return std::string();
+  if (bound == 0)  // some contact row does not vanish on the element's rigid motions
+    return "no gamma0 > 0 is safe (the coercivity bound of K_Theta, ND_GAMMA0_LIMIT, is 0): use Theta <= 0";
+  return "gamma0 <= " + num(bound) + " is safe (the coercivity bound of K_Theta, ND_GAMMA0_LIMIT)";
 }
 
 }  // namespace nd

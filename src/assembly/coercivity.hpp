@@ -6,6 +6,8 @@
 // s_q vanishes on rigid motions). gamma0* = min_K 1/lambda_K is a sufficient
 // bound, cheap (a dense eigenproblem of at most 30 unknowns per contact cell).
 #pragma once
+#include <string>
+
 #include "assembly/contact.hpp"
 #include "assembly/material.hpp"
 #include "fem/space.hpp"
@@ -16,5 +18,12 @@ namespace nd {
 // without contact points. The rows s_q and the weights w_q do not depend on
 // gamma0, so this can be computed before gamma0 is chosen.
 double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, const ContactPoints &cp);
+
+// What every refusal of a gamma0 too large says: "gamma0 <= X is safe
+// (...)", X = gamma0*/Theta with 6 significant digits, the bound that
+// nd_get_scalar(ND_GAMMA0_LIMIT) reports (or that no gamma0 > 0 is, when it
+// is 0). Empty where gamma0 cannot make K_Theta indefinite (Theta <= 0) or
+// there is no finite bound (no contact points).
+std::string safe_gamma0(double theta, double limit_at_theta_1);
 
 }  // namespace nd

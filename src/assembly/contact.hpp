@@ -50,7 +50,7 @@ struct ContactPoints {
   // sum_k |a_qk| >= ||a_q||_1: u_n - g0 likewise (the penetration guard's bound)
   std::vector<double> a_sum;
   // runs of consecutive points with one index list (a facet's points: 9 on
-  // the ball's P1 cells, 16 on P2), run r the points [runs[r], runs[r + 1])
+  // a tetrahedron's facet with P1, 16 with P2), run r the points [runs[r], runs[r + 1])
   // (the last entry size()), and whether a run's points have the same s_q,
   // bit for bit (P1: the stress of a cell is constant): set_bounds; empty,
   // each point alone. ContactLaw::P_all reads U at a run's DOFs once for

@@ -6,9 +6,8 @@
 // the CPU has AVX2, and with the bits of the scalar forms (each lane one of
 // their sums, added in the same order; no FMA, which rounds once). Each
 // ends with _mm256_zeroupper(): GCC does not always put it there, and SSE
-// code after a wide form that left the registers' upper halves set ran at
-// half speed (CHOLMOD's solve, measured on AMD EPYC: a disk P1 h = 4 step
-// 5.9 -> 13.4 us).
+// code (CHOLMOD's, the BLAS's) after a wide form that left the registers'
+// upper halves set runs much slower (docs/performance.md, "AVX2").
 #pragma once
 #include <cstddef>
 

@@ -1,9 +1,10 @@
-// The library's BLAS threading policy (README "BLAS threads"): while a call
+// The library's BLAS threading policy (docs/performance.md, "BLAS threads"): while a call
 // of the C API runs, the BLAS found in the process runs at most
 // blas_thread_limit() threads, and the caller's own setting is restored when
 // the last such call returns. Limit 0: the library never touches the BLAS.
 // Why: on the sizes a step solves, a threaded BLAS (OpenBLAS's pthread build)
-// mostly spins; on a busy machine a whole run was up to 55x slower.
+// mostly waits, its threads spinning, which on a machine shared with other
+// jobs slows a whole run by a large factor.
 #pragma once
 
 namespace nd {

@@ -26,8 +26,8 @@ namespace nd {
 namespace {
 
 // A supernodal rank-one modification's cost per entry of L on its path, ns:
-// 0.21-0.27 measured over the bounces of ball P1 h = 4, h = 2 and P2 h = 4
-// (AMD EPYC); the simplicial LDL^T's (cholmod_l_updown) 0.7
+// the cost model's constant (linalg/updatable_cholesky.hpp; the simplicial
+// LDL^T's, cholmod_l_updown, 0.7), fitted once, not timed at run time
 constexpr double kSupernodalModifyNs = 0.25;
 
 // A CHOLMOD status that is not OK: out of memory is ND_ERR_NOMEM, a problem
@@ -63,11 +63,9 @@ class CholmodPattern {
     // to CHOLMOD, else AMD. By default CHOLMOD tries several (AMD, then
     // METIS when AMD's fill is high) and silently skips one that runs out
     // of memory: the factorization, and the results in their last bits,
-    // then depended on the memory available. Now running out of memory is
-    // an error, and the ordering depends on the pattern alone. Against AMD,
-    // measured on the bench meshes: nnz(L) 7-26% and the factorization's
-    // flops 25-51% lower (disk P2 h=1 and h=0.5, ball P1 h=4 and h=2, ball
-    // P2 h=4; the largest gains in 3D).
+    // then depended on the memory available. Here running out of memory is
+    // an error, and the ordering depends on the pattern alone. Nested
+    // dissection also gives less fill and fewer flops than AMD, most in 3D.
     ordering_ = ordering ? *ordering : nested_dissection(pattern);
     c_.nmethods = 1;
     c_.method[0].ordering = ordering_.empty() ? CHOLMOD_AMD : CHOLMOD_GIVEN;
@@ -198,11 +196,9 @@ class Cholmod : public Factorization {
   // A supernodal factor is solved here (forward and backward below), not by
   // cholmod_l_solve: its small diagonal blocks (kCholmodOwnTriangle) by our
   // own loops, where OpenBLAS's dtrsv costs more in its call (a buffer taken
-  // under a mutex) than in its arithmetic. Against cholmod_l_solve, one
-  // thread, alternating in one process: 0.77-0.87 of its time on disk P2
-  // h = 4 ... 1 and P1 h = 1, 0.5; 0.90-0.95 on disk P2 h = 0.5; 0.92-1.0
-  // on the balls. The solves of few nonzeros or few rows below share these
-  // loops, so that they make solve()'s bits.
+  // under a mutex) than in its arithmetic (docs/performance.md, "Own
+  // supernodal solve"). The solves of few nonzeros or few rows below share
+  // these loops, so that they make solve()'s bits.
   void solve(double *x) const override {
     if (sparse_solves(f_.n_)) solve_many(x, f_.n_, 1);
     else f_.solve(x);
@@ -210,12 +206,12 @@ class Cholmod : public Factorization {
   // Each column as solve() makes it, bit for bit (tests/unit_linalg.cpp),
   // its forward solve only over the supernodes its nonzeros reach: the
   // columns of the contact points (solve/contact_columns.hpp) have a few
-  // nonzeros each, and reach 10 % (2D) to 35 % (3D) of L's entries.
+  // nonzeros each, and reach a small part of L's entries.
   void solve_many(double *x, int64_t n, int64_t k) const override;
   // Each column's values at the rows `at` as solve() makes them, bit for
   // bit, its backward solve only over the supernodes of those rows and their
-  // ancestors (which alone they read): the contact points' DOFs need 28-43 %
-  // of L's entries on the disks (82-91 % on the balls; backward_share_at).
+  // ancestors (which alone they read): for the contact points' DOFs a small
+  // part of L on large 2D meshes, most of it in 3D (backward_share_at).
   void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override;
   double backward_share_at(const std::vector<int64_t> &at) const override;
   Definiteness definiteness() const override { return def_; }

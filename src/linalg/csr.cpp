@@ -86,8 +86,7 @@ void csr_combine(double a, const Csr &A, double b, const Csr &B, Csr &C) {
 
 double dot(int64_t n, const double *x, const double *y) {
   // in four sums (i mod 4), not one chain of dependent adds, each waiting on
-  // the one before (the Newton residual's norms were 3 % of disk P1 h = 2's
-  // bounce, almost all of it that latency)
+  // the one before: that latency, not memory, bounds a long dot product
   double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
   int64_t i = 0;
   for (; i + 3 < n; i += 4) {

@@ -20,7 +20,7 @@ struct RowSet {
 // An index array that the operators of one pattern share (M, K, K_Theta,
 // A = c M + K_Theta, and any copy of them): read as a const vector; written
 // through mut(), which first copies it if another matrix shares it. One
-// copy instead of four: 27 MB less and no copy to make on disk P2 h=0.5.
+// copy instead of four: less memory, and no copy to make.
 class SharedIndex {
  public:
   SharedIndex() : v_(std::make_shared<std::vector<int64_t>>()) {}
@@ -48,7 +48,7 @@ struct Csr {
   std::vector<double> val;
   // A part of an operator (a rank's own rows, or the rows its own cells
   // touch) stores only the rows of `held`, ascending: ptr has held.size() + 1
-  // entries, not n + 1, so its row pointers fall with the ranks (issue 15).
+  // entries, not n + 1, so its row pointers fall with the ranks.
   // Its columns keep the whole numbering. Not a part: every row, ptr n + 1.
   bool part = false;
   std::vector<int64_t> held;  // (part) the rows stored
@@ -60,7 +60,7 @@ struct Csr {
   // must then be its held rows, checked: ND_ERR_INTERNAL), any other matrix
   // at row i; one loop for each, so neither chooses per row. f is called
   // from both loops: mark it __attribute__((always_inline)), or GCC at -O2
-  // calls it per row (measured: the products pass 25 % slower on disk_h4 P1).
+  // calls it per row, which slows the hottest passes markedly.
   template <class F>
   void for_rows(RowSet rows, F &&f) const {
     const int64_t m = rows.size(n);

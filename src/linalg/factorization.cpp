@@ -48,13 +48,13 @@ const Backend *find_backend(int id) {
   return nullptr;
 }
 
-// AUTO, from bench/solver_crossover (bench/results/solver_crossover.csv, 2D
-// P1, c M + K): a step pays one solve, a Newton iteration with active contact
-// a factorization too. Dense factorization beats CHOLMOD up to ~130 unknowns
-// but a dense solve is 3x slower than CHOLMOD's already at 56 (2.7 vs 0.8 us),
-// so dense only below 40. Banded factors faster than CHOLMOD in 2D but solves
-// 1.6x slower at 870 unknowns: it is kept for patterns that reverse
-// Cuthill-McKee makes truly narrow (1D meshes: half-bandwidth 1-4).
+// AUTO (bench/solver_crossover; docs/performance.md, "Linear solver
+// thresholds"): a step pays one solve, a Newton iteration with active contact
+// a factorization too, so the solve decides. A dense solve falls behind
+// CHOLMOD's long before its factorization does: dense only for the smallest
+// systems. Banded solves lose to CHOLMOD's on 2D meshes: banded only for
+// patterns that reverse Cuthill-McKee makes truly narrow (1D meshes:
+// half-bandwidth 1-4).
 constexpr int64_t kDenseMax = 40, kBandMax = 16;
 
 // The backend that factors for `solver`: AUTO's choice, and CHOLMOD's

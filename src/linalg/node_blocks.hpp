@@ -5,13 +5,11 @@
 // node in 4 bytes. A pass then reads about 11 bytes per entry of the
 // operator in 2D and 9 in 3D, against 24 on the CSR pattern they share (two
 // values, a column index), half (2D) or two thirds (3D) of whose M entries
-// are zeros: M couples no two components. The copies cost memory: measured
-// peaks 123 -> 145 MB on disk P2 h = 0.5, 226 -> 246 MB on ball P2 h = 4
-// (K's blocks, and A's with contact points).
+// are zeros: M couples no two components. The copies (K's blocks, and A's
+// with contact points) trade memory for the bandwidth these passes are
+// bound by (docs/performance.md, "Node blocks").
 // On x86-64 with AVX2 (checked at run time, common/simd.hpp) a pass runs
-// four lanes wide, with the scalar pass's bits. Measured
-// (the products pass alone, AMD EPYC): disk P1 h = 4 to P2 h = 0.5 33-36 %
-// faster, ball P1 and P2 h = 4 18-24 %.
+// four lanes wide, with the scalar pass's bits.
 #pragma once
 #include <cstdint>
 #include <cstring>
@@ -43,7 +41,7 @@ struct NodeBlocks {
   // With sums (energy non-null): energy[0] = sum_i V_i (M V)_i and energy[1]
   // = sum_i U_i (K U)_i, rows ascending (the products pass's sums), added
   // here, where they stay in registers (in f, through references, each add
-  // waited for the store of the one before: a third of the pass on disk P1)
+  // would wait for the store of the one before)
   template <int d, bool mass, bool acc, bool sums, class F>
   void for_rows(const double *U, const double *V, const double *A, F &&f, double *energy) const;
   // the arrays a pass reads, as pointers (locals the compiler need not
@@ -254,11 +252,8 @@ __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, 
     };
     // Two nodes at a time, their blocks side by side: each node's sums
     // still add its blocks one after the other (their bits), but the two
-    // chains of dependent adds overlap. The rows then in order. The pass
-    // alone (disk_bench's pass_ms, 2 rounds): disk P1 h = 4 1.02 -> 0.97
-    // us, P1 h = 2 3.28 -> 3.02 us, P2 h = 4 4.95 -> 4.71 us, P2 h = 1
-    // 79.7 -> 78.3 us (memory-bound there). In 3D (8 sums a node) two
-    // nodes spill registers: slower (ball P1 h = 4 33 -> 38 us).
+    // chains of dependent adds overlap. The rows then in order. Only in 2D:
+    // in 3D (8 sums a node) two nodes spill registers and run slower.
     int64_t N = 0;
     for (; N + 1 < b.nodes; N += 2) {
       WideSums t0, t1;
@@ -298,8 +293,8 @@ __attribute__((target("avx2"))) void NodeBlocks::for_rows_avx2(const double *U, 
         if (acc) add_m_3d(t.ma3, m0, at(A, j), m1, pair ? at(A, j + 1) : nullptr);
       }
     }
-    // the lanes read without a store (a wide store read back narrow was a
-    // quarter of the pass on disk P1)
+    // the lanes read without a store (a wide store read back narrow stalls
+    // the loads on store forwarding)
     const __m256d ku = t.k[0] + t.k[1], mu = t.mu[0] + t.mu[1], mv = t.mv[0] + t.mv[1], ma = t.ma3[0] + t.ma3[1];
 #pragma GCC unroll 3
     for (int c = 0; c < 3; ++c) {

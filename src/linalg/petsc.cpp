@@ -14,7 +14,7 @@
 //       indefinite matrix requested as SPD is reported as ND_ERR_INDEFINITE only
 //       when CG meets negative curvature during a solve.
 //
-// Distribution (issue 15, slice 2): the DofGeometry's communicator (none:
+// Distribution: the DofGeometry's communicator (none:
 // PETSC_COMM_SELF's MPI_COMM_SELF) holds the ranks that solve together. Every
 // rank has the whole matrix and right-hand side (the mesh and the state are
 // replicated); each rank owns the rows of its nodes' free DOFs (Layout;
@@ -25,7 +25,7 @@
 // collective: every rank calls them in the same order (the ranks run the same
 // deterministic code on the same data). On one rank the matrix is the
 // MATSEQAIJ whose value array is ours, and the solve works in the caller's
-// array, as before.
+// array.
 //
 // Options: both backends give their objects the options prefix "nd_" and read
 // the options database after setting the defaults, so that PETSc's own
@@ -595,8 +595,7 @@ class PetscMumps : public Factorization {
     check(v_->solve_many(x, k, [&](Mat B, Mat X) { return MatMatSolve(F_, B, X); }), "MatMatSolve (MUMPS)");
   }
   // the same block solve, of each solution only the rows `at` gathered (one
-  // column: MatSolve; MatMatSolve made a free step of disk_h0.5 P2 on 2 ranks
-  // 16.5 ms against 12.5-13.1)
+  // column: MatSolve, cheaper than MatMatSolve for a single right-hand side)
   void solve_many_at(double *x, int64_t n, int64_t k, const std::vector<int64_t> &at, double *out) const override {
     if (!v_->distributed()) return Factorization::solve_many_at(x, n, k, at, out);
     if (n != n_) fail(ND_ERR_INTERNAL, "PETSc MUMPS: right-hand sides of another size than the matrix");
@@ -805,9 +804,9 @@ class PetscGamg : public Factorization {
   void factor_parts(const Csr &A, const Csr &own, Structure s) override { factor_from(A, &own, s); }
   // Newton's tangents T = A + kappa N'(U) differ from each other in the
   // contact points' few rows: the hierarchy set up for one serves the next
-  // (ball_h2 P1, a bounce: 807 CG iterations against 803 when each is set
-  // up, the set-ups 28 % of the run). So a tangent keeps it while its
-  // solves take at most kStaleFactor times the iterations of the first solve
+  // almost as well as its own, and set-ups are a large part of a run's
+  // time (docs/performance.md, "GAMG hierarchy reuse"). So a tangent keeps
+  // it while its solves take at most kStaleFactor times the iterations of the first solve
   // after the set-up (then the next tangent sets up anew), and a solve that
   // does not converge with it sets up for its matrix and solves again.
   bool refactor(const Csr &A, Structure s) override {
@@ -862,8 +861,7 @@ class PetscGamg : public Factorization {
     ready_ = true;
   }
   void solve(double *x) const override { solve_keeping(x, {}); }
-  // (on ball_h2 P1 a time step's predictor saves 13 % of the CG iterations
-  // of a bounce, a quarter of a free-flight step)
+  // (the time step's predictor as the first guess saves CG iterations)
   void solve_from(double *x, const double *guess) const override { solve_keeping(x, {}, guess); }
   bool starts_from_guess() const override { return true; }
   // each column a Krylov solve, of each solution only the rows `at` gathered
@@ -995,8 +993,8 @@ bool petsc_partition_cells(const Communicator *c, int64_t n_cells, const std::ve
   check(PetscObjectSetOptionsPrefix(reinterpret_cast<PetscObject>(part), "nd_"), "PetscObjectSetOptionsPrefix");
   // Which partitioners this PETSc has: setting an unregistered type fails.
   // Debian's PT-Scotch 7 runs threads that call MPI: with less than
-  // MPI_THREAD_MULTIPLE it crashes or hangs now and then (3 runs of 5 on 4
-  // ranks of ball_h4) unless SCOTCH_PTHREAD_NUMBER=1 keeps it to one thread.
+  // MPI_THREAD_MULTIPLE it crashes or hangs now and then unless
+  // SCOTCH_PTHREAD_NUMBER=1 keeps it to one thread.
   int level = MPI_THREAD_SINGLE;
   MPI_Query_thread(&level);
   const char *threads = std::getenv("SCOTCH_PTHREAD_NUMBER");
@@ -1015,7 +1013,7 @@ bool petsc_partition_cells(const Communicator *c, int64_t n_cells, const std::ve
 #ifdef ND_HAVE_SCOTCH
   // PT-Scotch draws from Scotch's one random generator, which each
   // partition advanced: a second problem of the same mesh in the process got
-  // another partition (4 ranks of ball_h4), and with it other bits. Reset,
+  // another partition, and with it other bits. Reset,
   // one Scotch thread gives the same partition every time (several threads,
   // with MPI_THREAD_MULTIPLE, still vary from call to call)
   if (type && std::strcmp(type, MATPARTITIONINGPTSCOTCH) == 0) SCOTCH_randomReset();

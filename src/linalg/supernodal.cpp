@@ -33,14 +33,11 @@ void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, 
 }
 
 // The diagonal blocks of at most kCholmodOwnTriangle columns are solved by
-// these two loops, wider ones by dtrsv (whose blocked kernels win there: our
-// loops on every block made the balls' solves 1.3-1.4x slower). 16, 32 and
-// 64 measured alike on the disks; 32 was the best on the balls.
+// these two loops, wider ones by dtrsv, whose blocked kernels win there
+// (the width: docs/performance.md, "Own supernodal solve").
 // Both multiply by the diagonal's reciprocals (inv) rather than divide (a
 // division's latency sits on the chain from column to column), and L, inv
-// and y do not overlap (__restrict: the updates vectorize). One solve, 201
-// timed: 0.92 of the time before on disk P1 h = 1, 0.94-0.97 on disk P2
-// h = 1 and ball P1 h = 4; unchanged where wide blocks (the BLAS) dominate.
+// and y do not overlap (__restrict: the updates vectorize).
 // y = L^{-1} y, L lower triangular, column-major with leading dimension ld
 void lower_solve(int cols, const double *__restrict L, int ld, const double *__restrict inv, double *__restrict y) {
   for (int j = 0; j < cols; ++j) {
@@ -80,9 +77,9 @@ const double kMinusOne = -1.0, kPlusOne = 1.0;
 // and its own v_j, which the rotations before it in the column leave: all
 // are made first, then applied two by two in one pass over the column, at
 // each entry in the vectors' order (the bits of one vector's pass after the
-// other's, with the column read and written half as often: ball P1 h = 2
-// contact steps 6 % faster). Each entry on its own: the wide form (four
-// entries at a time, no FMA) has the scalar form's bits.
+// other's, with the column read and written half as often). Each entry on
+// its own: the wide form (four entries at a time, no FMA) has the scalar
+// form's bits.
 struct Rotation {
   double c, s, signed_s, inv_c;
 };
@@ -144,10 +141,10 @@ __attribute__((target("avx2"))) void rotate_avx2(const Rotation &g, const Rotati
 // The wide passes read and write the vectors and the column four entries
 // at a time; where those straddle two 64-byte lines (a 32-byte access at an
 // address not a multiple of 32: three in four of them, as CHOLMOD's columns
-// and the vectors fell), each costs two, and the rotations ran 1.5 times
-// slower than aligned (AMD EPYC, a column pass over 1,000 rows: 0.22
-// against 0.33-0.39 ns an entry and vector). So the vectors are laid out
-// with their rows in step (SupernodalModifier::modify: each at a 32-byte
+// and the vectors fell), each costs two accesses, and the rotations run
+// markedly slower than aligned (docs/performance.md, "Aligned rotations").
+// So the vectors are laid out with their rows in step
+// (SupernodalModifier::modify: each at a 32-byte
 // boundary, their length a multiple of four), the first rows up to the
 // vectors' next boundary are rotated one by one, and with enough vectors to
 // pay for it (kCopiedFrom) the column is copied in step with them into

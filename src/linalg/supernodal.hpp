@@ -2,10 +2,9 @@
 // the solves that sweep it (linalg/cholmod.cpp's own, not cholmod_l_solve)
 // and the rank-one updates and downdates that modify it in place
 // (linalg/updatable_cholesky.hpp). CHOLMOD's own updates (cholmod_l_updown)
-// need a simplicial LDL^T, whose solves cost 1.5-2x the supernodal ones on
-// the balls (ball P1 h = 4: 178 against 115 us; ball P1 h = 2, P2 h = 4:
-// 1.9-2x): the Newton tangent of a ball in contact paid that at every
-// iteration. Here the factor stays supernodal: an update leaves L's
+// need a simplicial LDL^T, whose solves cost up to twice the supernodal
+// ones in 3D: the Newton tangent of a 3D body in contact would pay that at
+// every iteration. Here the factor stays supernodal: an update leaves L's
 // structure as it is, so its columns must lie where L has entries (a
 // column on a clique of the matrix's graph does: an element's DOFs).
 #pragma once
@@ -55,8 +54,8 @@ struct SupernodalTree {
 };
 
 // A solve's workspaces (supernodal_forward's y, reached and e), kept by a
-// factor from solve to solve: made at each solve they were three
-// allocations and y's n zeros per solve. A factor is not solved from two
+// factor from solve to solve, so that a solve allocates nothing and zeroes
+// no n-long vector. A factor is not solved from two
 // threads at once (the library calls it from one).
 struct SupernodalWork {
   std::vector<double> y, e;
@@ -91,9 +90,8 @@ void supernodal_backward(const SupernodalFactor &L, const double *inv, std::vect
 class SupernodalModifier {
  public:
   // (64, not 4: a batch walks the root's large blocks once for kBatch
-  // vectors; ball P1 h = 1's contact steps 1.57 -> 1.08 s with 32, 1.01 s
-  // with 64, 1.03 s with 128; ball P1 h = 2's 1-2 % faster, the smaller
-  // meshes alike. w_ holds up to 512 bytes an unknown, as wide as the
+  // vectors; wider batches gain nothing more: docs/performance.md, "Batches
+  // of rank updates". w_ holds up to 512 bytes an unknown, as wide as the
   // widest batch met)
   static constexpr int kBatch = 64;
   bool modify(const SupernodalFactor &L, const SupernodalTree &tree, double *inv, bool add, const int64_t *ptr,

@@ -29,7 +29,7 @@ class UpdatableCholesky {
  public:
   // the symbolic analysis of the pattern (in the CHOLMOD backend's ordering:
   // that of ordered_like, a CHOLMOD factor of the same pattern, reused rather
-  // than computed again: ball P2 h=4, 0.06 s of METIS); counted as an
+  // than computed again: no second METIS run); counted as an
   // analysis, each factor() as a factorization and each solve() as a solve
   UpdatableCholesky(const Csr &pattern, Counters *counters, const Factorization *ordered_like = nullptr);
   ~UpdatableCholesky();
@@ -43,24 +43,21 @@ class UpdatableCholesky {
   bool modify(bool add, const SparseColumns &C);
   void solve(double *x) const;
   // the factor of A itself, copied from A's own CHOLMOD factor (same
-  // pattern, same ordering) and converted: about a tenth of a factorization
-  // (ball_h2: 0.03 s against 0.29 s). false, and nothing changed, when
+  // pattern, same ordering) and converted: far cheaper than a
+  // factorization. false, and nothing changed, when
   // A_factor is not a CHOLMOD factor of this ordering.
   bool start_from(const Factorization &A_factor);
 
-  // Estimated costs, in nanoseconds on the machine they were measured on (AMD
-  // EPYC, one BLAS thread): deterministic functions of the structure, so
-  // that a run's choices between updating and refactoring, and its bits, do
-  // not depend on timings. A factorization: max(50 ns nnz(L), flops / 40
-  // GFlop/s) (measured within 15% from the disk P2 h=0.5 to the ball P1
-  // h=1, 4e6 to 1.3e8 nonzeros); an update or downdate: for each nonzero of
-  // L on each column's path in the elimination tree, 0.25 ns in the
-  // supernodal form (0.21-0.27 measured on the bounces of ball P1 h = 4, h = 2
-  // and P2 h = 4), 0.7 ns in the simplicial one (0.67-0.72 on ball_h4 and
-  // ball_h2). modify_cost: once has_costs().
+  // Estimated costs, in nanoseconds of the machine the model was fitted on
+  // (one BLAS thread; docs/performance.md, "Cost model of the updated
+  // factor"): deterministic functions of the structure, so that a run's
+  // choices between updating and refactoring, and its bits, do not depend on
+  // timings. A factorization: max(50 ns nnz(L), flops / 40 GFlop/s); an
+  // update or downdate: for each nonzero of L on each column's path in the
+  // elimination tree, 0.25 ns in the supernodal form, 0.7 ns in the
+  // simplicial one. modify_cost: once has_costs().
   double factor_cost() const;
-  // a solve (forward and backward): 0.6 ns nnz(L) (ball P1 h = 2: 2.44 ms
-  // measured for 4.15e6 nonzeros, 2.49 by this)
+  // a solve (forward and backward): 0.6 ns nnz(L)
   double solve_cost() const;
   double modify_cost(const SparseColumns &C) const;
   bool has_costs() const;  // modify_cost is known (after a factor() or start_from())

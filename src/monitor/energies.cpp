@@ -330,9 +330,8 @@ namespace {
 // a state whose points its step left unevaluated (the bound's reference),
 // shown to have every P_q <= 0 by the bound from that reference: its
 // contact forces and active points are zero (+0, the evaluated sums' bits:
-// no term is added), so a query evaluates no point (it evaluated them all:
-// 25.5 us a query on ball P1 h = 4's free flight, now 2.1, where a
-// predicted step takes about 40)
+// no term is added), so a query evaluates no point: evaluating them all
+// would cost a large part of a predicted step per query
 bool shown_free(const Discretization &d, const State &s) {
   const PointValues &v = s.products.points;
   return s.products.of == d.id && v.ref &&

@@ -1,5 +1,5 @@
-// The ranks of an MPI job that step one problem together (issue 15, slice 2:
-// replicated mesh and state, distributed linear solves). Only builds with
+// The ranks of an MPI job that step one problem together (replicated mesh
+// and state, distributed linear solves). Only builds with
 // PETSc know MPI (parallel/communicator_mpi.cpp); the others have the same
 // functions with this process alone (parallel/communicator_serial.cpp), so
 // that the rest of the library never tests for MPI.

@@ -1,4 +1,4 @@
-// Which rank owns what (issue 15, slice 3): the cells of the mesh are
+// Which rank owns what: the cells of the mesh are
 // partitioned over the ranks of a problem's communicator, and each FE node
 // belongs to the rank of the lowest-numbered cell that holds it. A rank owns
 // the rows of its nodes' free DOFs in the distributed step matrix

@@ -1,5 +1,5 @@
-// Work split over the ranks of a communicator, results gathered to every rank
-// (issue 15, slice 4). The mesh and the state are replicated; what is split
+// Work split over the ranks of a communicator, results gathered to every
+// rank. The mesh and the state are replicated; what is split
 // is the work of a step outside the solves: each contact point is evaluated
 // by the rank of its cell, each row of the products M U, M V, M A, K U by
 // the rank of its node (parallel/ownership.hpp). A Share lists which items
@@ -35,8 +35,8 @@ struct Share {
 };
 
 // The items a rank reads of a field whose items are computed by their owners
-// (a Share), when it reads fewer than all (slice 10: the contact points a
-// Newton pass on split rows reads). The rank computes its own items and
+// (a Share), when it reads fewer than all (the contact points a Newton
+// pass on split rows reads). The rank computes its own items and
 // receives the others it reads from their owners alone (exchange), instead
 // of every item from every rank (gather).
 struct Halo {

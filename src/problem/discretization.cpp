@@ -21,20 +21,18 @@ namespace nd {
 namespace {
 // The initial acceleration's mass solve by conjugate gradients from this
 // many unknowns on (below, a factorization is cheap), to this relative
-// residual, within this many iterations. Measured: 31 (P1) and 37 (P2)
-// iterations for a general right-hand side in 2D, 6e-16 to 8e-16 from the
-// factored solve (unit_linalg); from rest under gravity (F = M g) 1 to 3
-// iterations. On ball_h2 P1 the first step no longer factors M (0.3 s) nor
-// holds its factor (peak memory 238 -> 154 MB through the first steps).
+// residual, within this many iterations: a few dozen for a general
+// right-hand side, a few from rest under gravity (F = M g), to within
+// round-off of the factored solve (unit_linalg); the first step then
+// neither factors M nor holds its factor (docs/performance.md, "Initial
+// acceleration by CG").
 constexpr int64_t kMassCgMinSize = 2048;
 constexpr double kMassCgTolerance = 1e-15;
 // ... and on, while round-off lets the residual fall, toward this one: A^0's
 // error excites the round-off vibrations a predicted step cannot follow
 // (solve/predictor_check.hpp; its residual holds (omega tau)^2/2 times that
-// error). Measured on disk_h0.5 P2 from rest under gravity: 2 iterations to
-// 3.5e-16 (the first predicted step at 9.8 round-offs), 5 to 9.1e-17 (3.2);
-// for unit_linalg's general right-hand side 36 (P1) and 42 (P2) iterations
-// instead of 31 and 37, to 1.6e-16 and 2.0e-16.
+// error). The few more iterations this costs bring the first predicted
+// step well within kPredictorRoundOffs.
 constexpr double kMassCgTarget = 1e-16;
 constexpr int kMassCgMaxIterations = 300;
 
@@ -125,7 +123,13 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   }
   set_bounds(d->contact);
   count(counters, &Counters::matrix_assemblies);
-  d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
+  try {
+    d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
+  } catch (const Error &e) {  // overflow: a gamma0 far too large, or units to rescale
+    const std::string safe = safe_gamma0(d->theta, d->gamma0_limit);
+    if (e.code() != ND_ERR_NITSCHE || safe.empty()) throw;
+    fail(ND_ERR_NITSCHE, std::string(e.what()) + "; gamma0 = " + num(d->gamma0) + ", and " + safe);
+  }
   if (counters)
     counters->matrix_entries = static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size());
   if (!d->rows_split) d->node_blocks = make_node_blocks(d->K, d->M, space.dim);
@@ -208,7 +212,7 @@ void Discretization::mass_solve(double *x, int solver, bool once) {
     return;
   }
   // massless DOFs: M + diag(massless) is block diagonal, a unit block on
-  // them (a copy of M only then: 17 MB at disk P2 h=0.5)
+  // them (a copy of M, made only then)
   Csr with_unit_block;
   if (std::any_of(massless.begin(), massless.end(), [](char m) { return m != 0; })) {
     with_unit_block = M;

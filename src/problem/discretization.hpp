@@ -53,7 +53,7 @@ struct Discretization {
   std::shared_ptr<const NodeBlocks> node_blocks;
   // K_Theta and M so, for the explicit steps' K_Theta U (made at the first)
   std::shared_ptr<const NodeBlocks> k_theta_blocks;
-  // M, K and K_Theta hold this rank's rows only (issue 15, slice 5), and
+  // M, K and K_Theta hold this rank's rows only, and
   // store no others (Csr::part: their row pointers fall with the ranks), so
   // every product with them is the ranks' rows, gathered: collective
   // (own_rows_of)
@@ -77,8 +77,7 @@ struct Discretization {
   // of an implicit scheme); then, with no factor yet, a large M held whole
   // is solved by conjugate gradients (linalg/pcg.hpp) instead of being
   // factored and its factor kept, whatever the solver: a factor of M, as
-  // large as A's, would stay for the whole run (disk_h0.5 P2 with CHOLMOD
-  // chosen: first step 1.90 against 1.10 s, peak 232 against 166 MB).
+  // large as A's, would stay for the whole run and raise its peak memory.
   void mass_solve(double *x, int solver, bool once = false);
   // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
   // (once: as in mass_solve). in_step: called by every rank at the same point
@@ -109,7 +108,7 @@ bool splits_rows(const Definition &def);
 // The rows a process computes with d's operators: its own when they are
 // split (or `in_step`: every rank at the same point of a step), else all.
 const Share *own_rows_of(const Discretization &d, bool in_step);
-// A rank's part of the step matrix A = c M + K_Theta (issue 15, slice 3):
+// A rank's part of the step matrix A = c M + K_Theta:
 // the contributions of its own cells, and of the contact points on them, on
 // the pattern of those cells (all rows, most of them empty). Summed over the
 // ranks it is A; a distributed solver assembles A from the parts

@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "assembly/coercivity.hpp"
 #include "common/format.hpp"
 #include "common/simd.hpp"
 #include "monitor/energies.hpp"
@@ -20,9 +21,9 @@ namespace {
 // Whether the new state is finite, and its W (the loads' trapezoidal work
 // added to old.W), over the rows each rank has right: with split rows its
 // own (the ranks' counts and sums joined rank after rank, the same bits on
-// every rank), else every row (in four sums, below). The test and the sum in their own
-// loops, in registers: one loop summing into the array `gather` reads kept
-// the running sum in memory (6.6 % of a disk P1 h = 1 free-flight step).
+// every rank), else every row (in four sums, below). The test and the sum
+// in their own loops, in registers: one loop summing into the array
+// `gather` reads kept the running sum in memory, a store and a load a row.
 bool finite_with_work(const Discretization &d, const State &old, const std::vector<double> &F_old, State &next) {
   const Share *mine = d.rows_split ? d.rows.get() : nullptr;
   const RowSet rows = own_rows(mine);
@@ -46,8 +47,7 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
   auto term = [&](int64_t i) { return 0.5 * (F[i] + F_old[i]) * (U[i] - U0[i]); };
   if (!mine) {
     // in four sums (i mod 4), not one chain of n dependent adds, each
-    // waiting on the one before (most of this pass's time in a profile of
-    // disk P2 h = 2's free-flight steps)
+    // waiting on the one before: that latency, not memory, bounds the pass
     double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
     int64_t i = 0;
     if (loaded) {
@@ -146,25 +146,30 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     }
   } catch (const Error &e) {
     if (e.code() != ND_ERR_INDEFINITE) throw;
-    fail(ND_ERR_INDEFINITE, "the step operator c*M + K_Theta: " + std::string(e.what()) + "; with Theta = " +
-                                num(def.theta) + ", gamma0 = " + num(def.gamma0) + " and tau = " + num(def.tau) +
-                                " the step is not well posed: lower gamma0 or the time step");
+    // c M + K_Theta not positive definite: neither is K_Theta (M >= 0), so
+    // gamma0 is too large for Theta whatever tau (a smaller tau, a larger c,
+    // may still make the step well posed, not the free motion bounded)
+    const std::string safe = safe_gamma0(d.theta, d.gamma0_limit);
+    const std::string what = "the step operator c*M + K_Theta: " + std::string(e.what()) + "; with Theta = " +
+                             num(def.theta) + ", gamma0 = " + num(d.gamma0) + " and tau = " + num(def.tau) +
+                             " the step is not well posed";
+    if (safe.empty()) fail(ND_ERR_INDEFINITE, what + ": lower the time step");
+    fail(ND_ERR_INDEFINITE, what + ": K_Theta is not positive definite either, so gamma0 is too large for Theta; " +
+                                safe + ", and gamma0 = 0 chooses one automatically; a smaller time step may also " +
+                                "make the step well posed");
   }
   // Newton with contact: condensed on the points (the default), the full
   // Newton with the low-rank update of A's factor past its rank limit, both on
   // one column cache, and the updated factor of T past that where it applies;
-  // in 3D the updated factor from the start: a column A^{-1} b_q costs a
-  // solve with a factor of 148-463 entries per column there (ball_h4, ball_h2,
-  // P1 and P2), against 17-85 on the disks, and a bounce activates hundreds of
-  // points (bench/disk_bench, Newmark: per Newton iteration of a contact step
-  // 6-8 solves against 8-18 with the columns; on the disks the columns win,
-  // 1.5-2.4 against 2.1-6.1). Refactoring T is the reference; in 3D it is
-  // also the choice of an iterative solver (GAMG), where a column is a
-  // Krylov solve and a new tangent reuses the multigrid hierarchy of an
-  // earlier one (PetscGamg::refactor; tangent_bench with ND_BENCH_SOLVER=7,
-  // one rank, the bounce at tau = 0.05: a contact step of ball_h4 P1 5.7 ms
-  // refactoring against 29.7 with the condensed columns; on disk_h1 P2
-  // 38.9-41.0 against 34.6-45.6 for the condensed Newton: no gain in 2D).
+  // in 3D the updated factor from the start: there a column A^{-1} b_q is a
+  // solve with a factor several times denser per column than in 2D, and a
+  // bounce activates hundreds of points, so updating T costs fewer solves
+  // per Newton iteration than the columns; in 2D the columns win
+  // (docs/performance.md, "Newton tangent by dimension"). Refactoring T is
+  // the reference; in 3D it is also the choice of an iterative solver
+  // (GAMG), where a column is a Krylov solve and a new tangent reuses the
+  // multigrid hierarchy of an earlier one (PetscGamg::refactor); with GAMG
+  // in 2D refactoring gains nothing over the condensed Newton.
   if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta);
     const bool updown = updown_tangent_applies(def.solver, s) &&

@@ -38,7 +38,7 @@ struct Integrator {
   // rows every solve of a step keeps, the new state right there only
   // (newton_held_rows with the clamped rows' columns); empty: whole vectors
   std::vector<int64_t> held;
-  // with a distributed state and a halo (slice 12): the contact points this
+  // with a distributed state and a halo: the contact points this
   // rank holds (held_points); the state is right at their DOFs only, and the
   // new state's pass evaluates them only. Null: every point on every rank.
   std::shared_ptr<const HeldPoints> points;
@@ -75,8 +75,8 @@ struct StepData {
 // The state at t^{n+1} from `old` with the data at t^{n+1}; also the
 // obstacle's work and the reactions of the step. Throws (and changes
 // nothing) when the step fails. storage: a state no longer needed (the one
-// before `old`), whose vectors' memory the new state reuses: a free-flight
-// step of a small mesh spent 5 % of its time allocating and freeing them.
+// before `old`), whose vectors' memory the new state reuses, so that a
+// free-flight step allocates nothing once a run is under way.
 State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new,
               State &&storage = State{});
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "assembly/coercivity.hpp"
 #include "common/error.hpp"
 #include "common/format.hpp"
 #include "nitschedyn.h"
@@ -74,9 +75,13 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver) : theta_(d.t
     factor_->factor(A_, Structure::SymmetricPositiveDefinite);
   } catch (const Error &e) {
     if (e.code() != ND_ERR_INDEFINITE) throw;
+    // (K_Theta)_mm is a principal block of K_Theta: not positive definite, nor is K_Theta
+    const std::string safe = safe_gamma0(d.theta, d.gamma0_limit);
     fail(ND_ERR_INDEFINITE, "K_Theta on the massless contact DOFs (mass redistribution, explicit scheme): " +
                                 std::string(e.what()) + "; with Theta = " + num(d.theta) + " and gamma0 = " +
-                                num(d.gamma0) + " their static equilibrium is not well posed: lower gamma0");
+                                num(d.gamma0) + " their static equilibrium is not well posed: lower gamma0" +
+                                (safe.empty() ? std::string()
+                                              : "; " + safe + ", and gamma0 = 0 chooses one automatically"));
   }
   // the tangent (K_Theta)_mm + N~'(x): symmetric, and positive definite, iff Theta = 1
   const Structure ts = theta_ == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;

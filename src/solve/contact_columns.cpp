@@ -15,10 +15,9 @@ namespace nd {
 namespace {
 // Columns solved together: a block of right-hand sides is what makes a
 // multi-right-hand-side solve pay (MUMPS over several ranks), and bounds
-// the copy held besides the cache (kBlock n doubles). Measured on 2 ranks
-// (bench/scaling_ab.sh): a contact step of ball_h2 P1 801 -> 346 ms with
-// blocks of 64 and 372-399 ms with 16, disk_h0.5 P2 137 -> 84 and 79-81 ms;
-// the peak memory per rank +8 and +32 MB with 64, +4 and +14 MB with 16.
+// the copy held besides the cache (kBlock n doubles). 16 gets most of what
+// larger blocks gain, at half their memory (docs/performance.md, "Columns
+// solved together").
 constexpr size_t kBlock = 16;
 }  // namespace
 

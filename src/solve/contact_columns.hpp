@@ -38,12 +38,9 @@ namespace nd {
 // solves for them alone (white-box: tests compare the two).
 enum class ColumnRows { Auto, Whole, Points };
 
-// Measured (disk_bench, Newmark, the bounce; contact step per Newton
-// iteration, in floors, whole columns -> at the points): the share of
-// L's entries the points' DOFs need 0.43 (disk_h2 P2, 3,250 unknowns)
-// 2.37 -> 2.73; 0.40 (disk_h1 P1, 3,190) 1.38 -> 1.51; 0.35 (disk_h1 P2,
-// 12,498) 2.12 -> 1.79; 0.32 (disk_h0.5 P1) 2.0 -> 1.07; 0.28 (disk_h0.5
-// P2) 1.91 -> 1.27. The balls need 0.82-0.91: whole there.
+// Holding the columns at the points paid where the points' DOFs needed at
+// most about a third of L's entries and cost more above; 3D meshes need
+// most of L: whole there (docs/performance.md, "Columns at the points").
 constexpr double kColumnsAtPointsShare = 0.375;
 
 // Whether a column keeps every point's dot with it (keeps_dots): where that
@@ -76,8 +73,8 @@ class ContactColumns {
   double dot(size_t q, int64_t j) const;
   // Are every point's dots with a column kept with it (P^T Z_j, made with
   // the column: p_q . Z_j then costs a read)? Where they take at most the
-  // column's own memory: the points no more than a column's held rows (the
-  // disks; not the balls, whose points outnumber the unknowns).
+  // column's own memory: the points no more than a column's held rows
+  // (typical in 2D; not in 3D, where the points can outnumber the unknowns).
   bool keeps_dots() const { return keeps_dots_; }
   // p_i . Z_j for every point i (after require of a set with j), where kept
   // (else null)
@@ -86,9 +83,8 @@ class ContactColumns {
     return D.empty() ? nullptr : D.data();
   }
   // x -= sum_j f[j] Z_{S[j]} at the held rows, four columns at a time,
-  // (f0 z0 + f1 z1) + (f2 z2 + f3 z3): each held row of x read once per four
-  // columns (summed column after column, disk P1 h = 2's contact steps on the
-  // condensed Newton took 1.05 times as long)
+  // (f0 z0 + f1 z1) + (f2 z2 + f3 z3): each held row of x read and written
+  // once per four columns, not once per column
   void subtract_blocked(const std::vector<int64_t> &S, const double *f, double *x) const;
   // x right at the held rows: its other rows from their ranks (collective
   // when columns are held on own rows; else nothing to do)

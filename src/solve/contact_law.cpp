@@ -407,8 +407,8 @@ Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Ure
 bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) const {
   const size_t nq = cp->size();
   if (!Un || !Pn || Pn->size() != nq || cp->nu.size() != nq) return false;
-  // over the DOFs the points' rows touch: on the disks a few hundred of tens
-  // of thousands (the whole of U cost more than evaluating the points)
+  // over the DOFs the points' rows touch, usually a small part of U (a pass
+  // over the whole of U could cost more than evaluating the points)
   const Reach r = nd::reach(held ? held->dofs : cp->dofs, U.data(), Un);
   if (!r.finite) return false;
   const double d = r.d;

@@ -44,7 +44,7 @@ std::vector<int64_t> rows_and_points(int64_t n, const Share &rows, const Contact
 std::vector<int64_t> point_unknowns(int64_t n, const ContactPoints &cp);
 
 // The contact points a rank holds with a distributed state whose Newton
-// passes read a halo (slice 12): the halo's points (its own and those whose
+// passes read a halo: the halo's points (its own and those whose
 // rows touch its rows) and every point with rows on clamped DOFs (every
 // rank computes the reactions); the state is right at their DOFs only, and
 // the state's pass, the bound of certainly_free and the applied term phi
@@ -107,7 +107,7 @@ struct ContactLaw {
   // gaps are bitwise gap_n (-infinity: every point is tested)
   double free_reach_n = -std::numeric_limits<double>::infinity();
   // A Newton pass whose solves and residual read this rank's rows only (the
-  // refactoring tangent on split rows, slice 10): the points it reads, its
+  // refactoring tangent on split rows): the points it reads, its
   // own and those whose rows touch its rows, received from their owners
   // alone (contact_point_halo). Null: every point on every rank (gathered).
   // Only the passes of P_read and what uses it (add_force, add_tangent,

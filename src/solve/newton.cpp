@@ -118,9 +118,9 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     const double u_norm = norm2_rows(sys.held_rows(), n, U.data());
     res.tolerance = newton_tolerance(sys, opt, r_norm, MU);
     // A point whose P_q sits at zero to round-off can flip at every
-    // iteration without changing G or U (measured: the 3D block of
-    // test_checkpoint on AMD EPYC, P_q = +-5e-18, 50 iterations): a small
-    // residual with an update at round-off is converged whatever the flips.
+    // iteration without changing G or U (seen in a test: P_q = +-5e-18,
+    // flipping until the iteration limit): a small residual with an update
+    // at round-off is converged whatever the flips.
     const bool small = res.residual <= res.tolerance, still = step <= 64 * DBL_EPSILON * u_norm;
     if ((!changed && (small || still)) || (small && still)) {
       res.converged = true;

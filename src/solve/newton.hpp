@@ -18,8 +18,8 @@ struct NewtonOptions {
 };
 
 // Newton's n-long and point-long vectors, kept by the caller from step to
-// step for their memory (their values are not read again; a step's Newton
-// made them anew: 6 allocations a contact step of the balls)
+// step for their memory (their values are not read again), so that a
+// contact step's Newton allocates none of them
 struct NewtonWork {
   std::vector<double> G, MU;
   std::vector<char> active, previous;

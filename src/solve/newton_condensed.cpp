@@ -183,8 +183,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     // with the dots kept, P0 - sum_j (p_q . Z_j) c_j phi_j for every point,
     // column after column: each point's terms in the order of j, as the
     // point-by-point sum below adds them (the same bits), the kept dots read
-    // as streams (point by point, the column lookups were most of this
-    // function's time on disk P1 h = 2)
+    // as streams (point by point, the column lookups would dominate)
     const bool by_columns = any_force && !through_U && columns.keeps_dots();
     if (by_columns) {
       off_S.assign(P0.begin(), P0.end());

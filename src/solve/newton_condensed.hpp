@@ -39,8 +39,7 @@ class CondensedCache {
   struct Lu;  // newton_condensed.cpp: LAPACK's types stay there
   Lu &lu();
   // a step's vectors, kept from step to step for their memory (their
-  // values are not read again): allocated at each step, they cost a contact
-  // step of disk P1 h = 4 3 % (7.27 -> 7.03 us)
+  // values are not read again), so that a step allocates none of them
   struct Work {
     std::vector<double> P, y0, P0, c, F, phi, slope, dP, Ut, off_S, f, G;
     std::vector<int64_t> S;

@@ -15,11 +15,10 @@ namespace nd {
 
 // Round-offs a predictor's residual may hold: ||G|| <= k eps (||r|| + c ||M U||),
 // newton_tolerance's scale with k eps for its rtol (1e-10 by default).
-// Measured through the drop before the impact (bench/disk_bench, Newmark,
-// tau = 0.05, 200 steps): a direct solve's own residual, computed the same
-// way, is 0.6-1.2 of these units; the predicted steps' at most 0.55-1.23 on
-// disk_h4 P2, disk_h1 P2, disk_h0.5 P1, ball_h4 P2 and ball_h2 P1, 4.3 on
-// disk_h0.5 P2, where A^0's round-off weighs (omega tau)^2/2 more.
+// 16 leaves a margin over what a direct solve's own residual holds (about
+// one unit) and what predicted steps hold (a few units, most where A^0's
+// round-off weighs (omega tau)^2/2 more): docs/performance.md, "Predictor
+// round-off allowance".
 constexpr double kPredictorRoundOffs = 16;
 
 // Whether s.U solves the implicit step G(U) = (c M + K_Theta) U + kappa N(U) - r = 0

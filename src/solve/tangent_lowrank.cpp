@@ -135,8 +135,9 @@ class LowRankTangent : public TangentSolver {
     for (int64_t j = 0; j < k; ++j)
       for (int64_t i = 0; i < k; ++i) C_[i + j * k] = d_[i] * G[i + j * k] + (i == j ? 1.0 : 0.0);
     ipiv_.resize(static_cast<size_t>(k));
-    // the _work variants skip LAPACKE's NaN scan of the k x k input (1.6 % of
-    // a ball bounce); a NaN would reach Newton's residual, which is checked
+    // the _work variants skip LAPACKE's NaN scan of the k x k input (a pass
+    // over k^2 entries for nothing); a NaN would reach Newton's residual,
+    // which is checked
     const lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, static_cast<lapack_int>(k), static_cast<lapack_int>(k),
                                            C_.data(), static_cast<lapack_int>(k), ipiv_.data());
     if (info > 0)
@@ -178,22 +179,12 @@ std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factoriz
                                           geometry, columns);
 }
 
-// Measured with bench/tangent_bench crossover (bench/results/tangent_crossover.csv,
-// one BLAS thread, 2 cores, two runs): one solve with k active points, in
-// solves with A's factor (the floor), columns cached:
-//                       k:      571    891   1113   1738   2172   2715   3393
-//   ball_h4 P1, n =  2,097  lowrank   32-35  92-98  168-171
-//                           refactor 131-168  98-131  99-146
-//   ball_h4 P2, n = 14,115  lowrank                       17-20  30-32  56-58  102-105
-//                           refactor                      40-44  41-54  40-56   41-55
-// On the disks every contact point active (k = 32 ... 192, n = 246 ... 12,498)
-// costs 3-6 floors against 19-50 for the refactorization. The k x k LU
-// (2/3 k^3) overtakes the refactorization at k = 890-1,000 (19.5-21.8 sqrt(n))
-// for n = 2,097 and k = 2,000-2,700 (16.8-22.7 sqrt(n)) for n = 14,115: the
-// limit 16 sqrt(n) (733, 1,901) stays below every measured crossover. The
-// cached columns take n doubles each; at most 2 max_rank are kept, and
-// max_rank <= 2^24 / n keeps them under 256 MB (on ball_h4 P2 this bound,
-// 1,188, is the one that applies).
+// The k x k LU (2/3 k^3) grows faster than a refactorization's cost: the
+// limit 16 sqrt(n) stays below every crossover measured with
+// bench/tangent_bench (docs/performance.md, "Low-rank tangent's rank
+// limit"). The cached columns take n doubles each; at most
+// 2 max_rank are kept, and max_rank <= 2^24 / n keeps them under 256 MB
+// (on large 3D meshes this bound is the one that applies).
 int64_t lowrank_rank_limit(int64_t n, const ContactPoints &cp) {
   const double by_time = 16.0 * std::sqrt(static_cast<double>(n));
   const double by_memory = static_cast<double>(int64_t(1) << 24) / static_cast<double>(std::max<int64_t>(n, 1));

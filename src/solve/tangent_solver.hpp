@@ -78,7 +78,8 @@ std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Fact
                                                         std::vector<int64_t> held = {}, bool linear_held = false);
 
 // The updated factor (Theta = 1, T symmetric positive definite): a
-// simplicial LDL^T of T kept from solve to solve and from step to step,
+// Cholesky factor of T (linalg/updatable_cholesky.hpp) kept from solve to
+// solve and from step to step,
 // changed by rank updates and downdates as points enter and leave the active
 // set (solve/tangent_updown.cpp); refactored when the changes since its last
 // factorization outgrow a bound.
@@ -117,10 +118,9 @@ std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factoriz
                                                     const DofGeometry *geometry = nullptr,
                                                     ContactColumns *columns = nullptr);
 
-// The rank above which the second solve beats Z w (bench/tangent_bench
-// crossover, back to back, one BLAS thread): k = 78-97 on disk_h1 P1
-// (n = 3,190) and P2 (n = 12,498), k = 121-151 on ball_h4 P1 (n = 2,097);
-// within 10 % of either variant for 60 <= k <= 150.
+// The rank above which the second solve beats Z w: the measured crossovers
+// lie on either side of it, and near it the two variants cost about the
+// same (docs/performance.md, "Second solve or Z w").
 constexpr int64_t kLowRankTwoSolveRank = 100;
 
 // The measured rank above which refactoring T beats the low-rank update

@@ -2,12 +2,11 @@
 // d_q p_q p_q^T, d_q = kappa w_q/gamma_q phi'_q, is symmetric positive
 // definite, and a point entering or leaving S (or changing its slope)
 // changes it by +-c p_q p_q^T: a rank-one update or downdate of T's factor
-// (linalg/updatable_cholesky.hpp), about a fifth of a solve with A's factor
-// per point on ball P1 h = 4 (n = 2,097; a tenth on ball P1 h = 2 and P2
-// h = 4), against 100-200 solves for a refactorization.
-// Where hundreds of points are active (the ball presses a whole cap on the
+// (linalg/updatable_cholesky.hpp), a fraction of a solve with A's factor
+// per point, against a hundred solves or more for a refactorization in 3D.
+// Where hundreds of points are active (a 3D body presses a whole cap on the
 // plane) and a few change per step, the low-rank tangent's k x k capacitance
-// (2/3 k^3 per new set) and the refactoring tangent both cost 50-200 solves
+// (2/3 k^3 per new set) and the refactoring tangent both cost many solves
 // per Newton iteration; this costs one solve plus the changes.
 //
 // The factor is kept across steps, so its bits depend on the updates made
@@ -23,12 +22,10 @@
 // history's room in a checkpoint. The costs are the factor's model
 // (UpdatableCholesky::factor_cost, modify_cost): functions of the
 // structure, not timings, so the choice is the same in every run. A fixed
-// count of columns did not fit every mesh: 128 columns at once were a
-// factorization's cost on ball_h4, but on ball_h1 an update costs 1/650 of a
-// factorization, and its impact changes more than 128 points per Newton
-// iteration, so that each iteration refactored. (Those counts are the
-// simplicial updates'; the supernodal ones cost about a third as much per
-// entry of L: linalg/updatable_cholesky.hpp.)
+// count of columns does not fit every mesh: an update's cost relative to a
+// factorization falls as the mesh is refined, while an impact changes more
+// points per Newton iteration, so a count that suits a coarse mesh makes a
+// fine one refactor at every iteration.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -44,17 +41,14 @@ namespace {
 
 // Updates since the factorization cost at most this many factorizations:
 // a replay (a restart, a retried step) costs at most one more than that.
-// Measured on ball_h2 P1 (a factorization: 225 updated columns with the
-// simplicial updates, about 2.8 times as many with the supernodal), a bound of
-// one refactored three times within the bounce, each time a whole
-// factorization for nothing: the set changes by 30-50 points per step.
+// A bound of one made a bounce refactor several times, each time a whole
+// factorization for nothing, where the set changes by tens of points per step.
 constexpr double kReplayFactorizations = 8;
 
 // A step's first Newton iteration updates the factor from the last step's
 // final set to the predictor's, the second from there to the iterate's.
 // Where the predictor misjudges the patch's edge, the second undoes much of
-// the first: counted to T = 10.8, 57 % of the columns updated on ball P1
-// h = 1 (4,338 of 7,594), 21 % on ball P1 h = 2. So when the predictor's
+// the first, most on fine meshes. So when the predictor's
 // changes would cost more than this many solves (the factor's model), the
 // first iteration keeps the factor as the last step left it (a chord step:
 // the residual is the predictor's, the tangent the last step's), and the
@@ -63,14 +57,10 @@ constexpr double kReplayFactorizations = 8;
 // to round-off (tests/unit_tangent.cpp); the choice reads the state and the
 // structure only, so a resumed or retried step chooses alike. (As the
 // low-rank tangent's fallback, "first" is the fallback's first solve in the
-// step, which may be a later Newton iteration: a chord step there too.) Measured
-// (bounce, contact steps, one BLAS thread), against updating always:
-//   ball P1 h = 1: 3.94 -> 1.65 s a step (3.07 -> 3.87 iterations);
-//   ball P1 h = 2: 17.0 -> 14.4 ms (2.00 -> 2.05);
-//   ball P1 h = 4: 448 -> 450 us, P2 h = 4: 12.9-13.5 -> 13.3 ms (1.42 -> 1.48).
-// With 1 solve: P1 h = 4 +17 %, P2 h = 4 +15 % (a lagged step whose
-// predictor was right pays one more iteration); with 5: ball P1 h = 2 no
-// longer lags.
+// step, which may be a later Newton iteration: a chord step there too.)
+// Three solves: with fewer, a lagged step whose predictor was right pays one
+// more iteration; with more, mid-sized meshes no longer lag
+// (docs/performance.md, "Lagged first tangent").
 constexpr double kLagSolves = 3;
 
 class UpdownTangent : public TangentSolver {

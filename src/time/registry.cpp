@@ -94,15 +94,13 @@ void StepInputs::k_theta_u(const std::vector<double> &U, std::vector<double> &ou
   }
   if (theta == 0) return;  // K_Theta = K
   // out -= theta sum_q w_q gamma_q (s_q.U) s_q. A run's points (a facet's:
-  // 9 on the ball's P1 cells, 16 on P2) have one index list, without
+  // 9 on a tetrahedron's facet with P1, 16 with P2) have one index list, without
   // repeats (a cell's DOFs): each entry is read once, the points' terms
   // subtracted from it in their order, and written once, without their
-  // chain of stores and loads through memory (the ball's predicted steps
-  // spent 45 % of their time here). A run that shares s_q (P1): s_q.U once,
-  // and the points' coefficients summed first (the sum's rounding, not one
-  // point's after the other), one product an entry, not 9: ball P1 h = 4's
-  // predicted steps 0.51 -> 0.36 floors; else per point; no runs: each
-  // point alone.
+  // chain of stores and loads through memory. A run that shares s_q (P1):
+  // s_q.U once, and the points' coefficients summed first (the sum's
+  // rounding, not one point's after the other), one product an entry, not
+  // one a point; else per point; no runs: each point alone.
   const std::vector<int64_t> &runs = contact.runs;
   const bool by_runs = runs.size() == contact.run_shares_s.size() + 1 && runs.back() == int64_t(contact.size());
   constexpr size_t kMaxRun = 32;  // (a longer run, if any: point by point)

@@ -232,6 +232,12 @@ int run(const Options &opt) {
     make_parent(history_path);
     history.f = std::fopen(history_path.c_str(), "w");
     if (!history.f) throw LibError("cannot write the history " + history_path.string());
+    if (!s.title.empty()) {  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
+      std::string title = s.title;
+      for (char &c : title)
+        if (c == '\n' || c == '\r') c = ' ';
+      std::fprintf(history.f, "# title: %s\n", title.c_str());
+    }
     std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied\n", history.f);
   }
   fs::path prefix;

@@ -29,9 +29,13 @@ g_example=$(sed -n 's/.*gamma0 = \([^ ]*\) (automatic.*/\1/p' "$work/example.log
 [ -n "$g_driver" ] && [ "$g_driver" = "$g_example" ] || fail "gamma0: driver '$g_driver', example '$g_example'"
 
 csv=$(ls "$work"/*_history.csv)
-[ "$(head -1 "$csv")" = "step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied" ] ||
-  fail "$csv: unexpected header $(head -1 "$csv")"
-rows=$(($(wc -l < "$csv") - 1))
+# the comments first (the scene's title: "# title: ..."), then the header
+header=$(grep -v '^#' "$csv" | head -1)
+[ "$header" = "step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied" ] ||
+  fail "$csv: unexpected header $header"
+title=$(sed -n 's/^title *= *"\(.*\)".*$/\1/p' "$scene")
+[ -z "$title" ] || [ "$(head -1 "$csv")" = "# title: $title" ] || fail "$csv: line 1 is not '# title: $title'"
+rows=$(($(grep -vc '^#' "$csv") - 1))
 [ "$rows" -eq $((T * 20 + 1)) ] || fail "$csv has $rows rows, not $((T * 20 + 1))"
 
 # example rows: t E E_Theta E_Theta-W force penetration Newton
@@ -40,7 +44,7 @@ awk -v csv="$csv" '
     FS = ","
     while ((getline line < csv) > 0) {
       n = split(line, f, ",")
-      if (f[1] == "step") continue
+      if (f[1] == "step" || line ~ /^#/) continue
       key = sprintf("%.3f", f[2])
       E[key] = f[3]; ET[key] = f[4]; W[key] = f[5]; F[key] = f[6]; P[key] = f[8]; N[key] = f[9]
     }
