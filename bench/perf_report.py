@@ -374,7 +374,7 @@ def main():
         w("- Peak memory ≤ 1.5× GetFEM's: %s (worst %s×, %s)." % (verdict(v <= 1.5), fmt(v), name(r)))
     if worst is not None:
         w("- BLAS default not slower than one thread on any size: %s (worst default / 1 = %s; two runs of one "
-          "setting differ by up to %s× in this run, so a ratio below that is noise; see README \"BLAS threads\")."
+          "setting differ by up to %s× in this run, so a ratio below that is noise; see docs/performance.md, \"BLAS threads\")."
           % (verdict(worst <= max(1.05, noise)), fmt(worst), fmt(noise)))
     w("- Equal results: 2D histories agree to the Newton tolerance; 3D within the facet quadrature difference "
       "(table above).")
