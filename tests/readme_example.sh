@@ -15,7 +15,7 @@ for src in readme_c_*.c; do
   count=$((count + 1))
   "$cc" -std=c11 -Wall -Wextra -Werror "$src" -I"$inc" -L"$lib" -lnitschedyn -lm -Wl,-rpath,"$lib" -o "${src%.c}"
   echo "== $src"
-  "./${src%.c}"
+  "./${src%.c}" | tee "${src%.c}.out"
 done
 [ "$count" -ge 2 ] || { echo "README.md has $count C programs; expected the complete program and the coupling loop"; exit 1; }
 if [ $# -ge 8 ]; then
@@ -25,6 +25,10 @@ if [ $# -ge 8 ]; then
     "$fc" -std=f2018 -Wall -Wextra -Werror -I"$mod" "$src" -L"$flib" -lnitschedyn_fortran -L"$lib" -lnitschedyn \
       -Wl,-rpath,"$flib" -Wl,-rpath,"$lib" -o "${src%.f90}"
     echo "== $src"
-    "./${src%.f90}"
+    "./${src%.f90}" | tee "${src%.f90}.out"
   done
+  # the twins agree: the same E_Theta(3) to the 6 digits both print
+  e() { awk -F'=' '/E_Theta\(3\)/ {split($2, a, " "); print a[1]}' "$1"; }
+  ec=$(e readme_c_1.out) ef=$(e readme_fortran_2.out)
+  [ -n "$ec" ] && [ "$ec" = "$ef" ] || { echo "the C program printed E_Theta(3) = '$ec', its Fortran twin '$ef'"; exit 1; }
 fi

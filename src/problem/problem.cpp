@@ -115,6 +115,13 @@ void Problem::giving(std::pair<int, int> what) {
   }
 }
 
+// a region's plane replaced, or added
+static void put_plane(std::vector<ContactPlane> &planes, const ContactPlane &pl) {
+  auto it = std::find_if(planes.begin(), planes.end(), [&](const ContactPlane &x) { return x.region == pl.region; });
+  if (it == planes.end()) planes.push_back(pl);
+  else *it = pl;
+}
+
 Definition Problem::at_start() const {
   Definition d = def_;
   if (start_) static_cast<TimeData &>(d) = *start_;
@@ -157,10 +164,7 @@ void Problem::set_contact_plane(int region, const double *point, const double *n
     pl.point[k] = point[k];
     pl.normal[k] = normal[k] / big / len;
   }
-  auto of_region = [&](std::vector<ContactPlane> &planes) {
-    return std::find_if(planes.begin(), planes.end(), [&](const ContactPlane &x) { return x.region == region; });
-  };
-  auto it = of_region(def_.planes);
+  auto it = std::find_if(def_.planes.begin(), def_.planes.end(), [&](const ContactPlane &x) { return x.region == region; });
   if (it != def_.planes.end() && std::equal(pl.normal, pl.normal + 3, it->normal)) {
     giving({kObstaclePosition, region});
     *it = pl;  // a prescribed translation: the rows stay, the gaps follow the point
@@ -168,17 +172,9 @@ void Problem::set_contact_plane(int region, const double *point, const double *n
     return;
   }
   // another obstacle, not a motion: it holds from t^0 on
-  std::vector<ContactPlane> start_planes;
-  if (start_) {
-    start_planes = start_->planes;
-    auto s = of_region(start_planes);
-    if (s == start_planes.end()) start_planes.push_back(pl);
-    else *s = pl;
-  }
   given_.insert({kObstaclePosition, region});
-  if (start_) start_->planes.swap(start_planes);
-  if (it == def_.planes.end()) def_.planes.push_back(pl);
-  else *it = pl;
+  if (start_) put_plane(start_->planes, pl);
+  put_plane(def_.planes, pl);
   changed(kContact);
 }
 
