@@ -262,13 +262,13 @@ END_TEST
 
 /* ---- what a write does to what is at the path (issue 54, findings 1, 10) ---- */
 
-/* a small problem after a few steps, and its checkpoint block */
-static nd_problem stepped(unsigned char **block, int64_t *nbytes) {
+/* a strip of nx x ny cells after a few steps, and its checkpoint block */
+static nd_problem stepped_strip(int nx, int ny, unsigned char **block, int64_t *nbytes) {
   const double lo[2] = {0, 0}, hi[2] = {1, 0.25}, blo[2] = {-1, -1}, bhi[2] = {2, 0}, o[2] = {0, -0.01}, up[2] = {0, 1};
   const double g[2] = {0, -1};
   nd_mesh m = NULL;
   nd_problem p = NULL;
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 1, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(nx, ny, lo, hi, &m));
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
   ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
@@ -284,6 +284,7 @@ static nd_problem stepped(unsigned char **block, int64_t *nbytes) {
   ND_OK_OR_FAIL(nd_problem_save_state(p, *nbytes, *block));
   return p;
 }
+static nd_problem stepped(unsigned char **block, int64_t *nbytes) { return stepped_strip(4, 1, block, nbytes); }
 
 static void make_dir(char *dir) { ck_assert_ptr_nonnull(mkdtemp(dir)); }
 static void rm_dir(const char *dir) {
@@ -345,8 +346,8 @@ START_TEST(a_fifo_is_written_in_place) {
   make_dir(dir);
   snprintf(fifo, sizeof fifo, "%s/fifo", dir);
   ck_assert_int_eq(mkfifo(fifo, 0600), 0);
-  int64_t nbytes = 0;
-  unsigned char *block = NULL;
+  int64_t nbytes = 0, n2 = 0;
+  unsigned char *block = NULL, *block2 = NULL;
   nd_problem p = stepped(&block, &nbytes);
   const int lonely = nd_problem_save_state_file(p, fifo);
   ck_assert_int_eq(type_of(fifo), S_IFIFO);
@@ -390,6 +391,44 @@ START_TEST(a_fifo_is_written_in_place) {
     }
     free(got);
   }
+  /* a reader that goes away after one byte: ND_ERR_IO, and this process is
+     not killed by SIGPIPE (a VTU larger than the pipe's buffer) */
+  nd_problem big = stepped_strip(60, 15, &block2, &n2);
+  const pid_t quitter = fork();
+  ck_assert_int_ge(quitter, 0);
+  if (quitter == 0) {
+    char c;
+    const int in = open(fifo, O_RDONLY);
+    _exit(in >= 0 && read(in, &c, 1) == 1 ? 0 : 1);
+  }
+  int st = ND_ERR_IO;
+  for (int tries = 0; tries < 2000; ++tries) {
+    st = nd_problem_write_vtu(big, fifo);
+    if (st != ND_ERR_IO || !strstr(nd_last_error(), "no process reads")) break;
+    nanosleep(&(struct timespec){0, 5000000}, NULL);
+  }
+  ck_assert_msg(st == ND_ERR_IO && strstr(nd_last_error(), fifo), "%d %s", st, nd_last_error());
+  free(block2);
+  ND_OK_OR_FAIL(nd_problem_destroy(&big));
+  int status = 0;
+  waitpid(quitter, &status, 0);
+  ck_assert(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  /* a checkpoint is read from a FIFO too; one no process writes to is empty:
+     a format error at once, not a wait */
+  ck_assert_int_eq(nd_problem_load_state_file(p, fifo), ND_ERR_FORMAT);
+  const pid_t writer = fork();
+  ck_assert_int_ge(writer, 0);
+  if (writer == 0) {
+    const int out = open(fifo, O_WRONLY);
+    _exit(out >= 0 && write(out, block, (size_t)nbytes) == (ssize_t)nbytes ? 0 : 1);
+  }
+  /* (the writer's open waits for this reader: a load before it gets there
+     reads nothing) */
+  for (int tries = 0; tries < 2000 && (st = nd_problem_load_state_file(p, fifo)) == ND_ERR_FORMAT; ++tries)
+    nanosleep(&(struct timespec){0, 5000000}, NULL);
+  ck_assert_msg(st == ND_OK, "%d %s", st, nd_last_error());
+  waitpid(writer, &status, 0);
+  ck_assert_int_eq(type_of(fifo), S_IFIFO);
   free(block);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   rm_dir(dir);
@@ -508,6 +547,7 @@ START_TEST(devices_are_written_in_place) {
     ck_assert_int_eq(stat("/dev/null", &st), 0);
     ck_assert(S_ISCHR(st.st_mode));
     ck_assert_int_eq(nd_problem_load_state_file(p, "/dev/null"), ND_ERR_FORMAT);
+    ck_assert_int_eq(nd_problem_load_state_file(p, "/dev/zero"), ND_ERR_FORMAT); /* endless: read no further */
     int64_t n = nbytes;
     unsigned char *after = malloc((size_t)n);
     ND_OK_OR_FAIL(nd_problem_save_state(p, n, after));
