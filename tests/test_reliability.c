@@ -321,9 +321,11 @@ static long file_size(const char *path) {
   return n;
 }
 
+/* the temporaries in dir: the old writer's "<name>.tmp.XXXXXX" and this
+   one's ".nd.XXXXXXXX.tmp" */
 static int count_temporaries(const char *dir, const char *prefix) {
   char cmd[512];
-  snprintf(cmd, sizeof cmd, "ls %s | grep -c '^%s.*\\.tmp\\.' ", dir, prefix);
+  snprintf(cmd, sizeof cmd, "ls -A %s | grep -c -e '^%s.*\\.tmp\\.' -e '^\\.nd\\..*\\.tmp$'", dir, prefix);
   FILE *f = popen(cmd, "r");
   int n = 0;
   if (f && fscanf(f, "%d", &n) != 1) n = 0;
@@ -333,9 +335,10 @@ static int count_temporaries(const char *dir, const char *prefix) {
 
 START_TEST(a_failed_vtu_write_keeps_the_previous_file) {
   nd_problem p = strip();
-  char vtu[256], base[64];
+  char vtu[256], base[64], dir[] = "/tmp/nd_test_rel_XXXXXX";
+  ck_assert_ptr_nonnull(mkdtemp(dir)); /* (a directory of its own: no other writer's temporaries) */
   snprintf(base, sizeof base, "nd_test_rel_%d", (int)getpid());
-  snprintf(vtu, sizeof vtu, "/tmp/%s.vtu", base);
+  snprintf(vtu, sizeof vtu, "%s/%s.vtu", dir, base);
   ND_OK_OR_FAIL(nd_problem_write_vtu(p, vtu));
   const long good = file_size(vtu);
   ck_assert_int_gt(good, 1000);
@@ -348,7 +351,7 @@ START_TEST(a_failed_vtu_write_keeps_the_previous_file) {
   const char *names[1] = {"x.vtu"};
   const double t[1] = {0};
   char pvd[256], msg[1024];
-  snprintf(pvd, sizeof pvd, "/tmp/%s.pvd", base);
+  snprintf(pvd, sizeof pvd, "%s/%s.pvd", dir, base);
   /* (no assertion while limited: Check writes its own messages to a file) */
   const int limited = setrlimit(RLIMIT_FSIZE, &lim);
   const int st = nd_problem_write_vtu(p, vtu);
@@ -361,11 +364,12 @@ START_TEST(a_failed_vtu_write_keeps_the_previous_file) {
   ck_assert_msg(st == ND_ERR_IO, "%d %s", st, msg);
   ck_assert_msg(strstr(msg, vtu) != NULL, "%s", msg);
   ck_assert_int_eq(file_size(vtu), good); /* the previous file, whole */
-  ck_assert_int_eq(count_temporaries("/tmp", base), 0);
+  ck_assert_int_eq(count_temporaries(dir, base), 0);
   /* a directory that does not exist: no file at all */
   ck_assert_int_eq(nd_problem_write_vtu(p, "/nonexistent/dir/x.vtu"), ND_ERR_IO);
   remove(vtu);
   remove(pvd);
+  ck_assert_int_eq(rmdir(dir), 0);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST

@@ -68,6 +68,15 @@ mode_t new_file_mode() {
   return 0666 & ~mask;
 }
 
+// the file that replaces another gets its mode, and its owner and group as
+// far as this process may give them (root: both; others: a group of theirs;
+// best effort, silently); the mode after, since a chown clears set-id bits
+void keep_owner_and_mode(int fd, const struct stat &st) {
+  if (fchown(fd, st.st_uid, st.st_gid) != 0 && fchown(fd, static_cast<uid_t>(-1), st.st_gid) != 0) {
+  }
+  fchmod(fd, st.st_mode & 07777);
+}
+
 // "<dir>/.nd.XXXXXXXX.tmp": a short name whatever the length of the target's
 // (which may be up to NAME_MAX), recognisable as this library's
 std::string temporary_name(const std::string &dir) {
@@ -173,7 +182,6 @@ void AtomicFile::open_in_place(Mode mode) {
 // An unnamed temporary file in the target's directory where the file system
 // can (a killed writer leaves nothing), else a named one
 void AtomicFile::open_temporary() {
-  const mode_t mode = exists_ ? (st_.st_mode & 07777) : 0;
 #ifdef O_TMPFILE
   fd_ = open(dir_.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);  // 0666 & ~umask
   if (fd_ >= 0) {
@@ -182,7 +190,7 @@ void AtomicFile::open_temporary() {
     struct stat proc;
     if (stat(("/proc/self/fd/" + std::to_string(fd_)).c_str(), &proc) == 0) {
       unnamed_ = true;
-      if (exists_) fchmod(fd_, mode);
+      if (exists_) keep_owner_and_mode(fd_, st_);
       return;
     }
     close(fd_);
@@ -199,7 +207,10 @@ void AtomicFile::open_temporary() {
                           std::strerror(err));
     }
   }
-  fchmod(fd_, exists_ ? mode : new_file_mode());
+  if (exists_)
+    keep_owner_and_mode(fd_, st_);
+  else
+    fchmod(fd_, new_file_mode());
 }
 
 AtomicFile::~AtomicFile() {
