@@ -482,7 +482,9 @@ class Problem(_Handle):
         _check(lib.nd_problem_load_state(self._h, len(data), ctypes.c_char_p(data)))
 
     def save_state_file(self, path):
-        """The checkpoint of save_state() written atomically to a file."""
+        """The checkpoint of save_state() written to a file: atomically over a
+        regular file; a symlink is followed, a device or FIFO written in place
+        (nd_problem_save_state(3), FILES)."""
         _check(lib.nd_problem_save_state_file(self._h, os.fsencode(path)))
 
     def load_state_file(self, path):
