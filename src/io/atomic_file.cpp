@@ -135,6 +135,19 @@ AtomicFile::AtomicFile(const char *path) : path_(path) {
     tmp_.clear();
     fail(ND_ERR_IO, "cannot open " + quoted(path_) + " for writing: " + std::strerror(err));
   }
+  if (mode_ == Mode::stream) {
+    // (last: a constructor that throws has no destructor to restore the mask)
+    // A reader that goes away makes write() fail with EPIPE, and not kill the
+    // process with SIGPIPE: blocked in this thread while it writes (a SIGPIPE
+    // it raises is taken back in the destructor)
+    sigset_t only_pipe, pending;
+    sigemptyset(&only_pipe);
+    sigaddset(&only_pipe, SIGPIPE);
+    sigemptyset(&pending);
+    sigpending(&pending);
+    sigpipe_was_pending_ = sigismember(&pending, SIGPIPE) == 1;
+    sigpipe_blocked_ = pthread_sigmask(SIG_BLOCK, &only_pipe, &old_mask_) == 0;
+  }
 }
 
 // In place: never created, never truncated here (no O_CREAT, O_TRUNC); a
@@ -164,18 +177,6 @@ void AtomicFile::open_in_place(Mode mode) {
     fd_ = -1;
     fail(ND_ERR_IO, "cannot write " + quoted(path_) + ": " +
                         (err < 0 ? std::string("it changed while it was opened") : std::strerror(err)));
-  }
-  if (stream) {
-    // a reader that goes away makes write() fail with EPIPE, and not kill the
-    // process with SIGPIPE: blocked in this thread while it writes (a SIGPIPE
-    // it raises is taken back in the destructor)
-    sigset_t only_pipe, pending;
-    sigemptyset(&only_pipe);
-    sigaddset(&only_pipe, SIGPIPE);
-    sigemptyset(&pending);
-    sigpending(&pending);
-    sigpipe_was_pending_ = sigismember(&pending, SIGPIPE) == 1;
-    sigpipe_blocked_ = pthread_sigmask(SIG_BLOCK, &only_pipe, &old_mask_) == 0;
   }
 }
 
