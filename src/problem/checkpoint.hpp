@@ -1,9 +1,10 @@
 // The state at t^n as bytes (docs/design.md §8): everything a step reads, so that a
 // run resumed from a checkpoint is bitwise the uninterrupted one. Layout
 // (little-endian, as the machine writes doubles):
-//   magic "NDSTATE\0", u32 version, u32 reserved, u64 fingerprint of the
+//   magic "NDSTATE\0", u32 version, u32 reserved (0), u64 fingerprint of the
 //   problem's structure, u64 payload size, payload, u64 checksum (FNV-1a of
-//   all that precedes it).
+//   all that precedes it: state_checksum). The checksum finds accidents only
+//   (anyone can recompute it): decode_state checks every field's meaning.
 // The fingerprint covers the problem's structure: the dimension, degree,
 // mesh, clamped DOFs and contact points (a state of another structure has
 // other sizes and is refused). Since version 6 the payload starts with the
