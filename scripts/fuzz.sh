@@ -1,6 +1,6 @@
 #!/bin/sh
 # Runs the libFuzzer targets of a fuzz build (make fuzz) for a bounded time,
-# both at once (one core each), on copies of their committed seed corpora
+# all at once (one core each), on copies of their committed seed corpora
 # and of the distilled archives of longer runs (scripts/fuzz-distill.sh).
 # Fails on any crash, leak, timeout, out-of-memory or sanitizer report; the
 # input that did it is left in BUILD/fuzz-artifacts/.
@@ -15,7 +15,11 @@ mkdir -p "$build/fuzz-artifacts"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 pids=""
-for t in fuzz_gmsh fuzz_api; do
+for t in fuzz_gmsh fuzz_api fuzz_checkpoint; do
+  # a checkpoint of fuzz_checkpoint's problem has about 7 KB (the tangent's
+  # history has its full room): room for it and for longer inputs
+  max_len=4096
+  [ "$t" = fuzz_checkpoint ] && max_len=16384
   corpus="$build/fuzz-corpus/$t"
   mkdir -p "$corpus"
   # the inputs long runs reached (scripts/fuzz-distill.sh), replayed first
@@ -25,7 +29,7 @@ for t in fuzz_gmsh fuzz_api; do
   archive="$src/tests/fuzz/corpus/$t-distilled.tar.gz"
   [ -f "$archive" ] && tar xzf "$archive" -C "$distilled"
   "$build/tests/fuzz/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=512 \
-    -max_len=4096 -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
+    -max_len=$max_len -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/$t-" \
     "$corpus" "$src/tests/fuzz/corpus/$t" "$distilled/$t" > "$build/$t.log" 2>&1 &
   pids="$pids $!:$t"
 done

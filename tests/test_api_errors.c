@@ -297,11 +297,11 @@ END_TEST
 START_TEST(mesh_create_degenerate) {
   nd_mesh m = MESH_SENTINEL;
 
-  /* 1D: cell 1 has zero length */
+  /* 1D: cell 1 has zero length, its vertices at one position */
   const double x0[] = {0, 1, 1};
   const int64_t c0[] = {0, 1, 1, 2};
   EXPECT_ERR(nd_mesh_create(1, 3, x0, 2, c0, &m), ND_ERR_DEGENERATE, "nd_mesh_create",
-             "cell 1");
+             "vertices 1 and 2");
   ck_assert_ptr_null(m);
 
   /* 2D: cell 1 has zero area (three collinear vertices) */

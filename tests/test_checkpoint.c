@@ -592,6 +592,235 @@ START_TEST(reads_version_4_checkpoints) {
 }
 END_TEST
 
+/* ---- every field's meaning (version 6) ----------------------------------- */
+
+/* FNV-1a, the library's checksum: a test that changes a field reseals the
+   block, as anyone can, so that the field's own check is what refuses it */
+static uint64_t fnv1a(const unsigned char *p, size_t n) {
+  uint64_t h = 1469598103934665603ull;
+  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+static void reseal(unsigned char *buf, int64_t nbytes) {
+  const uint64_t h = fnv1a(buf, (size_t)nbytes - 8);
+  memcpy(buf + nbytes - 8, &h, 8);
+}
+static void put_double(unsigned char *buf, int64_t at, double x) { memcpy(buf + at, &x, 8); }
+static void put_i64(unsigned char *buf, int64_t at, int64_t x) { memcpy(buf + at, &x, 8); }
+static double get_double(const unsigned char *buf, int64_t at) {
+  double x;
+  memcpy(&x, buf + at, 8);
+  return x;
+}
+static int64_t get_i64(const unsigned char *buf, int64_t at) {
+  int64_t x;
+  memcpy(&x, buf + at, 8);
+  return x;
+}
+
+/* the offsets of a version 6 block's fields (src/problem/checkpoint.cpp):
+   header 32 bytes, the definition's 7 fingerprints, then the state */
+typedef struct {
+  int64_t t, n, t_ref, tau_ref, n_ref, U, V, A, F, A_valid, W, last, total, E0, budget, F_fixed, gap, W_obstacle,
+      reaction, phi, log_i;
+} layout;
+static layout layout_of(int64_t nf, int64_t nc, int64_t np) {
+  layout l;
+  l.t = 32 + 7 * 8;
+  l.n = l.t + 8, l.t_ref = l.n + 8, l.tau_ref = l.t_ref + 8, l.n_ref = l.tau_ref + 8;
+  l.U = l.n_ref + 8; /* each vector: its count, then its values (or its room) */
+  l.V = l.U + 8 + 8 * nf, l.A = l.V + 8 + 8 * nf, l.F = l.A + 8 + 8 * nf;
+  l.A_valid = l.F + 8 + 8 * nf;
+  l.W = l.A_valid + 1, l.last = l.W + 8, l.total = l.last + 8, l.E0 = l.total + 8, l.budget = l.E0 + 8;
+  l.F_fixed = l.budget + 8, l.gap = l.F_fixed + 8 + 8 * nc, l.W_obstacle = l.gap + 8 + 8 * np;
+  l.reaction = l.W_obstacle + 8, l.phi = l.reaction + 8 + 8 * nc, l.log_i = l.phi + 8 + 8 * np;
+  return l;
+}
+
+/* a refused load changes nothing: the state saved after it is bitwise the one before */
+static void refused_unchanged(nd_problem p, int64_t nbytes, const unsigned char *buf, int code, const char *word,
+                              const char *what) {
+  int64_t n0 = 0, n1 = 0;
+  unsigned char *before = save(p, &n0);
+  const int st = nd_problem_load_state(p, nbytes, buf);
+  ck_assert_msg(st == code, "%s: status %d, expected %d (%s)", what, st, code, nd_last_error());
+  ck_assert_msg(strstr(nd_last_error(), word) != NULL, "%s: the message '%s' does not name '%s'", what,
+                nd_last_error(), word);
+  unsigned char *after = save(p, &n1);
+  ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0, "%s: the refused load changed the state", what);
+  free(before);
+  free(after);
+}
+
+/* loads of a negative step count, a NaN time, a NaN displacement, a NaN
+   energy-guard reference, ... returned ND_OK: each field is checked for
+   its meaning, with a message naming it, even with a valid checksum */
+START_TEST(fields_out_of_range_are_refused) {
+  const double nm[2] = {0.25, 0.5};
+  nd_problem p = scene(1, 1, ND_SCHEME_NEWMARK, nm); /* the bar: clamped, in contact */
+  const double f[1] = {0.01};
+  ND_OK_OR_FAIL(nd_problem_set_body_force(p, f)); /* (a load, for its field) */
+  for (int k = 0; k < 30; ++k) ND_OK_OR_FAIL(nd_step(p));
+  int64_t nbytes = 0, nodes = 0, np = 0;
+  unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
+  ck_assert_int_eq(good[8], 6); /* the version */
+  const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
+  const layout l = layout_of(nf, nc, np);
+  ck_assert_int_eq(get_i64(good, l.n), 30);
+  ck_assert(nc > 0 && np > 0);
+  /* the layout is the library's, and every optional field is there */
+  ck_assert_int_eq(get_i64(good, l.F), nf);
+  ck_assert_int_eq(get_i64(good, l.F_fixed), nc);
+  ck_assert_int_eq(get_i64(good, l.gap), np);
+  ck_assert_int_eq(get_i64(good, l.reaction), nc);
+  ck_assert_int_eq(get_i64(good, l.phi), np);
+  for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
+  const double nan = NAN, inf = INFINITY;
+  struct {
+    int64_t at;
+    int kind; /* 0: double, 1: int64, 2: byte */
+    double value;
+    const char *word;
+  } cases[] = {
+      {l.n, 1, -1, "step count"},
+      {l.t, 0, nan, "time"},
+      {l.t, 0, inf, "time"},
+      {l.t, 0, 123.0, "t_ref + (n - n_ref) tau_ref"},
+      {l.t_ref, 0, nan, "t_ref"},
+      {l.tau_ref, 0, nan, "tau_ref"},
+      {l.tau_ref, 0, -0.02, "tau_ref"},
+      {l.tau_ref, 0, 0, "tau_ref"},
+      {l.n_ref, 1, -1, "n_ref"},
+      {l.n_ref, 1, 31, "n_ref"},
+      {l.U + 8, 0, nan, "displacement"},
+      {l.U + 8 + 8 * (nf - 1), 0, -inf, "displacement"},
+      {l.V + 8 + 8, 0, nan, "velocity"},
+      {l.A + 8, 0, inf, "acceleration"},
+      {l.F + 8 + 8, 0, nan, "load"},
+      {l.A_valid, 2, 2, "acceleration flag"},
+      {l.W, 0, nan, "work of the loads"},
+      {l.last, 1, -1, "Newton iteration count"},
+      {l.last, 1, 1ll << 40, "Newton iteration count"},
+      {l.total, 1, -3, "total of Newton"},
+      {l.E0, 0, nan, "E0"}, /* NaN silently turned the energy guard off */
+      {l.budget, 0, nan, "budget"},
+      {l.budget, 0, -1e30, "below its initial energy"},
+      {l.F_fixed + 8, 0, nan, "load on the clamped DOFs"},
+      {l.gap + 8, 0, nan, "obstacle gaps"},
+      {l.W_obstacle, 0, inf, "work of the obstacle"},
+      {l.reaction + 8, 0, nan, "reactions"},
+      {l.phi + 8, 0, nan, "applied contact term"},
+      {l.log_i, 1, 1, "tangent history"}, /* one index: nb = 0 points ... */
+      {12, 1, 7, "reserved"},               /* (the header's reserved word and the fingerprint's first half) */
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    memcpy(bad, good, (size_t)nbytes);
+    if (cases[c].kind == 0) put_double(bad, cases[c].at, cases[c].value);
+    if (cases[c].kind == 1) put_i64(bad, cases[c].at, (int64_t)cases[c].value);
+    if (cases[c].kind == 2) bad[cases[c].at] = (unsigned char)cases[c].value;
+    if (cases[c].at == l.log_i) put_i64(bad, l.log_i + 8, np + 5); /* ... but naming a point past the last */
+    if (cases[c].at == 12) put_i64(bad, 8, 6 | (7ll << 32));        /* (version 6 kept) */
+    reseal(bad, nbytes);
+    char what[64];
+    snprintf(what, sizeof what, "case %zu (%s)", c, cases[c].word);
+    refused_unchanged(p, nbytes, bad, ND_ERR_FORMAT, cases[c].word, what);
+  }
+  /* padding (the room of a shorter field) that is not zero */
+  memcpy(bad, good, (size_t)nbytes);
+  ck_assert_int_eq(bad[nbytes - 9], 0);
+  bad[nbytes - 9] = 1;
+  reseal(bad, nbytes);
+  refused_unchanged(p, nbytes, bad, ND_ERR_FORMAT, "padding", "padding");
+  /* a resealed copy of the good block still loads, and gives its time */
+  memcpy(bad, good, (size_t)nbytes);
+  reseal(bad, nbytes);
+  ND_OK_OR_FAIL(nd_problem_load_state(p, nbytes, bad));
+  double t = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME, &t));
+  ck_assert(t == get_double(good, l.t));
+  free(good);
+  free(bad);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* a checkpoint of a problem defined otherwise (material, Nitsche
+   parameters, scheme, time step, mass, a plane's normal) was accepted
+   silently: now ND_ERR_STATE naming what differs, the state bitwise
+   unchanged; the same definition, with other loads, another position of
+   the plane and another solver, is accepted */
+START_TEST(other_definitions_are_refused) {
+  const double nm[2] = {0.25, 0.5}, nm2[2] = {0.3, 0.6}, th[2] = {1, 0};
+  const double g2[3] = {0, -2, 0}, o2[3] = {0, -0.001, 0}, up[3] = {0, 1, 0}, tilted[3] = {0.1, 1, 0};
+  nd_problem p = scene(2, 1, ND_SCHEME_NEWMARK, nm);
+  for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(p));
+  int64_t nbytes = 0;
+  unsigned char *buf = save(p, &nbytes);
+  for (int which = 0; which < 8; ++which) {
+    nd_problem q = scene(2, 1, which == 2 ? ND_SCHEME_THETA : ND_SCHEME_NEWMARK, which == 2 ? th : which == 3 ? nm2 : nm);
+    const char *word = "";
+    switch (which) {
+      case 0:
+        ND_OK_OR_FAIL(nd_problem_set_material(q, 20.0, 0.3, 1.0));
+        word = "material";
+        break;
+      case 1:
+        ND_OK_OR_FAIL(nd_problem_set_material(q, 10.0, 0.3, 1.5));
+        word = "material";
+        break;
+      case 2:
+      case 3:
+        word = "scheme";
+        break;
+      case 4:
+        ND_OK_OR_FAIL(nd_problem_set_timestep(q, 0.01));
+        word = "time step";
+        break;
+      case 5:
+        ND_OK_OR_FAIL(nd_problem_set_nitsche(q, 0.0, 0.0));
+        word = "Nitsche";
+        break;
+      case 6:
+        ND_OK_OR_FAIL(nd_problem_set_mass_lumping(q, 1));
+        word = "mass";
+        break;
+      case 7:
+        ND_OK_OR_FAIL(nd_problem_set_contact_plane(q, 1, o2, tilted));
+        word = "contact planes";
+        break;
+    }
+    for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(q)); /* a state of its own, to be kept */
+    char what[32];
+    snprintf(what, sizeof what, "definition %d", which);
+    refused_unchanged(q, nbytes, buf, ND_ERR_STATE, word, what);
+    ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  }
+  /* the same definition: other loads, the plane elsewhere (same normal),
+     another linear solver, Newton's options: accepted, and it resumes */
+  nd_problem q = scene(2, 1, ND_SCHEME_NEWMARK, nm);
+  ND_OK_OR_FAIL(nd_problem_set_body_force(q, g2));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(q, 1, o2, up));
+  ND_OK_OR_FAIL(nd_problem_set_linear_solver(q, ND_SOLVER_DENSE));
+  ND_OK_OR_FAIL(nd_problem_load_state(q, nbytes, buf));
+  ND_OK_OR_FAIL(nd_step(q));
+  /* a restart may change the time step and the scheme: after the load, as between steps */
+  nd_problem r = scene(2, 1, ND_SCHEME_NEWMARK, nm);
+  ND_OK_OR_FAIL(nd_problem_load_state(r, nbytes, buf));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(r, 0.01));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(r, ND_SCHEME_THETA, th));
+  ND_OK_OR_FAIL(nd_step(r));
+  double t = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(r, ND_TIME, &t));
+  ck_assert_double_eq_tol(t, 21 * 0.02 - 0.01, 1e-12);
+  free(buf);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  ND_OK_OR_FAIL(nd_problem_destroy(&r));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("checkpoint");
   TCase *tc = tcase_create("checkpoint");
@@ -606,6 +835,8 @@ int main(void) {
   tcase_add_test(tc, resumes_from_a_file_in_another_process);
   tcase_add_test(tc, bad_checkpoint_files_are_refused_and_change_nothing);
   tcase_add_test(tc, reads_version_4_checkpoints);
+  tcase_add_test(tc, fields_out_of_range_are_refused);
+  tcase_add_test(tc, other_definitions_are_refused);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -367,6 +367,14 @@ Mesh read_gmsh(const char *path) {
     if (determinant(top, J) < 0) std::swap(v[0], v[1]);  // Gmsh does not fix the orientation
     for (int i = 0; i <= top; ++i) cells.push_back(vertex(v[i]));
   }
+  // two used nodes at one position: refused with their tags (unused nodes,
+  // which Gmsh files may repeat, were left out above)
+  {
+    std::vector<int64_t> tags(index.size());
+    for (const auto &[tag, id] : index) tags[static_cast<size_t>(id)] = tag;
+    refuse_duplicate_vertices(top, static_cast<int64_t>(index.size()), coords.data(),
+                              std::string(path) + ": ", tags.data());
+  }
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
                      static_cast<int64_t>(cells.size()) / (top + 1), cells.data(),
                      std::string(path) + ": ");

@@ -40,11 +40,22 @@ FacetKey key_of(std::array<int64_t, 3> v, int n) {
   return v;
 }
 
-std::unordered_map<FacetKey, int64_t, FacetKeyHash> boundary_index(const Mesh &m) {
-  std::unordered_map<FacetKey, int64_t, FacetKeyHash> index;
-  for (size_t i = 0; i < m.boundary.size(); ++i)
-    index.emplace(key_of(m.facet_vertices(m.boundary[i]), m.dim), static_cast<int64_t>(i));
-  return index;
+}  // namespace
+
+struct BoundaryIndex : std::unordered_map<FacetKey, int64_t, FacetKeyHash> {};
+
+namespace {
+
+// the mesh's index, made once (Mesh::boundary_lookup)
+const BoundaryIndex &boundary_index(Mesh &m) {
+  if (!m.boundary_lookup) {
+    auto index = std::make_shared<BoundaryIndex>();
+    index->reserve(m.boundary.size());
+    for (size_t i = 0; i < m.boundary.size(); ++i)
+      index->emplace(key_of(m.facet_vertices(m.boundary[i]), m.dim), static_cast<int64_t>(i));
+    m.boundary_lookup = std::move(index);
+  }
+  return *m.boundary_lookup;
 }
 
 void find_boundary(Mesh &m, const std::string &where) {
@@ -136,6 +147,7 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
           fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
     }
   }
+  refuse_duplicate_vertices(dim, n_vertices, m.coords.data(), where);
   for (int64_t c = 0; c < n_cells; ++c) {
     double J[9];
     m.cell_jacobian(c, J);
@@ -162,6 +174,31 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
       fail(ND_ERR_INDEX, where + "vertex " + std::to_string(v) + " belongs to no cell; every vertex must belong to one");
   find_boundary(m, where);
   return m;
+}
+
+void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const std::string &where,
+                               const int64_t *names) {
+  auto at = [&](int64_t v) { return coords + v * dim; };
+  for (int64_t i = 0; i < n * dim; ++i)
+    if (!std::isfinite(coords[i])) return;  // (refused as not finite by the caller; no order to sort by)
+  std::vector<int64_t> order(static_cast<size_t>(n));
+  for (int64_t v = 0; v < n; ++v) order[v] = v;
+  // lexicographic by coordinates (finite: a strict weak order; -0 == 0), then by index
+  std::sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
+    for (int k = 0; k < dim; ++k)
+      if (at(a)[k] != at(b)[k]) return at(a)[k] < at(b)[k];
+    return a < b;
+  });
+  for (size_t i = 1; i < order.size(); ++i) {
+    const int64_t a = order[i - 1], b = order[i];
+    if (std::equal(at(a), at(a) + dim, at(b))) {
+      std::string position;
+      for (int k = 0; k < dim; ++k) position += (k ? ", " : "") + num(at(a)[k]);
+      fail(ND_ERR_DEGENERATE, where + (names ? "nodes " : "vertices ") + std::to_string(names ? names[a] : a) + " and " +
+                                  std::to_string(names ? names[b] : b) + " are at the same position (" + position +
+                                  "): merge them (a mesh holds each point once)");
+    }
+  }
 }
 
 Mesh make_interval(int64_t n_cells, double a, double b) {
@@ -201,7 +238,6 @@ void insert_facets(Mesh &m, int region, const std::vector<int64_t> &facets) {
   }
 }
 
-using BoundaryIndex = std::unordered_map<FacetKey, int64_t, FacetKeyHash>;
 
 void add_facets_indexed(Mesh &m, const BoundaryIndex &index, int region, int64_t n_facets,
                         const int64_t *facet_vertices, const std::string &where) {
@@ -238,7 +274,7 @@ void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *fac
 
 void add_region_groups(Mesh &m, const std::map<int64_t, std::vector<int64_t>> &groups, const std::string &where) {
   if (groups.empty()) return;
-  const BoundaryIndex index = boundary_index(m);
+  const BoundaryIndex &index = boundary_index(m);
   for (const auto &g : groups) {
     if (g.first < 0 || g.first > 2147483647) fail(ND_ERR_REGION, where + std::to_string(g.first) + ": not a valid region");
     add_facets_indexed(m, index, static_cast<int>(g.first), static_cast<int64_t>(g.second.size()) / m.dim,

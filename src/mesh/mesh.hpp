@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@ struct Facet {
   int opposite;
 };
 
+struct BoundaryIndex;  // mesh.cpp: a boundary facet's index from its vertices
+
 struct Mesh {
   int dim = 0;
   int64_t n_vertices = 0;
@@ -24,6 +27,10 @@ struct Mesh {
   std::vector<int64_t> cells;          // n_cells * (dim + 1)
   std::vector<Facet> boundary;         // facets owned by exactly one cell
   std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
+  // built by the first call that names facets by their vertices, then kept
+  // (the boundary does not change): adding facets one call at a time costs
+  // O(log n) per facet, not a pass over the boundary per call
+  std::shared_ptr<const BoundaryIndex> boundary_lookup;
 
   const double *x(int64_t v) const { return &coords[v * dim]; }
   const int64_t *cell(int64_t c) const { return &cells[c * (dim + 1)]; }
@@ -39,6 +46,11 @@ struct Mesh {
 // with `where` (a file reader passes "PATH: ").
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
                const int64_t *cells, const std::string &where = {});
+// ND_ERR_DEGENERATE naming both when two of the n vertices (dim coordinates
+// each, finite) are at exactly the same position; O(n log n). names: what to
+// call vertex i in the message (null: i; a file reader passes its node tags).
+void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const std::string &where,
+                               const int64_t *names = nullptr);
 Mesh make_interval(int64_t n_cells, double a, double b);
 // nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra
 Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi);

@@ -1,7 +1,10 @@
 #include "problem/checkpoint.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "common/error.hpp"
@@ -17,8 +20,10 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // applied contact term phi; 4: the tangent's history, and every vector that
 // may be absent in its full room, so that a problem's checkpoints have one
 // size; 5: the history's room grows with the contact points
-// (updown_max_updates), from 256 columns (versions 3 and 4 are still read)
-constexpr uint32_t kVersion = 5;
+// (updown_max_updates), from 256 columns; 6: the definition's fingerprints
+// (DefinitionPrint) open the payload, and every field is checked for its
+// meaning (versions 3 to 5 are still read, without the definition's check)
+constexpr uint32_t kVersion = 6;
 
 class Writer {
  public:
@@ -78,6 +83,8 @@ class Reader {
     std::vector<T> v = bounded<T>(most, what);
     const uint64_t pad = (most - v.size()) * sizeof(T);
     need(pad);
+    for (uint64_t k = 0; k < pad; ++k)
+      if (p_[at_ + k] != 0) fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has non-zero padding");
     at_ += pad;
     return v;
   }
@@ -101,6 +108,61 @@ class Reader {
 };
 
 }  // namespace
+
+uint64_t state_checksum(const unsigned char *buf, size_t n) {
+  Hash h;
+  h.bytes(buf, n);
+  return h.h;
+}
+
+DefinitionPrint definition_print(const Definition &def, const Discretization &d) {
+  DefinitionPrint print{};
+  auto done = [&print](int aspect, const Hash &h) { print[aspect] = h.h == 0 ? 1 : h.h; };  // 0: not given
+  {
+    Hash h;
+    h.value(def.material.young), h.value(def.material.poisson), h.value(def.material.density);
+    done(kPrintMaterial, h);
+  }
+  if (def.given & kNitsche) {
+    Hash h;
+    h.value(def.theta), h.value(d.gamma0);
+    done(kPrintNitsche, h);
+  }
+  if (def.given & kScheme) {
+    Hash h;
+    h.value(def.scheme);
+    h.vec(def.scheme_params);
+    done(kPrintScheme, h);
+  }
+  if (def.given & kTimestep) {
+    Hash h;
+    h.value(def.tau);
+    done(kPrintTimestep, h);
+  }
+  {
+    Hash h;
+    h.value(uint8_t{def.lumped}), h.value(uint8_t{def.redistributed});
+    done(kPrintMass, h);
+  }
+  {
+    std::vector<int> regions = def.dirichlet;  // a set: neither order nor repetition counts
+    std::sort(regions.begin(), regions.end());
+    regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+    Hash h;
+    h.vec(regions);
+    done(kPrintDirichlet, h);
+  }
+  {
+    std::vector<const ContactPlane *> planes;
+    for (const ContactPlane &pl : def.planes) planes.push_back(&pl);
+    std::sort(planes.begin(), planes.end(), [](const ContactPlane *a, const ContactPlane *b) { return a->region < b->region; });
+    Hash h;
+    h.value(static_cast<uint64_t>(planes.size()));
+    for (const ContactPlane *pl : planes) h.value(pl->region), h.bytes(pl->normal, sizeof pl->normal);
+    done(kPrintPlanes, h);
+  }
+  return print;
+}
 
 uint64_t state_fingerprint(const Space &s, const Discretization &d) {
   Hash h;
@@ -130,10 +192,12 @@ uint64_t log_values(int64_t n_contact, uint32_t version) {
 }
 }  // namespace
 
-std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, const StateSizes &sizes) {
+std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, const DefinitionPrint &print,
+                                        const StateSizes &sizes) {
   const int64_t n_contact = sizes.n_contact;
   const uint64_t n_free = static_cast<uint64_t>(sizes.n_free), n_clamped = static_cast<uint64_t>(sizes.n_clamped);
   Writer payload;
+  for (uint64_t x : print) payload.value(x);
   payload.value(s.t);
   payload.value(s.n);
   payload.value(s.t_ref);
@@ -163,9 +227,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   w.value(fingerprint);
   w.value(static_cast<uint64_t>(payload.out.size()));
   w.out.insert(w.out.end(), payload.out.begin(), payload.out.end());
-  Hash h;
-  h.bytes(w.out.data(), w.out.size());
-  w.value(h.h);
+  w.value(state_checksum(w.out.data(), w.out.size()));
   return std::move(w.out);
 }
 
@@ -183,7 +245,7 @@ Header read_header(Reader &r, const unsigned char *buf, int64_t nbytes) {
   if (version < 3 || version > kVersion)
     fail(ND_ERR_FORMAT, "the checkpoint has version " + std::to_string(version) + "; this library reads versions 3 to " +
                             std::to_string(kVersion));
-  r.value<uint32_t>();
+  if (r.value<uint32_t>() != 0) fail(ND_ERR_FORMAT, "the checkpoint's reserved header field is not 0");
   Header h;
   h.version = version;
   h.fingerprint = r.value<uint64_t>();
@@ -210,24 +272,62 @@ int64_t max_state_size(const StateSizes &sizes) {
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
   s.phi = s.gap;
-  return static_cast<int64_t>(encode_state(s, 0, sizes).size());
+  return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
 
-void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const StateSizes &sizes, State &out) {
+namespace {
+const char *const kAspectNames[kPrintAspects] = {
+    "material (nd_problem_set_material)",
+    "Nitsche parameters (Theta, gamma0 in use)",
+    "time scheme or its parameters",
+    "time step",
+    "mass (lumping, redistribution)",
+    "clamped regions (Dirichlet)",
+    "contact planes (regions, normals)",
+};
+
+// what differs between the checkpoint's definition and the problem's, in
+// the aspects both have been given
+void refuse_other_definition(const DefinitionPrint &saved, const DefinitionPrint &now) {
+  std::string differ;
+  for (int k = 0; k < kPrintAspects; ++k)
+    if (saved[k] != 0 && now[k] != 0 && saved[k] != now[k]) differ += (differ.empty() ? "" : ", ") + std::string(kAspectNames[k]);
+  if (!differ.empty())
+    fail(ND_ERR_STATE, "the checkpoint is of a problem defined otherwise: its " + differ +
+                           " differ from this problem's; define the problem as it was saved, load, then change "
+                           "what a restart may change (the scheme, the time step: as between steps)");
+}
+
+void need_finite(double x, const char *what) {
+  if (!std::isfinite(x)) fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " is not finite");
+}
+void need_finite(const std::vector<double> &v, const char *what) {
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      fail(ND_ERR_FORMAT, std::string("the checkpoint's ") + what + " has a value that is not finite (entry " +
+                              std::to_string(i) + ")");
+}
+}  // namespace
+
+void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint, const DefinitionPrint &print,
+                  const StateSizes &sizes, State &out) {
   const int64_t n_free = sizes.n_free;
   Reader r(buf, static_cast<size_t>(nbytes));
   const Header head = read_header(r, buf, nbytes);
-  const uint64_t print = head.fingerprint, size = head.payload_size;
+  const uint64_t structure = head.fingerprint, size = head.payload_size;
   const size_t end = r.at() + size;
   if (size > static_cast<uint64_t>(nbytes) || end + sizeof(uint64_t) != static_cast<size_t>(nbytes))
     fail(ND_ERR_FORMAT, "the checkpoint is truncated or has trailing bytes (" + std::to_string(nbytes) + " bytes)");
-  Hash h;
-  h.bytes(buf, end);
   uint64_t sum;
   std::memcpy(&sum, buf + end, sizeof sum);
-  if (sum != h.h) fail(ND_ERR_FORMAT, "the checkpoint is corrupted (checksum mismatch)");
-  if (print != fingerprint)
+  if (sum != state_checksum(buf, end)) fail(ND_ERR_FORMAT, "the checkpoint is corrupted (checksum mismatch)");
+  if (structure != fingerprint)
     fail(ND_ERR_STATE, "the checkpoint is of another problem (mesh, degree, clamped DOFs, contact points or mass redistribution differ)");
+  if (head.version >= 6) {
+    DefinitionPrint saved;
+    for (uint64_t &x : saved) x = r.value<uint64_t>();
+    refuse_other_definition(saved, print);
+  }
   // a vector that may be absent: since version 4 in its full room (padded)
   auto optional = [&](int64_t expected, const char *what) {
     if (head.version < 4) return r.vec(expected, true, what);
@@ -243,24 +343,64 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   s.t_ref = r.value<double>();
   s.tau_ref = r.value<double>();
   s.n_ref = r.value<int64_t>();
+  // every field's meaning, in the order of the layout
+  if (s.n < 0) fail(ND_ERR_FORMAT, "the checkpoint's step count is " + std::to_string(s.n) + ", negative");
+  need_finite(s.t, "time");
+  need_finite(s.t_ref, "time of the last change of the time step (t_ref)");
+  need_finite(s.tau_ref, "time step since its last change (tau_ref)");
+  if (s.n_ref < 0 || s.n_ref > s.n)
+    fail(ND_ERR_FORMAT, "the checkpoint's step of the last change of the time step (n_ref = " + std::to_string(s.n_ref) +
+                            ") is outside [0, n = " + std::to_string(s.n) + "]");
+  if (s.tau_ref < 0 || (s.n > 0 && !(s.tau_ref > 0)))
+    fail(ND_ERR_FORMAT, "the checkpoint's time step since its last change (tau_ref) is not positive");
+  {  // t = t_ref + (n - n_ref) tau_ref, as a step computes it (to round-off: another compiler may contract it)
+    const double steps = static_cast<double>(s.n - s.n_ref) * s.tau_ref, t = s.t_ref + steps;
+    if (!std::isfinite(t) || std::fabs(s.t - t) > 1e-12 * (std::fabs(s.t_ref) + std::fabs(steps)))
+      fail(ND_ERR_FORMAT, "the checkpoint's time is not t_ref + (n - n_ref) tau_ref");
+  }
   s.U = r.vec(n_free, false, "displacement");
+  need_finite(s.U, "displacement");
   s.V = r.vec(n_free, false, "velocity");
+  need_finite(s.V, "velocity");
   s.A = r.vec(n_free, false, "acceleration");
-  s.F = std::make_shared<const std::vector<double>>(optional(n_free, "load"));
-  s.A_valid = r.value<uint8_t>() != 0;
+  need_finite(s.A, "acceleration");
+  std::vector<double> F = optional(n_free, "load");
+  need_finite(F, "load");
+  s.F = std::make_shared<const std::vector<double>>(std::move(F));
+  const uint8_t A_valid = r.value<uint8_t>();
+  if (A_valid > 1) fail(ND_ERR_FORMAT, "the checkpoint's acceleration flag is " + std::to_string(A_valid) + ", not 0 or 1");
+  s.A_valid = A_valid != 0;
   s.W = r.value<double>();
-  s.last_iterations = static_cast<int>(r.value<int64_t>());
+  need_finite(s.W, "work of the loads (W)");
+  const int64_t last = r.value<int64_t>();
+  if (last < 0 || last > std::numeric_limits<int>::max())
+    fail(ND_ERR_FORMAT, "the checkpoint's Newton iteration count of the last step is " + std::to_string(last) +
+                            ", outside [0, " + std::to_string(std::numeric_limits<int>::max()) + "]");
+  s.last_iterations = static_cast<int>(last);
   s.total_iterations = r.value<int64_t>();
+  if (s.total_iterations < 0)
+    fail(ND_ERR_FORMAT, "the checkpoint's total of Newton iterations is " + std::to_string(s.total_iterations) + ", negative");
   s.guard.E0 = r.value<double>();
   s.guard.budget = r.value<double>();
+  // (E0 may be negative: nd_problem_set_state counts a loss of energy into it)
+  need_finite(s.guard.E0, "energy guard's initial energy (E0)");
+  need_finite(s.guard.budget, "energy guard's budget");
+  if (!(s.guard.budget >= s.guard.E0))
+    fail(ND_ERR_FORMAT, "the checkpoint's energy guard's budget is below its initial energy (E0)");
   s.F_fixed = optional(sizes.n_clamped, "load on the clamped DOFs");
+  need_finite(s.F_fixed, "load on the clamped DOFs");
   s.gap = optional(sizes.n_contact, "obstacle gaps");
+  need_finite(s.gap, "obstacle gaps");
   s.W_obstacle = r.value<double>();
+  need_finite(s.W_obstacle, "work of the obstacle (W_obstacle)");
   s.reaction = optional(sizes.n_clamped, "reactions");
+  need_finite(s.reaction, "reactions");
   s.phi = optional(sizes.n_contact, "applied contact term");
+  need_finite(s.phi, "applied contact term");
   if (head.version >= 4) {
     s.tangent_log.i = r.padded<int64_t>(log_indices(sizes.n_contact, head.version), "tangent history");
     s.tangent_log.x = r.padded<double>(log_values(sizes.n_contact, head.version), "tangent history");
+    // (points in range and increasing, coefficients finite and positive, counts within the room)
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }

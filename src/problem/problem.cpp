@@ -616,7 +616,7 @@ std::vector<unsigned char> Problem::save_state() {
   state();
   complete_state();
   const State &s = state_;
-  return encode_state(s, state_fingerprint(space_, *disc_), state_sizes());
+  return encode_state(s, state_fingerprint(space_, *disc_), definition_print(def_, *disc_), state_sizes());
 }
 
 StateSizes Problem::state_sizes() {
@@ -628,7 +628,7 @@ StateSizes Problem::state_sizes() {
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   Discretization &d = discretization_();
   State s;
-  decode_state(buf, nbytes, state_fingerprint(space_, d), state_sizes(), s);
+  decode_state(buf, nbytes, state_fingerprint(space_, d), definition_print(def_, d), state_sizes(), s);
   state_ = std::move(s);
   state_ready_ = true;
   setup_done_ = state_.n > 0;
