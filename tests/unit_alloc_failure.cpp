@@ -72,7 +72,7 @@ bool should_fail() {
   return false;
 }
 bool should_fail_new() { return !g.libc && should_fail(); }
-bool should_fail_libc() { return g.libc && should_fail(); }
+[[maybe_unused]] bool should_fail_libc() { return g.libc && should_fail(); }  // (unused under ASan)
 
 void *hooked_malloc(size_t n) { return should_fail_new() ? nullptr : std::malloc(n); }
 void *hooked_calloc(size_t n, size_t s) { return should_fail_new() ? nullptr : std::calloc(n, s); }
