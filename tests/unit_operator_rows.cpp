@@ -47,7 +47,8 @@ void check_row(const nd::Csr &whole, const nd::Csr &part, int64_t i, bool own, c
 nd::Csr tangent(const nd::Discretization &d) {
   nd::Csr T;
   nd::csr_combine(40.0, d.M, 1.0, d.K_theta, T);
-  for (size_t q = 0; q < d.contact.size(); ++q) nd::add_point_tangent(d.contact, d.theta, q, 0.5 + 0.01 * q, T);
+  std::vector<double> b, p;
+  for (size_t q = 0; q < d.contact.size(); ++q) nd::add_point_tangent(d.contact, d.theta, q, 0.5 + 0.01 * q, T, b, p);
   return T;
 }
 

@@ -1,7 +1,5 @@
 #include "assembly/coercivity.hpp"
 
-#include <lapacke.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +9,7 @@
 #include "assembly/bulk.hpp"
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "linalg/lapack.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -20,7 +19,7 @@ namespace {
 // (m x m, row-major, destroyed). Infinity if S does not vanish on K's kernel.
 double largest_relative_eigenvalue(int m, std::vector<double> &K, const std::vector<double> &S) {
   std::vector<double> w(static_cast<size_t>(m));
-  if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'V', 'U', m, K.data(), m, w.data()) != 0)
+  if (lapack::dsyev_row_major('V', m, K.data(), w.data()) != 0)
     fail(ND_ERR_INTERNAL, "the element stiffness eigenproblem failed");
   const double kmax = w[m - 1], tol = 1e-10 * kmax;
   // S in K's eigenbasis: B = V^T S V (columns of V are K's eigenvectors)
@@ -51,7 +50,7 @@ double largest_relative_eigenvalue(int m, std::vector<double> &K, const std::vec
     if (!std::isfinite(x))
       fail(ND_ERR_MATERIAL, "the check of the Nitsche terms' coercivity over- or underflows with this material on "
                             "this mesh: rescale the units");
-  if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'N', 'U', n, C.data(), n, e.data()) != 0)
+  if (lapack::dsyev_row_major('N', n, C.data(), e.data()) != 0)
     fail(ND_ERR_INTERNAL, "the element coercivity eigenproblem failed");
   return std::max(e[n - 1], 0.0);
 }

@@ -1,12 +1,11 @@
 #include "assembly/redistribution.hpp"
 
-#include <lapacke.h>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "common/error.hpp"
+#include "linalg/lapack.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -73,7 +72,7 @@ void redistribute_element_mass(const Space &s, int64_t cell, const std::vector<c
       V[a * m + b] = x;
     }
   std::vector<double> ev(static_cast<size_t>(m));
-  if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'V', 'U', m, V.data(), m, ev.data()) != 0)
+  if (lapack::dsyev_row_major('V', m, V.data(), ev.data()) != 0)
     fail(ND_ERR_INTERNAL, "mass redistribution: the eigenproblem of the nodes' moments failed");
   std::vector<int> kept;  // eigenpairs spanning the row space
   for (int a = 0; a < m; ++a)
@@ -99,7 +98,7 @@ void redistribute_element_mass(const Space &s, int64_t cell, const std::vector<c
         }
   // alpha = min(1, 1/lambda_max) with H_r x = lambda G_r x (G_r > 0: the mass is positive)
   std::vector<double> lam(static_cast<size_t>(r));
-  if (LAPACKE_dsygv(LAPACK_ROW_MAJOR, 1, 'N', 'U', r, Hr.data(), r, Gr.data(), r, lam.data()) != 0)
+  if (lapack::dsygv_values_row_major(1, r, Hr.data(), Gr.data(), lam.data()) != 0)
     fail(ND_ERR_INTERNAL, "mass redistribution: the moments' eigenproblem failed");
   const double alpha = lam[r - 1] > 1 ? 1 / lam[r - 1] : 1.0;
   std::vector<double> D(static_cast<size_t>(m * m));

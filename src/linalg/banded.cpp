@@ -1,8 +1,11 @@
 // Banded LAPACK Cholesky (SPD) or LU (general) after a reverse Cuthill-McKee
 // ordering, which makes 1D operators (P1 and P2) tridiagonal or pentadiagonal.
+// LAPACKE's _work variants, column-major: they call LAPACK directly (no
+// workspace malloc'd by LAPACKE, no NaN scan: the inputs are checked here).
 #include <lapacke.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -36,7 +39,7 @@ class BandedFactorization : public Factorization {
           const int64_t i = inv_[r], j = inv_[A.col[k]];
           if (i <= j) ab_[kd_ + i - j + j * ld_] = A.val[k];
         }
-      info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n_, kd_, ab_.data(), ld_);
+      info = LAPACKE_dpbtrf_work(LAPACK_COL_MAJOR, 'U', n_, kd_, ab_.data(), ld_);
       if (info > 0) fail_not_positive_definite(def_, "Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {  // ab[2kd + i - j + j*ld] = A(i, j) with room for the LU fill
       ld_ = 3 * kd_ + 1;
@@ -47,18 +50,22 @@ class BandedFactorization : public Factorization {
           ab_[2 * kd_ + i - j + j * ld_] = A.val[k];
         }
       ipiv_.resize(static_cast<size_t>(n_));
-      info = LAPACKE_dgbtrf(LAPACK_COL_MAJOR, n_, n_, kd_, kd_, ab_.data(), ld_, ipiv_.data());
+      info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, n_, n_, kd_, kd_, ab_.data(), ld_, ipiv_.data());
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
     if (info < 0) fail_lapack(info, "banded factorization");
     if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
+    if (!spd_)  // what LAPACKE_dgbtrs checked (LAPACK would carry a NaN through)
+      for (int64_t i = 0; i < n_; ++i)
+        if (!std::isfinite(x[i]))
+          fail(ND_ERR_NONFINITE_STATE, "the right-hand side has a non-finite entry (row " + std::to_string(i) + ")");
     work_.resize(static_cast<size_t>(n_));
     for (int64_t i = 0; i < n_; ++i) work_[i] = x[perm_[i]];
     if (spd_)
       cholesky_band_solve(work_.data());
-    else if (const lapack_int info = LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_,
+    else if (const lapack_int info = LAPACKE_dgbtrs_work(LAPACK_COL_MAJOR, 'N', n_, kd_, kd_, 1, ab_.data(), ld_,
                                                     ipiv_.data(), work_.data(), n_);
              info < 0)
       fail_lapack(info, "banded solve");

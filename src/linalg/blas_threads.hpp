@@ -16,6 +16,18 @@ int blas_thread_limit() noexcept;
 // which BLAS was found at run time ("OpenBLAS", "MKL", "BLIS" or "none")
 const char *blas_thread_control() noexcept;
 
+// OpenBLAS takes a work buffer (BUFFER_SIZE: 128 MiB of address space in
+// the usual x86-64 builds) on the first BLAS call of a thread that needs one,
+// keeps it, and, when the address space is exhausted (ulimit -v), retries
+// forever: the call hangs (issue 54). Before the library's first BLAS call
+// this checks that the address-space limit (RLIMIT_AS, against the process's
+// size) leaves room for a buffer per BLAS thread, and throws ND_ERR_NOMEM if
+// not; then it makes OpenBLAS take its buffer at once (a 3 x 3 eigenproblem)
+// while the room is there. Once that succeeded, an atomic load. Other BLAS
+// libraries: nothing. Calls of several threads at once each take a buffer
+// of their own: the check covers the first only.
+void require_blas_buffer();
+
 // Scoped limit: the first scope alive in the process saves the BLAS's
 // thread count and lowers it to the limit; the last one restores it. Scopes
 // nest (a monitor calling back into the library) and may live in several

@@ -1,4 +1,6 @@
-// Dense LAPACK Cholesky (SPD) or LU (general).
+// Dense LAPACK Cholesky (SPD) or LU (general). LAPACKE's _work variants,
+// column-major: they call LAPACK directly (no workspace malloc'd by LAPACKE,
+// no NaN scan: the matrix and the right-hand side are checked here).
 #include <lapacke.h>
 
 #include <cmath>
@@ -25,21 +27,21 @@ class DenseFactorization : public Factorization {
     spd_ = s == Structure::SymmetricPositiveDefinite;
     lapack_int info;
     if (spd_) {
-      info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n_, a_.data(), n_);
+      info = LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'L', n_, a_.data(), n_);
       if (info > 0) fail_not_positive_definite(def_, "Cholesky pivot " + std::to_string(info) + " is not positive");
     } else {
       ipiv_.resize(static_cast<size_t>(n_));
-      info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, n_, n_, a_.data(), n_, ipiv_.data());
+      info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, n_, n_, a_.data(), n_, ipiv_.data());
       if (info > 0) fail(ND_ERR_SINGULAR, "the matrix is singular (LU pivot " + std::to_string(info) + " is zero)");
     }
     if (info < 0) fail_lapack(info, "dense factorization");
     if (spd_) def_ = Definiteness::PositiveDefinite;  // else Unknown: LU says nothing
   }
   void solve(double *x) const override {
-    for (int64_t i = 0; i < n_; ++i)  // LAPACKE refuses NaN (a status we would call internal)
+    for (int64_t i = 0; i < n_; ++i)  // (LAPACK would carry a NaN through)
       if (!std::isfinite(x[i])) fail(ND_ERR_NONFINITE_STATE, "the right-hand side has a non-finite entry (row " + std::to_string(i) + ")");
-    const lapack_int info = spd_ ? LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n_, 1, a_.data(), n_, x, n_)
-                                 : LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n_, 1, a_.data(), n_, ipiv_.data(), x, n_);
+    const lapack_int info = spd_ ? LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'L', n_, 1, a_.data(), n_, x, n_)
+                                 : LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', n_, 1, a_.data(), n_, ipiv_.data(), x, n_);
     if (info < 0) fail_lapack(info, "dense solve");
   }
   Definiteness definiteness() const override { return def_; }

@@ -1,12 +1,11 @@
 #include "monitor/critical_step.hpp"
 
-#include <lapacke.h>
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "common/error.hpp"
+#include "linalg/lapack.hpp"
 #include "nitschedyn.h"
 #include "parallel/share.hpp"
 
@@ -79,7 +78,7 @@ CriticalStep estimate_omega_max(Discretization &d, int solver) {
     // the largest Ritz value and its residual bound b |s_last|
     const int m = j + 1;
     std::vector<double> diag(alpha), off(beta), vec(static_cast<size_t>(m * m));
-    if (LAPACKE_dstev(LAPACK_COL_MAJOR, 'V', m, diag.data(), off.data(), vec.data(), m) != 0)
+    if (lapack::dstev('V', m, diag.data(), off.data(), vec.data(), m) != 0)
       fail(ND_ERR_INTERNAL, "the Lanczos tridiagonal eigenproblem failed");
     theta_max = diag[m - 1];
     bound = b * std::fabs(vec[static_cast<size_t>((m - 1) * m + (m - 1))]);

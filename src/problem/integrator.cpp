@@ -221,6 +221,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // P(U) with it where it is at t^{n+1} (docs/design.md §8)
   ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
   ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
+  law.buffers = &in.contact_scratch;
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
   // contact terms read them) and what the right-hand side is made of
   Products scratch;  // only when the state has none (restart, new state): the same pass

@@ -45,6 +45,7 @@ struct Integrator {
   std::unique_ptr<CondensedCache> condensed;
   int64_t max_rank = -1;  // the most active points the condensed Newton takes (negative: any)
   std::unique_ptr<MasslessSolver> massless;  // explicit scheme with massless DOFs (mass redistribution)
+  ContactScratch contact_scratch;  // the buffers of the step's contact passes (ContactLaw::buffers)
   std::vector<double> rhs;  // a step's right-hand side (kept for its memory; its values are not read again)
   // a step's n-long workspace: the schemes' K_Theta U^n, the predictor's
   // residual (likewise)

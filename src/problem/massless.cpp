@@ -105,6 +105,7 @@ int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F
   }
   for (size_t q = 0; q < gap_.size(); ++q) gap_[q] = (gap.empty() ? cp_.gap[q] : gap[point_[q]]) - pf_[q].dot(U.data());
   ContactLaw law{&cp_, theta_, nullptr, nullptr, gap_.data(), counters_};
+  law.buffers = &scratch_;
   NewtonSystem sys{&A_, tangent_.get(), &M0_, 0.0, 1.0, &law};
   sys.guess = factor_->starts_from_guess();
   // Newton's rules, with atol at least the round-off of r: U_m can be exactly

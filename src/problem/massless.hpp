@@ -54,6 +54,7 @@ class MasslessSolver {
   std::vector<SparseRow> pf_;   // p_q = a_q - gamma_q s_q on the other DOFs (free indices)
   std::vector<double> base_gap_;  // the assembled gaps of those points
   std::vector<double> r_, gap_, x_;
+  ContactScratch scratch_;      // the buffers of the contact passes (ContactLaw::buffers)
   std::unique_ptr<Factorization> factor_;
   std::unique_ptr<TangentSolver> tangent_;
 };

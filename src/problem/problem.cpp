@@ -14,6 +14,7 @@
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
 #include "io/atomic_file.hpp"
+#include "linalg/blas_threads.hpp"
 #include "problem/checkpoint.hpp"
 #include "parallel/agreement.hpp"
 #include "parallel/ownership.hpp"
@@ -279,6 +280,7 @@ void Problem::set_guard(int guard, double value) {
 // ---- derived objects ------------------------------------------------------------
 
 Discretization &Problem::discretization_() {
+  require_blas_buffer();  // (before any BLAS call: the element eigenproblems of the assembly are the first)
   // operators split over other ranks (another communicator) are made again
   if (disc_ && disc_->rows_split && disc_->geometry.row_end >= 0 && disc_->geometry.comm != def_.comm) disc_.reset();
   if (!disc_) disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr);
@@ -435,6 +437,7 @@ void Problem::setup() {
 
 void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
+  require_blas_buffer();  // ND_ERR_NOMEM, not OpenBLAS's endless retry (linalg/blas_threads.hpp)
   Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
   // a step that reads whole vectors (an explicit scheme, a solver that does

@@ -186,8 +186,8 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
   double flags[2] = {0, bound ? 0.0 : 1.0};  // a busy own point, a bound that failed
   double &any = flags[0];
   if (!bound) {
-    thread_local std::vector<double> own;
-    std::vector<double> &P = P_out && !reduced ? *P_out : own;
+    std::vector<double> mine;
+    std::vector<double> &P = P_out && !reduced ? *P_out : buffers ? buffers->own : mine;
     P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
     auto busy = [&](int64_t q) {
       double value, slope;
@@ -577,8 +577,8 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
     if (P) P->clear();
     return;
   }
-  thread_local std::vector<double> Pq;
-  std::vector<double> &at = P ? *P : Pq;
+  std::vector<double> mine;
+  std::vector<double> &at = P ? *P : buffers ? buffers->force : mine;
   if (un && P && reads_all()) P_all(U, at, un);  // P_read's pass, u_n - g0 with it
   else P_read(U, at);
   add_force_from(at, kappa, y, active);
@@ -602,10 +602,10 @@ void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, dou
   });
 }
 
-void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T) {
+void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T, std::vector<double> &b,
+                       std::vector<double> &p) {
   const double g = cp.gamma[q];
   const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
-  thread_local std::vector<double> b, p;
   b.resize(a.idx.size());
   p.resize(a.idx.size());
   for (size_t i = 0; i < a.idx.size(); ++i) {
@@ -617,12 +617,13 @@ void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f
 
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::vector<double> *P) const {
   count(counters, &Counters::tangent_updates);
-  thread_local std::vector<double> Pq;
-  if (!P || P->size() != cp->size()) P_read(U, Pq), P = &Pq;
+  ContactScratch mine;
+  ContactScratch &w = buffers ? *buffers : mine;
+  if (!P || P->size() != cp->size()) P_read(U, w.tangent), P = &w.tangent;
   for_read([&](size_t q) {
     double value, slope;
     law(q, (*P)[q], value, slope);
-    if (slope != 0) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T);
+    if (slope != 0) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T, w.b, w.p);
   });
 }
 

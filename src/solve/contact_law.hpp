@@ -24,8 +24,22 @@ double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *
 void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> &idx, std::vector<double> &val);
 // y += f b_q, b_q = a_q - Theta gamma_q s_q
 void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y);
-// T += f b_q p_q^T (T has the operator pattern)
-void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T);
+// T += f b_q p_q^T (T has the operator pattern); b and p: the caller's
+// reused buffers (resized here)
+void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T, std::vector<double> &b,
+                       std::vector<double> &p);
+
+// The reused buffers of ContactLaw's passes. The object that owns the
+// computation keeps one (the integrator, the massless solver) and hands it
+// down (ContactLaw::buffers), so that a step allocates nothing once they
+// have grown, and an allocation that fails is a std::bad_alloc of the call
+// (not the abort of a thread_local's destructor registration, issue 54).
+struct ContactScratch {
+  std::vector<double> own;      // contact_free's P_q
+  std::vector<double> force;    // add_force's P_q
+  std::vector<double> tangent;  // add_tangent's P_q
+  std::vector<double> b, p;     // add_point_tangent's b_q, p_q
+};
 
 // The contact points a rank's Newton pass reads on split rows (ContactLaw::
 // halo): its own and those whose rows touch its rows; null with one rank.
@@ -121,6 +135,8 @@ struct ContactLaw {
   // (held_points). certainly_free's bound then covers them only, and
   // contact_free reduces the ranks' verdicts, bound or not (null: every point)
   const HeldPoints *held = nullptr;
+  // The buffers the passes reuse (the owner's); null: each call makes its own
+  ContactScratch *buffers = nullptr;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
   // no halo narrows the passes: P_read is P_all, and its values can stand

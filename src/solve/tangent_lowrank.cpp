@@ -57,8 +57,7 @@ class LowRankTangent : public TangentSolver {
     const ContactPoints &cp = *law.cp;
     active_.clear();
     d_.clear();
-    thread_local std::vector<double> scratch;
-    const std::vector<double> &P = law.P_at(U, P_U, scratch);
+    const std::vector<double> &P = law.P_at(U, P_U, P_scratch_);
     for (size_t q = 0; q < cp.size(); ++q) {
       double value, slope;
       law.law(q, P[q], value, slope);
@@ -162,6 +161,7 @@ class LowRankTangent : public TangentSolver {
   double theta_ = 0;
   std::vector<int64_t> active_;
   std::vector<double> d_, C_, w_, x0_;
+  std::vector<double> P_scratch_;  // P_q at U when the caller has none (reused)
   std::vector<lapack_int> ipiv_;
   // the capacitance LU in C_, ipiv_ holds for this active set and D
   bool lu_valid_ = false;

@@ -137,7 +137,7 @@ class UpdownTangent : public TangentSolver {
     } else {
       T_.val = A_.val;  // same size: no allocation
       for (size_t j = 0; j < base_q_.size(); ++j)
-        add_point_tangent(cp, 1.0, static_cast<size_t>(base_q_[j]), base.x[j], T_);
+        add_point_tangent(cp, 1.0, static_cast<size_t>(base_q_[j]), base.x[j], T_, b_, p_);
       count(counters_, &Counters::tangent_updates);
       factor_->factor(T_);
       ++stats.refactorizations;
@@ -267,6 +267,7 @@ class UpdownTangent : public TangentSolver {
   double spent_ = 0;        // their cost (UpdatableCholesky::modify_cost)
   std::vector<double> d_new_, up_c_, down_c_;
   std::vector<double> P_;  // P_q at the iterate (scratch)
+  std::vector<double> b_, p_;  // add_point_tangent's (scratch)
   std::vector<int64_t> up_q_, down_q_, base_q_;
   SparseColumns up_C_, down_C_;
 };
