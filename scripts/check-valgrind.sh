@@ -9,8 +9,10 @@
 # valgrind (70 % of its time) and repeat paths that the others take through
 # every layer at smaller sizes (the Newton tangent paths, the forces on 3D
 # meshes, file output, the contact bounds, the critical-step estimate, the
-# convergence study); all of them run under ASan and UBSan
-# (make check-sanitize), and `make check-valgrind-all` runs every program.
+# convergence study), and the allocation-failure sweep, which interposes
+# malloc itself and retries thousands of steps; all of them run under ASan
+# and UBSan (make check-sanitize), and `make check-valgrind-all` runs every
+# program.
 set -u
 if [ "${1:-}" = "--one" ]; then
   start=$(date +%s)
@@ -27,7 +29,7 @@ if [ "${1:-}" = "--one" ]; then
 fi
 build=${1:-build}
 jobs=${2:-2}
-slow="unit_tangent unit_forces test_io unit_contact_bounds unit_critical_step test_convergence"
+slow="unit_tangent unit_forces test_io unit_contact_bounds unit_critical_step test_convergence unit_alloc_failure"
 [ "${3:-}" = all ] && slow=""
 programs() {
   for t in "$build"/tests/test_* "$build"/tests/unit_*; do
