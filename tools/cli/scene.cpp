@@ -93,7 +93,10 @@ bool bare_key_char(unsigned char c) {
 // __builtin_unreachable for U+00A1-U+0499 and U+FC26-U+FEFE): anywhere
 // outside strings and comments, and in a multi-line basic string right after
 // a backslash or the whitespace that follows a line-ending backslash. TOML
-// allows only ASCII there anyway (bare keys are A-Za-z0-9_-).
+// allows only ASCII there anyway (bare keys are A-Za-z0-9_-). A quote inside
+// a word that begins with a digit or a sign is refused too: toml++ reads a
+// number, date or time on to the next space, comma, bracket or '#' before it
+// looks at it (2"..."), so what follows such a quote is not a string to it.
 void check_text(std::string_view text, const std::string &path) {
   if (text.size() > kMaxSceneBytes)
     throw SceneError(path + ": the scene is " + std::to_string(text.size()) + " bytes; at most " +
@@ -101,6 +104,7 @@ void check_text(std::string_view text, const std::string &path) {
   enum { normal, comment, basic, literal, ml_basic, ml_literal } state = normal;
   enum { none, after_backslash, skipping } escape = none;  // in a multi-line basic string
   int depth = 0, parts = 1;
+  unsigned char word = 0;  // the first character of the word (outside strings) the scan is in, 0: none
   const auto fail = [&](size_t i, const std::string &msg) { throw SceneError(place(text, i, path) + ": " + msg); };
   const auto non_ascii = [&](size_t i, const char *where) {
     fail(i, character_at(text, i) + " " + where +
@@ -120,8 +124,16 @@ void check_text(std::string_view text, const std::string &path) {
     switch (state) {
     case normal:
       if (c >= 0x80) non_ascii(i, "outside a quoted string or a comment");
+      if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '=' || c == '[' || c == ']' || c == '{' ||
+          c == '}' || c == ',' || c == '#')
+        word = 0;
+      else if (!word && c != '"' && c != '\'')
+        word = c;
       if (c == '#') {
         state = comment;
+      } else if ((c == '"' || c == '\'') && ((word >= '0' && word <= '9') || word == '+' || word == '-')) {
+        fail(i, std::string("a quote in a word that begins with '") + char(word) +
+                    "' (a number, a date or a time): write a space, a comma or '=' before a string");
       } else if (c == '"' || c == '\'') {
         const bool multi = i + 2 < text.size() && text[i + 1] == char(c) && text[i + 2] == char(c);
         state = c == '"' ? (multi ? ml_basic : basic) : (multi ? ml_literal : literal);
@@ -142,17 +154,17 @@ void check_text(std::string_view text, const std::string &path) {
       }
       break;
     case comment:
-      if (c == '\n') state = normal, parts = 1;
+      if (c == '\n') state = normal, parts = 1, word = 0;
       break;
     case basic:  // toml++ refuses a line break in it
       if (c == '\\') ++i;
-      else if (c == '"' || c == '\n') state = normal;
+      else if (c == '"' || c == '\n') state = normal, word = 0;
       break;
     case literal:
-      if (c == '\'' || c == '\n') state = normal;
+      if (c == '\'' || c == '\n') state = normal, word = 0;
       break;
     case ml_literal:
-      if (c == '\'' && close_multi_line(i, '\'')) state = normal;
+      if (c == '\'' && close_multi_line(i, '\'')) state = normal, word = 0;
       break;
     case ml_basic: {
       const bool space = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
@@ -167,7 +179,7 @@ void check_text(std::string_view text, const std::string &path) {
         escape = none;
       }
       if (c == '\\') escape = after_backslash;
-      else if (c == '"' && close_multi_line(i, '"')) state = normal;
+      else if (c == '"' && close_multi_line(i, '"')) state = normal, word = 0;
       break;
     }
     }

@@ -264,6 +264,8 @@ title = \"\"\"a\\\\$sect\"\"\""
 printf 'title = """a\\  \n   %s"""\n' "$sect" > non_ascii_ml_skip.toml
 sed 's/^$//' base.toml >> non_ascii_ml_skip.toml
 expect_file 2 non_ascii_ml_skip "non_ascii_ml_skip.toml:2:4: the character U+00A7 after a line-ending backslash"
+expect 2 quote_in_number "quote_in_number.toml:4:7: a quote in a word that begins with '5' (a number, a date or a time)" \
+  "4s/.*/E = 50\"$sect\"/"
 expect 2 invalid_utf8 "invalid_utf8.toml:5:1: the byte 0xFF outside a quoted string" "5i\\
 $(printf '\377')"
 { printf 'title = """disk %s\n\\u00e9 \\\n  \\\\%s"""  # %s\n' "$sect" "$sect" "$sect"
