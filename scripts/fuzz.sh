@@ -1,6 +1,6 @@
 #!/bin/sh
 # Runs the libFuzzer targets of a fuzz build (make fuzz) for a bounded time,
-# both at once (one core each), on copies of their committed seed corpora
+# all at once (one core each), on copies of their committed seed corpora
 # and of the distilled archives of longer runs (scripts/fuzz-distill.sh).
 # Fails on any crash, leak, timeout, out-of-memory or sanitizer report; the
 # input that did it is left in BUILD/fuzz-artifacts/.
@@ -15,7 +15,7 @@ mkdir -p "$build/fuzz-artifacts"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 pids=""
-for t in fuzz_gmsh fuzz_api; do
+for t in fuzz_gmsh fuzz_api fuzz_scene; do
   corpus="$build/fuzz-corpus/$t"
   mkdir -p "$corpus"
   # the inputs long runs reached (scripts/fuzz-distill.sh), replayed first
