@@ -219,9 +219,9 @@ int run(const Options &opt) {
     const double gamma0 = scalar(p, ND_GAMMA0), limit = scalar(p, ND_GAMMA0_LIMIT);
     std::printf("%s%s%s: %dD, P%d, %" PRId64 " nodes (%" PRId64 " unknowns), %s scheme, Theta = %g, gamma0 = %g (%s"
                 "coercive up to %g), tau = %g, T = %g: %" PRId64 " steps\n",
-                s.file.c_str(), s.title.empty() ? "" : ": ", ndcli::printable(s.title).c_str(), su.dim, s.degree, su.nodes,
-                su.nodes * su.dim, s.scheme.c_str(), s.Theta, gamma0, s.gamma0 == 0 ? "automatic; " : "", limit, s.tau,
-                steps * s.tau, steps);
+                s.file.c_str(), s.title.empty() ? "" : ": ", ndcli::printable(s.title).c_str(), su.dim, s.degree,
+                su.nodes, su.nodes * su.dim, s.scheme.c_str(), s.Theta, gamma0, s.gamma0 == 0 ? "automatic; " : "",
+                limit, s.tau, steps * s.tau, steps);
     std::fflush(stdout);
   }
   if (opt.check) {
@@ -257,8 +257,8 @@ int run(const Options &opt) {
     if (!(step >= 0 && step <= (double)steps)) {
       std::ostringstream os;
       os.precision(17);
-      os << "--restart " << opt.restart << ": the checkpoint is at step " << step << ", not within the scene's steps 0 to "
-         << steps;
+      os << "--restart " << opt.restart << ": the checkpoint is at step " << step
+         << ", not within the scene's steps 0 to " << steps;
       throw SceneError(os.str());
     }
     first = (int64_t)step;

@@ -58,8 +58,8 @@ std::string place(std::string_view text, size_t i, const std::string &path) {
   return path + ":" + std::to_string(line) + ":" + std::to_string(col);
 }
 
-// "the character U+00A7 ('§')" for the UTF-8 sequence at i, or "the byte
-// 0xFF" when it is not one
+// "the character U+00A7" for the UTF-8 sequence at i, or "the byte 0xFF"
+// when it is not one (the character itself is not printed)
 std::string character_at(std::string_view text, size_t i) {
   const auto b = [&](size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
   const unsigned lead = b(i);
