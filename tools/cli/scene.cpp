@@ -90,9 +90,15 @@ bool bare_key_char(unsigned char c) {
 // part key overflows the stack), arrays and inline tables nested more than
 // kMaxNesting deep, and a non-ASCII character where toml++ asks whether it is
 // whitespace (is_non_ascii_horizontal_whitespace reaches
-// __builtin_unreachable for U+00A1-U+0499 and U+FC26-U+FEFE): anywhere
-// outside strings and comments, and in a multi-line basic string right after
-// a backslash or the whitespace that follows a line-ending backslash. TOML
+// __builtin_unreachable for the 3019 characters of U+00A1-U+0499,
+// U+2C5E-U+2FFF, U+3001-U+3057 and U+FB26-U+FEFE; in a key, any non-ASCII
+// character fails an assertion that release builds turn into
+// __builtin_assume): anywhere outside strings and comments, and in a
+// multi-line basic string right after a backslash or the whitespace that
+// follows a line-ending backslash. A table header must begin with a name (a
+// bare key character or a quote): toml++ asserts it, an assumption in
+// release builds, before it looks. So must a '}' close a '{' (in an array,
+// toml++ asserts that it is no value terminator). TOML
 // allows only ASCII there anyway (bare keys are A-Za-z0-9_-). A quote inside
 // a word that begins with a digit or a sign is refused too: toml++ reads a
 // number, date or time on to the next space, comma, bracket or '#' before it
@@ -104,7 +110,9 @@ void check_text(std::string_view text, const std::string &path) {
   enum { normal, comment, basic, literal, ml_basic, ml_literal } state = normal;
   enum { none, after_backslash, skipping } escape = none;  // in a multi-line basic string
   int depth = 0, parts = 1;
+  char open[kMaxNesting];  // the brackets open, innermost last
   unsigned char word = 0;  // the first character of the word (outside strings) the scan is in, 0: none
+  bool line_start = true;  // nothing but spaces and tabs yet on this line (outside strings)
   const auto fail = [&](size_t i, const std::string &msg) { throw SceneError(place(text, i, path) + ": " + msg); };
   const auto non_ascii = [&](size_t i, const char *where) {
     fail(i, character_at(text, i) + " " + where +
@@ -124,6 +132,16 @@ void check_text(std::string_view text, const std::string &path) {
     switch (state) {
     case normal:
       if (c >= 0x80) non_ascii(i, "outside a quoted string or a comment");
+      if (c == '[' && line_start && depth == 0) {  // a table header: [name] or [[name]]
+        size_t j = i + 1;
+        if (j < text.size() && text[j] == '[') ++j;
+        while (j < text.size() && (text[j] == ' ' || text[j] == '\t')) ++j;
+        const unsigned char n = j < text.size() ? static_cast<unsigned char>(text[j]) : ']';
+        if (!bare_key_char(n) && n != '"' && n != '\'' && n != ']' && n < 0x80)
+          fail(j, "a table header must begin with a name (A-Za-z0-9_- or a quoted string)");
+      }
+      if (c == '\n') line_start = true;
+      else if (c != ' ' && c != '\t') line_start = false;
       if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '=' || c == '[' || c == ']' || c == '{' ||
           c == '}' || c == ',' || c == '#')
         word = 0;
@@ -146,15 +164,18 @@ void check_text(std::string_view text, const std::string &path) {
       } else if (!bare_key_char(c) && c != ' ' && c != '\t') {
         parts = 1;  // anything else ends a dotted key
         if (c == '[' || c == '{') {
-          if (++depth > kMaxNesting)
+          if (depth == kMaxNesting)
             fail(i, "arrays and inline tables nested more than " + std::to_string(kMaxNesting) + " deep");
+          open[depth++] = static_cast<char>(c);
         } else if ((c == ']' || c == '}') && depth > 0) {
+          if (open[depth - 1] != (c == ']' ? '[' : '{'))
+            fail(i, std::string("'") + static_cast<char>(c) + "' closes a '" + open[depth - 1] + "'");
           --depth;
         }
       }
       break;
     case comment:
-      if (c == '\n') state = normal, parts = 1, word = 0;
+      if (c == '\n') state = normal, parts = 1, word = 0, line_start = true;
       break;
     case basic:  // toml++ refuses a line break in it
       if (c == '\\') ++i;

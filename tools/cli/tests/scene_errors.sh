@@ -248,7 +248,9 @@ expect 1 restart_missing 'no_such.ndck' 's/^$//' --restart no_such.ndck
 # overflow in toml++), arrays nested deeper than 32, non-ASCII characters
 # outside strings and comments (U+00A7 in a key reaches
 # __builtin_unreachable in toml++), also right after a backslash (or a
-# line-ending backslash's whitespace) in a multi-line string, and scenes
+# line-ending backslash's whitespace) in a multi-line string, a quote inside
+# a number, a table header that does not begin with a name, a '}' closing a
+# '[' (both assertions in toml++, assumptions in release builds), and scenes
 # over 1 MiB. Non-ASCII text in strings and comments stays allowed.
 awk 'BEGIN { for (i = 0; i < 50000; i++) printf "a."; print "a = 1" }' > dotted_key.toml
 expect_file 2 dotted_key "dotted_key.toml:1:32: a dotted key or table name of more than 16 parts"
@@ -274,6 +276,10 @@ expect_file 0 non_ascii_strings ''
 [ -f "$sect.csv" ] || fail "non_ascii_strings: no $sect.csv"
 expect 2 nested "nested.toml:14:37: arrays and inline tables nested more than 32 deep" '$a\
 x = [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]'
+expect 2 header_start "header_start.toml:14:2: a table header must begin with a name" '$a\
+[$x]'
+expect 2 bracket_mismatch "bracket_mismatch.toml:14:6: '}' closes a '['" '$a\
+x = [}'
 { sed 's/^$//' base.toml; awk 'BEGIN { for (i = 0; i < 20000; i++) printf "# %060d\n", i }'; } > too_big.toml
 expect_file 2 too_big "too_big.toml: the scene file is larger than 1048576 bytes (1 MiB)"
 
