@@ -99,10 +99,11 @@ bool bare_key_char(unsigned char c) {
 // bare key character or a quote): toml++ asserts it, an assumption in
 // release builds, before it looks. So must a '}' close a '{' (in an array,
 // toml++ asserts that it is no value terminator). TOML
-// allows only ASCII there anyway (bare keys are A-Za-z0-9_-). A quote inside
-// a word that begins with a digit or a sign is refused too: toml++ reads a
-// number, date or time on to the next space, comma, bracket or '#' before it
-// looks at it (2"..."), so what follows such a quote is not a string to it.
+// allows only ASCII there anyway (bare keys are A-Za-z0-9_-). A quote after
+// a digit or a sign is refused too unless a value terminator (white space,
+// ',', ']', '}' or '#') comes between them: toml++ reads a number, date or
+// time on to the next terminator before it looks at it (2"...", 1=["..."),
+// so what follows such a quote is not a string to it.
 void check_text(std::string_view text, const std::string &path) {
   if (text.size() > kMaxSceneBytes)
     throw SceneError(path + ": the scene is " + std::to_string(text.size()) + " bytes; at most " +
@@ -111,7 +112,7 @@ void check_text(std::string_view text, const std::string &path) {
   enum { none, after_backslash, skipping } escape = none;  // in a multi-line basic string
   int depth = 0, parts = 1;
   char open[kMaxNesting];  // the brackets open, innermost last
-  unsigned char word = 0;  // the first character of the word (outside strings) the scan is in, 0: none
+  bool number = false;  // a digit or sign since the last value terminator (outside strings)
   bool line_start = true;  // nothing but spaces and tabs yet on this line (outside strings)
   const auto fail = [&](size_t i, const std::string &msg) { throw SceneError(place(text, i, path) + ": " + msg); };
   const auto non_ascii = [&](size_t i, const char *where) {
@@ -142,16 +143,15 @@ void check_text(std::string_view text, const std::string &path) {
       }
       if (c == '\n') line_start = true;
       else if (c != ' ' && c != '\t') line_start = false;
-      if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '=' || c == '[' || c == ']' || c == '{' ||
-          c == '}' || c == ',' || c == '#')
-        word = 0;
-      else if (!word && c != '"' && c != '\'')
-        word = c;
+      if (c == ' ' || (c >= '\t' && c <= '\r') || c == ']' || c == '}' || c == ',' || c == '#')
+        number = false;  // toml++'s is_value_terminator
+      else if ((c >= '0' && c <= '9') || c == '+' || c == '-')
+        number = true;
       if (c == '#') {
         state = comment;
-      } else if ((c == '"' || c == '\'') && ((word >= '0' && word <= '9') || word == '+' || word == '-')) {
-        fail(i, std::string("a quote in a word that begins with '") + char(word) +
-                    "' (a number, a date or a time): write a space, a comma or '=' before a string");
+      } else if ((c == '"' || c == '\'') && number) {
+        fail(i, "a quote after a digit or a sign with no space, ',', ']' or '}' between them (toml++ would read it as "
+                "part of a number, a date or a time)");
       } else if (c == '"' || c == '\'') {
         const bool multi = i + 2 < text.size() && text[i + 1] == char(c) && text[i + 2] == char(c);
         state = c == '"' ? (multi ? ml_basic : basic) : (multi ? ml_literal : literal);
@@ -175,17 +175,17 @@ void check_text(std::string_view text, const std::string &path) {
       }
       break;
     case comment:
-      if (c == '\n') state = normal, parts = 1, word = 0, line_start = true;
+      if (c == '\n') state = normal, parts = 1, line_start = true;
       break;
     case basic:  // toml++ refuses a line break in it
       if (c == '\\') ++i;
-      else if (c == '"' || c == '\n') state = normal, word = 0;
+      else if (c == '"' || c == '\n') state = normal;
       break;
     case literal:
-      if (c == '\'' || c == '\n') state = normal, word = 0;
+      if (c == '\'' || c == '\n') state = normal;
       break;
     case ml_literal:
-      if (c == '\'' && close_multi_line(i, '\'')) state = normal, word = 0;
+      if (c == '\'' && close_multi_line(i, '\'')) state = normal;
       break;
     case ml_basic: {
       const bool space = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
@@ -200,7 +200,7 @@ void check_text(std::string_view text, const std::string &path) {
         escape = none;
       }
       if (c == '\\') escape = after_backslash;
-      else if (c == '"' && close_multi_line(i, '"')) state = normal, word = 0;
+      else if (c == '"' && close_multi_line(i, '"')) state = normal;
       break;
     }
     }

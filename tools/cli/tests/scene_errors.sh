@@ -248,8 +248,8 @@ expect 1 restart_missing 'no_such.ndck' 's/^$//' --restart no_such.ndck
 # overflow in toml++), arrays nested deeper than 32, non-ASCII characters
 # outside strings and comments (U+00A7 in a key reaches
 # __builtin_unreachable in toml++), also right after a backslash (or a
-# line-ending backslash's whitespace) in a multi-line string, a quote inside
-# a number, a table header that does not begin with a name, a '}' closing a
+# line-ending backslash's whitespace) in a multi-line string, a quote after a
+# digit or sign with no value terminator between them, a table header that does not begin with a name, a '}' closing a
 # '[' (both assertions in toml++, assumptions in release builds), and scenes
 # over 1 MiB. Non-ASCII text in strings and comments stays allowed.
 awk 'BEGIN { for (i = 0; i < 50000; i++) printf "a."; print "a = 1" }' > dotted_key.toml
@@ -266,8 +266,10 @@ title = \"\"\"a\\\\$sect\"\"\""
 printf 'title = """a\\  \n   %s"""\n' "$sect" > non_ascii_ml_skip.toml
 sed 's/^$//' base.toml >> non_ascii_ml_skip.toml
 expect_file 2 non_ascii_ml_skip "non_ascii_ml_skip.toml:2:4: the character U+00A7 after a line-ending backslash"
-expect 2 quote_in_number "quote_in_number.toml:4:7: a quote in a word that begins with '5' (a number, a date or a time)" \
+expect 2 quote_in_number "quote_in_number.toml:4:7: a quote after a digit or a sign with no space" \
   "4s/.*/E = 50\"$sect\"/"
+expect 2 quote_after_equals "quote_after_equals.toml:14:8: a quote after a digit or a sign with no space" '$a\
+x = 1=["a"]'
 expect 2 invalid_utf8 "invalid_utf8.toml:5:1: the byte 0xFF outside a quoted string" "5i\\
 $(printf '\377')"
 { printf 'title = """disk %s\n\\u00e9 \\\n  \\\\%s"""  # %s\n' "$sect" "$sect" "$sect"
