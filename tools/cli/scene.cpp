@@ -103,7 +103,10 @@ bool bare_key_char(unsigned char c) {
 // a digit or a sign is refused too unless a value terminator (white space,
 // ',', ']', '}' or '#') comes between them: toml++ reads a number, date or
 // time on to the next terminator before it looks at it (2"...", 1=["..."),
-// so what follows such a quote is not a string to it.
+// so what follows such a quote is not a string to it. Nor may a single digit
+// follow a number or date after one space (1979-05-27 0, a date-time with a
+// space cut short), on which toml++ asserts that the digit is followed by no
+// terminator; neither is ever valid TOML.
 void check_text(std::string_view text, const std::string &path) {
   if (text.size() > kMaxSceneBytes)
     throw SceneError(path + ": the scene is " + std::to_string(text.size()) + " bytes; at most " +
@@ -113,6 +116,7 @@ void check_text(std::string_view text, const std::string &path) {
   int depth = 0, parts = 1;
   char open[kMaxNesting];  // the brackets open, innermost last
   bool number = false;  // a digit or sign since the last value terminator (outside strings)
+  size_t number_space = std::string_view::npos;  // a space right after such a run
   bool line_start = true;  // nothing but spaces and tabs yet on this line (outside strings)
   const auto fail = [&](size_t i, const std::string &msg) { throw SceneError(place(text, i, path) + ": " + msg); };
   const auto non_ascii = [&](size_t i, const char *where) {
@@ -143,6 +147,12 @@ void check_text(std::string_view text, const std::string &path) {
       }
       if (c == '\n') line_start = true;
       else if (c != ' ' && c != '\t') line_start = false;
+      if (c >= '0' && c <= '9' && i > 0 && number_space == i - 1) {
+        const char n = i + 1 < text.size() ? text[i + 1] : 'x';
+        if (n == ' ' || (n >= '\t' && n <= '\r') || n == ']' || n == '}' || n == ',' || n == '#')
+          fail(i, "a single digit after a number or a date and a space (a time is written HH:MM:SS)");
+      }
+      if (c == ' ' && number) number_space = i;
       if (c == ' ' || (c >= '\t' && c <= '\r') || c == ']' || c == '}' || c == ',' || c == '#')
         number = false;  // toml++'s is_value_terminator
       else if ((c >= '0' && c <= '9') || c == '+' || c == '-')

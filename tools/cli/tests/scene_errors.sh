@@ -278,6 +278,8 @@ expect_file 0 non_ascii_strings ''
 [ -f "$sect.csv" ] || fail "non_ascii_strings: no $sect.csv"
 expect 2 nested "nested.toml:14:37: arrays and inline tables nested more than 32 deep" '$a\
 x = [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]'
+expect 2 date_space_digit "date_space_digit.toml:14:16: a single digit after a number or a date and a space" '$a\
+x = 1979-05-27 0'
 expect 2 header_start "header_start.toml:14:2: a table header must begin with a name" '$a\
 [$x]'
 expect 2 bracket_mismatch "bracket_mismatch.toml:14:6: '}' closes a '['" '$a\
