@@ -85,28 +85,30 @@ bool bare_key_char(unsigned char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
 }
 
-// Refuses what toml++ 3.3.0 must not see: a dotted key (or table name) of
-// more than kMaxKeyParts parts (its tables nest once per part, and a 50,000-
-// part key overflows the stack), arrays and inline tables nested more than
-// kMaxNesting deep, and a non-ASCII character where toml++ asks whether it is
-// whitespace (is_non_ascii_horizontal_whitespace reaches
-// __builtin_unreachable for the 3019 characters of U+00A1-U+0499,
-// U+2C5E-U+2FFF, U+3001-U+3057 and U+FB26-U+FEFE; in a key, any non-ASCII
-// character fails an assertion that release builds turn into
-// __builtin_assume): anywhere outside strings and comments, and in a
-// multi-line basic string right after a backslash or the whitespace that
-// follows a line-ending backslash. A table header must begin with a name (a
-// bare key character or a quote): toml++ asserts it, an assumption in
-// release builds, before it looks. So must a '}' close a '{' (in an array,
-// toml++ asserts that it is no value terminator). TOML
-// allows only ASCII there anyway (bare keys are A-Za-z0-9_-). A quote after
-// a digit or a sign is refused too unless a value terminator (white space,
-// ',', ']', '}' or '#') comes between them: toml++ reads a number, date or
-// time on to the next terminator before it looks at it (2"...", 1=["..."),
-// so what follows such a quote is not a string to it. Nor may a single digit
-// follow a number or date after one space (1979-05-27 0, a date-time with a
-// space cut short), on which toml++ asserts that the digit is followed by no
-// terminator; neither is ever valid TOML.
+// Refuses what toml++ 3.3.0 must not see. TOML allows none of it but the
+// first (a scene needs none of it), and each was found to crash toml++ or to
+// reach undefined behaviour in it (by the fuzz target tests/fuzz/fuzz_scene,
+// which runs it with its assertions on, and by parsing every character in
+// 56 contexts):
+//  - a dotted key or table name of more than kMaxKeyParts parts (its tables
+//    nest once per part: a 50,000-part key overflows the stack), and arrays
+//    and inline tables nested more than kMaxNesting deep;
+//  - a non-ASCII character outside strings and comments, and in a
+//    multi-line basic string right after a backslash or after the white
+//    space that follows a line-ending backslash: there toml++ asks whether
+//    it is white space, and is_non_ascii_horizontal_whitespace reaches
+//    __builtin_unreachable for the 3019 characters of U+00A1-U+0499,
+//    U+2C5E-U+2FFF, U+3001-U+3057 and U+FB26-U+FEFE (in a table name any
+//    non-ASCII character also fails an assertion);
+//  - a quote after a digit or a sign with no value terminator (white space,
+//    ',', ']', '}' or '#') between them: toml++ reads a number, date or
+//    time on to the next terminator before it looks at it (2"...",
+//    1=["..."), so what follows is not a string to it;
+//  - a lone digit after a number or date and one space (1979-05-27 0, a
+//    date-time with a space cut short), a table header that does not begin
+//    with a name ([$x]), and a bracket closed by the other kind ([}): toml++
+//    asserts against each, and its assertions are assumptions
+//    (__builtin_assume) in release builds.
 void check_text(std::string_view text, const std::string &path) {
   if (text.size() > kMaxSceneBytes)
     throw SceneError(path + ": the scene is " + std::to_string(text.size()) + " bytes; at most " +
