@@ -81,6 +81,13 @@ std::string character_at(std::string_view text, size_t i) {
   return buf;
 }
 
+// YYYY-MM-DD
+bool is_date(std::string_view s) {
+  for (size_t k = 0; k < 10; ++k)
+    if (k == 4 || k == 7 ? s[k] != '-' : !(s[k] >= '0' && s[k] <= '9')) return false;
+  return true;
+}
+
 bool bare_key_char(unsigned char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
 }
@@ -105,7 +112,8 @@ bool bare_key_char(unsigned char c) {
 //    time on to the next terminator before it looks at it (2"...",
 //    1=["..."), so what follows is not a string to it;
 //  - a lone digit after a number or date and one space (1979-05-27 0, a
-//    date-time with a space cut short), a table header that does not begin
+//    date-time with a space cut short), a date and 'T' not followed by a
+//    digit (1979-05-27Tx), a table header that does not begin
 //    with a name ([$x]), and a bracket closed by the other kind ([}): toml++
 //    asserts against each, and its assertions are assumptions
 //    (__builtin_assume) in release builds.
@@ -154,6 +162,9 @@ void check_text(std::string_view text, const std::string &path) {
         if (n == ' ' || (n >= '\t' && n <= '\r') || n == ']' || n == '}' || n == ',' || n == '#')
           fail(i, "a single digit after a number or a date and a space (a time is written HH:MM:SS)");
       }
+      if ((c == 'T' || c == 't') && i >= 10 && is_date(text.substr(i - 10, 10)) &&
+          !(i + 1 < text.size() && text[i + 1] >= '0' && text[i + 1] <= '9'))
+        fail(i + 1, "a date and 'T' must be followed by a time (HH:MM:SS)");
       if (c == ' ' && number) number_space = i;
       if (c == ' ' || (c >= '\t' && c <= '\r') || c == ']' || c == '}' || c == ',' || c == '#')
         number = false;  // toml++'s is_value_terminator

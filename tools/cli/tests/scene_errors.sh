@@ -249,9 +249,11 @@ expect 1 restart_missing 'no_such.ndck' 's/^$//' --restart no_such.ndck
 # outside strings and comments (U+00A7 in a key reaches
 # __builtin_unreachable in toml++), also right after a backslash (or a
 # line-ending backslash's whitespace) in a multi-line string, a quote after a
-# digit or sign with no value terminator between them, a table header that does not begin with a name, a '}' closing a
-# '[' (both assertions in toml++, assumptions in release builds), and scenes
-# over 1 MiB. Non-ASCII text in strings and comments stays allowed.
+# digit or sign with no value terminator between them (toml++ reads on to
+# the non-ASCII character), a table header that does not begin with a name,
+# a '}' closing a '[', a date-time cut short (assertions in toml++,
+# assumptions in release builds), and scenes over 1 MiB. Non-ASCII text in
+# strings and comments stays allowed.
 awk 'BEGIN { for (i = 0; i < 50000; i++) printf "a."; print "a = 1" }' > dotted_key.toml
 expect_file 2 dotted_key "dotted_key.toml:1:32: a dotted key or table name of more than 16 parts"
 { printf 'title = "x"\n[mesh.'; awk 'BEGIN { for (i = 0; i < 20; i++) printf "\"q\" . "; print "b]" }'; } > dotted_table.toml
@@ -280,6 +282,8 @@ expect 2 nested "nested.toml:14:37: arrays and inline tables nested more than 32
 x = [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]'
 expect 2 date_space_digit "date_space_digit.toml:14:16: a single digit after a number or a date and a space" '$a\
 x = 1979-05-27 0'
+expect 2 date_t_letter "date_t_letter.toml:14:16: a date and 'T' must be followed by a time" '$a\
+x = 1979-05-27ts'
 expect 2 header_start "header_start.toml:14:2: a table header must begin with a name" '$a\
 [$x]'
 expect 2 bracket_mismatch "bracket_mismatch.toml:14:6: '}' closes a '['" '$a\
