@@ -88,7 +88,7 @@ fuzz-deps:
 fuzz: fuzz-deps
 	@test -f $(FUZZ_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DND_FUZZ=ON \
 	  -DND_TESTS=OFF -DND_FORTRAN=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
-	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_gmsh fuzz_api fuzz_checkpoint
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_gmsh fuzz_api fuzz_checkpoint fuzz_scene
 	sh scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_TIME)
 
 # The PETSc linear solvers (ND_SOLVER_PETSC_*): Debian's petsc-dev (MPI, MUMPS)

@@ -13,7 +13,7 @@ src=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export ASAN_OPTIONS="detect_leaks=0:allocator_may_return_null=1"
-for t in fuzz_gmsh fuzz_api fuzz_checkpoint; do
+for t in fuzz_gmsh fuzz_api fuzz_checkpoint fuzz_scene; do
   archive="$src/tests/fuzz/corpus/$t-distilled.tar.gz"
   mkdir -p "$tmp/old" "$tmp/$t"
   [ -f "$archive" ] && tar xzf "$archive" -C "$tmp/old"

@@ -15,7 +15,7 @@ mkdir -p "$build/fuzz-artifacts"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 pids=""
-for t in fuzz_gmsh fuzz_api fuzz_checkpoint; do
+for t in fuzz_gmsh fuzz_api fuzz_checkpoint fuzz_scene; do
   # a checkpoint of fuzz_checkpoint's problem has about 7 KB (the tangent's
   # history has its full room): room for it and for longer inputs
   max_len=4096

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -149,7 +150,7 @@ class Progress {
   Progress(bool on, int64_t steps) : on_(on && steps > 0), tty_(isatty(STDERR_FILENO) != 0), steps_(steps) {}
   void update(int64_t k, double t) {
     if (!on_) return;
-    const int percent = (int)(100 * k / steps_);
+    const int percent = (int)(100.0 * (double)k / (double)steps_);  // 100 * k overflows past 2^63 / 100
     if (tty_) {
       if (percent == last_ && k != steps_) return;
       last_ = percent;
@@ -202,21 +203,25 @@ int run(const Options &opt) {
   if (opt.T >= 0) s.T = opt.T, s.T_given = true, s.T_at = "--T";
   if (!s.tau_given) throw SceneError(s.file + ": no 'time.tau' (required unless --tau is given)");
   if (!s.T_given) throw SceneError(s.file + ": no 'time.T' (required unless --T is given)");
+  const int64_t steps = ndcli::step_count(s);  // refused unless an int64_t holds it
+  // the steps between ParaView frames (more than the run's: its first and last)
+  const double frame_steps = s.interval / s.tau + 0.5;
+  const int64_t every = s.interval <= 0 ? 1
+                        : frame_steps < (double)steps ? std::max<int64_t>(1, (int64_t)frame_steps)
+                                                      : std::max<int64_t>(1, steps);
 
   const auto t0 = std::chrono::steady_clock::now();
   Problem prob;
   const Setup su = build(s, prob);
   nd_problem p = prob.p;
-  const int64_t steps = (int64_t)(s.T / s.tau + 0.5);
-  const int64_t every = s.interval > 0 ? std::max<int64_t>(1, (int64_t)(s.interval / s.tau + 0.5)) : 1;
 
   if (!opt.quiet) {
     const double gamma0 = scalar(p, ND_GAMMA0), limit = scalar(p, ND_GAMMA0_LIMIT);
     std::printf("%s%s%s: %dD, P%d, %" PRId64 " nodes (%" PRId64 " unknowns), %s scheme, Theta = %g, gamma0 = %g (%s"
                 "coercive up to %g), tau = %g, T = %g: %" PRId64 " steps\n",
-                s.file.c_str(), s.title.empty() ? "" : ": ", s.title.c_str(), su.dim, s.degree, su.nodes,
-                su.nodes * su.dim, s.scheme.c_str(), s.Theta, gamma0, s.gamma0 == 0 ? "automatic; " : "", limit, s.tau,
-                steps * s.tau, steps);
+                s.file.c_str(), s.title.empty() ? "" : ": ", ndcli::printable(s.title).c_str(), su.dim, s.degree,
+                su.nodes, su.nodes * su.dim, s.scheme.c_str(), s.Theta, gamma0, s.gamma0 == 0 ? "automatic; " : "",
+                limit, s.tau, steps * s.tau, steps);
     std::fflush(stdout);
   }
   if (opt.check) {
@@ -232,12 +237,8 @@ int run(const Options &opt) {
     make_parent(history_path);
     history.f = std::fopen(history_path.c_str(), "w");
     if (!history.f) throw LibError("cannot write the history " + history_path.string());
-    if (!s.title.empty()) {  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
-      std::string title = s.title;
-      for (char &c : title)
-        if (c == '\n' || c == '\r') c = ' ';
-      std::fprintf(history.f, "# title: %s\n", title.c_str());
-    }
+    if (!s.title.empty())  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
+      std::fprintf(history.f, "# title: %s\n", ndcli::printable(s.title).c_str());
     std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied\n", history.f);
   }
   fs::path prefix;
@@ -252,14 +253,19 @@ int run(const Options &opt) {
   int64_t first = 0;
   if (!opt.restart.empty()) {
     call(nd_problem_load_state_file(p, opt.restart.c_str()), "--restart " + opt.restart);
-    first = (int64_t)scalar(p, ND_STEP_INDEX);
-    if (first > steps)
-      throw SceneError("--restart " + opt.restart + ": the checkpoint is at step " + std::to_string(first) +
-                       ", after the last step " + std::to_string(steps) + " of the scene");
+    const double step = scalar(p, ND_STEP_INDEX);
+    if (!(step >= 0 && step <= (double)steps)) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "--restart " << opt.restart << ": the checkpoint is at step " << step
+         << ", not within the scene's steps 0 to " << steps;
+      throw SceneError(os.str());
+    }
+    first = (int64_t)step;
   }
   const fs::path checkpoint = s.checkpoint.empty() ? fs::path() : out / s.checkpoint;
   if (!checkpoint.empty()) make_parent(checkpoint);
-  const size_t frame0 = (size_t)((first + every - 1) / every);
+  const size_t frame0 = (size_t)(first / every + (first % every != 0));  // first + every - 1 may overflow
   Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
   const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
   double max_force = 0, max_pen = 0, newton = 0;
@@ -371,15 +377,15 @@ int main(int argc, char **argv) {
     return run(opt);
   } catch (const SceneError &e) {
     std::fflush(stdout);
-    std::fprintf(stderr, "nitschedyn: %s\n", e.what());
+    std::fprintf(stderr, "nitschedyn: %s\n", ndcli::printable(e.what()).c_str());
     return 2;
   } catch (const LibError &e) {
     std::fflush(stdout);
-    std::fprintf(stderr, "nitschedyn: %s\n", e.what());
+    std::fprintf(stderr, "nitschedyn: %s\n", ndcli::printable(e.what()).c_str());
     return 1;
   } catch (const std::exception &e) {
     std::fflush(stdout);
-    std::fprintf(stderr, "nitschedyn: %s\n", e.what());
+    std::fprintf(stderr, "nitschedyn: %s\n", ndcli::printable(e.what()).c_str());
     return 1;
   }
 }

@@ -4,7 +4,10 @@
 #include "scene.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <toml++/toml.h>
@@ -37,6 +40,194 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"checkpoint", {"file", "every"}},
   };
   return keys;
+}
+
+// --- the text, before toml++ sees it --------------------------------------
+
+// "path:line:col" of the byte at i (columns count characters, as toml++'s do)
+std::string place(std::string_view text, size_t i, const std::string &path) {
+  size_t line = 1, col = 1;
+  for (size_t k = 0; k < i && k < text.size(); ++k) {
+    if (text[k] == '\n') {
+      ++line;
+      col = 1;
+    } else if ((static_cast<unsigned char>(text[k]) & 0xC0) != 0x80) {
+      ++col;
+    }
+  }
+  return path + ":" + std::to_string(line) + ":" + std::to_string(col);
+}
+
+// "the character U+00A7" for the UTF-8 sequence at i, or "the byte 0xFF"
+// when it is not one (the character itself is not printed)
+std::string character_at(std::string_view text, size_t i) {
+  const auto b = [&](size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
+  const unsigned lead = b(i);
+  const int n = lead >= 0xF0 && lead < 0xF5 ? 4 : lead >= 0xE0 ? (lead < 0xF0 ? 3 : 0) : lead >= 0xC2 ? 2 : 0;
+  char buf[64];
+  if (n == 0) {
+    std::snprintf(buf, sizeof buf, "the byte 0x%02X", lead);
+    return buf;
+  }
+  unsigned long cp = lead & (0x7Fu >> n);
+  for (int k = 1; k < n; ++k) {
+    if ((b(i + k) & 0xC0) != 0x80) {
+      std::snprintf(buf, sizeof buf, "the byte 0x%02X", lead);
+      return buf;
+    }
+    cp = (cp << 6) | (b(i + k) & 0x3F);
+  }
+  std::snprintf(buf, sizeof buf, "the character U+%04lX", cp);
+  return buf;
+}
+
+// YYYY-MM-DD
+bool is_date(std::string_view s) {
+  for (size_t k = 0; k < 10; ++k)
+    if (k == 4 || k == 7 ? s[k] != '-' : !(s[k] >= '0' && s[k] <= '9')) return false;
+  return true;
+}
+
+bool bare_key_char(unsigned char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+}
+
+// Refuses what toml++ 3.3.0 must not see. TOML allows none of it but the
+// first (a scene needs none of it), and each was found to crash toml++ or to
+// reach undefined behaviour in it (by the fuzz target tests/fuzz/fuzz_scene,
+// which runs it with its assertions on, and by parsing every character in
+// 56 contexts):
+//  - a dotted key or table name of more than kMaxKeyParts parts (its tables
+//    nest once per part: a 50,000-part key overflows the stack), and arrays
+//    and inline tables nested more than kMaxNesting deep;
+//  - a non-ASCII character outside strings and comments, and in a
+//    multi-line basic string right after a backslash or after the white
+//    space that follows a line-ending backslash: there toml++ asks whether
+//    it is white space, and is_non_ascii_horizontal_whitespace reaches
+//    __builtin_unreachable for the 3019 characters of U+00A1-U+0499,
+//    U+2C5E-U+2FFF, U+3001-U+3057 and U+FB26-U+FEFE (in a table name any
+//    non-ASCII character also fails an assertion);
+//  - a quote after a digit or a sign with no value terminator (white space,
+//    ',', ']', '}' or '#') between them: toml++ reads a number, date or
+//    time on to the next terminator before it looks at it (2"...",
+//    1=["..."), so what follows is not a string to it;
+//  - a lone digit after a number or date and one space (1979-05-27 0, a
+//    date-time with a space cut short), a date and 'T' not followed by a
+//    digit (1979-05-27Tx), a table header that does not begin
+//    with a name ([$x]), and a bracket closed by the other kind ([}): toml++
+//    asserts against each, and its assertions are assumptions
+//    (__builtin_assume) in release builds.
+void check_text(std::string_view text, const std::string &path) {
+  if (text.size() > kMaxSceneBytes)
+    throw SceneError(path + ": the scene is " + std::to_string(text.size()) + " bytes; at most " +
+                     std::to_string(kMaxSceneBytes) + " (1 MiB) are read");
+  enum { normal, comment, basic, literal, ml_basic, ml_literal } state = normal;
+  enum { none, after_backslash, skipping } escape = none;  // in a multi-line basic string
+  int depth = 0, parts = 1;
+  char open[kMaxNesting];  // the brackets open, innermost last
+  bool number = false;  // a digit or sign since the last value terminator (outside strings)
+  size_t number_space = std::string_view::npos;  // a space right after such a run
+  bool line_start = true;  // nothing but spaces and tabs yet on this line (outside strings)
+  const auto fail = [&](size_t i, const std::string &msg) { throw SceneError(place(text, i, path) + ": " + msg); };
+  const auto non_ascii = [&](size_t i, const char *where) {
+    fail(i, character_at(text, i) + " " + where +
+                ": only ASCII may be written there (bare keys are A-Za-z0-9_-; quote a key or a value that "
+                "needs other characters)");
+  };
+  // the end of a multi-line string at i ("""), with up to two more quotes in it
+  const auto close_multi_line = [&](size_t &i, char q) {
+    if (!(i + 2 < text.size() && text[i + 1] == q && text[i + 2] == q)) return false;
+    i += 2;
+    for (int extra = 0; extra < 2 && i + 1 < text.size() && text[i + 1] == q; ++extra) ++i;
+    return true;
+  };
+  size_t i = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a byte-order mark, which toml++ skips
+  for (; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    switch (state) {
+    case normal:
+      if (c >= 0x80) non_ascii(i, "outside a quoted string or a comment");
+      if (c == '[' && line_start && depth == 0) {  // a table header: [name] or [[name]]
+        size_t j = i + 1;
+        if (j < text.size() && text[j] == '[') ++j;
+        while (j < text.size() && (text[j] == ' ' || text[j] == '\t')) ++j;
+        const unsigned char n = j < text.size() ? static_cast<unsigned char>(text[j]) : ']';
+        if (!bare_key_char(n) && n != '"' && n != '\'' && n != ']' && n < 0x80)
+          fail(j, "a table header must begin with a name (A-Za-z0-9_- or a quoted string)");
+      }
+      if (c == '\n') line_start = true;
+      else if (c != ' ' && c != '\t') line_start = false;
+      if (c >= '0' && c <= '9' && i > 0 && number_space == i - 1) {
+        const char n = i + 1 < text.size() ? text[i + 1] : 'x';
+        if (n == ' ' || (n >= '\t' && n <= '\r') || n == ']' || n == '}' || n == ',' || n == '#')
+          fail(i, "a single digit after a number or a date and a space (a time is written HH:MM:SS)");
+      }
+      if ((c == 'T' || c == 't') && i >= 10 && is_date(text.substr(i - 10, 10)) &&
+          !(i + 1 < text.size() && text[i + 1] >= '0' && text[i + 1] <= '9'))
+        fail(i + 1, "a date and 'T' must be followed by a time (HH:MM:SS)");
+      if (c == ' ' && number) number_space = i;
+      if (c == ' ' || (c >= '\t' && c <= '\r') || c == ']' || c == '}' || c == ',' || c == '#')
+        number = false;  // toml++'s is_value_terminator
+      else if ((c >= '0' && c <= '9') || c == '+' || c == '-')
+        number = true;
+      if (c == '#') {
+        state = comment;
+      } else if ((c == '"' || c == '\'') && number) {
+        fail(i, "a quote after a digit or a sign with no space, ',', ']' or '}' between them (toml++ would read it as "
+                "part of a number, a date or a time)");
+      } else if (c == '"' || c == '\'') {
+        const bool multi = i + 2 < text.size() && text[i + 1] == char(c) && text[i + 2] == char(c);
+        state = c == '"' ? (multi ? ml_basic : basic) : (multi ? ml_literal : literal);
+        escape = none;
+        if (multi) i += 2;
+      } else if (c == '.') {
+        if (++parts > kMaxKeyParts)
+          fail(i, "a dotted key or table name of more than " + std::to_string(kMaxKeyParts) +
+                      " parts (a scene's keys have at most 3)");
+      } else if (!bare_key_char(c) && c != ' ' && c != '\t') {
+        parts = 1;  // anything else ends a dotted key
+        if (c == '[' || c == '{') {
+          if (depth == kMaxNesting)
+            fail(i, "arrays and inline tables nested more than " + std::to_string(kMaxNesting) + " deep");
+          open[depth++] = static_cast<char>(c);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+          if (open[depth - 1] != (c == ']' ? '[' : '{'))
+            fail(i, std::string("'") + static_cast<char>(c) + "' closes a '" + open[depth - 1] + "'");
+          --depth;
+        }
+      }
+      break;
+    case comment:
+      if (c == '\n') state = normal, parts = 1, line_start = true;
+      break;
+    case basic:  // toml++ refuses a line break in it
+      if (c == '\\') ++i;
+      else if (c == '"' || c == '\n') state = normal;
+      break;
+    case literal:
+      if (c == '\'' || c == '\n') state = normal;
+      break;
+    case ml_literal:
+      if (c == '\'' && close_multi_line(i, '\'')) state = normal;
+      break;
+    case ml_basic: {
+      const bool space = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+      if (escape == after_backslash) {  // the escaped character, or a line-ending backslash's whitespace
+        if (c >= 0x80) non_ascii(i, "after a backslash in a multi-line string");
+        escape = space ? skipping : none;
+        break;
+      }
+      if (escape == skipping) {  // toml++ skips whitespace and line breaks
+        if (space) break;
+        if (c >= 0x80) non_ascii(i, "after a line-ending backslash in a multi-line string");
+        escape = none;
+      }
+      if (c == '\\') escape = after_backslash;
+      else if (c == '"' && close_multi_line(i, '"')) state = normal;
+      break;
+    }
+    }
+  }
 }
 
 const char *type_name(const toml::node &n) {
@@ -114,13 +305,38 @@ class Reader {
     }
     return number(*n, table, key);
   }
-  int64_t integer(const toml::node &n, const std::string &table, const std::string &key) const {
+  // Every integer of the scene is read here: within [lo, hi], so that it can
+  // be narrowed to the type it is used as.
+  int64_t integer(const toml::node &n, const std::string &table, const std::string &key, int64_t lo,
+                  int64_t hi) const {
     if (!n.is_integer()) wrong_type(n, table, key, "an integer");
-    return *n.value<int64_t>();
+    const int64_t x = n.as_integer()->get();
+    if (x < lo || x > hi)
+      fail(n.source(), "'" + dotted(table, key) + "' must be an integer from " + std::to_string(lo) + " to " +
+                           std::to_string(hi) + ", not " + std::to_string(x));
+    return x;
   }
+  // A string without NUL characters (a NUL would end a path or a title early).
   std::string string(const toml::node &n, const std::string &table, const std::string &key) const {
     if (!n.is_string()) wrong_type(n, table, key, "a string");
-    return *n.value<std::string>();
+    std::string s = n.as_string()->get();
+    if (s.find('\0') != std::string::npos)
+      fail(n.source(), "'" + dotted(table, key) + "' contains a NUL character (\\u0000)");
+    return s;
+  }
+  // The name of an output file, under --out: relative and without a '..'
+  // component, so that it cannot leave the output directory.
+  std::string output_file(const toml::node &n, const std::string &table, const std::string &key) const {
+    const std::string s = string(n, table, key);
+    if (s.empty()) fail(n.source(), "'" + dotted(table, key) + "' is empty");
+    const std::filesystem::path p(s);
+    if (p.is_absolute() || s[0] == '/')
+      fail(n.source(), "'" + dotted(table, key) + "' is an absolute path: output files are written under --out (a "
+                           "relative path)");
+    for (const auto &part : p)
+      if (part == "..")
+        fail(n.source(), "'" + dotted(table, key) + "' has a '..' component: output files stay under --out");
+    return s;
   }
   std::vector<double> vector(const toml::node &n, const std::string &table, const std::string &key) const {
     const toml::array *a = n.as_array();
@@ -146,11 +362,9 @@ class Reader {
     RegionRef r;
     r.at = where(n.source());
     if (n.is_integer()) {
-      const int64_t id = *n.value<int64_t>();
-      if (id < 0 || id > 1000000000) fail(n.source(), "'" + dotted(table, key) + "' must be a region number >= 0");
-      r.id = (int)id;
+      r.id = static_cast<int>(integer(n, table, key, 0, 1000000000));
     } else if (n.is_string()) {
-      r.name = *n.value<std::string>();
+      r.name = string(n, table, key);
     } else {
       wrong_type(n, table, key, "a region number or the name of a region of [regions]");
     }
@@ -193,9 +407,13 @@ void read_mesh(const Reader &r, const toml::table &t, Scene &s) {
     if ((int)a->size() != s.dim)
       r.fail(cells->source(), "'mesh.cells' has " + std::to_string(a->size()) + " entries; a " + s.generate +
                                   " needs " + std::to_string(s.dim));
+    int64_t total = 1;
     for (size_t i = 0; i < a->size(); ++i) {
-      const int64_t n = r.integer((*a)[i], "mesh", "cells[" + std::to_string(i) + "]");
-      if (n < 1) r.fail((*a)[i].source(), "'mesh.cells' must be positive");
+      const int64_t n = r.integer((*a)[i], "mesh", "cells[" + std::to_string(i) + "]", 1, kMaxCellsPerDirection);
+      total *= n;  // at most 10^18: no overflow
+      if (total > kMaxCells)
+        r.fail(cells->source(), "'mesh.cells' makes more than " + std::to_string(kMaxCells) +
+                                    " cells (the product of the entries): use a Gmsh mesh for larger ones");
       s.cells.push_back(n);
     }
     s.lo = r.vector(t, "mesh", "lo", "the lower corner of the mesh");
@@ -209,9 +427,7 @@ void read_mesh(const Reader &r, const toml::table &t, Scene &s) {
       if (!(s.lo[k] < s.hi[k])) r.fail(t.get("hi")->source(), "'mesh.hi' must exceed 'mesh.lo' in every component");
   }
   if (const toml::node *d = t.get("degree")) {
-    const int64_t deg = r.integer(*d, "mesh", "degree");
-    if (deg != 1 && deg != 2) r.fail(d->source(), "'mesh.degree' must be 1 or 2");
-    s.degree = (int)deg;
+    s.degree = static_cast<int>(r.integer(*d, "mesh", "degree", 1, 2));
   }
 }
 
@@ -292,7 +508,8 @@ void read_solver(const Reader &r, const toml::table &t, Scene &s) {
   s.newton_given = t.get("newton_rtol") || t.get("newton_atol") || t.get("newton_max_iter");
   s.newton_rtol = r.number(t, "solver", "newton_rtol", &rtol);
   s.newton_atol = r.number(t, "solver", "newton_atol", &atol);
-  if (const toml::node *n = t.get("newton_max_iter")) s.newton_max_iter = r.integer(*n, "solver", "newton_max_iter");
+  if (const toml::node *n = t.get("newton_max_iter"))
+    s.newton_max_iter = r.integer(*n, "solver", "newton_max_iter", 1, std::numeric_limits<int>::max());
   if (const toml::node *n = t.get("mass_lumping")) {
     if (!n->is_boolean()) r.wrong_type(*n, "solver", "mass_lumping", "true or false");
     s.mass_lumping = *n->value<bool>();
@@ -306,13 +523,10 @@ void read_solver(const Reader &r, const toml::table &t, Scene &s) {
 void read_output(const Reader &r, const toml::table &t, Scene &s) {
   r.check_keys(t, "output", "output");
   s.output_at = r.where(t.source());
-  if (const toml::node *n = t.get("history")) {
-    s.history = r.string(*n, "output", "history");
-    if (s.history.empty()) r.fail(n->source(), "'output.history' is empty");
-  }
+  if (const toml::node *n = t.get("history")) s.history = r.output_file(*n, "output", "history");
   if (const toml::node *n = t.get("paraview")) {
-    s.paraview = r.string(*n, "output", "paraview");
-    if (s.paraview.empty() || s.paraview.back() == '/')
+    s.paraview = r.output_file(*n, "output", "paraview");
+    if (s.paraview.back() == '/')
       r.fail(n->source(), "'output.paraview' must be a file prefix (such as \"vtu/disk\")");
   }
   if (const toml::node *n = t.get("interval")) {
@@ -358,24 +572,34 @@ void read_checkpoint(const Reader &r, const toml::table &t, Scene &s) {
   s.checkpoint_at = r.where(t.source());
   const toml::node *f = t.get("file");
   if (!f) r.missing(t, "checkpoint", "file", "the checkpoint file");
-  s.checkpoint = r.string(*f, "checkpoint", "file");
-  if (s.checkpoint.empty() || s.checkpoint.back() == '/') r.fail(f->source(), "'checkpoint.file' must be a file name");
-  if (const toml::node *n = t.get("every")) {
-    s.checkpoint_every = r.integer(*n, "checkpoint", "every");
-    if (s.checkpoint_every < 0) r.fail(n->source(), "'checkpoint.every' must be >= 0 (0: at the end only)");
-  }
+  s.checkpoint = r.output_file(*f, "checkpoint", "file");
+  if (s.checkpoint.back() == '/') r.fail(f->source(), "'checkpoint.file' must be a file name");
+  if (const toml::node *n = t.get("every"))  // 0: at the end only
+    s.checkpoint_every = r.integer(*n, "checkpoint", "every", 0, std::numeric_limits<int64_t>::max());
 }
 
 }  // namespace
 
 Scene read_scene(const std::string &path) {
-  Scene s;
-  s.file = path;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(path + ": no such scene file");
+  std::ifstream in(path, std::ios::binary);
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw SceneError(path + ": cannot read the scene file");
+  text.resize(static_cast<size_t>(in.gcount()));
+  if (text.size() > kMaxSceneBytes)
+    throw SceneError(path + ": the scene file is larger than " + std::to_string(kMaxSceneBytes) + " bytes (1 MiB)");
+  return parse_scene(text, path);
+}
+
+Scene parse_scene(std::string_view text, const std::string &path) {
+  Scene s;
+  s.file = path;
+  check_text(text, path);
   toml::table root;
   try {
-    root = toml::parse_file(path);
+    root = toml::parse(text, path);
   } catch (const toml::parse_error &e) {
     std::ostringstream os;
     std::string what(e.description());
@@ -386,7 +610,7 @@ Scene read_scene(const std::string &path) {
   Reader r(path);
   r.check_keys(root, "", "");
 
-  if (const toml::node *n = root.get("title")) s.title = r.string(*n, "", "title");
+  if (const toml::node *n = root.get("title")) s.title = r.string(*n, "", "title");  // printed through printable()
 
   const toml::node *mesh = root.get("mesh");
   if (!mesh) throw SceneError(path + ": no [mesh] table (required: 'gmsh' = a Gmsh file, or 'generate' = ...)");
@@ -530,6 +754,41 @@ Scene read_scene(const std::string &path) {
   for (const auto &o : s.obstacles) check_ref(o.region);
   if (s.dim > 0) check_dimension(s, s.dim);
   return s;
+}
+
+int64_t step_count(const Scene &s) {
+  const double steps = s.T / s.tau + 0.5;  // rounded below
+  // 2^63: an int64_t holds every double below it (NaN and infinity fail too)
+  if (!(steps >= 0 && steps < 9223372036854775808.0)) {
+    std::ostringstream os;
+    os << (s.T_at.empty() ? s.file : s.T_at) << ": T / tau = " << s.T << " / " << s.tau << " is "
+       << (std::isfinite(steps) ? "more steps than a run can count" : "not a finite number of steps")
+       << " (at most 2^63 - 1 = 9223372036854775807 steps): raise 'time.tau' or lower 'time.T'";
+    throw SceneError(os.str());
+  }
+  return static_cast<int64_t>(steps);
+}
+
+std::string printable(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == '\t' || c == '\n' || c == '\r') {
+      out += ' ';
+    } else if (c < 0x20 || c == 0x7F) {
+      out += '?';
+    } else if (c == 0xC2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+               static_cast<unsigned char>(text[i + 1]) <= 0x9F) {
+      out += '?';  // U+0080-U+009F, the C1 controls (CSI is U+009B)
+      ++i;
+    } else if (c >= 0x80 && c <= 0x9F && (i == 0 || static_cast<unsigned char>(text[i - 1]) < 0x80)) {
+      out += '?';  // a lone C1 byte (not UTF-8: never from toml++, but from a message)
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
 }
 
 int region_id(const Scene &s, const RegionRef &r) {

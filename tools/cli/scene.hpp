@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ndcli {
@@ -115,8 +116,33 @@ struct Scene {
   std::string checkpoint_at;
 };
 
-// Reads and validates a scene file. Throws SceneError.
+// What a scene may be: checked before the TOML parser sees the text (toml++
+// 3.3.0 recurses once per part of a dotted key, and reaches
+// __builtin_unreachable on some non-ASCII characters outside strings), and
+// after it (the sizes of generated meshes, the step count).
+constexpr size_t kMaxSceneBytes = size_t(1) << 20;  // 1 MiB
+constexpr int kMaxKeyParts = 16;                    // a.b.c = ...: parts of a dotted key or table name
+constexpr int kMaxNesting = 32;                     // [ and { open at once
+constexpr int64_t kMaxCellsPerDirection = 1000000;  // mesh.cells[i]
+constexpr int64_t kMaxCells = 10000000;             // the product of mesh.cells
+
+// Reads a scene file (at most kMaxSceneBytes) and parses it (parse_scene).
+// Throws SceneError.
 Scene read_scene(const std::string &path);
+
+// Parses and validates the text of a scene file; path names it in messages
+// and resolves mesh.gmsh (whose existence is checked; the mesh is not read).
+// Throws SceneError.
+Scene parse_scene(std::string_view text, const std::string &path);
+
+// The number of steps of the run, round(T / tau), once T and tau are known
+// (the scene or the command line): refused unless it is a finite number that
+// an int64_t holds. Throws SceneError.
+int64_t step_count(const Scene &s);
+
+// Text from the scene made safe to print on a terminal: control characters
+// (C0, DEL, C1) become '?', except that tabs and line breaks become spaces.
+std::string printable(std::string_view text);
 
 // Checks what needs the space dimension (vector lengths), once it is known.
 void check_dimension(const Scene &s, int dim);
