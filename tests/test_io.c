@@ -125,16 +125,16 @@ static void read_whole(const char *path, char *buf, size_t size) {
   fclose(f);
 }
 
-START_TEST(writes_vtu_and_pvd) {
-  /* a P2 strip in contact: the file lists every FE node, every cell and the
-     contact facets, and the .pvd names its files */
+/* a strip of nx x ny cells (P<degree>) falling on a plane under gravity,
+   after `steps` hybrid steps */
+static nd_problem strip_after(int nx, int ny, int degree, int steps) {
   const double lo[2] = {0, 0}, hi[2] = {1, 0.25}, blo[2] = {-1, -1}, bhi[2] = {2, 0}, o[2] = {0, -0.01}, up[2] = {0, 1};
   const double g[2] = {0, -1};
   nd_mesh m = NULL;
   nd_problem p = NULL;
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(4, 1, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(nx, ny, lo, hi, &m));
   ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
-  ND_OK_OR_FAIL(nd_problem_create(m, 2, &p));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
   ND_OK_OR_FAIL(nd_problem_set_material(p, 10, 0.3, 1));
   ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
@@ -142,7 +142,14 @@ START_TEST(writes_vtu_and_pvd) {
   ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1, 1e-3));
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.05));
-  for (int k = 0; k < 10; ++k) ND_OK_OR_FAIL(nd_step(p));
+  for (int k = 0; k < steps; ++k) ND_OK_OR_FAIL(nd_step(p));
+  return p;
+}
+
+START_TEST(writes_vtu_and_pvd) {
+  /* a P2 strip in contact: the file lists every FE node, every cell and the
+     contact facets, and the .pvd names its files */
+  nd_problem p = strip_after(4, 1, 2, 10);
   double active = 0;
   ND_OK_OR_FAIL(nd_get_scalar(p, ND_ACTIVE_POINTS, &active));
   ck_assert_double_gt(active, 0);
@@ -264,21 +271,7 @@ END_TEST
 
 /* a strip of nx x ny cells after a few steps, and its checkpoint block */
 static nd_problem stepped_strip(int nx, int ny, unsigned char **block, int64_t *nbytes) {
-  const double lo[2] = {0, 0}, hi[2] = {1, 0.25}, blo[2] = {-1, -1}, bhi[2] = {2, 0}, o[2] = {0, -0.01}, up[2] = {0, 1};
-  const double g[2] = {0, -1};
-  nd_mesh m = NULL;
-  nd_problem p = NULL;
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(nx, ny, lo, hi, &m));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
-  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
-  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-  ND_OK_OR_FAIL(nd_problem_set_material(p, 10, 0.3, 1));
-  ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
-  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, up));
-  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1, 1e-3));
-  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
-  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.05));
-  for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
+  nd_problem p = strip_after(nx, ny, 1, 3);
   ND_OK_OR_FAIL(nd_problem_get_state_size(p, nbytes));
   *block = malloc((size_t)*nbytes);
   ND_OK_OR_FAIL(nd_problem_save_state(p, *nbytes, *block));
