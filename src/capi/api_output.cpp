@@ -9,7 +9,19 @@ ND_EXPORT int nd_problem_write_vtu(nd_problem p, const char *path) {
   return nd::guarded("nd_problem_write_vtu", [&] {
     nd::need(p, "problem");
     p->problem.check_whole_read([&] { nd::need(path, "path"); });  // (it reads the whole state)
-    nd::write_vtu(p->problem, path);
+    nd::Problem &pb = p->problem;
+    nd::VtuSnapshot snap;
+    snap.space = &pb.space();
+    snap.material = &pb.material();
+    snap.U.resize(static_cast<size_t>(pb.space().n_dofs()));
+    snap.V.resize(snap.U.size());
+    pb.field(ND_FIELD_DISPLACEMENT, snap.U.data());
+    pb.field(ND_FIELD_VELOCITY, snap.V.data());
+    snap.pressure = pb.contact_pressure();
+    snap.contact = &pb.discretization().contact;  // after the calls above, which may build it
+    snap.time = pb.scalar(ND_TIME);
+    snap.step = static_cast<int64_t>(pb.scalar(ND_STEP_INDEX));
+    nd::write_vtu(snap, path);
     return ND_OK;
   });
 }

@@ -11,9 +11,8 @@
 #include "common/c_locale.hpp"
 #include "common/checked.hpp"
 #include "common/error.hpp"
-#include "io/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "nitschedyn.h"
-#include "problem/problem.hpp"
 
 namespace nd {
 namespace {
@@ -67,17 +66,15 @@ void write_vector_field(FILE *f, const char *name, const std::vector<double> &fu
 
 }  // namespace
 
-void write_vtu(Problem &p, const char *path) {
+void write_vtu(const VtuSnapshot &snap, const char *path) {
   const ClassicNumericLocale c_locale;  // VTK wants '.' as the decimal point
-  const Space &s = p.space();
+  const Space &s = *snap.space;
   const Mesh &m = *s.mesh;
   const int d = s.dim;
-  std::vector<double> U(s.n_dofs()), V(s.n_dofs());
-  p.field(ND_FIELD_DISPLACEMENT, U.data());
-  p.field(ND_FIELD_VELOCITY, V.data());
+  const std::vector<double> &U = snap.U, &V = snap.V;
   // mean contact pressure per contact facet
-  const ContactPoints &cp = p.discretization().contact;
-  const std::vector<double> lam = p.contact_pressure();
+  const ContactPoints &cp = *snap.contact;
+  const std::vector<double> &lam = snap.pressure;
   std::map<int64_t, std::pair<double, double>> facet_pressure;  // facet -> (sum w lambda, sum w)
   for (size_t q = 0; q < cp.size(); ++q) {
     auto &acc = facet_pressure[cp.facet[q]];
@@ -92,9 +89,9 @@ void write_vtu(Problem &p, const char *path) {
   // the time and step index, as ParaView and VisIt read them from FieldData
   std::fprintf(o, "  <UnstructuredGrid>\n    <FieldData>\n");
   std::fprintf(o, "      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">%.17g</DataArray>\n",
-               p.scalar(ND_TIME));
+               snap.time);
   std::fprintf(o, "      <DataArray type=\"Int64\" Name=\"CYCLE\" NumberOfTuples=\"1\" format=\"ascii\">%lld</DataArray>\n",
-               static_cast<long long>(p.scalar(ND_STEP_INDEX)));
+               static_cast<long long>(snap.step));
   std::fprintf(o, "    </FieldData>\n    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n",
                static_cast<long long>(s.n_nodes), static_cast<long long>(n_cells + n_facets));
   std::fprintf(o, "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
@@ -132,7 +129,7 @@ void write_vtu(Problem &p, const char *path) {
   std::vector<double> centroid(static_cast<size_t>(d), 1.0 / (d + 1));
   for (int64_t c = 0; c < n_cells; ++c) {
     double sigma[9];
-    cell_stress(s, p.material(), U.data(), c, centroid.data(), sigma);
+    cell_stress(s, *snap.material, U.data(), c, centroid.data(), sigma);
     for (int k = 0; k < n_comp; ++k) std::fprintf(o, "%.17g%c", sigma[k], k + 1 == n_comp ? '\n' : ' ');
   }
   for (int64_t k = 0; k < n_facets; ++k)

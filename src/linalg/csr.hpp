@@ -6,16 +6,9 @@
 #include <memory>
 #include <vector>
 
-namespace nd {
+#include "common/row_set.hpp"
 
-// Rows of a matrix to compute: `count` of them listed in `list`, or all of
-// them (list null): a rank's own rows (parallel/share.hpp), or a process's.
-struct RowSet {
-  const int64_t *list = nullptr;
-  int64_t count = -1;  // with list
-  int64_t size(int64_t n) const { return list ? count : n; }
-  int64_t operator[](int64_t r) const { return list ? list[r] : r; }
-};
+namespace nd {
 
 // An index array that the operators of one pattern share (M, K, K_Theta,
 // A = c M + K_Theta, and any copy of them): read as a const vector; written

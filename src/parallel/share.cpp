@@ -138,12 +138,4 @@ void exchange(const Halo &h, double *field) {
   count(h.share->counters, &Counters::values_received, static_cast<int64_t>(in.size()));
 }
 
-double norm2_rows(const Share *rows, int64_t n, const double *x) {
-  if (!rows) return norm2(n, x);
-  double sum = 0;
-  for (const int64_t *i = rows->own_begin(); i != rows->own_end(); ++i) sum += x[*i] * x[*i];
-  gather(*rows, {}, &sum, 1);
-  return std::sqrt(sum);
-}
-
 }  // namespace nd

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "common/counters.hpp"
-#include "linalg/csr.hpp"
+#include "common/row_set.hpp"
 #include "parallel/communicator.hpp"
 
 namespace nd {
@@ -68,10 +68,6 @@ inline RowSet own_rows(const Share *s) { return s ? RowSet{s->own_begin(), s->ow
 std::shared_ptr<const Share> make_share(CommunicatorPtr comm, const std::vector<int> &owner,
                                         Counters *counters = nullptr);
 
-// ||x|| over the rows of `rows`, each rank's sum of squares added rank after
-// rank (the same bits on every rank); no share: norm2 over all n. Collective
-// with a share.
-double norm2_rows(const Share *rows, int64_t n, const double *x);
 
 // fields: arrays over all items, filled on this rank's own items; afterwards
 // filled on every item. sums (n_sums of them): this rank's partial sums in,

@@ -13,7 +13,7 @@
 #include "monitor/critical_step.hpp"
 #include "monitor/energies.hpp"
 #include "monitor/guards.hpp"
-#include "io/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "linalg/blas_threads.hpp"
 #include "problem/checkpoint.hpp"
 #include "parallel/agreement.hpp"

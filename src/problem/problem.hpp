@@ -63,7 +63,7 @@ class Problem {
   // ---- checkpoint (problem/checkpoint.hpp)
   std::vector<unsigned char> save_state();
   void load_state(const unsigned char *buf, int64_t nbytes);  // all or nothing
-  // the same block in a file, written atomically (io/atomic_file.hpp)
+  // the same block in a file, written atomically (common/atomic_file.hpp)
   void save_state_file(const char *path);
   void load_state_file(const char *path);
   // white-box (tests, benchmarks): the Newton tangent solver; drops the integrator

@@ -9,6 +9,21 @@
 
 namespace nd {
 
+namespace {
+
+// ||x|| over the rows of `rows`, each rank's sum of squares added rank after
+// rank (the same bits on every rank); no share: norm2 over all n. Collective
+// with a share.
+double norm2_rows(const Share *rows, int64_t n, const double *x) {
+  if (!rows) return norm2(n, x);
+  double sum = 0;
+  for (const int64_t *i = rows->own_begin(); i != rows->own_end(); ++i) sum += x[*i] * x[*i];
+  gather(*rows, {}, &sum, 1);
+  return std::sqrt(sum);
+}
+
+}  // namespace
+
 double newton_residual(const NewtonSystem &sys, const std::vector<double> &r, const std::vector<double> &U,
                        std::vector<double> &G, std::vector<char> *active, std::vector<double> &MU,
                        PointValues *points, bool known) {
