@@ -21,7 +21,9 @@
 ! apart, each residual below the Newton tolerance rtol (|r| + c |M U|) (the
 ! test asserts it for the host's), r_h - r_l the history's difference.
 ! lambda_min(A) is bounded below by a Cholesky factorization of A - mu I.
-! Exit status 0 when every step is within its bound, 1 otherwise.
+! At the end it checks nd_problem_contact_values against nd_get_scalar at the
+! state's U (bitwise) and reads the cells (nd_problem_get_cells).
+! Exit status 0 when every step is within its bound and those agree, 1 otherwise.
 program host_newmark
   use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_ptr
   use nitschedyn
@@ -41,6 +43,11 @@ program host_newmark
   real(c_double) :: c, lam, gh, gl, bound, diff, worst, worst_bound, active
   integer :: step, it, contact_steps
   logical :: ok
+  real(c_double) :: cvalues(4)
+  integer(c_int) :: npc
+  integer(c_int64_t) :: ncells
+  integer(c_int64_t), allocatable :: cells(:)
+  integer(c_int), parameter :: keys(4) = [ND_CONTACT_FORCE, ND_ACTIVE_POINTS, ND_ENERGY_NITSCHE, ND_MAX_PENETRATION]
 
   p = make_scene()
   c = 1d0 / (beta * tau * tau)
@@ -118,6 +125,16 @@ program host_newmark
     if (active > 0) contact_steps = contact_steps + 1
     U = U1; V = V1; Acc = A1
   end do
+  ! the contact values at the state's U are nd_get_scalar's, bit for bit; the cells' nodes
+  call check(nd_problem_contact_values(p, n, Ulib, 4, cvalues), 'nd_problem_contact_values')
+  do it = 1, 4
+    call check(nd_get_scalar(p, keys(it), active), 'nd_get_scalar')
+    if (abs(cvalues(it) - active) > 0) ok = .false.
+  end do
+  call check(nd_problem_get_cells(p, ncells, npc), 'nd_problem_get_cells')
+  allocate(cells(npc * ncells))
+  call check(nd_problem_get_cells(p, ncells, npc, cells), 'nd_problem_get_cells')
+  if (npc /= 3 .or. ncells /= 8 .or. minval(cells) /= 0 .or. maxval(cells) /= nn - 1) ok = .false.
   call check(nd_problem_destroy(p), 'nd_problem_destroy')
   print '(a, i0, a, i0, a, es10.3, a, es10.3)', 'host_newmark: ', nsteps, ' steps (', contact_steps, &
         ' in contact), max |U_host - U_lib| = ', worst, ', bound ', worst_bound
