@@ -126,7 +126,13 @@ extern "C" {
   X(ND_STAT_PREDICTED_STEPS, 32, "implicit steps their predictor solved to round-off (constant acceleration): no solve") \
   X(ND_STAT_LAGGED_STEPS, 33, "contact steps whose first Newton iteration kept the last step's tangent factor") \
   X(ND_STAT_FACTOR_MODIFICATIONS, 34, "rank-one updates and downdates of the Newton tangent's updated factor") \
-  X(ND_STAT_FACTOR_MODIFIED_ENTRIES, 35, "their work: entries of L times the vectors that rotated them")
+  X(ND_STAT_FACTOR_MODIFIED_ENTRIES, 35, "their work: entries of L times the vectors that rotated them") \
+  X(ND_MOMENTUM_X, 40, "linear momentum sum_i (M V)_i of the x components (clamped rows included)") \
+  X(ND_MOMENTUM_Y, 41, "linear momentum, y components (0 below 2D)")                 \
+  X(ND_MOMENTUM_Z, 42, "linear momentum, z components (0 below 3D)")                 \
+  X(ND_ANGULAR_MOMENTUM_X, 43, "angular momentum sum_i x_i x (M V)_i about the origin, x (0 below 3D)") \
+  X(ND_ANGULAR_MOMENTUM_Y, 44, "angular momentum about the origin, y (0 below 3D)")  \
+  X(ND_ANGULAR_MOMENTUM_Z, 45, "angular momentum about the origin, z (0 in 1D)")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -148,6 +154,14 @@ extern "C" {
   X(ND_GUARD_COERCIVITY, 5, "1: refuse Theta > 0 with K_Theta indefinite (default); 0: allow") \
   X(ND_GUARD_INITIAL_PENETRATION, 6, "1: refuse an initial state inside the obstacle (default); 0: allow")
 
+/* Operators for nd_problem_get_matrix, on the free DOFs: X(name, value, description) */
+#define ND_MATRIX_LIST(X)                                                              \
+  X(ND_MATRIX_MASS, 1, "M, the mass the scheme uses (consistent, lumped or redistributed)") \
+  X(ND_MATRIX_STIFFNESS, 2, "K, the stiffness")                                        \
+  X(ND_MATRIX_NITSCHE, 3, "K_Theta - K = -Theta sum_q w_q gamma_q s_q^T s_q")           \
+  X(ND_MATRIX_STEP, 4, "c M + K_Theta of the scheme and time step set (implicit schemes)") \
+  X(ND_MATRIX_LUMPED_MASS, 5, "the lumped (HRZ) mass, diagonal, whatever mass the scheme uses")
+
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
 enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
 enum nd_scheme { ND_SCHEME_LIST(ND_ENUM_ENTRY_) };
@@ -155,6 +169,7 @@ enum nd_field { ND_FIELD_LIST(ND_ENUM_ENTRY_) };
 enum nd_scalar { ND_SCALAR_LIST(ND_ENUM_ENTRY_) };
 enum nd_solver { ND_SOLVER_LIST(ND_ENUM_ENTRY_) };
 enum nd_guard { ND_GUARD_LIST(ND_ENUM_ENTRY_) };
+enum nd_matrix { ND_MATRIX_LIST(ND_ENUM_ENTRY_) };
 #undef ND_ENUM_ENTRY_
 
 typedef struct nd_mesh_s *nd_mesh;
@@ -317,6 +332,37 @@ ND_EXPORT int nd_get_contact_pressure(nd_problem p, int64_t n, double *out);
    [P_q]_+ for the theta-scheme and Newmark); lambda_q before the first step */
 ND_EXPORT int nd_get_contact_pressure_applied(nd_problem p, int64_t n, double *out);
 ND_EXPORT int nd_problem_destroy(nd_problem *p);
+
+/* ---- operators out (nd_problem_get_matrix(3)) ------------------------- */
+/* Free DOFs (the unknowns after Dirichlet elimination), CSR 0-based, rows
+   ascending, columns sorted in each row. Two calls: with row_ptr, col_idx
+   and values all NULL the sizes are written to *n and *nnz; then with arrays
+   of n + 1, nnz and nnz entries and *n, *nnz holding those sizes. */
+ND_EXPORT int nd_problem_get_matrix(nd_problem p, int which, int64_t *n, int64_t *nnz,
+                                    int64_t *row_ptr, int64_t *col_idx, double *values);
+/* The FE node and component (0-based) of each of the n free DOFs; either
+   array may be NULL. */
+ND_EXPORT int nd_problem_get_dof_map(nd_problem p, int64_t n, int64_t *node, int *component);
+/* F^n on the n free DOFs: the load the state at the current time holds. */
+ND_EXPORT int nd_problem_get_load(nd_problem p, int64_t n, double *f);
+/* The cells as the space numbers their FE nodes (P2: vertices, then the
+   edges (i,j), i<j, lexicographically): with nodes NULL the sizes, then
+   *n_cells * *nodes_per_cell node indices. */
+ND_EXPORT int nd_problem_get_cells(nd_problem p, int64_t *n_cells, int *nodes_per_cell, int64_t *nodes);
+
+/* ---- contact on the host's operators (nd_problem_contact_residual(3)) --- */
+/* At u on the n free DOFs, the obstacle where it is at the current time,
+   the law [P]_+; the problem's state is not touched. r = N(u). */
+ND_EXPORT int nd_problem_contact_residual(nd_problem p, int64_t n, const double *u, double *r);
+/* N'(u), CSR on the pattern of every contact point's rows (the same at every
+   u); two calls as nd_problem_get_matrix (u may be NULL in the first). */
+ND_EXPORT int nd_problem_contact_tangent(nd_problem p, int64_t n, const double *u, int64_t *nnz,
+                                         int64_t *row_ptr, int64_t *col_idx, double *values);
+/* The first nvalues (1 to 4) of: the resultant normal contact force
+   sum_q w_q [P_q]_+/gamma_q, the active points, the Nitsche energy R and the
+   deepest penetration max_q (u_n - g0)_+, at u. */
+ND_EXPORT int nd_problem_contact_values(nd_problem p, int64_t n, const double *u, int nvalues,
+                                        double *values);
 
 /* ---- output ------------------------------------------------------------ */
 /* VTK XML unstructured grid of the current state: displacement, velocity

@@ -948,6 +948,102 @@ static nd_problem partial_bar(char omit) {
   return p;
 }
 
+/* Operators out and contact on the host's operators: every argument checked,
+   nothing changed by a refused call (the checkpoint is the same). */
+START_TEST(host_calls_bad_arguments) {
+  nd_problem p = nd_test_bar(4, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  int64_t n = 0, nnz = 0, ptr[8], col[64], node[4], nc = 0, cells[16], before_size = 0, after_size = 0;
+  int comp[4], npc = 0;
+  double val[64], u[4] = {0, 0, 0, 0}, r[4], f[4], values[4];
+  EXPECT_OK(nd_step(p));
+  unsigned char *before = nd_test_checkpoint(p, &before_size);
+  EXPECT_ERR(nd_problem_get_matrix(NULL, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL), ND_ERR_NULL,
+             "nd_problem_get_matrix", "problem");
+  EXPECT_ERR(nd_problem_get_matrix(p, 0, &n, &nnz, NULL, NULL, NULL), ND_ERR_KEY, "nd_problem_get_matrix", "which 0");
+  EXPECT_ERR(nd_problem_get_matrix(p, 6, &n, &nnz, NULL, NULL, NULL), ND_ERR_KEY, "nd_problem_get_matrix", "which 6");
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, NULL, &nnz, NULL, NULL, NULL), ND_ERR_NULL,
+             "nd_problem_get_matrix", "n is NULL");
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, NULL, NULL, NULL, NULL), ND_ERR_NULL,
+             "nd_problem_get_matrix", "nnz is NULL");
+  EXPECT_OK(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL));
+  ck_assert_int_eq(n, 4); /* the bar's 5 nodes, x = 1 clamped */
+  ck_assert(nnz <= 64);
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, ptr, NULL, val), ND_ERR_NULL,
+             "nd_problem_get_matrix", "col_idx");
+  int64_t wrong = nnz - 1;
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &wrong, ptr, col, val), ND_ERR_SIZE,
+             "nd_problem_get_matrix", "nnz");
+  wrong = n + 1;
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &wrong, &nnz, ptr, col, val), ND_ERR_SIZE,
+             "nd_problem_get_matrix", "rows");
+  EXPECT_OK(nd_problem_get_matrix(p, ND_MATRIX_STEP, &n, &nnz, ptr, col, val));
+  EXPECT_ERR(nd_problem_get_dof_map(p, 5, node, comp), ND_ERR_SIZE, "nd_problem_get_dof_map", "expected 4");
+  EXPECT_OK(nd_problem_get_dof_map(p, 4, node, NULL));
+  EXPECT_ERR(nd_problem_get_load(p, 3, f), ND_ERR_SIZE, "nd_problem_get_load", "expected 4");
+  EXPECT_ERR(nd_problem_get_load(p, 4, NULL), ND_ERR_NULL, "nd_problem_get_load", "f");
+  EXPECT_ERR(nd_problem_get_cells(p, NULL, &npc, NULL), ND_ERR_NULL, "nd_problem_get_cells", "n_cells");
+  EXPECT_ERR(nd_problem_get_cells(p, &nc, NULL, NULL), ND_ERR_NULL, "nd_problem_get_cells", "nodes_per_cell");
+  EXPECT_OK(nd_problem_get_cells(p, &nc, &npc, NULL));
+  ck_assert_int_eq(nc, 4);
+  ck_assert_int_eq(npc, 2);
+  nc = 3;
+  EXPECT_ERR(nd_problem_get_cells(p, &nc, &npc, cells), ND_ERR_SIZE, "nd_problem_get_cells", "n_cells");
+  EXPECT_ERR(nd_problem_contact_residual(p, 5, u, r), ND_ERR_SIZE, "nd_problem_contact_residual", "expected 4");
+  EXPECT_ERR(nd_problem_contact_residual(p, 4, NULL, r), ND_ERR_NULL, "nd_problem_contact_residual", "u");
+  EXPECT_ERR(nd_problem_contact_residual(p, 4, u, NULL), ND_ERR_NULL, "nd_problem_contact_residual", "r");
+  u[2] = NAN;
+  EXPECT_ERR(nd_problem_contact_residual(p, 4, u, r), ND_ERR_NONFINITE, "nd_problem_contact_residual", "u[2]");
+  EXPECT_ERR(nd_problem_contact_tangent(p, 4, u, &nnz, ptr, col, val), ND_ERR_NONFINITE,
+             "nd_problem_contact_tangent", "u[2]");
+  EXPECT_ERR(nd_problem_contact_values(p, 4, u, 4, values), ND_ERR_NONFINITE, "nd_problem_contact_values", "u[2]");
+  u[2] = INFINITY;
+  EXPECT_ERR(nd_problem_contact_values(p, 4, u, 4, values), ND_ERR_NONFINITE, "nd_problem_contact_values", "u[2]");
+  u[2] = 0;
+  EXPECT_ERR(nd_problem_contact_tangent(p, 3, NULL, &nnz, NULL, NULL, NULL), ND_ERR_SIZE,
+             "nd_problem_contact_tangent", "expected 4");
+  EXPECT_ERR(nd_problem_contact_tangent(p, 4, u, NULL, NULL, NULL, NULL), ND_ERR_NULL, "nd_problem_contact_tangent",
+             "nnz");
+  EXPECT_OK(nd_problem_contact_tangent(p, 4, NULL, &nnz, NULL, NULL, NULL));
+  EXPECT_ERR(nd_problem_contact_tangent(p, 4, NULL, &nnz, ptr, col, val), ND_ERR_NULL, "nd_problem_contact_tangent",
+             "u is NULL");
+  EXPECT_ERR(nd_problem_contact_tangent(p, 4, u, &nnz, ptr, col, NULL), ND_ERR_NULL, "nd_problem_contact_tangent",
+             "values");
+  EXPECT_OK(nd_problem_contact_tangent(p, 4, u, &nnz, ptr, col, val));
+  EXPECT_ERR(nd_problem_contact_values(p, 4, u, 0, values), ND_ERR_SIZE, "nd_problem_contact_values", "nvalues");
+  EXPECT_ERR(nd_problem_contact_values(p, 4, u, 5, values), ND_ERR_SIZE, "nd_problem_contact_values", "nvalues");
+  EXPECT_ERR(nd_problem_contact_values(p, 4, u, 2, NULL), ND_ERR_NULL, "nd_problem_contact_values", "values");
+  EXPECT_OK(nd_problem_contact_values(p, 4, u, 1, values));
+  unsigned char *after = nd_test_checkpoint(p, &after_size);
+  ck_assert_int_eq(before_size, after_size);
+  ck_assert(memcmp(before, after, (size_t)before_size) == 0);
+  free(before), free(after);
+  /* the step matrix: not for an explicit scheme */
+  const double zero = 0;
+  EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_THETA, &zero));
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_STEP, &n, &nnz, NULL, NULL, NULL), ND_ERR_STATE,
+             "nd_problem_get_matrix", "explicit");
+  EXPECT_OK(nd_problem_get_matrix(p, ND_MATRIX_LUMPED_MASS, &n, &nnz, NULL, NULL, NULL));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* ... nor for an incomplete problem, whose operators need the material */
+START_TEST(host_calls_incomplete) {
+  nd_problem p = partial_bar('s');
+  int64_t n = 0, nnz = 0;
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_STEP, &n, &nnz, NULL, NULL, NULL), ND_ERR_INCOMPLETE,
+             "nd_problem_get_matrix", "scheme");
+  EXPECT_OK(nd_problem_get_matrix(p, ND_MATRIX_STIFFNESS, &n, &nnz, NULL, NULL, NULL));
+  EXPECT_OK(nd_problem_destroy(&p));
+  p = partial_bar('m');
+  EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL), ND_ERR_INCOMPLETE,
+             "nd_problem_get_matrix", "material");
+  double u[4] = {0, 0, 0, 0}, r[4];
+  EXPECT_ERR(nd_problem_contact_residual(p, 4, u, r), ND_ERR_INCOMPLETE, "nd_problem_contact_residual", "material");
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(step_incomplete) {
   nd_problem p = partial_bar('m');
   EXPECT_ERR(nd_problem_setup(p), ND_ERR_INCOMPLETE, "nd_problem_setup", "material");
@@ -1220,6 +1316,8 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(step, step_array_lengths);
   tcase_add_test(step, step_unknown_keys);
   tcase_add_test(step, step_incomplete);
+  tcase_add_test(step, host_calls_bad_arguments);
+  tcase_add_test(step, host_calls_incomplete);
   tcase_add_test(step, step_dirichlet_after_step);
   tcase_add_test(step, step_rejected_calls_change_nothing);
   tcase_add_test(step, step_getter_has_no_side_effect);

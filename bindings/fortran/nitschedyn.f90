@@ -51,6 +51,8 @@ module nitschedyn
   public :: nd_problem_save_state_file, nd_problem_load_state_file
   public :: nd_problem_save_state_file_f, nd_problem_load_state_file_f
   public :: nd_problem_write_vtu, nd_write_pvd
+  public :: nd_problem_get_matrix, nd_problem_get_dof_map, nd_problem_get_load, nd_problem_get_cells
+  public :: nd_problem_contact_residual, nd_problem_contact_tangent, nd_problem_contact_values
   ! ---- the monitor's interface and the Fortran string wrappers --------------
   public :: nd_monitor_fn
   public :: nd_last_error_f, nd_strerror_f, nd_mesh_read_gmsh_f, nd_problem_write_vtu_f, nd_write_pvd_f
@@ -547,6 +549,85 @@ module nitschedyn
       type(c_ptr), intent(inout) :: p
       integer(c_int) :: status
     end function nd_problem_destroy
+
+    ! ---- operators out -------------------------------------------------------
+    ! two calls: row_ptr, col_idx, values absent -> n, nnz set; then present
+    ! (n+1, nnz, nnz entries, 0-based) with n, nnz holding those sizes
+    function nd_problem_get_matrix(p, which, n, nnz, row_ptr, col_idx, values) result(status) &
+        bind(C, name='nd_problem_get_matrix')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: which
+      integer(c_int64_t), intent(inout) :: n, nnz
+      integer(c_int64_t), intent(out), optional :: row_ptr(*), col_idx(*)
+      real(c_double), intent(out), optional :: values(*)
+      integer(c_int) :: status
+    end function nd_problem_get_matrix
+
+    ! node(n) (0-based FE node), component(n) (0-based); either may be absent
+    function nd_problem_get_dof_map(p, n, node, component) result(status) &
+        bind(C, name='nd_problem_get_dof_map')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      integer(c_int64_t), intent(out), optional :: node(*)
+      integer(c_int), intent(out), optional :: component(*)
+      integer(c_int) :: status
+    end function nd_problem_get_dof_map
+
+    function nd_problem_get_load(p, n, f) result(status) bind(C, name='nd_problem_get_load')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: f(*)
+      integer(c_int) :: status
+    end function nd_problem_get_load
+
+    ! nodes absent: n_cells, nodes_per_cell set; then nodes(nodes_per_cell, n_cells), 0-based
+    function nd_problem_get_cells(p, n_cells, nodes_per_cell, nodes) result(status) &
+        bind(C, name='nd_problem_get_cells')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), intent(inout) :: n_cells
+      integer(c_int), intent(out) :: nodes_per_cell
+      integer(c_int64_t), intent(out), optional :: nodes(*)
+      integer(c_int) :: status
+    end function nd_problem_get_cells
+
+    ! ---- contact on the host's operators --------------------------------------
+    function nd_problem_contact_residual(p, n, u, r) result(status) bind(C, name='nd_problem_contact_residual')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: u(*)
+      real(c_double), intent(out) :: r(*)
+      integer(c_int) :: status
+    end function nd_problem_contact_residual
+
+    ! two calls as nd_problem_get_matrix (u may be absent in the first)
+    function nd_problem_contact_tangent(p, n, u, nnz, row_ptr, col_idx, values) result(status) &
+        bind(C, name='nd_problem_contact_tangent')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in), optional :: u(*)
+      integer(c_int64_t), intent(inout) :: nnz
+      integer(c_int64_t), intent(out), optional :: row_ptr(*), col_idx(*)
+      real(c_double), intent(out), optional :: values(*)
+      integer(c_int) :: status
+    end function nd_problem_contact_tangent
+
+    ! values(nvalues): force, active points, Nitsche energy R, max penetration (first nvalues)
+    function nd_problem_contact_values(p, n, u, nvalues, values) result(status) &
+        bind(C, name='nd_problem_contact_values')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: u(*)
+      integer(c_int), value :: nvalues
+      real(c_double), intent(out) :: values(*)
+      integer(c_int) :: status
+    end function nd_problem_contact_values
 
     ! ---- output --------------------------------------------------------------
     ! path NUL-terminated: trim(path)//c_null_char, or use nd_problem_write_vtu_f

@@ -14,7 +14,7 @@ with a rigid obstacle. Two layers:
 The ND_* constants (e.g. ``ND_SCHEME_HYBRID``, ``ND_ERR_TIMESTEP``) come from
 ``_constants.py``, generated at build time from the X-macro lists of
 nitschedyn.h by the same program that writes the Fortran parameters; the
-dictionaries ``STATUS``, ``SCHEME``, ``FIELD``, ``SCALAR``, ``SOLVER``, ``GUARD`` map each
+dictionaries ``STATUS``, ``SCHEME``, ``FIELD``, ``SCALAR``, ``SOLVER``, ``GUARD``, ``MATRIX`` map each
 name to ``(value, description)``.
 
 The shared library is found in this order: the path in the environment
@@ -66,7 +66,7 @@ except ImportError:  # nitschedyn.py next to a generated _constants.py
     from _constants import *  # type: ignore # noqa: F401,F403
 
 __all__ = ["Error", "Mesh", "Problem", "write_pvd", "version", "last_error", "strerror", "lib",
-           "STATUS", "SCHEME", "FIELD", "SCALAR", "SOLVER", "GUARD"]
+           "STATUS", "SCHEME", "FIELD", "SCALAR", "SOLVER", "GUARD", "MATRIX"]
 __all__ += [name for name in dir(_constants) if name.startswith("ND_")]
 __version__ = _constants.ND_VERSION_STRING
 
@@ -171,6 +171,13 @@ _PROTOTYPES = {
     "nd_problem_destroy": (_int, [_pptr]),
     "nd_problem_write_vtu": (_int, [_ptr, _str]),
     "nd_write_pvd": (_int, [_str, _i64, ctypes.POINTER(_str), _pdbl]),
+    "nd_problem_get_matrix": (_int, [_ptr, _int, _pi64, _pi64, _pi64, _pi64, _pdbl]),
+    "nd_problem_get_dof_map": (_int, [_ptr, _i64, _pi64, _pint]),
+    "nd_problem_get_load": (_int, [_ptr, _i64, _pdbl]),
+    "nd_problem_get_cells": (_int, [_ptr, _pi64, _pint, _pi64]),
+    "nd_problem_contact_residual": (_int, [_ptr, _i64, _pdbl, _pdbl]),
+    "nd_problem_contact_tangent": (_int, [_ptr, _i64, _pdbl, _pi64, _pi64, _pi64, _pdbl]),
+    "nd_problem_contact_values": (_int, [_ptr, _i64, _pdbl, _int, _pdbl]),
 }
 for _name, (_res, _args) in _PROTOTYPES.items():
     _f = getattr(lib, _name)
@@ -611,6 +618,72 @@ class Problem(_Handle):
         out = np.empty(n)
         _check(lib.nd_get_contact_pressure_applied(self._h, n, _dptr(out)))
         return out
+
+    # operators out and contact on the host's operators (free DOFs, CSR 0-based)
+    def matrix(self, which):
+        """nd_problem_get_matrix: ND_MATRIX_MASS, _STIFFNESS, _NITSCHE, _STEP or
+        _LUMPED_MASS as CSR arrays (row_ptr (n+1,), col_idx (nnz,), values (nnz,))."""
+        n, nnz = _i64(), _i64()
+        _check(lib.nd_problem_get_matrix(self._h, which, ctypes.byref(n), ctypes.byref(nnz), None, None, None))
+        ptr, col = np.empty(n.value + 1, dtype=np.int64), np.empty(nnz.value, dtype=np.int64)
+        val = np.empty(nnz.value)
+        _check(lib.nd_problem_get_matrix(self._h, which, ctypes.byref(n), ctypes.byref(nnz), _i64ptr(ptr),
+                                         _i64ptr(col), _dptr(val)))
+        return ptr, col, val
+
+    @property
+    def free_dof_count(self):
+        """The number of free DOFs (the size of the matrices)."""
+        n, nnz = _i64(), _i64()
+        _check(lib.nd_problem_get_matrix(self._h, _constants.ND_MATRIX_LUMPED_MASS, ctypes.byref(n),
+                                         ctypes.byref(nnz), None, None, None))
+        return n.value
+
+    def dof_map(self):
+        """(node (n,), component (n,)) of each free DOF, 0-based."""
+        n = self.free_dof_count
+        node, comp = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.intc)
+        _check(lib.nd_problem_get_dof_map(self._h, n, _i64ptr(node), comp.ctypes.data_as(_pint)))
+        return node, comp
+
+    def load(self):
+        """F^n on the free DOFs (nd_problem_get_load)."""
+        f = np.empty(self.free_dof_count)
+        _check(lib.nd_problem_get_load(self._h, f.size, _dptr(f)))
+        return f
+
+    def cells(self):
+        """The cells' FE nodes (n_cells, nodes_per_cell), 0-based (P2: edge nodes after the vertices)."""
+        nc, npc = _i64(), _int()
+        _check(lib.nd_problem_get_cells(self._h, ctypes.byref(nc), ctypes.byref(npc), None))
+        nodes = np.empty((nc.value, npc.value), dtype=np.int64)
+        _check(lib.nd_problem_get_cells(self._h, ctypes.byref(nc), ctypes.byref(npc), _i64ptr(nodes)))
+        return nodes
+
+    def contact_residual(self, u):
+        """N(u) at u on the free DOFs, the obstacle at the current time; the state is not touched."""
+        u = _doubles(u, self.free_dof_count, "u")
+        r = np.empty(u.size)
+        _check(lib.nd_problem_contact_residual(self._h, u.size, _dptr(u), _dptr(r)))
+        return r
+
+    def contact_tangent(self, u):
+        """N'(u) as CSR arrays (row_ptr, col_idx, values) on every contact point's pattern."""
+        u = _doubles(u, self.free_dof_count, "u")
+        nnz = _i64()
+        _check(lib.nd_problem_contact_tangent(self._h, u.size, None, ctypes.byref(nnz), None, None, None))
+        ptr, col = np.empty(u.size + 1, dtype=np.int64), np.empty(nnz.value, dtype=np.int64)
+        val = np.empty(nnz.value)
+        _check(lib.nd_problem_contact_tangent(self._h, u.size, _dptr(u), ctypes.byref(nnz), _i64ptr(ptr),
+                                              _i64ptr(col), _dptr(val)))
+        return ptr, col, val
+
+    def contact_values(self, u):
+        """(force, active points, Nitsche energy R, max penetration) at u (nd_problem_contact_values)."""
+        u = _doubles(u, self.free_dof_count, "u")
+        v = np.empty(4)
+        _check(lib.nd_problem_contact_values(self._h, u.size, _dptr(u), 4, _dptr(v)))
+        return tuple(v)
 
     def write_vtu(self, path):
         _check(lib.nd_problem_write_vtu(self._h, os.fsencode(path)))

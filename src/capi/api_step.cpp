@@ -3,6 +3,7 @@
 
 #include "capi/guard.hpp"
 #include "capi/handles.hpp"
+#include "problem/exports.hpp"
 
 namespace {
 int64_t contact_count(nd::Problem &pr) { return static_cast<int64_t>(pr.discretization().contact.size()); }
@@ -89,7 +90,7 @@ ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out) {
     nd::Problem &pr = nd::problem_of(p);
     nd::need_member(ND_IS_MEMBER_(ND_SCALAR_LIST, key), ND_ERR_KEY, "key", key, "ND_* scalar key");
     nd::need(out, "out");
-    *out = pr.scalar(key);
+    *out = nd::is_momentum_key(key) ? nd::momentum(pr, key) : pr.scalar(key);
     return ND_OK;
   });
 }

@@ -88,7 +88,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 33)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 35)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -243,6 +243,40 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       case 32:
         (void)dim;
         CALL(nd_mesh_create_interval, any_count(in, 4), any_double(in), any_double(in), nullptr);
+        break;
+      case 33:  // operators out: sizes, then the arrays; the DOF map and the load
+        if (p) {
+          int64_t n = 0, nnz = 0;
+          const int kind = in.ConsumeIntegralInRange<int>(0, 6);
+          if (CALL(nd_problem_get_matrix, p, kind, &n, &nnz, nullptr, nullptr, nullptr) == ND_OK && n >= 0 &&
+              n < 100000 && nnz >= 0 && nnz < 10000000) {
+            std::vector<int64_t> ptr(static_cast<size_t>(n + 1)), col(static_cast<size_t>(nnz + 1));
+            buf.assign(static_cast<size_t>(nnz + n + 1), 0.0);
+            CALL(nd_problem_get_matrix, p, kind, &n, &nnz, ptr.data(), col.data(), buf.data());
+            std::vector<int> comp(static_cast<size_t>(n + 1));
+            CALL(nd_problem_get_dof_map, p, n, ptr.data(), comp.data());
+            CALL(nd_problem_get_load, p, n, buf.data());
+          }
+        }
+        break;
+      case 34:  // the contact term at a fuzzed U (values possibly not finite)
+        if (p) {
+          int64_t n = 0, nnz = 0;
+          if (CALL(nd_problem_get_matrix, p, ND_MATRIX_MASS, &n, &nnz, nullptr, nullptr, nullptr) == ND_OK &&
+              n >= 0 && n < 100000) {
+            buf.assign(static_cast<size_t>(n + 1), 0.0);
+            buf2.assign(static_cast<size_t>(n + 1), 0.0);
+            for (auto &x : buf) x = any_double(in);
+            CALL(nd_problem_contact_residual, p, n, buf.data(), buf2.data());
+            CALL(nd_problem_contact_values, p, n, buf.data(), in.ConsumeIntegralInRange<int>(0, 5), buf2.data());
+            if (CALL(nd_problem_contact_tangent, p, n, nullptr, &nnz, nullptr, nullptr, nullptr) == ND_OK &&
+                nnz >= 0 && nnz < 10000000) {
+              std::vector<int64_t> ptr(static_cast<size_t>(n + 1)), col(static_cast<size_t>(nnz + 1));
+              std::vector<double> val(static_cast<size_t>(nnz + 1));
+              CALL(nd_problem_contact_tangent, p, n, buf.data(), &nnz, ptr.data(), col.data(), val.data());
+            }
+          }
+        }
         break;
       default: {
         int mj, mn, pt;

@@ -1,0 +1,61 @@
+#include "monitor/host_contact.hpp"
+
+#include <algorithm>
+
+#include "monitor/energies.hpp"
+#include "problem/exports.hpp"
+#include "solve/contact_law.hpp"
+
+namespace nd {
+
+namespace {
+// A state that is the problem's at t^n except for U: its gaps (the obstacle
+// at t^n), no products (so every monitor evaluates its points at U)
+State at_host_U(Problem &p, const Discretization &d, const double *U) {
+  const State &s = p.current_state();
+  State t;
+  t.t = s.t;
+  t.U.assign(U, U + d.dofs.n_free);
+  t.V.assign(static_cast<size_t>(d.dofs.n_free), 0.0);
+  t.gap = s.gap;
+  return t;
+}
+// the law [P]_+ at t's gaps, every point evaluated here (a query, not a step)
+ContactLaw query_law(const Discretization &d, const State &t) {
+  ContactLaw law = state_contact_law(d, t);
+  law.local = true;
+  return law;
+}
+}  // namespace
+
+void host_contact_residual(Problem &p, const double *U, double *r) {
+  const Discretization &d = whole_operators(p, "the contact term");
+  const State t = at_host_U(p, d, U);
+  std::fill(r, r + d.dofs.n_free, 0.0);
+  query_law(d, t).add_force(t.U.data(), 1.0, r, nullptr);
+}
+
+Csr host_contact_tangent(Problem &p, const double *U) {
+  const Discretization &d = whole_operators(p, "the contact term");
+  const ContactPoints &cp = d.contact;
+  // every (i, j) of a point's index list (s_q shares a_q's): all that
+  // add_point_tangent writes, at any U
+  std::vector<std::vector<int64_t>> rows(static_cast<size_t>(d.dofs.n_free));
+  for (size_t q = 0; q < cp.size(); ++q)
+    for (int64_t i : cp.a[q].idx) rows[i].insert(rows[i].end(), cp.a[q].idx.begin(), cp.a[q].idx.end());
+  Csr T = csr_from_rows(std::move(rows));
+  if (!U) return T;
+  const State t = at_host_U(p, d, U);
+  query_law(d, t).add_tangent(t.U.data(), 1.0, T);
+  return T;
+}
+
+void host_contact_values(Problem &p, const double *U, int count, double *values) {
+  const Discretization &d = whole_operators(p, "the contact values");
+  const State t = at_host_U(p, d, U);
+  const double all[kHostContactValues] = {contact_force(d, t), static_cast<double>(active_points(d, t)),
+                                          nitsche_energy(d, t), max_penetration(d, t)};
+  std::copy_n(all, std::min(count, kHostContactValues), values);
+}
+
+}  // namespace nd
