@@ -1,11 +1,11 @@
 // Contact on the host's operators: N(U), N'(U) and the contact values at a
-// U the host gives (monitor/host_contact.hpp).
+// U the host gives (problem/host_contact.hpp).
 #include <string>
 
 #include "capi/csr_out.hpp"
 #include "capi/guard.hpp"
 #include "capi/handles.hpp"
-#include "monitor/host_contact.hpp"
+#include "problem/host_contact.hpp"
 
 namespace nd {
 namespace {

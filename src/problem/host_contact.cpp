@@ -1,4 +1,4 @@
-#include "monitor/host_contact.hpp"
+#include "problem/host_contact.hpp"
 
 #include <algorithm>
 
