@@ -122,6 +122,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
   }
   set_bounds(d->contact);
+  require_shared_index_lists(d->contact);
   count(counters, &Counters::matrix_assemblies);
   try {
     d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
+#include "common/error.hpp"
 #include "common/simd.hpp"
+#include "nitschedyn.h"
 
 namespace nd {
 
@@ -545,6 +548,20 @@ std::shared_ptr<const HeldPoints> held_points(const ContactPoints &cp, const Hal
   for (size_t i = 0; i < dof.size(); ++i)
     if (dof[i]) h->dofs.push_back(static_cast<int64_t>(i));
   return h;
+}
+
+void require_shared_index_lists(const ContactPoints &cp) {
+  auto check = [](const std::vector<SparseRow> &a, const std::vector<SparseRow> &s, const char *rows) {
+    bool same = a.size() == s.size();
+    for (size_t q = 0; same && q < a.size(); ++q) {
+      if (a[q].idx == s[q].idx && s[q].val.size() == s[q].idx.size() && a[q].val.size() == a[q].idx.size()) continue;
+      fail(ND_ERR_INTERNAL, std::string("contact point ") + std::to_string(q) + ": its s_q does not have a_q's " +
+                                "index list (" + rows + "), which every pass over the point reads for both");
+    }
+    if (!same) fail(ND_ERR_INTERNAL, std::string("the contact points have not one s_q per a_q (") + rows + ")");
+  };
+  check(cp.a, cp.s, "free DOFs");
+  check(cp.a_fixed, cp.s_fixed, "clamped DOFs");
 }
 
 double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place) {

@@ -17,6 +17,12 @@
 
 namespace nd {
 
+// Every pass over a point reads a_q's index list for s_q too (dots, p_dot,
+// add_b, add_point_tangent, the runs; a_fixed and s_fixed likewise: the
+// reactions): throws ND_ERR_INTERNAL naming the point unless each s_q has
+// a_q's indices, in order. Made once where the points are assembled.
+void require_shared_index_lists(const ContactPoints &cp);
+
 // p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap); with place,
 // v holds unknown i at v[place[i]] (the same sum, in the same order)
 double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place = nullptr);
