@@ -10,7 +10,9 @@
 namespace nd {
 
 ContactLaw state_contact_law(const Discretization &d, const State &s) {
-  return ContactLaw{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
+  ContactLaw law{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
+  law.point_law = d.contact_law.get();
+  return law;
 }
 
 namespace {

@@ -111,6 +111,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   d->M = std::move(bulk.M);
   if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
   const bool automatic = def.gamma0 == 0;
+  d->contact_law = def.contact_law_given ? def.contact_law_given : make_law(def.contact_law);
   d->contact = assemble_contact(space, d->dofs, def.material, def.planes, automatic ? 1.0 : def.gamma0);
   d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
   d->theta = def.theta;
@@ -281,6 +282,7 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   // split operators: the mass solve is distributed and reads this rank's rows only
   if (share && !rows_split) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
+  law.point_law = contact_law.get();
   law.local = !in_step;
   if (!s.gap.empty()) law.gap = s.gap.data();
   if (at_U && contact.size() > 0) {

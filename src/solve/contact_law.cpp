@@ -410,6 +410,10 @@ Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Ure
 bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) const {
   const size_t nq = cp->size();
   if (!Un || !Pn || Pn->size() != nq || cp->nu.size() != nq) return false;
+  // the bound needs a law zero where free and nondecreasing (a bound on P
+  // then bounds it): any other is evaluated
+  const LawTraits &t = traits();
+  if (!t.zero_when_free || !t.nondecreasing) return false;
   // over the DOFs the points' rows touch, usually a small part of U (a pass
   // over the whole of U could cost more than evaluating the points)
   const Reach r = nd::reach(held ? held->dofs : cp->dofs, U.data(), Un);
@@ -436,13 +440,13 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   if (held) {
     for (int64_t q : held->points)
       if (!bounded(static_cast<size_t>(q))) return false;
-  } else if (!scheme || scheme->contact_is_positive_part()) {
+  } else if (positive_part()) {
     // [P]_+ and its slope vanish at P <= 0 (law): every point's test, no
     // branch (-max <= h <= 0 also fails NaN and infinities)
     if (!all_within(test, nq)) return false;
   } else {
-    // every law vanishes with its slope where P <= 0 and P^n <= 0
-    // (TimeScheme::contact): that test first, then each point's law
+    // the law vanishes with its slope where P <= 0 and P^n <= 0 under every
+    // rule (LawTraits::zero_when_free): that test first, then each point's law
     BoundTest below = test;
     below.x_nonpositive = true;
     if (!all_within(below, nq))
@@ -580,12 +584,6 @@ void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> 
   for (size_t i = 0; i < a.idx.size(); ++i) val.push_back(c * (a.val[i] - g * s.val[i]));
 }
 
-void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y) {
-  const SparseRow &a = cp.a[q], &s = cp.s[q];
-  const double tg = theta * cp.gamma[q];
-  for (size_t k = 0; k < a.idx.size(); ++k) y[a.idx[k]] += f * (a.val[k] - tg * s.val[k]);
-}
-
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active,
                            std::vector<double> *P, std::vector<double> *un) const {
   if (un) un->clear();
@@ -611,25 +609,16 @@ const std::vector<double> &ContactLaw::P_at(const double *U, const std::vector<d
 void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, double *y,
                                 std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
+  // a rank-one law's block is phi b_q (inline); any other, the law's own
+  const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
   for_read([&](size_t q) {
     double value, slope;
     law(q, Pq[q], value, slope);
     if (active) (*active)[q] = slope != 0;
-    if (value != 0) add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
+    if (value == 0) return;
+    if (!blocks) add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
+    else blocks->add_residual(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], value, y);
   });
-}
-
-void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T, std::vector<double> &b,
-                       std::vector<double> &p) {
-  const double g = cp.gamma[q];
-  const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
-  b.resize(a.idx.size());
-  p.resize(a.idx.size());
-  for (size_t i = 0; i < a.idx.size(); ++i) {
-    b[i] = a.val[i] - theta * g * s.val[i];
-    p[i] = a.val[i] - g * s.val[i];
-  }
-  T.add_outer(a.idx, b.data(), p.data(), f);
 }
 
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::vector<double> *P) const {
@@ -637,10 +626,13 @@ void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::v
   ContactScratch mine;
   ContactScratch &w = buffers ? *buffers : mine;
   if (!P || P->size() != cp->size()) P_read(U, w.tangent), P = &w.tangent;
+  const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
   for_read([&](size_t q) {
     double value, slope;
     law(q, (*P)[q], value, slope);
-    if (slope != 0) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T, w.b, w.p);
+    if (slope == 0) return;
+    if (!blocks) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T, w.b, w.p);
+    else blocks->add_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], slope, T, w.b, w.p);
   });
 }
 
