@@ -86,6 +86,14 @@ class PointLaw {
   LawTraits traits_;
 };
 
+// phi(x), phi'(x) of a law, [x]_+ inline where that is the law (no call per
+// point: the monitors' and the nodal forces' passes)
+inline void law_at(const PointLaw &law, double x, double &value, double &slope) {
+  if (!law.traits().positive_part) return law.at(x, value, slope);
+  value = x > 0 ? x : 0;
+  slope = x > 0 ? 1 : 0;
+}
+
 // The rule applied to a law's at(x) (the one form of each rule: a law's
 // over_step may inline it with its own at). The same operations, in the same
 // order, as the schemes' contact terms had before the rule was the law's.
