@@ -80,8 +80,7 @@ Structure tangent_structure(double theta, const LawTraits &law) {
 // negative: the condensed Newton, the low-rank and the updated factor all
 // add and drop terms slope b_q p_q^T (the fallback, whatever was asked)
 bool refactoring_tangent(const Definition &def, const Discretization &d) {
-  const LawTraits &law = d.contact_law->traits();
-  return def.tangent == TangentChoice::Refactor || !law.rank_one || !law.nondecreasing ||
+  return def.tangent == TangentChoice::Refactor || !rank_one_updates_apply(d.contact_law->traits()) ||
          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3 && linear_solver_iterative(def.solver));
 }
 

@@ -59,6 +59,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
                                  std::vector<double> &U, PointValues *points,
                                  const std::function<const Products &()> *products_at) {
   const ContactLaw &law = *sys.law;
+  require_rank_one_updates(law, "the condensed Newton");
   const ContactPoints &cp = *law.cp;
   const int64_t n = static_cast<int64_t>(U.size()), nq = static_cast<int64_t>(cp.size());
   ContactColumns &columns = cache.columns;

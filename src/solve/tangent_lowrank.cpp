@@ -32,6 +32,12 @@
 #include "solve/tangent_solver.hpp"
 
 namespace nd {
+
+void require_rank_one_updates(const ContactLaw &law, const char *who) {
+  if (!rank_one_updates_apply(law.traits()))
+    fail(ND_ERR_INTERNAL, std::string(who) + " adds rank-one terms with a nonnegative slope, which the contact law " +
+                              law.law_object().name() + " does not promise (LawTraits): the refactoring tangent serves it");
+}
 namespace {
 
 class LowRankTangent : public TangentSolver {
@@ -52,6 +58,7 @@ class LowRankTangent : public TangentSolver {
       A_factor_.solve_from(x, guess);
       return;
     }
+    require_rank_one_updates(law, "the low-rank tangent");
     if (columns_->bind(*law.cp, law.theta)) lu_valid_ = false;
     theta_ = law.theta;
     const ContactPoints &cp = *law.cp;

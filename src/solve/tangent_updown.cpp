@@ -80,6 +80,8 @@ class UpdownTangent : public TangentSolver {
              const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
     if (law.theta != 1) fail(ND_ERR_INTERNAL, "the updated tangent factor needs Theta = 1");
+    require_rank_one_updates(law, "the updated tangent factor");
+    if (!law.traits().symmetric) fail(ND_ERR_INTERNAL, "the updated tangent factor needs a symmetric law");
     const ContactPoints &cp = *law.cp;
     d_new_.assign(cp.size(), 0.0);
     int64_t k = 0;
