@@ -75,10 +75,10 @@ Structure tangent_structure(double theta, const LawTraits &law) {
 }
 
 // Newton refactors its tangent: when asked, or in 3D with an iterative solver
-// (see make_integrator's choice below)
-// or for a law whose tangent blocks are not rank one, or whose slope may be
-// negative: the condensed Newton, the low-rank and the updated factor all
-// add and drop terms slope b_q p_q^T (the fallback, whatever was asked)
+// (see make_integrator's choice below), or for a law whose blocks are not
+// rank one or whose slope may be negative (the fallback, whatever was asked:
+// the condensed Newton, the low-rank tangent and the updated factor add and
+// drop terms phi' b_q p_q^T, phi' >= 0)
 bool refactoring_tangent(const Definition &def, const Discretization &d) {
   return def.tangent == TangentChoice::Refactor || !rank_one_updates_apply(d.contact_law->traits()) ||
          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3 && linear_solver_iterative(def.solver));
@@ -93,9 +93,8 @@ bool refactoring_tangent(const Definition &def, const Discretization &d) {
 constexpr int64_t kPredictorProbe = 16;
 bool predictor_may_solve(const Integrator &in, const Discretization &d, const Definition &def, const State &old) {
   // (a law zero where free: else a free flight has forces, no constant acceleration)
-  if (!def.predicted_steps || !in.scheme->predicts_constant_acceleration() || !d.contact_law->traits().zero_when_free ||
-      !old.A_valid || d.rows ||
-      !in.held.empty() || !d.massless.empty())
+  if (!def.predicted_steps || !in.scheme->predicts_constant_acceleration() ||
+      !d.contact_law->traits().zero_when_free || !old.A_valid || d.rows || !in.held.empty() || !d.massless.empty())
     return false;
   if (old.last_iterations == 0) return true;
   for (double phi : old.phi)
@@ -261,8 +260,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // since the last evaluation for the bound to fail. Where the scheme's law
   // reads only that P^n <= 0 (the next step's, TimeScheme), and every rank
   // holds the whole state (a distributed state's points stay the ranks').
-  const bool may_leave_points = same_below_zero && d.contact_law->traits().zero_when_free && def.contact_bounds && !in.points &&
-                                in.held.empty() && !d.contact.a.empty();
+  const bool may_leave_points = same_below_zero && d.contact_law->traits().zero_when_free && def.contact_bounds &&
+                                !in.points && in.held.empty() && !d.contact.a.empty();
   // the new state's pass (compute_products), its points left unevaluated
   // where shown free
   auto new_state_products = [&](bool shown_free, PointValues *known, const HeldPoints *held) {

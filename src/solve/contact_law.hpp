@@ -244,7 +244,8 @@ struct ContactLaw {
   TimeRule rule() const { return scheme ? scheme->contact_rule() : TimeRule{}; }
   // phi is [P]_+ at U: the passes apply it inline, no call per point
   bool positive_part() const {
-    return (!scheme || scheme->contact_rule().kind == TimeRule::AtEnd) && (!point_law || point_law->traits().positive_part);
+    return (!scheme || scheme->contact_rule().kind == TimeRule::AtEnd) &&
+           (!point_law || point_law->traits().positive_part);
   }
   // phi and its slope at P for point q, the law over the step by the
   // scheme's rule ([P]_+ inline where that is the law)

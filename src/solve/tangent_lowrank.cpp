@@ -36,7 +36,8 @@ namespace nd {
 void require_rank_one_updates(const ContactLaw &law, const char *who) {
   if (!rank_one_updates_apply(law.traits()))
     fail(ND_ERR_INTERNAL, std::string(who) + " adds rank-one terms with a nonnegative slope, which the contact law " +
-                              law.law_object().name() + " does not promise (LawTraits): the refactoring tangent serves it");
+                              law.law_object().name() +
+                              " does not promise (LawTraits): the refactoring tangent serves it");
 }
 namespace {
 
