@@ -16,10 +16,10 @@
 #include <memory>
 #include <vector>
 
-namespace nd {
+#include "assembly/contact.hpp"
+#include "linalg/csr.hpp"
 
-struct ContactPoints;  // assembly/contact.hpp
-struct Csr;            // linalg/csr.hpp
+namespace nd {
 
 // Where a time scheme takes the law over a step, given P = P_q(U^{n+1}) and
 // P^n = P_q(U^n) (docs/design.md §3): the scheme returns it
@@ -88,10 +88,13 @@ class PointLaw {
 
 // phi(x), phi'(x) of a law, [x]_+ inline where that is the law (no call per
 // point: the monitors' and the nodal forces' passes)
-inline void law_at(const PointLaw &law, double x, double &value, double &slope) {
-  if (!law.traits().positive_part) return law.at(x, value, slope);
+inline void law_at(const PointLaw &law, bool positive_part, double x, double &value, double &slope) {
+  if (!positive_part) return law.at(x, value, slope);
   value = x > 0 ? x : 0;
   slope = x > 0 ? 1 : 0;
+}
+inline void law_at(const PointLaw &law, double x, double &value, double &slope) {
+  law_at(law, law.traits().positive_part, x, value, slope);
 }
 
 // The rule applied to a law's at(x) (the one form of each rule: a law's
@@ -123,12 +126,26 @@ inline bool same_for_nonpositive_Pn(const TimeRule &r, const LawTraits &t) {
   return r.kind == TimeRule::AtEnd || (r.kind == TimeRule::Hybrid && t.positive_part);
 }
 
-// y += f b_q, b_q = a_q - Theta gamma_q s_q
-void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y);
+// y += f b_q, b_q = a_q - Theta gamma_q s_q (inline: the residual's hot loop)
+inline void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y) {
+  const SparseRow &a = cp.a[q], &s = cp.s[q];
+  const double tg = theta * cp.gamma[q];
+  for (size_t k = 0; k < a.idx.size(); ++k) y[a.idx[k]] += f * (a.val[k] - tg * s.val[k]);
+}
 // T += f b_q p_q^T (T has the operator pattern); b and p: the caller's
 // reused buffers (resized here)
-void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T, std::vector<double> &b,
-                       std::vector<double> &p);
+inline void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T,
+                              std::vector<double> &b, std::vector<double> &p) {
+  const double g = cp.gamma[q];
+  const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
+  b.resize(a.idx.size());
+  p.resize(a.idx.size());
+  for (size_t i = 0; i < a.idx.size(); ++i) {
+    b[i] = a.val[i] - theta * g * s.val[i];
+    p[i] = a.val[i] - g * s.val[i];
+  }
+  T.add_outer(a.idx, b.data(), p.data(), f);
+}
 
 // ---- the registry (laws.cpp) ------------------------------------------------
 // The law ids (issue 56 makes them ND_FRICTION_* of the public header and

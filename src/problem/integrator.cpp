@@ -387,9 +387,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks
   std::vector<double> dW(in.points ? phi.size() : 0);
+  const bool pp = law.positive_part();
   auto apply = [&](size_t q) {
     double slope;
-    law.law(q, next.products.points.P[q], phi[q], slope);
+    law.law(q, next.products.points.P[q], phi[q], slope, pp);
     if (phi[q] == 0) return;  // (a term -0 or +0 changes no sum of W_obstacle, which is never -0)
     const double w = -d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
     if (in.points) dW[q] = w;

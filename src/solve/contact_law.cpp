@@ -192,9 +192,10 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
     std::vector<double> mine;
     std::vector<double> &P = P_out && !reduced ? *P_out : buffers ? buffers->own : mine;
     P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
+    const bool pp = positive_part();
     auto busy = [&](int64_t q) {
       double value, slope;
-      law(static_cast<size_t>(q), P[q], value, slope);
+      law(static_cast<size_t>(q), P[q], value, slope, pp);
       return value != 0 || slope != 0;
     };
     if (!reduced) {
@@ -430,11 +431,12 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   }
   const double reach = r.u_max + r.ref_max + d;
   const BoundTest test{Pref, nu, g_now, g_ref, nullptr, d, reach, 0, false};
+  const bool pp = positive_part();
   auto bounded = [&](size_t q) {
     const double h = high_at(test, q);
     if (!std::isfinite(h)) return false;  // (a law may map NaN to 0: not shown)
     double value, slope;
-    law(q, h, value, slope);
+    law(q, h, value, slope, pp);
     return value == 0 && slope == 0;
   };
   if (held) {
@@ -611,9 +613,10 @@ void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, dou
   if (active) active->assign(cp->size(), 0);
   // a rank-one law's block is phi b_q (inline); any other, the law's own
   const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
+  const bool pp = positive_part();
   for_read([&](size_t q) {
     double value, slope;
-    law(q, Pq[q], value, slope);
+    law(q, Pq[q], value, slope, pp);
     if (active) (*active)[q] = slope != 0;
     if (value == 0) return;
     if (!blocks) add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
@@ -627,9 +630,10 @@ void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::v
   ContactScratch &w = buffers ? *buffers : mine;
   if (!P || P->size() != cp->size()) P_read(U, w.tangent), P = &w.tangent;
   const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
+  const bool pp = positive_part();
   for_read([&](size_t q) {
     double value, slope;
-    law(q, (*P)[q], value, slope);
+    law(q, (*P)[q], value, slope, pp);
     if (slope == 0) return;
     if (!blocks) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T, w.b, w.p);
     else blocks->add_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], slope, T, w.b, w.p);

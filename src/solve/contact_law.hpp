@@ -249,8 +249,10 @@ struct ContactLaw {
   }
   // phi and its slope at P for point q, the law over the step by the
   // scheme's rule ([P]_+ inline where that is the law)
-  void law(size_t q, double P, double &value, double &slope) const {
-    if (!positive_part()) return law_object().over_step(rule(), P, Pn ? (*Pn)[q] : 0.0, value, slope);
+  void law(size_t q, double P, double &value, double &slope) const { law(q, P, value, slope, positive_part()); }
+  // the same with positive_part() given: a pass asks it once, not per point
+  void law(size_t q, double P, double &value, double &slope, bool pp) const {
+    if (!pp) return law_object().over_step(rule(), P, Pn ? (*Pn)[q] : 0.0, value, slope);
     value = P > 0 ? P : 0;
     slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
   }

@@ -66,9 +66,10 @@ class LowRankTangent : public TangentSolver {
     active_.clear();
     d_.clear();
     const std::vector<double> &P = law.P_at(U, P_U, P_scratch_);
+    const bool pp = law.positive_part();
     for (size_t q = 0; q < cp.size(); ++q) {
       double value, slope;
-      law.law(q, P[q], value, slope);
+      law.law(q, P[q], value, slope, pp);
       if (slope == 0) continue;
       active_.push_back(static_cast<int64_t>(q));
       d_.push_back(kappa * cp.w[q] / cp.gamma[q] * slope);

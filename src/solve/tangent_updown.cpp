@@ -87,9 +87,10 @@ class UpdownTangent : public TangentSolver {
     int64_t k = 0;
     if (any_active) {
       const std::vector<double> &P = law.P_at(U, P_U, P_);
+      const bool pp = law.positive_part();
       for (size_t q = 0; q < cp.size(); ++q) {
         double value, slope;
-        law.law(q, P[q], value, slope);
+        law.law(q, P[q], value, slope, pp);
         if (slope != 0) d_new_[q] = kappa * cp.w[q] / cp.gamma[q] * slope, ++k;
       }
     }
