@@ -16,12 +16,14 @@
 // paths), with the same active points and Newton counts at every step.
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "contact/law.hpp"
+#include "time/scheme.hpp"
 #include "testutil.h"
 #include "unit_drop.hpp"
 #include "unit_fixtures.hpp"
@@ -78,6 +80,31 @@ START_TEST(registry_gives_the_frictionless_law) {
 }
 END_TEST
 
+// Any law runs under any scheme's time rule: the rule applied to a law's
+// at() by the generic over_step (Declining's) is, bit for bit, the
+// frictionless law's own inlined form, for every scheme's rule (the values
+// below and at the switches: P^n = 0, mid = 0, signed zeros, subnormals).
+START_TEST(time_rules_apply_to_any_law) {
+  const Declining generic;
+  const double tiny = 4.9e-324;
+  const double xs[] = {-2, -0.5, -tiny, -0.0, 0.0, tiny, 0.25, 0.5, 3};
+  int rules = 0;
+  for (const ndtest::SchemeCase &sc : ndtest::kSchemes) {
+    const nd::TimeRule rule = nd::make_scheme(sc.scheme, sc.params)->contact_rule();
+    rules += rule.kind != nd::TimeRule::AtEnd;
+    for (double P : xs)
+      for (double Pn : xs) {
+        double v, s, gv, gs;
+        nd::frictionless_law().over_step(rule, P, Pn, v, s);
+        generic.over_step(rule, P, Pn, gv, gs);
+        ck_assert_msg(std::memcmp(&v, &gv, sizeof v) == 0 && std::memcmp(&s, &gs, sizeof s) == 0,
+                      "%s at P = %g, P^n = %g: (%g, %g) generic (%g, %g)", sc.name, P, Pn, v, s, gv, gs);
+      }
+  }
+  ck_assert_int_eq(rules, 2);  // (the hybrid's and generalized-alpha's rules besides AtEnd)
+}
+END_TEST
+
 START_TEST(declined_traits_fall_back_to_the_same_trajectory) {
   // (0.2 above the plane: a free flight of some 15 steps first, where the
   // bounds show the fast path's steps free)
@@ -122,6 +149,7 @@ int main(void) {
   TCase *tc = tcase_create("law");
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, registry_gives_the_frictionless_law);
+  tcase_add_test(tc, time_rules_apply_to_any_law);
   tcase_add_test(tc, declined_traits_fall_back_to_the_same_trajectory);
   suite_add_tcase(s, tc);
   return nd_test_run(s);

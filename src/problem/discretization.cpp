@@ -112,6 +112,10 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
   const bool automatic = def.gamma0 == 0;
   d->contact_law = def.contact_law_given ? def.contact_law_given : make_law(def.contact_law);
+  // (the passes hold one value per point: laws with more come with friction, issue 56)
+  if (d->contact_law->traits().m != 1)
+    fail(ND_ERR_INTERNAL, std::string("the contact law ") + d->contact_law->name() + " has " +
+                              std::to_string(d->contact_law->traits().m) + " values per point; the passes hold one");
   d->contact = assemble_contact(space, d->dofs, def.material, def.planes, automatic ? 1.0 : def.gamma0);
   d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
   d->theta = def.theta;
