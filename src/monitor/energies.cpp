@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <limits>
+#include <type_traits>
 
 #include "parallel/share.hpp"
 #include "solve/contact_law.hpp"
@@ -264,13 +265,14 @@ const std::vector<double> &whole(const std::vector<double> &v, const PointValues
 // state (phi(P_q), the force w_q phi/gamma_q; active where its slope is not
 // 0); the energy's contact part -phi^2/(2 gamma_q) is the frictionless law's
 // potential ([P]_+^2/2: a law with another one brings its own term here)
-// (pp: the law's positive_part, asked once per pass; phi null: the state
-// has applied none, phi(P_q) stands for it)
-inline __attribute__((always_inline)) void add_point(const ContactPoints &cp, const PointLaw &law, bool pp, size_t q,
-                                                     double P, double un, const double *phi, const double *U,
-                                                     bool nitsche, PointSums &t) {
+// (PP: the law's positive_part, asked once per pass: a loop apiece; phi
+// null: the state has applied none, phi(P_q) stands for it)
+template <bool PP>
+inline __attribute__((always_inline)) void add_point(const ContactPoints &cp, const PointLaw &law, size_t q, double P,
+                                                     double un, const double *phi, const double *U, bool nitsche,
+                                                     PointSums &t) {
   double Pp, slope;
-  law_at(law, pp, P, Pp, slope);
+  law_at(law, PP, P, Pp, slope);
   if (nitsche) {
     const double sn = cp.s[q].dot(U);
     t.nitsche += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
@@ -293,9 +295,13 @@ PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
   const std::vector<double> &P = whole(v.P, v), &un = whole(v.un, v);
   PointSums t;
   const PointLaw &law = *d.contact_law;
-  const bool pp = law.traits().positive_part;
   const double *phi = s.phi.empty() ? nullptr : s.phi.data();
-  for (size_t q = 0; q < P.size(); ++q) add_point(d.contact, law, pp, q, P[q], un[q], phi, s.U.data(), nitsche, t);
+  auto pass = [&](auto pp) {
+    for (size_t q = 0; q < P.size(); ++q)
+      add_point<decltype(pp)::value>(d.contact, law, q, P[q], un[q], phi, s.U.data(), nitsche, t);
+  };
+  if (law.traits().positive_part) pass(std::true_type{});
+  else pass(std::false_type{});
   if (kept) p.queried = t, p.queried_pass = p.pass, p.queried_nitsche = nitsche;
   return t;
 }
@@ -308,10 +314,9 @@ void sum_points(const Discretization &d, State &s, const std::vector<double> &dW
   double W = 0;
   const Share *share = cp.share.get();
   const RowSet own = own_rows(share);  // each rank its own points, added rank after rank
-  const bool pp = d.contact_law->traits().positive_part;
   for (int64_t k = 0, m = own.size(static_cast<int64_t>(cp.size())); k < m; ++k) {
     const int64_t q = own[k];
-    add_point(cp, *d.contact_law, pp, static_cast<size_t>(q), v.P[q], v.un[q], s.phi.data(), s.U.data(), true, t);
+    add_point<false>(cp, *d.contact_law, static_cast<size_t>(q), v.P[q], v.un[q], s.phi.data(), s.U.data(), true, t);
     W += dW[q];
   }
   if (share) {
