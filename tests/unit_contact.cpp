@@ -3,10 +3,12 @@
 // and for the hybrid scheme's Phi. N is piecewise linear in U, so away from
 // the kinks a central difference is exact up to round-off: the tolerance is a
 // round-off bound (1e-7 relative for a step of 1e-6), not a fudge.
+#include "common/error.hpp"  // before check.h, whose fail() macro would clash with nd::fail
 #include <check.h>
 
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "assembly/bulk.hpp"
 #include "assembly/contact.hpp"
@@ -189,12 +191,40 @@ START_TEST(hybrid_phi_matches_its_definition) {
 }
 END_TEST
 
+// The passes read a_q's index list for s_q (ContactLaw::dots): the
+// assembled points have it (the check passes), and a point whose s_q lists
+// other indices, or an s_q missing, is refused with ND_ERR_INTERNAL.
+START_TEST(s_shares_a_index_list_or_is_refused) {
+  for (int dim = 1; dim <= 3; ++dim) {
+    Scene s = make_scene(dim, 2, true);
+    nd::require_shared_index_lists(s.cp);  // (throws on failure: the test errors)
+    const size_t q = s.cp.size() - 1;
+    ck_assert(s.cp.size() > 0 && s.cp.s[q].idx.size() > 1);
+    auto refused = [](const nd::ContactPoints &cp, const char *says) {
+      try {
+        nd::require_shared_index_lists(cp);
+      } catch (const nd::Error &e) {
+        return e.code() == ND_ERR_INTERNAL && std::string(e.what()).find(says) != std::string::npos;
+      }
+      return false;
+    };
+    nd::ContactPoints swapped = s.cp;
+    std::swap(swapped.s[q].idx[0], swapped.s[q].idx[1]);
+    ck_assert(refused(swapped, ("contact point " + std::to_string(q) + ":").c_str()));
+    nd::ContactPoints missing = s.cp;
+    missing.s.pop_back();
+    ck_assert(refused(missing, "one s_q per a_q"));
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("contact");
   TCase *tc = tcase_create("rows_and_tangent");
   tcase_add_test(tc, rows_give_normal_displacement_and_stress);
   tcase_add_test(tc, tangent_matches_finite_differences);
   tcase_add_test(tc, hybrid_phi_matches_its_definition);
+  tcase_add_test(tc, s_shares_a_index_list_or_is_refused);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -42,6 +42,12 @@ double scalar(nd_problem p, int key) {
   return x;
 }
 
+// the frictionless law over a step by the scheme's rule: the same bits at
+// every P^n <= 0?
+bool same_below_zero(const nd::TimeScheme &scheme) {
+  return nd::same_for_nonpositive_Pn(scheme.contact_rule(), nd::frictionless_law().traits());
+}
+
 START_TEST(laws_are_monotone) {
   std::vector<std::unique_ptr<nd::TimeScheme>> laws;
   for (const ndtest::SchemeCase &sc : ndtest::kSchemes) laws.push_back(nd::make_scheme(sc.scheme, sc.params));
@@ -60,7 +66,7 @@ START_TEST(laws_are_monotone) {
       bool zero_so_far = true;  // the law and its slope vanished at every P so far
       for (int i = -512; i <= 512; ++i) {
         const double P = i / 128.0 + (i % 3 ? 1e-300 * (i % 3) : 0.0);
-        law->contact(P, Pn, value, slope);
+        nd::frictionless_law().over_step(law->contact_rule(), P, Pn, value, slope);
         ck_assert_msg(value >= last, "contact(%g, %g) = %g < %g: not nondecreasing", P, Pn, value, last);
         last = value;
         const bool zero = value == 0 && slope == 0;
@@ -76,31 +82,31 @@ START_TEST(laws_are_monotone) {
     for (double Pn : {-1e300, -1.0, -0.25, -1e-300, -0.0, 0.0})
       for (double P : {-1e300, -1.0, -0.25, -1e-300, -0.0, 0.0}) {
         double value = 1, slope = 1;
-        law->contact(P, Pn, value, slope);
+        nd::frictionless_law().over_step(law->contact_rule(), P, Pn, value, slope);
         ck_assert_msg(value == 0 && slope == 0, "contact(%g, %g) = (%g, %g)", P, Pn, value, slope);
       }
   // a law that says it reads of P^n only that it is <= 0
-  // (TimeScheme::contact_same_for_nonpositive_Pn: a state whose points were
+  // (nd::same_for_nonpositive_Pn: a state whose points were
   // left unevaluated then stands as P^n) gives the same bits at every
   // P^n <= 0, -0 and +0 included; [P]_+ and the hybrid scheme's say so
   int same = 0;
   for (const auto &law : laws) {
-    if (!law->contact_same_for_nonpositive_Pn()) continue;
+    if (!same_below_zero(*law)) continue;
     ++same;
     for (int i = -512; i <= 512; ++i) {
       const double P = i / 128.0 + (i % 3 ? 1e-300 * (i % 3) : 0.0);
       double v0, s0;
-      law->contact(P, -1.0, v0, s0);
+      nd::frictionless_law().over_step(law->contact_rule(), P, -1.0, v0, s0);
       for (double Pn : {-1e300, -0.25, -1e-300, -0.0, 0.0}) {
         double v, s;
-        law->contact(P, Pn, v, s);
+        nd::frictionless_law().over_step(law->contact_rule(), P, Pn, v, s);
         ck_assert_msg(std::memcmp(&v, &v0, sizeof v) == 0 && std::memcmp(&s, &s0, sizeof s) == 0,
                       "contact(%g, %g) = (%g, %g), at P^n = -1 (%g, %g)", P, Pn, v, s, v0, s0);
       }
     }
   }
-  ck_assert(same > 0 && nd::make_scheme(ND_SCHEME_HYBRID, {})->contact_same_for_nonpositive_Pn() &&
-            !nd::make_scheme(ND_SCHEME_GENERALIZED_ALPHA, {0.8})->contact_same_for_nonpositive_Pn());
+  ck_assert(same > 0 && same_below_zero(*nd::make_scheme(ND_SCHEME_HYBRID, {})) &&
+            !same_below_zero(*nd::make_scheme(ND_SCHEME_GENERALIZED_ALPHA, {0.8})));
 }
 END_TEST
 
@@ -226,7 +232,7 @@ void soundness(int dim, int degree, const ndtest::SchemeCase &sc, double theta) 
   // obstacle moved away by 1.5 max P^n: the bound on P_q(U) is <= 0 at
   // every point, but the law at those P^n is not zero where P_q^n > 3/4
   // max P^n: never shown free
-  if (!in.scheme->contact_is_positive_part()) {
+  if (in.scheme->contact_rule().kind != nd::TimeRule::AtEnd) {
     for (auto &u : Un) u = -1;  // (down and sideways by 1: into the plane 0.3 below)
     nd::ContactLaw at_n{&cp, d.theta, nullptr, nullptr, gap_n.data()};
     at_n.P_all(Un.data(), Pn);

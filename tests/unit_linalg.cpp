@@ -111,6 +111,28 @@ static int error_code_of_make(int id, const nd::Csr &A, Structure s, std::string
   return ND_OK;
 }
 
+// Csr::add_outer refuses a coupling outside the pattern (ND_ERR_INTERNAL
+// naming the entry) instead of adding it to the entry lower_bound finds
+// next to it: a tridiagonal pattern has no (0, 2), whose neighbour (0, 1)
+// must keep its value.
+START_TEST(add_outer_refuses_entries_outside_the_pattern) {
+  nd::Csr T = nd::csr_from_rows({{0, 1}, {0, 1, 2}, {1, 2}});
+  const double u[2] = {1, 1}, v[2] = {1, 1};
+  T.add_outer({0, 1}, u, v, 2.0);  // inside: every entry of the 2x2 block
+  ck_assert(T.val[T.find(0, 0)] == 2 && T.val[T.find(0, 1)] == 2 && T.val[T.find(1, 1)] == 2);
+  int code = 0;
+  std::string what;
+  try {
+    T.add_outer({0, 2}, u, v, 1.0);
+  } catch (const nd::Error &e) {
+    code = e.code(), what = e.what();
+  }
+  ck_assert_int_eq(code, ND_ERR_INTERNAL);
+  ck_assert_msg(what.find("(0, 2)") != std::string::npos, "%s", what.c_str());
+  ck_assert(T.find(0, 2) < 0 && T.val[T.find(0, 1)] == 2);  // the neighbour untouched
+}
+END_TEST
+
 START_TEST(every_solver_id_is_registered) {
   const nd::Csr A = spd_matrix(3);
   for (int id : kSolverIds) {
@@ -770,6 +792,7 @@ int main(int argc, char **argv) {
   const bool petsc_only = argc > 1 && std::strcmp(argv[1], "petsc") == 0;
   if (!petsc_only) {
     tcase_add_test(tc, every_solver_id_is_registered);
+    tcase_add_test(tc, add_outer_refuses_entries_outside_the_pattern);
     tcase_add_test(tc, unknown_solver_ids_are_errors);
     tcase_add_test(tc, auto_choice);
     tcase_add_test(tc, every_backend_reports_indefinite);

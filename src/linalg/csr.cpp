@@ -48,12 +48,25 @@ int64_t Csr::find(int64_t i, int64_t j) const {
   return it != e && *it == j ? it - col.begin() : -1;
 }
 
+namespace {
+// (cold, out of add_outer's loop)
+[[noreturn]] __attribute__((noinline, cold)) void outside_pattern(int64_t i, int64_t j) {
+  fail(ND_ERR_INTERNAL, "a coupling outside the operator pattern: entry (" + std::to_string(i) + ", " +
+                            std::to_string(j) + ") is not stored (Csr::add_outer)");
+}
+}  // namespace
+
 void Csr::add_outer(const std::vector<int64_t> &idx, const double *u, const double *v, double f) {
   for (size_t i = 0; i < idx.size(); ++i) {
     const int64_t at = slot(idx[i]);  // (once per row: a part searches its rows)
     if (at < 0 || ptr[at] == ptr[at + 1]) continue;  // a row this part does not hold
     const auto b = col.begin() + ptr[at], e = col.begin() + ptr[at + 1];
-    for (size_t j = 0; j < idx.size(); ++j) val[std::lower_bound(b, e, idx[j]) - col.begin()] += f * u[i] * v[j];
+    for (size_t j = 0; j < idx.size(); ++j) {
+      const auto at_j = std::lower_bound(b, e, idx[j]);
+      // (a pair outside the pattern would land in a neighbour's entry)
+      if (at_j == e || *at_j != idx[j]) outside_pattern(idx[i], idx[j]);
+      val[at_j - col.begin()] += f * u[i] * v[j];
+    }
   }
 }
 

@@ -75,7 +75,9 @@ struct Csr {
   void multiply(const double *x, double *y, RowSet rows = {}) const;
   // position of (i, j) in col/val, or -1 if (i, j) is not in the pattern
   int64_t find(int64_t i, int64_t j) const;
-  // (idx[i], idx[j]) += f u[i] v[j] for every pair of idx (all in the pattern):
+  // (idx[i], idx[j]) += f u[i] v[j] for every pair of idx (each must be in
+  // the pattern, else ND_ERR_INTERNAL naming the entry: never written into
+  // a neighbour's place; the matrix is then half updated, a bug to report):
   // the rank-one terms of K_Theta and of the contact tangent. Rows without
   // entries are left out: a matrix of a rank's own rows holds no others (a
   // whole matrix has every row's diagonal)

@@ -25,6 +25,7 @@ void multiply(const Discretization &d, const Csr &A, const std::vector<double> &
 void apply(const Discretization &d, const std::vector<double> &x, std::vector<double> &y) {
   multiply(d, d.K_theta, x, y);
   const ContactPoints &cp = d.contact;
+  const double max_slope = d.contact_law->traits().max_slope;  // (every point active, as stiff as it gets)
   for (size_t q = 0; q < cp.size(); ++q) {
     const SparseRow &a = cp.a[q], &s = cp.s[q];
     double bx = 0, px = 0;
@@ -33,7 +34,8 @@ void apply(const Discretization &d, const std::vector<double> &x, std::vector<do
       bx += b * x[a.idx[k]];
       px += p * x[a.idx[k]];
     }
-    const double f = 0.5 * cp.w[q] / cp.gamma[q];  // sym(b p^T) x = (b (p.x) + p (b.x))/2
+    // sym(b p^T) x = (b (p.x) + p (b.x))/2, at the law's steepest slope
+    const double f = 0.5 * cp.w[q] / cp.gamma[q] * max_slope;
     for (size_t k = 0; k < a.idx.size(); ++k) {
       const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
       y[a.idx[k]] += f * (b * px + p * bx);

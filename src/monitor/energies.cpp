@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <limits>
+#include <type_traits>
 
 #include "parallel/share.hpp"
 #include "solve/contact_law.hpp"
@@ -10,7 +11,9 @@
 namespace nd {
 
 ContactLaw state_contact_law(const Discretization &d, const State &s) {
-  return ContactLaw{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
+  ContactLaw law{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
+  law.point_law = d.contact_law.get();
+  return law;
 }
 
 namespace {
@@ -258,20 +261,29 @@ const std::vector<double> &whole(const std::vector<double> &v, const PointValues
   return v;
 }
 // point q's terms added to t, from its P_q, u_n - g0 and applied phi_q;
-// with `nitsche` also the Nitsche energy's, which reads s_q.U
-void add_point(const ContactPoints &cp, size_t q, double P, double un, double phi, const double *U, bool nitsche,
-               PointSums &t) {
-  const double Pp = P > 0 ? P : 0;
+// with `nitsche` also the Nitsche energy's, which reads s_q.U. The law at the
+// state (phi(P_q), the force w_q phi/gamma_q; active where its slope is not
+// 0); the energy's contact part -phi^2/(2 gamma_q) is the frictionless law's
+// potential ([P]_+^2/2: a law with another one brings its own term here)
+// (PP: the law's positive_part, asked once per pass: a loop apiece; phi
+// null: the state has applied none, phi(P_q) stands for it)
+template <bool PP>
+inline __attribute__((always_inline)) void add_point(const ContactPoints &cp, const PointLaw &law, size_t q, double P,
+                                                     double un, const double *phi, const double *U, bool nitsche,
+                                                     PointSums &t) {
+  double Pp, slope;
+  law_at(law, PP, P, Pp, slope);
   if (nitsche) {
     const double sn = cp.s[q].dot(U);
     t.nitsche += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
   }
-  if (P > 0) t.force += cp.w[q] * P / cp.gamma[q], t.active += 1;
-  t.force_applied += cp.w[q] * phi / cp.gamma[q];
+  if (Pp != 0) t.force += cp.w[q] * Pp / cp.gamma[q];
+  t.active += slope != 0;  // (+0 or 1: the count's bits either way)
+  t.force_applied += cp.w[q] * (phi ? phi[q] : Pp) / cp.gamma[q];
   t.penetration = std::max(t.penetration, un);
 }
 // the sums of a state: the step's when it left them, else over every point
-// in order (phi_q = [P_q]_+ before a step: the applied force is the force)
+// in order (phi_q = phi(P_q) before a step: the applied force is the force)
 PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
   const Products &p = s.products;
   if (p.of == d.id && p.points.summed) return p.points.sums;
@@ -282,8 +294,14 @@ PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
   const PointValues &v = state_points(d, s, scratch);
   const std::vector<double> &P = whole(v.P, v), &un = whole(v.un, v);
   PointSums t;
-  for (size_t q = 0; q < P.size(); ++q)
-    add_point(d.contact, q, P[q], un[q], s.phi.empty() ? std::max(P[q], 0.0) : s.phi[q], s.U.data(), nitsche, t);
+  const PointLaw &law = *d.contact_law;
+  const double *phi = s.phi.empty() ? nullptr : s.phi.data();
+  auto pass = [&](auto pp) {
+    for (size_t q = 0; q < P.size(); ++q)
+      add_point<decltype(pp)::value>(d.contact, law, q, P[q], un[q], phi, s.U.data(), nitsche, t);
+  };
+  if (law.traits().positive_part) pass(std::true_type{});
+  else pass(std::false_type{});
   if (kept) p.queried = t, p.queried_pass = p.pass, p.queried_nitsche = nitsche;
   return t;
 }
@@ -298,7 +316,7 @@ void sum_points(const Discretization &d, State &s, const std::vector<double> &dW
   const RowSet own = own_rows(share);  // each rank its own points, added rank after rank
   for (int64_t k = 0, m = own.size(static_cast<int64_t>(cp.size())); k < m; ++k) {
     const int64_t q = own[k];
-    add_point(cp, static_cast<size_t>(q), v.P[q], v.un[q], s.phi[q], s.U.data(), true, t);
+    add_point<false>(cp, *d.contact_law, static_cast<size_t>(q), v.P[q], v.un[q], s.phi.data(), s.U.data(), true, t);
     W += dW[q];
   }
   if (share) {
@@ -320,8 +338,9 @@ std::vector<double> contact_pressure(const Discretization &d, const State &s) {
   const std::vector<double> &Pq = whole(points.P, points);
   std::vector<double> lam(d.contact.size());
   for (size_t q = 0; q < lam.size(); ++q) {
-    const double P = Pq[q];
-    lam[q] = P > 0 ? -P / d.contact.gamma[q] : 0.0;
+    double phi, slope;
+    law_at(*d.contact_law, Pq[q], phi, slope);
+    lam[q] = phi != 0 ? -phi / d.contact.gamma[q] : 0.0;  // (+0 where free)
   }
   return lam;
 }
@@ -334,7 +353,7 @@ namespace {
 // would cost a large part of a predicted step per query
 bool shown_free(const Discretization &d, const State &s) {
   const PointValues &v = s.products.points;
-  return s.products.of == d.id && v.ref &&
+  return s.products.of == d.id && v.ref && d.contact_law->traits().zero_when_free &&
          nonpositive_within(d.contact, s.U.data(), s.gap.empty() ? nullptr : s.gap.data(), *v.ref);
 }
 }  // namespace

@@ -10,6 +10,7 @@
 #include "assembly/bulk.hpp"
 #include "assembly/contact.hpp"
 #include "assembly/material.hpp"
+#include "contact/law.hpp"
 #include "common/error.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator.hpp"
@@ -58,6 +59,11 @@ struct Definition : TimeData {
   std::vector<int> dirichlet;
   double theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
   int scheme = 0;  // ND_SCHEME_*
+  // the contact law (contact/law.hpp's registry; issue 56 adds its C call and
+  // ND_FRICTION_* ids), part of the Nitsche aspect
+  int contact_law = kFrictionNone;
+  // white-box (tests): a law outside the registry in its place (null: contact_law's)
+  std::shared_ptr<const PointLaw> contact_law_given;
   std::vector<double> scheme_params;
   double tau = 0;
   NewtonOptions newton;

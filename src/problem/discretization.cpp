@@ -111,6 +111,11 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   d->M = std::move(bulk.M);
   if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
   const bool automatic = def.gamma0 == 0;
+  d->contact_law = def.contact_law_given ? def.contact_law_given : make_law(def.contact_law);
+  // (the passes hold one value per point: laws with more come with friction, issue 56)
+  if (d->contact_law->traits().m != 1)
+    fail(ND_ERR_INTERNAL, std::string("the contact law ") + d->contact_law->name() + " has " +
+                              std::to_string(d->contact_law->traits().m) + " values per point; the passes hold one");
   d->contact = assemble_contact(space, d->dofs, def.material, def.planes, automatic ? 1.0 : def.gamma0);
   d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
   d->theta = def.theta;
@@ -122,6 +127,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
   }
   set_bounds(d->contact);
+  require_shared_index_lists(d->contact);
   count(counters, &Counters::matrix_assemblies);
   try {
     d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
@@ -280,6 +286,7 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   // split operators: the mass solve is distributed and reads this rank's rows only
   if (share && !rows_split) gather(*share, {rhs.data()});
   ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
+  law.point_law = contact_law.get();
   law.local = !in_step;
   if (!s.gap.empty()) law.gap = s.gap.data();
   if (at_U && contact.size() > 0) {

@@ -36,6 +36,7 @@ struct Discretization {
   std::vector<char> massless;
   Csr K, K_theta;                // K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
   ContactPoints contact;
+  std::shared_ptr<const PointLaw> contact_law;  // the contact law (the definition's), never null
   double theta = 1;
   double gamma0 = 0;        // in use (chosen here when the definition asks for it)
   double gamma0_limit = 0;  // gamma0* at Theta = 1 (docs/design.md §3b.1); +inf without contact

@@ -124,8 +124,9 @@ void contact_force_field(const Discretization &d, const State &s, double *full,
     }
   };
   each([&](size_t q) {
-    const double P = law.P(q, s.U.data());
-    wl[q] = P > 0 ? -cp.w[q] * P / cp.gamma[q] : 0.0;  // w_q lambda_q
+    double phi, slope;
+    law_at(law.law_object(), law.P(q, s.U.data()), phi, slope);  // the law at the state
+    wl[q] = phi != 0 ? -cp.w[q] * phi / cp.gamma[q] : 0.0;         // w_q lambda_q (+0 where free)
     const SparseRow &a = cp.a[q];
     for (size_t k = 0; k < a.idx.size(); ++k) f[a.idx[k]] += wl[q] * a.val[k];
   });

@@ -68,15 +68,19 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
   return sums[1] == 0;
 }
 
-// The Newton tangent is symmetric (and positive definite with c M + K_Theta) iff Theta = 1.
-Structure tangent_structure(double theta) {
-  return theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+// The Newton tangent is symmetric (and positive definite with c M + K_Theta)
+// iff Theta = 1, for a law whose tangent is (LawTraits::symmetric).
+Structure tangent_structure(double theta, const LawTraits &law) {
+  return theta == 1 && law.symmetric ? Structure::SymmetricPositiveDefinite : Structure::General;
 }
 
 // Newton refactors its tangent: when asked, or in 3D with an iterative solver
-// (see make_integrator's choice below)
+// (see make_integrator's choice below), or for a law whose blocks are not
+// rank one or whose slope may be negative (the fallback, whatever was asked:
+// the condensed Newton, the low-rank tangent and the updated factor add and
+// drop terms phi' b_q p_q^T, phi' >= 0)
 bool refactoring_tangent(const Definition &def, const Discretization &d) {
-  return def.tangent == TangentChoice::Refactor ||
+  return def.tangent == TangentChoice::Refactor || !rank_one_updates_apply(d.contact_law->traits()) ||
          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3 && linear_solver_iterative(def.solver));
 }
 
@@ -88,8 +92,9 @@ bool refactoring_tangent(const Definition &def, const Discretization &d) {
 // mass. From the state alone: a resumed run tries the same steps.
 constexpr int64_t kPredictorProbe = 16;
 bool predictor_may_solve(const Integrator &in, const Discretization &d, const Definition &def, const State &old) {
-  if (!def.predicted_steps || !in.scheme->predicts_constant_acceleration() || !old.A_valid || d.rows ||
-      !in.held.empty() || !d.massless.empty())
+  // (a law zero where free: else a free flight has forces, no constant acceleration)
+  if (!def.predicted_steps || !in.scheme->predicts_constant_acceleration() ||
+      !d.contact_law->traits().zero_when_free || !old.A_valid || d.rows || !in.held.empty() || !d.massless.empty())
     return false;
   if (old.last_iterations == 0) return true;
   for (double phi : old.phi)
@@ -171,7 +176,7 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   // multigrid hierarchy of an earlier one (PetscGamg::refactor); with GAMG
   // in 2D refactoring gains nothing over the condensed Newton.
   if (!d.contact.a.empty()) {
-    const Structure s = tangent_structure(def.theta);
+    const Structure s = tangent_structure(def.theta, d.contact_law->traits());
     const bool updown = updown_tangent_applies(def.solver, s) &&
                         (def.tangent == TangentChoice::Updown ||
                          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
@@ -220,6 +225,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // the contact term of the step: P^n with the obstacle where it was at t^n,
   // P(U) with it where it is at t^{n+1} (docs/design.md §8)
   ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
+  law.point_law = d.contact_law.get();
   ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
   law.buffers = &in.contact_scratch;
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
@@ -232,7 +238,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // them evaluated
   const PointReference *ref = old_products.points.ref.get();
   PointValues old_points;
-  if (ref && !scheme.contact_same_for_nonpositive_Pn()) {
+  const bool same_below_zero = same_for_nonpositive_Pn(scheme.contact_rule(), d.contact_law->traits());
+  if (ref && !same_below_zero) {
     ContactLaw at_old = state_contact_law(d, old);
     at_old.counters = d.counters;
     at_old.local = true;  // (every rank evaluates every point: no message)
@@ -253,8 +260,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // since the last evaluation for the bound to fail. Where the scheme's law
   // reads only that P^n <= 0 (the next step's, TimeScheme), and every rank
   // holds the whole state (a distributed state's points stay the ranks').
-  const bool may_leave_points = scheme.contact_same_for_nonpositive_Pn() && def.contact_bounds && !in.points &&
-                                in.held.empty() && !d.contact.a.empty();
+  const bool may_leave_points = same_below_zero && d.contact_law->traits().zero_when_free && def.contact_bounds &&
+                                !in.points && in.held.empty() && !d.contact.a.empty();
   // the new state's pass (compute_products), its points left unevaluated
   // where shown free
   auto new_state_products = [&](bool shown_free, PointValues *known, const HeldPoints *held) {
@@ -380,9 +387,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   next.W_obstacle = old.W_obstacle;
   // with a distributed state's points: phi at the rank's points, the work of its own added over the ranks
   std::vector<double> dW(in.points ? phi.size() : 0);
+  const bool pp = law.positive_part();
   auto apply = [&](size_t q) {
     double slope;
-    law.law(q, next.products.points.P[q], phi[q], slope);
+    law.law(q, next.products.points.P[q], phi[q], slope, pp);
     if (phi[q] == 0) return;  // (a term -0 or +0 changes no sum of W_obstacle, which is never -0)
     const double w = -d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law.g(q) - old_law.g(q));
     if (in.points) dW[q] = w;

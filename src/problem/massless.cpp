@@ -13,7 +13,8 @@
 
 namespace nd {
 
-MasslessSolver::MasslessSolver(const Discretization &d, int solver) : theta_(d.theta), counters_(d.counters) {
+MasslessSolver::MasslessSolver(const Discretization &d, int solver)
+    : theta_(d.theta), law_(d.contact_law), counters_(d.counters) {
   const int64_t n = d.K_theta.n;
   std::vector<int64_t> local(static_cast<size_t>(n), -1);
   for (int64_t i = 0; i < n; ++i)
@@ -105,6 +106,7 @@ int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F
   }
   for (size_t q = 0; q < gap_.size(); ++q) gap_[q] = (gap.empty() ? cp_.gap[q] : gap[point_[q]]) - pf_[q].dot(U.data());
   ContactLaw law{&cp_, theta_, nullptr, nullptr, gap_.data(), counters_};
+  law.point_law = law_.get();
   law.buffers = &scratch_;
   NewtonSystem sys{&A_, tangent_.get(), &M0_, 0.0, 1.0, &law};
   sys.guess = factor_->starts_from_guess();

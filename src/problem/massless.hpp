@@ -44,6 +44,7 @@ class MasslessSolver {
 
  private:
   double theta_;
+  std::shared_ptr<const PointLaw> law_;
   Counters *counters_;
   std::vector<int64_t> dofs_;   // the massless free DOFs, ascending (local index -> free index)
   Csr A_, M0_;                  // (K_Theta)_mm and zeros on its pattern (Newton's c M term, c = 0)

@@ -524,7 +524,7 @@ uint64_t Problem::inputs_digest() const {
   for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
                    d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration})
     h.value(x);
-  for (int x : {d.scheme, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
+  for (int x : {d.scheme, d.contact_law, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
                 int(d.redistributed), int(d.guards.critical_timestep),
                 int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
     h.value(x);

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
+#include "common/error.hpp"
 #include "common/simd.hpp"
+#include "nitschedyn.h"
 
 namespace nd {
 
@@ -189,9 +192,10 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
     std::vector<double> mine;
     std::vector<double> &P = P_out && !reduced ? *P_out : buffers ? buffers->own : mine;
     P_read(U.data(), P, false);  // own points: the verdict is reduced, no value sent
+    const bool pp = positive_part();
     auto busy = [&](int64_t q) {
       double value, slope;
-      law(static_cast<size_t>(q), P[q], value, slope);
+      law(static_cast<size_t>(q), P[q], value, slope, pp);
       return value != 0 || slope != 0;
     };
     if (!reduced) {
@@ -407,6 +411,10 @@ Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Ure
 bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) const {
   const size_t nq = cp->size();
   if (!Un || !Pn || Pn->size() != nq || cp->nu.size() != nq) return false;
+  // the bound needs a law zero where free and nondecreasing (a bound on P
+  // then bounds it): any other is evaluated
+  const LawTraits &t = traits();
+  if (!t.zero_when_free || !t.nondecreasing) return false;
   // over the DOFs the points' rows touch, usually a small part of U (a pass
   // over the whole of U could cost more than evaluating the points)
   const Reach r = nd::reach(held ? held->dofs : cp->dofs, U.data(), Un);
@@ -423,23 +431,24 @@ bool ContactLaw::certainly_free(const std::vector<double> &U, bool counted) cons
   }
   const double reach = r.u_max + r.ref_max + d;
   const BoundTest test{Pref, nu, g_now, g_ref, nullptr, d, reach, 0, false};
+  const bool pp = positive_part();
   auto bounded = [&](size_t q) {
     const double h = high_at(test, q);
     if (!std::isfinite(h)) return false;  // (a law may map NaN to 0: not shown)
     double value, slope;
-    law(q, h, value, slope);
+    law(q, h, value, slope, pp);
     return value == 0 && slope == 0;
   };
   if (held) {
     for (int64_t q : held->points)
       if (!bounded(static_cast<size_t>(q))) return false;
-  } else if (!scheme || scheme->contact_is_positive_part()) {
+  } else if (positive_part()) {
     // [P]_+ and its slope vanish at P <= 0 (law): every point's test, no
     // branch (-max <= h <= 0 also fails NaN and infinities)
     if (!all_within(test, nq)) return false;
   } else {
-    // every law vanishes with its slope where P <= 0 and P^n <= 0
-    // (TimeScheme::contact): that test first, then each point's law
+    // the law vanishes with its slope where P <= 0 and P^n <= 0 under every
+    // rule (LawTraits::zero_when_free): that test first, then each point's law
     BoundTest below = test;
     below.x_nonpositive = true;
     if (!all_within(below, nq))
@@ -547,6 +556,20 @@ std::shared_ptr<const HeldPoints> held_points(const ContactPoints &cp, const Hal
   return h;
 }
 
+void require_shared_index_lists(const ContactPoints &cp) {
+  auto check = [](const std::vector<SparseRow> &a, const std::vector<SparseRow> &s, const char *rows) {
+    bool same = a.size() == s.size();
+    for (size_t q = 0; same && q < a.size(); ++q) {
+      if (a[q].idx == s[q].idx && s[q].val.size() == s[q].idx.size() && a[q].val.size() == a[q].idx.size()) continue;
+      fail(ND_ERR_INTERNAL, std::string("contact point ") + std::to_string(q) + ": its s_q does not have a_q's " +
+                                "index list (" + rows + "), which every pass over the point reads for both");
+    }
+    if (!same) fail(ND_ERR_INTERNAL, std::string("the contact points have not one s_q per a_q (") + rows + ")");
+  };
+  check(cp.a, cp.s, "free DOFs");
+  check(cp.a_fixed, cp.s_fixed, "clamped DOFs");
+}
+
 double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place) {
   const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
   const double g = cp.gamma[q];
@@ -561,12 +584,6 @@ void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> 
   const double g = cp.gamma[q];
   idx.insert(idx.end(), a.idx.begin(), a.idx.end());
   for (size_t i = 0; i < a.idx.size(); ++i) val.push_back(c * (a.val[i] - g * s.val[i]));
-}
-
-void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y) {
-  const SparseRow &a = cp.a[q], &s = cp.s[q];
-  const double tg = theta * cp.gamma[q];
-  for (size_t k = 0; k < a.idx.size(); ++k) y[a.idx[k]] += f * (a.val[k] - tg * s.val[k]);
 }
 
 void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector<char> *active,
@@ -594,25 +611,17 @@ const std::vector<double> &ContactLaw::P_at(const double *U, const std::vector<d
 void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, double *y,
                                 std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
+  // a rank-one law's block is phi b_q (inline); any other, the law's own
+  const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
+  const bool pp = positive_part();
   for_read([&](size_t q) {
     double value, slope;
-    law(q, Pq[q], value, slope);
+    law(q, Pq[q], value, slope, pp);
     if (active) (*active)[q] = slope != 0;
-    if (value != 0) add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
+    if (value == 0) return;
+    if (!blocks) add_b(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * value, y);
+    else blocks->add_residual(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], value, y);
   });
-}
-
-void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T, std::vector<double> &b,
-                       std::vector<double> &p) {
-  const double g = cp.gamma[q];
-  const SparseRow &a = cp.a[q], &s = cp.s[q];  // same index lists
-  b.resize(a.idx.size());
-  p.resize(a.idx.size());
-  for (size_t i = 0; i < a.idx.size(); ++i) {
-    b[i] = a.val[i] - theta * g * s.val[i];
-    p[i] = a.val[i] - g * s.val[i];
-  }
-  T.add_outer(a.idx, b.data(), p.data(), f);
 }
 
 void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::vector<double> *P) const {
@@ -620,10 +629,14 @@ void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::v
   ContactScratch mine;
   ContactScratch &w = buffers ? *buffers : mine;
   if (!P || P->size() != cp->size()) P_read(U, w.tangent), P = &w.tangent;
+  const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
+  const bool pp = positive_part();
   for_read([&](size_t q) {
     double value, slope;
-    law(q, (*P)[q], value, slope);
-    if (slope != 0) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T, w.b, w.p);
+    law(q, (*P)[q], value, slope, pp);
+    if (slope == 0) return;
+    if (!blocks) add_point_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q] * slope, T, w.b, w.p);
+    else blocks->add_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], slope, T, w.b, w.p);
   });
 }
 

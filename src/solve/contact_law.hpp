@@ -11,23 +11,25 @@
 
 #include "assembly/contact.hpp"
 #include "common/counters.hpp"
+#include "contact/law.hpp"
 #include "linalg/csr.hpp"
 #include "parallel/share.hpp"
 #include "time/scheme.hpp"
 
 namespace nd {
 
+// Every pass over a point reads a_q's index list for s_q too (dots, p_dot,
+// add_b, add_point_tangent, the runs; a_fixed and s_fixed likewise: the
+// reactions): throws ND_ERR_INTERNAL naming the point unless each s_q has
+// a_q's indices, in order. Made once where the points are assembled.
+void require_shared_index_lists(const ContactPoints &cp);
+
 // p_q . v, p_q = a_q - gamma_q s_q (P_q(v) without its gap); with place,
 // v holds unknown i at v[place[i]] (the same sum, in the same order)
 double p_dot(const ContactPoints &cp, size_t q, const double *v, const int64_t *place = nullptr);
 // appends c p_q = c (a_q - gamma_q s_q): a_q's indices to idx, the values to val
 void append_p(const ContactPoints &cp, size_t q, double c, std::vector<int64_t> &idx, std::vector<double> &val);
-// y += f b_q, b_q = a_q - Theta gamma_q s_q
-void add_b(const ContactPoints &cp, double theta, size_t q, double f, double *y);
-// T += f b_q p_q^T (T has the operator pattern); b and p: the caller's
-// reused buffers (resized here)
-void add_point_tangent(const ContactPoints &cp, double theta, size_t q, double f, Csr &T, std::vector<double> &b,
-                       std::vector<double> &p);
+// (add_b and add_point_tangent, the rank-one blocks: contact/law.hpp)
 
 // The reused buffers of ContactLaw's passes. The object that owns the
 // computation keeps one (the integrator, the massless solver) and hands it
@@ -177,7 +179,7 @@ struct ContactLaw {
   //   P_q(U) <= P_q(U^n) + nu_q max_i |U_i - U^n_i| + g^n_q - g_q
   // (i over cp->dofs, the DOFs the points' rows touch)
   // with a margin far above the round-off of either evaluation, for a law
-  // that is nondecreasing in P (TimeScheme::contact). False says nothing:
+  // zero where free and nondecreasing in P (LawTraits; else false). False says nothing:
   // then evaluate. The same answer on every rank (U, U^n and P^n are the
   // same there), no message; with `held`, over the rank's points only (an
   // answer for this rank). Counts ND_STAT_CONTACT_BOUNDS when true (`counted`).
@@ -232,9 +234,25 @@ struct ContactLaw {
     }
     for (size_t q = 0, m = cp->size(); q < m; ++q) f(q);
   }
-  // phi and its slope at P for point q ([P]_+ inline where that is the law)
-  void law(size_t q, double P, double &value, double &slope) const {
-    if (scheme && !scheme->contact_is_positive_part()) return scheme->contact(P, Pn ? (*Pn)[q] : 0.0, value, slope);
+  // The contact law (contact/law.hpp); null: the frictionless one. Every
+  // pass applies it through law() and the blocks, and each fast path asks
+  // its traits (traits()) whether it applies.
+  const PointLaw *point_law = nullptr;
+  const PointLaw &law_object() const { return point_law ? *point_law : frictionless_law(); }
+  const LawTraits &traits() const { return law_object().traits(); }
+  // The step's time rule (the scheme's; AtEnd without one)
+  TimeRule rule() const { return scheme ? scheme->contact_rule() : TimeRule{}; }
+  // phi is [P]_+ at U: the passes apply it inline, no call per point
+  bool positive_part() const {
+    return (!scheme || scheme->contact_rule().kind == TimeRule::AtEnd) &&
+           (!point_law || point_law->traits().positive_part);
+  }
+  // phi and its slope at P for point q, the law over the step by the
+  // scheme's rule ([P]_+ inline where that is the law)
+  void law(size_t q, double P, double &value, double &slope) const { law(q, P, value, slope, positive_part()); }
+  // the same with positive_part() given: a pass asks it once, not per point
+  void law(size_t q, double P, double &value, double &slope, bool pp) const {
+    if (!pp) return law_object().over_step(rule(), P, Pn ? (*Pn)[q] : 0.0, value, slope);
     value = P > 0 ? P : 0;
     slope = P > 0 ? 1 : 0;  // the slope of [.]_+ at 0 is taken as 0
   }

@@ -59,6 +59,8 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
                                  std::vector<double> &U, PointValues *points,
                                  const std::function<const Products &()> *products_at) {
   const ContactLaw &law = *sys.law;
+  require_rank_one_updates(law, "the condensed Newton");
+  const bool pp = law.positive_part();  // (asked once: law(..., pp) below)
   const ContactPoints &cp = *law.cp;
   const int64_t n = static_cast<int64_t>(U.size()), nq = static_cast<int64_t>(cp.size());
   ContactColumns &columns = cache.columns;
@@ -84,7 +86,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     law.P_all(U.data(), P);
     for (int64_t q = 0; q < nq; ++q) {
       double v, s;
-      law.law(q, P[q], v, s);
+      law.law(q, P[q], v, s, pp);
       if (s != 0) join(q), active[q] = 1;
     }
   }
@@ -131,7 +133,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     columns.require(S);
     const std::vector<double> &G = columns.G(S);
     phi.resize(k), slope.resize(k), F.resize(k);
-    for (int64_t j = 0; j < k; ++j) law.law(S[j], P[S[j]], phi[j], slope[j]);
+    for (int64_t j = 0; j < k; ++j) law.law(S[j], P[S[j]], phi[j], slope[j], pp);
     for (int64_t i = 0; i < k; ++i) {
       double sum = P[S[i]] - P0[S[i]];
       for (int64_t j = 0; j < k; ++j) sum += G[i + j * k] * c[S[j]] * phi[j];
@@ -168,7 +170,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
     }
     for (int64_t i = 0; i < k; ++i) P[S[i]] += dP[i];
     // every point at the new iterate: on S as iterated, off S through G
-    for (int64_t j = 0; j < k; ++j) law.law(S[j], P[S[j]], phi[j], slope[j]);
+    for (int64_t j = 0; j < k; ++j) law.law(S[j], P[S[j]], phi[j], slope[j], pp);
     previous.swap(active);
     active.assign(static_cast<size_t>(nq), 0);
     for (int64_t j = 0; j < k; ++j) active[S[j]] = slope[j] != 0;
@@ -212,7 +214,7 @@ CondensedResult newton_condensed(const NewtonSystem &sys, const Factorization &A
       if (!any_force) P[q] = P0[q];
       const double Pq = P[q];
       double v, s;
-      law.law(q, Pq, v, s);
+      law.law(q, Pq, v, s, pp);
       if (s != 0) {
         join(q);
         in_S[q] = 1;

@@ -12,9 +12,10 @@ bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<do
   const Products &p = s.products;
   const ContactPoints &cp = *law.cp;
   // (points left unevaluated: shown free by the bound, PointValues::ref)
+  const bool pp = law.positive_part();
   for (size_t q = 0; q < cp.size() && !p.points.ref; ++q) {
     double phi, slope;
-    law.law(q, p.points.P[q], phi, slope);
+    law.law(q, p.points.P[q], phi, slope, pp);
     if (phi != 0 || slope != 0) return false;
   }
   // G = c M U + K_Theta U - r

@@ -32,6 +32,13 @@
 #include "solve/tangent_solver.hpp"
 
 namespace nd {
+
+void require_rank_one_updates(const ContactLaw &law, const char *who) {
+  if (!rank_one_updates_apply(law.traits()))
+    fail(ND_ERR_INTERNAL, std::string(who) + " adds rank-one terms with a nonnegative slope, which the contact law " +
+                              law.law_object().name() +
+                              " does not promise (LawTraits): the refactoring tangent serves it");
+}
 namespace {
 
 class LowRankTangent : public TangentSolver {
@@ -52,15 +59,17 @@ class LowRankTangent : public TangentSolver {
       A_factor_.solve_from(x, guess);
       return;
     }
+    require_rank_one_updates(law, "the low-rank tangent");
     if (columns_->bind(*law.cp, law.theta)) lu_valid_ = false;
     theta_ = law.theta;
     const ContactPoints &cp = *law.cp;
     active_.clear();
     d_.clear();
     const std::vector<double> &P = law.P_at(U, P_U, P_scratch_);
+    const bool pp = law.positive_part();
     for (size_t q = 0; q < cp.size(); ++q) {
       double value, slope;
-      law.law(q, P[q], value, slope);
+      law.law(q, P[q], value, slope, pp);
       if (slope == 0) continue;
       active_.push_back(static_cast<int64_t>(q));
       d_.push_back(kappa * cp.w[q] / cp.gamma[q] * slope);

@@ -100,6 +100,14 @@ std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factoriza
 // the base and each update, coefficients finite and positive, at most
 // updown_max_updates(n_points) columns updated.
 bool tangent_log_well_formed(const TangentLog &log, int64_t n_points);
+// Whether a contact law's tangent suits the solvers that add and drop terms
+// phi'_q b_q p_q^T with phi'_q >= 0 (the low-rank tangent, the updated factor,
+// the condensed Newton): rank-one blocks, a nondecreasing law (LawTraits).
+// Else the refactoring tangent, which assembles any law's blocks.
+inline bool rank_one_updates_apply(const LawTraits &law) { return law.rank_one && law.nondecreasing; }
+// (throws ND_ERR_INTERNAL naming `who` unless they apply: a caller that did not ask)
+void require_rank_one_updates(const ContactLaw &law, const char *who);
+
 // Whether the updated factor serves this solver and tangent structure: the
 // symmetric tangent, with the library's choice of direct solver or CHOLMOD.
 bool updown_tangent_applies(int solver, Structure structure);

@@ -80,14 +80,17 @@ class UpdownTangent : public TangentSolver {
              const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
     if (law.theta != 1) fail(ND_ERR_INTERNAL, "the updated tangent factor needs Theta = 1");
+    require_rank_one_updates(law, "the updated tangent factor");
+    if (!law.traits().symmetric) fail(ND_ERR_INTERNAL, "the updated tangent factor needs a symmetric law");
     const ContactPoints &cp = *law.cp;
     d_new_.assign(cp.size(), 0.0);
     int64_t k = 0;
     if (any_active) {
       const std::vector<double> &P = law.P_at(U, P_U, P_);
+      const bool pp = law.positive_part();
       for (size_t q = 0; q < cp.size(); ++q) {
         double value, slope;
-        law.law(q, P[q], value, slope);
+        law.law(q, P[q], value, slope, pp);
         if (slope != 0) d_new_[q] = kappa * cp.w[q] / cp.gamma[q] * slope, ++k;
       }
     }

@@ -20,7 +20,7 @@ class GeneralizedAlpha : public TimeScheme {
         af_(rho / (rho + 1)),
         gamma_(0.5 - am_ + af_),
         beta_(0.25 * (1 - am_ + af_) * (1 - am_ + af_)) {
-    positive_part_ = false;
+    rule_ = {TimeRule::Shifted, af_};  // the law at Y, its slope times 1 - alpha_f
   }
   bool is_explicit() const override { return false; }
   StepCoefficients coefficients(double tau) const override {
@@ -45,11 +45,6 @@ class GeneralizedAlpha : public TimeScheme {
     predict_taylor(tau, old, 0.5, U);
   }
   bool predicts_constant_acceleration() const override { return true; }
-  void contact(double P, double Pn, double &value, double &slope) const override {
-    const double Y = (1 - af_) * P + af_ * Pn;
-    value = Y > 0 ? Y : 0;
-    slope = Y > 0 ? 1 - af_ : 0;
-  }
   void update(double tau, const State &old, State &next) const override {
     newmark_update(beta_, gamma_, tau, old, next);
   }

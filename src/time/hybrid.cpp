@@ -9,7 +9,8 @@ namespace {
 
 class Hybrid : public TimeScheme {
  public:
-  Hybrid() { positive_part_ = false; }
+  // Phi = H(P^n) phi((P^n + P)/2) + H(-P^n) (phi(P^n) + phi(P))/2, H(0) = 1/2 (paper)
+  Hybrid() { rule_.kind = TimeRule::Hybrid; }
   bool is_explicit() const override { return false; }
   bool uses_acceleration() const override { return false; }
   StepCoefficients coefficients(double tau) const override { return {4 / (tau * tau), 2}; }
@@ -27,15 +28,6 @@ class Hybrid : public TimeScheme {
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, 0, U);
   }
-  // Phi = H(P^n) [(P^n + P)/2]_+ + H(-P^n) ([P^n]_+ + [P]_+)/2, H(0) = 1/2 (paper)
-  void contact(double P, double Pn, double &value, double &slope) const override {
-    const double h_pos = Pn > 0 ? 1 : Pn < 0 ? 0 : 0.5, h_neg = 1 - h_pos;
-    const double mid = 0.5 * (Pn + P);
-    value = h_pos * (mid > 0 ? mid : 0) + h_neg * 0.5 * ((Pn > 0 ? Pn : 0) + (P > 0 ? P : 0));
-    slope = h_pos * (mid > 0 ? 0.5 : 0) + h_neg * (P > 0 ? 0.5 : 0);
-  }
-  // Pn < 0: [P]_+ / 2; Pn = 0 (H = 1/2): [P/2]_+ / 2 + [P]_+ / 4, the same bits
-  bool contact_same_for_nonpositive_Pn() const override { return true; }
   void update(double tau, const State &old, State &next) const override {
     const size_t n = old.U.size();
     next.V.resize(n);

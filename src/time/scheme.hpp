@@ -3,7 +3,7 @@
 //
 // An implicit step solves for U = U^{n+1}
 //   G(U) = (c M + K_Theta) U + kappa sum_q (w_q/gamma_q) phi(P_q(U), P_q^n) b_q - r = 0
-// where phi is the scheme's contact term. An explicit step predicts U^{n+1},
+// where phi is the contact law taken by the scheme's time rule (contact_rule). An explicit step predicts U^{n+1},
 // then solves M A^{n+1} = F^{n+1} - K_Theta U^{n+1} - N(U^{n+1}).
 #pragma once
 #include <cmath>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "assembly/contact.hpp"
+#include "contact/law.hpp"
 #include "time/state.hpp"
 
 namespace nd {
@@ -58,22 +59,9 @@ class TimeScheme {
   // the step (the Taylor predictor of the Newmark family): a step may then
   // be its predictor (solve/predictor_check.hpp).
   virtual bool predicts_constant_acceleration() const { return false; }
-  // phi and d phi / dP at P = P_q(U), given P^n = P_q(U^n); [P]_+ by default.
-  // Nondecreasing in P, zero with its slope below any P where both are
-  // zero, and zero with its slope where P <= 0 and P^n <= 0:
-  // ContactLaw::certainly_free relies on it (tests/unit_contact_bounds.cpp).
-  virtual void contact(double P, double Pn, double &value, double &slope) const {
-    value = P > 0 ? P : 0;
-    slope = P > 0 ? 1 : 0;
-  }
-  // contact() is [P]_+ (not overridden): the passes over the points apply it
-  // inline (ContactLaw::law), without a call per point
-  // (tests/unit_schemes.cpp checks every registered scheme's answer)
-  bool contact_is_positive_part() const { return positive_part_; }
-  // contact(P, Pn) is the same, bit for bit, for every Pn <= 0: a state
-  // whose P_q are only known to be <= 0 (PointValues::ref) can stand as
-  // P^n (tests/unit_contact_bounds.cpp checks every scheme that says so)
-  virtual bool contact_same_for_nonpositive_Pn() const { return positive_part_; }
+  // Where the step takes the contact law (contact/law.hpp): at U^{n+1} by
+  // default; the law applies the rule (apply_rule), the scheme names it.
+  const TimeRule &contact_rule() const { return rule_; }
   // Implicit: V^{n+1}, A^{n+1} from U^{n+1}. Explicit: V^{n+1} from A^{n+1}.
   virtual void update(double tau, const State &old, State &next) const = 0;
   // The equation a step satisfies on the free DOFs, M Abar + K_Theta Ubar +
@@ -87,7 +75,7 @@ class TimeScheme {
   }
 
  protected:
-  bool positive_part_ = true;  // false in a scheme that overrides contact()
+  TimeRule rule_;  // set by a scheme whose contact term is not the law at U^{n+1}
 };
 
 // The registry: how many parameters an ND_SCHEME_* id reads (throws

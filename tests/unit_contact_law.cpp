@@ -1,0 +1,156 @@
+// The contact law as an object (src/contact/law.hpp): the registry's
+// frictionless law and its traits, and the fallback a law that declines the
+// fast paths gets: a test-only law, the frictionless one's values through
+// virtual calls, reporting none of the traits (not rank one, not symmetric,
+// not zero where free, not nondecreasing, not [P]_+), gives a 2D drop on a
+// plane the trajectory of the fast paths (the condensed Newton, the bounds,
+// the predictor, [P]_+ inline) for every implicit scheme, through the
+// refactoring tangent and the generic passes alone.
+//
+// The bound: Newton stops only where its active set held over the last
+// iteration (solve/newton.hpp), and G(U) = A U + kappa N(U) - r is linear on
+// an active set (N is piecewise linear in U): both paths' solutions are the
+// one solution of the same linear system, apart from their solves' round-off
+// and Newton's residual tolerance rtol (||r|| + c ||M U||), rtol = 1e-10. So
+// each state agrees to rtol relative (as tests/unit_tangent.cpp holds its
+// paths), with the same active points and Newton counts at every step.
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "contact/law.hpp"
+#include "time/scheme.hpp"
+#include "testutil.h"
+#include "unit_drop.hpp"
+#include "unit_fixtures.hpp"
+
+namespace {
+
+// the frictionless law's values, every trait declined
+class Declining final : public nd::PointLaw {
+ public:
+  Declining() : PointLaw(declined()) {}
+  const char *name() const override { return "declining (test)"; }
+  void at(double x, double &value, double &slope) const override { nd::frictionless_law().at(x, value, slope); }
+
+ private:
+  static nd::LawTraits declined() {
+    nd::LawTraits t;
+    t.rank_one = t.symmetric = t.zero_when_free = t.nondecreasing = t.positive_part = false;
+    return t;
+  }
+};
+
+std::vector<double> field(nd_problem p, int which, int64_t nodes, int dim) {
+  std::vector<double> f(static_cast<size_t>(nodes * dim));
+  ND_OK_OR_FAIL(nd_get_field(p, which, nodes, f.data()));
+  return f;
+}
+
+double scalar(nd_problem p, int key) {
+  double x = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(p, key, &x));
+  return x;
+}
+
+}  // namespace
+
+START_TEST(registry_gives_the_frictionless_law) {
+  const std::shared_ptr<const nd::PointLaw> law = nd::make_law(nd::kFrictionNone);
+  const nd::LawTraits &t = law->traits();
+  ck_assert_str_eq(law->name(), "frictionless");
+  ck_assert(t.m == 1 && t.rank_one && t.symmetric && t.zero_when_free && t.nondecreasing && t.positive_part &&
+            t.max_slope == 1);
+  int code = 0;
+  try {
+    nd::make_law(99);
+  } catch (const nd::Error &e) {
+    code = e.code();
+  }
+  ck_assert_int_eq(code, ND_ERR_VALUE);
+  // a problem's law is the frictionless one unless it is given another
+  nd_problem p = ndtest::drop_scene(2, 1, ndtest::kSchemes[2], 1.0);
+  ck_assert_int_eq(p->problem.definition().contact_law, nd::kFrictionNone);
+  ck_assert_str_eq(p->problem.discretization().contact_law->name(), "frictionless");
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+// Any law runs under any scheme's time rule: the rule applied to a law's
+// at() by the generic over_step (Declining's) is, bit for bit, the
+// frictionless law's own inlined form, for every scheme's rule (the values
+// below and at the switches: P^n = 0, mid = 0, signed zeros, subnormals).
+START_TEST(time_rules_apply_to_any_law) {
+  const Declining generic;
+  const double tiny = 4.9e-324;
+  const double xs[] = {-2, -0.5, -tiny, -0.0, 0.0, tiny, 0.25, 0.5, 3};
+  int rules = 0;
+  for (const ndtest::SchemeCase &sc : ndtest::kSchemes) {
+    const nd::TimeRule rule = nd::make_scheme(sc.scheme, sc.params)->contact_rule();
+    rules += rule.kind != nd::TimeRule::AtEnd;
+    for (double P : xs)
+      for (double Pn : xs) {
+        double v, s, gv, gs;
+        nd::frictionless_law().over_step(rule, P, Pn, v, s);
+        generic.over_step(rule, P, Pn, gv, gs);
+        ck_assert_msg(std::memcmp(&v, &gv, sizeof v) == 0 && std::memcmp(&s, &gs, sizeof s) == 0,
+                      "%s at P = %g, P^n = %g: (%g, %g) generic (%g, %g)", sc.name, P, Pn, v, s, gv, gs);
+      }
+  }
+  ck_assert_int_eq(rules, 2);  // (the hybrid's and generalized-alpha's rules besides AtEnd)
+}
+END_TEST
+
+START_TEST(declined_traits_fall_back_to_the_same_trajectory) {
+  // (0.2 above the plane: a free flight of some 15 steps first, where the
+  // bounds show the fast path's steps free)
+  const int dim = 2, steps = 60;
+  const double gap = 0.2;
+  for (const ndtest::SchemeCase &sc : ndtest::kSchemes) {
+    nd_problem fast = ndtest::drop_scene(dim, 1, sc, 1.0, gap), slow = ndtest::drop_scene(dim, 1, sc, 1.0, gap);
+    slow->problem.set_contact_law(std::make_shared<Declining>());
+    int64_t nodes = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(fast, &nodes));
+    double worst = 0;
+    int active_steps = 0;
+    for (int k = 0; k < steps; ++k) {
+      ND_OK_OR_FAIL(nd_step(fast));
+      ND_OK_OR_FAIL(nd_step(slow));
+      for (int which : {ND_FIELD_DISPLACEMENT, ND_FIELD_VELOCITY})
+        worst = std::max(worst, ndtest::rel_diff(field(slow, which, nodes, dim), field(fast, which, nodes, dim)));
+      const double active = scalar(fast, ND_ACTIVE_POINTS);
+      ck_assert_msg(scalar(slow, ND_ACTIVE_POINTS) == active, "%s: step %d: active points differ", sc.name, k);
+      ck_assert_msg(scalar(slow, ND_NEWTON_ITERATIONS) == scalar(fast, ND_NEWTON_ITERATIONS) ||
+                        scalar(fast, ND_NEWTON_ITERATIONS) == 0,  // (a predicted step: no Newton)
+                    "%s: step %d: Newton iterations differ", sc.name, k);
+      active_steps += active > 0;
+    }
+    std::printf("unit_contact_law: %s: fallback vs fast paths %.2g relative over %d steps (%d in contact)\n",
+                sc.name, worst, steps, active_steps);
+    ck_assert_msg(worst <= 1e-10, "%s: trajectories differ by %g relative", sc.name, worst);
+    ck_assert_msg(active_steps > 0, "%s: the scene never came into contact", sc.name);
+    // the paths taken: the fallback refactored its tangent and showed nothing by a bound
+    ck_assert_str_eq(slow->problem.integrator()->tangent->name(), "refactor");
+    ck_assert_str_ne(fast->problem.integrator()->tangent->name(), "refactor");
+    ck_assert(scalar(slow, ND_STAT_CONTACT_BOUNDS) == 0 && scalar(slow, ND_STAT_PREDICTED_STEPS) == 0);
+    ck_assert(scalar(fast, ND_STAT_CONTACT_BOUNDS) > 0);
+    ND_OK_OR_FAIL(nd_problem_destroy(&fast));
+    ND_OK_OR_FAIL(nd_problem_destroy(&slow));
+  }
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("contact_law");
+  TCase *tc = tcase_create("law");
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, registry_gives_the_frictionless_law);
+  tcase_add_test(tc, time_rules_apply_to_any_law);
+  tcase_add_test(tc, declined_traits_fall_back_to_the_same_trajectory);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
