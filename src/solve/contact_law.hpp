@@ -241,7 +241,10 @@ struct ContactLaw {
   const PointLaw &law_object() const { return point_law ? *point_law : frictionless_law(); }
   const LawTraits &traits() const { return law_object().traits(); }
   // The step's time rule (the scheme's; AtEnd without one)
-  TimeRule rule() const { return scheme ? scheme->contact_rule() : TimeRule{}; }
+  const TimeRule &rule() const {
+    static constexpr TimeRule at_end{};
+    return scheme ? scheme->contact_rule() : at_end;
+  }
   // phi is [P]_+ at U: the passes apply it inline, no call per point
   bool positive_part() const {
     return (!scheme || scheme->contact_rule().kind == TimeRule::AtEnd) &&
