@@ -94,8 +94,11 @@ constexpr double kAutomaticGamma0Fraction = 0.5;
 
 // With `own` (several ranks; null: one process) M, K and K_Theta hold the
 // rows of own's nodes only, each entry with the bits of the whole operator's.
+// frozen: the curved points' normals nu (3 per point, a state's), null: each
+// the nearest obstacle's at its reference position (contact/obstacles.hpp);
+// the automatic gamma0 is always from those (a refresh keeps it).
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
-                                           const Ownership *own = nullptr);
+                                           const Ownership *own = nullptr, const std::vector<double> *frozen = nullptr);
 // Where the unknowns sit (g.x, g.component), which GAMG's near-null space
 // reads: for every unknown, or with g.own_rows_only for the rows
 // [g.row_begin, g.row_end) of g.row_of's numbering only (no array n long).

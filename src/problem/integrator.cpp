@@ -220,7 +220,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // the contact term of the step: P^n with the obstacle where it was at t^n,
   // P(U) with it where it is at t^{n+1} (docs/design.md §8)
   ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
-  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
+  const std::vector<double> &gap_old = at_new.gap_old ? *at_new.gap_old : old.gap;
+  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, gap_old.empty() ? nullptr : gap_old.data(), d.counters};
   law.buffers = &in.contact_scratch;
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
   // contact terms read them) and what the right-hand side is made of
@@ -232,8 +233,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // them evaluated
   const PointReference *ref = old_products.points.ref.get();
   PointValues old_points;
-  if (ref && !scheme.contact_same_for_nonpositive_Pn()) {
+  // (curved obstacles: P^n at this step's g^n, not the state's, evaluated)
+  if (at_new.gap_old || (ref && !scheme.contact_same_for_nonpositive_Pn())) {
     ContactLaw at_old = state_contact_law(d, old);
+    if (at_new.gap_old) at_old.gap = gap_old.empty() ? nullptr : gap_old.data();
     at_old.counters = d.counters;
     at_old.local = true;  // (every rank evaluates every point: no message)
     at_old.P_all(old.U.data(), old_points.P);
@@ -241,7 +244,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   }
   law.Pn = ref ? &ref->P : old_points.P.empty() ? &old_products.points.P : &old_points.P;
   if (def.contact_bounds) {
-    const std::vector<double> &Un = ref ? ref->U : old.U, &gap_n = ref ? ref->gap : old.gap;
+    const std::vector<double> &Un = ref ? ref->U : old.U, &gap_n = ref ? ref->gap : gap_old;
     law.Un = Un.data(), law.gap_n = gap_n.empty() ? nullptr : gap_n.data();
     if (ref) law.free_reach_n = ref->free_reach;
   }
