@@ -115,8 +115,7 @@ void displacement_at(const Space &sp, const DofMap &dofs, const ContactPoints &c
 }
 
 StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoints &cp, const StepPlaces &now,
-                           const StepPlaces &before, double tau, const std::vector<double> &U,
-                           const std::vector<double> &V, const std::vector<double> &frozen,
+                           const StepPlaces &before, const std::vector<double> &U, const std::vector<double> &frozen,
                            const std::vector<double> &plane_gap, const std::vector<double> &plane_gap_old,
                            bool may_refresh) {
   const int d = sp.dim;
@@ -125,31 +124,46 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
   g.gap = plane_gap;
   g.gap_old = plane_gap_old.empty() ? plane_gap : plane_gap_old;
   g.normal = frozen;
+  struct Seen {
+    Nearest n;
+    double u[3], y[3], c;
+    bool near;
+  };
+  std::vector<Seen> seen(cp.size());
+  bool turned = false;  // a near point's normal turned past delta
   for (size_t q = 0; q < cp.size(); ++q) {
     if (cp.plane[q] >= 0) continue;  // a plane region's point: its closed form
-    double u[3] = {0, 0, 0}, v[3] = {0, 0, 0}, y[3] = {0, 0, 0};
-    displacement_at(sp, dofs, cp, q, U.data(), u);
-    if (!V.empty()) displacement_at(sp, dofs, cp, q, V.data(), v);
-    for (int k = 0; k < d; ++k) y[k] = cp.x[q * d + k] + u[k];
-    const Nearest n = nearest(cp.region[q], now.planes, now.obstacles, d, now.t, y);
+    Seen &e = seen[q];
+    displacement_at(sp, dofs, cp, q, U.data(), e.u);
+    for (int k = 0; k < 3; ++k) e.y[k] = k < d ? cp.x[q * d + k] + e.u[k] : 0;
+    e.n = nearest(cp.region[q], now.planes, now.obstacles, d, now.t, e.y);
+    e.c = 0;
+    for (int k = 0; k < d; ++k) e.c += e.n.nu[k] * g.normal[q * 3 + k];
+    // near: within kNearCells cells of the owning cell's size (a measure of
+    // the relative position alone: a Galilean change of frame keeps it)
+    e.near = e.n.d <= kNearCells * cp.h[q];
+    if (e.near && !(e.c >= cos_turn)) turned = true;
+  }
+  for (size_t q = 0; q < cp.size(); ++q) {
+    if (cp.plane[q] >= 0) continue;
+    Seen &e = seen[q];
     double *nf = &g.normal[q * 3];
-    double c = 0;
-    for (int k = 0; k < d; ++k) c += n.nu[k] * nf[k];
-    // near: within a cell, or within reach of the point's speed over two steps
-    const double reach = cp.h[q] + 2 * tau * length(v, d);
-    if (may_refresh && n.d <= reach && !(c >= cos_turn)) {
-      for (int k = 0; k < d; ++k) nf[k] = n.nu[k];
-      c = 1;
+    // once the operators are made again, every near point takes its normal
+    // now (not only those past delta): the next refresh is then as far off
+    // as it can be
+    if (may_refresh && turned && e.near && !std::equal(nf, nf + d, e.n.nu)) {
+      for (int k = 0; k < d; ++k) nf[k] = e.n.nu[k];
+      e.c = 1;
       ++g.refreshed;
     }
     // a far point's normal may have turned more: its gap is then measured
     // along nu as if within delta (<= the distance along n_q: conservative)
-    const double cc = std::max(c, cos_turn);
+    const double cc = std::max(e.c, cos_turn);
     double d_old = 0, nu_old[3];
-    distance_of(n.which, cp.region[q], before.planes, before.obstacles, d, before.t, y, d_old, nu_old);
+    distance_of(e.n.which, cp.region[q], before.planes, before.obstacles, d, before.t, e.y, d_old, nu_old);
     double un = 0;  // n_q.u_q = -nu_f.u_q
-    for (int k = 0; k < d; ++k) un -= nf[k] * u[k];
-    g.gap[q] = n.d / cc + un;
+    for (int k = 0; k < d; ++k) un -= nf[k] * e.u[k];
+    g.gap[q] = e.n.d / cc + un;
     g.gap_old[q] = d_old / cc + un;
   }
   return g;

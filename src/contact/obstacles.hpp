@@ -26,6 +26,9 @@ namespace nd {
 // are made again; the direction error of the contact force is <= delta, the
 // gap's against measuring along nu_q d (1/cos delta - 1) ~ d delta^2 / 2
 constexpr double kNormalTurn = 0.01;
+// a point is near its obstacle (its normal may be refreshed) within this many
+// times the diameter of its cell; a farther point's gap is conservative
+constexpr double kNearCells = 2;
 
 // The regions with contact points, in the order of their points: the
 // planes' regions as given, then those with obstacles but no plane, in the
@@ -73,8 +76,7 @@ struct StepPlaces {
   double t;
 };
 StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoints &cp, const StepPlaces &now,
-                           const StepPlaces &before, double tau, const std::vector<double> &U,
-                           const std::vector<double> &V, const std::vector<double> &frozen,
+                           const StepPlaces &before, const std::vector<double> &U, const std::vector<double> &frozen,
                            const std::vector<double> &plane_gap, const std::vector<double> &plane_gap_old,
                            bool may_refresh);
 

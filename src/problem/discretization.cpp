@@ -87,6 +87,11 @@ namespace {
 // where the definition places them (t = 0)
 ContactPoints contact_points(const Space &space, const DofMap &dofs, const Definition &def, double gamma0,
                              const std::vector<double> *frozen) {
+  // without frozen normals: the obstacles as defined (no pose), so that the
+  // normals, and gamma0* from them, depend on the definition alone (a restart
+  // makes the same)
+  std::vector<Obstacle> defined = def.obstacles;
+  for (Obstacle &o : defined) o.pose = Pose{};
   const std::vector<int> regions = contact_regions(def.planes, def.obstacles);
   std::vector<int> plane_of(regions.size(), -1);
   for (size_t r = 0; r < regions.size(); ++r)
@@ -103,7 +108,7 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
           if (frozen->size() < 3 * (q + 1)) fail(ND_ERR_INTERNAL, "fewer frozen normals than contact points");
           for (int k = 0; k < space.dim; ++k) nu[k] = (*frozen)[3 * q + k];
         } else {
-          const Nearest n = nearest(regions[r], def.planes, def.obstacles, space.dim, 0.0, x);
+          const Nearest n = nearest(regions[r], def.planes, defined, space.dim, 0.0, x);
           for (int k = 0; k < space.dim; ++k) nu[k] = n.nu[k];
         }
         ++q;

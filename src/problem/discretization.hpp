@@ -95,7 +95,8 @@ constexpr double kAutomaticGamma0Fraction = 0.5;
 // With `own` (several ranks; null: one process) M, K and K_Theta hold the
 // rows of own's nodes only, each entry with the bits of the whole operator's.
 // frozen: the curved points' normals nu (3 per point, a state's), null: each
-// the nearest obstacle's at its reference position (contact/obstacles.hpp);
+// the nearest obstacle's at its reference position, the obstacles as
+// defined, unmoved (contact/obstacles.hpp);
 // the automatic gamma0 is always from those (a refresh keeps it).
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
                                            const Ownership *own = nullptr, const std::vector<double> *frozen = nullptr);

@@ -481,7 +481,7 @@ void Problem::curved_gaps(State &s, const Discretization &d, const TimeData &at)
   s.normal = d.contact.normal;
   s.positions = positions(at.planes, at.obstacles);
   const StepPlaces here{at.planes, at.obstacles, s.t};
-  s.gap = step_geometry(space_, d.dofs, d.contact, here, here, def_.tau, s.U, s.V, s.normal, s.gap, s.gap, false).gap;
+  s.gap = step_geometry(space_, d.dofs, d.contact, here, here, s.U, s.normal, s.gap, s.gap, false).gap;
 }
 
 void Problem::complete_state() {
@@ -569,7 +569,7 @@ void Problem::step() {
             const double t_new = state_.tau_ref != tau ? state_.t + tau
                                                        : state_.t_ref + static_cast<double>(state_.n + 1 - state_.n_ref) * tau;
             geo = step_geometry(space_, disc_->dofs, disc_->contact, {def_.planes, def_.obstacles, t_new},
-                                {planes_n, obstacles_n, state_.t}, tau, state_.U, state_.V, state_.normal, *gap,
+                                {planes_n, obstacles_n, state_.t}, state_.U, state_.normal, *gap,
                                 state_.gap, true);
             count(counters_.get(), &Counters::normal_refreshes, geo.refreshed);
             if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
