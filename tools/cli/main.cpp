@@ -113,9 +113,17 @@ Setup build(const Scene &s, Problem &prob) {
     scene_call(nd_problem_set_body_force(p, s.body_force.data()), s.body_force_at, "loads.body_force");
   for (const auto &t : s.tractions)
     scene_call(nd_problem_set_neumann(p, ndcli::region_id(s, t.region), t.value.data()), t.at, "loads.traction");
-  for (const auto &o : s.obstacles)
-    scene_call(nd_problem_set_contact_plane(p, ndcli::region_id(s, o.region), o.point.data(), o.normal.data()), o.at,
-               "[obstacle]");
+  for (const auto &o : s.obstacles) {
+    const int region = ndcli::region_id(s, o.region);
+    if (o.shape == "sphere")
+      scene_call(nd_problem_add_contact_sphere(p, region, o.center.data(), o.radius, o.inside ? 1 : 0), o.at,
+                 "[obstacle]");
+    else if (o.shape == "cylinder")
+      scene_call(nd_problem_add_contact_cylinder(p, region, o.point.data(), o.axis.data(), o.radius, o.inside ? 1 : 0),
+                 o.at, "[obstacle]");
+    else
+      scene_call(nd_problem_set_contact_plane(p, region, o.point.data(), o.normal.data()), o.at, "[obstacle]");
+  }
   scene_call(nd_problem_set_nitsche(p, s.Theta, s.gamma0), s.nitsche_at.empty() ? s.file : s.nitsche_at, "[nitsche]");
   scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
              "[scheme]");

@@ -42,7 +42,11 @@ struct Traction {
 
 struct Obstacle {
   RegionRef region;
-  std::vector<double> point, normal;
+  std::string shape = "plane";  // plane, sphere, cylinder
+  std::vector<double> point, normal;  // plane: point, normal; cylinder: point (of the axis)
+  std::vector<double> center, axis;   // sphere: center; cylinder: axis
+  double radius = 0;
+  bool inside = false;
   std::string at;
 };
 
