@@ -148,10 +148,10 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
     if (cp.plane[q] >= 0) continue;
     Seen &e = seen[q];
     double *nf = &g.normal[q * 3];
-    // once the operators are made again, every near point takes its normal
-    // now (not only those past delta): the next refresh is then as far off
-    // as it can be
-    if (may_refresh && turned && e.near && !std::equal(nf, nf + d, e.n.nu)) {
+    // once the operators are made again, every point takes its normal now
+    // (not only the near ones past delta): the next refresh is then as far
+    // off as it can be
+    if (may_refresh && turned && !std::equal(nf, nf + d, e.n.nu)) {
       for (int k = 0; k < d; ++k) nf[k] = e.n.nu[k];
       e.c = 1;
       ++g.refreshed;

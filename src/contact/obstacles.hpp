@@ -8,9 +8,9 @@
 // step each point's current position y_q = x_q + u_q(U^n) is measured
 // against every obstacle of its region (the plane too) where it is at
 // t^{n+1}; the nearest gives d_q and nu_q. The point's rows hold a frozen
-// normal n_q = -nu_f, refreshed (a new discretization) only when the point
-// is near the obstacle and nu_q has turned from nu_f by more than
-// kNormalTurn; between refreshes the gap is the distance along n_q to the
+// normal n_q = -nu_f, refreshed (a new discretization, every point's at
+// once) only when a point near the obstacle has a nu_q turned from nu_f by
+// more than kNormalTurn; between refreshes the gap is the distance along n_q to the
 // tangent plane at the nearest point, g_q = d_q / (nu_q.nu_f) + n_q.u_q.
 #pragma once
 #include <cstdint>
@@ -26,9 +26,10 @@ namespace nd {
 // are made again; the direction error of the contact force is <= delta, the
 // gap's against measuring along nu_q d (1/cos delta - 1) ~ d delta^2 / 2
 constexpr double kNormalTurn = 0.01;
-// a point is near its obstacle (its normal may be refreshed) within this many
-// times the diameter of its cell; a farther point's gap is conservative
-constexpr double kNearCells = 2;
+// a point is near its obstacle (its normal turning past delta triggers a
+// refresh) within this many times the diameter of its cell; a farther
+// point's gap is conservative, and it is free
+constexpr double kNearCells = 0.5;
 
 // The regions with contact points, in the order of their points: the
 // planes' regions as given, then those with obstacles but no plane, in the

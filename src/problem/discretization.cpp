@@ -180,6 +180,27 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   return d;
 }
 
+std::unique_ptr<Discretization> with_normals(const Space &space, const Definition &def, const Discretization &from,
+                                             const std::vector<double> &frozen) {
+  auto d = std::make_unique<Discretization>(from.dofs, from.lumped);
+  d->counters = from.counters;
+  d->M = from.M, d->M_lumped = from.M_lumped, d->massless = from.massless, d->K = from.K;
+  d->theta = from.theta, d->gamma0 = from.gamma0, d->gamma0_limit = from.gamma0_limit;
+  d->rows_split = from.rows_split;
+  d->geometry.dim = space.dim;
+  d->node_blocks = from.node_blocks;  // (K and M by nodes: the same)
+  if (from.clamped) d->clamped = std::make_unique<ClampedRows>(*from.clamped);
+  // the rows with the frozen normals; gamma as the first discretization has it
+  d->contact = contact_points(space, d->dofs, def, d->gamma0, &frozen);
+  for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = from.contact.gamma[q];
+  set_bounds(d->contact);
+  count(d->counters, &Counters::matrix_assemblies);
+  d->K_theta = assemble_k_theta(d->K, d->contact, d->theta);
+  if (d->counters)
+    d->counters->matrix_entries = static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size());
+  return d;
+}
+
 Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const Definition &def, const Ownership &own,
                              double c) {
   std::vector<char> cells(static_cast<size_t>(space.mesh->n_cells)), points(d.contact.size());
