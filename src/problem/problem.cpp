@@ -549,6 +549,22 @@ void Problem::prepare() {
   setup_done_ = true;
 }
 
+// The gaps of the next step and the frozen normals after the refresh rule,
+// the obstacles where the state had them at t^n and where the definition
+// has them at t^{n+1} (contact/obstacles.hpp)
+StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
+  std::vector<ContactPlane> planes_n = def_.planes;
+  std::vector<Obstacle> obstacles_n = def_.obstacles;
+  place(planes_n, obstacles_n, state_.positions);
+  const State &s = state_;
+  const double tau = def_.tau;  // (t^{n+1} as advance computes it)
+  const double t_new = s.tau_ref != tau ? s.t + tau : s.t_ref + static_cast<double>(s.n + 1 - s.n_ref) * tau;
+  StepGeometry geo = step_geometry(space_, disc_->dofs, disc_->contact, {def_.planes, def_.obstacles, t_new},
+                                   {planes_n, obstacles_n, s.t}, s.U, s.normal, plane_gaps, s.gap, true);
+  count(counters_.get(), &Counters::normal_refreshes, geo.refreshed);
+  return geo;
+}
+
 void Problem::step() {
   agree_on_inputs();
   State next;
@@ -556,44 +572,33 @@ void Problem::step() {
   // failed step gives the old ones back, with the state they belong to
   std::unique_ptr<Discretization> kept_disc;
   std::unique_ptr<Integrator> kept_integrator;
+  auto body = [&] {
+    prepare();
+    const std::vector<double> *gap = &current_gaps();
+    StepGeometry geo;
+    const bool curved = !def_.obstacles.empty();
+    if (curved) {
+      geo = curved_geometry(*gap);
+      if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
+        kept_disc = std::move(disc_);
+        kept_integrator = std::move(integrator_);
+        refreshed_normals_ = &geo.normal;
+        refresh_from_ = kept_disc.get();
+        prepare();
+        refreshed_normals_ = nullptr;
+        refresh_from_ = nullptr;
+      }
+      gap = &geo.gap;
+    }
+    next = advance(*integrator_, *disc_, def_, state_,
+                   StepData{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr}, std::move(spare_));
+    if (curved) next.normal = std::move(geo.normal), next.positions = positions(def_.planes, def_.obstacles);
+    else next.normal.clear(), next.positions.clear();
+    guard_step(*disc_, def_.guards, state_, next);
+  };
   try {
-    // (one reference captured: the std::function holds it without allocating)
-    auto body = [&] {
-          prepare();
-          const std::vector<double> *gap = &current_gaps();
-          StepGeometry geo;
-          const bool curved = !def_.obstacles.empty();
-          if (curved) {
-            // the obstacles where they were at t^n (the state's) and are at t^{n+1}
-            std::vector<ContactPlane> planes_n = def_.planes;
-            std::vector<Obstacle> obstacles_n = def_.obstacles;
-            place(planes_n, obstacles_n, state_.positions);
-            const double tau = def_.tau;
-            const double t_new = state_.tau_ref != tau ? state_.t + tau
-                                                       : state_.t_ref + static_cast<double>(state_.n + 1 - state_.n_ref) * tau;
-            geo = step_geometry(space_, disc_->dofs, disc_->contact, {def_.planes, def_.obstacles, t_new},
-                                {planes_n, obstacles_n, state_.t}, state_.U, state_.normal, *gap,
-                                state_.gap, true);
-            count(counters_.get(), &Counters::normal_refreshes, geo.refreshed);
-            if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
-              kept_disc = std::move(disc_);
-              kept_integrator = std::move(integrator_);
-              refreshed_normals_ = &geo.normal;
-              refresh_from_ = kept_disc.get();
-              prepare();
-              refreshed_normals_ = nullptr;
-              refresh_from_ = nullptr;
-            }
-            gap = &geo.gap;
-          }
-          next = advance(*integrator_, *disc_, def_, state_,
-                         StepData{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr},
-                         std::move(spare_));
-          if (curved) next.normal = std::move(geo.normal), next.positions = positions(def_.planes, def_.obstacles);
-          else next.normal.clear(), next.positions.clear();
-          guard_step(*disc_, def_.guards, state_, next);
-        };
-    // every rank commits the step or none does
+    // every rank commits the step or none does (one reference captured:
+    // the std::function holds it without allocating)
     nd::on_every_rank(def_.comm.get(), std::ref(body), "the step", "no rank took it");
   } catch (...) {
     refreshed_normals_ = nullptr;

@@ -13,6 +13,7 @@
 
 #include "fem/space.hpp"
 #include "parallel/ownership.hpp"
+#include "contact/obstacles.hpp"
 #include "problem/definition.hpp"
 #include "problem/checkpoint.hpp"
 #include "problem/discretization.hpp"
@@ -164,6 +165,7 @@ class Problem {
   // normals (d's rows'), its obstacles' positions (at's) and its curved
   // points' gaps at U, where `at` places the obstacles now
   void curved_gaps(State &s, const Discretization &d, const TimeData &at);
+  StepGeometry curved_geometry(const std::vector<double> &plane_gaps);
   void require_region(int region, const char *what) const;
 
   std::shared_ptr<const Mesh> mesh_;
