@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -275,10 +276,36 @@ int run(const Options &opt) {
   if (!checkpoint.empty()) make_parent(checkpoint);
   const size_t frame0 = (size_t)(first / every + (first % every != 0));  // first + every - 1 may overflow
   Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
+  // obstacles moving at a constant velocity: each placed before a step where
+  // it is at the step's end, x(t) = x(0) + velocity t (an added obstacle by
+  // its index among its region's, a plane by its point)
+  std::vector<int> added_index(s.obstacles.size(), -1);
+  {
+    std::map<int, int> added;
+    for (size_t i = 0; i < s.obstacles.size(); ++i)
+      if (s.obstacles[i].shape != "plane") added_index[i] = added[ndcli::region_id(s, s.obstacles[i].region)]++;
+  }
+  auto move_obstacles = [&](double t) {
+    for (size_t i = 0; i < s.obstacles.size(); ++i) {
+      const auto &o = s.obstacles[i];
+      if (o.velocity.empty()) continue;
+      std::vector<double> shift(o.velocity.size());
+      for (size_t k = 0; k < shift.size(); ++k) shift[k] = o.velocity[k] * t;
+      const int region = ndcli::region_id(s, o.region);
+      if (o.shape == "plane") {
+        for (size_t k = 0; k < shift.size(); ++k) shift[k] += o.point[k];
+        scene_call(nd_problem_set_contact_plane(p, region, shift.data(), o.normal.data()), o.at, "obstacle.velocity");
+      } else {
+        scene_call(nd_problem_move_obstacle(p, region, added_index[i], shift.data(), nullptr), o.at,
+                   "obstacle.velocity");
+      }
+    }
+  };
   const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
   double max_force = 0, max_pen = 0, newton = 0;
   for (int64_t k = first; k <= steps; ++k) {
     if (k > first) {
+      move_obstacles(scalar(p, ND_TIME) + scalar(p, ND_TIMESTEP));  // (where they are at t^{n+1})
       const int st = nd_step(p);
       if (st < 0) {
         bar.finish();

@@ -29,7 +29,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"loads", {"body_force", "traction"}},
       {"loads.traction", {"region", "value"}},
       {"dirichlet", {"regions"}},
-      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside"}},
+      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
       {"time", {"tau", "T"}},
@@ -694,10 +694,10 @@ Scene parse_scene(std::string_view text, const std::string &path) {
           {"cylinder", {"point", "axis", "radius", "inside"}}};
       for (auto &&[k, v] : *t) {
         const std::string key(k.str());
-        if (key == "region" || key == "shape") continue;
+        if (key == "region" || key == "shape" || key == "velocity") continue;
         const std::vector<std::string> &mine = shape_keys.at(o.shape);
         if (std::find(mine.begin(), mine.end(), key) == mine.end())
-          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape + " (its keys: region, shape, " +
+          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape + " (its keys: region, shape, velocity, " +
                                  [&] {
                                    std::string list;
                                    for (const auto &m : mine) list += (list.empty() ? "" : ", ") + m;
@@ -721,6 +721,7 @@ Scene parse_scene(std::string_view text, const std::string &path) {
           o.inside = *in->value<bool>();
         }
       }
+      if (t->get("velocity")) o.velocity = r.vector(*t, "obstacle", "velocity", "the obstacle's velocity");
       o.at = r.where(t->source());
       s.obstacles.push_back(o);
     }
@@ -853,6 +854,7 @@ void check_dimension(const Scene &s, int dim) {
     check(o.normal, o.at, "obstacle.normal");
     check(o.center, o.at, "obstacle.center");
     check(o.axis, o.at, "obstacle.axis");
+    check(o.velocity, o.at, "obstacle.velocity");
     // (the library refuses a sphere in 1D and a cylinder outside 3D, with its reason)
   }
   for (const auto &b : s.boxes) {

@@ -47,6 +47,7 @@ struct Obstacle {
   std::vector<double> center, axis;   // sphere: center; cylinder: axis
   double radius = 0;
   bool inside = false;
+  std::vector<double> velocity;  // a constant translation velocity (empty: at rest)
   std::string at;
 };
 

@@ -84,6 +84,12 @@ expect 2 shape_unknown "'obstacle.shape' must be \"plane\", \"sphere\" or \"cyli
 shape = "cone"'
 expect 2 cylinder_in_2d "nd_problem_add_contact_cylinder: a cylinder needs a 3D mesh" \
   '9s/.*/shape = "cylinder"\npoint = [0.0, -40.0]\naxis = [1.0, 0.0]/;10s/.*/radius = 40.0/'
+# a circle and a plane moving at constant velocities
+expect 0 moving '' '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]\nvelocity = [0.5, 0.0]/;10s/.*/radius = 40.0/'
+expect 0 moving_plane '' '10a\
+velocity = [0.0, 0.1]'
+expect 2 velocity_dimension "'obstacle.velocity' has 3 components; the mesh is 2D" '10a\
+velocity = [0.0, 0.1, 0.0]'
 expect 2 library_refuses_nu "library_refuses_nu.toml:3:1: [material]: nd_problem_set_material" '5s/.*/nu = 0.6/'
 expect 2 dimension "dimension.toml:15:14: 'loads.body_force' has 3 components; the mesh is 2D" '$a\
 [loads]\
