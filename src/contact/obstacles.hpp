@@ -10,8 +10,8 @@
 // t^{n+1}; the nearest gives d_q and nu_q. The point's rows hold a frozen
 // normal n_q = -nu_f, refreshed (a new discretization, every point's at
 // once) only when a point near the obstacle has a nu_q turned from nu_f by
-// more than kNormalTurn; between refreshes the gap is the distance along n_q to the
-// tangent plane at the nearest point, g_q = d_q / (nu_q.nu_f) + n_q.u_q.
+// more than kNormalTurn; between refreshes the gap is the distance along n_q
+// to the tangent plane at the nearest point, g_q = d_q / (nu_q.nu_f) + n_q.u_q.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -52,21 +52,12 @@ struct Nearest {
 Nearest nearest(int region, const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles, int dim,
                 double t, const double *y);
 
-// The normals nu of a new discretization's points: a plane region's
-// plane's normal; a curved point's frozen one (frozen: 3 values per point,
-// empty: the nearest obstacle's at x_q, where the definition places it at t)
-struct NormalChoice {
-  const std::vector<ContactPlane> *planes;
-  const std::vector<Obstacle> *obstacles;
-  double t;
-  const std::vector<double> *frozen;  // may be null
-};
-
 // What a curved step sees at its points (the plane regions' entries: their
 // closed forms, given): g^{n+1} with the obstacles at t^{n+1}, g^n with them
 // at t^n (the same y_q, nearest obstacle and normal: g^{n+1} - g^n is the
 // obstacles' motion alone), and the frozen normals (3 per point) after the
-// refresh rule. Throws what a shape throws (a callback that failed).
+// refresh rule (may_refresh false: kept, as for a state's own gaps). U: the
+// state's at t^n. Throws what a shape throws (a callback that failed).
 struct StepGeometry {
   std::vector<double> gap, gap_old, normal;
   int64_t refreshed = 0;
