@@ -47,6 +47,9 @@ void obstacle_distance(const Shape &s, const Pose &pose, int dim, double t, cons
 // The shapes (each checks its arguments: ND_ERR_VALUE, ND_ERR_DIMENSION).
 // normal: unit; the plane d = (x - point).normal
 std::shared_ptr<const Shape> make_plane_shape(const double *point, const double *normal, int dim);
+// the same distance and normal without a Shape (a region's ContactPlane among
+// its other obstacles, contact/obstacles.cpp)
+void plane_distance(const double *point, const double *normal, int dim, const double *x, double &d, double *nu);
 // a sphere (a circle in 2D, points in 1D); inside: the body within it
 std::shared_ptr<const Shape> make_sphere(const double *center, double radius, bool inside, int dim);
 // 3D only: the infinite circular cylinder of this axis through point

@@ -68,11 +68,7 @@ void distance_of(int which, int region, const std::vector<ContactPlane> &planes,
                  int dim, double t, const double *y, double &d, double *nu) {
   if (which < 0) {
     for (const ContactPlane &pl : planes)
-      if (pl.region == region) {
-        d = 0;
-        for (int k = 0; k < dim; ++k) d += (y[k] - pl.point[k]) * pl.normal[k], nu[k] = pl.normal[k];
-        return;
-      }
+      if (pl.region == region) return plane_distance(pl.point, pl.normal, dim, y, d, nu);
     fail(ND_ERR_INTERNAL, "a contact point's plane is missing");
   }
   const Obstacle &o = obstacles[static_cast<size_t>(which)];
