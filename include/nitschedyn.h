@@ -73,7 +73,8 @@ extern "C" {
   X(ND_ERR_NOT_COERCIVE, -25, "K_Theta is not positive semi-definite: gamma0 too large for Theta") \
   X(ND_ERR_UNSTABLE, -26, "the scheme is unstable with this time step (explicit, or theta < 1/2)") \
   X(ND_ERR_ENERGY_GROWTH, -27, "the energy guard refused the step: energy grew past the loads' work") \
-  X(ND_ERR_PENETRATION, -28, "the penetration guard refused the step or the initial state")
+  X(ND_ERR_PENETRATION, -28, "the penetration guard refused the step or the initial state") \
+  X(ND_ERR_CALLBACK, -30, "a user callback failed (returned non-zero); the step was not taken")
 
 /* Time schemes for nd_problem_set_scheme: X(name, value, parameters) */
 #define ND_SCHEME_LIST(X)                                                              \
@@ -132,7 +133,8 @@ extern "C" {
   X(ND_MOMENTUM_Z, 42, "linear momentum, z components (0 below 3D)")                 \
   X(ND_ANGULAR_MOMENTUM_X, 43, "angular momentum sum_i x_i x (M V)_i about the origin, x (0 below 3D)") \
   X(ND_ANGULAR_MOMENTUM_Y, 44, "angular momentum about the origin, y (0 below 3D)")  \
-  X(ND_ANGULAR_MOMENTUM_Z, 45, "angular momentum about the origin, z (0 in 1D)")
+  X(ND_ANGULAR_MOMENTUM_Z, 45, "angular momentum about the origin, z (0 in 1D)")               \
+  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -233,6 +235,25 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
                                            const double *normal);
 /* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet);
    gamma0 = 0 chooses a safe value (half the coercivity limit, ND_GAMMA0) */
+/* More rigid obstacles for a region (docs/design.md §10.1); at each contact
+   point the nearest acts. inside = 1: the body is inside the shell (a bowl).
+   A sphere is a circle in 2D; a cylinder (infinite, of this axis) is 3D. */
+ND_EXPORT int nd_problem_add_contact_sphere(nd_problem p, int region, const double *center, double radius,
+                                            int inside);
+ND_EXPORT int nd_problem_add_contact_cylinder(nd_problem p, int region, const double *point, const double *axis,
+                                              double radius, int inside);
+/* The signed distance (positive on the body's side) and the unit normal from
+   the obstacle towards the body at x and time t (dim values each); non-zero:
+   the step fails with ND_ERR_CALLBACK and is not taken. */
+typedef int (*nd_distance_fn)(double t, const double *x, double *distance, double *normal, void *user);
+ND_EXPORT int nd_problem_add_contact_distance(nd_problem p, int region, nd_distance_fn f, void *user);
+/* Places the region's obstacle `index` (0-based, in the order added; the
+   plane moves with nd_problem_set_contact_plane) at x -> R x + translation
+   relative to its definition (rotation: dim x dim row-major, NULL: none):
+   where it is at t^{n+1} of the next step (before the first step, a first
+   call gives t^0's pose, a second t^1's). */
+ND_EXPORT int nd_problem_move_obstacle(nd_problem p, int region, int index, const double *translation,
+                                       const double *rotation);
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);
 /* Extra force per FE node (n = node count, n*dim values), e.g. from a coupled

@@ -770,6 +770,71 @@ static void contact_bar_displacement(double normal, double *u) {
   EXPECT_OK(nd_problem_destroy(&p));
 }
 
+/* the obstacles: sphere, cylinder, distance callback, motion */
+static int unit_up(double t, const double *x, double *d, double *nu, void *user) {
+  (void)t, (void)user;
+  *d = x[1];
+  nu[0] = 0, nu[1] = 1;
+  return 0;
+}
+
+START_TEST(problem_obstacles) {
+  const double zero[3] = {0, 0, 0}, c[2] = {0.5, -1}, nan = NAN, inf = INFINITY, ax[3] = {1, 0, 0};
+  const double bad[2] = {nan, 0};
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, zero, 1, 0), ND_ERR_DIMENSION, "nd_problem_add_contact_sphere",
+             "plane");
+  EXPECT_ERR(nd_problem_add_contact_distance(p, 1, unit_up, NULL), ND_ERR_DIMENSION,
+             "nd_problem_add_contact_distance", "plane");
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  p = problem_2d();
+  EXPECT_ERR(nd_problem_add_contact_sphere(NULL, 1, c, 1, 0), ND_ERR_NULL, "nd_problem_add_contact_sphere", "p");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, NULL, 1, 0), ND_ERR_NULL, "nd_problem_add_contact_sphere",
+             "center");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, bad, 1, 0), ND_ERR_NONFINITE, "nd_problem_add_contact_sphere",
+             "center");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, c, inf, 0), ND_ERR_NONFINITE, "nd_problem_add_contact_sphere",
+             "radius");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, c, 0, 0), ND_ERR_VALUE, "nd_problem_add_contact_sphere", "radius");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, c, -1, 0), ND_ERR_VALUE, "nd_problem_add_contact_sphere", "radius");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 1, c, 1, 2), ND_ERR_VALUE, "nd_problem_add_contact_sphere", "inside");
+  EXPECT_ERR(nd_problem_add_contact_sphere(p, 7, c, 1, 0), ND_ERR_REGION, "nd_problem_add_contact_sphere",
+             "region 7");
+  EXPECT_ERR(nd_problem_add_contact_cylinder(p, 1, zero, ax, 1, 0), ND_ERR_DIMENSION,
+             "nd_problem_add_contact_cylinder", "3D");
+  EXPECT_ERR(nd_problem_add_contact_cylinder(p, 1, NULL, ax, 1, 0), ND_ERR_NULL, "nd_problem_add_contact_cylinder",
+             "point");
+  EXPECT_ERR(nd_problem_add_contact_cylinder(p, 1, zero, NULL, 1, 0), ND_ERR_NULL,
+             "nd_problem_add_contact_cylinder", "axis");
+  EXPECT_ERR(nd_problem_add_contact_cylinder(p, 1, zero, ax, nan, 0), ND_ERR_NONFINITE,
+             "nd_problem_add_contact_cylinder", "radius");
+  EXPECT_ERR(nd_problem_add_contact_cylinder(p, 1, zero, ax, 1, -1), ND_ERR_VALUE,
+             "nd_problem_add_contact_cylinder", "inside");
+  EXPECT_ERR(nd_problem_add_contact_distance(p, 1, NULL, NULL), ND_ERR_NULL, "nd_problem_add_contact_distance", "f");
+  EXPECT_ERR(nd_problem_add_contact_distance(p, 7, unit_up, NULL), ND_ERR_REGION, "nd_problem_add_contact_distance",
+             "region 7");
+  /* nothing to move yet */
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, zero, NULL), ND_ERR_INDEX, "nd_problem_move_obstacle", "index 0");
+  EXPECT_OK(nd_problem_add_contact_sphere(p, 1, c, 1, 0));
+  EXPECT_ERR(nd_problem_move_obstacle(NULL, 1, 0, zero, NULL), ND_ERR_NULL, "nd_problem_move_obstacle", "p");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, NULL, NULL), ND_ERR_NULL, "nd_problem_move_obstacle", "translation");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, bad, NULL), ND_ERR_NONFINITE, "nd_problem_move_obstacle",
+             "translation");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 1, zero, NULL), ND_ERR_INDEX, "nd_problem_move_obstacle", "index 1");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, -1, zero, NULL), ND_ERR_INDEX, "nd_problem_move_obstacle", "index -1");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 2, 0, zero, NULL), ND_ERR_INDEX, "nd_problem_move_obstacle", "region 2");
+  const double shear[4] = {1, 0.5, 0, 1}, mirror[4] = {1, 0, 0, -1}, rnan[4] = {1, 0, nan, 1};
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, zero, shear), ND_ERR_VALUE, "nd_problem_move_obstacle", "rotation");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, zero, mirror), ND_ERR_VALUE, "nd_problem_move_obstacle", "rotation");
+  EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, zero, rnan), ND_ERR_NONFINITE, "nd_problem_move_obstacle",
+             "rotation");
+  const double quarter[4] = {0, -1, 1, 0};
+  EXPECT_OK(nd_problem_move_obstacle(p, 1, 0, zero, quarter));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(problem_contact_normal_scale) {
   const double normal = _i == 0 ? 1e200 : 1e-200;
   double u_ref[21], u[21];
@@ -1307,6 +1372,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_scheme);
   tcase_add_test(def, problem_regions_and_loads);
   tcase_add_loop_test(def, problem_contact_normal_scale, 0, 2);
+  tcase_add_test(def, problem_obstacles);
   tcase_add_test(def, problem_newton_solver);
   tcase_add_test(def, problem_guards);
   suite_add_tcase(s, def);

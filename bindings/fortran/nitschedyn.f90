@@ -36,6 +36,8 @@ module nitschedyn
             nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy
   public :: nd_problem_create, nd_problem_set_material, nd_problem_set_dirichlet, &
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
+            nd_problem_add_contact_sphere, nd_problem_add_contact_cylinder, nd_problem_add_contact_distance, &
+            nd_problem_move_obstacle, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
             nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_mass_redistribution, nd_problem_set_linear_solver, &
             nd_problem_set_comm_f, nd_problem_set_distributed_state, &
@@ -54,7 +56,7 @@ module nitschedyn
   public :: nd_problem_get_matrix, nd_problem_get_dof_map, nd_problem_get_load, nd_problem_get_cells
   public :: nd_problem_contact_residual, nd_problem_contact_tangent, nd_problem_contact_values
   ! ---- the monitor's interface and the Fortran string wrappers --------------
-  public :: nd_monitor_fn
+  public :: nd_monitor_fn, nd_distance_fn
   public :: nd_last_error_f, nd_strerror_f, nd_mesh_read_gmsh_f, nd_problem_write_vtu_f, nd_write_pvd_f
 
   abstract interface
@@ -68,6 +70,23 @@ module nitschedyn
       type(c_ptr), value :: p, userdata
       integer(c_int) :: stop_run
     end function nd_monitor_fn
+    ! A user's obstacle (nd_problem_add_contact_distance): the signed distance
+    ! d (positive on the body's side) and the unit normal nu from the obstacle
+    ! towards the body at x and time t; non-zero fails the step. Write it
+    !   integer(c_int) function my_distance(t, x, d, nu, user) bind(C)
+    !     real(c_double), value :: t
+    !     real(c_double), intent(in) :: x(*)
+    !     real(c_double), intent(out) :: d, nu(*)
+    !     type(c_ptr), value :: user
+    ! and pass c_funloc(my_distance).
+    function nd_distance_fn(t, x, d, nu, user) result(status) bind(C)
+      import :: c_int, c_double, c_ptr
+      real(c_double), value :: t
+      real(c_double), intent(in) :: x(*)
+      real(c_double), intent(out) :: d, nu(*)
+      type(c_ptr), value :: user
+      integer(c_int) :: status
+    end function nd_distance_fn
   end interface
 
   interface
@@ -259,6 +278,49 @@ module nitschedyn
       real(c_double), intent(in) :: point(*), normal(*)
       integer(c_int) :: status
     end function nd_problem_set_contact_plane
+
+    function nd_problem_add_contact_sphere(p, region, center, radius, inside) result(status) &
+        bind(C, name='nd_problem_add_contact_sphere')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region, inside
+      real(c_double), intent(in) :: center(*)
+      real(c_double), value :: radius
+      integer(c_int) :: status
+    end function nd_problem_add_contact_sphere
+
+    function nd_problem_add_contact_cylinder(p, region, point, axis, radius, inside) result(status) &
+        bind(C, name='nd_problem_add_contact_cylinder')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region, inside
+      real(c_double), intent(in) :: point(*), axis(*)
+      real(c_double), value :: radius
+      integer(c_int) :: status
+    end function nd_problem_add_contact_cylinder
+
+    ! f = c_funloc(g) of a procedure with the interface nd_distance_fn
+    function nd_problem_add_contact_distance(p, region, f, user) result(status) &
+        bind(C, name='nd_problem_add_contact_distance')
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region
+      type(c_funptr), value :: f
+      type(c_ptr), value :: user
+      integer(c_int) :: status
+    end function nd_problem_add_contact_distance
+
+    ! rotation: dim x dim, row-major (the transpose of a Fortran array R(i, j)
+    ! as stored: pass transpose(R), or reshape in row order); absent: none
+    function nd_problem_move_obstacle(p, region, index, translation, rotation) result(status) &
+        bind(C, name='nd_problem_move_obstacle')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region, index
+      real(c_double), intent(in) :: translation(*)
+      real(c_double), intent(in), optional :: rotation(*)
+      integer(c_int) :: status
+    end function nd_problem_move_obstacle
 
     function nd_problem_set_nitsche(p, theta, gamma0) result(status) bind(C, name='nd_problem_set_nitsche')
       import :: c_int, c_double, c_ptr

@@ -108,6 +108,8 @@ _pint, _pi64, _pdbl, _pptr = (ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctype
                               ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_void_p))
 _str = ctypes.c_char_p
 MONITOR = ctypes.CFUNCTYPE(_int, _ptr, _ptr)  # int (*)(nd_problem, void *)
+# nd_distance_fn: int (*)(double t, const double *x, double *distance, double *normal, void *user)
+DISTANCE = ctypes.CFUNCTYPE(_int, _dbl, _pdbl, _pdbl, _pdbl, _ptr)
 
 # every function of nitschedyn.h: name -> (result, argument types); handles
 # are void *, nd_mesh * and nd_problem * are void **
@@ -135,6 +137,10 @@ _PROTOTYPES = {
     "nd_problem_set_body_force": (_int, [_ptr, _pdbl]),
     "nd_problem_set_neumann": (_int, [_ptr, _int, _pdbl]),
     "nd_problem_set_contact_plane": (_int, [_ptr, _int, _pdbl, _pdbl]),
+    "nd_problem_add_contact_sphere": (_int, [_ptr, _int, _pdbl, _dbl, _int]),
+    "nd_problem_add_contact_cylinder": (_int, [_ptr, _int, _pdbl, _pdbl, _dbl, _int]),
+    "nd_problem_add_contact_distance": (_int, [_ptr, _int, DISTANCE, _ptr]),
+    "nd_problem_move_obstacle": (_int, [_ptr, _int, _int, _pdbl, _pdbl]),
     "nd_problem_set_nitsche": (_int, [_ptr, _dbl, _dbl]),
     "nd_problem_set_scheme": (_int, [_ptr, _int, _pdbl]),
     "nd_problem_set_nodal_forces": (_int, [_ptr, _i64, _pdbl]),
@@ -398,6 +404,7 @@ class Problem(_Handle):
         self.dim = mesh.dimension
         self._monitor = None  # the ctypes callback, kept alive
         self._monitor_error = None
+        self._distances = []  # the ctypes callbacks of the distance obstacles, kept alive
         _check(lib.nd_problem_create(mesh.handle, degree, ctypes.byref(self._h)))
 
     def _vector(self, values, what):
@@ -422,6 +429,51 @@ class Problem(_Handle):
     def set_contact_plane(self, region, point, normal):
         _check(lib.nd_problem_set_contact_plane(self._h, region, _dptr(self._vector(point, "point")),
                                                 _dptr(self._vector(normal, "normal"))))
+
+    def add_contact_sphere(self, region, center, radius, inside=False):
+        """Another obstacle of the region: a sphere (a circle in 2D); inside:
+        the body within it (a bowl). At each contact point the nearest acts."""
+        _check(lib.nd_problem_add_contact_sphere(self._h, region, _dptr(self._vector(center, "center")), radius,
+                                                 1 if inside else 0))
+
+    def add_contact_cylinder(self, region, point, axis, radius, inside=False):
+        """Another obstacle of the region (3D): the circular cylinder of this
+        axis through point."""
+        _check(lib.nd_problem_add_contact_cylinder(self._h, region, _dptr(self._vector(point, "point")),
+                                                   _dptr(self._vector(axis, "axis")), radius, 1 if inside else 0))
+
+    def add_contact_distance(self, region, fn):
+        """Another obstacle of the region: fn(t, x) -> (distance, normal), x
+        and normal dim values, the signed distance positive on the body's
+        side and the unit normal from the obstacle towards the body. An
+        exception raised by fn fails the step (ND_ERR_CALLBACK) and is
+        raised again by step()."""
+        dim = self.dim
+
+        def trampoline(t, x, d, nu, _user):
+            try:
+                dist, normal = fn(t, np.ctypeslib.as_array(x, shape=(dim,)).copy())
+                normal = np.asarray(normal, dtype=np.float64).reshape(-1)
+                if normal.size != dim:
+                    raise ValueError("the distance callback's normal has %d values, expected %d" % (normal.size, dim))
+                d[0] = float(dist)
+                for k in range(dim):
+                    nu[k] = normal[k]
+                return 0
+            except BaseException as e:  # noqa: B902 - carried to step()
+                self._monitor_error = e
+                return 1
+        cb = DISTANCE(trampoline)
+        _check(lib.nd_problem_add_contact_distance(self._h, region, cb, None))
+        self._distances.append(cb)
+
+    def move_obstacle(self, region, index, translation, rotation=None):
+        """Places the region's added obstacle `index` (0-based) at x -> R x +
+        translation from its definition (rotation: dim x dim, None: none),
+        where it is at t^{n+1} of the next step."""
+        r = None if rotation is None else _doubles(rotation, self.dim * self.dim, "rotation")
+        _check(lib.nd_problem_move_obstacle(self._h, region, index, _dptr(self._vector(translation, "translation")),
+                                            _dptr(r)))
 
     def set_nitsche(self, theta, gamma0):
         _check(lib.nd_problem_set_nitsche(self._h, theta, gamma0))
@@ -565,7 +617,13 @@ class Problem(_Handle):
         stop (the step is kept). Raises Error when the step failed (the
         problem is then unchanged)."""
         self._monitor_error = None
-        status = _check(lib.nd_step(self._h))
+        try:
+            status = _check(lib.nd_step(self._h))
+        except Error:
+            if self._monitor_error is not None:  # a distance callback's exception: the cause
+                e, self._monitor_error = self._monitor_error, None
+                raise e
+            raise
         if self._monitor_error is not None:
             e, self._monitor_error = self._monitor_error, None
             raise e

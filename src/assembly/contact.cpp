@@ -10,6 +10,19 @@ namespace nd {
 
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
                                const std::vector<ContactPlane> &planes, double gamma0) {
+  std::vector<int> regions, plane_of;
+  for (size_t ip = 0; ip < planes.size(); ++ip) regions.push_back(planes[ip].region), plane_of.push_back(int(ip));
+  ContactPoints cp = assemble_contact(sp, dofs, mat, regions, plane_of,
+                                      [&](size_t r, const double *, double *nu) {
+                                        for (int k = 0; k < sp.dim; ++k) nu[k] = planes[r].normal[k];
+                                      },
+                                      gamma0);
+  cp.gap = contact_gaps(cp, planes);
+  return cp;
+}
+
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat, const std::vector<int> &regions,
+                               const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0) {
   ContactPoints cp;
   const int d = sp.dim, nb = sp.basis.n;
   const double lam = mat.lambda(d), mu = mat.mu(d);
@@ -17,16 +30,16 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
   // exact for the polynomial part of every contact integrand.
   const int degree = 2 * sp.degree;
   std::vector<double> phi(nb), gref(nb * d), g(nb * d);
-  for (size_t ip = 0; ip < planes.size(); ++ip) {
-    const ContactPlane &pl = planes[ip];
-    double n[3];
-    for (int k = 0; k < 3; ++k) n[k] = -pl.normal[k];
-    for (int64_t b : sp.mesh->regions.at(pl.region)) {
+  for (size_t ir = 0; ir < regions.size(); ++ir) {
+    for (int64_t b : sp.mesh->regions.at(regions[ir])) {
       const Facet &f = sp.mesh->boundary[b];
       const AffineMap map(*sp.mesh, f.cell);
       const double h = sp.mesh->cell_diameter(f.cell);
       const int64_t *nodes = sp.nodes_of(f.cell);
       for (const FacetPoint &fp : facet_quadrature(*sp.mesh, f, degree)) {
+        double nu[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+        normal_of(ir, fp.x, nu);
+        for (int k = 0; k < 3; ++k) n[k] = -nu[k];
         sp.basis.values(fp.xi, phi.data());
         sp.basis.gradients(fp.xi, gref.data());
         for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
@@ -48,7 +61,10 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
         cp.s.push_back(std::move(s));
         cp.a_fixed.push_back(std::move(af));
         cp.s_fixed.push_back(std::move(sf));
-        cp.plane.push_back(static_cast<int>(ip));
+        cp.plane.push_back(plane_of[ir]);
+        cp.region.push_back(regions[ir]);
+        cp.normal.insert(cp.normal.end(), nu, nu + 3);
+        cp.phi.insert(cp.phi.end(), phi.begin(), phi.end());
         cp.w.push_back(fp.weight);
         cp.gamma.push_back(gamma0 * h);
         cp.h.push_back(h);
@@ -57,7 +73,7 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
       }
     }
   }
-  cp.gap = contact_gaps(cp, planes);
+  cp.gap.assign(cp.size(), 0.0);
   return cp;
 }
 
@@ -107,6 +123,7 @@ std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<Cont
   const size_t d = nq ? cp.x.size() / nq : 0;
   std::vector<double> gap(nq);
   for (size_t q = 0; q < nq; ++q) {
+    if (cp.plane[q] < 0) continue;  // a curved region's point (contact/obstacles.hpp)
     const ContactPlane &pl = planes[cp.plane[q]];
     double g = 0;
     for (size_t k = 0; k < d; ++k) g += (cp.x[q * d + k] - pl.point[k]) * pl.normal[k];

@@ -3,6 +3,7 @@
 // with weight w_q, gamma_q = gamma0 h_K and initial gap g_q. Assembled once.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -37,7 +38,10 @@ struct ContactPoints {
   // the same rows on the clamped DOFs (full DOF indices): the nodal contact
   // force and the reactions need them, the step does not
   std::vector<SparseRow> a_fixed, s_fixed;
-  std::vector<int> plane;                // index into the definition's planes
+  std::vector<int> plane;                // index into the definition's planes; -1: a curved region's point
+  std::vector<int> region;               // the point's region
+  std::vector<double> normal;            // nu_q = -n_q, 3 per point: what the rows were made with
+  std::vector<double> phi;               // the basis values at the point (basis.n each): u_q(U) (contact/obstacles.hpp)
   std::vector<double> w, gamma, gap, x;  // x: n * dim
   std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
   std::vector<int64_t> facet;            // index into Mesh::boundary
@@ -76,6 +80,15 @@ std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<Cont
 // nu, dofs and the runs, with the gammas the points have now
 void set_bounds(ContactPoints &cp);
 
+// The points of each region of `regions`, in that order; plane_of[r] the
+// index of regions[r]'s plane when its gaps have the closed form
+// (contact_gaps), -1 otherwise (gaps 0 here: contact/obstacles.hpp), and
+// normal_of(r, x, nu) the unit normal nu_q (from the obstacle towards the
+// body) of the next point of regions[r], at x: its rows hold n_q = -nu_q.
+using NormalOf = std::function<void(size_t r, const double *x, double *nu)>;
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat, const std::vector<int> &regions,
+                               const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0);
+// the planes alone (each region's plane's normal)
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
                                const std::vector<ContactPlane> &planes, double gamma0);
 

@@ -11,9 +11,15 @@
 namespace nd {
 
 std::vector<char> contact_nodes(const Space &s, const std::vector<ContactPlane> &planes) {
+  std::vector<int> regions;
+  for (const ContactPlane &pl : planes) regions.push_back(pl.region);
+  return contact_nodes(s, regions);
+}
+
+std::vector<char> contact_nodes(const Space &s, const std::vector<int> &regions) {
   std::vector<char> on(static_cast<size_t>(s.n_nodes), 0);
-  for (const ContactPlane &pl : planes)
-    for (int64_t b : s.mesh->regions.at(pl.region))
+  for (int region : regions)
+    for (int64_t b : s.mesh->regions.at(region))
       for (int64_t node : s.facet_nodes(s.mesh->boundary[b])) on[node] = 1;
   return on;
 }

@@ -20,6 +20,8 @@ namespace nd {
 
 // 1 for the FE nodes on the facets of the planes' regions, else 0 (n_nodes).
 std::vector<char> contact_nodes(const Space &s, const std::vector<ContactPlane> &planes);
+// the same for the facets of these regions
+std::vector<char> contact_nodes(const Space &s, const std::vector<int> &regions);
 
 // Replaces the element mass `me` (nb x nb, row-major) of `cell` by the
 // redistributed one; unchanged when the cell has no contact node. Throws

@@ -4,6 +4,7 @@
 
 #include "capi/guard.hpp"
 #include "capi/handles.hpp"
+#include "contact/obstacle.hpp"
 #include "linalg/factorization.hpp"
 
 namespace {
@@ -83,6 +84,68 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
     nd::need_finite(point, pr.space().dim, "point");
     nd::need_finite(normal, pr.space().dim, "normal");
     pr.set_contact_plane(region, point, normal);
+    return ND_OK;
+  });
+}
+
+namespace {
+void need_inside(int inside) {
+  need_range(inside == 0 || inside == 1, ND_ERR_VALUE,
+             "inside is " + std::to_string(inside) + "; it must be 0 (the body outside) or 1 (inside the shell)");
+}
+}  // namespace
+
+ND_EXPORT int nd_problem_add_contact_sphere(nd_problem p, int region, const double *center, double radius,
+                                            int inside) {
+  return nd::guarded("nd_problem_add_contact_sphere", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    const int d = pr.space().dim;
+    nd::need(center, "center");
+    nd::need_finite(center, d, "center");
+    nd::need_finite(&radius, 1, "radius");
+    need_inside(inside);
+    pr.add_obstacle(region, nd::make_sphere(center, radius, inside == 1, d));
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_add_contact_cylinder(nd_problem p, int region, const double *point, const double *axis,
+                                              double radius, int inside) {
+  return nd::guarded("nd_problem_add_contact_cylinder", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    const int d = pr.space().dim;
+    nd::need(point, "point");
+    nd::need(axis, "axis");
+    nd::need_finite(point, d, "point");
+    nd::need_finite(axis, d, "axis");
+    nd::need_finite(&radius, 1, "radius");
+    need_inside(inside);
+    pr.add_obstacle(region, nd::make_cylinder(point, axis, radius, inside == 1, d));
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_add_contact_distance(nd_problem p, int region, nd_distance_fn f, void *user) {
+  return nd::guarded("nd_problem_add_contact_distance", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(reinterpret_cast<const void *>(f), "f");
+    if (pr.space().dim < 2)
+      nd::fail(ND_ERR_DIMENSION, "a distance callback needs a 2D or 3D mesh; in 1D the obstacle is a plane "
+                                 "(nd_problem_set_contact_plane)");
+    pr.add_obstacle(region, nd::make_distance(f, user, pr.space().dim));
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_move_obstacle(nd_problem p, int region, int index, const double *translation,
+                                       const double *rotation) {
+  return nd::guarded("nd_problem_move_obstacle", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    const int d = pr.space().dim;
+    nd::need(translation, "translation");
+    nd::need_finite(translation, d, "translation");
+    if (rotation) nd::need_finite(rotation, d * d, "rotation");
+    pr.move_obstacle(region, index, translation, rotation);
     return ND_OK;
   });
 }

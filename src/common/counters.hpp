@@ -36,6 +36,7 @@ struct Counters {
   // steps whose first Newton iteration kept the last step's tangent (the
   // updated factor, solve/tangent_updown.cpp: kLagSolves)
   int64_t lagged_steps = 0;
+  int64_t normal_refreshes = 0;  // curved obstacles: points whose frozen normal was made again
   // the updated factor's rank-one modifications (columns updated or
   // downdated), and their work: the entries of L times the vectors that
   // rotated them (UpdatableCholesky::modified_entries)

@@ -22,8 +22,11 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // size; 5: the history's room grows with the contact points
 // (updown_max_updates), from 256 columns; 6: the definition's fingerprints
 // (DefinitionPrint) open the payload, and every field is checked for its
-// meaning (versions 3 to 5 are still read, without the definition's check)
-constexpr uint32_t kVersion = 6;
+// meaning (versions 3 to 5 are still read, without the definition's check);
+// 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
+// and the obstacles' positions at t^n follow (without, version 6 is written)
+constexpr uint32_t kVersion = 7;
+uint32_t version_for(const StateSizes &sizes) { return sizes.n_positions > 0 ? 7 : 6; }
 
 class Writer {
  public:
@@ -159,6 +162,9 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
     Hash h;
     h.value(static_cast<uint64_t>(planes.size()));
     for (const ContactPlane *pl : planes) h.value(pl->region), h.bytes(pl->normal, sizeof pl->normal);
+    // the added obstacles, by what they are (where they are may change, as a plane's point)
+    if (!def.obstacles.empty()) h.value(static_cast<uint64_t>(def.obstacles.size()));
+    for (const Obstacle &o : def.obstacles) h.value(o.region), o.shape->fingerprint(h);
     done(kPrintPlanes, h);
   }
   return print;
@@ -218,11 +224,16 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.value(s.W_obstacle);
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
-  payload.padded(s.tangent_log.i, log_indices(n_contact, kVersion));
-  payload.padded(s.tangent_log.x, log_values(n_contact, kVersion));
+  const uint32_t version = version_for(sizes);
+  payload.padded(s.tangent_log.i, log_indices(n_contact, version));
+  payload.padded(s.tangent_log.x, log_values(n_contact, version));
+  if (version >= 7) {
+    payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
+    payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
+  }
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
-  w.value(kVersion);
+  w.value(version);
   w.value(uint32_t{0});
   w.value(fingerprint);
   w.value(static_cast<uint64_t>(payload.out.size()));
@@ -272,6 +283,10 @@ int64_t max_state_size(const StateSizes &sizes) {
   s.reaction = s.F_fixed;
   s.gap.resize(static_cast<size_t>(sizes.n_contact));
   s.phi = s.gap;
+  if (sizes.n_positions > 0) {
+    s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
+    s.positions.resize(static_cast<size_t>(sizes.n_positions));
+  }
   return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
 
@@ -283,7 +298,7 @@ const char *const kAspectNames[kPrintAspects] = {
     "time step",
     "mass (lumping, redistribution)",
     "clamped regions (Dirichlet)",
-    "contact planes (regions, normals)",
+    "contact planes and obstacles (regions, normals, shapes)",
 };
 
 // what differs between the checkpoint's definition and the problem's, in
@@ -404,6 +419,15 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }
+  if (head.version >= 7) {
+    s.normal = optional(3 * sizes.n_contact, "frozen contact normals");
+    need_finite(s.normal, "frozen contact normals");
+    s.positions = optional(sizes.n_positions, "obstacles' positions");
+    need_finite(s.positions, "obstacles' positions");
+  }
+  if ((sizes.n_positions > 0) != (head.version >= 7) || (sizes.n_positions > 0 && s.positions.empty()))
+    fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"
+                                             : "the checkpoint has curved obstacles (sphere, cylinder, distance); this problem has none");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
   out = std::move(s);
 }

@@ -49,8 +49,11 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
 // (the fuzz target reseals its inputs with it)
 uint64_t state_checksum(const unsigned char *buf, size_t n);
 // n_free unknowns, n_clamped clamped DOFs, n_contact contact points
+// and n_positions values of the obstacles' positions (curved obstacles,
+// contact/obstacles.hpp; 0: planes alone, whose checkpoints keep version 6)
 struct StateSizes {
   int64_t n_free, n_clamped, n_contact;
+  int64_t n_positions = 0;
 };
 // Every field that may be absent or grow (the load, the reactions, the
 // tangent's history) takes the room of its longest form: a problem's

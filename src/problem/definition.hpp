@@ -12,6 +12,7 @@
 #include "assembly/material.hpp"
 #include "contact/law.hpp"
 #include "common/error.hpp"
+#include "contact/obstacle.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator.hpp"
 #include "solve/contact_columns.hpp"
@@ -33,7 +34,7 @@ enum Aspect : unsigned {
   kInitial = 1u << 9,   // u0, v0
   kNewton = 1u << 10,
   kGuards = 1u << 12,
-  kObstacle = 1u << 13,  // a plane's point moved (same normal): only the gaps change
+  kObstacle = 1u << 13,  // a plane's point moved (same normal), an obstacle's pose: only the gaps change
 };
 
 // What the library checks (docs/design.md §3b); nd_problem_set_guard sets them.
@@ -52,6 +53,8 @@ struct TimeData {
   std::vector<NeumannLoad> neumann;
   std::vector<double> nodal;  // n_dofs, or empty
   std::vector<ContactPlane> planes;
+  // more obstacles of the regions (contact/obstacle.hpp), each with its pose
+  std::vector<Obstacle> obstacles;
 };
 
 struct Definition : TimeData {
@@ -96,7 +99,7 @@ struct Definition : TimeData {
   unsigned missing_for_operators() const {
     unsigned m = 0;
     if (!(given & kMaterial)) m |= kMaterial;
-    if (!planes.empty() && !(given & kNitsche)) m |= kNitsche;
+    if ((!planes.empty() || !obstacles.empty()) && !(given & kNitsche)) m |= kNitsche;
     return m;
   }
   unsigned missing_for_step() const {

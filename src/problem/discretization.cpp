@@ -1,5 +1,7 @@
 #include "problem/discretization.hpp"
 
+#include "contact/obstacles.hpp"
+
 #include <atomic>
 #include <cstdint>
 
@@ -79,8 +81,46 @@ const Share *own_rows_of(const Discretization &d, bool in_step) {
   return in_step || d.rows_split ? d.rows.get() : nullptr;
 }
 
+namespace {
+// The contact points with each one's normal: a plane region's plane's, a
+// curved point's frozen (given) or nearest obstacle's at x_q, the obstacles
+// where the definition places them (t = 0)
+ContactPoints contact_points(const Space &space, const DofMap &dofs, const Definition &def, double gamma0,
+                             const std::vector<double> *frozen) {
+  // without frozen normals: the obstacles as defined (no pose), so that the
+  // normals, and gamma0* from them, depend on the definition alone (a restart
+  // makes the same)
+  std::vector<Obstacle> defined = def.obstacles;
+  for (Obstacle &o : defined) o.pose = Pose{};
+  const std::vector<int> regions = contact_regions(def.planes, def.obstacles);
+  std::vector<int> plane_of(regions.size(), -1);
+  for (size_t r = 0; r < regions.size(); ++r)
+    if (!curved_region(regions[r], def.obstacles))
+      for (size_t ip = 0; ip < def.planes.size(); ++ip)
+        if (def.planes[ip].region == regions[r]) plane_of[r] = static_cast<int>(ip);
+  size_t q = 0;  // (normal_of is called for each point in turn)
+  ContactPoints cp = assemble_contact(
+      space, dofs, def.material, regions, plane_of,
+      [&](size_t r, const double *x, double *nu) {
+        if (plane_of[r] >= 0) {
+          for (int k = 0; k < space.dim; ++k) nu[k] = def.planes[plane_of[r]].normal[k];
+        } else if (frozen) {
+          if (frozen->size() < 3 * (q + 1)) fail(ND_ERR_INTERNAL, "fewer frozen normals than contact points");
+          for (int k = 0; k < space.dim; ++k) nu[k] = (*frozen)[3 * q + k];
+        } else {
+          const Nearest n = nearest(regions[r], def.planes, defined, space.dim, 0.0, x);
+          for (int k = 0; k < space.dim; ++k) nu[k] = n.nu[k];
+        }
+        ++q;
+      },
+      gamma0);
+  cp.gap = contact_gaps(cp, def.planes);
+  return cp;
+}
+}  // namespace
+
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
-                                           const Ownership *own) {
+                                           const Ownership *own, const std::vector<double> *frozen) {
   require_complete(def.missing_for_operators());
   auto d = std::make_unique<Discretization>(DofMap(space, def.dirichlet), def.lumped);
   d->counters = counters;
@@ -96,7 +136,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   count(counters, &Counters::matrix_assemblies, 2);  // M and K in one pass
   std::vector<char> on_contact;
   if (def.redistributed) {
-    on_contact = contact_nodes(space, def.planes);
+    on_contact = contact_nodes(space, contact_regions(def.planes, def.obstacles));
     d->massless.assign(static_cast<size_t>(d->dofs.n_free), 0);
     for (int64_t node = 0; node < space.n_nodes; ++node)
       for (int a = 0; a < space.dim; ++a) {
@@ -116,8 +156,9 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   if (d->contact_law->traits().m != 1)
     fail(ND_ERR_INTERNAL, std::string("the contact law ") + d->contact_law->name() + " has " +
                               std::to_string(d->contact_law->traits().m) + " values per point; the passes hold one");
-  d->contact = assemble_contact(space, d->dofs, def.material, def.planes, automatic ? 1.0 : def.gamma0);
+  d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr);
   d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
+  if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen);
   d->theta = def.theta;
   d->gamma0 = def.gamma0;
   if (automatic && d->contact.size() > 0) {
@@ -145,12 +186,36 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   return d;
 }
 
+std::unique_ptr<Discretization> with_normals(const Space &space, const Definition &def, const Discretization &from,
+                                             const std::vector<double> &frozen) {
+  auto d = std::make_unique<Discretization>(from.dofs, from.lumped);
+  d->counters = from.counters;
+  d->M = from.M, d->M_lumped = from.M_lumped, d->massless = from.massless, d->K = from.K;
+  d->theta = from.theta, d->gamma0 = from.gamma0, d->gamma0_limit = from.gamma0_limit;
+  d->contact_law = from.contact_law;
+  d->rows_split = from.rows_split;
+  d->geometry.dim = space.dim;
+  d->node_blocks = from.node_blocks;  // (K and M by nodes: the same)
+  if (from.clamped) d->clamped = std::make_unique<ClampedRows>(*from.clamped);
+  // the rows with the frozen normals; gamma as the first discretization has it
+  d->contact = contact_points(space, d->dofs, def, d->gamma0, &frozen);
+  for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = from.contact.gamma[q];
+  set_bounds(d->contact);
+  require_shared_index_lists(d->contact);
+  count(d->counters, &Counters::matrix_assemblies);
+  d->K_theta = assemble_k_theta(d->K, d->contact, d->theta);
+  if (d->counters)
+    d->counters->matrix_entries = static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size());
+  return d;
+}
+
 Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const Definition &def, const Ownership &own,
                              double c) {
   std::vector<char> cells(static_cast<size_t>(space.mesh->n_cells)), points(d.contact.size());
   for (int64_t cell = 0; cell < space.mesh->n_cells; ++cell) cells[cell] = own.owns_cell(cell);
   for (size_t q = 0; q < points.size(); ++q) points[q] = own.owns_cell(space.mesh->boundary[d.contact.facet[q]].cell);
-  const std::vector<char> on_contact = def.redistributed ? contact_nodes(space, def.planes) : std::vector<char>();
+  const std::vector<char> on_contact =
+      def.redistributed ? contact_nodes(space, contact_regions(def.planes, def.obstacles)) : std::vector<char>();
   BulkOperators bulk = mass_and_stiffness(space, d.dofs, def, &on_contact, AssemblyPart{&cells, nullptr});
   count(d.counters, &Counters::matrix_assemblies);
   add_nitsche_terms(bulk.K, d.contact, d.theta, &points);

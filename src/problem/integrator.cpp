@@ -226,7 +226,8 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   // P(U) with it where it is at t^{n+1} (docs/design.md §8)
   ContactLaw law{&d.contact, d.theta, &scheme, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
   law.point_law = d.contact_law.get();
-  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, old.gap.empty() ? nullptr : old.gap.data(), d.counters};
+  const std::vector<double> &gap_old = at_new.gap_old ? *at_new.gap_old : old.gap;
+  ContactLaw old_law{&d.contact, d.theta, nullptr, nullptr, gap_old.empty() ? nullptr : gap_old.data(), d.counters};
   law.buffers = &in.contact_scratch;
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
   // contact terms read them) and what the right-hand side is made of
@@ -239,8 +240,10 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   const PointReference *ref = old_products.points.ref.get();
   PointValues old_points;
   const bool same_below_zero = same_for_nonpositive_Pn(scheme.contact_rule(), d.contact_law->traits());
-  if (ref && !same_below_zero) {
+  // (curved obstacles: P^n at this step's g^n, not the state's, evaluated)
+  if (at_new.gap_old || (ref && !same_below_zero)) {
     ContactLaw at_old = state_contact_law(d, old);
+    if (at_new.gap_old) at_old.gap = gap_old.empty() ? nullptr : gap_old.data();
     at_old.counters = d.counters;
     at_old.local = true;  // (every rank evaluates every point: no message)
     at_old.P_all(old.U.data(), old_points.P);
@@ -248,7 +251,7 @@ State advance(Integrator &in, Discretization &d, const Definition &def, const St
   }
   law.Pn = ref ? &ref->P : old_points.P.empty() ? &old_products.points.P : &old_points.P;
   if (def.contact_bounds) {
-    const std::vector<double> &Un = ref ? ref->U : old.U, &gap_n = ref ? ref->gap : old.gap;
+    const std::vector<double> &Un = ref ? ref->U : old.U, &gap_n = ref ? ref->gap : gap_old;
     law.Un = Un.data(), law.gap_n = gap_n.empty() ? nullptr : gap_n.data();
     if (ref) law.free_reach_n = ref->free_reach;
   }

@@ -68,9 +68,13 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
 
 // What is prescribed at t^{n+1}: the load on the free DOFs and on the clamped
 // ones (empty: none), and the gaps g_q of the obstacle where it is then.
+// gap_old (curved obstacles, contact/obstacles.hpp): g^n as this step sees
+// it, the obstacles at t^n measured from U^n with this step's normals
+// (null: the old state's gaps, as for planes alone).
 struct StepData {
   std::shared_ptr<const std::vector<double>> F;  // (the next state shares it)
   const std::vector<double> &F_fixed, &gap;
+  const std::vector<double> *gap_old = nullptr;
 };
 
 // The state at t^{n+1} from `old` with the data at t^{n+1}; also the

@@ -20,6 +20,7 @@
 #include "parallel/ownership.hpp"
 #include "parallel/share.hpp"
 #include "problem/forces.hpp"
+#include "contact/obstacles.hpp"
 
 namespace nd {
 
@@ -104,7 +105,8 @@ void Problem::add_dirichlet(int region) {
 }
 
 // what giving() keys a load or a position by: (kind, region)
-enum TimeDataKind { kBodyForce, kNodalForces, kTraction, kObstaclePosition };
+// (an added obstacle's pose: kObstaclePose + its index in Definition::obstacles)
+enum TimeDataKind { kBodyForce, kNodalForces, kTraction, kObstaclePosition, kObstaclePose };
 
 void Problem::giving(std::pair<int, int> what) {
   const bool before_first_step = !setup_done_ && !(state_ready_ && state_.n > 0);
@@ -177,6 +179,53 @@ void Problem::set_contact_plane(int region, const double *point, const double *n
   if (start_) put_plane(start_->planes, pl);
   put_plane(def_.planes, pl);
   changed(kContact);
+}
+
+void Problem::add_obstacle(int region, std::shared_ptr<const Shape> shape) {
+  require_region(region, "contact");
+  const Obstacle o{region, std::move(shape), Pose{}};
+  // a new obstacle, not a motion: it holds from t^0 on
+  given_.insert({kObstaclePose + static_cast<int>(def_.obstacles.size()), region});
+  if (start_) start_->obstacles.push_back(o);
+  def_.obstacles.push_back(o);
+  changed(kContact);
+}
+
+void Problem::move_obstacle(int region, int index, const double *translation, const double *rotation) {
+  const int d = space_.dim;
+  int seen = -1;
+  size_t at = def_.obstacles.size();
+  for (size_t i = 0; i < def_.obstacles.size() && at == def_.obstacles.size(); ++i)
+    if (def_.obstacles[i].region == region && ++seen == index) at = i;
+  if (at == def_.obstacles.size())
+    fail(ND_ERR_INDEX, "index " + std::to_string(index) + ": region " + std::to_string(region) + " has " +
+                           std::to_string(seen + 1) + " added obstacle(s) (indices from 0, in the order added; "
+                           "its plane moves with nd_problem_set_contact_plane)");
+  Pose pose;
+  for (int k = 0; k < d; ++k) pose.t[k] = translation[k];
+  if (rotation) {
+    for (int i = 0; i < d; ++i)
+      for (int k = 0; k < d; ++k) pose.R[i * 3 + k] = rotation[i * d + k];
+    // a rotation: R^T R = I and det R = +1, to round-off
+    double worst = 0;
+    for (int i = 0; i < d; ++i)
+      for (int k = 0; k < d; ++k) {
+        double rr = 0;
+        for (int j = 0; j < d; ++j) rr += pose.R[j * 3 + i] * pose.R[j * 3 + k];
+        worst = std::max(worst, std::fabs(rr - (i == k ? 1 : 0)));
+      }
+    const double *R = pose.R;
+    const double det = d == 2 ? R[0] * R[4] - R[1] * R[3]
+                              : R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
+                                    R[2] * (R[3] * R[7] - R[4] * R[6]);
+    if (!(worst <= kRotationTolerance) || !(det > 0))
+      fail(ND_ERR_VALUE, "rotation is not a rotation matrix (R^T R = I to " + num(worst) + ", det " + num(det) +
+                             "): give a proper orthogonal " + std::to_string(d) + "x" + std::to_string(d) +
+                             " matrix, row-major");
+  }
+  giving({kObstaclePose + static_cast<int>(at), region});
+  def_.obstacles[at].pose = pose;
+  changed(kObstacle);
 }
 
 void Problem::set_nitsche(double theta, double gamma0) {
@@ -283,7 +332,16 @@ Discretization &Problem::discretization_() {
   require_blas_buffer();  // (before any BLAS call: the element eigenproblems of the assembly are the first)
   // operators split over other ranks (another communicator) are made again
   if (disc_ && disc_->rows_split && disc_->geometry.row_end >= 0 && disc_->geometry.comm != def_.comm) disc_.reset();
-  if (!disc_) disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr);
+  if (!disc_) {
+    // curved obstacles: the rows hold the state's frozen normals (a step's
+    // refresh gives its own), unless the obstacles were redefined since
+    const std::vector<double> *frozen = refreshed_normals_;
+    if (!frozen && state_ready_ && !obstacle_redefined_ && !state_.normal.empty()) frozen = &state_.normal;
+    if (refreshed_normals_ && refresh_from_)  // (only the contact rows and K_Theta change)
+      disc_ = with_normals(space_, def_, *refresh_from_, *refreshed_normals_);
+    else
+      disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr, frozen);
+  }
   DofGeometry &g = disc_->geometry;
   if (g.row_end < 0 || g.comm != def_.comm) {
     g.comm = def_.comm;  // the factorizations' ranks
@@ -324,7 +382,11 @@ Discretization &Problem::discretization_() {
     else locate_unknowns(space_, disc_->dofs, g);
   }
   // another obstacle (not a motion of this one): its gaps hold from t^n on
-  if (obstacle_redefined_ && state_ready_) state_.gap = disc_->contact.gap;
+  if (obstacle_redefined_ && state_ready_) {
+    state_.gap = disc_->contact.gap;
+    obstacle_redefined_ = false;
+    curved_gaps(state_, *disc_, def_);
+  }
   obstacle_redefined_ = false;
   return *disc_;
 }
@@ -400,15 +462,29 @@ const State &Problem::state() {
       s.F = with_nodal(std::make_shared<const std::vector<double>>(constant_load(space_, d, d0)), d0.nodal);
       if (d.clamped) s.F_fixed = clamped_load(space_, *d.clamped, d0);
       s.gap = contact_gaps(d.contact, d0.planes);
+      curved_gaps(s, d, d0);
     } else {
       s.F = current_load();
       s.F_fixed = clamped_load_();
       s.gap = current_gaps();
+      curved_gaps(s, d, def_);
     }
     state_ = std::move(s);
     state_ready_ = true;
   }
   return state_;
+}
+
+void Problem::curved_gaps(State &s, const Discretization &d, const TimeData &at) {
+  if (at.obstacles.empty()) {
+    s.normal.clear(), s.positions.clear();
+    return;
+  }
+  // the rows' normals, the obstacles where `at` places them now, g = g^n
+  s.normal = d.contact.normal;
+  s.positions = positions(at.planes, at.obstacles);
+  const StepPlaces here{at.planes, at.obstacles, s.t};
+  s.gap = step_geometry(space_, d.dofs, d.contact, here, here, s.U, s.normal, s.gap, s.gap, false).gap;
 }
 
 void Problem::complete_state() {
@@ -473,20 +549,63 @@ void Problem::prepare() {
   setup_done_ = true;
 }
 
+// The gaps of the next step and the frozen normals after the refresh rule,
+// the obstacles where the state had them at t^n and where the definition
+// has them at t^{n+1} (contact/obstacles.hpp)
+StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
+  std::vector<ContactPlane> planes_n = def_.planes;
+  std::vector<Obstacle> obstacles_n = def_.obstacles;
+  place(planes_n, obstacles_n, state_.positions);
+  const State &s = state_;
+  const double tau = def_.tau;  // (t^{n+1} as advance computes it)
+  const double t_new = s.tau_ref != tau ? s.t + tau : s.t_ref + static_cast<double>(s.n + 1 - s.n_ref) * tau;
+  StepGeometry geo = step_geometry(space_, disc_->dofs, disc_->contact, {def_.planes, def_.obstacles, t_new},
+                                   {planes_n, obstacles_n, s.t}, s.U, s.normal, plane_gaps, s.gap, true);
+  count(counters_.get(), &Counters::normal_refreshes, geo.refreshed);
+  return geo;
+}
+
 void Problem::step() {
   agree_on_inputs();
   State next;
-  // every rank commits the step or none does
-  nd::on_every_rank(
-      def_.comm.get(),
-      [&] {
+  // a refresh of the curved points' normals makes the operators again; a
+  // failed step gives the old ones back, with the state they belong to
+  std::unique_ptr<Discretization> kept_disc;
+  std::unique_ptr<Integrator> kept_integrator;
+  auto body = [&] {
+    prepare();
+    const std::vector<double> *gap = &current_gaps();
+    StepGeometry geo;
+    const bool curved = !def_.obstacles.empty();
+    if (curved) {
+      geo = curved_geometry(*gap);
+      if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
+        kept_disc = std::move(disc_);
+        kept_integrator = std::move(integrator_);
+        refreshed_normals_ = &geo.normal;
+        refresh_from_ = kept_disc.get();
         prepare();
-        const std::vector<double> &gap = current_gaps();
-        next = advance(*integrator_, *disc_, def_, state_, StepData{current_load(), clamped_load_(), gap},
-                       std::move(spare_));
-        guard_step(*disc_, def_.guards, state_, next);
-      },
-      "the step", "no rank took it");
+        refreshed_normals_ = nullptr;
+        refresh_from_ = nullptr;
+      }
+      gap = &geo.gap;
+    }
+    next = advance(*integrator_, *disc_, def_, state_,
+                   StepData{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr}, std::move(spare_));
+    if (curved) next.normal = std::move(geo.normal), next.positions = positions(def_.planes, def_.obstacles);
+    else next.normal.clear(), next.positions.clear();
+    guard_step(*disc_, def_.guards, state_, next);
+  };
+  try {
+    // every rank commits the step or none does (one reference captured:
+    // the std::function holds it without allocating)
+    nd::on_every_rank(def_.comm.get(), std::ref(body), "the step", "no rank took it");
+  } catch (...) {
+    refreshed_normals_ = nullptr;
+    refresh_from_ = nullptr;
+    if (kept_disc) disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
+    throw;
+  }
   spare_ = std::move(state_);  // its memory serves the next step's state
   state_ = std::move(next);
 }
@@ -535,6 +654,11 @@ uint64_t Problem::inputs_digest() const {
     for (const NeumannLoad &l : t.neumann) h.value(l.region), h.bytes(l.g, sizeof l.g);
     for (const ContactPlane &p : t.planes)
       h.value(p.region), h.bytes(p.point, sizeof p.point), h.bytes(p.normal, sizeof p.normal);
+    for (const Obstacle &o : t.obstacles) {
+      h.value(o.region);
+      o.shape->fingerprint(h);
+      h.bytes(o.pose.R, sizeof o.pose.R), h.bytes(o.pose.t, sizeof o.pose.t);
+    }
     h.vec(t.nodal);
   };
   time_data(d);
@@ -547,6 +671,7 @@ uint64_t Problem::inputs_digest() const {
   // (a partial state differs between ranks off their rows; the steps that
   // made it were agreed)
   if (state_ready_ && !state_.partial) h.vec(state_.U), h.vec(state_.V);
+  if (state_ready_) h.vec(state_.normal), h.vec(state_.positions);
   h.value(d.distributed_state);
   return h.h;
 }
@@ -625,15 +750,19 @@ std::vector<unsigned char> Problem::save_state() {
 StateSizes Problem::state_sizes() {
   Discretization &d = discretization_();
   return {d.dofs.n_free, d.clamped ? static_cast<int64_t>(d.clamped->dofs.size()) : 0,
-          static_cast<int64_t>(d.contact.size())};
+          static_cast<int64_t>(d.contact.size()),
+          def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size())};
 }
 
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   Discretization &d = discretization_();
   State s;
   decode_state(buf, nbytes, state_fingerprint(space_, d), definition_print(def_, d), state_sizes(), s);
+  // curved obstacles: the operators are made again with the checkpoint's normals
+  const bool other_rows = !s.normal.empty() && s.normal != d.contact.normal;
   state_ = std::move(s);
   state_ready_ = true;
+  if (other_rows) disc_.reset(), integrator_.reset();
   setup_done_ = state_.n > 0;
   // the checkpoint holds F^n: at n = 0 the loads given now are t^1's
   if (state_.n == 0 && !start_) start_ = std::make_unique<TimeData>(def_);
@@ -784,6 +913,7 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_LAGGED_STEPS, &Counters::lagged_steps},
     {ND_STAT_FACTOR_MODIFICATIONS, &Counters::factor_modifications},
     {ND_STAT_FACTOR_MODIFIED_ENTRIES, &Counters::factor_modified_entries},
+    {ND_STAT_NORMAL_REFRESHES, &Counters::normal_refreshes},
 };
 }  // namespace
 

@@ -13,6 +13,7 @@
 
 #include "fem/space.hpp"
 #include "parallel/ownership.hpp"
+#include "contact/obstacles.hpp"
 #include "problem/definition.hpp"
 #include "problem/checkpoint.hpp"
 #include "problem/discretization.hpp"
@@ -33,6 +34,14 @@ class Problem {
   // only the point moves (the gaps change, nothing is rebuilt); after setup
   // the new point is where the obstacle is at t^{n+1} of the next step.
   void set_contact_plane(int region, const double *point, const double *normal);
+  // Another rigid obstacle of the region (contact/obstacle.hpp), at its
+  // definition's place until moved; at each point the nearest acts.
+  void add_obstacle(int region, std::shared_ptr<const Shape> shape);
+  // The region's obstacle `index` (0-based among those added) at x -> R x +
+  // translation from its definition (rotation: dim x dim row-major, or
+  // null); like a plane's point, where it is at t^{n+1} of the next step.
+  void move_obstacle(int region, int index, const double *translation, const double *rotation);
+  static constexpr double kRotationTolerance = 1e-12;
   void set_nitsche(double theta, double gamma0);
   // params: scheme_parameter_count(scheme) values, checked by the scheme
   void set_scheme(int scheme, const std::vector<double> &params);
@@ -158,6 +167,11 @@ class Problem {
   // the discretization changes: a step copies them, not computes them)
   const std::vector<double> &current_gaps();
   std::vector<double> reaction_at_equilibrium(const State &s);
+  // curved obstacles (none: normal, positions emptied): the state's frozen
+  // normals (d's rows'), its obstacles' positions (at's) and its curved
+  // points' gaps at U, where `at` places the obstacles now
+  void curved_gaps(State &s, const Discretization &d, const TimeData &at);
+  StepGeometry curved_geometry(const std::vector<double> &plane_gaps);
   void require_region(int region, const char *what) const;
 
   std::shared_ptr<const Mesh> mesh_;
@@ -182,6 +196,9 @@ class Problem {
   bool integrator_new_ = false;
   std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
+  // a step's refreshed normals, while it makes the operators for them
+  const std::vector<double> *refreshed_normals_ = nullptr;
+  const Discretization *refresh_from_ = nullptr;  // the discretization it replaces
   State state_;
   State spare_;  // the state before state_ (values not read): the next step reuses its memory
   bool state_ready_ = false;

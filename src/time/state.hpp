@@ -129,6 +129,10 @@ struct State {
   // the obstacle at t^n: its gaps g_q (empty: the assembled ones) and the work
   // it has done on the body since t = 0 (a moving plane pushes)
   std::vector<double> gap;
+  // curved obstacles (contact/obstacles.hpp), else empty: each point's frozen
+  // normal nu (3 per point), which its rows hold, and where the planes and
+  // obstacles were at t^n (contact/obstacles.hpp: positions)
+  std::vector<double> normal, positions;
   double W_obstacle = 0;
   // the reactions on the clamped DOFs of the step that led here (docs/design.md §8;
   // empty: not computed yet, e.g. at t^0)

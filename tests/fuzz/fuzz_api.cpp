@@ -43,6 +43,13 @@ int check(const char *call, int status) {
 }
 #define CALL(fn, ...) check(#fn, fn(__VA_ARGS__))
 
+// a distance callback: the plane x_0 = 0, normal +x (the fuzzer varies where it acts)
+int distance(double, const double *x, double *d, double *nu, void *) {
+  *d = x[0];
+  nu[0] = 1, nu[1] = 0, nu[2] = 0;
+  return 0;
+}
+
 double any_double(FuzzedDataProvider &in) {
   static const double special[] = {0.0, 1.0, -1.0, 0.5, 0.25, 0.3, 2.0, 10.0, 1e-3, 1e-12, 1e308, -1e308, 1e-308,
                                    DBL_MAX, DBL_MIN, std::numeric_limits<double>::denorm_min(),
@@ -88,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 35)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 39)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -278,6 +285,26 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           }
         }
         break;
+      case 35:
+        if (p) CALL(nd_problem_add_contact_sphere, p, in.ConsumeIntegralInRange<int>(-1, 3), a, any_double(in),
+                    in.ConsumeIntegralInRange<int>(-1, 2));
+        break;
+      case 36:
+        if (p) CALL(nd_problem_add_contact_cylinder, p, in.ConsumeIntegralInRange<int>(-1, 3), a, b, any_double(in),
+                    in.ConsumeIntegralInRange<int>(-1, 2));
+        break;
+      case 37:
+        if (p) CALL(nd_problem_add_contact_distance, p, in.ConsumeIntegralInRange<int>(-1, 3),
+                    in.ConsumeBool() ? distance : nullptr, nullptr);
+        break;
+      case 38: {
+        double R[9];
+        for (auto &v : R) v = in.ConsumeBool() ? any_double(in) : 0.0;
+        if (in.ConsumeBool()) R[0] = R[4] = R[8] = 1, R[3] = 0;  // (2D reads R[0], R[1], R[2], R[3])
+        if (p) CALL(nd_problem_move_obstacle, p, in.ConsumeIntegralInRange<int>(-1, 3),
+                    in.ConsumeIntegralInRange<int>(-1, 2), a, in.ConsumeBool() ? R : nullptr);
+        break;
+      }
       default: {
         int mj, mn, pt;
         CALL(nd_version, &mj, &mn, &pt);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -113,9 +114,17 @@ Setup build(const Scene &s, Problem &prob) {
     scene_call(nd_problem_set_body_force(p, s.body_force.data()), s.body_force_at, "loads.body_force");
   for (const auto &t : s.tractions)
     scene_call(nd_problem_set_neumann(p, ndcli::region_id(s, t.region), t.value.data()), t.at, "loads.traction");
-  for (const auto &o : s.obstacles)
-    scene_call(nd_problem_set_contact_plane(p, ndcli::region_id(s, o.region), o.point.data(), o.normal.data()), o.at,
-               "[obstacle]");
+  for (const auto &o : s.obstacles) {
+    const int region = ndcli::region_id(s, o.region);
+    if (o.shape == "sphere")
+      scene_call(nd_problem_add_contact_sphere(p, region, o.center.data(), o.radius, o.inside ? 1 : 0), o.at,
+                 "[obstacle]");
+    else if (o.shape == "cylinder")
+      scene_call(nd_problem_add_contact_cylinder(p, region, o.point.data(), o.axis.data(), o.radius, o.inside ? 1 : 0),
+                 o.at, "[obstacle]");
+    else
+      scene_call(nd_problem_set_contact_plane(p, region, o.point.data(), o.normal.data()), o.at, "[obstacle]");
+  }
   scene_call(nd_problem_set_nitsche(p, s.Theta, s.gamma0), s.nitsche_at.empty() ? s.file : s.nitsche_at, "[nitsche]");
   scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
              "[scheme]");
@@ -267,10 +276,36 @@ int run(const Options &opt) {
   if (!checkpoint.empty()) make_parent(checkpoint);
   const size_t frame0 = (size_t)(first / every + (first % every != 0));  // first + every - 1 may overflow
   Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
+  // obstacles moving at a constant velocity: each placed before a step where
+  // it is at the step's end, x(t) = x(0) + velocity t (an added obstacle by
+  // its index among its region's, a plane by its point)
+  std::vector<int> added_index(s.obstacles.size(), -1);
+  {
+    std::map<int, int> added;
+    for (size_t i = 0; i < s.obstacles.size(); ++i)
+      if (s.obstacles[i].shape != "plane") added_index[i] = added[ndcli::region_id(s, s.obstacles[i].region)]++;
+  }
+  auto move_obstacles = [&](double t) {
+    for (size_t i = 0; i < s.obstacles.size(); ++i) {
+      const auto &o = s.obstacles[i];
+      if (o.velocity.empty()) continue;
+      std::vector<double> shift(o.velocity.size());
+      for (size_t k = 0; k < shift.size(); ++k) shift[k] = o.velocity[k] * t;
+      const int region = ndcli::region_id(s, o.region);
+      if (o.shape == "plane") {
+        for (size_t k = 0; k < shift.size(); ++k) shift[k] += o.point[k];
+        scene_call(nd_problem_set_contact_plane(p, region, shift.data(), o.normal.data()), o.at, "obstacle.velocity");
+      } else {
+        scene_call(nd_problem_move_obstacle(p, region, added_index[i], shift.data(), nullptr), o.at,
+                   "obstacle.velocity");
+      }
+    }
+  };
   const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
   double max_force = 0, max_pen = 0, newton = 0;
   for (int64_t k = first; k <= steps; ++k) {
     if (k > first) {
+      move_obstacles(scalar(p, ND_TIME) + scalar(p, ND_TIMESTEP));  // (where they are at t^{n+1})
       const int st = nd_step(p);
       if (st < 0) {
         bar.finish();

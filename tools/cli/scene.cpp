@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <toml++/toml.h>
@@ -28,7 +29,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"loads", {"body_force", "traction"}},
       {"loads.traction", {"region", "value"}},
       {"dirichlet", {"regions"}},
-      {"obstacle", {"region", "point", "normal"}},
+      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
       {"time", {"tau", "T"}},
@@ -682,8 +683,45 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       if (!reg) r.missing(*t, "obstacle", "region", "the contact region");
       Obstacle o;
       o.region = r.region(*reg, "obstacle", "region");
-      o.point = r.vector(*t, "obstacle", "point", "a point of the plane");
-      o.normal = r.vector(*t, "obstacle", "normal", "the plane's normal, from the obstacle towards the body");
+      if (const toml::node *sh = t->get("shape")) {
+        o.shape = r.string(*sh, "obstacle", "shape");
+        if (o.shape != "plane" && o.shape != "sphere" && o.shape != "cylinder")
+          r.fail(sh->source(), "'obstacle.shape' must be \"plane\", \"sphere\" or \"cylinder\", not \"" + o.shape + "\"");
+      }
+      // the keys of each shape (region and shape are every shape's)
+      const std::map<std::string, std::vector<std::string>> shape_keys = {
+          {"plane", {"point", "normal"}}, {"sphere", {"center", "radius", "inside"}},
+          {"cylinder", {"point", "axis", "radius", "inside"}}};
+      for (auto &&[k, v] : *t) {
+        const std::string key(k.str());
+        if (key == "region" || key == "shape" || key == "velocity") continue;
+        const std::vector<std::string> &mine = shape_keys.at(o.shape);
+        if (std::find(mine.begin(), mine.end(), key) == mine.end())
+          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape + " (its keys: region, shape, velocity, " +
+                                 [&] {
+                                   std::string list;
+                                   for (const auto &m : mine) list += (list.empty() ? "" : ", ") + m;
+                                   return list;
+                                 }() + ")");
+      }
+      if (o.shape == "plane") {
+        o.point = r.vector(*t, "obstacle", "point", "a point of the plane");
+        o.normal = r.vector(*t, "obstacle", "normal", "the plane's normal, from the obstacle towards the body");
+      } else {
+        if (o.shape == "sphere") {
+          o.center = r.vector(*t, "obstacle", "center", "the sphere's centre");
+        } else {
+          o.point = r.vector(*t, "obstacle", "point", "a point of the cylinder's axis");
+          o.axis = r.vector(*t, "obstacle", "axis", "the direction of the cylinder's axis");
+        }
+        o.radius = r.number(*t, "obstacle", "radius", nullptr, "the radius");
+        if (!(o.radius > 0)) r.fail(t->get("radius")->source(), "'obstacle.radius' must be positive");
+        if (const toml::node *in = t->get("inside")) {
+          if (!in->is_boolean()) r.wrong_type(*in, "obstacle", "inside", "true or false");
+          o.inside = *in->value<bool>();
+        }
+      }
+      if (t->get("velocity")) o.velocity = r.vector(*t, "obstacle", "velocity", "the obstacle's velocity");
       o.at = r.where(t->source());
       s.obstacles.push_back(o);
     }
@@ -814,6 +852,10 @@ void check_dimension(const Scene &s, int dim) {
   for (const auto &o : s.obstacles) {
     check(o.point, o.at, "obstacle.point");
     check(o.normal, o.at, "obstacle.normal");
+    check(o.center, o.at, "obstacle.center");
+    check(o.axis, o.at, "obstacle.axis");
+    check(o.velocity, o.at, "obstacle.velocity");
+    // (the library refuses a sphere in 1D and a cylinder outside 3D, with its reason)
   }
   for (const auto &b : s.boxes) {
     check(b.lo, b.at, "regions." + b.name + ".lo");

@@ -42,7 +42,12 @@ struct Traction {
 
 struct Obstacle {
   RegionRef region;
-  std::vector<double> point, normal;
+  std::string shape = "plane";  // plane, sphere, cylinder
+  std::vector<double> point, normal;  // plane: point, normal; cylinder: point (of the axis)
+  std::vector<double> center, axis;   // sphere: center; cylinder: axis
+  double radius = 0;
+  bool inside = false;
+  std::vector<double> velocity;  // a constant translation velocity (empty: at rest)
   std::string at;
 };
 

@@ -5,6 +5,9 @@
 !   monitor    (d) a monitor written in Fortran runs once per step and can stop
 !   api        generated constants, nd_version, absent optional arguments
 !              (NULL), a general mesh
+!   obstacles  a plane given as a distance callback written in Fortran
+!              (bind(C), type(c_funptr)) steps bitwise as the built-in plane;
+!              a circle added and moved, with and without a rotation
 !   checkpoint a state saved into a Fortran byte array and loaded back: the
 !              resumed run is bitwise the uninterrupted one; set_state and
 !              guards from Fortran
@@ -37,7 +40,7 @@ program test_api
 
   character(len=32) :: part
   if (command_argument_count() /= 1) then
-    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint'
+    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles'
     stop 2, quiet=.true.
   end if
   call get_command_argument(1, part)
@@ -52,6 +55,8 @@ program test_api
     call test_constants_and_api()
   case ('checkpoint')
     call test_checkpoint()
+  case ('obstacles')
+    call test_obstacles()
   case default
     write (error_unit, '(a)') 'test_api: unknown part ' // trim(part)
     stop 2, quiet=.true.
@@ -200,6 +205,100 @@ contains
     call check(status == ND_OK .and. data%calls == 16, 'without a monitor nothing is called')
     call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
   end subroutine test_monitor
+
+  ! ---- obstacles ------------------------------------------------------------
+  ! the plane y = 0 as a signed distance: d = y, nu = (0, 1)
+  integer(c_int) function plane_y0(t, x, d, nu, user) bind(C)
+    real(c_double), value :: t
+    real(c_double), intent(in) :: x(*)
+    real(c_double), intent(out) :: d, nu(*)
+    type(c_ptr), value :: user
+    integer, pointer :: calls
+    call c_f_pointer(user, calls)
+    calls = calls + 1
+    d = x(2) + 0 * t
+    nu(1) = 0
+    nu(2) = 1
+    plane_y0 = 0
+  end function plane_y0
+
+  ! a 4 x 2 block [-1, 1] x [0.5, 1.5] under gravity; region 1 its bottom
+  subroutine block(p, n)
+    type(c_ptr), intent(out) :: p
+    integer(c_int64_t), intent(out) :: n
+    type(c_ptr) :: m
+    real(c_double) :: lo(2) = [-1.0_c_double, 0.5_c_double], hi(2) = [1.0_c_double, 1.5_c_double]
+    real(c_double) :: blo(2) = [-2.0_c_double, 0.4_c_double], bhi(2) = [2.0_c_double, 0.6_c_double]
+    real(c_double) :: g(2) = [0.0_c_double, -1.0_c_double]
+    call check(nd_mesh_create_rectangle(8_c_int64_t, 4_c_int64_t, lo, hi, m) == ND_OK, 'nd_mesh_create_rectangle')
+    call check(nd_mesh_mark_boundary_box(m, 1_c_int, blo, bhi) == ND_OK, 'nd_mesh_mark_boundary_box')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_problem_set_material(p, 100.0_c_double, 0.3_c_double, 1.0_c_double) == ND_OK, 'material')
+    call check(nd_problem_set_body_force(p, g) == ND_OK, 'body force')
+    call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.0_c_double) == ND_OK, 'Nitsche')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'scheme')
+    call check(nd_problem_set_timestep(p, 0.02_c_double) == ND_OK, 'time step')
+    call check(nd_problem_get_node_count(p, n) == ND_OK, 'node count')
+  end subroutine block
+
+  subroutine test_obstacles()
+    type(c_ptr) :: a, b
+    integer(c_int64_t) :: n
+    integer, target :: calls
+    real(c_double), allocatable :: ua(:), ub(:)
+    real(c_double) :: origin(2) = 0, up(2) = [0.0_c_double, 1.0_c_double], centre(2) = [0.0_c_double, -10.0_c_double]
+    real(c_double) :: shift(2) = [0.01_c_double, 0.0_c_double], rot(4), active, touched, angle
+    integer :: k
+    logical :: same
+
+    call block(a, n)
+    call block(b, n)
+    calls = 0
+    call check(nd_problem_add_contact_distance(a, 1_c_int, c_funloc(plane_y0), c_loc(calls)) == ND_OK, &
+               'nd_problem_add_contact_distance(p, 1, c_funloc(plane_y0), c_loc(calls))')
+    call check(nd_problem_set_contact_plane(b, 1_c_int, origin, up) == ND_OK, 'nd_problem_set_contact_plane')
+    allocate (ua(2 * n), ub(2 * n))
+    same = .true.
+    touched = 0
+    do k = 1, 60
+      call check(nd_step(a) == ND_OK, 'a step on the callback''s plane')
+      call check(nd_step(b) == ND_OK, 'a step on the plane')
+      call check(nd_get_field(a, ND_FIELD_DISPLACEMENT, n, ua) == ND_OK, 'displacement')
+      call check(nd_get_field(b, ND_FIELD_DISPLACEMENT, n, ub) == ND_OK, 'displacement')
+      ! (bit for bit: the same doubles as integers)
+      same = same .and. all(transfer(ua, 1_c_int64_t, size(ua)) == transfer(ub, 1_c_int64_t, size(ub)))
+      call check(nd_get_scalar(b, ND_ACTIVE_POINTS, active) == ND_OK, 'ND_ACTIVE_POINTS')
+      touched = max(touched, active)
+    end do
+    call check(touched > 0, 'the block came into contact')
+    call check(calls > 0, 'the Fortran callback was called')
+    call check(same, 'the plane as a Fortran callback steps bitwise as the built-in plane')
+    call check(nd_problem_destroy(a) == ND_OK, 'destroy')
+    call check(nd_problem_destroy(b) == ND_OK, 'destroy')
+
+    call block(a, n)
+    call check(nd_problem_add_contact_sphere(a, 1_c_int, centre, 10.0_c_double, 0_c_int) == ND_OK, &
+               'nd_problem_add_contact_sphere')
+    call check(nd_problem_move_obstacle(a, 1_c_int, 0_c_int, shift) == ND_OK, &
+               'nd_problem_move_obstacle without a rotation (absent: NULL)')
+    angle = 0.01_c_double
+    rot = [cos(angle), -sin(angle), sin(angle), cos(angle)]
+    call check(nd_problem_move_obstacle(a, 1_c_int, 0_c_int, shift, rot) == ND_OK, &
+               'nd_problem_move_obstacle with a rotation')
+    rot(2) = 1
+    call check(nd_problem_move_obstacle(a, 1_c_int, 0_c_int, shift, rot) == ND_ERR_VALUE, &
+               'a matrix that is no rotation is refused')
+    call check(nd_problem_move_obstacle(a, 1_c_int, 1_c_int, shift) == ND_ERR_INDEX, 'a second obstacle is refused')
+    touched = 0
+    do k = 1, 60
+      call check(nd_step(a) == ND_OK, 'a step on the circle')
+      call check(nd_get_scalar(a, ND_ACTIVE_POINTS, active) == ND_OK, 'ND_ACTIVE_POINTS')
+      touched = max(touched, active)
+    end do
+    call check(touched > 0, 'the block came onto the circle')
+    call check(nd_problem_destroy(a) == ND_OK, 'destroy')
+  end subroutine test_obstacles
 
   ! ---- checkpoint and restart, the way a legacy code holds its data --------
   subroutine test_checkpoint()

@@ -72,6 +72,24 @@ expect 2 duplicate_key "duplicate_key.toml:7:" '6a\
 E = 1.0'
 expect 2 unknown_region_name "unknown_region_name.toml:8:10: no region named 'bottom'" '8s/.*/region = "bottom"/'
 expect 2 empty_region "empty_region.toml:8:10: region 7 (obstacle.region) has no facet" '8s/.*/region = 7/'
+# curved obstacles: a circle below the disk (valid), and their range checks
+expect 0 sphere '' '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]/;10s/.*/radius = 40.0/'
+expect 0 sphere_bowl '' '9s/.*/shape = "sphere"\ncenter = [0.0, 35.0]/;10s/.*/radius = 30.5\ninside = true/'
+expect 2 sphere_radius "'obstacle.radius' must be positive" '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]/;10s/.*/radius = -1.0/'
+expect 2 sphere_no_radius "has no key 'radius'" '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]/;10d'
+expect 2 sphere_inside_type "'obstacle.inside' must be true or false" \
+  '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]/;10s/.*/radius = 40.0\ninside = 1/'
+expect 2 sphere_with_normal "'obstacle.normal' is not a key of a sphere" '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]\nradius = 40.0/'
+expect 2 shape_unknown "'obstacle.shape' must be \"plane\", \"sphere\" or \"cylinder\", not \"cone\"" '8a\
+shape = "cone"'
+expect 2 cylinder_in_2d "nd_problem_add_contact_cylinder: a cylinder needs a 3D mesh" \
+  '9s/.*/shape = "cylinder"\npoint = [0.0, -40.0]\naxis = [1.0, 0.0]/;10s/.*/radius = 40.0/'
+# a circle and a plane moving at constant velocities
+expect 0 moving '' '9s/.*/shape = "sphere"\ncenter = [0.0, -40.0]\nvelocity = [0.5, 0.0]/;10s/.*/radius = 40.0/'
+expect 0 moving_plane '' '10a\
+velocity = [0.0, 0.1]'
+expect 2 velocity_dimension "'obstacle.velocity' has 3 components; the mesh is 2D" '10a\
+velocity = [0.0, 0.1, 0.0]'
 expect 2 library_refuses_nu "library_refuses_nu.toml:3:1: [material]: nd_problem_set_material" '5s/.*/nu = 0.6/'
 expect 2 dimension "dimension.toml:15:14: 'loads.body_force' has 3 components; the mesh is 2D" '$a\
 [loads]\
