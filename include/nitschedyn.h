@@ -126,7 +126,8 @@ extern "C" {
   X(ND_STAT_PREDICTED_STEPS, 32, "implicit steps their predictor solved to round-off (constant acceleration): no solve") \
   X(ND_STAT_LAGGED_STEPS, 33, "contact steps whose first Newton iteration kept the last step's tangent factor") \
   X(ND_STAT_FACTOR_MODIFICATIONS, 34, "rank-one updates and downdates of the Newton tangent's updated factor") \
-  X(ND_STAT_FACTOR_MODIFIED_ENTRIES, 35, "their work: entries of L times the vectors that rotated them")
+  X(ND_STAT_FACTOR_MODIFIED_ENTRIES, 35, "their work: entries of L times the vectors that rotated them") \
+  X(ND_PARTITION_KIND, 36, "the cells' partition over the ranks: 0 one rank, 1 a graph partitioner (PT-Scotch, ParMETIS), 2 slabs")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \

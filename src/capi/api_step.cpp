@@ -37,7 +37,7 @@ ND_EXPORT int nd_step(nd_problem p) {
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
   return nd::guarded("nd_get_field", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] {
+    pr.check_whole_read("nd_get_field", [&] {
       nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
       need_count(n, pr.space().n_nodes, "nodes");
       nd::need(out, "out");
@@ -50,6 +50,7 @@ ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
 ND_EXPORT int nd_get_field_gathered(nd_problem p, int field, int root, int64_t n, double *out) {
   return nd::guarded("nd_get_field_gathered", [&] {
     nd::Problem &pr = nd::problem_of(p);
+    pr.collective("nd_get_field_gathered");  // every rank in this call (or all fail)
     // refused on one rank, refused on all: no rank is left waiting in the gather
     pr.on_every_rank([&] {
       nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
@@ -120,7 +121,7 @@ int copy_pressure(const char *name, nd_problem p, int64_t n, double *out,
                   std::vector<double> (nd::Problem::*get)()) {
   return nd::guarded(name, [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] {  // (a distributed state's points are gathered first: collective)
+    pr.check_whole_read(name, [&] {  // (a distributed state's points are gathered first: collective)
       need_count(n, contact_count(pr), "contact points");
       nd::need(out, "out");
     });
@@ -151,7 +152,7 @@ ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c)
 ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
   return nd::guarded("nd_problem_get_state_size", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] { nd::need(nbytes, "nbytes"); });
+    pr.check_whole_read("nd_problem_get_state_size", [&] { nd::need(nbytes, "nbytes"); });
     *nbytes = static_cast<int64_t>(pr.save_state().size());
     return ND_OK;
   });
@@ -160,7 +161,7 @@ ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
 ND_EXPORT int nd_problem_save_state(nd_problem p, int64_t nbytes, void *buf) {
   return nd::guarded("nd_problem_save_state", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] { nd::need(buf, "buf"); });
+    pr.check_whole_read("nd_problem_save_state", [&] { nd::need(buf, "buf"); });
     const std::vector<unsigned char> bytes = pr.save_state();  // (nbytes checked after: no rank waits then)
     need_count(nbytes, static_cast<int64_t>(bytes.size()), "buf (nbytes, see nd_problem_get_state_size)");
     std::copy(bytes.begin(), bytes.end(), static_cast<unsigned char *>(buf));
@@ -181,7 +182,7 @@ ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *bu
 ND_EXPORT int nd_problem_save_state_file(nd_problem p, const char *path) {
   return nd::guarded("nd_problem_save_state_file", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] { nd::need(path, "path"); });
+    pr.check_whole_read("nd_problem_save_state_file", [&] { nd::need(path, "path"); });
     pr.save_state_file(path);
     return ND_OK;
   });
