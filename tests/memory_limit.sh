@@ -34,4 +34,27 @@ for extra in 65536 204800; do
     [ "$verdict" = ok ] || status=1
   done
 done
+# Two BLAS threads (as OPENBLAS_NUM_THREADS unset on two cores): OpenBLAS's
+# worker thread, started when the library is loaded, takes its buffer as it
+# starts and, under start + 64 MiB, retries forever (one core busy) before
+# any function of the library runs; the library's call still answers
+# ND_ERR_NOMEM at once (it runs the BLAS on one thread), and the process
+# then hangs at exit, where OpenBLAS joins that thread (man libnitschedyn,
+# BUGS): the answer must come within 5 s, the hang at exit is reported.
+OPENBLAS_NUM_THREADS=2
+unset OMP_NUM_THREADS
+base=$("$prog" vmsize) || exit 1
+limit=$((base + 65536))
+for solver in "$@"; do
+  start=$(date +%s)
+  out=$( (ulimit -v $limit && exec timeout 5 "$prog" step "$solver") 2>&1)
+  rc=$?
+  took=$(($(date +%s) - start))
+  case "$rc:$out" in
+    "3:solver $solver: -20"*) verdict=ok ;;
+    "124:solver $solver: -20"*) verdict="ok (ND_ERR_NOMEM at once; the exit hung in OpenBLAS's worker thread)" ;;
+    *) verdict="no ND_ERR_NOMEM within 5 s (exit $rc)"; status=1 ;;
+  esac
+  echo "2 BLAS threads, ulimit -v $limit (start + 64 MiB), solver $solver: $out: $verdict"
+done
 exit $status
