@@ -1,6 +1,6 @@
 /* Collective calls the ranks do not match (issue 54, finding 11), under
  * mpiexec -n 2 and 4 (tests/CMakeLists.txt, builds with PETSc), with
- * ND_MPI_TIMEOUT = 2 s. Before the fix each of these hung or ended the job:
+ * NITSCHEDYN_MPI_TIMEOUT = 2 s. Before the fix each of these hung or ended the job:
  *  - one rank calls nd_step once more: it fails after the timeout, a late
  *    rank's step fails after the timeout too, every later collective call at
  *    once, and a new problem on the same ranks steps again;
@@ -27,7 +27,7 @@
 #include "testutil_mpi.h"
 
 static const double kTau = 0.25;
-static const double kTimeout = 2; /* ND_MPI_TIMEOUT, set in main */
+static const double kTimeout = 2; /* NITSCHEDYN_MPI_TIMEOUT, set in main */
 static int g_rank, g_size;
 
 static nd_problem scene(int solver, int distributed_state) {
@@ -221,7 +221,7 @@ END_TEST
 int main(int argc, char **argv) {
   char timeout[32];
   snprintf(timeout, sizeof timeout, "%g", kTimeout);
-  setenv("ND_MPI_TIMEOUT", timeout, 1);
+  setenv("NITSCHEDYN_MPI_TIMEOUT", timeout, 1);
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_SINGLE, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);

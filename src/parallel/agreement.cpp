@@ -49,7 +49,7 @@ double collective_timeout() {
   // far above the ranks' usual distance between two collective calls, and
   // still a bounded wait for a job that lost step
   constexpr double kDefault = 300;
-  const char *text = std::getenv("ND_MPI_TIMEOUT");
+  const char *text = std::getenv("NITSCHEDYN_MPI_TIMEOUT");
   if (!text) return kDefault;
   char *end = nullptr;
   const double t = std::strtod(text, &end);

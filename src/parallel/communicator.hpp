@@ -70,7 +70,7 @@ struct CallAgreement {
 // in the second one), so every later exchange fails at once. Without a
 // communicator (or on one rank) returns `mine`'s agreement, no message.
 CallAgreement agree_on_call(const Communicator *c, const CallHeader &mine, const char *call_name);
-// The seconds a rank waits for the others' headers: ND_MPI_TIMEOUT from the
+// The seconds a rank waits for the others' headers: NITSCHEDYN_MPI_TIMEOUT from the
 // environment when it is a positive number, else 300.
 double collective_timeout();
 

@@ -187,7 +187,7 @@ CallAgreement agree_on_call(const Communicator *c, const CallHeader &mine, const
                         : std::string(" waited ") + num(timeout) + " s for the other ranks' " + what);
     buffers.release();  // MPI may still write into them (a late rank): theirs now
     fail(ND_ERR_STATE, c->lost_at + ": a rank made another collective call, or one more or one fewer (see the other "
-                       "ranks' errors; ND_MPI_TIMEOUT sets the wait); the problem makes no collective call any more: "
+                       "ranks' errors; NITSCHEDYN_MPI_TIMEOUT sets the wait); the problem makes no collective call any more: "
                        "destroy it on every rank and restart from a checkpoint");
   };
   if (MPI_Iallreduce(b.header, b.header_all, 6, MPI_UINT64_T, MPI_MIN, c->comm, &b.request) != MPI_SUCCESS)

@@ -116,7 +116,7 @@ class Problem {
   // The header every collective call of a problem on several ranks begins
   // with (parallel/communicator.hpp, agree_on_call): the ranks must be in the
   // same call, the call-th of each (ND_ERR_STATE on every rank otherwise, at
-  // once, or after ND_MPI_TIMEOUT on a rank left waiting), and what a rank
+  // once, or after NITSCHEDYN_MPI_TIMEOUT on a rank left waiting), and what a rank
   // rebuilds (a factorization, collective with PETSc), every rank rebuilds.
   // `call` is the C function's name (one of kCollectiveCalls); returns
   // whether the ranks' digests agree. Nothing without a communicator.
