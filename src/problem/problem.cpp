@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <iterator>
 
 #include <functional>
 #include <limits>
@@ -568,7 +566,7 @@ constexpr const char *kCollectiveCalls[] = {
     "nd_problem_estimate_critical_timestep", "nd_get_field", "nd_get_contact_pressure",
     "nd_get_contact_pressure_applied", "nd_problem_get_state_size", "nd_problem_save_state",
     "nd_problem_save_state_file", "nd_problem_write_vtu"};
-constexpr int kCollectiveCallCount = static_cast<int>(std::size(kCollectiveCalls));
+constexpr int kCollectiveCallCount = static_cast<int>(sizeof kCollectiveCalls / sizeof kCollectiveCalls[0]);
 // What a rank rebuilds over the ranks when these aspects changed: the
 // discretization (rows split with PETSc), its mass factor, the integrator.
 constexpr unsigned kRebuildAspects = kIntegratorDeps | kMassFactorDeps;
@@ -578,7 +576,7 @@ bool Problem::collective(const char *call, uint64_t digest) {
   const Communicator *c = def_.comm.get();
   if (communicator_size(c) <= 1) return true;
   int id = 0;
-  while (id < kCollectiveCallCount && std::strcmp(kCollectiveCalls[id], call) != 0) ++id;
+  while (id < kCollectiveCallCount && std::string_view(kCollectiveCalls[id]) != call) ++id;
   if (id == kCollectiveCallCount) fail(ND_ERR_INTERNAL, std::string("collective call ") + call + " has no number");
   const CallAgreement a = agree_on_call(c, {id, digest, pending_ & kRebuildAspects}, call);
   if (!a.same_call) {
