@@ -13,6 +13,7 @@
  *    rank alone (MUMPS and GAMG): the next step succeeds on every rank
  *    (that rank's rebuilt factorization used to wait for the others for
  *    ever), bitwise as when every rank resets it;
+ *  - nd_problem_set_state refused on one rank (a NaN): refused on every rank;
  *  - ND_PARTITION_KIND without a communicator: 0.
  * CK_FORK=no (MPI is initialized once per process). */
 #include <math.h>
@@ -208,6 +209,30 @@ START_TEST(a_time_step_reset_on_one_rank_steps_on_every_rank) {
 }
 END_TEST
 
+/* nd_problem_set_state with a NaN on the last rank alone: refused on every
+   rank at once with the same code (the others waited for ever before) */
+START_TEST(a_state_refused_on_one_rank_is_refused_on_every_rank) {
+  nd_problem p = scene(ND_SOLVER_PETSC_MUMPS, 0);
+  ND_OK_OR_FAIL(nd_step(p));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *u = malloc(sizeof(double) * 2 * (size_t)n), *before = malloc(sizeof(double) * 2 * (size_t)n);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u));
+  memcpy(before, u, sizeof(double) * 2 * (size_t)n);
+  if (g_rank == g_size - 1) u[1] = NAN;
+  const double start = MPI_Wtime();
+  const outcome o = timed(nd_problem_set_state(p, n, u, NULL), start);
+  ck_assert_msg(o.status == ND_ERR_NONFINITE, "nd_problem_set_state returned %d: %s", o.status, o.message);
+  ck_assert_msg(o.seconds < kTimeout / 2, "nd_problem_set_state took %g s", o.seconds);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u));
+  ck_assert_msg(memcmp(u, before, sizeof(double) * 2 * (size_t)n) == 0, "a refused nd_problem_set_state moved U");
+  ND_OK_OR_FAIL(nd_problem_set_state(p, n, u, NULL)); /* the same values everywhere: taken */
+  ND_OK_OR_FAIL(nd_step(p));
+  free(u), free(before);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(partition_kind_without_a_communicator) {
   char mesh[512];
   snprintf(mesh, sizeof mesh, "%s/disk_h4.msh", ND_MESH_DIR);
@@ -232,6 +257,7 @@ int main(int argc, char **argv) {
   tcase_add_test(tc, partition_kind_without_a_communicator);
   if (g_size > 1) {
     tcase_add_test(tc, ranks_in_different_calls_fail_at_once);
+    tcase_add_test(tc, a_state_refused_on_one_rank_is_refused_on_every_rank);
     tcase_add_test(tc, a_time_step_reset_on_one_rank_steps_on_every_rank);
     tcase_add_test(tc, one_rank_steps_once_more);
   }

@@ -200,9 +200,12 @@ ND_EXPORT int nd_problem_load_state_file(nd_problem p, const char *path) {
 ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v) {
   return nd::guarded("nd_problem_set_state", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    need_count(n, pr.space().n_nodes, "nodes");
-    if (u) nd::need_finite(u, n * pr.space().dim, "u");
-    if (v) nd::need_finite(v, n * pr.space().dim, "v");
+    pr.collective("nd_problem_set_state");  // every rank in this call (or all fail)
+    pr.on_every_rank([&] {                  // refused on one rank, refused on all
+      need_count(n, pr.space().n_nodes, "nodes");
+      if (u) nd::need_finite(u, n * pr.space().dim, "u");
+      if (v) nd::need_finite(v, n * pr.space().dim, "v");
+    });
     pr.overwrite_state(u, v);
     return ND_OK;
   });
