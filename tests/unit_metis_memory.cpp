@@ -30,13 +30,13 @@ namespace {
 bool armed = false;
 long long in_use = 0, peak = 0, budget = -1;  // bytes since arming; -1: no budget
 
-bool refuse(size_t n) { return armed && budget >= 0 && in_use + static_cast<long long>(n) > budget; }
-void taken(void *p) {
+[[maybe_unused]] bool refuse(size_t n) { return armed && budget >= 0 && in_use + static_cast<long long>(n) > budget; }
+[[maybe_unused]] void taken(void *p) {
   if (!armed || !p) return;
   in_use += static_cast<long long>(malloc_usable_size(p));
   if (in_use > peak) peak = in_use;
 }
-void given(void *p) {
+[[maybe_unused]] void given(void *p) {
   if (armed && p) in_use -= static_cast<long long>(malloc_usable_size(p));
 }
 }  // namespace
