@@ -86,6 +86,7 @@ START_TEST(one_rank_steps_once_more) {
   if (g_rank == 0) {
     const outcome extra = step(p); /* the others make no collective call */
     refused_after_the_wait(&extra, "rank 0's extra nd_step");
+    printf("rank 0's extra step (%.2f s): %s\n", extra.seconds, extra.message);
     ck_assert_msg(scalar(p, ND_STEP_INDEX) == 2, "the refused step moved the state");
   }
   MPI_Barrier(MPI_COMM_WORLD);
@@ -98,6 +99,7 @@ START_TEST(one_rank_steps_once_more) {
   const outcome again = step(p);
   refused_at_once(&again, "nd_step after the ranks lost step");
   ck_assert_msg(strstr(again.message, "lost step") != NULL, "%s", again.message);
+  if (g_rank == 0) printf("the next step: %s\n", again.message);
   ck_assert_msg(scalar(p, ND_STEP_INDEX) == 2, "a refused step moved the state");
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   /* the job goes on: a new problem on the same ranks steps */
@@ -115,6 +117,7 @@ static void step_against(nd_problem p, int (*other)(nd_problem), const char *wha
   const outcome o = timed(g_rank == 0 ? nd_step(p) : other(p), start);
   refused_at_once(&o, g_rank == 0 ? "nd_step" : what);
   ck_assert_msg(strstr(o.message, "not in the same collective call") != NULL, "%s", o.message);
+  if (g_rank == 0) printf("nd_step against %s (%.3f s): %s\n", what, o.seconds, o.message);
   ck_assert_msg(strstr(o.message, "nd_step") != NULL && strstr(o.message, what) != NULL, "%s", o.message);
   ck_assert_msg(scalar(p, ND_STEP_INDEX) == n, "a refused call moved the state");
   /* the ranks are still in step: the next matched call succeeds */

@@ -166,10 +166,9 @@ CallAgreement agree_on_call(const Communicator *c, const CallHeader &mine, const
   if (communicator_size(c) <= 1) return a;
   const int rank = communicator_rank(c);
   if (!c->lost_at.empty())
-    fail(ND_ERR_STATE, std::string(call_name) + " on rank " + std::to_string(rank) +
-                           ": the problem's ranks lost step with each other earlier (" + c->lost_at +
-                           "), so it makes no collective call any more: destroy it (nd_problem_destroy on every "
-                           "rank) and restart from a checkpoint");
+    fail(ND_ERR_STATE, "rank " + std::to_string(rank) + ": this problem's ranks lost step with each other earlier (" +
+                           c->lost_at + "), so it makes no collective call any more: destroy it (nd_problem_destroy "
+                           "on every rank) and restart from a checkpoint");
   a.sequence = ++c->calls;
   auto buffers = std::make_unique<CallBuffers>();
   CallBuffers &b = *buffers;
@@ -177,18 +176,19 @@ CallAgreement agree_on_call(const Communicator *c, const CallHeader &mine, const
   for (int k = 0; k < 3; ++k) b.header[2 * k] = sent[k], b.header[2 * k + 1] = ~sent[k];
   b.rebuild = mine.rebuild;
   const double timeout = collective_timeout();
-  const auto wait = std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(timeout));
+  using Clock = std::chrono::steady_clock;
+  const auto wait = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout));
   bool error = false;
   auto phase = [&](const char *what) {
-    if (wait_until(b.request, std::chrono::steady_clock::now() + wait, error)) return;
-    c->lost_at = std::string(call_name) + " (the problem's collective call #" + std::to_string(a.sequence) +
-                 ") on rank " + std::to_string(rank) +
-                 (error ? std::string(": MPI failed in ") + what
-                        : std::string(" waited ") + num(timeout) + " s for the other ranks' " + what);
+    if (wait_until(b.request, Clock::now() + wait, error)) return;
+    c->lost_at = "rank " + std::to_string(rank) +
+                 (error ? std::string(": MPI failed in the ") + what
+                        : std::string(" waited ") + num(timeout) + " s for the other ranks' " + what) +
+                 " in " + call_name + ", the problem's collective call #" + std::to_string(a.sequence);
     buffers.release();  // MPI may still write into them (a late rank): theirs now
-    fail(ND_ERR_STATE, c->lost_at + ": a rank made another collective call, or one more or one fewer (see the other "
-                       "ranks' errors; NITSCHEDYN_MPI_TIMEOUT sets the wait); the problem makes no collective call any more: "
-                       "destroy it on every rank and restart from a checkpoint");
+    fail(ND_ERR_STATE, c->lost_at + ": a rank made another collective call, or one more or one fewer (see the "
+                       "other ranks' errors; NITSCHEDYN_MPI_TIMEOUT sets the wait); the problem makes no collective "
+                       "call any more: destroy it on every rank and restart from a checkpoint");
   };
   if (MPI_Iallreduce(b.header, b.header_all, 6, MPI_UINT64_T, MPI_MIN, c->comm, &b.request) != MPI_SUCCESS)
     fail(ND_ERR_INTERNAL, "MPI_Iallreduce of the collective call's header failed");

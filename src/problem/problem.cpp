@@ -581,7 +581,7 @@ bool Problem::collective(const char *call, uint64_t digest) {
   const CallAgreement a = agree_on_call(c, {id, digest, pending_ & kRebuildAspects}, call);
   if (!a.same_call) {
     const auto name = [](int k) { return k >= 0 && k < kCollectiveCallCount ? kCollectiveCalls[k] : "another call"; };
-    fail(ND_ERR_STATE, std::string(call) + " on rank " + std::to_string(rank()) +
+    fail(ND_ERR_STATE, "rank " + std::to_string(rank()) +
                            ": the ranks are not in the same collective call on this problem (" +
                            (a.call_min != a.call_max ? std::string(name(a.call_min)) + " on some ranks, " +
                                                            name(a.call_max) + " on others"
