@@ -22,6 +22,7 @@
 
 #include "bar1d_exact.h"
 #include "nitschedyn.h"
+#include "step_count.h"
 
 /* ---- options ------------------------------------------------------------ */
 
@@ -196,11 +197,16 @@ static int parse_args(int argc, char **argv, options *o) {
     o->params[0] = beta;
     o->params[1] = gamma;
   }
-  if (llround(o->T / o->tau) < 1) {
+  const int64_t steps = nd_step_count(o->T, o->tau); /* (a double beyond int64_t: undefined in a cast) */
+  if (steps < 0) {
+    fprintf(stderr, "%s: T/tau = %g/%g is not a number of steps (0 to 2^63 - 1)\n", argv[0], o->T, o->tau);
+    return 2;
+  }
+  if (steps < 1) {
     fprintf(stderr, "%s: T/tau rounds to zero steps\n", argv[0]);
     return 2;
   }
-  if (o->at > 0 && (llround(o->at / o->tau) < 1 || llround(o->at / o->tau) >= llround(o->T / o->tau))) {
+  if (o->at > 0 && (nd_step_count(o->at, o->tau) < 1 || nd_step_count(o->at, o->tau) >= steps)) {
     fprintf(stderr, "%s: --at must be at least one step and less than T\n", argv[0]);
     return 2;
   }
@@ -349,8 +355,8 @@ static int run(const options *o, int evaluate, run_summary *rs) {
   FILE *csv = NULL;
   int fail = 0;
   memset(rs, 0, sizeof *rs);
-  rs->end.steps = llround(o->T / o->tau);
-  const int64_t n_at = o->at > 0 ? llround(o->at / o->tau) : -1;
+  rs->end.steps = nd_step_count(o->T, o->tau); /* (both checked by parse) */
+  const int64_t n_at = o->at > 0 ? nd_step_count(o->at, o->tau) : -1;
 
   double t0 = now();
   fail = setup(o, &p, &g) || check(nd_problem_setup(p)); /* the first step's set-up, timed here */
@@ -367,7 +373,7 @@ static int run(const options *o, int evaluate, run_summary *rs) {
     if (fail) fprintf(stderr, "bar1d: cannot open %s for writing\n", o->csv);
     else fprintf(csv, "t,u(0),v(0),contact_stress,E,E_Theta\n");
   }
-  const int64_t trace_every = llround(0.25 / o->tau) > 0 ? llround(0.25 / o->tau) : 1;
+  const int64_t trace_every = nd_step_count(0.25, o->tau) > 0 ? nd_step_count(0.25, o->tau) : 1;
   if (!fail && evaluate && !o->quiet)
     printf("%8s %12s %12s %12s %12s %12s %12s\n", "t", "u(0)", "exact", "stress", "exact", "E", "E_Theta");
 

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "nitschedyn.h"
+#include "step_count.h"
 
 typedef struct {
   const char *mesh, *vtu;
@@ -142,7 +143,14 @@ int drop_scene_main(int argc, char **argv, int dim) {
   nd_problem p = NULL;
   char **files = NULL;
   double *times = NULL;
-  const int64_t steps = (int64_t)(o.T / o.tau + 0.5), every = (int64_t)(o.every / o.tau + 0.5) > 0 ? (int64_t)(o.every / o.tau + 0.5) : 1;
+  /* (a double beyond int64_t: undefined in a cast) */
+  const int64_t steps = nd_step_count(o.T, o.tau), every_steps = nd_step_count(o.every, o.tau);
+  if (steps < 0 || every_steps < 0) {
+    fprintf(stderr, "%s: %s / tau = %g / %g is not a number of steps (0 to 2^63 - 1)\n", argv[0],
+            steps < 0 ? "T" : "every", steps < 0 ? o.T : o.every, o.tau);
+    return 2;
+  }
+  const int64_t every = every_steps > 0 ? every_steps : 1;
   int64_t n_nodes = 0, n_files = 0;
   double t0 = now(), t_setup = 0, t_loop = 0, max_pen = 0, newton = 0;
 
@@ -162,6 +170,10 @@ int drop_scene_main(int argc, char **argv, int dim) {
   if (o.vtu) {
     files = calloc((size_t)(steps / every + 2), sizeof *files);
     times = calloc((size_t)(steps / every + 2), sizeof *times);
+    if (!files || !times) {
+      fprintf(stderr, "%s: no memory for the names of %lld VTU files\n", argv[0], (long long)(steps / every + 2));
+      goto done;
+    }
   }
   for (int64_t k = 0; k <= steps; ++k) {
     if (k > 0) {

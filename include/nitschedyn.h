@@ -128,6 +128,7 @@ extern "C" {
   X(ND_STAT_LAGGED_STEPS, 33, "contact steps whose first Newton iteration kept the last step's tangent factor") \
   X(ND_STAT_FACTOR_MODIFICATIONS, 34, "rank-one updates and downdates of the Newton tangent's updated factor") \
   X(ND_STAT_FACTOR_MODIFIED_ENTRIES, 35, "their work: entries of L times the vectors that rotated them") \
+  X(ND_PARTITION_KIND, 36, "the cells' partition over the ranks: 0 one rank, 1 a graph partitioner (PT-Scotch, ParMETIS), 2 slabs") \
   X(ND_MOMENTUM_X, 40, "linear momentum sum_i (M V)_i of the x components (clamped rows included)") \
   X(ND_MOMENTUM_Y, 41, "linear momentum, y components (0 below 2D)")                 \
   X(ND_MOMENTUM_Z, 42, "linear momentum, z components (0 below 3D)")                 \

@@ -50,6 +50,7 @@ int main(int argc, char **argv) {
   if (st == ND_OK) st = nd_problem_set_timestep(p, 1e-4);
   if (st == ND_OK) st = nd_step(p);
   printf("solver %d: %d%s%s\n", solver, st, st == ND_OK ? "" : ": ", st == ND_OK ? "" : nd_last_error());
+  fflush(stdout); /* the answer is out before the exit, which OpenBLAS's worker threads may hang (memory_limit.sh) */
   nd_problem_destroy(&p);
   return st == ND_OK ? 0 : st == ND_ERR_NOMEM ? 3 : 1;
 }

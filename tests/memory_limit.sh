@@ -34,4 +34,42 @@ for extra in 65536 204800; do
     [ "$verdict" = ok ] || status=1
   done
 done
+# Two BLAS threads (as OPENBLAS_NUM_THREADS unset on two cores): OpenBLAS's
+# worker thread, started when the library is loaded, takes its buffer as it
+# starts and, under start + 64 MiB, may retry forever (one core busy) before
+# any function of the library runs; the library's call still answers
+# ND_ERR_NOMEM at once (it runs the BLAS on one thread), and the process
+# may then hang at exit, where OpenBLAS joins that thread (man
+# libnitschedyn, BUGS): the answer must come within 20 s (it takes well
+# under one alone; the spinning worker and a loaded machine slow the
+# start), a hang at exit is reported and the process killed.
+OPENBLAS_NUM_THREADS=2
+unset OMP_NUM_THREADS
+base=$("$prog" vmsize) || exit 1
+limit=$((base + 65536))
+answer=$(mktemp) || exit 1
+for solver in "$@"; do
+  (ulimit -v $limit && exec "$prog" step "$solver") > "$answer" 2>&1 &
+  pid=$!
+  tenths=0
+  while [ $tenths -lt 200 ] && ! grep -q "^solver $solver: " "$answer" && kill -0 $pid 2>/dev/null; do
+    sleep 0.1
+    tenths=$((tenths + 1))
+  done
+  sleep 0.2  # (the exit, if it comes)
+  if kill -0 $pid 2>/dev/null; then
+    kill -9 $pid
+    ended="the exit hung in OpenBLAS's worker thread: killed"
+  else
+    ended="exited"
+  fi
+  wait $pid 2>/dev/null
+  out=$(grep "^solver $solver: " "$answer")
+  case "$out" in
+    "solver $solver: -20"*) verdict="ok (ND_ERR_NOMEM after about $tenths tenths of a second; $ended)" ;;
+    *) verdict="no ND_ERR_NOMEM within 20 s ($ended): $(head -c 300 "$answer")"; status=1 ;;
+  esac
+  echo "2 BLAS threads, ulimit -v $limit (start + 64 MiB), solver $solver: $out: $verdict"
+done
+rm -f "$answer"
 exit $status

@@ -19,6 +19,7 @@
  *  - on split rows the right-hand side and the Newton residual stay on
  *    their rows (slice 6): what a step receives from the other ranks, and
  *    the Newmark, generalized-alpha and theta histories against one process;
+ *  - ND_PARTITION_KIND: which partition ran (PT-Scotch or the slabs);
  *  - bad input: MPI_COMM_NULL, a communicator after the set-up, another mesh
  *    on one rank.
  * CK_FORK=no (MPI is initialized once per process): every check runs in
@@ -38,6 +39,7 @@ enum { kSteps = 44 }; /* tau = 0.25: free fall, the impact at t = 10, and contac
 static const double kTau = 0.25;
 
 static int g_rank, g_size;
+static int g_thread_multiple; /* MPI_THREAD_MULTIPLE provided: PT-Scotch partitions */
 
 static double scalar(nd_problem p, int key) {
   double x = 0;
@@ -1415,6 +1417,17 @@ START_TEST(a_second_communicator_makes_the_operators_again) {
 }
 END_TEST
 
+/* ND_PARTITION_KIND says which partition ran (issue 54): 0 on one rank, 1 for
+   PT-Scotch (MPI_THREAD_MULTIPLE), 2 for the slabs it falls back to */
+START_TEST(the_partition_kind_says_which_partition_ran) {
+  nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 1);
+  const double expected = g_size == 1 ? 0 : g_thread_multiple ? 1 : 2;
+  ck_assert_msg(scalar(p, ND_PARTITION_KIND) == expected, "ND_PARTITION_KIND %g, expected %g",
+                scalar(p, ND_PARTITION_KIND), expected);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(bad_communicators) {
   nd_problem p = scene(2, ND_SOLVER_PETSC_MUMPS, 0);
   ck_assert_int_eq(nd_problem_set_comm(p, MPI_COMM_NULL), ND_ERR_VALUE);
@@ -1461,10 +1474,12 @@ int main(int argc, char **argv) {
   MPI_Init_thread(&argc, &argv, single ? MPI_THREAD_SINGLE : MPI_THREAD_MULTIPLE, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  g_thread_multiple = provided == MPI_THREAD_MULTIPLE;
   Suite *s = suite_create("mpi_distributed");
   TCase *tc = tcase_create("ranks");
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, bad_communicators);
+  tcase_add_test(tc, the_partition_kind_says_which_partition_ran);
   tcase_add_test(tc, a_second_communicator_makes_the_operators_again);
   tcase_add_test(tc, each_rank_reads_its_part_of_a_field);
   tcase_add_test(tc, histories_match_the_serial_solve);

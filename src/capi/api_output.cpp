@@ -8,7 +8,7 @@ extern "C" {
 ND_EXPORT int nd_problem_write_vtu(nd_problem p, const char *path) {
   return nd::guarded("nd_problem_write_vtu", [&] {
     nd::need(p, "problem");
-    p->problem.check_whole_read([&] { nd::need(path, "path"); });  // (it reads the whole state)
+    p->problem.check_whole_read("nd_problem_write_vtu", [&] { nd::need(path, "path"); });  // (it reads the whole state)
     nd::Problem &pb = p->problem;
     nd::VtuSnapshot snap;
     snap.space = &pb.space();

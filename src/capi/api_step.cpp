@@ -38,7 +38,7 @@ ND_EXPORT int nd_step(nd_problem p) {
 ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
   return nd::guarded("nd_get_field", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] {
+    pr.check_whole_read("nd_get_field", [&] {
       nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
       need_count(n, pr.space().n_nodes, "nodes");
       nd::need(out, "out");
@@ -51,6 +51,7 @@ ND_EXPORT int nd_get_field(nd_problem p, int field, int64_t n, double *out) {
 ND_EXPORT int nd_get_field_gathered(nd_problem p, int field, int root, int64_t n, double *out) {
   return nd::guarded("nd_get_field_gathered", [&] {
     nd::Problem &pr = nd::problem_of(p);
+    pr.collective("nd_get_field_gathered");  // every rank in this call (or all fail)
     // refused on one rank, refused on all: no rank is left waiting in the gather
     pr.on_every_rank([&] {
       nd::need_member(ND_IS_MEMBER_(ND_FIELD_LIST, field), ND_ERR_KEY, "field", field, "ND_FIELD_*");
@@ -121,7 +122,7 @@ int copy_pressure(const char *name, nd_problem p, int64_t n, double *out,
                   std::vector<double> (nd::Problem::*get)()) {
   return nd::guarded(name, [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] {  // (a distributed state's points are gathered first: collective)
+    pr.check_whole_read(name, [&] {  // (a distributed state's points are gathered first: collective)
       need_count(n, contact_count(pr), "contact points");
       nd::need(out, "out");
     });
@@ -152,7 +153,7 @@ ND_EXPORT int nd_problem_estimate_critical_timestep(nd_problem p, double *tau_c)
 ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
   return nd::guarded("nd_problem_get_state_size", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] { nd::need(nbytes, "nbytes"); });
+    pr.check_whole_read("nd_problem_get_state_size", [&] { nd::need(nbytes, "nbytes"); });
     *nbytes = static_cast<int64_t>(pr.save_state().size());
     return ND_OK;
   });
@@ -161,7 +162,7 @@ ND_EXPORT int nd_problem_get_state_size(nd_problem p, int64_t *nbytes) {
 ND_EXPORT int nd_problem_save_state(nd_problem p, int64_t nbytes, void *buf) {
   return nd::guarded("nd_problem_save_state", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] { nd::need(buf, "buf"); });
+    pr.check_whole_read("nd_problem_save_state", [&] { nd::need(buf, "buf"); });
     const std::vector<unsigned char> bytes = pr.save_state();  // (nbytes checked after: no rank waits then)
     need_count(nbytes, static_cast<int64_t>(bytes.size()), "buf (nbytes, see nd_problem_get_state_size)");
     std::copy(bytes.begin(), bytes.end(), static_cast<unsigned char *>(buf));
@@ -182,7 +183,7 @@ ND_EXPORT int nd_problem_load_state(nd_problem p, int64_t nbytes, const void *bu
 ND_EXPORT int nd_problem_save_state_file(nd_problem p, const char *path) {
   return nd::guarded("nd_problem_save_state_file", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    pr.check_whole_read([&] { nd::need(path, "path"); });
+    pr.check_whole_read("nd_problem_save_state_file", [&] { nd::need(path, "path"); });
     pr.save_state_file(path);
     return ND_OK;
   });
@@ -200,9 +201,12 @@ ND_EXPORT int nd_problem_load_state_file(nd_problem p, const char *path) {
 ND_EXPORT int nd_problem_set_state(nd_problem p, int64_t n, const double *u, const double *v) {
   return nd::guarded("nd_problem_set_state", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    need_count(n, pr.space().n_nodes, "nodes");
-    if (u) nd::need_finite(u, n * pr.space().dim, "u");
-    if (v) nd::need_finite(v, n * pr.space().dim, "v");
+    pr.collective("nd_problem_set_state");  // every rank in this call (or all fail)
+    pr.on_every_rank([&] {                  // refused on one rank, refused on all
+      need_count(n, pr.space().n_nodes, "nodes");
+      if (u) nd::need_finite(u, n * pr.space().dim, "u");
+      if (v) nd::need_finite(v, n * pr.space().dim, "v");
+    });
     pr.overwrite_state(u, v);
     return ND_OK;
   });

@@ -16,6 +16,12 @@ int64_t bandwidth(const Csr &pattern, const std::vector<int64_t> &perm);
 // indices; no off-diagonal entry) or refuses it, for the caller to use AMD.
 // Throws ND_ERR_NOMEM when METIS runs out of memory. METIS's seed is fixed:
 // the ordering depends on the pattern alone.
+// It first takes the memory METIS will need (metis_memory_bound) and gives
+// it back: ND_ERR_NOMEM then, rather than METIS's message on standard error
+// when an allocation of its own fails.
 std::vector<int64_t> nested_dissection(const Csr &pattern);
+// The bytes METIS_NodeND may allocate at most for a graph of `vertices`
+// vertices and `entries` adjacency entries (both directions of each edge).
+int64_t metis_memory_bound(int64_t vertices, int64_t entries);
 
 }  // namespace nd

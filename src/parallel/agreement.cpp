@@ -1,5 +1,7 @@
 #include "parallel/agreement.hpp"
 
+#include <cmath>
+#include <cstdlib>
 #include <new>
 #include <string>
 
@@ -41,6 +43,17 @@ void on_every_rank(const std::function<int(int)> &worst_of, const std::function<
 void on_every_rank(const Communicator *c, const std::function<void()> &local, const char *what,
                    const char *consequence) {
   on_every_rank([c](int mine) { return worst_status(c, mine); }, local, what, consequence);
+}
+
+double collective_timeout() {
+  // far above the ranks' usual distance between two collective calls, and
+  // still a bounded wait for a job that lost step
+  constexpr double kDefault = 300;
+  const char *text = std::getenv("NITSCHEDYN_MPI_TIMEOUT");
+  if (!text) return kDefault;
+  char *end = nullptr;
+  const double t = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(t) && t > 0 ? t : kDefault;
 }
 
 }  // namespace nd

@@ -44,4 +44,34 @@ void exchange(const Communicator *c, const std::vector<int> &to, const std::vect
 void gatherv(const Communicator *c, int root, const std::vector<double> &mine, std::vector<double> &all,
              const std::vector<int> &counts, const std::vector<int> &displs);
 
+// The header of a problem's collective call (Problem::collective): which
+// call, this rank's how-many-th on the communicator, the digest of what the
+// ranks must agree on, and the derived objects this rank has to build
+// (`rebuild`, a bit set the ranks OR together).
+struct CallHeader {
+  int call = 0;
+  uint64_t digest = 0;
+  unsigned rebuild = 0;
+};
+// What the ranks sent: whether every rank made the same call (and the
+// lowest and highest call numbers), with the same digest, and the OR of
+// their `rebuild`s; `sequence` is the call's number on the communicator.
+struct CallAgreement {
+  bool same_call = true, same_digest = true;
+  int call_min = 0, call_max = 0;
+  unsigned rebuild = 0;
+  uint64_t sequence = 0;
+};
+// Exchanges the header over c's ranks without waiting for ever: two
+// nonblocking reductions (the header, then that every rank got it), each
+// waited for at most collective_timeout() seconds. A rank that waits longer
+// fails with ND_ERR_STATE and the communicator is lost: its reduction stays
+// posted (a late rank's header meets it, and the late rank then times out
+// in the second one), so every later exchange fails at once. Without a
+// communicator (or on one rank) returns `mine`'s agreement, no message.
+CallAgreement agree_on_call(const Communicator *c, const CallHeader &mine, const char *call_name);
+// The seconds a rank waits for the others' headers: NITSCHEDYN_MPI_TIMEOUT from the
+// environment when it is a positive number, else 300.
+double collective_timeout();
+
 }  // namespace nd

@@ -1,11 +1,15 @@
 // The communicator functions of builds with MPI (see communicator.hpp).
 #include "parallel/communicator_mpi.hpp"
 
+#include <chrono>
 #include <climits>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
@@ -28,6 +32,11 @@ CommunicatorPtr communicator_from_c(MPI_Comm comm) {
   // our own duplicate: the library's collectives never meet the caller's messages
   MPI_Comm own = MPI_COMM_NULL;
   if (MPI_Comm_dup(comm, &own) != MPI_SUCCESS) fail(ND_ERR_INTERNAL, "MPI_Comm_dup failed");
+  // an MPI error on it (a collective the ranks did not match) is a status, not the end of the job
+  if (MPI_Comm_set_errhandler(own, MPI_ERRORS_RETURN) != MPI_SUCCESS) {
+    MPI_Comm_free(&own);
+    fail(ND_ERR_INTERNAL, "MPI_Comm_set_errhandler failed");
+  }
   return std::make_shared<const Communicator>(own);
 }
 
@@ -125,6 +134,76 @@ void gatherv(const Communicator *c, int root, const std::vector<double> &mine, s
           : MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, root,
                         c->comm);
   if (status != MPI_SUCCESS) fail(ND_ERR_INTERNAL, "MPI_Gatherv of the ranks' values failed");
+}
+
+namespace {
+// The buffers of agree_on_call's two reductions: MPI holds them while a
+// request is posted, so a timed-out exchange leaves them to MPI (leaked).
+struct CallBuffers {
+  uint64_t header[6], header_all[6];  // call, seq, digest and their complements (MPI_MIN: equal iff min == ~max)
+  uint64_t rebuild = 0, rebuild_all = 0;  // MPI_BOR
+  MPI_Request request = MPI_REQUEST_NULL;
+};
+
+// Waits for `r` until `deadline`: false when it passed first (r stays posted).
+bool wait_until(MPI_Request &r, std::chrono::steady_clock::time_point deadline, bool &error) {
+  for (int polls = 0;; ++polls) {
+    int done = 0;
+    if (MPI_Test(&r, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return error = true, false;
+    if (done) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    // (the ranks usually meet within microseconds; a rank left waiting
+    // should not take a core from the ranks it waits for)
+    if (polls > 1000) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+}  // namespace
+
+CallAgreement agree_on_call(const Communicator *c, const CallHeader &mine, const char *call_name) {
+  CallAgreement a;
+  a.call_min = a.call_max = mine.call;
+  a.rebuild = mine.rebuild;
+  if (communicator_size(c) <= 1) return a;
+  const int rank = communicator_rank(c);
+  if (!c->lost_at.empty())
+    fail(ND_ERR_STATE, "rank " + std::to_string(rank) + ": this problem's ranks lost step with each other earlier (" +
+                           c->lost_at + "), so it makes no collective call any more: destroy it (nd_problem_destroy "
+                           "on every rank) and restart from a checkpoint");
+  a.sequence = ++c->calls;
+  auto buffers = std::make_unique<CallBuffers>();
+  CallBuffers &b = *buffers;
+  const uint64_t sent[3] = {static_cast<uint64_t>(mine.call), a.sequence, mine.digest};
+  for (int k = 0; k < 3; ++k) b.header[2 * k] = sent[k], b.header[2 * k + 1] = ~sent[k];
+  b.rebuild = mine.rebuild;
+  const double timeout = collective_timeout();
+  using Clock = std::chrono::steady_clock;
+  const auto wait = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout));
+  bool error = false;
+  auto phase = [&](const char *what) {
+    if (wait_until(b.request, Clock::now() + wait, error)) return;
+    c->lost_at = "rank " + std::to_string(rank) +
+                 (error ? std::string(": MPI failed in the ") + what
+                        : std::string(" waited ") + num(timeout) + " s for the other ranks' " + what) +
+                 " in " + call_name + ", the problem's collective call #" + std::to_string(a.sequence);
+    buffers.release();  // MPI may still write into them (a late rank): theirs now
+    fail(ND_ERR_STATE, c->lost_at + ": a rank made another collective call, or one more or one fewer (see the "
+                       "other ranks' errors; NITSCHEDYN_MPI_TIMEOUT sets the wait); the problem makes no collective "
+                       "call any more: destroy it on every rank and restart from a checkpoint");
+  };
+  if (MPI_Iallreduce(b.header, b.header_all, 6, MPI_UINT64_T, MPI_MIN, c->comm, &b.request) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Iallreduce of the collective call's header failed");
+  phase("headers");
+  // every rank got every header: then each knows what the others know
+  if (MPI_Iallreduce(&b.rebuild, &b.rebuild_all, 1, MPI_UINT64_T, MPI_BOR, c->comm, &b.request) != MPI_SUCCESS)
+    fail(ND_ERR_INTERNAL, "MPI_Iallreduce of the collective call's confirmation failed");
+  phase("confirmation that every rank has the headers");
+  auto same = [&b](int k) { return b.header_all[2 * k] == ~b.header_all[2 * k + 1]; };
+  a.same_call = same(0) && same(1);
+  a.same_digest = same(2);
+  a.call_min = static_cast<int>(b.header_all[0]);
+  a.call_max = static_cast<int>(~b.header_all[1]);
+  a.rebuild = static_cast<unsigned>(b.rebuild_all);
+  return a;
 }
 
 }  // namespace nd

@@ -2,6 +2,8 @@
 #pragma once
 #include <mpi.h>
 
+#include <string>
+
 #include "parallel/communicator.hpp"
 
 namespace nd {
@@ -11,7 +13,11 @@ struct Communicator {
   ~Communicator();  // frees the duplicate unless MPI is finalized
   Communicator(const Communicator &) = delete;
   Communicator &operator=(const Communicator &) = delete;
-  MPI_Comm comm;  // ours (MPI_Comm_dup of the caller's)
+  MPI_Comm comm;  // ours (MPI_Comm_dup of the caller's), errors returned as codes (MPI_ERRORS_RETURN)
+  // agree_on_call: the exchanges made on it, and where one timed out (empty:
+  // none; then the communicator is lost for the problem's collective calls)
+  mutable uint64_t calls = 0;
+  mutable std::string lost_at;
 };
 
 // Checks and duplicates the caller's communicator: ND_ERR_VALUE for

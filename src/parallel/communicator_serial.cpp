@@ -24,4 +24,11 @@ void gatherv(const Communicator *, int, const std::vector<double> &mine, std::ve
   all = mine;
 }
 
+CallAgreement agree_on_call(const Communicator *, const CallHeader &mine, const char *) {
+  CallAgreement a;
+  a.call_min = a.call_max = mine.call;
+  a.rebuild = mine.rebuild;
+  return a;
+}
+
 }  // namespace nd

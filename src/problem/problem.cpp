@@ -53,6 +53,21 @@ Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
 
 void Problem::changed(unsigned aspects) {
   def_.given |= aspects;
+  pending_ |= aspects;
+  drop(aspects);
+  if (aspects & kContact) obstacle_redefined_ = true;
+  // once t^0's loads are fixed (set up, or a second value given) a load is
+  // F^{n+1} of the next step, also at n = 0
+  const unsigned initial = kInitialStateDeps & ~(setup_done_ || start_ ? kLoads | kNodal | kObstacle : 0u);
+  if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
+    state_ready_ = false;
+    setup_done_ = false;
+  }
+  if (!state_ready_ || (aspects & (kGuards | kDiscretizationDeps))) initial_guarded_ = false;
+}
+
+// (caches only: each is made again from the definition, the same)
+void Problem::drop(unsigned aspects) {
   // (the operators hold a rank's rows only with a distributed solver on several ranks)
   if ((aspects & kDiscretizationDeps) || (disc_ && (aspects & kSolver) && disc_->rows_split != splits_rows(def_)))
     disc_.reset();
@@ -62,7 +77,6 @@ void Problem::changed(unsigned aspects) {
     load_fixed_.reset();
     step_load_.reset();
   }
-  if (aspects & kContact) obstacle_redefined_ = true;
   if (aspects & (kContact | kObstacle)) gaps_of_ = 0;
   if (aspects & kIntegratorDeps) {
     // a new tau or scheme refactors A = c M + K_Theta on the same pattern:
@@ -71,14 +85,6 @@ void Problem::changed(unsigned aspects) {
     integrator_.reset();
   }
   if (aspects & (kDiscretizationDeps | kSolver)) spare_A_factor_.reset();
-  // once t^0's loads are fixed (set up, or a second value given) a load is
-  // F^{n+1} of the next step, also at n = 0
-  const unsigned initial = kInitialStateDeps & ~(setup_done_ || start_ ? kLoads | kNodal | kObstacle : 0u);
-  if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
-    state_ready_ = false;
-    setup_done_ = false;
-  }
-  if (!state_ready_ || (aspects & (kGuards | kDiscretizationDeps))) initial_guarded_ = false;
 }
 
 // ---- definition -------------------------------------------------------------
@@ -506,8 +512,8 @@ void Problem::complete_state() {
 
 // ---- stepping --------------------------------------------------------------------
 
-void Problem::setup() {
-  agree_on_inputs();
+void Problem::setup(const char *call) {
+  agree_on_inputs(call);
   prepare();
 }
 
@@ -566,7 +572,7 @@ StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
 }
 
 void Problem::step() {
-  agree_on_inputs();
+  agree_on_inputs("nd_step");
   State next;
   // a refresh of the curved points' normals makes the operators again; a
   // failed step gives the old ones back, with the state they belong to
@@ -623,9 +629,10 @@ Discretization &Problem::discretization_agreed() {
   return *d;
 }
 
-void Problem::check_whole_read(const std::function<void()> &checks) {
-  if (state_ready_ && state_.partial) return on_every_rank(checks);
-  checks();
+void Problem::check_whole_read(const char *call, const std::function<void()> &checks) {
+  if (!(state_ready_ && state_.partial)) return checks();
+  collective(call);
+  on_every_rank(checks);
 }
 
 void Problem::on_every_rank(const std::function<void()> &local) {
@@ -676,9 +683,48 @@ uint64_t Problem::inputs_digest() const {
   return h.h;
 }
 
-void Problem::agree_on_inputs() {
+namespace {
+// The C functions that call collective(): a call's number in the header is
+// its index (a new one is appended: the ranks of one job run one build).
+constexpr const char *kCollectiveCalls[] = {
+    "nd_problem_setup", "nd_step", "nd_problem_set_state", "nd_get_field_gathered",
+    "nd_problem_estimate_critical_timestep", "nd_get_field", "nd_get_contact_pressure",
+    "nd_get_contact_pressure_applied", "nd_problem_get_state_size", "nd_problem_save_state",
+    "nd_problem_save_state_file", "nd_problem_write_vtu"};
+constexpr int kCollectiveCallCount = static_cast<int>(sizeof kCollectiveCalls / sizeof kCollectiveCalls[0]);
+// What a rank rebuilds over the ranks when these aspects changed: the
+// discretization (rows split with PETSc), its mass factor, the integrator.
+constexpr unsigned kRebuildAspects = kIntegratorDeps | kMassFactorDeps;
+}  // namespace
+
+bool Problem::collective(const char *call, uint64_t digest) {
   const Communicator *c = def_.comm.get();
-  if (communicator_size(c) > 1 && !same_on_all_ranks(c, inputs_digest()))
+  if (communicator_size(c) <= 1) return true;
+  int id = 0;
+  while (id < kCollectiveCallCount && std::string_view(kCollectiveCalls[id]) != call) ++id;
+  if (id == kCollectiveCallCount) fail(ND_ERR_INTERNAL, std::string("collective call ") + call + " has no number");
+  const CallAgreement a = agree_on_call(c, {id, digest, pending_ & kRebuildAspects}, call);
+  if (!a.same_call) {
+    const auto name = [](int k) { return k >= 0 && k < kCollectiveCallCount ? kCollectiveCalls[k] : "another call"; };
+    fail(ND_ERR_STATE, "rank " + std::to_string(rank()) +
+                           ": the ranks are not in the same collective call on this problem (" +
+                           (a.call_min != a.call_max ? std::string(name(a.call_min)) + " on some ranks, " +
+                                                           name(a.call_max) + " on others"
+                                                     : std::string("a call more or fewer on some ranks")) +
+                           ", the problem's collective call #" + std::to_string(a.sequence) +
+                           "): every rank makes the same collective calls in the same order; nothing was done on "
+                           "any rank");
+  }
+  if (!a.same_digest) return false;  // (what a rank changed waits for an agreed call)
+  // a rank that changed an aspect rebuilds its factorizations, collectively:
+  // the others rebuild theirs (the same, from the same definition) with it
+  drop(a.rebuild & ~pending_);
+  pending_ = 0;
+  return true;
+}
+
+void Problem::agree_on_inputs(const char *call) {
+  if (!collective(call, inputs_digest()))
     fail(ND_ERR_STATE, "the ranks' problems differ (definition, loads or state at t^n): every rank must make the "
                        "same calls with the same values (a call refused on some ranks only is the usual cause: see "
                        "their errors); nothing was done on any rank");
@@ -712,6 +758,7 @@ double Problem::omega_max() {
 }
 
 double Problem::critical_timestep() {
+  if (splits_rows(def_)) collective("nd_problem_estimate_critical_timestep");  // (it solves over the ranks)
   double limit = 2;  // the central difference's
   if (def_.given & kScheme) {
     const double l = make_scheme(def_.scheme, def_.scheme_params)->stability_limit();
@@ -721,7 +768,7 @@ double Problem::critical_timestep() {
 }
 
 void Problem::overwrite_state(const double *u, const double *v) {
-  setup();
+  setup("nd_problem_set_state");
   complete_state();
   Discretization &d = *disc_;
   State s = state_;
@@ -939,6 +986,10 @@ double Problem::scalar(int key) {
       return c.W_obstacle;
     case ND_TIMESTEP:
       return def_.tau;
+    case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)
+      const std::string &method = ownership().method;
+      return method == "one rank" ? 0 : method == "slabs" ? 2 : 1;
+    }
     case ND_GAMMA0:
       return discretization_().gamma0;
     case ND_GAMMA0_LIMIT: {

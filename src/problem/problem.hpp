@@ -125,8 +125,17 @@ class Problem {
   void on_every_rank(const std::function<void()> &local);
   // The argument checks of a call that reads whole vectors (fields,
   // checkpoints): with a partial state it completes it, collectively, so
-  // the ranks agree on them first (refused on one rank, refused on all).
-  void check_whole_read(const std::function<void()> &checks);
+  // the ranks agree on the call (collective) and on the checks first
+  // (refused on one rank, refused on all).
+  void check_whole_read(const char *call, const std::function<void()> &checks);
+  // The header every collective call of a problem on several ranks begins
+  // with (parallel/communicator.hpp, agree_on_call): the ranks must be in the
+  // same call, the call-th of each (ND_ERR_STATE on every rank otherwise, at
+  // once, or after NITSCHEDYN_MPI_TIMEOUT on a rank left waiting), and what a rank
+  // rebuilds (a factorization, collective with PETSc), every rank rebuilds.
+  // `call` is the C function's name (one of kCollectiveCalls); returns
+  // whether the ranks' digests agree. Nothing without a communicator.
+  bool collective(const char *call, uint64_t digest = 0);
   int rank() const { return communicator_rank(def_.comm.get()); }
   int rank_count() const { return communicator_size(def_.comm.get()); }
   double scalar(int key);               // an ND_* scalar key
@@ -136,7 +145,7 @@ class Problem {
 
   // Discretization, integrator, initial state: what the first step needs;
   // done once until the definition changes.
-  void setup();
+  void setup(const char *call = "nd_problem_setup");  // (call: the C function, for collective())
   // Advances one step; throws nd::Error (state untouched) on failure.
   // With a communicator both are collective, and the ranks agree: first that
   // their inputs are the same (ND_ERR_STATE on every rank otherwise), then on
@@ -147,7 +156,9 @@ class Problem {
  private:
   void changed(unsigned aspects);
   void prepare();  // setup() without the ranks' agreement
-  void agree_on_inputs();
+  void agree_on_inputs(const char *call);  // collective(call, inputs_digest()), ND_ERR_STATE if they differ
+  // changed() without the definition's `given`: drops what depends on `aspects`
+  void drop(unsigned aspects);
   uint64_t inputs_digest() const;
   Discretization &discretization_();
   Discretization &discretization_agreed();  // collective with split rows: discretization_() agreed by the ranks
@@ -179,6 +190,9 @@ class Problem {
   std::shared_ptr<const Ownership> ownership_;  // made with the communicator (null: not yet needed)
   uint64_t mesh_digest_;  // of the mesh and the space (inputs_digest)
   Definition def_;
+  // the aspects changed since the ranks last agreed (collective()): what this
+  // rank rebuilds, and so (with several ranks) every rank
+  unsigned pending_ = 0;
   // derived, each dropped by changed() when an aspect it depends on changes
   std::unique_ptr<Discretization> disc_;
   std::vector<double> gaps_;  // current_gaps() of the discretization whose id gaps_of_ holds (0: none)

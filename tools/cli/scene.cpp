@@ -14,6 +14,7 @@
 #include <toml++/toml.h>
 
 #include "nitschedyn.h"
+#include "step_count.h"
 
 namespace ndcli {
 namespace {
@@ -795,16 +796,16 @@ Scene parse_scene(std::string_view text, const std::string &path) {
 }
 
 int64_t step_count(const Scene &s) {
-  const double steps = s.T / s.tau + 0.5;  // rounded below
-  // 2^63: an int64_t holds every double below it (NaN and infinity fail too)
-  if (!(steps >= 0 && steps < 9223372036854775808.0)) {
+  const int64_t steps = nd_step_count(s.T, s.tau);
+  if (steps < 0) {
+    const double ratio = s.T / s.tau;
     std::ostringstream os;
     os << (s.T_at.empty() ? s.file : s.T_at) << ": T / tau = " << s.T << " / " << s.tau << " is "
-       << (std::isfinite(steps) ? "more steps than a run can count" : "not a finite number of steps")
+       << (std::isfinite(ratio) ? "more steps than a run can count" : "not a finite number of steps")
        << " (at most 2^63 - 1 = 9223372036854775807 steps): raise 'time.tau' or lower 'time.T'";
     throw SceneError(os.str());
   }
-  return static_cast<int64_t>(steps);
+  return steps;
 }
 
 std::string printable(std::string_view text) {

@@ -16,6 +16,7 @@
  *
  * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR
  *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha */
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +24,7 @@
 #include <time.h>
 
 #include "nitschedyn.h"
+#include "step_count.h"
 
 static double get(nd_problem p, int key) {
   double x = NAN;
@@ -118,11 +120,16 @@ int main(int argc, char **argv) {
     free(x);
     free(u0);
   }
-  const long steps = lround(T / tau);
+  const int64_t steps = nd_step_count(T, tau);
+  if (steps < 0) {
+    fprintf(stderr, "%s: T / tau = %g / %g is not a number of steps (0 to 2^63 - 1)\n", argv[0], T, tau);
+    nd_problem_destroy(&p);
+    return 2;
+  }
   const double t0 = now();
   const char *outcome = "completed";
   int code = ND_OK;
-  long k = 0;
+  int64_t k = 0;
   double E0 = get(p, ND_ENERGY_MECHANICAL), budget = E0, growth = 0, pen = 0, its = 0;
   double prev = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), scale = fabs(prev);
   int theory_ok = 1, late = 0;
@@ -157,8 +164,8 @@ int main(int argc, char **argv) {
     for (char *c = msg; *c; ++c)
       if (*c == '"' || *c == ',' || *c == '\n') *c = ' ';
   }
-  printf("%s,%d,%s,%g,%g,%g,%ld,%s,%s,%ld,%.4g,%.4g,%d,%.3f,%.3f,%s,\"%s\"\n", scene, degree, scheme_name, Theta, gamma0E,
-         tau, steps, outcome, code_name(code), code ? k : 0L, growth, pen, late,
+  printf("%s,%d,%s,%g,%g,%g,%" PRId64 ",%s,%s,%" PRId64 ",%.4g,%.4g,%d,%.3f,%.3f,%s,\"%s\"\n", scene, degree, scheme_name, Theta, gamma0E,
+         tau, steps, outcome, code_name(code), code ? k : (int64_t)0, growth, pen, late,
          k > 0 ? its / (double)(code ? k - 1 : steps) : 0.0, now() - t0, theory, msg);
   nd_problem_destroy(&p);
   return 0;
