@@ -4,6 +4,9 @@
 # usage: readme_example.sh README CC INCLUDE_DIR LIBRARY_DIR WORK_DIR [FC MODULE_DIR FORTRAN_LIBRARY_DIR]
 set -eu
 readme=$1 cc=$2 inc=$3 lib=$4 work=$5
+# for users, not a notebook: at most 12000 bytes
+size=$(wc -c < "$readme")
+[ "$size" -le 12000 ] || { echo "README.md has $size bytes; at most 12000 (measurements belong in docs/ and bench/results)"; exit 1; }
 mkdir -p "$work"
 cd "$work"
 # the k-th block into readme_c_k.c or readme_fortran_k.f90
