@@ -29,7 +29,8 @@ for extra in 65536 204800; do
       124) verdict="no answer after 30 s: a hang" ;;
       *) verdict="exit $rc: neither ND_OK nor ND_ERR_NOMEM" ;;
     esac
-    [ "$verdict" = ok ] && [ $took -gt 10 ] && verdict="took $took s"
+    # (the time is printed, not judged: a loaded machine runs it slower; the
+    # 30 s timeout tells a hang)
     echo "ulimit -v $limit (start + $((extra / 1024)) MiB), solver $solver: $out ($took s) $verdict"
     [ "$verdict" = ok ] || status=1
   done
