@@ -27,7 +27,8 @@
  *  - the momentum: its change over a Newmark step is the impulse of the
  *    load and the contact force, (1 - gamma) and gamma weighted, plus the
  *    step equations' residuals;
- *  - the step form is the at-end form bitwise for theta and Newmark. */
+ *  - the step form is the at-end form bitwise for theta and Newmark, and for
+ *    the hybrid scheme at u_old = u; its tangent by central differences. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -638,6 +639,62 @@ START_TEST(contact_by_differences_and_state_untouched) {
 }
 END_TEST
 
+/* The hybrid scheme's step form: at u_old = u its Phi_q is [P_q]_+ bit for bit
+   ((P + P)/2 = P exactly; ([P]_+ + [P]_+)/2 = 0 where P < 0), so the step
+   residual is the at-end one; its tangent against central differences in u,
+   u_old fixed, where no point changes side (Phi_q linear there). */
+START_TEST(hybrid_step_form_by_differences) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  const double none = 0;
+  nd_problem p = drop(dim, degree, ND_SCHEME_HYBRID, &none);
+  for (int k = 0; k < 12; ++k) ND_OK_OR_FAIL(nd_step(p)); /* into contact */
+  int64_t n = 0, nnz = 0, tn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL));
+  int64_t *node = malloc(sizeof(int64_t) * (size_t)n);
+  int *comp = malloc(sizeof(int) * (size_t)n);
+  ND_OK_OR_FAIL(nd_problem_get_dof_map(p, n, node, comp));
+  double *U = malloc(sizeof(double) * (size_t)n), *Un = malloc(sizeof(double) * (size_t)n);
+  double *d = malloc(sizeof(double) * (size_t)n), *Ux = malloc(sizeof(double) * (size_t)n);
+  double *R = malloc(sizeof(double) * (size_t)n), *S = malloc(sizeof(double) * (size_t)n);
+  double *Np = malloc(sizeof(double) * (size_t)n), *Nm = malloc(sizeof(double) * (size_t)n);
+  double *Td = calloc((size_t)n, sizeof(double));
+  free_field(p, ND_FIELD_DISPLACEMENT, n, node, comp, dim, U);
+  ND_OK_OR_FAIL(nd_problem_contact_residual(p, n, U, R));
+  ND_OK_OR_FAIL(nd_problem_contact_step_residual(p, n, U, U, S));
+  ck_assert(memcmp(R, S, sizeof(double) * (size_t)n) == 0);
+  double umax = 0;
+  for (int64_t i = 0; i < n; ++i) umax = fmax(umax, fabs(U[i]));
+  for (int64_t i = 0; i < n; ++i) d[i] = sin(1.0 + 0.7 * (double)i), Un[i] = U[i] - 0.3 * umax * cos(0.4 * (double)i);
+  ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, NULL, NULL, &tn, NULL, NULL, NULL));
+  int64_t *ptr = malloc(sizeof(int64_t) * (size_t)(n + 1)), *col = malloc(sizeof(int64_t) * (size_t)tn);
+  double *val = malloc(sizeof(double) * (size_t)tn), *val2 = malloc(sizeof(double) * (size_t)tn);
+  ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, U, Un, &tn, ptr, col, val));
+  int nonzero = 0;
+  for (int64_t k = 0; k < tn; ++k) nonzero += val[k] != 0;
+  ck_assert_msg(nonzero > 0, "some point must be active over the step");
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k) Td[i] += val[k] * d[col[k]];
+  const double h = 1e-7 * umax;
+  for (int sgn = -1; sgn <= 1; sgn += 2) {
+    for (int64_t i = 0; i < n; ++i) Ux[i] = U[i] + sgn * h * d[i];
+    ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, Ux, Un, &tn, ptr, col, val2));
+    ck_assert_msg(memcmp(val, val2, sizeof(double) * (size_t)tn) == 0, "a point changes side within h");
+    ND_OK_OR_FAIL(nd_problem_contact_step_residual(p, n, Ux, Un, sgn < 0 ? Nm : Np));
+  }
+  double err = 0, scale = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    err = fmax(err, fabs((Np[i] - Nm[i]) / (2 * h) - Td[i]));
+    scale = fmax(scale, fabs(Np[i]) + fabs(Nm[i]));
+  }
+  ck_assert_msg(err <= 64 * DBL_EPSILON * scale / (2 * h), "step form N' d against differences: %g (round-off %g)",
+                err, 64 * DBL_EPSILON * scale / (2 * h));
+  printf("hybrid step form %dD P%d: |N' d - differences| = %.3g (|N' d| %.3g)\n", dim, degree, err, norm2(n, Td));
+  free(U), free(Un), free(d), free(Ux), free(R), free(S), free(Np), free(Nm), free(Td);
+  free(ptr), free(col), free(val), free(val2), free(node), free(comp);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 /* ---- the momentum ------------------------------------------------------------ */
 
 /* Newmark: V^{n+1} - V^n = tau ((1-g) A^n + g A^{n+1}), so the change of
@@ -744,6 +801,7 @@ static Suite *host_suite(void) {
   tcase_add_loop_test(t, host_loop_follows_nd_step, 0, 4);
   tcase_add_loop_test(t, operators_agree_with_the_library, 0, 4);
   tcase_add_loop_test(t, contact_by_differences_and_state_untouched, 0, 4);
+  tcase_add_loop_test(t, hybrid_step_form_by_differences, 0, 4);
   tcase_add_loop_test(t, momentum_is_the_impulse, 0, 4);
   tcase_add_test(t, momentum_conserved_in_free_flight);
   suite_add_tcase(s, t);
