@@ -5,6 +5,12 @@
 ! iteration (nd_problem_contact_residual, nd_problem_contact_tangent):
 ! docs/design.md §10.4.
 !
+! With the argument "hybrid" the host runs the paper's hybrid scheme instead
+! (Crank-Nicolson for the bulk, c = 4/tau^2, kappa = 2), whose contact term
+! Phi_q switches per point on the sign of P_q^n: it asks for the step form,
+! nd_problem_contact_step_residual and nd_problem_contact_step_tangent, with
+! its own U^n.
+!
 ! The scene: a free elastic block (1 x 0.25, E = 1, nu = 0.3, rho = 1, P1)
 ! falling under gravity onto a rigid plane 0.002 below it, Theta = 1, the
 ! automatic gamma0, tau = 0.01. The same problem is stepped by nd_step
@@ -13,13 +19,15 @@
 !
 !   host_newmark: N steps (K in contact), max |U_host - U_lib| = D, bound B
 !
-! The bound is derived, step by step, not chosen: with Theta = 1 the step's
-! map G(U) = A U + N(U) - r (A = c M + K_Theta) is strongly monotone with
-! constant lambda_min(A), so two approximate solutions of the host's and the
-! library's step equations are at most
-!   (|G_h(U_host)| + |G_l(U_lib)| + |r_h - r_l|) / lambda_min(A)
-! apart, each residual below the Newton tolerance rtol (|r| + c |M U|) (the
-! test asserts it for the host's), r_h - r_l the history's difference.
+! The bound is derived, step by step, not chosen: with Theta = 1 the host's
+! step map G_h(U) = A U + kappa N_h(U) - r_h (A = c M + K_Theta, N_h its
+! contact term: phi_q(P_q(U)) p_q with phi_q nondecreasing in P_q, the
+! hybrid Phi_q for a fixed P_q^n too) is strongly monotone with constant
+! lambda_min(A), so the host's solution and the library's are at most
+!   (|G_h(U_host)| + |G_h(U_lib)|) / lambda_min(A)
+! apart, the first below the Newton tolerance rtol (|r| + c |M U|), the
+! second holding every difference of history (r_h - r_l, and U^n where the
+! contact term reads it).
 ! lambda_min(A) is bounded below by a Cholesky factorization of A - mu I.
 ! At the end it checks nd_problem_contact_values against nd_get_scalar at the
 ! state's U (bitwise) and reads the cells (nd_problem_get_cells).
@@ -30,12 +38,15 @@ program host_newmark
   implicit none
 
   real(c_double), parameter :: tau = 0.01d0, beta = 0.25d0, gam = 0.5d0, rtol = 1d-10
+  character(len=16) :: mode
+  logical :: hybrid
+  real(c_double) :: kappa
   integer, parameter :: nsteps = 30
   type(c_ptr) :: p
   integer(c_int64_t) :: n, nn, i
   real(c_double), allocatable :: Mass(:,:), K(:,:), KT(:,:), A(:,:), T(:,:)
-  real(c_double), allocatable :: F(:), U(:), V(:), Acc(:), U1(:), V1(:), A1(:), r(:), rl(:), G(:), Nc(:)
-  real(c_double), allocatable :: Ul(:), Vl(:), Al(:), Ulib(:), full(:), work(:)
+  real(c_double), allocatable :: F(:), U(:), V(:), Acc(:), U1(:), V1(:), A1(:), r(:), G(:), Nc(:)
+  real(c_double), allocatable :: Ulib(:), full(:), work(:)
   integer(c_int64_t), allocatable :: node(:), tptr(:), tcol(:)
   integer(c_int), allocatable :: comp(:)
   real(c_double), allocatable :: tval(:), last(:)
@@ -49,8 +60,15 @@ program host_newmark
   integer(c_int64_t), allocatable :: cells(:)
   integer(c_int), parameter :: keys(4) = [ND_CONTACT_FORCE, ND_ACTIVE_POINTS, ND_ENERGY_NITSCHE, ND_MAX_PENETRATION]
 
+  call get_command_argument(1, mode)
+  hybrid = mode == 'hybrid'
   p = make_scene()
   c = 1d0 / (beta * tau * tau)
+  kappa = 1
+  if (hybrid) then
+    c = 4 / (tau * tau)
+    kappa = 2
+  end if
 
   ! ---- set-up: the operators, once, into the host's own dense arrays ----
   call get_dense(ND_MATRIX_MASS, Mass)
@@ -59,8 +77,8 @@ program host_newmark
   n = size(Mass, 1, kind=c_int64_t)
   KT = K + KT                    ! K_Theta = K + (K_Theta - K)
   A = c * Mass + KT
-  allocate(F(n), U(n), V(n), Acc(n), U1(n), V1(n), A1(n), r(n), rl(n), G(n), Nc(n))
-  allocate(Ul(n), Vl(n), Al(n), Ulib(n), work(n), T(n, n), node(n), comp(n))
+  allocate(F(n), U(n), V(n), Acc(n), U1(n), V1(n), A1(n), r(n), G(n), Nc(n))
+  allocate(Ulib(n), work(n), T(n, n), node(n), comp(n))
   call check(nd_problem_get_load(p, n, F), 'nd_problem_get_load')
   call check(nd_problem_get_dof_map(p, n, node, comp), 'nd_problem_get_dof_map')
   call check(nd_problem_get_node_count(p, nn), 'nd_problem_get_node_count')
@@ -75,44 +93,54 @@ program host_newmark
   call check(nd_problem_contact_residual(p, n, U, Nc), 'nd_problem_contact_residual')
   Acc = F - matmul(KT, U) - Nc
   call solve(Mass, Acc)
+  if (hybrid) Acc = 0            ! (the hybrid scheme carries no acceleration: predictor U + tau V)
 
   worst = 0; worst_bound = 0; contact_steps = 0; ok = .true.
   do step = 1, nsteps
-    ! the library's state at t^n, for the bound
-    call field(ND_FIELD_DISPLACEMENT, Ul)
-    call field(ND_FIELD_VELOCITY, Vl)
-    call field(ND_FIELD_ACCELERATION, Al)
-    r = F + matmul(Mass, c * U + V / (beta * tau) + (0.5d0 / beta - 1) * Acc)
-    rl = F + matmul(Mass, c * Ul + Vl / (beta * tau) + (0.5d0 / beta - 1) * Al)
+    if (hybrid) then  ! 2 F^{n+1/2} - K_Theta U^n + M (c U^n + 4/tau V^n)
+      r = 2 * F - matmul(KT, U) + matmul(Mass, c * U + 4 / tau * V)
+    else
+      r = F + matmul(Mass, c * U + V / (beta * tau) + (0.5d0 / beta - 1) * Acc)
+    end if
     ! ---- the host's Newmark step: semi-smooth Newton from the predictor ----
     U1 = U + tau * V + 0.5d0 * tau * tau * Acc
     last = 0
     do it = 0, 50
       if (it == 50) stop 'host_newmark: the host Newton did not converge'
-      call check(nd_problem_contact_residual(p, n, U1, Nc), 'nd_problem_contact_residual')
-      G = matmul(A, U1) + Nc - r
+      call contact_residual(U1, Nc)
+      G = matmul(A, U1) + kappa * Nc - r
       gh = norm2(G)
-      call check(nd_problem_contact_tangent(p, n, U1, tnnz, tptr, tcol, tval), 'nd_problem_contact_tangent')
+      if (hybrid) then  ! the step form's Jacobian in U1, from the host's U^n
+        call check(nd_problem_contact_step_tangent(p, n, U1, U, tnnz, tptr, tcol, tval), &
+                   'nd_problem_contact_step_tangent')
+      else
+        call check(nd_problem_contact_tangent(p, n, U1, tnnz, tptr, tcol, tval), 'nd_problem_contact_tangent')
+      end if
       ! converged: the active set (the tangent) repeats and G is within the tolerance
       if (it > 0 .and. .not. any(abs(tval - last) > 0) .and. gh <= rtol * (norm2(r) + c * norm2(matmul(Mass, U1)))) exit
       last = tval
       T = A
       do i = 1, n
         T(i, tcol(tptr(i) + 1:tptr(i + 1)) + 1) = T(i, tcol(tptr(i) + 1:tptr(i + 1)) + 1) &
-                                                  + tval(tptr(i) + 1:tptr(i + 1))
+                                                  + kappa * tval(tptr(i) + 1:tptr(i + 1))
       end do
       G = -G
       call solve(T, G)
       U1 = U1 + G
     end do
-    A1 = c * (U1 - U) - V / (beta * tau) - (0.5d0 / beta - 1) * Acc
-    V1 = V + tau * ((1 - gam) * Acc + gam * A1)
+    if (hybrid) then
+      V1 = 2 * (U1 - U) / tau - V
+      A1 = 0
+    else
+      A1 = c * (U1 - U) - V / (beta * tau) - (0.5d0 / beta - 1) * Acc
+      V1 = V + tau * ((1 - gam) * Acc + gam * A1)
+    end if
     ! ---- the library's step, and the comparison ----
     call check(nd_step(p), 'nd_step')
     call field(ND_FIELD_DISPLACEMENT, Ulib)
-    call check(nd_problem_contact_residual(p, n, Ulib, Nc), 'nd_problem_contact_residual')
-    gl = norm2(matmul(A, Ulib) + Nc - rl)
-    bound = (gh + gl + norm2(r - rl)) / lam
+    call contact_residual(Ulib, Nc)  ! the host's equation (its r, its U^n) at U_lib
+    gl = norm2(matmul(A, Ulib) + kappa * Nc - r)
+    bound = (gh + gl) / lam
     diff = norm2(U1 - Ulib)
     if (diff > bound) then
       ok = .false.
@@ -136,11 +164,23 @@ program host_newmark
   call check(nd_problem_get_cells(p, ncells, npc, cells), 'nd_problem_get_cells')
   if (npc /= 3 .or. ncells /= 8 .or. minval(cells) /= 0 .or. maxval(cells) /= nn - 1) ok = .false.
   call check(nd_problem_destroy(p), 'nd_problem_destroy')
-  print '(a, i0, a, i0, a, es10.3, a, es10.3)', 'host_newmark: ', nsteps, ' steps (', contact_steps, &
+  print '(a, i0, a, i0, a, es10.3, a, es10.3)', 'host_newmark'//trim(' '//mode)//': ', nsteps, ' steps (', &
+        contact_steps, &
         ' in contact), max |U_host - U_lib| = ', worst, ', bound ', worst_bound
   if (.not. ok .or. contact_steps < 3) stop 1
 
 contains
+
+  ! the host's contact term at W: N(W), or the hybrid scheme's from the host's U^n = U
+  subroutine contact_residual(W, out)
+    real(c_double), intent(in) :: W(:)
+    real(c_double), intent(out) :: out(:)
+    if (hybrid) then
+      call check(nd_problem_contact_step_residual(p, n, W, U, out), 'nd_problem_contact_step_residual')
+    else
+      call check(nd_problem_contact_residual(p, n, W, out), 'nd_problem_contact_residual')
+    end if
+  end subroutine contact_residual
 
   subroutine check(status, what)
     integer(c_int), intent(in) :: status
@@ -165,7 +205,11 @@ contains
     call check(nd_problem_set_contact_plane(q, 1, origin, up), 'nd_problem_set_contact_plane')
     call check(nd_problem_set_nitsche(q, 1d0, 0d0), 'nd_problem_set_nitsche')
     call check(nd_problem_set_body_force(q, gravity), 'nd_problem_set_body_force')
-    call check(nd_problem_set_scheme(q, ND_SCHEME_NEWMARK, [beta, gam]), 'nd_problem_set_scheme')
+    if (hybrid) then
+      call check(nd_problem_set_scheme(q, ND_SCHEME_HYBRID, [0d0]), 'nd_problem_set_scheme')
+    else
+      call check(nd_problem_set_scheme(q, ND_SCHEME_NEWMARK, [beta, gam]), 'nd_problem_set_scheme')
+    end if
     call check(nd_problem_set_timestep(q, tau), 'nd_problem_set_timestep')
     call check(nd_problem_get_node_count(q, nodes), 'nd_problem_get_node_count')
     allocate(x(2 * nodes), v0(2 * nodes))

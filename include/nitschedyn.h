@@ -380,6 +380,16 @@ ND_EXPORT int nd_problem_contact_residual(nd_problem p, int64_t n, const double 
    u); two calls as nd_problem_get_matrix (u may be NULL in the first). */
 ND_EXPORT int nd_problem_contact_tangent(nd_problem p, int64_t n, const double *u, int64_t *nnz,
                                          int64_t *row_ptr, int64_t *col_idx, double *values);
+/* The step form: the law by the problem's scheme's time rule over the step
+   from P_q(u_old) to P_q(u) (the hybrid scheme's Phi_q, generalized-alpha's
+   shifted point, [P_q(u)]_+ for the others), u_old the host's U^n, the
+   obstacle at the current time at both ends. r = sum_q (w_q/gamma_q) phi_q b_q,
+   and its Jacobian in u as nd_problem_contact_tangent (u, u_old may be NULL
+   in the first call). */
+ND_EXPORT int nd_problem_contact_step_residual(nd_problem p, int64_t n, const double *u, const double *u_old,
+                                               double *r);
+ND_EXPORT int nd_problem_contact_step_tangent(nd_problem p, int64_t n, const double *u, const double *u_old,
+                                              int64_t *nnz, int64_t *row_ptr, int64_t *col_idx, double *values);
 /* The first nvalues (1 to 4) of: the resultant normal contact force
    sum_q w_q [P_q]_+/gamma_q, the active points, the Nitsche energy R and the
    deepest penetration max_q (u_n - g0)_+, at u. */

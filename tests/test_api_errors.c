@@ -1078,6 +1078,33 @@ START_TEST(host_calls_bad_arguments) {
   EXPECT_ERR(nd_problem_contact_values(p, 4, u, 5, values), ND_ERR_SIZE, "nd_problem_contact_values", "nvalues");
   EXPECT_ERR(nd_problem_contact_values(p, 4, u, 2, NULL), ND_ERR_NULL, "nd_problem_contact_values", "values");
   EXPECT_OK(nd_problem_contact_values(p, 4, u, 1, values));
+  /* the step form: u_old checked as u, the size query reading neither */
+  double un[4] = {0, 0, 0, 0};
+  EXPECT_ERR(nd_problem_contact_step_residual(p, 5, u, un, r), ND_ERR_SIZE, "nd_problem_contact_step_residual",
+             "expected 4");
+  EXPECT_ERR(nd_problem_contact_step_residual(p, 4, NULL, un, r), ND_ERR_NULL, "nd_problem_contact_step_residual",
+             "u is NULL");
+  EXPECT_ERR(nd_problem_contact_step_residual(p, 4, u, NULL, r), ND_ERR_NULL, "nd_problem_contact_step_residual",
+             "u_old");
+  EXPECT_ERR(nd_problem_contact_step_residual(p, 4, u, un, NULL), ND_ERR_NULL, "nd_problem_contact_step_residual",
+             "r");
+  un[1] = NAN;
+  EXPECT_ERR(nd_problem_contact_step_residual(p, 4, u, un, r), ND_ERR_NONFINITE, "nd_problem_contact_step_residual",
+             "u_old[1]");
+  EXPECT_ERR(nd_problem_contact_step_tangent(p, 4, u, un, &nnz, ptr, col, val), ND_ERR_NONFINITE,
+             "nd_problem_contact_step_tangent", "u_old[1]");
+  un[1] = 0;
+  EXPECT_ERR(nd_problem_contact_step_tangent(p, 3, NULL, NULL, &nnz, NULL, NULL, NULL), ND_ERR_SIZE,
+             "nd_problem_contact_step_tangent", "expected 4");
+  EXPECT_ERR(nd_problem_contact_step_tangent(p, 4, u, un, NULL, NULL, NULL, NULL), ND_ERR_NULL,
+             "nd_problem_contact_step_tangent", "nnz");
+  EXPECT_OK(nd_problem_contact_step_tangent(p, 4, NULL, NULL, &nnz, NULL, NULL, NULL));
+  EXPECT_ERR(nd_problem_contact_step_tangent(p, 4, u, NULL, &nnz, ptr, col, val), ND_ERR_NULL,
+             "nd_problem_contact_step_tangent", "u_old");
+  EXPECT_ERR(nd_problem_contact_step_tangent(p, 4, u, un, &nnz, ptr, NULL, val), ND_ERR_NULL,
+             "nd_problem_contact_step_tangent", "col_idx");
+  EXPECT_OK(nd_problem_contact_step_tangent(p, 4, u, un, &nnz, ptr, col, val));
+  EXPECT_OK(nd_problem_contact_step_residual(p, 4, u, un, r));
   unsigned char *after = nd_test_checkpoint(p, &after_size);
   ck_assert_int_eq(before_size, after_size);
   ck_assert(memcmp(before, after, (size_t)before_size) == 0);
@@ -1099,6 +1126,12 @@ START_TEST(host_calls_incomplete) {
   EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_STEP, &n, &nnz, NULL, NULL, NULL), ND_ERR_INCOMPLETE,
              "nd_problem_get_matrix", "scheme");
   EXPECT_OK(nd_problem_get_matrix(p, ND_MATRIX_STIFFNESS, &n, &nnz, NULL, NULL, NULL));
+  { /* the step form needs the scheme's rule; the at-end form does not */
+    double u[4] = {0, 0, 0, 0}, r[4];
+    EXPECT_ERR(nd_problem_contact_step_residual(p, 4, u, u, r), ND_ERR_INCOMPLETE,
+               "nd_problem_contact_step_residual", "scheme");
+    EXPECT_OK(nd_problem_contact_residual(p, 4, u, r));
+  }
   EXPECT_OK(nd_problem_destroy(&p));
   p = partial_bar('m');
   EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL), ND_ERR_INCOMPLETE,

@@ -2,15 +2,21 @@
  * through the public API:
  *  - a host loop with its own arrays, time scheme and semi-smooth Newton,
  *    the library giving only M, K, K_Theta - K, F and the contact term,
- *    follows nd_step's trajectory for the theta-scheme, Newmark and
- *    generalized-alpha, in 2D and 3D, P1 and P2 (the C twin of
- *    examples/host_newmark.f90). The bound, step by step: with Theta = 1 the
- *    step's map G(U) = A U + kappa N(Y(U)) - r is strongly monotone with
- *    constant lambda_min(A) (N is the gradient of a convex function), so
- *      |U_host - U_lib| <= (|G_h(U_host)| + |G_l(U_lib)| + |r_h - r_l|) / lambda_min(A),
- *    G_h, G_l the host's and the library's step equations (their right-hand
- *    sides r_h, r_l from their own states at t^n), each residual below the
- *    Newton tolerance rtol (|r| + c |M U|) that both asserted;
+ *    follows nd_step's trajectory for every implicit scheme: the
+ *    theta-scheme, Newmark, generalized-alpha (N at the shifted U, and the
+ *    step form) and the hybrid scheme (the step form,
+ *    nd_problem_contact_step_residual: its Phi_q switches per point on the
+ *    sign of P_q^n), in 2D and 3D, P1 and P2 (the C twin of
+ *    examples/host_newmark.f90). The bound, step by step: with Theta = 1
+ *    (b_q = p_q) the host's step map G_h(U) = A U + kappa N_h(U) - r_h, N_h
+ *    its contact term with its own U^n, is strongly monotone with constant
+ *    lambda_min(A): N_h = sum_q (w_q/gamma_q) phi_q(P_q(U)) p_q with each
+ *    phi_q nondecreasing in P_q (at the end, at generalized-alpha's
+ *    Y = (1-af) U + af U^n, and the hybrid Phi_q for a fixed P_q^n alike), so
+ *      |U_host - U_lib| <= (|G_h(U_host)| + |G_h(U_lib)|) / lambda_min(A),
+ *    the host's equation at the library's solution holding every difference
+ *    of history (r_h - r_l, and U^n where the contact term reads it), the
+ *    first term below the Newton tolerance rtol (|r| + c |M U|);
  *  - the operators: M 1 per component is the mass rho |Omega|, K and
  *    K_Theta - K annihilate the rigid motions, K_Theta - K is symmetric,
  *    STEP = c M + K + NITSCHE entrywise, the lumped mass keeps the mass;
@@ -20,9 +26,9 @@
  *    call;
  *  - the momentum: its change over a Newmark step is the impulse of the
  *    load and the contact force, (1 - gamma) and gamma weighted, plus the
- *    step equations' residuals.
- * The hybrid scheme's contact term switches per point on the sign of P_q^n:
- * not expressible through whole-vector calls, so it is not claimed here. */
+ *    step equations' residuals;
+ *  - the step form is the at-end form bitwise for theta and Newmark, and for
+ *    the hybrid scheme at u_old = u; its tangent by central differences. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -201,14 +207,17 @@ static void free_field(nd_problem p, int field, int64_t n, const int64_t *node, 
 /* ---- the host ---------------------------------------------------------------- */
 
 typedef struct {
-  int kind; /* 0 theta, 1 Newmark, 2 generalized-alpha */
+  int kind; /* 0 theta, 1 Newmark, 2 generalized-alpha, 3 hybrid */
   double theta, beta, gamma, am, af;
   double c, kappa;
+  int step_form; /* the contact term by nd_problem_contact_step_residual (U^n given) */
 } scheme_t;
 
-static scheme_t make_scheme(int scheme, const double *prm, double tau) {
-  scheme_t s = {0, 0, 0, 0, 0, 0, 0, 1};
-  if (scheme == ND_SCHEME_THETA) {
+static scheme_t make_scheme(int scheme, const double *prm, double tau, int step_form) {
+  scheme_t s = {0, 0, 0, 0, 0, 0, 0, 1, step_form};
+  if (scheme == ND_SCHEME_HYBRID) {
+    s.kind = 3, s.c = 4 / (tau * tau), s.kappa = 2, s.step_form = 1; /* (design.md §3) */
+  } else if (scheme == ND_SCHEME_THETA) {
     s.kind = 0, s.theta = prm[0], s.c = 1 / (tau * tau * s.theta * s.theta);
   } else if (scheme == ND_SCHEME_NEWMARK) {
     s.kind = 1, s.beta = prm[0], s.gamma = prm[1], s.c = 1 / (s.beta * tau * tau);
@@ -269,8 +278,15 @@ static void rhs(const host *h, const scheme_t *s, double tau, const double *U, c
     const double b = s->beta;
     for (int64_t i = 0; i < n; ++i) w[i] = U[i] / (b * tau * tau) + V[i] / (b * tau) + (1 / (2 * b) - 1) * A[i];
   }
+  if (s->kind == 3) /* 2 F - K_Theta U^n + M (c U^n + 4/tau V^n) */
+    for (int64_t i = 0; i < n; ++i) w[i] = s->c * U[i] + 4 / tau * V[i];
   matvec(n, h->M, w, Mw);
-  if (s->kind < 2) {
+  if (s->kind == 3) {
+    double *KU = malloc(sizeof(double) * (size_t)n);
+    matvec(n, h->KT, U, KU);
+    for (int64_t i = 0; i < n; ++i) r[i] = 2 * h->F[i] - KU[i] + Mw[i];
+    free(KU);
+  } else if (s->kind < 2) {
     for (int64_t i = 0; i < n; ++i) r[i] = h->F[i] + Mw[i];
   } else {
     double *KU = malloc(sizeof(double) * (size_t)n), *MA = malloc(sizeof(double) * (size_t)n);
@@ -283,13 +299,15 @@ static void rhs(const host *h, const scheme_t *s, double tau, const double *U, c
   free(w), free(Mw);
 }
 
-/* G(U) = A U + kappa N(Y) - r, Y = (1 - af) U + af U^n */
+/* G(U) = A U + kappa N(Y) - r, Y = (1 - af) U + af U^n; in the step form
+   kappa times the scheme's contact term from U^n to U */
 static void residual(const host *h, const scheme_t *s, const double *Un, const double *r, const double *U,
                      double *G) {
   const int64_t n = h->n;
   double *Y = calloc((size_t)n, sizeof(double)), *N = calloc((size_t)n, sizeof(double));
   for (int64_t i = 0; i < n; ++i) Y[i] = (1 - s->af) * U[i] + s->af * Un[i];
-  ND_OK_OR_FAIL(nd_problem_contact_residual(h->p, n, Y, N));
+  if (s->step_form) ND_OK_OR_FAIL(nd_problem_contact_step_residual(h->p, n, U, Un, N));
+  else ND_OK_OR_FAIL(nd_problem_contact_residual(h->p, n, Y, N));
   matvec(n, h->A, U, G);
   for (int64_t i = 0; i < n; ++i) G[i] += s->kappa * N[i] - r[i];
   free(Y), free(N);
@@ -312,14 +330,18 @@ static double newton(host *h, const scheme_t *s, const double *Un, const double 
     g = norm2(n, G);
     const double tol = kRtol * (norm2(n, r) + s->c * norm2(n, MU));
     for (int64_t i = 0; i < n; ++i) Y[i] = (1 - s->af) * U[i] + s->af * Un[i];
-    ND_OK_OR_FAIL(nd_problem_contact_tangent(h->p, n, Y, &h->tnnz, h->tptr, h->tcol, h->tval));
+    if (s->step_form) /* the Jacobian in U: kappa times it */
+      ND_OK_OR_FAIL(nd_problem_contact_step_tangent(h->p, n, U, Un, &h->tnnz, h->tptr, h->tcol, h->tval));
+    else
+      ND_OK_OR_FAIL(nd_problem_contact_tangent(h->p, n, Y, &h->tnnz, h->tptr, h->tcol, h->tval));
     same = it > 0 && memcmp(last, h->tval, sizeof(double) * (size_t)h->tnnz) == 0;
     if (same && g <= tol) break;
     memcpy(last, h->tval, sizeof(double) * (size_t)h->tnnz);
     memcpy(T, h->A, sizeof(double) * (size_t)(n * n));
-    /* kappa N'(Y) dY/dU = kappa (1 - af) N'(Y) = N'(Y) */
+    /* kappa N'(Y) dY/dU = kappa (1 - af) N'(Y) = N'(Y); the step form's is in U */
+    const double f = s->step_form ? s->kappa : 1;
     for (int64_t i = 0; i < n; ++i)
-      for (int64_t k = h->tptr[i]; k < h->tptr[i + 1]; ++k) T[i * n + h->tcol[k]] += h->tval[k];
+      for (int64_t k = h->tptr[i]; k < h->tptr[i + 1]; ++k) T[i * n + h->tcol[k]] += f * h->tval[k];
     for (int64_t i = 0; i < n; ++i) G[i] = -G[i];
     solve(n, T, G);
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
@@ -332,7 +354,10 @@ static double newton(host *h, const scheme_t *s, const double *Un, const double 
 static void update(const scheme_t *s, double tau, int64_t n, const double *U0, const double *V0, const double *A0,
                    const double *U, double *V, double *A) {
   for (int64_t i = 0; i < n; ++i) {
-    if (s->kind == 0) {
+    if (s->kind == 3) { /* Crank-Nicolson; no acceleration */
+      V[i] = 2 * (U[i] - U0[i]) / tau - V0[i];
+      A[i] = 0;
+    } else if (s->kind == 0) {
       const double th = s->theta;
       V[i] = (U[i] - U0[i]) / (tau * th) - (1 - th) / th * V0[i];
       A[i] = (V[i] - V0[i]) / (tau * th) - (1 - th) / th * A0[i];
@@ -357,10 +382,10 @@ static void initial_acceleration(const host *h, const double *U, double *A) {
 
 /* The host's trajectory against nd_step's over `steps` steps; returns the
    largest |U_host - U_lib|_max, each step's checked against its bound. */
-static double host_against_library(int dim, int degree, int scheme, const double *prm, int steps) {
+static double host_against_library(int dim, int degree, int scheme, const double *prm, int step_form, int steps) {
   nd_problem p = drop(dim, degree, scheme, prm);
   const double tau = 0.01;
-  const scheme_t s = make_scheme(scheme, prm, tau);
+  const scheme_t s = make_scheme(scheme, prm, tau, step_form);
   host h = host_make(p, s.c);
   const int64_t n = h.n;
   const double lam = lambda_min_lower(n, h.A);
@@ -373,7 +398,7 @@ static double host_against_library(int dim, int degree, int scheme, const double
   double *Ul = v[6], *Vl = v[7], *Al = v[8], *rh = v[9], *rl = v[10], *G = v[11];
   free_field(p, ND_FIELD_DISPLACEMENT, n, node, comp, dim, U);
   free_field(p, ND_FIELD_VELOCITY, n, node, comp, dim, V);
-  initial_acceleration(&h, U, A);
+  if (s.kind != 3) initial_acceleration(&h, U, A); /* (the hybrid scheme carries none: predictor U + tau V) */
   double worst = 0, worst_bound = 0;
   int contact_steps = 0;
   for (int step = 0; step < steps; ++step) {
@@ -388,13 +413,10 @@ static double host_against_library(int dim, int degree, int scheme, const double
     update(&s, tau, n, U, V, A, U1, V1, A1);
     const int status = nd_step(p);
     ck_assert_msg(status == ND_OK, "nd_step: %s", nd_last_error());
-    double *Un = Ul; /* the library's U^n, for its Y */
     double *Ulib = malloc(sizeof(double) * (size_t)n);
     free_field(p, ND_FIELD_DISPLACEMENT, n, node, comp, dim, Ulib);
-    residual(&h, &s, Un, rl, Ulib, G);
-    const double gl = norm2(n, G);
-    for (int64_t i = 0; i < n; ++i) G[i] = rh[i] - rl[i];
-    const double bound = (gh + gl + norm2(n, G)) / lam;
+    residual(&h, &s, U, rh, Ulib, G); /* the host's equation (its r_h, its U^n) at U_lib */
+    const double bound = (gh + norm2(n, G)) / lam;
     double diff2 = 0, diff = 0;
     for (int64_t i = 0; i < n; ++i) {
       diff2 += (U1[i] - Ulib[i]) * (U1[i] - Ulib[i]);
@@ -411,9 +433,9 @@ static double host_against_library(int dim, int degree, int scheme, const double
     free(Ulib);
   }
   ck_assert_msg(contact_steps >= 3, "the scene must touch the plane (%d contact steps)", contact_steps);
-  printf("host loop %dD P%d scheme %d (%.3g): %d steps (%d in contact), max |U_host - U_lib| = %.3g, "
+  printf("host loop %dD P%d scheme %d (%.3g)%s: %d steps (%d in contact), max |U_host - U_lib| = %.3g, "
          "largest bound %.3g\n",
-         dim, degree, scheme, prm[0], steps, contact_steps, worst, worst_bound);
+         dim, degree, scheme, prm[0], s.step_form ? " step form" : "", steps, contact_steps, worst, worst_bound);
   for (int k = 0; k < 12; ++k) free(v[k]);
   free(node), free(comp);
   host_free(&h);
@@ -422,15 +444,17 @@ static double host_against_library(int dim, int degree, int scheme, const double
 }
 
 START_TEST(host_loop_follows_nd_step) {
-  const double half = 0.5, one = 1, nm[2] = {0.25, 0.5}, ga = 0.8;
+  const double half = 0.5, one = 1, nm[2] = {0.25, 0.5}, ga = 0.8, none = 0;
   const struct {
     int scheme;
-    const double *prm;
-  } schemes[] = {{ND_SCHEME_NEWMARK, nm}, {ND_SCHEME_THETA, &half}, {ND_SCHEME_THETA, &one},
-                 {ND_SCHEME_GENERALIZED_ALPHA, &ga}};
+    const double *prm; /* (the hybrid scheme reads none) */
+    int step_form;
+  } schemes[] = {{ND_SCHEME_NEWMARK, nm, 0},           {ND_SCHEME_THETA, &half, 0}, {ND_SCHEME_THETA, &one, 0},
+                 {ND_SCHEME_GENERALIZED_ALPHA, &ga, 0}, {ND_SCHEME_GENERALIZED_ALPHA, &ga, 1},
+                 {ND_SCHEME_HYBRID, &none, 1}};
   const int dim = 2 + _i / 2, degree = 1 + _i % 2;
   for (size_t k = 0; k < sizeof schemes / sizeof schemes[0]; ++k)
-    host_against_library(dim, degree, schemes[k].scheme, schemes[k].prm, 30);
+    host_against_library(dim, degree, schemes[k].scheme, schemes[k].prm, schemes[k].step_form, 30);
 }
 END_TEST
 
@@ -585,6 +609,14 @@ START_TEST(contact_by_differences_and_state_untouched) {
     ck_assert_msg(memcmp(val, val2, sizeof(double) * (size_t)tn) == 0, "a point changes side within h");
     ND_OK_OR_FAIL(nd_problem_contact_residual(p, n, Ux, sgn < 0 ? Nm : Np));
   }
+  { /* Newmark's step form is the law at the end: the same bits, whatever U^n */
+    double *S = malloc(sizeof(double) * (size_t)n);
+    ND_OK_OR_FAIL(nd_problem_contact_step_residual(p, n, Ux, d, S)); /* (Ux = U + h d, as Np's) */
+    ck_assert(memcmp(S, Np, sizeof(double) * (size_t)n) == 0);
+    ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, U, d, &tn, ptr, col, val2));
+    ck_assert(memcmp(val, val2, sizeof(double) * (size_t)tn) == 0);
+    free(S);
+  }
   double err = 0, scale = 0;
   for (int64_t i = 0; i < n; ++i) {
     err = fmax(err, fabs((Np[i] - Nm[i]) / (2 * h) - Td[i]));
@@ -603,6 +635,62 @@ START_TEST(contact_by_differences_and_state_untouched) {
   ck_assert(memcmp(before, after, (size_t)before_size) == 0);
   free(before), free(after), free(Ux), free(ptr), free(col), free(val), free(val2);
   free(U), free(d), free(Np), free(Nm), free(Td), free(node), free(comp);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* The hybrid scheme's step form: at u_old = u its Phi_q is [P_q]_+ bit for bit
+   ((P + P)/2 = P exactly; ([P]_+ + [P]_+)/2 = 0 where P < 0), so the step
+   residual is the at-end one; its tangent against central differences in u,
+   u_old fixed, where no point changes side (Phi_q linear there). */
+START_TEST(hybrid_step_form_by_differences) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  const double none = 0;
+  nd_problem p = drop(dim, degree, ND_SCHEME_HYBRID, &none);
+  for (int k = 0; k < 12; ++k) ND_OK_OR_FAIL(nd_step(p)); /* into contact */
+  int64_t n = 0, nnz = 0, tn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL));
+  int64_t *node = malloc(sizeof(int64_t) * (size_t)n);
+  int *comp = malloc(sizeof(int) * (size_t)n);
+  ND_OK_OR_FAIL(nd_problem_get_dof_map(p, n, node, comp));
+  double *U = malloc(sizeof(double) * (size_t)n), *Un = malloc(sizeof(double) * (size_t)n);
+  double *d = malloc(sizeof(double) * (size_t)n), *Ux = malloc(sizeof(double) * (size_t)n);
+  double *R = malloc(sizeof(double) * (size_t)n), *S = malloc(sizeof(double) * (size_t)n);
+  double *Np = malloc(sizeof(double) * (size_t)n), *Nm = malloc(sizeof(double) * (size_t)n);
+  double *Td = calloc((size_t)n, sizeof(double));
+  free_field(p, ND_FIELD_DISPLACEMENT, n, node, comp, dim, U);
+  ND_OK_OR_FAIL(nd_problem_contact_residual(p, n, U, R));
+  ND_OK_OR_FAIL(nd_problem_contact_step_residual(p, n, U, U, S));
+  ck_assert(memcmp(R, S, sizeof(double) * (size_t)n) == 0);
+  double umax = 0;
+  for (int64_t i = 0; i < n; ++i) umax = fmax(umax, fabs(U[i]));
+  for (int64_t i = 0; i < n; ++i) d[i] = sin(1.0 + 0.7 * (double)i), Un[i] = U[i] - 0.3 * umax * cos(0.4 * (double)i);
+  ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, NULL, NULL, &tn, NULL, NULL, NULL));
+  int64_t *ptr = malloc(sizeof(int64_t) * (size_t)(n + 1)), *col = malloc(sizeof(int64_t) * (size_t)tn);
+  double *val = malloc(sizeof(double) * (size_t)tn), *val2 = malloc(sizeof(double) * (size_t)tn);
+  ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, U, Un, &tn, ptr, col, val));
+  int nonzero = 0;
+  for (int64_t k = 0; k < tn; ++k) nonzero += val[k] != 0;
+  ck_assert_msg(nonzero > 0, "some point must be active over the step");
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k) Td[i] += val[k] * d[col[k]];
+  const double h = 1e-7 * umax;
+  for (int sgn = -1; sgn <= 1; sgn += 2) {
+    for (int64_t i = 0; i < n; ++i) Ux[i] = U[i] + sgn * h * d[i];
+    ND_OK_OR_FAIL(nd_problem_contact_step_tangent(p, n, Ux, Un, &tn, ptr, col, val2));
+    ck_assert_msg(memcmp(val, val2, sizeof(double) * (size_t)tn) == 0, "a point changes side within h");
+    ND_OK_OR_FAIL(nd_problem_contact_step_residual(p, n, Ux, Un, sgn < 0 ? Nm : Np));
+  }
+  double err = 0, scale = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    err = fmax(err, fabs((Np[i] - Nm[i]) / (2 * h) - Td[i]));
+    scale = fmax(scale, fabs(Np[i]) + fabs(Nm[i]));
+  }
+  ck_assert_msg(err <= 64 * DBL_EPSILON * scale / (2 * h), "step form N' d against differences: %g (round-off %g)",
+                err, 64 * DBL_EPSILON * scale / (2 * h));
+  printf("hybrid step form %dD P%d: |N' d - differences| = %.3g (|N' d| %.3g)\n", dim, degree, err, norm2(n, Td));
+  free(U), free(Un), free(d), free(Ux), free(R), free(S), free(Np), free(Nm), free(Td);
+  free(ptr), free(col), free(val), free(val2), free(node), free(comp);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST
@@ -713,6 +801,7 @@ static Suite *host_suite(void) {
   tcase_add_loop_test(t, host_loop_follows_nd_step, 0, 4);
   tcase_add_loop_test(t, operators_agree_with_the_library, 0, 4);
   tcase_add_loop_test(t, contact_by_differences_and_state_untouched, 0, 4);
+  tcase_add_loop_test(t, hybrid_step_form_by_differences, 0, 4);
   tcase_add_loop_test(t, momentum_is_the_impulse, 0, 4);
   tcase_add_test(t, momentum_conserved_in_free_flight);
   suite_add_tcase(s, t);

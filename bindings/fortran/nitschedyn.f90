@@ -55,6 +55,7 @@ module nitschedyn
   public :: nd_problem_write_vtu, nd_write_pvd
   public :: nd_problem_get_matrix, nd_problem_get_dof_map, nd_problem_get_load, nd_problem_get_cells
   public :: nd_problem_contact_residual, nd_problem_contact_tangent, nd_problem_contact_values
+  public :: nd_problem_contact_step_residual, nd_problem_contact_step_tangent
   ! ---- the monitor's interface and the Fortran string wrappers --------------
   public :: nd_monitor_fn, nd_distance_fn
   public :: nd_last_error_f, nd_strerror_f, nd_mesh_read_gmsh_f, nd_problem_write_vtu_f, nd_write_pvd_f
@@ -678,6 +679,30 @@ module nitschedyn
       real(c_double), intent(out), optional :: values(*)
       integer(c_int) :: status
     end function nd_problem_contact_tangent
+
+    ! the step form: the scheme's time rule from P_q(u_old) to P_q(u) (u_old: the host's U^n)
+    function nd_problem_contact_step_residual(p, n, u, u_old, r) result(status) &
+        bind(C, name='nd_problem_contact_step_residual')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: u(*), u_old(*)
+      real(c_double), intent(out) :: r(*)
+      integer(c_int) :: status
+    end function nd_problem_contact_step_residual
+
+    ! two calls as nd_problem_get_matrix (u, u_old may be absent in the first)
+    function nd_problem_contact_step_tangent(p, n, u, u_old, nnz, row_ptr, col_idx, values) result(status) &
+        bind(C, name='nd_problem_contact_step_tangent')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in), optional :: u(*), u_old(*)
+      integer(c_int64_t), intent(inout) :: nnz
+      integer(c_int64_t), intent(out), optional :: row_ptr(*), col_idx(*)
+      real(c_double), intent(out), optional :: values(*)
+      integer(c_int) :: status
+    end function nd_problem_contact_step_tangent
 
     ! values(nvalues): force, active points, Nitsche energy R, max penetration (first nvalues)
     function nd_problem_contact_values(p, n, u, nvalues, values) result(status) &

@@ -183,6 +183,8 @@ _PROTOTYPES = {
     "nd_problem_get_cells": (_int, [_ptr, _pi64, _pint, _pi64]),
     "nd_problem_contact_residual": (_int, [_ptr, _i64, _pdbl, _pdbl]),
     "nd_problem_contact_tangent": (_int, [_ptr, _i64, _pdbl, _pi64, _pi64, _pi64, _pdbl]),
+    "nd_problem_contact_step_residual": (_int, [_ptr, _i64, _pdbl, _pdbl, _pdbl]),
+    "nd_problem_contact_step_tangent": (_int, [_ptr, _i64, _pdbl, _pdbl, _pi64, _pi64, _pi64, _pdbl]),
     "nd_problem_contact_values": (_int, [_ptr, _i64, _pdbl, _int, _pdbl]),
 }
 for _name, (_res, _args) in _PROTOTYPES.items():
@@ -734,6 +736,26 @@ class Problem(_Handle):
         val = np.empty(nnz.value)
         _check(lib.nd_problem_contact_tangent(self._h, u.size, _dptr(u), ctypes.byref(nnz), _i64ptr(ptr),
                                               _i64ptr(col), _dptr(val)))
+        return ptr, col, val
+
+    def contact_step_residual(self, u, u_old):
+        """The step form: the scheme's time rule over the step from P_q(u_old) to P_q(u), u_old the host's U^n."""
+        u = _doubles(u, self.free_dof_count, "u")
+        u_old = _doubles(u_old, self.free_dof_count, "u_old")
+        r = np.empty(u.size)
+        _check(lib.nd_problem_contact_step_residual(self._h, u.size, _dptr(u), _dptr(u_old), _dptr(r)))
+        return r
+
+    def contact_step_tangent(self, u, u_old):
+        """The step form's Jacobian in u as CSR arrays (row_ptr, col_idx, values)."""
+        u = _doubles(u, self.free_dof_count, "u")
+        u_old = _doubles(u_old, self.free_dof_count, "u_old")
+        nnz = _i64()
+        _check(lib.nd_problem_contact_step_tangent(self._h, u.size, None, None, ctypes.byref(nnz), None, None, None))
+        ptr, col = np.empty(u.size + 1, dtype=np.int64), np.empty(nnz.value, dtype=np.int64)
+        val = np.empty(nnz.value)
+        _check(lib.nd_problem_contact_step_tangent(self._h, u.size, _dptr(u), _dptr(u_old), ctypes.byref(nnz),
+                                                   _i64ptr(ptr), _i64ptr(col), _dptr(val)))
         return ptr, col, val
 
     def contact_values(self, u):

@@ -4,15 +4,18 @@ tests/test_host_newmark.c, through the ctypes layer ``nitschedyn.lib`` with
 plain lists (numpy is not needed: the host is a legacy code with its own
 arrays).
 
-A free block (1 x 0.25, P1) dropped onto a plane, Newmark(1/4, 1/2): the
-host takes M, K, K_Theta - K and F once (nd_problem_get_matrix,
-nd_problem_get_load), runs its own Newmark loop and semi-smooth Newton with
-the contact term of nd_problem_contact_residual and
-nd_problem_contact_tangent, and each step's displacement is within
-    (|G_h(U_host)| + |G_l(U_lib)| + |r_h - r_l|) / lambda_min(A)
-of nd_step's (A = c M + K_Theta, the step map strongly monotone for
-Theta = 1; lambda_min bounded below by a Cholesky factorization of
-A - mu I). Also: nd_problem_get_cells, nd_problem_get_dof_map,
+A free block (1 x 0.25, P1) dropped onto a plane, Newmark(1/4, 1/2), then
+the hybrid scheme: the host takes M, K, K_Theta - K and F once
+(nd_problem_get_matrix, nd_problem_get_load), runs its own loop and
+semi-smooth Newton with the contact term of nd_problem_contact_residual and
+nd_problem_contact_tangent (Newmark) or of their step form from its own U^n,
+nd_problem_contact_step_residual and nd_problem_contact_step_tangent (the
+hybrid scheme, kappa = 2), and each step's displacement is within
+    (|G_h(U_host)| + |G_h(U_lib)|) / lambda_min(A)
+of nd_step's (A = c M + K_Theta, the host's step map G_h strongly monotone
+for Theta = 1: its law nondecreasing in P_q, the hybrid Phi_q for a fixed
+P_q^n too; G_h(U_lib) holds every difference of history; lambda_min bounded
+below by a Cholesky factorization of A - mu I). Also: nd_problem_get_cells, nd_problem_get_dof_map,
 nd_problem_contact_values (the state's values are nd_get_scalar's) and the
 momenta.
 
@@ -56,7 +59,7 @@ def darray(n, values=None):
     return a
 
 
-def scene():
+def scene(hybrid):
     m, p = ctypes.c_void_p(), ctypes.c_void_p()
     call(lib.nd_mesh_create_rectangle(4, 1, darray(2, [0, 0.002]), darray(2, [1, 0.252]), ctypes.byref(m)))
     call(lib.nd_mesh_mark_boundary_box(m, 1, darray(2, [-1, -1]), darray(2, [2, 0.0021])))
@@ -66,7 +69,10 @@ def scene():
     call(lib.nd_problem_set_contact_plane(p, 1, darray(2, [0, 0]), darray(2, [0, 1])))
     call(lib.nd_problem_set_nitsche(p, 1.0, 0.0))
     call(lib.nd_problem_set_body_force(p, darray(2, [0.05, -1])))
-    call(lib.nd_problem_set_scheme(p, nd.ND_SCHEME_NEWMARK, darray(2, [BETA, GAMMA])))
+    if hybrid:
+        call(lib.nd_problem_set_scheme(p, nd.ND_SCHEME_HYBRID, None))
+    else:
+        call(lib.nd_problem_set_scheme(p, nd.ND_SCHEME_NEWMARK, darray(2, [BETA, GAMMA])))
     call(lib.nd_problem_set_timestep(p, TAU))
     nn = i64()
     call(lib.nd_problem_get_node_count(p, ctypes.byref(nn)))
@@ -152,11 +158,11 @@ def lambda_min_lower(A):
     return mu
 
 
-def main():
-    p, nn = scene()
+def main(hybrid):
+    p, nn = scene(hybrid)
     M, K, NT = dense(p, nd.ND_MATRIX_MASS), dense(p, nd.ND_MATRIX_STIFFNESS), dense(p, nd.ND_MATRIX_NITSCHE)
     n = len(M)
-    c = 1 / (BETA * TAU * TAU)
+    c, kappa = (4 / (TAU * TAU), 2) if hybrid else (1 / (BETA * TAU * TAU), 1)
     KT = [[K[i][j] + NT[i][j] for j in range(n)] for i in range(n)]
     A = [[c * M[i][j] + KT[i][j] for j in range(n)] for i in range(n)]
     F = darray(n)
@@ -182,9 +188,13 @@ def main():
         call(lib.nd_get_field(p, which, nn, full))
         return [full[2 * node[i] + comp[i]] for i in range(n)]
 
-    def contact(u):
+    def contact(u, un=None):
+        """N(u); with un (the host's U^n) the step form, the scheme's rule over the step"""
         N = darray(n)
-        call(lib.nd_problem_contact_residual(p, n, darray(n, u), N))
+        if un is None:
+            call(lib.nd_problem_contact_residual(p, n, darray(n, u), N))
+        else:
+            call(lib.nd_problem_contact_step_residual(p, n, darray(n, u), darray(n, un), N))
         return list(N)[:n]
 
     tnnz = i64()
@@ -195,23 +205,31 @@ def main():
     U, V = field(nd.ND_FIELD_DISPLACEMENT), field(nd.ND_FIELD_VELOCITY)
     N0 = contact(U)
     Acc = solve(M, [F[i] - kt - N0[i] for i, kt in enumerate(matvec(KT, U))])
+    if hybrid:  # it carries no acceleration: the predictor U + tau V
+        Acc = [0.0] * n
     worst = worst_bound = 0.0
     in_contact = 0
     for step in range(30):
-        Ul, Vl, Al = field(nd.ND_FIELD_DISPLACEMENT), field(nd.ND_FIELD_VELOCITY), field(nd.ND_FIELD_ACCELERATION)
-        mix = [c * U[i] + V[i] / (BETA * TAU) + (0.5 / BETA - 1) * Acc[i] for i in range(n)]
-        mixl = [c * Ul[i] + Vl[i] / (BETA * TAU) + (0.5 / BETA - 1) * Al[i] for i in range(n)]
-        r = [F[i] + v for i, v in enumerate(matvec(M, mix))]
-        rl = [F[i] + v for i, v in enumerate(matvec(M, mixl))]
+        if hybrid:  # 2 F^{n+1/2} - K_Theta U^n + M (c U^n + 4/tau V^n)
+            KU = matvec(KT, U)
+            r = [2 * F[i] - KU[i] + v for i, v in enumerate(matvec(M, [c * U[i] + 4 / TAU * V[i] for i in range(n)]))]
+        else:
+            mix = [c * U[i] + V[i] / (BETA * TAU) + (0.5 / BETA - 1) * Acc[i] for i in range(n)]
+            r = [F[i] + v for i, v in enumerate(matvec(M, mix))]
+        Un = U if hybrid else None
         U1 = [U[i] + TAU * V[i] + 0.5 * TAU * TAU * Acc[i] for i in range(n)]
         last = None
         for it in range(51):
             if it == 50:
                 raise RuntimeError("the host's Newton did not converge")
-            N = contact(U1)
-            G = [g + N[i] - r[i] for i, g in enumerate(matvec(A, U1))]
+            N = contact(U1, Un)
+            G = [g + kappa * N[i] - r[i] for i, g in enumerate(matvec(A, U1))]
             gh = norm(G)
-            call(lib.nd_problem_contact_tangent(p, n, darray(n, U1), ctypes.byref(tnnz), tptr, tcol, tval))
+            if hybrid:  # the step form's Jacobian in U1
+                call(lib.nd_problem_contact_step_tangent(p, n, darray(n, U1), darray(n, U), ctypes.byref(tnnz), tptr,
+                                                         tcol, tval))
+            else:
+                call(lib.nd_problem_contact_tangent(p, n, darray(n, U1), ctypes.byref(tnnz), tptr, tcol, tval))
             now = list(tval)[:tnnz.value]
             if last == now and gh <= RTOL * (norm(r) + c * norm(matvec(M, U1))):
                 break
@@ -219,16 +237,19 @@ def main():
             T = [row[:] for row in A]
             for i in range(n):
                 for k in range(tptr[i], tptr[i + 1]):
-                    T[i][tcol[k]] += tval[k]
+                    T[i][tcol[k]] += kappa * tval[k]
             dU = solve(T, [-g for g in G])
             U1 = [U1[i] + dU[i] for i in range(n)]
-        A1 = [c * (U1[i] - U[i]) - V[i] / (BETA * TAU) - (0.5 / BETA - 1) * Acc[i] for i in range(n)]
-        V1 = [V[i] + TAU * ((1 - GAMMA) * Acc[i] + GAMMA * A1[i]) for i in range(n)]
+        if hybrid:
+            V1, A1 = [2 * (U1[i] - U[i]) / TAU - V[i] for i in range(n)], [0.0] * n
+        else:
+            A1 = [c * (U1[i] - U[i]) - V[i] / (BETA * TAU) - (0.5 / BETA - 1) * Acc[i] for i in range(n)]
+            V1 = [V[i] + TAU * ((1 - GAMMA) * Acc[i] + GAMMA * A1[i]) for i in range(n)]
         call(lib.nd_step(p))
         Ulib = field(nd.ND_FIELD_DISPLACEMENT)
-        Nl = contact(Ulib)
-        gl = norm([g + Nl[i] - rl[i] for i, g in enumerate(matvec(A, Ulib))])
-        bound = (gh + gl + norm([r[i] - rl[i] for i in range(n)])) / lam
+        Nl = contact(Ulib, Un)  # the host's equation (its r, its U^n) at U_lib
+        gl = norm([g + kappa * Nl[i] - r[i] for i, g in enumerate(matvec(A, Ulib))])
+        bound = (gh + gl) / lam
         diff = norm([U1[i] - Ulib[i] for i in range(n)])
         check(diff <= bound, "step %d: |U_host - U_lib| = %g > bound %g" % (step, diff, bound))
         worst = max(worst, max(abs(U1[i] - Ulib[i]) for i in range(n)))
@@ -253,10 +274,11 @@ def main():
         check(abs(x.value - mine) <= 4 * n * sys.float_info.epsilon * sum(abs(v) for v in MV),
               "momentum %d: %r, host %r" % (k, x.value, mine))
     call(lib.nd_problem_destroy(ctypes.byref(p)))
-    print("host_newmark (Python): 30 steps (%d in contact), max |U_host - U_lib| = %.3g, bound %.3g"
-          % (in_contact, worst, worst_bound))
+    print("host_newmark (Python%s): 30 steps (%d in contact), max |U_host - U_lib| = %.3g, bound %.3g"
+          % (", hybrid" if hybrid else "", in_contact, worst, worst_bound))
 
 
-main()
+main(False)
+main(True)
 print("%d passed, %d failed" % (passed, failed))
 sys.exit(1 if failed else 0)

@@ -74,6 +74,18 @@ check(touched > 0, "the block came into contact")
 check(calls[0] > 0, "the Python callback was called")
 check(same, "the plane as a Python callback steps bitwise as the built-in plane")
 
+# the contact term at a U the host gives (Problem.contact_*), the hybrid scheme's
+# step form: at u_old = u its Phi_q is [P_q]_+ bit for bit; its tangent on
+# the at-end form's pattern
+node, comp = b.dof_map()
+u = b.field()[node, comp]
+u[comp == 1] = -0.51  # the bottom 0.01 into the plane: every bottom point active
+check(np.array_equal(b.contact_step_residual(u, u), b.contact_residual(u)), "step form at u_old = u")
+ptr, col, _ = b.contact_tangent(u)
+sptr, scol, sval = b.contact_step_tangent(u, u)
+check(np.array_equal(ptr, sptr) and np.array_equal(col, scol) and np.any(sval != 0), "step form's tangent")
+check(raises(nd.ND_ERR_NONFINITE, lambda: b.contact_step_residual(u, u * np.nan)), "a NaN in u_old")
+
 # a callback that raises: the step fails, the problem is unchanged, the exception comes back
 c = block()
 boom = [False]

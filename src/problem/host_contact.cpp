@@ -26,16 +26,34 @@ ContactLaw query_law(const Discretization &d, const State &t) {
   law.local = true;
   return law;
 }
+// The law of a host call: query_law's, and with U_old the scheme's time rule
+// over the step, P^n = P_q(U_old) at the same gaps (the pieces a step's law
+// holds, ContactLaw::scheme and Pn, kept alive here)
+struct HostLaw {
+  std::unique_ptr<TimeScheme> scheme;
+  std::vector<double> Pn;
+  ContactLaw law;
+  HostLaw(Problem &p, const Discretization &d, const State &t, const double *U_old) : law(query_law(d, t)) {
+    if (!U_old) return;
+    const Definition &def = p.definition();
+    require_complete(def.given & kScheme ? 0u : unsigned(kScheme));
+    scheme = make_scheme(def.scheme, def.scheme_params);
+    law.P_all(U_old, Pn);
+    law.scheme = scheme.get();
+    law.Pn = &Pn;
+  }
+};
 }  // namespace
 
-void host_contact_residual(Problem &p, const double *U, double *r) {
+void host_contact_residual(Problem &p, const double *U, const double *U_old, double *r) {
   const Discretization &d = whole_operators(p, "the contact term");
   const State t = at_host_U(p, d, U);
+  const HostLaw h(p, d, t, U_old);
   std::fill(r, r + d.dofs.n_free, 0.0);
-  query_law(d, t).add_force(t.U.data(), 1.0, r, nullptr);
+  h.law.add_force(t.U.data(), 1.0, r, nullptr);
 }
 
-Csr host_contact_tangent(Problem &p, const double *U) {
+Csr host_contact_tangent(Problem &p, const double *U, const double *U_old) {
   const Discretization &d = whole_operators(p, "the contact term");
   const ContactPoints &cp = d.contact;
   // every (i, j) of a point's index list (s_q shares a_q's): all that
@@ -46,7 +64,7 @@ Csr host_contact_tangent(Problem &p, const double *U) {
   Csr T = csr_from_rows(std::move(rows));
   if (!U) return T;
   const State t = at_host_U(p, d, U);
-  query_law(d, t).add_tangent(t.U.data(), 1.0, T);
+  HostLaw(p, d, t, U_old).law.add_tangent(t.U.data(), 1.0, T);
   return T;
 }
 

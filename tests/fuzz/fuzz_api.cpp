@@ -95,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 39)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 40)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -305,6 +305,29 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                     in.ConsumeIntegralInRange<int>(-1, 2), a, in.ConsumeBool() ? R : nullptr);
         break;
       }
+      case 39:  // the step form at fuzzed U and U^n (values possibly not finite)
+        if (p) {
+          int64_t n = 0, nnz = 0;
+          if (CALL(nd_problem_get_matrix, p, ND_MATRIX_MASS, &n, &nnz, nullptr, nullptr, nullptr) == ND_OK &&
+              n >= 0 && n < 100000) {
+            buf.assign(static_cast<size_t>(n + 1), 0.0);
+            buf2.assign(static_cast<size_t>(n + 1), 0.0);
+            std::vector<double> r(static_cast<size_t>(n + 1));
+            for (auto &x : buf) x = any_double(in);
+            for (auto &x : buf2) x = any_double(in);
+            CALL(nd_problem_contact_step_residual, p, n, buf.data(), in.ConsumeBool() ? buf2.data() : nullptr,
+                 r.data());
+            if (CALL(nd_problem_contact_step_tangent, p, n, nullptr, nullptr, &nnz, nullptr, nullptr, nullptr) ==
+                    ND_OK &&
+                nnz >= 0 && nnz < 10000000) {
+              std::vector<int64_t> ptr(static_cast<size_t>(n + 1)), col(static_cast<size_t>(nnz + 1));
+              std::vector<double> val(static_cast<size_t>(nnz + 1));
+              CALL(nd_problem_contact_step_tangent, p, n, buf.data(), buf2.data(), &nnz, ptr.data(), col.data(),
+                   val.data());
+            }
+          }
+        }
+        break;
       default: {
         int mj, mn, pt;
         CALL(nd_version, &mj, &mn, &pt);
