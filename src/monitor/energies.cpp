@@ -1,9 +1,6 @@
 #include "monitor/energies.hpp"
 
 #include <algorithm>
-#include <atomic>
-#include <limits>
-#include <type_traits>
 
 #include "common/error.hpp"
 #include "nitschedyn.h"

@@ -243,6 +243,7 @@ const PointValues &state_points(const Discretization &d, const State &s, PointVa
   law.P_all(s.U.data(), scratch.P, &scratch.un);
   return scratch;
 }
+
 Products product_sums(const Discretization &d, const State &s) {
   Products sums;
   products_pass<false>(d, s, sums);
