@@ -1,5 +1,5 @@
 // An operator and M by nodes, for the passes that multiply both (the
-// products pass, monitor/energies.cpp: K and M; Newton's residual: A and
+// products pass, solve/products.cpp: K and M; Newton's residual: A and
 // M) or the operator alone (an explicit step's K_Theta U): the operator's
 // dim x dim blocks and one entry of M per block, a block's column as its
 // node in 4 bytes. A pass then reads about 11 bytes per entry of the

@@ -6,7 +6,7 @@
 // Theta != 1, where b_q != p_q). Estimated by Lanczos in the M inner product
 // with full reorthogonalization, from a fixed start vector.
 #pragma once
-#include "problem/discretization.hpp"
+#include "solve/operators.hpp"
 
 namespace nd {
 

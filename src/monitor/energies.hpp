@@ -1,51 +1,22 @@
 // The monitors of the analysis (docs/design.md §2): energies, contact pressure and
 // contact statistics of a state. They read the discretization and the state
-// and change neither, except compute_products and sum_points, with which a
-// step leaves them in the state it makes.
+// and change neither, except sum_points, with which a step leaves its sums
+// in the state it makes; the products they read are the step's
+// (solve/products.hpp).
 #pragma once
 #include <vector>
 
-#include "problem/discretization.hpp"
-#include "solve/contact_law.hpp"
+#include "solve/operators.hpp"
+#include "solve/products.hpp"
 #include "time/state.hpp"
 
 namespace nd {
 
-// [P]_+ with the obstacle where it is at the state's time
-ContactLaw state_contact_law(const Discretization &d, const State &s);
-// s.products: M U, M V, M A (when s.A_valid), K U and the energy's sums, in
-// one pass over the pattern M and K share (one ND_STAT_SPMV), and P_q(U)
-// (one contact evaluation, none without contact points; none with `known`:
-// P_q(s.U) and u_n - g0 that the step evaluated there with the state's gaps,
-// moved in: the same bits)
-// With `held` (a distributed state's points, HeldPoints) P_q(U) is
-// evaluated at those points only (PointValues::partial), by this rank.
-void compute_products(const Discretization &d, State &s, PointValues *known = nullptr,
-                      const HeldPoints *held = nullptr);
-// The same for a state shown contact-free by the bound from `ref` (its
-// points not evaluated: PointValues::ref)
-void compute_products_bounded(const Discretization &d, State &s, std::shared_ptr<const PointReference> ref);
-// The reference of a state's points for the bound of the steps after it:
-// where they were evaluated, the state itself (its U, points and gaps,
-// copied), else its own reference. Null if its points are not every
-// point's (a distributed state's), or not there. A new one has its bounds'
-// tests made (set_reference_reach) for the penetration guard's limit.
-std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s, const Products &p,
-                                                      double penetration_limit);
 // The step's sums over the points (PointValues::sums) of s, from its
 // products' P_q and u_n - g0 and its phi: each rank adds its own points and
 // the ranks' sums are added rank after rank (collective with several
 // ranks). Also adds the obstacle's work, sum_q dW[q], to s.W_obstacle.
 void sum_points(const Discretization &d, State &s, const std::vector<double> &dW);
-// Whether s.products are d's and, where a reader takes M A (with_acceleration)
-// and s has A, hold it: a query of the hybrid scheme's acceleration makes A
-// without touching U or V and drops M A only (Discretization::
-// equilibrium_acceleration), so that the next hybrid step, which reads no
-// M A, does not pass over M and K again
-bool products_current(const Discretization &d, const State &s, bool with_acceleration);
-// s.products if they are current for d, else the same pass into `scratch`
-const Products &products_of(const Discretization &d, const State &s, Products &scratch,
-                            bool with_acceleration = false);
 // E = 1/2 V'MV + 1/2 U'KU (the sums of s.products when valid: the same bits)
 double mechanical_energy(const Discretization &d, const State &s);
 // R = 1/2 sum_q w_q (gamma_q (s_q.U)^2 - [P_q]_+^2/gamma_q)
@@ -55,12 +26,6 @@ double contact_force(const Discretization &d, const State &s);
 // sum_q w_q phi_q/gamma_q with the contact term phi_q the step applied (before a step: the force)
 double contact_force_applied(const Discretization &d, const State &s);
 int64_t active_points(const Discretization &d, const State &s);
-// P_q(U) and u_n - g0 of the state at every point: its products' (in a
-// step, each evaluated by its point's rank) when they are valid and were
-// evaluated, else evaluated here into `scratch` (counted in `counters` as a
-// pass over the points); the same bits either way. Not collective: a query.
-const PointValues &state_points(const Discretization &d, const State &s, PointValues &scratch,
-                                Counters *counters = nullptr);
 // max_q (u_n - g0)_+
 double max_penetration(const Discretization &d, const State &s);
 // lambda_q = -[P_q]_+/gamma_q

@@ -5,8 +5,10 @@
 #include <string>
 
 #include "assembly/coercivity.hpp"
+#include "common/error.hpp"
 #include "common/format.hpp"
 #include "monitor/energies.hpp"
+#include "nitschedyn.h"
 #include "parallel/share.hpp"
 
 namespace nd {

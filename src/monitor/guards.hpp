@@ -2,11 +2,17 @@
 // obstacle or start inside it is refused with its own code and a message
 // saying what to change. They read the state and the discretization only.
 #pragma once
-#include "problem/definition.hpp"
-#include "problem/discretization.hpp"
+#include "solve/operators.hpp"
 #include "time/state.hpp"
 
 namespace nd {
+
+// What the library checks (docs/design.md §3b); nd_problem_set_guard sets them.
+struct Guards {
+  double energy = 2;         // E <= f (E^0 + max_k (W^k + W_obstacle^k)); 0: off
+  double penetration = 0.5;  // u_n - g0 <= f h_K; 0: off
+  bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
+};
 
 // At t^0: the initial penetration (beyond round-off, 1e-10 h_K) and the
 // energy reference E^0. Throws ND_ERR_PENETRATION.

@@ -13,6 +13,7 @@
 #include "contact/law.hpp"
 #include "common/error.hpp"
 #include "contact/obstacle.hpp"
+#include "monitor/guards.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator.hpp"
 #include "solve/contact_columns.hpp"
@@ -35,13 +36,6 @@ enum Aspect : unsigned {
   kNewton = 1u << 10,
   kGuards = 1u << 12,
   kObstacle = 1u << 13,  // a plane's point moved (same normal), an obstacle's pose: only the gaps change
-};
-
-// What the library checks (docs/design.md §3b); nd_problem_set_guard sets them.
-struct Guards {
-  double energy = 2;         // E <= f (E^0 + max_k (W^k + W_obstacle^k)); 0: off
-  double penetration = 0.5;  // u_n - g0 <= f h_K; 0: off
-  bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
 };
 
 // What may change from step to step without new operators: the loads and

@@ -1,6 +1,7 @@
-// The discretization derived from a definition: the DOF numbering, the
-// operators M, K, K_Theta, the contact points with their rows, and the
-// constant load. Built once; rebuilt only when an aspect it depends on changes.
+// The discretization (solve/operators.hpp) made from a definition: the DOF
+// numbering, the operators M, K, K_Theta, the contact points with their rows,
+// and the constant load. Built once; rebuilt only when an aspect it depends
+// on changes.
 #pragma once
 #include <memory>
 #include <vector>
@@ -12,83 +13,11 @@
 #include "linalg/node_blocks.hpp"
 #include "parallel/ownership.hpp"
 #include "problem/definition.hpp"
+#include "solve/operators.hpp"
 #include "time/state.hpp"
 
 namespace nd {
 
-// The clamped DOFs and their rows of K and of the consistent mass on the free
-// columns (problem/forces.hpp): what the reactions need.
-struct ClampedRows {
-  std::vector<int64_t> dofs;  // full DOF indices, in row order
-  Csr K, M;
-};
-
-struct Discretization {
-  Discretization(DofMap d, bool lump);
-  // unique per discretization made in this process: what a State's Products are valid for
-  const uint64_t id;
-  DofMap dofs;
-  Csr M;  // the scheme's mass: consistent, or lumped (diagonal) on the same pattern
-  bool lumped;
-  std::vector<double> M_lumped;  // the lumped diagonal (empty when consistent)
-  // mass redistribution: 1 for the free DOFs of the contact nodes, whose rows
-  // and columns of M are zero (empty when off)
-  std::vector<char> massless;
-  Csr K, K_theta;                // K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
-  ContactPoints contact;
-  std::shared_ptr<const PointLaw> contact_law;  // the contact law (the definition's), never null
-  double theta = 1;
-  double gamma0 = 0;        // in use (chosen here when the definition asks for it)
-  double gamma0_limit = 0;  // gamma0* at Theta = 1 (docs/design.md §3b.1); +inf without contact
-  bool coercive = false;    // K_Theta checked positive semi-definite
-  double omega_max = 0;     // the explicit schemes' highest frequency, once estimated
-  std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
-  std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
-  Counters *counters = nullptr;             // the problem's (ND_STAT_*)
-  DofGeometry geometry;                     // the solvers' ranks and rows; the unknowns' coordinates for AMG
-  // with several ranks: which rank computes which row of the step's products
-  // (the rank of its node; monitor/energies.cpp); null: this process, all
-  std::shared_ptr<const Share> rows;
-  // K and M by nodes, for the products pass (made when the rows are not
-  // split; null where they have no such form: linalg/node_blocks.hpp)
-  std::shared_ptr<const NodeBlocks> node_blocks;
-  // K_Theta and M so, for the explicit steps' K_Theta U (made at the first)
-  std::shared_ptr<const NodeBlocks> k_theta_blocks;
-  // M, K and K_Theta hold this rank's rows only, and
-  // store no others (Csr::part: their row pointers fall with the ranks), so
-  // every product with them is the ranks' rows, gathered: collective
-  // (own_rows_of)
-  bool rows_split = false;
-  // With split rows: the columns this rank's rows of M and K read (they
-  // share a pattern), ascending, and for each entry of K (those rows'
-  // entries, row after row), its column's place among them. The products
-  // pass packs U, V, A at these columns only, not n long
-  // (monitor/energies.cpp): 4 bytes per entry of the rank's rows (falling
-  // with P) for four whole-length arrays. Made on first use; dropped with
-  // `rows`.
-  struct OwnColumns {
-    std::vector<int64_t> cols;
-    std::vector<int32_t> place;  // (half the memory of a column index)
-  };
-  const OwnColumns &own_columns() const;
-  mutable std::shared_ptr<const OwnColumns> own_columns_;
-
-  // x <- M^-1 x; on massless DOFs the result is 0 (M restricted to the others).
-  // once: the caller expects no more solves with M (the initial acceleration
-  // of an implicit scheme); then, with no factor yet, a large M held whole
-  // is solved by conjugate gradients (linalg/pcg.hpp) instead of being
-  // factored and its factor kept, whatever the solver: a factor of M, as
-  // large as A's, would stay for the whole run and raise its peak memory.
-  void mass_solve(double *x, int solver, bool once = false);
-  // M A = F - K_Theta U - N(U): Remark 3.2 at t^0, and every explicit step
-  // (once: as in mass_solve). in_step: called by every rank at the same point
-  // of a set-up or a step, so each may compute its own rows of K_Theta U and
-  // evaluate its own contact points, then gather (parallel/share.hpp); a
-  // query computes them all on its own. at_U (if given): the pass's P_q and
-  // u_n - g0, for compute_products.
-  void equilibrium_acceleration(State &s, int solver, bool once = true, bool in_step = false,
-                                PointValues *at_U = nullptr);
-};
 
 // The automatic gamma0: this fraction of gamma0*/max(Theta, 1).
 constexpr double kAutomaticGamma0Fraction = 0.5;
@@ -115,9 +44,6 @@ void locate_unknowns(const Space &space, const DofMap &dofs, DofGeometry &g);
 // neither mass lumping nor redistribution (whose diagonal and massless rows
 // the explicit steps read whole).
 bool splits_rows(const Definition &def);
-// The rows a process computes with d's operators: its own when they are
-// split (or `in_step`: every rank at the same point of a step), else all.
-const Share *own_rows_of(const Discretization &d, bool in_step);
 // A rank's part of the step matrix A = c M + K_Theta:
 // the contributions of its own cells, and of the contact points on them, on
 // the pattern of those cells (all rows, most of them empty). Summed over the

@@ -5,6 +5,7 @@
 #include "assembly/bulk.hpp"
 #include "assembly/redistribution.hpp"
 #include "monitor/energies.hpp"
+#include "solve/products.hpp"
 
 namespace nd {
 

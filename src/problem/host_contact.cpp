@@ -5,6 +5,7 @@
 #include "monitor/energies.hpp"
 #include "problem/exports.hpp"
 #include "solve/contact_law.hpp"
+#include "solve/products.hpp"
 
 namespace nd {
 

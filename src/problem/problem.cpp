@@ -12,6 +12,7 @@
 #include "common/hash.hpp"
 #include "monitor/critical_step.hpp"
 #include "monitor/energies.hpp"
+#include "solve/products.hpp"
 #include "monitor/guards.hpp"
 #include "common/atomic_file.hpp"
 #include "linalg/blas_threads.hpp"

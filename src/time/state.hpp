@@ -56,7 +56,7 @@ struct PointValues {
 // M U, M V, M A (when A is valid), K U and the two sums of the mechanical
 // energy (V.MV, U.KU) of one state, from one fused pass over the pattern M
 // and K share, and P_q(U) from one pass over the contact points
-// (compute_products, src/monitor/energies.hpp). The next step's
+// (compute_products, src/solve/products.hpp). The next step's
 // right-hand side is formed from them (no product of its own) and the energy
 // guard reads the sums. A cache, not checkpointed: the same pass over the
 // same U, V, A gives the same bits after a restart. Valid for the
