@@ -167,6 +167,9 @@ program host_newmark
   print '(a, i0, a, i0, a, es10.3, a, es10.3)', 'host_newmark'//trim(' '//mode)//': ', nsteps, ' steps (', &
         contact_steps, &
         ' in contact), max |U_host - U_lib| = ', worst, ', bound ', worst_bound
+  ! (a main program's arrays are never freed by themselves: a legacy code frees them)
+  deallocate(Mass, K, KT, A, T, F, U, V, Acc, U1, V1, A1, r, G, Nc, Ulib, full, work, node, tptr, tcol, comp, &
+             tval, last, cells)
   if (.not. ok .or. contact_steps < 3) stop 1
 
 contains

@@ -8,7 +8,6 @@
 #include "assembly/coercivity.hpp"
 #include "common/format.hpp"
 #include "common/simd.hpp"
-#include "monitor/energies.hpp"
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
 #include "solve/newton.hpp"

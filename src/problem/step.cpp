@@ -26,6 +26,7 @@
 #include "problem/forces.hpp"
 #include "solve/newton.hpp"
 #include "solve/predictor_check.hpp"
+#include "solve/products.hpp"
 
 namespace nd {
 
