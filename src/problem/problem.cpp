@@ -342,12 +342,9 @@ Discretization &Problem::discretization_() {
   if (!disc_) {
     // curved obstacles: the rows hold the state's frozen normals (a step's
     // refresh gives its own), unless the obstacles were redefined since
-    const std::vector<double> *frozen = refreshed_normals_;
-    if (!frozen && state_ready_ && !obstacle_redefined_ && !state_.normal.empty()) frozen = &state_.normal;
-    if (refreshed_normals_ && refresh_from_)  // (only the contact rows and K_Theta change)
-      disc_ = with_normals(space_, def_, *refresh_from_, *refreshed_normals_);
-    else
-      disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr, frozen);
+    const std::vector<double> *frozen =
+        state_ready_ && !obstacle_redefined_ && !state_.normal.empty() ? &state_.normal : nullptr;
+    disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr, frozen);
   }
   DofGeometry &g = disc_->geometry;
   if (g.row_end < 0 || g.comm != def_.comm) {
@@ -589,11 +586,8 @@ void Problem::step() {
       if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
         kept_disc = std::move(disc_);
         kept_integrator = std::move(integrator_);
-        refreshed_normals_ = &geo.normal;
-        refresh_from_ = kept_disc.get();
+        disc_ = with_normals(space_, def_, *kept_disc, geo.normal);  // (only the contact rows and K_Theta change)
         prepare();
-        refreshed_normals_ = nullptr;
-        refresh_from_ = nullptr;
       }
       gap = &geo.gap;
     }
@@ -608,8 +602,6 @@ void Problem::step() {
     // the std::function holds it without allocating)
     nd::on_every_rank(def_.comm.get(), std::ref(body), "the step", "no rank took it");
   } catch (...) {
-    refreshed_normals_ = nullptr;
-    refresh_from_ = nullptr;
     if (kept_disc) disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
     throw;
   }

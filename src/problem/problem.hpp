@@ -210,9 +210,6 @@ class Problem {
   bool integrator_new_ = false;
   std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
-  // a step's refreshed normals, while it makes the operators for them
-  const std::vector<double> *refreshed_normals_ = nullptr;
-  const Discretization *refresh_from_ = nullptr;  // the discretization it replaces
   State state_;
   State spare_;  // the state before state_ (values not read): the next step reuses its memory
   bool state_ready_ = false;
