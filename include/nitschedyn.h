@@ -135,7 +135,13 @@ extern "C" {
   X(ND_ANGULAR_MOMENTUM_X, 43, "angular momentum sum_i x_i x (M V)_i about the origin, x (0 below 3D)") \
   X(ND_ANGULAR_MOMENTUM_Y, 44, "angular momentum about the origin, y (0 below 3D)")  \
   X(ND_ANGULAR_MOMENTUM_Z, 45, "angular momentum about the origin, z (0 in 1D)")               \
-  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)")
+  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)") \
+  X(ND_DISSIPATION_FRICTION, 55, "D_f, energy the friction dissipated since t = 0 (>= 0, non-decreasing)") \
+  X(ND_SLIDING_POINTS, 56, "contact points in contact and sliding at the last step (friction)") \
+  X(ND_STICKING_POINTS, 57, "contact points in contact and sticking at the last step (friction)") \
+  X(ND_CONTACT_FORCE_TANGENTIAL_X, 75, "x of the tangential contact force's resultant the last step applied, obstacle on body") \
+  X(ND_CONTACT_FORCE_TANGENTIAL_Y, 76, "y of that resultant (0 in 1D)")                \
+  X(ND_CONTACT_FORCE_TANGENTIAL_Z, 77, "z of that resultant (0 below 3D)")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -165,6 +171,12 @@ extern "C" {
   X(ND_MATRIX_STEP, 4, "c M + K_Theta of the scheme and time step set (implicit schemes)") \
   X(ND_MATRIX_LUMPED_MASS, 5, "the lumped (HRZ) mass, diagonal, whatever mass the scheme uses")
 
+/* Friction laws for nd_problem_set_friction: X(name, value, parameters) */
+#define ND_FRICTION_LIST(X)                                                            \
+  X(ND_FRICTION_NONE, 0, "frictionless; no parameter")                                 \
+  X(ND_FRICTION_TRESCA, 1, "params[0] = s >= 0, the threshold (a stress), where in contact") \
+  X(ND_FRICTION_COULOMB, 2, "params[0] = F >= 0, the friction coefficient")
+
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
 enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
 enum nd_scheme { ND_SCHEME_LIST(ND_ENUM_ENTRY_) };
@@ -173,6 +185,7 @@ enum nd_scalar { ND_SCALAR_LIST(ND_ENUM_ENTRY_) };
 enum nd_solver { ND_SOLVER_LIST(ND_ENUM_ENTRY_) };
 enum nd_guard { ND_GUARD_LIST(ND_ENUM_ENTRY_) };
 enum nd_matrix { ND_MATRIX_LIST(ND_ENUM_ENTRY_) };
+enum nd_friction { ND_FRICTION_LIST(ND_ENUM_ENTRY_) };
 #undef ND_ENUM_ENTRY_
 
 typedef struct nd_mesh_s *nd_mesh;
@@ -255,6 +268,10 @@ ND_EXPORT int nd_problem_add_contact_distance(nd_problem p, int region, nd_dista
    call gives t^0's pose, a second t^1's). */
 ND_EXPORT int nd_problem_move_obstacle(nd_problem p, int region, int index, const double *translation,
                                        const double *rotation);
+/* The friction law of a contact region (docs/design.md §10.2): law one of
+   ND_FRICTION_LIST, params its parameters (NULL for ND_FRICTION_NONE). 2D
+   and 3D; the region's obstacles static planes; one rank. */
+ND_EXPORT int nd_problem_set_friction(nd_problem p, int region, int law, const double *params);
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);
 /* Extra force per FE node (n = node count, n*dim values), e.g. from a coupled

@@ -82,12 +82,13 @@ double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, con
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) K[i * m + j] = em.ke[local[i] * nb * d + local[j]];
     const double h = s.mesh->cell_diameter(cell);
-    for (size_t q : points) {
-      const SparseRow &row = cp.s[q];
-      for (size_t a = 0; a < row.idx.size(); ++a)
-        for (size_t b = 0; b < row.idx.size(); ++b)
-          S[where.at(row.idx[a]) * m + where.at(row.idx[b])] += h * cp.w[q] * row.val[a] * row.val[b];
-    }
+    for (size_t q : points)  // (a frictional point: its tangential tractions' terms too, as K_Theta has them)
+      for (int k = 0; k < (cp.m > 1 && cp.friction[q] ? cp.m : 1); ++k) {
+        const SparseRow &row = cp.s_row(q, k);
+        for (size_t a = 0; a < row.idx.size(); ++a)
+          for (size_t b = 0; b < row.idx.size(); ++b)
+            S[where.at(row.idx[a]) * m + where.at(row.idx[b])] += h * cp.w[q] * row.val[a] * row.val[b];
+      }
     const double lambda = largest_relative_eigenvalue(m, K, S);
     if (lambda > 0) limit = std::min(limit, 1 / lambda);
     if (std::isinf(lambda)) limit = 0;

@@ -22,9 +22,12 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
 }
 
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat, const std::vector<int> &regions,
-                               const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0) {
+                               const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,
+                               bool tangential) {
   ContactPoints cp;
   const int d = sp.dim, nb = sp.basis.n;
+  if (tangential && d > 1) cp.m = d;
+  const int mt = cp.m - 1;  // tangential values per point
   const double lam = mat.lambda(d), mu = mat.mu(d);
   // sigma_n sigma_n is of degree 2(p-1) and u_n u_n of degree 2p: the rule is
   // exact for the polynomial part of every contact integrand.
@@ -44,23 +47,45 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
         sp.basis.gradients(fp.xi, gref.data());
         for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
         SparseRow a, s, af, sf;
+        double t[6] = {0, 0, 0, 0, 0, 0};
+        if (mt > 0) tangent_basis(d, n, t);
+        std::vector<SparseRow> ta(mt), ts(mt), taf(mt), tsf(mt);
         for (int i = 0; i < nb; ++i) {
           double gn = 0;  // grad phi_i . n
           for (int k = 0; k < d; ++k) gn += g[i * d + k] * n[k];
           for (int c = 0; c < d; ++c) {
             const int64_t dof = nodes[i] * d + c, r = dofs.free[dof];
+            const int64_t at = r < 0 ? dof : r;
             SparseRow &ar = r < 0 ? af : a, &sr = r < 0 ? sf : s;
             // u = phi_i e_c: u_n = phi_i n_c; sigma_n = lambda d_c phi_i + 2 mu n_c (grad phi_i . n)
-            ar.idx.push_back(r < 0 ? dof : r);
+            ar.idx.push_back(at);
             ar.val.push_back(phi[i] * n[c]);
-            sr.idx.push_back(r < 0 ? dof : r);
+            sr.idx.push_back(at);
             sr.val.push_back(lam * g[i * d + c] + 2 * mu * n[c] * gn);
+            // t . u = phi_i t_c; t . sigma(u) n = mu (t_c (grad phi_i . n) + n_c (grad phi_i . t)), t . n = 0
+            for (int k = 0; k < mt; ++k) {
+              const double *tk = t + 3 * k;
+              double gt = 0;
+              for (int j = 0; j < d; ++j) gt += g[i * d + j] * tk[j];
+              SparseRow &tar = r < 0 ? taf[k] : ta[k], &tsr = r < 0 ? tsf[k] : ts[k];
+              tar.idx.push_back(at);
+              tar.val.push_back(phi[i] * tk[c]);
+              tsr.idx.push_back(at);
+              tsr.val.push_back(mu * (tk[c] * gn + n[c] * gt));
+            }
           }
         }
         cp.a.push_back(std::move(a));
         cp.s.push_back(std::move(s));
         cp.a_fixed.push_back(std::move(af));
         cp.s_fixed.push_back(std::move(sf));
+        for (int k = 0; k < mt; ++k) {
+          cp.ta.push_back(std::move(ta[k]));
+          cp.ts.push_back(std::move(ts[k]));
+          cp.ta_fixed.push_back(std::move(taf[k]));
+          cp.ts_fixed.push_back(std::move(tsf[k]));
+          cp.tangent.insert(cp.tangent.end(), t + 3 * k, t + 3 * k + 3);
+        }
         cp.plane.push_back(plane_of[ir]);
         cp.region.push_back(regions[ir]);
         cp.normal.insert(cp.normal.end(), nu, nu + 3);
@@ -116,6 +141,26 @@ void set_bounds(ContactPoints &cp) {
         for (size_t p = 0; p < n; ++p) cp.run_rows.push_back((*rows)[first + p].val[k]);
     }
   }
+}
+
+void tangent_basis(int dim, const double *n, double *t) {
+  if (dim == 2) {
+    t[0] = -n[1], t[1] = n[0], t[2] = 0;
+    return;
+  }
+  if (dim != 3) return;
+  int e = 0;  // the axis least aligned with n
+  for (int k = 1; k < 3; ++k)
+    if (std::fabs(n[k]) < std::fabs(n[e])) e = k;
+  double u[3] = {0, 0, 0};  // e x n
+  const int e1 = (e + 1) % 3, e2 = (e + 2) % 3;
+  u[e1] = -n[e2];
+  u[e2] = n[e1];
+  const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (int k = 0; k < 3; ++k) t[k] = u[k] / len;
+  t[3] = n[1] * t[2] - n[2] * t[1];  // n x t_1
+  t[4] = n[2] * t[0] - n[0] * t[2];
+  t[5] = n[0] * t[1] - n[1] * t[0];
 }
 
 std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<ContactPlane> &planes) {

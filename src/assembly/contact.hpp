@@ -70,8 +70,27 @@ struct ContactPoints {
   // which rank evaluates which point in a step (the rank of its facet's
   // cell); null: this process evaluates every point
   std::shared_ptr<const Share> share;
+  // Friction (docs/design.md §10.2): m = dim values per point, the normal
+  // pair (a, s) and m - 1 tangential pairs ta . U = t_qk . u(x_q), ts . U =
+  // t_qk . sigma(u) n_q, point q's k-th (k < m - 1) at q (m - 1) + k, with
+  // a_q's index list; t_qk (3 values each, in `tangent`) an orthonormal basis
+  // of the plane normal to n_q. m = 1 (frictionless): all empty.
+  int m = 1;
+  std::vector<SparseRow> ta, ts, ta_fixed, ts_fixed;
+  std::vector<double> tangent;
+  // per point (m > 1): whether its region's law is frictional; K_Theta then
+  // carries its tangential Theta-term -Theta w_q gamma_q sum_k ts_qk ts_qk^T
+  std::vector<char> friction;
   size_t size() const { return w.size(); }
+  // the a and s rows of value k (0: the normal, k >= 1: tangential k - 1)
+  const SparseRow &a_row(size_t q, int k) const { return k == 0 ? a[q] : ta[q * (m - 1) + (k - 1)]; }
+  const SparseRow &s_row(size_t q, int k) const { return k == 0 ? s[q] : ts[q * (m - 1) + (k - 1)]; }
 };
+
+// An orthonormal basis t_1 .. t_{dim-1} of the plane normal to the unit n
+// (3 values each): 2D t = (-n_y, n_x); 3D t_1 along e x n for the axis e
+// least aligned with n, t_2 = n x t_1.
+void tangent_basis(int dim, const double *n, double *t);
 
 // g_q = (x_q - point) . nu_o with the current point of each point's plane
 // (the point may move in time; the rows and weights do not).
@@ -86,8 +105,10 @@ void set_bounds(ContactPoints &cp);
 // normal_of(r, x, nu) the unit normal nu_q (from the obstacle towards the
 // body) of the next point of regions[r], at x: its rows hold n_q = -nu_q.
 using NormalOf = std::function<void(size_t r, const double *x, double *nu)>;
+// tangential: the friction rows too (m = dim)
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat, const std::vector<int> &regions,
-                               const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0);
+                               const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,
+                               bool tangential = false);
 // the planes alone (each region's plane's normal)
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
                                const std::vector<ContactPlane> &planes, double gamma0);

@@ -20,6 +20,12 @@ void add_nitsche_terms(Csr &K, const ContactPoints &cp, double theta, const std:
       if (points && !(*points)[q]) continue;
       const SparseRow &s = cp.s[q];
       K.add_outer(s.idx, s.val.data(), s.val.data(), -(theta * cp.w[q] * cp.gamma[q]));
+      // friction: the tangential traction's term too (docs/design.md §10.2)
+      if (cp.m > 1 && cp.friction[q])
+        for (int k = 1; k < cp.m; ++k) {
+          const SparseRow &t = cp.s_row(q, k);
+          K.add_outer(t.idx, t.val.data(), t.val.data(), -(theta * cp.w[q] * cp.gamma[q]));
+        }
     }
   for (double x : K.val)
     if (!std::isfinite(x))

@@ -161,6 +161,13 @@ ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0) 
   });
 }
 
+ND_EXPORT int nd_problem_set_friction(nd_problem p, int region, int law, const double *params) {
+  return nd::guarded("nd_problem_set_friction", [&] {
+    nd::problem_of(p).set_friction(region, law, params);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params) {
   return nd::guarded("nd_problem_set_scheme", [&] {
     nd::Problem &pr = nd::problem_of(p);

@@ -8,8 +8,11 @@
 // the law through this interface, and each fast path asks its traits whether
 // it applies, else takes the generic pass (the refactoring tangent).
 //
-// A new law is one file (a class below, m = 1 for now) and one line in
-// laws.cpp's registry.
+// A new law is one file (a class below) and one line in laws.cpp's
+// registry. A law of m > 1 values per point (friction: m = dim, the normal
+// and the tangential values, contact/friction.hpp) implements over_step_m;
+// the passes then apply it through the rank-m blocks (add_blocks,
+// add_block_tangent) and every rank-one fast path steps aside.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -81,6 +84,13 @@ class PointLaw {
                             double *y) const;
   virtual void add_tangent(const ContactPoints &cp, double theta, size_t q, double f, double slope, Csr &T,
                            std::vector<double> &b, std::vector<double> &p) const;
+  // Rank m: point q's m values P (P[0] normal, P[1..m-1] tangential) and
+  // Pn at U^n; value (m) and J = d value / d P (m x m, row-major) over the
+  // step by rule r. gamma: the point's gamma_q. The default (an m = 1 law
+  // at a point of a problem with friction elsewhere): over_step on P[0],
+  // the tangential values and their derivatives zero.
+  virtual void over_step_m(const TimeRule &r, size_t q, double gamma, int m, const double *P, const double *Pn,
+                           double *value, double *J) const;
 
  private:
   LawTraits traits_;
@@ -147,16 +157,33 @@ inline void add_point_tangent(const ContactPoints &cp, double theta, size_t q, d
   T.add_outer(a.idx, b.data(), p.data(), f);
 }
 
+// Rank m (cp.m values per point): y += f sum_k value_k b_qk and
+// T += f sum_kl J_kl b_qk p_ql^T, b_qk = a_qk - Theta gamma_q s_qk,
+// p_qk = a_qk - gamma_q s_qk (the k-th pair of rows, ContactPoints::a_row)
+void add_blocks(const ContactPoints &cp, double theta, size_t q, double f, const double *value, double *y);
+void add_block_tangent(const ContactPoints &cp, double theta, size_t q, double f, const double *J, Csr &T,
+                       std::vector<double> &b, std::vector<double> &p);
+
 // ---- the registry (laws.cpp) ------------------------------------------------
-// The law ids (issue 56 makes them ND_FRICTION_* of the public header and
-// adds Tresca and Coulomb: one file each and one line in laws.cpp).
+// The law ids: ND_FRICTION_* of the public header.
 constexpr int kFrictionNone = 0;  // frictionless: [P]_+
-// The law of an id; throws ND_ERR_VALUE naming the id for an unknown one.
-std::shared_ptr<const PointLaw> make_law(int id);
+// The law of an id with its parameters (params[0]: a friction law's
+// coefficient or threshold) in dimension dim; throws ND_ERR_VALUE naming
+// the id for an unknown one.
+std::shared_ptr<const PointLaw> make_law(int id, const double *params = nullptr, int dim = 1);
+// Whether id names a registered law, and how many parameters it takes
+bool law_registered(int id, int *n_params = nullptr);
+// The law of each contact point, one per region (regions[q] the region of
+// point q; law_of(region): its law, null: the frictionless one) as one law:
+// traits joined (m the largest; a promise holds if every law makes it)
+std::shared_ptr<const PointLaw> laws_by_point(
+    const std::vector<int> &regions, const std::vector<std::pair<int, std::shared_ptr<const PointLaw>>> &by_region);
 // The frictionless law (shared, never destroyed): the default of every pass.
 const PointLaw &frictionless_law();
 
 // The registry's entries, one per law file.
 std::shared_ptr<const PointLaw> make_frictionless_law();
+std::shared_ptr<const PointLaw> make_tresca_law(const double *params, int dim);
+std::shared_ptr<const PointLaw> make_coulomb_law(const double *params, int dim);
 
 }  // namespace nd

@@ -33,15 +33,29 @@ const std::vector<double> &whole(const std::vector<double> &v, const PointValues
 // potential ([P]_+^2/2: a law with another one brings its own term here)
 // (PP: the law's positive_part, asked once per pass: a loop apiece; phi
 // null: the state has applied none, phi(P_q) stands for it)
+// With friction (cp.m > 1, P holding the tangential values after the
+// normal ones) a frictional point's tangential part joins the Nitsche
+// energy: (gamma_q |ts_q.U|^2 - |P_t|^2/gamma_q)/2, P_t at the state's slip
+// reference, inside the disk there (docs/design.md §10.2).
 template <bool PP>
-inline __attribute__((always_inline)) void add_point(const ContactPoints &cp, const PointLaw &law, size_t q, double P,
-                                                     double un, const double *phi, const double *U, bool nitsche,
-                                                     PointSums &t) {
+inline __attribute__((always_inline)) void add_point(const ContactPoints &cp, const PointLaw &law, size_t q,
+                                                     const std::vector<double> &Pv, double un, const double *phi,
+                                                     const double *U, bool nitsche, PointSums &t) {
+  const double P = Pv[q];
   double Pp, slope;
   law_at(law, PP, P, Pp, slope);
   if (nitsche) {
     const double sn = cp.s[q].dot(U);
     t.nitsche += 0.5 * cp.w[q] * (cp.gamma[q] * sn * sn - Pp * Pp / cp.gamma[q]);
+    if (cp.m > 1 && cp.friction[q]) {
+      const size_t mt = static_cast<size_t>(cp.m - 1);
+      double e = 0;
+      for (size_t k = 0; k < mt; ++k) {
+        const double st = cp.ts[q * mt + k].dot(U), pt = Pv[cp.size() + q * mt + k];
+        e += cp.gamma[q] * st * st - pt * pt / cp.gamma[q];
+      }
+      t.nitsche += 0.5 * cp.w[q] * e;
+    }
   }
   if (Pp != 0) t.force += cp.w[q] * Pp / cp.gamma[q];
   t.active += slope != 0;  // (+0 or 1: the count's bits either way)
@@ -63,8 +77,8 @@ PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
   const PointLaw &law = *d.contact_law;
   const double *phi = s.phi.empty() ? nullptr : s.phi.data();
   auto pass = [&](auto pp) {
-    for (size_t q = 0; q < P.size(); ++q)
-      add_point<decltype(pp)::value>(d.contact, law, q, P[q], un[q], phi, s.U.data(), nitsche, t);
+    for (size_t q = 0; q < d.contact.size(); ++q)
+      add_point<decltype(pp)::value>(d.contact, law, q, P, un[q], phi, s.U.data(), nitsche, t);
   };
   if (law.traits().positive_part) pass(std::true_type{});
   else pass(std::false_type{});
@@ -82,7 +96,7 @@ void sum_points(const Discretization &d, State &s, const std::vector<double> &dW
   const RowSet own = own_rows(share);  // each rank its own points, added rank after rank
   for (int64_t k = 0, m = own.size(static_cast<int64_t>(cp.size())); k < m; ++k) {
     const int64_t q = own[k];
-    add_point<false>(cp, *d.contact_law, static_cast<size_t>(q), v.P[q], v.un[q], s.phi.data(), s.U.data(), true, t);
+    add_point<false>(cp, *d.contact_law, static_cast<size_t>(q), v.P, v.un[q], s.phi.data(), s.U.data(), true, t);
     W += dW[q];
   }
   if (share) {

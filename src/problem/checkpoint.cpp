@@ -24,9 +24,12 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // (DefinitionPrint) open the payload, and every field is checked for its
 // meaning (versions 3 to 5 are still read, without the definition's check);
 // 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
-// and the obstacles' positions at t^n follow (without, version 6 is written)
-constexpr uint32_t kVersion = 7;
-uint32_t version_for(const StateSizes &sizes) { return sizes.n_positions > 0 ? 7 : 6; }
+// and the obstacles' positions at t^n follow (without, version 6 is written);
+// 8: with friction (StateSizes::n_slip > 0) the section of version 7 (empty
+// without curved obstacles), then the slip references, the applied
+// tangential values, D_f and the sliding and sticking points
+constexpr uint32_t kVersion = 8;
+uint32_t version_for(const StateSizes &sizes) { return sizes.n_slip > 0 ? 8 : sizes.n_positions > 0 ? 7 : 6; }
 
 class Writer {
  public:
@@ -129,6 +132,8 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
   if (def.given & kNitsche) {
     Hash h;
     h.value(def.theta), h.value(d.gamma0);
+    // (friction only when there is some: a frictionless problem's print is as before)
+    for (const Definition::Friction &f : def.friction) h.value(f.region), h.value(f.law), h.value(f.parameter);
     done(kPrintNitsche, h);
   }
   if (def.given & kScheme) {
@@ -231,6 +236,13 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
     payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
     payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
   }
+  if (version >= 8) {
+    payload.padded(s.slip, static_cast<uint64_t>(sizes.n_slip));
+    payload.padded(s.phi_t, static_cast<uint64_t>(sizes.n_slip));
+    payload.value(s.D_friction);
+    payload.value(s.sliding);
+    payload.value(s.sticking);
+  }
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(version);
@@ -287,6 +299,8 @@ int64_t max_state_size(const StateSizes &sizes) {
     s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
     s.positions.resize(static_cast<size_t>(sizes.n_positions));
   }
+  s.slip.resize(static_cast<size_t>(sizes.n_slip));
+  s.phi_t = s.slip;
   return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
 
@@ -425,7 +439,23 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     s.positions = optional(sizes.n_positions, "obstacles' positions");
     need_finite(s.positions, "obstacles' positions");
   }
-  if ((sizes.n_positions > 0) != (head.version >= 7) || (sizes.n_positions > 0 && s.positions.empty()))
+  if (head.version >= 8) {
+    s.slip = optional(sizes.n_slip, "slip references (friction)");
+    need_finite(s.slip, "slip references (friction)");
+    s.phi_t = optional(sizes.n_slip, "applied tangential values (friction)");
+    need_finite(s.phi_t, "applied tangential values (friction)");
+    s.D_friction = r.value<double>();
+    need_finite(s.D_friction, "frictional dissipation");
+    if (!(s.D_friction >= 0)) fail(ND_ERR_FORMAT, "the checkpoint's frictional dissipation is negative");
+    s.sliding = r.value<int64_t>();
+    s.sticking = r.value<int64_t>();
+    if (s.sliding < 0 || s.sticking < 0 || s.sliding > sizes.n_contact || s.sticking > sizes.n_contact - s.sliding)
+      fail(ND_ERR_FORMAT, "the checkpoint's counts of sliding and sticking points are out of range");
+  }
+  if ((sizes.n_slip > 0) != (head.version >= 8) || (sizes.n_slip > 0 && s.slip.empty()))
+    fail(ND_ERR_STATE, sizes.n_slip > 0 ? "the checkpoint has no friction state; this problem has friction"
+                                        : "the checkpoint has a friction state; this problem has no friction");
+  if ((sizes.n_positions > 0) != (head.version >= 7 && !s.positions.empty()))
     fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"
                                              : "the checkpoint has curved obstacles (sphere, cylinder, distance); this problem has none");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");

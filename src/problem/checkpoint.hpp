@@ -54,6 +54,7 @@ uint64_t state_checksum(const unsigned char *buf, size_t n);
 struct StateSizes {
   int64_t n_free, n_clamped, n_contact;
   int64_t n_positions = 0;
+  int64_t n_slip = 0;  // friction: the slip references' values (m - 1 per point), else 0
 };
 // Every field that may be absent or grow (the load, the reactions, the
 // tangent's history) takes the room of its longest form: a problem's

@@ -56,9 +56,20 @@ struct Definition : TimeData {
   std::vector<int> dirichlet;
   double theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
   int scheme = 0;  // ND_SCHEME_*
-  // the contact law (contact/law.hpp's registry; issue 56 adds its C call and
-  // ND_FRICTION_* ids), part of the Nitsche aspect
-  int contact_law = kFrictionNone;
+  // the contact law of each region with friction (nd_problem_set_friction;
+  // contact/law.hpp's registry), part of the Nitsche aspect; the regions
+  // not named are frictionless
+  struct Friction {
+    int region, law;
+    double parameter;
+  };
+  std::vector<Friction> friction;
+  // whether a region with points has a frictional law
+  bool has_friction() const {
+    for (const Friction &f : friction)
+      if (f.law != kFrictionNone) return true;
+    return false;
+  }
   // white-box (tests): a law outside the registry in its place (null: contact_law's)
   std::shared_ptr<const PointLaw> contact_law_given;
   std::vector<double> scheme_params;

@@ -60,6 +60,23 @@ void locate_unknowns(const Space &space, const DofMap &dofs, DofGeometry &g) {
 }
 
 namespace {
+// cp.friction: whether each point's region has a frictional law (with friction)
+void mark_friction(const Definition &def, ContactPoints &cp) {
+  if (cp.m == 1) return cp.friction.clear();
+  cp.friction.assign(cp.size(), 0);
+  for (size_t q = 0; q < cp.size(); ++q)
+    for (const Definition::Friction &f : def.friction)
+      if (f.region == cp.region[q] && f.law != kFrictionNone) cp.friction[q] = 1;
+}
+
+// The law of every point: its region's (contact/laws.cpp)
+std::shared_ptr<const PointLaw> point_laws(const Definition &def, const ContactPoints &cp, int dim) {
+  std::vector<std::pair<int, std::shared_ptr<const PointLaw>>> by_region;
+  for (const Definition::Friction &f : def.friction)
+    if (f.law != kFrictionNone) by_region.emplace_back(f.region, make_law(f.law, &f.parameter, dim));
+  return laws_by_point(cp.region, by_region);
+}
+
 // The contact points with each one's normal: a plane region's plane's, a
 // curved point's frozen (given) or nearest obstacle's at x_q, the obstacles
 // where the definition places them (t = 0)
@@ -91,8 +108,9 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
         }
         ++q;
       },
-      gamma0);
+      gamma0, def.has_friction());
   cp.gap = contact_gaps(cp, def.planes);
+  mark_friction(def, cp);
   return cp;
 }
 }  // namespace
@@ -129,12 +147,8 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   d->M = std::move(bulk.M);
   if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
   const bool automatic = def.gamma0 == 0;
-  d->contact_law = def.contact_law_given ? def.contact_law_given : make_law(def.contact_law);
-  // (the passes hold one value per point: laws with more come with friction, issue 56)
-  if (d->contact_law->traits().m != 1)
-    fail(ND_ERR_INTERNAL, std::string("the contact law ") + d->contact_law->name() + " has " +
-                              std::to_string(d->contact_law->traits().m) + " values per point; the passes hold one");
   d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr);
+  d->contact_law = def.contact_law_given ? def.contact_law_given : point_laws(def, d->contact, space.dim);
   d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
   if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen);
   d->theta = def.theta;

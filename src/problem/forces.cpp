@@ -81,7 +81,7 @@ std::vector<double> step_mean(const std::vector<double> &x_new, const std::vecto
 
 std::vector<double> clamped_residual(const Discretization &d, const std::vector<double> &Abar,
                                      const std::vector<double> &Ubar, const std::vector<double> &phi,
-                                     const std::vector<double> &Fbar_D) {
+                                     const std::vector<double> &Fbar_D, const std::vector<double> *phi_t) {
   const ClampedRows &cr = *d.clamped;
   const size_t nD = cr.dofs.size();
   std::vector<double> R(nD, 0.0), MA(nD, 0.0);
@@ -97,13 +97,22 @@ std::vector<double> clamped_residual(const Discretization &d, const std::vector<
     for (size_t r = 0; r < nD; ++r) row_of_dof[cr.dofs[r]] = static_cast<int64_t>(r);
   }
   const ContactPoints &cp = d.contact;
+  const size_t mt = static_cast<size_t>(cp.m - 1);
+  const bool tangential = phi_t && !phi_t->empty();
   for (size_t q = 0; q < cp.size(); ++q) {
-    const SparseRow &af = cp.a_fixed[q], &sf = cp.s_fixed[q];
-    if (af.idx.empty()) continue;
-    // K_Theta's Nitsche part and the contact term N's b_q = a_q - Theta gamma_q s_q
-    const double sn = cp.s[q].dot(Ubar.data()), f = cp.w[q] / cp.gamma[q] * phi[q], tg = d.theta * cp.gamma[q];
-    for (size_t k = 0; k < af.idx.size(); ++k)
-      R[row_of_dof[af.idx[k]]] += -d.theta * cp.w[q] * cp.gamma[q] * sf.val[k] * sn + f * (af.val[k] - tg * sf.val[k]);
+    if (cp.a_fixed[q].idx.empty()) continue;
+    // K_Theta's Nitsche part and the contact term N's b_q = a_q - Theta gamma_q s_q,
+    // for the normal pair and (friction) each tangential pair of a frictional point
+    for (size_t v = 0; v <= (cp.m > 1 && cp.friction[q] ? mt : 0); ++v) {
+      const size_t j = q * mt + v - 1;
+      const SparseRow &af = v ? cp.ta_fixed[j] : cp.a_fixed[q], &sf = v ? cp.ts_fixed[j] : cp.s_fixed[q];
+      const double value = v ? (tangential ? (*phi_t)[j] : 0.0) : phi[q];
+      const double sn = cp.s_row(q, static_cast<int>(v)).dot(Ubar.data()), f = cp.w[q] / cp.gamma[q] * value,
+                   tg = d.theta * cp.gamma[q];
+      for (size_t k = 0; k < af.idx.size(); ++k)
+        R[row_of_dof[af.idx[k]]] +=
+            -d.theta * cp.w[q] * cp.gamma[q] * sf.val[k] * sn + f * (af.val[k] - tg * sf.val[k]);
+    }
   }
   if (!Fbar_D.empty())
     for (size_t r = 0; r < nD; ++r) R[r] -= Fbar_D[r];
@@ -124,17 +133,33 @@ void contact_force_field(const Discretization &d, const State &s, double *full,
       for (size_t q = 0; q < cp.size(); ++q) visit(q);
     }
   };
+  // friction: every value of the point, the law at the state (the tangential
+  // traction -phi_t/gamma_q along each t_qk) added after the normal one
+  const int m = cp.m;
+  std::vector<double> P, wt(cp.size() * static_cast<size_t>(m - 1), 0.0);
+  if (m > 1) law.P_all(s.U.data(), P);
   each([&](size_t q) {
     double phi, slope;
     law_at(law.law_object(), law.P(q, s.U.data()), phi, slope);  // the law at the state
     wl[q] = phi != 0 ? -cp.w[q] * phi / cp.gamma[q] : 0.0;         // w_q lambda_q (+0 where free)
     const SparseRow &a = cp.a[q];
     for (size_t k = 0; k < a.idx.size(); ++k) f[a.idx[k]] += wl[q] * a.val[k];
+    if (m == 1) return;
+    double value[3], J[9];
+    law.law_m(q, P, value, J);
+    for (int v = 1; v < m; ++v) {
+      const size_t j = q * static_cast<size_t>(m - 1) + static_cast<size_t>(v - 1);
+      wt[j] = value[v] != 0 ? -cp.w[q] * value[v] / cp.gamma[q] : 0.0;
+      const SparseRow &t = cp.ta[j];
+      for (size_t k = 0; k < t.idx.size(); ++k) f[t.idx[k]] += wt[j] * t.val[k];
+    }
   });
   d.dofs.extend_to_full(f.data(), full);
   each([&](size_t q) {
     const SparseRow &af = cp.a_fixed[q];
     for (size_t k = 0; k < af.idx.size(); ++k) full[af.idx[k]] += wl[q] * af.val[k];
+    for (size_t j = q * static_cast<size_t>(m - 1); j < (q + 1) * static_cast<size_t>(m - 1); ++j)
+      for (size_t k = 0; k < cp.ta_fixed[j].idx.size(); ++k) full[cp.ta_fixed[j].idx[k]] += wt[j] * cp.ta_fixed[j].val[k];
   });
 }
 

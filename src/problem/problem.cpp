@@ -12,6 +12,7 @@
 #include "common/hash.hpp"
 #include "monitor/critical_step.hpp"
 #include "monitor/energies.hpp"
+#include "solve/friction.hpp"
 #include "solve/products.hpp"
 #include "monitor/guards.hpp"
 #include "common/atomic_file.hpp"
@@ -238,6 +239,27 @@ void Problem::move_obstacle(int region, int index, const double *translation, co
 void Problem::set_nitsche(double theta, double gamma0) {
   def_.theta = theta;
   def_.gamma0 = gamma0;
+  changed(kNitsche);
+}
+
+void Problem::set_friction(int region, int law, const double *params) {
+  require_region(region, "contact");
+  int n_params = 0;
+  if (!law_registered(law, &n_params))
+    fail(ND_ERR_KEY, "law " + std::to_string(law) + " is not one of ND_FRICTION_LIST (ND_FRICTION_NONE, "
+                     "ND_FRICTION_TRESCA, ND_FRICTION_COULOMB)");
+  if (n_params > 0 && !params) fail(ND_ERR_NULL, "params is NULL; this law takes " + std::to_string(n_params) + " value");
+  if (law != kFrictionNone && space_.dim < 2)
+    fail(ND_ERR_DIMENSION, "friction needs a tangent plane: 2D or 3D (this mesh is 1D)");
+  if (law != kFrictionNone && def_.comm && rank_count() > 1)
+    fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
+  make_law(law, params, space_.dim);  // (its parameters checked: ND_ERR_VALUE)
+  const double parameter = n_params > 0 ? params[0] : 0.0;
+  auto it = std::find_if(def_.friction.begin(), def_.friction.end(),
+                         [&](const Definition::Friction &f) { return f.region == region; });
+  if (it == def_.friction.end()) def_.friction.push_back({region, law, parameter});
+  else *it = {region, law, parameter};
+  if (law == kFrictionNone && it == def_.friction.end()) def_.friction.pop_back();  // (nothing to remember)
   changed(kNitsche);
 }
 
@@ -473,6 +495,7 @@ const State &Problem::state() {
       s.gap = current_gaps();
       curved_gaps(s, d, def_);
     }
+    start_slip(d, s);  // friction: no traction stored at t^0
     state_ = std::move(s);
     state_ready_ = true;
   }
@@ -517,6 +540,8 @@ void Problem::setup(const char *call) {
 
 void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
+  if (def_.has_friction() && rank_count() > 1)
+    fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
   require_blas_buffer();  // ND_ERR_NOMEM, not OpenBLAS's endless retry (linalg/blas_threads.hpp)
   Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
@@ -537,6 +562,12 @@ void Problem::prepare() {
                               "every contact point active): lower the time step, use an implicit scheme, or raise "
                               "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
   state();
+  // friction set (or its points changed) since the state was made: no traction stored from here
+  if (d.contact.m > 1 ? state_.slip.size() != d.contact.size() * static_cast<size_t>(d.contact.m - 1)
+                      : !state_.slip.empty()) {
+    start_slip(d, state_);
+    state_.products.of = 0;
+  }
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) {
     complete_state();
@@ -643,7 +674,8 @@ uint64_t Problem::inputs_digest() const {
   for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
                    d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration})
     h.value(x);
-  for (int x : {d.scheme, d.contact_law, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
+  for (const Definition::Friction &f : d.friction) h.value(f.region), h.value(f.law), h.value(f.parameter);
+  for (int x : {d.scheme, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
                 int(d.redistributed), int(d.guards.critical_timestep),
                 int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
     h.value(x);
@@ -771,6 +803,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   s.products.of = 0;   // of the state it replaces
   s.reaction.clear();  // no step led here: the equilibrium's, on demand
   s.phi.clear();
+  carry_slip(d, state_, s);  // (friction: the tangential traction stays)
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
   compute_products(d, s);  // the next step's, and the energy (setup() made state_'s)
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
@@ -791,7 +824,8 @@ StateSizes Problem::state_sizes() {
   Discretization &d = discretization_();
   return {d.dofs.n_free, d.clamped ? static_cast<int64_t>(d.clamped->dofs.size()) : 0,
           static_cast<int64_t>(d.contact.size()),
-          def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size())};
+          def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size()),
+          static_cast<int64_t>(d.contact.size()) * (d.contact.m - 1)};
 }
 
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
@@ -977,6 +1011,12 @@ double Problem::scalar(int key) {
       return c.W;
     case ND_WORK_OBSTACLE:
       return c.W_obstacle;
+    case ND_DISSIPATION_FRICTION:
+      return c.D_friction;
+    case ND_SLIDING_POINTS:
+      return static_cast<double>(c.sliding);
+    case ND_STICKING_POINTS:
+      return static_cast<double>(c.sticking);
     case ND_TIMESTEP:
       return def_.tau;
     case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)
@@ -1009,6 +1049,10 @@ double Problem::scalar(int key) {
       return static_cast<double>(active_points(d, s));
     case ND_MAX_PENETRATION:
       return max_penetration(d, s);
+    case ND_CONTACT_FORCE_TANGENTIAL_X:
+    case ND_CONTACT_FORCE_TANGENTIAL_Y:
+    case ND_CONTACT_FORCE_TANGENTIAL_Z:
+      return tangential_resultant(d, s)[key - ND_CONTACT_FORCE_TANGENTIAL_X];
     default:
       fail(ND_ERR_KEY, "key " + std::to_string(key) + " is not an ND_* scalar key");
   }

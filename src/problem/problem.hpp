@@ -43,6 +43,8 @@ class Problem {
   void move_obstacle(int region, int index, const double *translation, const double *rotation);
   static constexpr double kRotationTolerance = 1e-12;
   void set_nitsche(double theta, double gamma0);
+  // the friction law of a contact region (law registered, parameter checked by its law)
+  void set_friction(int region, int law, const double *params);
   // params: scheme_parameter_count(scheme) values, checked by the scheme
   void set_scheme(int scheme, const std::vector<double> &params);
   void set_nodal_forces(const double *f);  // n_dofs values

@@ -24,6 +24,7 @@
 #include "monitor/energies.hpp"
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
+#include "solve/friction.hpp"
 #include "solve/newton.hpp"
 #include "solve/predictor_check.hpp"
 #include "solve/products.hpp"
@@ -171,15 +172,25 @@ void Step::start() {
   F_old_ = no_load_before_ ? no_load_before_.get() : &old_.load();
   next.F_fixed = at_new_.F_fixed;
   next.gap = at_new_.gap;
+  // friction: the slip reference of the step is the state's (static obstacles)
+  next.D_friction = old_.D_friction;
+  if (d_.contact.m > 1) {
+    if (next.gap != old_.gap)
+      fail(ND_ERR_STATE, "friction with a moving obstacle is not supported yet (the obstacle of a region with "
+                         "friction moved); the step was not taken");
+    next.slip = old_.slip;
+  }
 }
 
 void Step::contact_term() {
   const Discretization &d = d_;
   law_ = ContactLaw{&d.contact, d.theta, &scheme_, nullptr, next.gap.empty() ? nullptr : next.gap.data(), d.counters};
   law_.point_law = d.contact_law.get();
+  if (!next.slip.empty()) law_.gap_t = next.slip.data();
   gap_old_ = at_new_.gap_old ? at_new_.gap_old : &old_.gap;
   old_law_ = ContactLaw{&d.contact, d.theta, nullptr, nullptr, gap_old_->empty() ? nullptr : gap_old_->data(),
                         d.counters};
+  if (!old_.slip.empty()) old_law_.gap_t = old_.slip.data();
   law_.buffers = &in_.contact_scratch;
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
   // contact terms read them) and what the right-hand side is made of
@@ -364,12 +375,14 @@ void Step::finish() {
   } else {
     for (size_t q = 0; q < phi.size(); ++q) apply(q);
   }
+  // friction: the tangential values applied, the new slip reference, D_f (solve/friction.hpp)
+  if (d.contact.m > 1) end_friction_step(law_, d, phi, next);
   if (d.clamped) {
     const double a = scheme_.mean_weight();
     std::vector<double> Abar;
     scheme_.mean_acceleration(tau_, old_, next, Abar);
-    next.reaction =
-        clamped_residual(d, Abar, step_mean(next.U, old_.U, a), phi, step_mean(next.F_fixed, old_.F_fixed, a));
+    next.reaction = clamped_residual(d, Abar, step_mean(next.U, old_.U, a), phi,
+                                     step_mean(next.F_fixed, old_.F_fixed, a), &next.phi_t);
   }
   next.phi = std::move(phi);
   if (in_.points) sum_points(d, next, dW);  // (collective: every rank's step comes here)

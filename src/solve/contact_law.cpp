@@ -136,11 +136,40 @@ bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
   return true;
 }
 
+void ContactLaw::tangential_values(const double *U, double *P) const {
+  const size_t nq = cp->size(), mt = static_cast<size_t>(cp->m - 1);
+  for (size_t q = 0; q < nq; ++q)
+    for (size_t k = 0; k < mt; ++k) {
+      const size_t j = q * mt + k;
+      P[nq + j] = cp->ta[j].dot(U) - cp->gamma[q] * cp->ts[j].dot(U) - (gap_t ? gap_t[j] : 0.0);
+    }
+}
+
+void ContactLaw::law_m(size_t q, const std::vector<double> &P, double *value, double *J) const {
+  double v[3], vn[3];
+  point_values(P, q, v);
+  if (Pn) point_values(*Pn, q, vn);
+  law_object().over_step_m(rule(), q, cp->gamma[q], cp->m, v, Pn ? vn : nullptr, value, J);
+}
+
 void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<double> *un) const {
   P.resize(cp->size());
   if (un) un->resize(cp->size());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
+  if (cp->m > 1) {  // friction: every value here, one process (docs/design.md §10.2)
+    P.resize(values());
+    for (size_t q = 0; q < cp->size(); ++q) {
+      double sa, ss;
+      dots(q, U, sa, ss);
+      if (un) (*un)[q] = sa - g(q);
+      P[q] = sa - cp->gamma[q] * ss - g(q);
+    }
+    tangential_values(U, P.data());
+    count(counters, &Counters::point_evaluations, static_cast<int64_t>(cp->size()));
+    count(counters, &Counters::own_point_evaluations, static_cast<int64_t>(cp->size()));
+    return;
+  }
   if (P_by_runs(U, P.data(), un ? un->data() : nullptr)) return;
   if (!un) {
     evaluate({}, P.data(), [&](size_t q) { return this->P(q, U); });
@@ -195,11 +224,20 @@ bool ContactLaw::contact_free(const std::vector<double> &U, std::vector<double> 
     const bool pp = positive_part();
     auto busy = [&](int64_t q) {
       double value, slope;
+      if (cp->m > 1) {  // every value and slope of the point (friction)
+        double v[3], J[9];
+        law_m(static_cast<size_t>(q), P, v, J);
+        for (int k = 0; k < cp->m; ++k)
+          if (v[k] != 0) return true;
+        for (int k = 0; k < cp->m * cp->m; ++k)
+          if (J[k] != 0) return true;
+        return false;
+      }
       law(static_cast<size_t>(q), P[q], value, slope, pp);
       return value != 0 || slope != 0;
     };
     if (!reduced) {
-      for (size_t q = 0; q < P.size(); ++q)
+      for (size_t q = 0; q < cp->size(); ++q)
         if (busy(static_cast<int64_t>(q))) return false;
       return true;
     }
@@ -603,7 +641,7 @@ void ContactLaw::add_force(const double *U, double kappa, double *y, std::vector
 
 const std::vector<double> &ContactLaw::P_at(const double *U, const std::vector<double> *P,
                                              std::vector<double> &scratch) const {
-  if (P && P->size() == cp->size() && reads_all()) return *P;
+  if (P && P->size() == values() && reads_all()) return *P;
   P_all(U, scratch);
   return scratch;
 }
@@ -611,6 +649,15 @@ const std::vector<double> &ContactLaw::P_at(const double *U, const std::vector<d
 void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, double *y,
                                 std::vector<char> *active) const {
   if (active) active->assign(cp->size(), 0);
+  if (cp->m > 1) {  // rank m: the law's values and the blocks of every pair of rows
+    double value[3], J[9];
+    for_read([&](size_t q) {
+      law_m(q, Pq, value, J);
+      if (active) (*active)[q] = J[0] != 0;
+      add_blocks(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], value, y);
+    });
+    return;
+  }
   // a rank-one law's block is phi b_q (inline); any other, the law's own
   const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
   const bool pp = positive_part();
@@ -628,7 +675,15 @@ void ContactLaw::add_tangent(const double *U, double kappa, Csr &T, const std::v
   count(counters, &Counters::tangent_updates);
   ContactScratch mine;
   ContactScratch &w = buffers ? *buffers : mine;
-  if (!P || P->size() != cp->size()) P_read(U, w.tangent), P = &w.tangent;
+  if (!P || P->size() != values()) P_read(U, w.tangent), P = &w.tangent;
+  if (cp->m > 1) {
+    double value[3], J[9];
+    for_read([&](size_t q) {
+      law_m(q, *P, value, J);
+      add_block_tangent(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], J, T, w.b, w.p);
+    });
+    return;
+  }
   const PointLaw *blocks = traits().rank_one ? nullptr : &law_object();
   const bool pp = positive_part();
   for_read([&](size_t q) {

@@ -139,8 +139,25 @@ struct ContactLaw {
   const HeldPoints *held = nullptr;
   // The buffers the passes reuse (the owner's); null: each call makes its own
   ContactScratch *buffers = nullptr;
+  // friction (cp->m > 1): the slip references, m - 1 per point (the
+  // tangential values' gaps, State::slip); nullptr: zero
+  const double *gap_t = nullptr;
 
   double g(size_t q) const { return gap ? gap[q] : cp->gap[q]; }
+  // cp->size() P_q, then with friction (cp->m > 1) the tangential values:
+  // value k >= 1 of point q at size() + q (m - 1) + k - 1 (PointValues::P)
+  size_t values() const { return cp->size() * static_cast<size_t>(cp->m); }
+  // the tangential values of every point at U into P[size() ..) (P sized
+  // values() by the caller): ta . U - gamma ts . U - gap_t
+  void tangential_values(const double *U, double *P) const;
+  // point q's m values from P (as P_all leaves them) into v
+  void point_values(const std::vector<double> &P, size_t q, double *v) const {
+    const size_t nq = cp->size(), mt = static_cast<size_t>(cp->m - 1);
+    v[0] = P[q];
+    for (size_t k = 0; k < mt; ++k) v[k + 1] = P[nq + q * mt + k];
+  }
+  // the law's m values and Jacobian at point q (rank m: law_object().over_step_m)
+  void law_m(size_t q, const std::vector<double> &P, double *value, double *J) const;
   // no halo narrows the passes: P_read is P_all, and its values can stand
   // for any pass over every point at the same U
   bool reads_all() const { return !halo || local; }

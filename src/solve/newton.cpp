@@ -118,16 +118,31 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
   res.residual = newton_residual(sys, r, U, G, &active, MU, &at, !at.P.empty());
   bool any_active = false, changed = true;
   sys.law->summarize(active, previous, any_active, changed);
+  // the line search of laws with more than one value per point (friction); the
+  // others' iterates, and their bits, are Newton's own
+  const bool search = sys.law->cp->m > 1;
   for (int it = first; it <= opt.max_iter; ++it) {
     if (!std::isfinite(res.residual))
       fail(ND_ERR_NONFINITE_STATE, "the Newton residual is not finite at iteration " + std::to_string(it));
     for (auto &g : G) g = -g;
     sys.tangent->solve(*sys.law, sys.kappa, U.data(), any_active, G.data(), nullptr, &at.P);
     partial |= any_active && sys.tangent->held();
+    if (search) w.direction = G, w.from = U;
     for (int64_t i = 0; i < n; ++i) U[i] += G[i];
+    // (the full update's size, whatever the line search takes of it: an
+    // update at round-off is Newton's, not a short step's)
     const double step = norm2_rows(sys.held_rows(), n, G.data());
     previous.swap(active);
+    const double before = res.residual;
     res.residual = newton_residual(sys, r, U, G, &active, MU, &at);
+    // (friction) a step that raised the residual is halved until it lowers it
+    // (Armijo): the semi-smooth Newton of a point between sticking and
+    // sliding otherwise may alternate between two iterates for ever
+    for (double lambda = 0.5; search && !(res.residual <= (1 - 1e-4 * 2 * lambda) * before) && lambda > 1e-3;
+         lambda *= 0.5) {
+      for (int64_t i = 0; i < n; ++i) U[i] = w.from[i] + lambda * w.direction[i];
+      res.residual = newton_residual(sys, r, U, G, &active, MU, &at);
+    }
     sys.law->summarize(active, previous, any_active, changed);
     res.iterations = it;
     const double u_norm = norm2_rows(sys.held_rows(), n, U.data());

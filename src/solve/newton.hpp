@@ -24,6 +24,7 @@ struct NewtonWork {
   std::vector<double> G, MU;
   std::vector<char> active, previous;
   PointValues at;  // the points at the iterate (exchanged with newton_solve's `points`)
+  std::vector<double> direction, from;  // the line search's (friction): the update and where it starts
 };
 
 struct NewtonSystem {

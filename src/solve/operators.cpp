@@ -9,6 +9,7 @@
 #include "nitschedyn.h"
 #include "parallel/share.hpp"
 #include "solve/contact_law.hpp"
+#include "solve/products.hpp"
 
 namespace nd {
 
@@ -114,10 +115,9 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
     K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
   // split operators: the mass solve is distributed and reads this rank's rows only
   if (share && !rows_split) gather(*share, {rhs.data()});
-  ContactLaw law{&contact, theta, nullptr, nullptr, nullptr, counters};
-  law.point_law = contact_law.get();
+  ContactLaw law = state_contact_law(*this, s);
+  law.counters = counters;
   law.local = !in_step;
-  if (!s.gap.empty()) law.gap = s.gap.data();
   if (at_U && contact.size() > 0) {
     law.P_all(s.U.data(), at_U->P, &at_U->un);
     law.add_force_from(at_U->P, 1.0, rhs.data(), nullptr);

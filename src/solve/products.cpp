@@ -15,6 +15,7 @@ namespace nd {
 ContactLaw state_contact_law(const Discretization &d, const State &s) {
   ContactLaw law{&d.contact, d.theta, nullptr, nullptr, s.gap.empty() ? nullptr : s.gap.data()};
   law.point_law = d.contact_law.get();
+  if (!s.slip.empty()) law.gap_t = s.slip.data();
   return law;
 }
 
@@ -191,7 +192,8 @@ std::shared_ptr<const PointReference> point_reference(const Discretization &d, c
 
 void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
   products_of_state(d, s);
-  if (known && known->P.size() == d.contact.size() && known->un.size() == d.contact.size()) {
+  if (known && known->P.size() == d.contact.size() * static_cast<size_t>(d.contact.m) &&
+      known->un.size() == d.contact.size()) {
     std::swap(s.products.points, *known);  // (known keeps the products' memory: no allocation)
   } else if (held && !d.contact.a.empty()) {  // the rank's points, evaluated here (no message)
     ContactLaw law = state_contact_law(d, s);

@@ -132,6 +132,15 @@ void StepInputs::k_theta_u(const std::vector<double> &U, std::vector<double> &ou
       out[idx[k]] = o;
     }
   }
+  // friction: a frictional point's tangential tractions' terms too (K_Theta has them)
+  for (size_t q = 0; contact.m > 1 && q < contact.size(); ++q) {
+    if (!contact.friction[q]) continue;
+    for (int v = 1; v < contact.m; ++v) {
+      const SparseRow &t = contact.s_row(q, v);
+      const double fq = theta * contact.w[q] * contact.gamma[q] * t.dot(U.data());
+      for (size_t k = 0; k < t.idx.size(); ++k) out[t.idx[k]] -= fq * t.val[k];
+    }
+  }
 }
 
 }  // namespace nd

@@ -30,7 +30,8 @@ Products reuse_storage(Products &&used) {
 
 State reuse_storage(State &&used) {
   State s;
-  for (auto field : {&State::U, &State::V, &State::A, &State::F_fixed, &State::gap, &State::reaction, &State::phi})
+  for (auto field : {&State::U, &State::V, &State::A, &State::F_fixed, &State::gap, &State::reaction, &State::phi,
+                     &State::slip, &State::phi_t})
     take(s.*field, used.*field);
   s.products = reuse_storage(std::move(used.products));
   take(s.tangent_log.i, used.tangent_log.i);

@@ -140,6 +140,14 @@ struct State {
   // the contact term phi_q that step applied (TimeScheme::mean_weight's
   // equation; empty: none yet): the applied pressure is -phi_q/gamma_q
   std::vector<double> phi;
+  // Friction (docs/design.md §10.2; empty without): each point's slip
+  // reference, m - 1 values (the tangential values' gaps: P_t = ta.U -
+  // gamma ts.U - slip), and the tangential values phi_t the step applied;
+  // the energy friction dissipated since t = 0, and the points in contact
+  // sliding and sticking at the step that led here
+  std::vector<double> slip, phi_t;
+  double D_friction = 0;
+  int64_t sliding = 0, sticking = 0;
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;

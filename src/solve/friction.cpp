@@ -1,0 +1,75 @@
+#include "solve/friction.hpp"
+
+#include "common/error.hpp"
+#include "nitschedyn.h"
+
+namespace nd {
+
+namespace {
+size_t tangential_count(const ContactPoints &cp) { return cp.size() * static_cast<size_t>(cp.m - 1); }
+// p_t . U = ta . U - gamma ts . U of every tangential value
+std::vector<double> tangential_dots(const ContactPoints &cp, const std::vector<double> &U) {
+  const size_t mt = static_cast<size_t>(cp.m - 1);
+  std::vector<double> p(tangential_count(cp));
+  for (size_t j = 0; j < p.size(); ++j) p[j] = cp.ta[j].dot(U.data()) - cp.gamma[j / mt] * cp.ts[j].dot(U.data());
+  return p;
+}
+}  // namespace
+
+void start_slip(const Discretization &d, State &s) {
+  if (d.contact.m <= 1) return s.slip.clear();
+  s.slip = tangential_dots(d.contact, s.U);
+  s.phi_t.assign(s.slip.size(), 0.0);
+}
+
+void carry_slip(const Discretization &d, const State &from, State &to) {
+  if (d.contact.m <= 1 || from.slip.size() != tangential_count(d.contact)) return start_slip(d, to);
+  const std::vector<double> p_to = tangential_dots(d.contact, to.U), p_from = tangential_dots(d.contact, from.U);
+  to.slip.resize(p_to.size());
+  for (size_t j = 0; j < p_to.size(); ++j) to.slip[j] = from.slip[j] + (p_to[j] - p_from[j]);
+}
+
+void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi, State &next) {
+  const ContactPoints &cp = d.contact;
+  const size_t nq = cp.size(), mt = static_cast<size_t>(cp.m - 1);
+  std::vector<double> &P = next.products.points.P;
+  if (P.size() != nq * (mt + 1) || next.slip.size() != nq * mt)
+    fail(ND_ERR_INTERNAL, "the end of a step with friction without the points' tangential values");
+  next.phi_t.assign(nq * mt, 0.0);
+  next.sliding = next.sticking = 0;
+  const double c = tangential_weight(law.rule());
+  double value[3], J[9], D = 0;
+  for (size_t q = 0; q < nq; ++q) {
+    law.law_m(q, P, value, J);
+    if (value[0] != phi[q]) fail(ND_ERR_INTERNAL, "the normal value of a frictional point differs from the step's");
+    bool slides = false;
+    for (size_t k = 0; k < mt; ++k) {
+      const size_t j = q * mt + k;
+      const double Y = c * P[nq + j] + (c == 1 ? 0.0 : (1 - c) * (*law.Pn)[nq + j]);
+      const double e = Y - value[k + 1];
+      next.phi_t[j] = value[k + 1];
+      next.slip[j] += e;
+      D += cp.w[q] / cp.gamma[q] * value[k + 1] * e;
+      slides = slides || e != 0;
+    }
+    if (value[0] > 0 && cp.friction[q]) (slides ? next.sliding : next.sticking) += 1;
+  }
+  next.D_friction += D;
+  ContactLaw at_state = law;
+  at_state.gap_t = next.slip.data();
+  at_state.tangential_values(next.U.data(), P.data());
+}
+
+std::array<double, 3> tangential_resultant(const Discretization &d, const State &s) {
+  std::array<double, 3> f{0, 0, 0};
+  const ContactPoints &cp = d.contact;
+  if (cp.m <= 1 || s.phi_t.size() != tangential_count(cp)) return f;
+  for (size_t j = 0; j < s.phi_t.size(); ++j) {
+    const size_t q = j / static_cast<size_t>(cp.m - 1);
+    const double lw = -cp.w[q] * s.phi_t[j] / cp.gamma[q];
+    for (int k = 0; k < 3; ++k) f[k] += lw * cp.tangent[3 * j + k];
+  }
+  return f;
+}
+
+}  // namespace nd

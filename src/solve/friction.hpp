@@ -1,0 +1,44 @@
+// The friction state of a step (docs/design.md §10.2): each contact point's
+// slip reference (State::slip, m - 1 values: the tangential values' gaps),
+// updated as a return mapping at the end of every step, and the energy the
+// friction dissipated. With P_t the tangential values at the step's point
+// Y_t (the end of the step; generalized-alpha: its shifted point) and phi_t
+// = Pi_{B(0,r)}(Y_t) what the step applied,
+//   slip <- slip + (Y_t - phi_t)          (the new state's P_t at U^{n+1}: phi_t)
+//   D_f  <- D_f + sum_q (w_q/gamma_q) phi_t . (Y_t - phi_t)   (>= 0: r (|Y_t| - r) or 0)
+// A point free of the obstacle (r = 0) takes phi_t = 0: its reference
+// follows the body, and it touches down without a stored traction.
+#pragma once
+#include <array>
+
+#include "contact/friction.hpp"
+#include "solve/contact_law.hpp"
+#include "solve/operators.hpp"
+#include "time/state.hpp"
+
+namespace nd {
+
+// Whether the problem has friction (tangential values per point)
+inline bool has_friction(const Discretization &d) { return d.contact.m > 1; }
+
+// s.slip such that the tangential values at s.U are 0 (no frictional
+// traction stored: the initial state), for a problem with friction; else empty
+void start_slip(const Discretization &d, State &s);
+
+// to.slip for to.U such that its tangential values are from's at from.U:
+// a state overwritten (nd_problem_set_state) keeps its frictional traction
+void carry_slip(const Discretization &d, const State &from, State &to);
+
+// The end of a step with friction: `law` the step's (its rule and P^n),
+// next.products.points.P the values at U^{n+1} with the step's reference
+// (next.slip): phi_t, the new reference, D_f, the sliding and sticking
+// points; then the new state's tangential values with the new reference
+// (the bits a restart's products have). phi: the step's normal values.
+void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi, State &next);
+
+// sum_q w_q lambda_t,q: the tangential contact force the last step applied
+// (obstacle on body), lambda_t = -phi_t/gamma_q along the t_qk; zeros
+// without friction or before a step
+std::array<double, 3> tangential_resultant(const Discretization &d, const State &s);
+
+}  // namespace nd
