@@ -37,7 +37,7 @@ module nitschedyn
   public :: nd_problem_create, nd_problem_set_material, nd_problem_set_dirichlet, &
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
             nd_problem_add_contact_sphere, nd_problem_add_contact_cylinder, nd_problem_add_contact_distance, &
-            nd_problem_move_obstacle, &
+            nd_problem_move_obstacle, nd_problem_set_friction, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
             nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_mass_redistribution, nd_problem_set_linear_solver, &
             nd_problem_set_comm_f, nd_problem_set_distributed_state, &
@@ -322,6 +322,15 @@ module nitschedyn
       real(c_double), intent(in), optional :: rotation(*)
       integer(c_int) :: status
     end function nd_problem_move_obstacle
+
+    ! law one of ND_FRICTION_*; params(1): Coulomb's F or Tresca's s (absent for ND_FRICTION_NONE)
+    function nd_problem_set_friction(p, region, law, params) result(status) bind(C, name='nd_problem_set_friction')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region, law
+      real(c_double), intent(in), optional :: params(*)
+      integer(c_int) :: status
+    end function nd_problem_set_friction
 
     function nd_problem_set_nitsche(p, theta, gamma0) result(status) bind(C, name='nd_problem_set_nitsche')
       import :: c_int, c_double, c_ptr

@@ -142,6 +142,7 @@ _PROTOTYPES = {
     "nd_problem_add_contact_distance": (_int, [_ptr, _int, DISTANCE, _ptr]),
     "nd_problem_move_obstacle": (_int, [_ptr, _int, _int, _pdbl, _pdbl]),
     "nd_problem_set_nitsche": (_int, [_ptr, _dbl, _dbl]),
+    "nd_problem_set_friction": (_int, [_ptr, _int, _int, _pdbl]),
     "nd_problem_set_scheme": (_int, [_ptr, _int, _pdbl]),
     "nd_problem_set_nodal_forces": (_int, [_ptr, _i64, _pdbl]),
     "nd_problem_set_newton": (_int, [_ptr, _dbl, _dbl, _int]),
@@ -479,6 +480,13 @@ class Problem(_Handle):
 
     def set_nitsche(self, theta, gamma0):
         _check(lib.nd_problem_set_nitsche(self._h, theta, gamma0))
+
+    def set_friction(self, region, law, coefficient=None):
+        """The friction law of a contact region: ND_FRICTION_NONE,
+        ND_FRICTION_TRESCA (coefficient: the threshold s, a stress) or
+        ND_FRICTION_COULOMB (coefficient: F)."""
+        a = None if coefficient is None else np.array([float(coefficient)])
+        _check(lib.nd_problem_set_friction(self._h, region, law, _dptr(a)))
 
     def set_scheme(self, scheme, params=None):
         """An ND_SCHEME_* value and its parameters (SCHEME[name] describes them):

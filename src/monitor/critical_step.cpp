@@ -26,21 +26,23 @@ void apply(const Discretization &d, const std::vector<double> &x, std::vector<do
   multiply(d, d.K_theta, x, y);
   const ContactPoints &cp = d.contact;
   const double max_slope = d.contact_law->traits().max_slope;  // (every point active, as stiff as it gets)
-  for (size_t q = 0; q < cp.size(); ++q) {
-    const SparseRow &a = cp.a[q], &s = cp.s[q];
-    double bx = 0, px = 0;
-    for (size_t k = 0; k < a.idx.size(); ++k) {
-      const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
-      bx += b * x[a.idx[k]];
-      px += p * x[a.idx[k]];
+  // (friction: a frictional point's tangential pairs too, sticking as stiff as the normal one)
+  for (size_t q = 0; q < cp.size(); ++q)
+    for (int v = 0; v < (cp.m > 1 && cp.friction[q] ? cp.m : 1); ++v) {
+      const SparseRow &a = cp.a_row(q, v), &s = cp.s_row(q, v);
+      double bx = 0, px = 0;
+      for (size_t k = 0; k < a.idx.size(); ++k) {
+        const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
+        bx += b * x[a.idx[k]];
+        px += p * x[a.idx[k]];
+      }
+      // sym(b p^T) x = (b (p.x) + p (b.x))/2, at the law's steepest slope
+      const double f = 0.5 * cp.w[q] / cp.gamma[q] * max_slope;
+      for (size_t k = 0; k < a.idx.size(); ++k) {
+        const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
+        y[a.idx[k]] += f * (b * px + p * bx);
+      }
     }
-    // sym(b p^T) x = (b (p.x) + p (b.x))/2, at the law's steepest slope
-    const double f = 0.5 * cp.w[q] / cp.gamma[q] * max_slope;
-    for (size_t k = 0; k < a.idx.size(); ++k) {
-      const double b = a.val[k] - d.theta * cp.gamma[q] * s.val[k], p = a.val[k] - cp.gamma[q] * s.val[k];
-      y[a.idx[k]] += f * (b * px + p * bx);
-    }
-  }
 }
 
 double m_dot(const Discretization &d, const std::vector<double> &x, const std::vector<double> &y,

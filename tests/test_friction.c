@@ -1,0 +1,365 @@
+/* Friction (docs/design.md §10.2) on a block resting on the rigid plane:
+ * the rectangle [0,2] x [0,1] (2D) or the box [0,2] x [0,1] x [0,1] (3D),
+ * rho = 1, its lowest face the contact region, under gravity g = 1 tilted
+ * by alpha along x (the slope of a plane inclined by alpha). Checked:
+ *  - Coulomb's law at the points: when every active point slides, the
+ *    tangential resultant is F times the normal one (2D: equal, exactly
+ *    opposite to x; 3D: within the cone) for every scheme, P1 and P2;
+ *  - the momentum along the slope is the impulse of gravity and friction,
+ *    step by step, and the block accelerates at g sin(alpha) - F N/m with the
+ *    step's N (g (sin - F cos) when N is the weight's share);
+ *  - tan(alpha) < F: every point sticks, the block stops creeping (D_f and
+ *    the mean displacement stay), friction carries m g sin(alpha);
+ *  - Tresca: the tangential resultant is s times the contact length when
+ *    the block slides, and it sticks below;
+ *  - the hybrid scheme with Theta = 1: E_Theta + D_f - W never increases
+ *    (to round-off), D_f >= 0 and non-decreasing;
+ *  - a block launched at v0 stops after v0/(F g), having slid v0^2/(2 F g);
+ *  - F = 0 with Theta = 0 is the frictionless method; a restart is bitwise. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "testutil.h"
+
+static double scalar(nd_problem p, int key) {
+  double x = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(p, key, &x));
+  return x;
+}
+
+typedef struct {
+  int dim, degree, law;
+  double coefficient, alpha, theta, tau;
+  const nd_test_scheme *scheme;
+} block_spec;
+
+/* the block's mass: rho = 1, volume 2 (area 2 in 2D, per unit thickness) */
+static const double kMass = 2;
+
+static nd_problem block(const block_spec *b) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const int coarse = b->degree == 2;
+  if (b->dim == 2) {
+    const double lo[2] = {0, 0}, hi[2] = {2, 1}, blo[2] = {-1, -1e-9}, bhi[2] = {3, 1e-9};
+    ND_OK_OR_FAIL(nd_mesh_create_rectangle(coarse ? 4 : 8, coarse ? 2 : 4, lo, hi, &m));
+    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  } else {
+    const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1}, blo[3] = {-1, -1, -1e-9}, bhi[3] = {3, 2, 1e-9};
+    ND_OK_OR_FAIL(nd_mesh_create_box(coarse ? 2 : 4, coarse ? 1 : 2, coarse ? 1 : 2, lo, hi, &m));
+    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  }
+  ND_OK_OR_FAIL(nd_problem_create(m, b->degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1e4, 0.3, 1));
+  const double point[3] = {0, 0, 0}, normal2[2] = {0, 1}, normal3[3] = {0, 0, 1};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, b->dim == 2 ? normal2 : normal3));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, b->theta, 0));
+  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, b->law, &b->coefficient));
+  double g[3] = {sin(b->alpha), 0, 0};
+  g[b->dim - 1] = -cos(b->alpha);
+  ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, b->scheme->scheme, b->scheme->params));
+  if (nd_test_is_explicit(b->scheme)) {
+    ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+    double tau_c = 0;
+    ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(p, &tau_c));
+    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.5 * tau_c));
+  } else {
+    ND_OK_OR_FAIL(nd_problem_set_timestep(p, b->tau));
+  }
+  return p;
+}
+
+static const nd_test_scheme kTheta1 = {ND_SCHEME_THETA, {1, 0}}, kHybrid = {ND_SCHEME_HYBRID, {0, 0}};
+
+/* Coulomb's law seen from the resultants: whenever every active point
+   slides, |f_t| = F f_n in 2D (f_t along -x: the block slides down the
+   slope), and |f_t| <= F f_n (the cone) in 3D; for every scheme, P1, P2. */
+START_TEST(coulomb_tangential_is_F_times_normal) {
+  const double F = 0.3;
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
+        const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 2e-3, &nd_test_schemes[k]};
+        nd_problem p = block(&b);
+        int sliding_steps = 0;
+        double worst = 0;
+        const int steps = nd_test_is_explicit(b.scheme) ? 400 : 100;
+        for (int n = 0; n < steps; ++n) {
+          ND_OK_OR_FAIL(nd_step(p));
+          const double fn = scalar(p, ND_CONTACT_FORCE_APPLIED), fx = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X),
+                       fy = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_Y), fz = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_Z);
+          /* (the points the step applied a normal value at: sliding + sticking) */
+          const double stick = scalar(p, ND_STICKING_POINTS), slide = scalar(p, ND_SLIDING_POINTS);
+          const double ft = sqrt(fx * fx + fy * fy + fz * fz);
+          ck_assert_double_le(ft, F * fn * (1 + 1e-12) + 1e-300);  /* the cone, always */
+          if (slide > 0 && stick == 0 && dim == 2) {
+            ++sliding_steps;
+            worst = fmax(worst, fabs(fx + F * fn) / (F * fn));
+          }
+        }
+        if (dim == 2)
+          printf("dim 2 P%d scheme %d: %d steps all sliding, max |f_x + F f_n|/(F f_n) = %.2e\n", degree, k,
+                 sliding_steps, worst);
+        if (dim == 2) {
+          ck_assert_int_gt(sliding_steps, 0);
+          ck_assert_double_le(worst, 1e-12);
+        }
+        ck_assert_double_gt(scalar(p, ND_DISSIPATION_FRICTION), 0);
+        ND_OK_OR_FAIL(nd_problem_destroy(&p));
+      }
+}
+END_TEST
+
+/* theta = 1: M (V^{n+1} - V^n) = tau (F - K_Theta U^{n+1} - N^{n+1}); summed
+   over the x rows K_Theta drops out (it annihilates translations), so the
+   momentum gains tau (m g sin(alpha) + f_t,x) a step, to round-off; and with
+   every point sliding f_t,x = -F f_n, the acceleration is g sin - F f_n/m. */
+START_TEST(coulomb_momentum_is_the_impulse) {
+  const double F = 0.3, alpha = 0.5;
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, alpha, 1, 2e-3, &kTheta1};
+  nd_problem p = block(&b);
+  double P = scalar(p, ND_MOMENTUM_X), worst = 0, fn_sum = 0;
+  const int steps = 1000, from = 500;
+  double P_from = 0;
+  for (int n = 1; n <= steps; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    const double P_new = scalar(p, ND_MOMENTUM_X), fx = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X);
+    const double impulse = b.tau * (kMass * sin(alpha) + fx);
+    worst = fmax(worst, fabs(P_new - P - impulse));
+    P = P_new;
+    if (n == from) P_from = P;
+    if (n > from) fn_sum += scalar(p, ND_CONTACT_FORCE_APPLIED);
+    if (n > from) ck_assert_double_eq(scalar(p, ND_STICKING_POINTS), 0);
+  }
+  const double T = (steps - from) * b.tau, N = fn_sum / (steps - from);
+  const double a = (P - P_from) / (kMass * T), a_law = sin(alpha) - F * N / kMass;
+  const double a_rigid = sin(alpha) - F * cos(alpha);
+  printf("momentum: max |dP - impulse| = %.2e; acceleration %.10f, g sin - F N/m = %.10f, g (sin - F cos) = %.10f "
+         "(N/(m g cos) = %.8f)\n", worst, a, a_law, a_rigid, N / (kMass * cos(alpha)));
+  ck_assert_double_le(worst, 1e-13 * kMass);
+  /* (the identity's round-off, step by step, over the steps averaged) */
+  ck_assert_double_le(fabs(a - a_law), (steps - from) * worst / (kMass * T) + 1e-14);
+  /* the rigid block's value, to the share of the weight the vibrating block's N carries */
+  ck_assert_double_le(fabs(a - a_rigid), F * fabs(N / kMass - cos(alpha)) + (steps - from) * worst / (kMass * T) + 1e-14);
+  ck_assert_double_le(fabs(N / (kMass * cos(alpha)) - 1), 1e-4);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* tan(alpha) = 0.2 < F = 0.3: every active point sticks, nothing more is
+   dissipated (D_f stays, bitwise), the block does not creep, and the
+   friction carries the slope's share of the weight, m g sin(alpha). */
+START_TEST(coulomb_sticks_below_the_angle) {
+  const double F = 0.3, alpha = atan(0.2);
+  for (int dim = 2; dim <= 3; ++dim) {
+    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, F, alpha, 1, 2e-3, &kTheta1};
+    nd_problem p = block(&b);
+    for (int n = 0; n < 500; ++n) ND_OK_OR_FAIL(nd_step(p));
+    const double D = scalar(p, ND_DISSIPATION_FRICTION), P0 = scalar(p, ND_MOMENTUM_X);
+    for (int n = 0; n < 500; ++n) {
+      ND_OK_OR_FAIL(nd_step(p));
+      ck_assert_double_eq(scalar(p, ND_SLIDING_POINTS), 0);
+      ck_assert_double_eq(scalar(p, ND_STICKING_POINTS), scalar(p, ND_ACTIVE_POINTS));
+    }
+    const double mass = kMass, fx = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X);
+    printf("dim %d sticking: D_f %.6e -> %.6e, momentum %.2e -> %.2e, f_t,x = %.12f, -m g sin = %.12f\n", dim, D,
+           scalar(p, ND_DISSIPATION_FRICTION), P0, scalar(p, ND_MOMENTUM_X), fx, -mass * sin(alpha));
+    ck_assert_double_eq(scalar(p, ND_DISSIPATION_FRICTION), D);
+    /* at rest (theta = 1 damps the landing's vibration: momentum below 1e-6 m g tau) */
+    ck_assert_double_le(fabs(scalar(p, ND_MOMENTUM_X)), 1e-9);
+    ck_assert_double_le(fabs(fx + mass * sin(alpha)), 1e-6 * mass);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+/* Tresca, threshold s: sliding, the tangential resultant is s times the
+   contact length (2 in 2D); below the threshold (m g sin < 2 s) it sticks. */
+START_TEST(tresca_threshold) {
+  /* m g sin(alpha) = 0.959: above s L = 0.4, below 1.2 */
+  const double s_slide = 0.2, s_stick = 0.6, alpha = 0.5;
+  {
+    const block_spec b = {2, 1, ND_FRICTION_TRESCA, s_slide, alpha, 1, 2e-3, &kTheta1};
+    nd_problem p = block(&b);
+    double worst = 0;
+    for (int n = 0; n < 300; ++n) {
+      ND_OK_OR_FAIL(nd_step(p));
+      if (scalar(p, ND_STICKING_POINTS) == 0 && scalar(p, ND_SLIDING_POINTS) > 0)
+        worst = fmax(worst, fabs(scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X) + 2 * s_slide));
+    }
+    printf("Tresca sliding: max |f_t,x + s L| = %.2e\n", worst);
+    ck_assert_double_le(worst, 1e-12);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+  {  /* sticking: nothing slides, nothing more is dissipated, and (theta = 1:
+        the momentum is the impulse) friction carries m g sin - dP_x/tau */
+    const block_spec b = {2, 1, ND_FRICTION_TRESCA, s_stick, alpha, 1, 2e-3, &kTheta1};
+    nd_problem p = block(&b);
+    for (int n = 0; n < 200; ++n) ND_OK_OR_FAIL(nd_step(p));
+    const double D = scalar(p, ND_DISSIPATION_FRICTION);
+    double P = scalar(p, ND_MOMENTUM_X), worst = 0;
+    for (int n = 0; n < 300; ++n) {
+      ND_OK_OR_FAIL(nd_step(p));
+      ck_assert_double_eq(scalar(p, ND_SLIDING_POINTS), 0);
+      const double P_new = scalar(p, ND_MOMENTUM_X);
+      worst = fmax(worst, fabs(scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X) + kMass * sin(alpha) - (P_new - P) / b.tau));
+      P = P_new;
+    }
+    printf("Tresca sticking: D_f stays %.6e, max |f_t,x + m g sin - dP/tau| = %.2e\n", D, worst);
+    ck_assert_double_eq(scalar(p, ND_DISSIPATION_FRICTION), D);
+    ck_assert_double_le(worst, 1e-10 * kMass);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+/* The hybrid scheme with Theta = 1 (docs/design.md §10.2): with D_f the
+   frictional dissipation, E_Theta + D_f - W never increases, step by step,
+   to round-off; D_f is non-decreasing. 2D and 3D, P1 and P2, both laws,
+   sliding and sticking. */
+START_TEST(hybrid_ledger_never_increases) {
+  struct {
+    int law;
+    double coefficient, alpha;
+  } cases[] = {{ND_FRICTION_COULOMB, 0.3, 0.5}, {ND_FRICTION_COULOMB, 0.3, 0.1}, {ND_FRICTION_TRESCA, 0.2, 0.5}};
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int degree = 1; degree <= 2; ++degree)
+      for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        const block_spec b = {dim, degree, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid};
+        nd_problem p = block(&b);
+        double before = scalar(p, ND_ENERGY_AUGMENTED), D = 0, worst = -INFINITY, scale = fabs(before);
+        for (int n = 0; n < 150; ++n) {
+          ND_OK_OR_FAIL(nd_step(p));
+          const double D_new = scalar(p, ND_DISSIPATION_FRICTION);
+          ck_assert_double_ge(D_new, D);
+          D = D_new;
+          const double L = scalar(p, ND_ENERGY_AUGMENTED) + D - scalar(p, ND_WORK);
+          scale = fmax(scale, fabs(scalar(p, ND_WORK)));
+          worst = fmax(worst, L - before);
+          before = L;
+        }
+        printf("hybrid dim %d P%d law %d alpha %.1f: max step increase of E_Theta + D_f - W = %.2e (W %.3e, D_f %.3e)\n",
+               dim, degree, cases[c].law, cases[c].alpha, worst, scalar(p, ND_WORK), D);
+        ck_assert_double_le(worst, 1e-12 * scale);
+        ND_OK_OR_FAIL(nd_problem_destroy(&p));
+      }
+}
+END_TEST
+
+/* A block launched at v0 along the flat plane (alpha = 0): friction F N
+   stops it after v0 m/(F N) having slid v0^2 m/(2 F N), N = m g for the
+   rigid block: v0/(F g) and v0^2/(2 F g). The vibrating block's N is the
+   weight's to its mean over the slide (measured, and the rigid values are
+   checked to that share and a step); once stopped it sticks for good. */
+START_TEST(launched_block_stops) {
+  const double F = 0.3, v0 = 0.3;
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1};
+  nd_problem p = block(&b);
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *v = calloc((size_t)(2 * nn), sizeof *v), *u = calloc((size_t)(2 * nn), sizeof *u);
+  for (int64_t i = 0; i < nn; ++i) v[2 * i] = v0;
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nn, NULL, v));
+  double t_stop = -1, N_sum = 0, D_stop = 0;
+  int sliding_steps = 0;
+  const double t_exact = v0 / F, d_exact = v0 * v0 / (2 * F);
+  for (int n = 1; n <= 1500; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    const int slides = scalar(p, ND_SLIDING_POINTS) > 0;
+    if (t_stop < 0 && slides) N_sum += scalar(p, ND_CONTACT_FORCE_APPLIED), ++sliding_steps;
+    if (t_stop < 0 && !slides && n > 10) t_stop = scalar(p, ND_TIME);
+    if (t_stop > 0 && scalar(p, ND_TIME) > t_stop + 0.2) {  /* stopped for good */
+      if (D_stop == 0) D_stop = scalar(p, ND_DISSIPATION_FRICTION);
+      ck_assert_double_eq(scalar(p, ND_SLIDING_POINTS), 0);
+      ck_assert_double_eq(scalar(p, ND_DISSIPATION_FRICTION), D_stop);
+    }
+  }
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, u));
+  double mean = 0;  /* the centre of mass: a uniform mesh of equal triangles, P1 */
+  for (int64_t i = 0; i < nn; ++i) mean += u[2 * i] / (double)nn;
+  const double share = fabs(N_sum / sliding_steps / kMass - 1);
+  printf("launched: stops at %.4f (v0/(F g) = %.4f), slid %.6f (v0^2/(2 F g) = %.6f), N/(m g) - 1 = %.2e\n", t_stop,
+         t_exact, mean, d_exact, share);
+  ck_assert_double_le(fabs(t_stop - t_exact), b.tau + 2 * share * t_exact);
+  ck_assert_double_le(fabs(mean - d_exact), v0 * b.tau + 2 * share * d_exact);
+  free(v), free(u);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* Theta = 0 carries no tangential term in K_Theta, and F = 0 applies none:
+   the frictionless trajectory, to the Newton tolerance. */
+START_TEST(zero_coefficient_is_frictionless) {
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0, 0.5, 0, 2e-3, &kTheta1};
+  block_spec f = b;
+  f.law = ND_FRICTION_NONE;
+  nd_problem p = block(&b), q = block(&f);
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *up = calloc((size_t)(2 * nn), sizeof *up), *uq = calloc((size_t)(2 * nn), sizeof *uq), diff = 0, scale = 0;
+  for (int n = 0; n < 200; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_step(q));
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, up));
+    ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_DISPLACEMENT, nn, uq));
+    for (int64_t i = 0; i < 2 * nn; ++i) diff = fmax(diff, fabs(up[i] - uq[i])), scale = fmax(scale, fabs(uq[i]));
+  }
+  printf("F = 0, Theta = 0: max |u - u_frictionless| = %.2e (max |u| %.2e)\n", diff, scale);
+  ck_assert_double_le(diff, 1e-9 * scale);
+  free(up), free(uq);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+END_TEST
+
+/* A run resumed from a checkpoint taken while the block slides is bitwise
+   the uninterrupted one (the slip references travel in the checkpoint); a
+   frictionless problem refuses it. */
+START_TEST(restart_is_bitwise) {
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, &kHybrid};
+  nd_problem p = block(&b), q = block(&b);
+  for (int n = 0; n < 60; ++n) ND_OK_OR_FAIL(nd_step(p));
+  int64_t size = 0;
+  unsigned char *buf = nd_test_checkpoint(p, &size);
+  ND_OK_OR_FAIL(nd_problem_load_state(q, size, buf));
+  for (int n = 0; n < 60; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_step(q));
+  }
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *up = calloc((size_t)(2 * nn), sizeof *up), *uq = calloc((size_t)(2 * nn), sizeof *uq);
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, up));
+  ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_DISPLACEMENT, nn, uq));
+  ck_assert_int_eq(memcmp(up, uq, sizeof(double) * (size_t)(2 * nn)), 0);
+  ck_assert_double_eq(scalar(p, ND_DISSIPATION_FRICTION), scalar(q, ND_DISSIPATION_FRICTION));
+  block_spec f = b;
+  f.law = ND_FRICTION_NONE;
+  nd_problem r = block(&f);
+  ck_assert_int_eq(nd_problem_load_state(r, size, buf), ND_ERR_STATE);
+  free(buf), free(up), free(uq);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  ND_OK_OR_FAIL(nd_problem_destroy(&r));
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("friction");
+  TCase *tc = tcase_create("friction");
+  tcase_set_timeout(tc, 600);
+  tcase_add_test(tc, coulomb_tangential_is_F_times_normal);
+  tcase_add_test(tc, coulomb_momentum_is_the_impulse);
+  tcase_add_test(tc, coulomb_sticks_below_the_angle);
+  tcase_add_test(tc, tresca_threshold);
+  tcase_add_test(tc, hybrid_ledger_never_increases);
+  tcase_add_test(tc, launched_block_stops);
+  tcase_add_test(tc, zero_coefficient_is_frictionless);
+  tcase_add_test(tc, restart_is_bitwise);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
