@@ -835,6 +835,35 @@ START_TEST(problem_obstacles) {
 }
 END_TEST
 
+START_TEST(problem_friction) {
+  const double F = 0.3, neg = -0.1, nan = NAN, inf = INFINITY;
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F), ND_ERR_DIMENSION, "nd_problem_set_friction",
+             "1D");
+  EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_NONE, NULL));  /* (frictionless: any dimension) */
+  EXPECT_OK(nd_problem_destroy(&p));
+  p = problem_2d();
+  EXPECT_ERR(nd_problem_set_friction(NULL, 1, ND_FRICTION_COULOMB, &F), ND_ERR_NULL, "nd_problem_set_friction", "p");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, NULL), ND_ERR_NULL, "nd_problem_set_friction",
+             "params");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, ND_FRICTION_TRESCA, NULL), ND_ERR_NULL, "nd_problem_set_friction",
+             "params");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, 3, &F), ND_ERR_KEY, "nd_problem_set_friction", "law 3");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, -1, &F), ND_ERR_KEY, "nd_problem_set_friction", "law -1");
+  EXPECT_ERR(nd_problem_set_friction(p, 7, ND_FRICTION_COULOMB, &F), ND_ERR_REGION, "nd_problem_set_friction",
+             "region 7");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &neg), ND_ERR_VALUE, "nd_problem_set_friction",
+             "coefficient F");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, ND_FRICTION_TRESCA, &nan), ND_ERR_NONFINITE, "nd_problem_set_friction",
+             "threshold s");
+  EXPECT_ERR(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &inf), ND_ERR_NONFINITE, "nd_problem_set_friction",
+             "coefficient F");
+  EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_NONE, NULL));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(problem_contact_normal_scale) {
   const double normal = _i == 0 ? 1e200 : 1e-200;
   double u_ref[21], u[21];
@@ -1406,6 +1435,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_regions_and_loads);
   tcase_add_loop_test(def, problem_contact_normal_scale, 0, 2);
   tcase_add_test(def, problem_obstacles);
+  tcase_add_test(def, problem_friction);
   tcase_add_test(def, problem_newton_solver);
   tcase_add_test(def, problem_guards);
   suite_add_tcase(s, def);

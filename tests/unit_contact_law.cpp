@@ -15,6 +15,7 @@
 // each state agrees to rtol relative (as tests/unit_tangent.cpp holds its
 // paths), with the same active points and Newton counts at every step.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
+#include "contact/friction.hpp"
 #include "contact/law.hpp"
 #include "time/scheme.hpp"
 #include "testutil.h"
@@ -144,12 +146,75 @@ START_TEST(declined_traits_fall_back_to_the_same_trajectory) {
 }
 END_TEST
 
+// The frictional laws (contact/friction.hpp): the Jacobian they give is the
+// derivative of their values (central differences, away from the kinks:
+// |Y_t| = r and P_n = 0, for every rule, m = 2 and 3); the tangential values
+// lie in the disk of radius r, equal Y_t inside it, and point along Y_t
+// outside (phi_t . (Y_t - phi_t) >= 0: what D_f adds up).
+START_TEST(friction_laws_jacobian_and_projection) {
+  const nd::TimeRule rules[] = {nd::TimeRule{}, nd::TimeRule{nd::TimeRule::Shifted, 0.3},
+                                nd::TimeRule{nd::TimeRule::Hybrid, 0}};
+  const double coefficient = 0.4, gamma = 0.7;
+  unsigned seed = 12345;
+  auto uniform = [&seed]() {
+    seed = seed * 1103515245u + 12345u;
+    return ((seed >> 8) & 0xffff) / 65535.0 * 2 - 1;
+  };
+  int checked = 0;
+  for (int law : {ND_FRICTION_TRESCA, ND_FRICTION_COULOMB})
+    for (int m = 2; m <= 3; ++m) {
+      const auto f = nd::make_law(law, &coefficient, m);
+      ck_assert_int_eq(f->traits().m, m);
+      ck_assert(!f->traits().rank_one);
+      for (const nd::TimeRule &rule : rules)
+        for (int trial = 0; trial < 200; ++trial) {
+          double P[3], Pn[3], v[3], J[9];
+          for (int k = 0; k < m; ++k) P[k] = 2 * uniform(), Pn[k] = 2 * uniform();
+          f->over_step_m(rule, 0, gamma, m, P, Pn, v, J);
+          // the disk: r from the normal value the rule applies
+          const double r = law == ND_FRICTION_COULOMB ? coefficient * v[0] : gamma * coefficient;
+          const double c = rule.kind == nd::TimeRule::Shifted ? 1 - rule.af : 1.0;
+          double Y[2], y2 = 0, t2 = 0, dot = 0;
+          for (int k = 1; k < m; ++k) {
+            Y[k - 1] = c * P[k] + (c == 1 ? 0.0 : (1 - c) * Pn[k]);
+            y2 += Y[k - 1] * Y[k - 1];
+            t2 += v[k] * v[k];
+            dot += v[k] * (Y[k - 1] - v[k]);
+          }
+          ck_assert_double_le(std::sqrt(t2), r * (1 + 1e-15) + 1e-300);
+          ck_assert_double_ge(dot, -1e-15 * (y2 + 1));
+          const double kink = std::min(std::fabs(std::sqrt(y2) - r), std::fabs(P[0]));
+          if (kink < 1e-3 || (rule.kind == nd::TimeRule::Hybrid && std::fabs(Pn[0]) < 1e-3) ||
+              (rule.kind != nd::TimeRule::AtEnd && std::fabs(0.5 * (P[0] + Pn[0])) < 1e-3) ||
+              (rule.kind == nd::TimeRule::Shifted && std::fabs(c * P[0] + (1 - c) * Pn[0]) < 1e-3))
+            continue;
+          const double h = 1e-7;
+          for (int l = 0; l < m; ++l) {
+            double Pp[3], Pm[3], vp[3], vm[3], Jx[9];
+            std::copy(P, P + 3, Pp), std::copy(P, P + 3, Pm);
+            Pp[l] += h, Pm[l] -= h;
+            f->over_step_m(rule, 0, gamma, m, Pp, Pn, vp, Jx);
+            f->over_step_m(rule, 0, gamma, m, Pm, Pn, vm, Jx);
+            for (int k = 0; k < m; ++k)
+              ck_assert_msg(std::fabs((vp[k] - vm[k]) / (2 * h) - J[k * m + l]) <= 1e-6,
+                            "law %d m %d rule %d: dphi_%d/dP_%d = %g, J = %g", law, m, int(rule.kind), k, l,
+                            (vp[k] - vm[k]) / (2 * h), J[k * m + l]);
+          }
+          ++checked;
+        }
+    }
+  std::printf("friction laws: %d points checked against central differences\n", checked);
+  ck_assert_int_gt(checked, 1000);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("contact_law");
   TCase *tc = tcase_create("law");
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, registry_gives_the_frictionless_law);
   tcase_add_test(tc, time_rules_apply_to_any_law);
+  tcase_add_test(tc, friction_laws_jacobian_and_projection);
   tcase_add_test(tc, declined_traits_fall_back_to_the_same_trajectory);
   suite_add_tcase(s, tc);
   return nd_test_run(s);

@@ -28,6 +28,7 @@ import sys
 COLUMNS = ("step", "t", "E", "E_Theta", "W", "contact_force", "active_points", "max_penetration",
            "newton_iterations")
 APPLIED = "contact_force_applied"  # optional: histories of older drivers lack it
+FRICTION = "dissipation_friction"  # optional: D_f, drawn when the history has some
 
 
 class HistoryError(Exception):
@@ -117,17 +118,22 @@ def plot(data, output=None, title=None, show=False):
     if title is None:
         title = getattr(data, "title", None)
     t = data["t"]
-    balance = [a - b for a, b in zip(data["E_Theta"], data["W"])]
+    friction = FRICTION in data and any(x != 0 for x in data[FRICTION])
+    D_f = data[FRICTION] if friction else [0.0] * len(t)
+    balance = [a + d - b for a, d, b in zip(data["E_Theta"], D_f, data["W"])]
+    balance_label = "E_Theta + D_f - W" if friction else "E_Theta - W"
     fig, (ax_e, ax_b, ax_f) = plt.subplots(3, 1, sharex=True, figsize=(8, 9),
                                            gridspec_kw={"height_ratios": [3, 2, 3]})
     ax_e.plot(t, data["E"], label="E (mechanical)")
     ax_e.plot(t, data["E_Theta"], label="E_Theta = E - Theta R")
     ax_e.plot(t, data["W"], "--", label="W (work of the loads)")
+    if friction:
+        ax_e.plot(t, D_f, ":", label="D_f (dissipated by friction)")
     ax_e.set_ylabel("energy")
     ax_e.legend(loc="best", fontsize="small")
     ax_e.grid(True, alpha=0.3)
-    ax_b.plot(t, balance, color="C4", label="E_Theta - W")
-    ax_b.set_ylabel("E_Theta - W")
+    ax_b.plot(t, balance, color="C4", label=balance_label)
+    ax_b.set_ylabel(balance_label)
     ax_b.legend(loc="best", fontsize="small")
     ax_b.grid(True, alpha=0.3)
     if APPLIED in data:  # beneath, wider: the thin resultant at t^n stays visible on it

@@ -25,9 +25,9 @@ class Coulomb final : public FrictionLaw {
 }  // namespace
 
 std::shared_ptr<const PointLaw> make_coulomb_law(const double *params, int dim) {
-  if (!params || !std::isfinite(params[0]) || params[0] < 0)
-    fail(ND_ERR_VALUE, "Coulomb friction: the coefficient F must be finite and >= 0" +
-                           (params ? " (got " + num(params[0]) + ")" : std::string()));
+  if (!params) fail(ND_ERR_NULL, "params is NULL: Coulomb friction takes the coefficient F");
+  if (!std::isfinite(params[0])) fail(ND_ERR_NONFINITE, "params[0], the coefficient F, is " + num(params[0]));
+  if (params[0] < 0) fail(ND_ERR_VALUE, "params[0], the coefficient F, is " + num(params[0]) + "; it must be >= 0");
   return std::make_shared<Coulomb>(dim, params[0]);
 }
 

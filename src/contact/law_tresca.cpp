@@ -28,9 +28,9 @@ class Tresca final : public FrictionLaw {
 }  // namespace
 
 std::shared_ptr<const PointLaw> make_tresca_law(const double *params, int dim) {
-  if (!params || !std::isfinite(params[0]) || params[0] < 0)
-    fail(ND_ERR_VALUE, "Tresca friction: the threshold s must be finite and >= 0" +
-                           (params ? " (got " + num(params[0]) + ")" : std::string()));
+  if (!params) fail(ND_ERR_NULL, "params is NULL: Tresca friction takes the threshold s");
+  if (!std::isfinite(params[0])) fail(ND_ERR_NONFINITE, "params[0], the threshold s, is " + num(params[0]));
+  if (params[0] < 0) fail(ND_ERR_VALUE, "params[0], the threshold s, is " + num(params[0]) + "; it must be >= 0");
   return std::make_shared<Tresca>(dim, params[0]);
 }
 

@@ -95,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 40)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 60)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -326,6 +326,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                    val.data());
             }
           }
+        }
+        break;
+      case 55:  // friction: any law id, region and coefficient, then a step
+        if (p) {
+          const double c = any_double(in);
+          CALL(nd_problem_set_friction, p, in.ConsumeIntegralInRange<int>(-1, 3),
+               in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeBool() ? &c : nullptr);
+          if (in.ConsumeBool()) CALL(nd_step, p);
         }
         break;
       default: {

@@ -124,6 +124,9 @@ Setup build(const Scene &s, Problem &prob) {
                  o.at, "[obstacle]");
     else
       scene_call(nd_problem_set_contact_plane(p, region, o.point.data(), o.normal.data()), o.at, "[obstacle]");
+    if (!o.friction_at.empty())
+      scene_call(nd_problem_set_friction(p, region, o.friction_law, &o.friction_parameter), o.friction_at,
+                 "obstacle.friction");
   }
   scene_call(nd_problem_set_nitsche(p, s.Theta, s.gamma0), s.nitsche_at.empty() ? s.file : s.nitsche_at, "[nitsche]");
   scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
@@ -248,7 +251,9 @@ int run(const Options &opt) {
     if (!history.f) throw LibError("cannot write the history " + history_path.string());
     if (!s.title.empty())  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
       std::fprintf(history.f, "# title: %s\n", ndcli::printable(s.title).c_str());
-    std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied\n", history.f);
+    std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied,"
+               "dissipation_friction\n",
+               history.f);
   }
   fs::path prefix;
   std::vector<std::string> frames;
@@ -320,10 +325,10 @@ int run(const Options &opt) {
     max_force = std::max(max_force, force);
     max_pen = std::max(max_pen, pen);
     if (history.f) {
-      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g\n", k, t,
+      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g\n", k, t,
                    scalar(p, ND_ENERGY_MECHANICAL), scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK), force,
                    scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0,
-                   scalar(p, ND_CONTACT_FORCE_APPLIED));
+                   scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_DISSIPATION_FRICTION));
       if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
     }
     if (!prefix.empty() && (k % every == 0 || k == steps)) {

@@ -30,7 +30,8 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"loads", {"body_force", "traction"}},
       {"loads.traction", {"region", "value"}},
       {"dirichlet", {"regions"}},
-      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity"}},
+      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity", "friction"}},
+      {"obstacle.friction", {"law", "coefficient", "threshold"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
       {"time", {"tau", "T"}},
@@ -695,10 +696,10 @@ Scene parse_scene(std::string_view text, const std::string &path) {
           {"cylinder", {"point", "axis", "radius", "inside"}}};
       for (auto &&[k, v] : *t) {
         const std::string key(k.str());
-        if (key == "region" || key == "shape" || key == "velocity") continue;
+        if (key == "region" || key == "shape" || key == "velocity" || key == "friction") continue;
         const std::vector<std::string> &mine = shape_keys.at(o.shape);
         if (std::find(mine.begin(), mine.end(), key) == mine.end())
-          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape + " (its keys: region, shape, velocity, " +
+          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape + " (its keys: region, shape, velocity, friction, " +
                                  [&] {
                                    std::string list;
                                    for (const auto &m : mine) list += (list.empty() ? "" : ", ") + m;
@@ -723,6 +724,31 @@ Scene parse_scene(std::string_view text, const std::string &path) {
         }
       }
       if (t->get("velocity")) o.velocity = r.vector(*t, "obstacle", "velocity", "the obstacle's velocity");
+      if (const toml::node *fr = t->get("friction")) {  // the region's friction law
+        const toml::table &f = r.table(*fr, "obstacle", "friction");
+        r.check_keys(f, "obstacle.friction", "obstacle.friction");
+        const toml::node *law = f.get("law");
+        if (!law) r.missing(f, "obstacle.friction", "law", "\"coulomb\", \"tresca\" or \"none\"");
+        const std::string name = r.string(*law, "obstacle.friction", "law");
+        const std::map<std::string, std::pair<int, const char *>> laws = {
+            {"none", {ND_FRICTION_NONE, nullptr}},
+            {"coulomb", {ND_FRICTION_COULOMB, "coefficient"}},
+            {"tresca", {ND_FRICTION_TRESCA, "threshold"}}};
+        const auto it = laws.find(name);
+        if (it == laws.end())
+          r.fail(law->source(), "'obstacle.friction.law' must be \"coulomb\", \"tresca\" or \"none\", not \"" + name + "\"");
+        o.friction_law = it->second.first;
+        for (const char *key : {"coefficient", "threshold"})
+          if (f.get(key) && (!it->second.second || std::string(key) != it->second.second))
+            r.fail(f.get(key)->source(), std::string("'obstacle.friction.") + key + "' is not a parameter of the law \"" +
+                                             name + "\"" +
+                                             (it->second.second ? std::string(" (its: ") + it->second.second + ")" : ""));
+        if (it->second.second)
+          o.friction_parameter = r.number(f, "obstacle.friction", it->second.second, nullptr,
+                                          o.friction_law == ND_FRICTION_COULOMB ? "the friction coefficient F"
+                                                                                : "the threshold s, a stress");
+        o.friction_at = r.where(fr->source());
+      }
       o.at = r.where(t->source());
       s.obstacles.push_back(o);
     }

@@ -48,6 +48,10 @@ struct Obstacle {
   double radius = 0;
   bool inside = false;
   std::vector<double> velocity;  // a constant translation velocity (empty: at rest)
+  // friction = { law = "coulomb", coefficient = F } or { law = "tresca", threshold = s }
+  int friction_law = 0;  // ND_FRICTION_*
+  double friction_parameter = 0;
+  std::string friction_at;
   std::string at;
 };
 

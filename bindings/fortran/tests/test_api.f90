@@ -8,6 +8,9 @@
 !   obstacles  a plane given as a distance callback written in Fortran
 !              (bind(C), type(c_funptr)) steps bitwise as the built-in plane;
 !              a circle added and moved, with and without a rotation
+!   friction   a block on a plane with Coulomb friction (the plane tilted
+!              against gravity): it slides, the tangential resultant is F
+!              times the normal one, friction dissipates; bad arguments
 !   checkpoint a state saved into a Fortran byte array and loaded back: the
 !              resumed run is bitwise the uninterrupted one; set_state and
 !              guards from Fortran
@@ -40,7 +43,7 @@ program test_api
 
   character(len=32) :: part
   if (command_argument_count() /= 1) then
-    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles'
+    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles|friction'
     stop 2, quiet=.true.
   end if
   call get_command_argument(1, part)
@@ -57,6 +60,8 @@ program test_api
     call test_checkpoint()
   case ('obstacles')
     call test_obstacles()
+  case ('friction')
+    call test_friction()
   case default
     write (error_unit, '(a)') 'test_api: unknown part ' // trim(part)
     stop 2, quiet=.true.
@@ -299,6 +304,43 @@ contains
     call check(touched > 0, 'the block came onto the circle')
     call check(nd_problem_destroy(a) == ND_OK, 'destroy')
   end subroutine test_obstacles
+
+  ! ---- friction -------------------------------------------------------------
+  subroutine test_friction()
+    type(c_ptr) :: p
+    integer(c_int64_t) :: n
+    real(c_double) :: origin(2) = 0, up(2) = [0.0_c_double, 1.0_c_double], tilt(2), F(1) = [0.3_c_double]
+    real(c_double) :: fn, fx, stick, slide, D, worst, bad(1) = [-1.0_c_double]
+    integer :: k, sliding
+
+    call block(p, n)
+    tilt = [sin(0.5_c_double), -cos(0.5_c_double)]
+    call check(nd_problem_set_body_force(p, tilt) == ND_OK, 'the tilted gravity')
+    call check(nd_problem_set_contact_plane(p, 1_c_int, origin, up) == ND_OK, 'nd_problem_set_contact_plane')
+    call check(nd_problem_set_friction(p, 1_c_int, ND_FRICTION_COULOMB, F) == ND_OK, 'nd_problem_set_friction')
+    call check(nd_problem_set_friction(p, 1_c_int, ND_FRICTION_COULOMB, bad) == ND_ERR_VALUE, &
+               'a negative coefficient is refused')
+    call check(nd_problem_set_friction(p, 1_c_int, ND_FRICTION_TRESCA) == ND_ERR_NULL, &
+               'Tresca without its threshold (params absent: NULL) is refused')
+    call check(nd_problem_set_friction(p, 1_c_int, 9_c_int, F) == ND_ERR_KEY, 'an unknown law is refused')
+    worst = 0
+    sliding = 0
+    do k = 1, 100
+      call check(nd_step(p) == ND_OK, 'a step with friction')
+      call check(nd_get_scalar(p, ND_STICKING_POINTS, stick) == ND_OK, 'ND_STICKING_POINTS')
+      call check(nd_get_scalar(p, ND_SLIDING_POINTS, slide) == ND_OK, 'ND_SLIDING_POINTS')
+      if (.not. (stick > 0) .and. slide > 0) then
+        sliding = sliding + 1
+        call check(nd_get_scalar(p, ND_CONTACT_FORCE_APPLIED, fn) == ND_OK, 'ND_CONTACT_FORCE_APPLIED')
+        call check(nd_get_scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X, fx) == ND_OK, 'ND_CONTACT_FORCE_TANGENTIAL_X')
+        worst = max(worst, abs(fx + F(1) * fn) / (F(1) * fn))
+      end if
+    end do
+    call check(sliding > 0, 'the block slides')
+    call check(worst <= 1e-12_c_double, 'f_t = -F f_n while every pressed point slides')
+    call check(nd_get_scalar(p, ND_DISSIPATION_FRICTION, D) == ND_OK .and. D > 0, 'friction dissipates')
+    call check(nd_problem_destroy(p) == ND_OK, 'destroy')
+  end subroutine test_friction
 
   ! ---- checkpoint and restart, the way a legacy code holds its data --------
   subroutine test_checkpoint()
