@@ -103,7 +103,17 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     const bool updown = updown_tangent_applies(def.solver, s) &&
                         (def.tangent == TangentChoice::Updown ||
                          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
-    if (refactors) {
+    // (a law of m > 1 values, friction, on one process in 2D: the Woodbury
+    // identity over its blocks with A's factor, refactoring past the rank
+    // limit; in 3D a column is a solve with a denser factor and a landing
+    // activates hundreds of points: refactoring T costs less there,
+    // docs/performance.md, "Friction")
+    const bool blocks = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
+                        !d.rows_split && !d.rows && d.geometry.dim == 2;
+    if (blocks) {
+      in->tangent = make_block_tangent(in->A, *in->A_factor, def.solver, s, lowrank_rank_limit(in->A.n, d.contact),
+                                       d.counters, &d.geometry);
+    } else if (refactors) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
       std::vector<int64_t> held = in->held;  // a distributed state's rows, else those Newton reads
       if (held.empty() && d.rows_split) held = newton_held_rows(in->A, *d.rows, d.contact);

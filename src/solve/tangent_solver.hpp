@@ -126,6 +126,14 @@ std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factoriz
                                                     const DofGeometry *geometry = nullptr,
                                                     ContactColumns *columns = nullptr);
 
+// The low-rank tangent of a law with m > 1 values per point (friction:
+// solve/tangent_blocks.cpp): the Woodbury identity over the active points'
+// m values with A's factor; past max_rank values (negative: no limit) T is
+// refactored (make_refactoring_tangent, held inside).
+std::unique_ptr<TangentSolver> make_block_tangent(const Csr &A, const Factorization &A_factor, int solver,
+                                                  Structure structure, int64_t max_rank, Counters *counters = nullptr,
+                                                  const DofGeometry *geometry = nullptr);
+
 // The rank above which the second solve beats Z w: the measured crossovers
 // lie on either side of it, and near it the two variants cost about the
 // same (docs/performance.md, "Second solve or Z w").
