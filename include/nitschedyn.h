@@ -135,7 +135,8 @@ extern "C" {
   X(ND_ANGULAR_MOMENTUM_X, 43, "angular momentum sum_i x_i x (M V)_i about the origin, x (0 below 3D)") \
   X(ND_ANGULAR_MOMENTUM_Y, 44, "angular momentum about the origin, y (0 below 3D)")  \
   X(ND_ANGULAR_MOMENTUM_Z, 45, "angular momentum about the origin, z (0 in 1D)")               \
-  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)")
+  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)") \
+  X(ND_DISSIPATION_DAMPING, 60, "dissipation of the Rayleigh damping since t = 0")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -163,7 +164,8 @@ extern "C" {
   X(ND_MATRIX_STIFFNESS, 2, "K, the stiffness")                                        \
   X(ND_MATRIX_NITSCHE, 3, "K_Theta - K = -Theta sum_q w_q gamma_q s_q^T s_q")           \
   X(ND_MATRIX_STEP, 4, "c M + K_Theta of the scheme and time step set (implicit schemes)") \
-  X(ND_MATRIX_LUMPED_MASS, 5, "the lumped (HRZ) mass, diagonal, whatever mass the scheme uses")
+  X(ND_MATRIX_LUMPED_MASS, 5, "the lumped (HRZ) mass, diagonal, whatever mass the scheme uses") \
+  X(ND_MATRIX_DAMPING, 6, "C = alpha M + beta K, the Rayleigh damping (zero when off)")
 
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
 enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
@@ -263,6 +265,13 @@ ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *para
 ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f);
 ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter);
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
+/* Rayleigh damping C = alpha M + beta K (M the scheme's mass), alpha, beta
+   >= 0 and finite; 0, 0 (the default) is off. Every scheme applies C V at
+   its own point (docs/design.md §10.5); ND_DISSIPATION_DAMPING sums it. */
+ND_EXPORT int nd_problem_set_damping(nd_problem p, double alpha, double beta);
+/* on = 1: plane stress in 2D (lambda* = 2 lambda mu/(lambda + 2 mu));
+   default 0, plane strain. In 1D and 3D only 0 is accepted. */
+ND_EXPORT int nd_problem_set_plane_stress(nd_problem p, int on);
 /* on = 1: the FE nodes of the contact facets get no mass, each cell touching
    them gives its mass to its other nodes keeping the total mass (and the
    first and second moments where its nodes allow); with an explicit scheme

@@ -24,9 +24,12 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // (DefinitionPrint) open the payload, and every field is checked for its
 // meaning (versions 3 to 5 are still read, without the definition's check);
 // 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
-// and the obstacles' positions at t^n follow (without, version 6 is written)
-constexpr uint32_t kVersion = 7;
-uint32_t version_for(const StateSizes &sizes) { return sizes.n_positions > 0 ? 7 : 6; }
+// and the obstacles' positions at t^n follow (without, version 6 is written);
+// 8 (always written): the damping's dissipation (State::D_damping) after
+// the obstacle's work, and a byte saying whether the normals and positions
+// of 7 follow (curved obstacles)
+constexpr uint32_t kVersion = 8;
+uint32_t version_for(const StateSizes &) { return kVersion; }
 
 class Writer {
  public:
@@ -124,6 +127,7 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
   {
     Hash h;
     h.value(def.material.young), h.value(def.material.poisson), h.value(def.material.density);
+    if (def.material.plane_stress) h.value(uint8_t{1});  // (only when on: older prints still match)
     done(kPrintMaterial, h);
   }
   if (def.given & kNitsche) {
@@ -222,12 +226,15 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.padded(s.F_fixed, n_clamped);
   payload.padded(s.gap, static_cast<uint64_t>(n_contact));
   payload.value(s.W_obstacle);
+  const uint32_t version = version_for(sizes);
+  payload.value(s.D_damping);
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
-  const uint32_t version = version_for(sizes);
   payload.padded(s.tangent_log.i, log_indices(n_contact, version));
   payload.padded(s.tangent_log.x, log_values(n_contact, version));
-  if (version >= 7) {
+  const bool positions = sizes.n_positions > 0;
+  payload.value(uint8_t{positions});
+  if (positions) {
     payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
     payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
   }
@@ -408,6 +415,10 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   need_finite(s.gap, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   need_finite(s.W_obstacle, "work of the obstacle (W_obstacle)");
+  if (head.version >= 8) {
+    s.D_damping = r.value<double>();
+    need_finite(s.D_damping, "dissipation of the damping");
+  }
   s.reaction = optional(sizes.n_clamped, "reactions");
   need_finite(s.reaction, "reactions");
   s.phi = optional(sizes.n_contact, "applied contact term");
@@ -419,13 +430,19 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }
-  if (head.version >= 7) {
+  bool positions = head.version == 7;
+  if (head.version >= 8) {
+    const uint8_t flag = r.value<uint8_t>();
+    if (flag > 1) fail(ND_ERR_FORMAT, "the checkpoint's curved-obstacle flag is " + std::to_string(flag) + ", not 0 or 1");
+    positions = flag != 0;
+  }
+  if (positions) {
     s.normal = optional(3 * sizes.n_contact, "frozen contact normals");
     need_finite(s.normal, "frozen contact normals");
     s.positions = optional(sizes.n_positions, "obstacles' positions");
     need_finite(s.positions, "obstacles' positions");
   }
-  if ((sizes.n_positions > 0) != (head.version >= 7) || (sizes.n_positions > 0 && s.positions.empty()))
+  if ((sizes.n_positions > 0) != positions || (sizes.n_positions > 0 && s.positions.empty()))
     fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"
                                              : "the checkpoint has curved obstacles (sphere, cylinder, distance); this problem has none");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");

@@ -26,7 +26,7 @@
 namespace nd {
 
 // What each derived object depends on; the setters only name their aspect.
-constexpr unsigned kDiscretizationDeps = kMaterial | kDirichlet | kContact | kNitsche | kLumping;
+constexpr unsigned kDiscretizationDeps = kMaterial | kDirichlet | kContact | kNitsche | kLumping | kDamping;
 constexpr unsigned kLoadDeps = kDiscretizationDeps | kLoads;
 constexpr unsigned kMassFactorDeps = kDiscretizationDeps | kSolver;
 constexpr unsigned kIntegratorDeps = kDiscretizationDeps | kScheme | kTimestep | kSolver;
@@ -98,8 +98,23 @@ void Problem::require_region(int region, const char *what) const {
 }
 
 void Problem::set_material(const Material &m) {
+  const bool plane_stress = def_.material.plane_stress;  // (its own call)
   def_.material = m;
+  def_.material.plane_stress = plane_stress;
   changed(kMaterial);
+}
+
+void Problem::set_plane_stress(bool on) {
+  if (on && space_.dim != 2) fail(ND_ERR_DIMENSION, "plane stress is a 2D model; this mesh is " +
+                                                        std::to_string(space_.dim) + "D");
+  def_.material.plane_stress = on;
+  changed(kMaterial);
+}
+
+void Problem::set_damping(double alpha, double beta) {
+  def_.damping_alpha = alpha;
+  def_.damping_beta = beta;
+  changed(kDamping);
 }
 
 void Problem::add_dirichlet(int region) {
@@ -977,6 +992,8 @@ double Problem::scalar(int key) {
       return c.W;
     case ND_WORK_OBSTACLE:
       return c.W_obstacle;
+    case ND_DISSIPATION_DAMPING:
+      return c.D_damping;
     case ND_TIMESTEP:
       return def_.tau;
     case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)
