@@ -25,9 +25,9 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // meaning (versions 3 to 5 are still read, without the definition's check);
 // 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
 // and the obstacles' positions at t^n follow (without, version 6 is written);
-// 8 (always written): the damping's dissipation (State::D_damping) after
-// the obstacle's work, and a byte saying whether the normals and positions
-// of 7 follow (curved obstacles)
+// 8 (always written): after the obstacle's work the damping's dissipation
+// (State::D_damping) and a byte saying whether the normals and positions
+// of 7 follow at the end (curved obstacles)
 constexpr uint32_t kVersion = 8;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
@@ -228,12 +228,12 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.value(s.W_obstacle);
   const uint32_t version = version_for(sizes);
   payload.value(s.D_damping);
+  const bool positions = sizes.n_positions > 0;
+  payload.value(uint8_t{positions});
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
   payload.padded(s.tangent_log.i, log_indices(n_contact, version));
   payload.padded(s.tangent_log.x, log_values(n_contact, version));
-  const bool positions = sizes.n_positions > 0;
-  payload.value(uint8_t{positions});
   if (positions) {
     payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
     payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
@@ -415,9 +415,13 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   need_finite(s.gap, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   need_finite(s.W_obstacle, "work of the obstacle (W_obstacle)");
+  bool positions = head.version == 7;
   if (head.version >= 8) {
     s.D_damping = r.value<double>();
     need_finite(s.D_damping, "dissipation of the damping");
+    const uint8_t flag = r.value<uint8_t>();
+    if (flag > 1) fail(ND_ERR_FORMAT, "the checkpoint's curved-obstacle flag is " + std::to_string(flag) + ", not 0 or 1");
+    positions = flag != 0;
   }
   s.reaction = optional(sizes.n_clamped, "reactions");
   need_finite(s.reaction, "reactions");
@@ -429,12 +433,6 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     // (points in range and increasing, coefficients finite and positive, counts within the room)
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
-  }
-  bool positions = head.version == 7;
-  if (head.version >= 8) {
-    const uint8_t flag = r.value<uint8_t>();
-    if (flag > 1) fail(ND_ERR_FORMAT, "the checkpoint's curved-obstacle flag is " + std::to_string(flag) + ", not 0 or 1");
-    positions = flag != 0;
   }
   if (positions) {
     s.normal = optional(3 * sizes.n_contact, "frozen contact normals");
