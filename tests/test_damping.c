@@ -290,33 +290,39 @@ START_TEST(hybrid_ledger_with_damping) {
 }
 END_TEST
 
+/* the bar of nd_test_bar for a scheme of the whole-run list (explicit:
+   lumped mass, a smaller step), damped unless alpha < 0 */
+static nd_problem scheme_bar(const nd_test_scheme *s, double alpha, double beta, double *tau) {
+  const int expl = nd_test_is_explicit(s);
+  *tau = expl ? 1.0 / 400 : 1.0 / 80;
+  nd_problem p = nd_test_bar(40, 1, s->scheme, s->params, 1.0, 0.2, *tau);
+  if (expl) ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
+  if (alpha >= 0) ND_OK_OR_FAIL(nd_problem_set_damping(p, alpha, beta));
+  return p;
+}
+
+/* the two bars' displacements have the same bits */
+static void same_bits(nd_problem a, nd_problem b, const char *what, int k) {
+  double ua[41], ub[41];
+  ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, 41, ua));
+  ND_OK_OR_FAIL(nd_get_field(b, ND_FIELD_DISPLACEMENT, 41, ub));
+  ck_assert_msg(memcmp(ua, ub, sizeof ua) == 0, "scheme %d: %s", k, what);
+}
+
 /* every scheme of the whole-run list runs damped through impacts, and with
    damping 0, 0 gives the undamped bits */
 START_TEST(every_scheme_runs_damped_and_zero_is_off) {
   for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
-    const nd_test_scheme *s = &nd_test_schemes[k];
-    const int expl = nd_test_is_explicit(s);
-    const double tau = expl ? 1.0 / 400 : 1.0 / 80;
-    nd_problem a = nd_test_bar(40, 1, s->scheme, s->params, 1.0, 0.2, tau);
-    nd_problem b = nd_test_bar(40, 1, s->scheme, s->params, 1.0, 0.2, tau);
-    nd_problem c = nd_test_bar(40, 1, s->scheme, s->params, 1.0, 0.2, tau);
-    if (expl) {
-      ND_OK_OR_FAIL(nd_problem_set_mass_lumping(a, 1));
-      ND_OK_OR_FAIL(nd_problem_set_mass_lumping(b, 1));
-      ND_OK_OR_FAIL(nd_problem_set_mass_lumping(c, 1));
-    }
-    ND_OK_OR_FAIL(nd_problem_set_damping(b, 0, 0));
-    ND_OK_OR_FAIL(nd_problem_set_damping(c, 0.1, 0.001));
+    double tau = 0;
+    nd_problem a = scheme_bar(&nd_test_schemes[k], -1, 0, &tau), b = scheme_bar(&nd_test_schemes[k], 0, 0, &tau);
+    nd_problem c = scheme_bar(&nd_test_schemes[k], 0.1, 0.001, &tau);
     const int steps = (int)lround(4.0 / tau);
     for (int n = 0; n < steps; ++n) {
       ND_OK_OR_FAIL(nd_step(a));
       ND_OK_OR_FAIL(nd_step(b));
       ND_OK_OR_FAIL(nd_step(c));
     }
-    double ua[41], ub[41];
-    ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, 41, ua));
-    ND_OK_OR_FAIL(nd_get_field(b, ND_FIELD_DISPLACEMENT, 41, ub));
-    ck_assert_msg(memcmp(ua, ub, sizeof ua) == 0, "scheme %d: damping 0, 0 changed the bits", k);
+    same_bits(a, b, "damping 0, 0 changed the bits", k);
     ck_assert_double_eq(scalar(b, ND_DISSIPATION_DAMPING), 0);
     const double Ec = scalar(c, ND_ENERGY_MECHANICAL), Dc = scalar(c, ND_DISSIPATION_DAMPING);
     const double Ea = scalar(a, ND_ENERGY_MECHANICAL);
@@ -361,16 +367,8 @@ END_TEST
 /* a damped run saved at n = 30 and resumed gives the uninterrupted bits */
 START_TEST(damped_restart_is_bitwise) {
   for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
-    const nd_test_scheme *s = &nd_test_schemes[k];
-    const int expl = nd_test_is_explicit(s);
-    const double tau = expl ? 1.0 / 400 : 1.0 / 80;
-    nd_problem a = nd_test_bar(40, 1, s->scheme, s->params, 1.0, 0.2, tau);
-    nd_problem b = nd_test_bar(40, 1, s->scheme, s->params, 1.0, 0.2, tau);
-    for (int j = 0; j < 2; ++j) {
-      nd_problem q = j ? b : a;
-      if (expl) ND_OK_OR_FAIL(nd_problem_set_mass_lumping(q, 1));
-      ND_OK_OR_FAIL(nd_problem_set_damping(q, 0.1, 0.001));
-    }
+    double tau = 0;
+    nd_problem a = scheme_bar(&nd_test_schemes[k], 0.1, 0.001, &tau), b = scheme_bar(&nd_test_schemes[k], 0.1, 0.001, &tau);
     for (int n = 0; n < 30; ++n) ND_OK_OR_FAIL(nd_step(a));
     int64_t size = 0;
     unsigned char *buf = nd_test_checkpoint(a, &size);
@@ -380,10 +378,7 @@ START_TEST(damped_restart_is_bitwise) {
       ND_OK_OR_FAIL(nd_step(a));
       ND_OK_OR_FAIL(nd_step(b));
     }
-    double ua[41], ub[41];
-    ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, 41, ua));
-    ND_OK_OR_FAIL(nd_get_field(b, ND_FIELD_DISPLACEMENT, 41, ub));
-    ck_assert_msg(memcmp(ua, ub, sizeof ua) == 0, "scheme %d: the restart differs", k);
+    same_bits(a, b, "the restart differs", k);
     ck_assert_double_eq(scalar(a, ND_DISSIPATION_DAMPING), scalar(b, ND_DISSIPATION_DAMPING));
     ND_OK_OR_FAIL(nd_problem_destroy(&a));
     ND_OK_OR_FAIL(nd_problem_destroy(&b));

@@ -656,8 +656,10 @@ uint64_t Problem::inputs_digest() const {
   const Definition &d = def_;
   h.value(d.given);
   for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
-                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration})
+                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration, d.damping_alpha,
+                   d.damping_beta})
     h.value(x);
+  h.value(uint8_t{d.material.plane_stress});
   for (int x : {d.scheme, d.contact_law, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
                 int(d.redistributed), int(d.guards.critical_timestep),
                 int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
