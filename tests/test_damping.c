@@ -336,6 +336,45 @@ START_TEST(every_scheme_runs_damped_and_zero_is_off) {
 }
 END_TEST
 
+/* The central difference with damping taken at A^{n+1}'s time keeps its
+   undamped limit w tau <= 2 whatever the damping ratio (at gamma = 1/2 the
+   characteristic polynomial at lambda = -1 is 4 - (w tau)^2, with no
+   damping term; docs/design.md §10.5). On the clamped bar started with
+   every mode (the highest included), with stiffness damping strong on the
+   highest modes (xi = beta w_max/2 = 0.1; M + tau/2 C factored): at 0.98 of
+   the undamped tau_c the run decays, at 1.05 of it (the critical-step
+   guard off) it grows until the energy guard stops it. */
+static int central_difference_run(double fraction, double *E_ratio) {
+  const damped_case dc = {ND_SCHEME_NEWMARK, {0, 0.5}, 1, 0, 0, 0, 0};
+  double phi[NX + 1], u0[NX + 1];
+  int64_t n_nodes = 0;
+  nd_problem p = clamped_bar(&dc, 1e-3, phi, &n_nodes);
+  for (int i = 0; i <= NX; ++i) u0[i] = phi[i] + 0.1 * (i % 2 ? 1 : -1); /* (clamped ends ignored) */
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n_nodes, u0, NULL));
+  double tau_c = 0;
+  ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(p, &tau_c));
+  ND_OK_OR_FAIL(nd_problem_set_damping(p, 0.2, 0.2 * tau_c / 2)); /* beta w_max = 0.2 */
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, fraction * tau_c));
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_CRITICAL_TIMESTEP, 0));
+  ND_OK_OR_FAIL(nd_problem_setup(p));
+  const double E0 = scalar(p, ND_ENERGY_MECHANICAL);
+  int status = ND_OK, n = 0;
+  for (; n < 2000 && status == ND_OK; ++n) status = nd_step(p);
+  *E_ratio = scalar(p, ND_ENERGY_MECHANICAL) / E0;
+  printf("central difference at %.2f tau_c, damped: status %d after %d steps, E/E0 = %.3g\n", fraction, status, n,
+         *E_ratio);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  return status;
+}
+
+START_TEST(explicit_damped_critical_step_is_the_undamped_one) {
+  double ratio = 0;
+  ck_assert_int_eq(central_difference_run(0.98, &ratio), ND_OK);
+  ck_assert_double_lt(ratio, 0.5);
+  ck_assert_int_eq(central_difference_run(1.05, &ratio), ND_ERR_ENERGY_GROWTH);
+}
+END_TEST
+
 /* ND_MATRIX_DAMPING = alpha M + beta K entry by entry (the same operations) */
 START_TEST(damping_matrix_export) {
   const double half = 0.5;
@@ -469,6 +508,7 @@ int main(void) {
   tcase_add_test(tc, hybrid_ledger_with_damping);
   tcase_add_test(tc, every_scheme_runs_damped_and_zero_is_off);
   tcase_add_test(tc, damping_matrix_export);
+  tcase_add_test(tc, explicit_damped_critical_step_is_the_undamped_one);
   tcase_add_test(tc, damped_restart_is_bitwise);
   tcase_add_test(tc, plane_stress_uniaxial);
   tcase_add_test(tc, plane_stress_outside_2d_refused);
