@@ -375,6 +375,45 @@ START_TEST(explicit_damped_critical_step_is_the_undamped_one) {
 }
 END_TEST
 
+/* The reactions carry the damping's clamped rows (C_DF Vbar). Summed over
+   every row, free and clamped, the hybrid step's equation
+   M (V^{n+1} - V^n)/tau + C Vbar + K_Theta Ubar = Fbar (+ R on the clamped
+   rows) loses K's row sums (K annihilates translations) and beta K's, and
+   keeps alpha M's: the momentum P = sum_i (M V)_i obeys
+     P^{n+1} - P^n = tau (sum Fbar + sum R - alpha (P^{n+1} + P^n)/2)
+   (no contact: the obstacle far below). Round-off of the sums of n = 41
+   terms of size |P| + tau (|F| + |R|): 64 n eps of that. */
+START_TEST(reactions_balance_the_damped_momentum) {
+  const double g[1] = {-0.5}, alpha = 0.3, beta = 0.01;
+  for (int degree = 1; degree <= 2; ++degree) {
+    const double tau = 1.0 / 80;
+    nd_problem p = nd_test_bar_at(40, degree, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, tau, -10.0, g);
+    ND_OK_OR_FAIL(nd_problem_set_damping(p, alpha, beta));
+    int64_t nn = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+    double *R = malloc(sizeof(double) * (size_t)nn), worst = 0;
+    double P0 = scalar(p, ND_MOMENTUM_X);
+    for (int n = 0; n < 200; ++n) {
+      ND_OK_OR_FAIL(nd_step(p));
+      const double P1 = scalar(p, ND_MOMENTUM_X);
+      ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_REACTION, nn, R));
+      double sR = 0, aR = 0;
+      for (int64_t i = 0; i < nn; ++i) sR += R[i], aR += fabs(R[i]);
+      const double F = g[0] * 1.0; /* rho g |Omega|, at both ends of the step */
+      const double gap = P1 - P0 - tau * (F + sR - alpha * 0.5 * (P1 + P0));
+      const double tol = 64 * (double)nn * DBL_EPSILON * (fabs(P0) + fabs(P1) + tau * (fabs(F) + aR));
+      ck_assert_msg(fabs(gap) <= tol, "P%d step %d: momentum balance off by %g (tolerance %g)", degree, n + 1, gap,
+                    tol);
+      worst = fmax(worst, fabs(gap));
+      P0 = P1;
+    }
+    printf("damped momentum balance with the reactions, P%d: largest gap %.3g over 200 steps\n", degree, worst);
+    free(R);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
 /* ND_MATRIX_DAMPING = alpha M + beta K entry by entry (the same operations) */
 START_TEST(damping_matrix_export) {
   const double half = 0.5;
@@ -508,6 +547,7 @@ int main(void) {
   tcase_add_test(tc, hybrid_ledger_with_damping);
   tcase_add_test(tc, every_scheme_runs_damped_and_zero_is_off);
   tcase_add_test(tc, damping_matrix_export);
+  tcase_add_test(tc, reactions_balance_the_damped_momentum);
   tcase_add_test(tc, explicit_damped_critical_step_is_the_undamped_one);
   tcase_add_test(tc, damped_restart_is_bitwise);
   tcase_add_test(tc, plane_stress_uniaxial);
