@@ -333,6 +333,19 @@ START_TEST(every_scheme_runs_damped_and_zero_is_off) {
     ND_OK_OR_FAIL(nd_problem_destroy(&b));
     ND_OK_OR_FAIL(nd_problem_destroy(&c));
   }
+  /* mass redistribution (massless contact DOFs, alpha only: C = alpha M
+     vanishes there), explicit and implicit, through impacts */
+  for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
+    double tau = 0;
+    nd_problem p = scheme_bar(&nd_test_schemes[k], 0.2, 0, &tau);
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+    ND_OK_OR_FAIL(nd_problem_setup(p));
+    const double E0 = scalar(p, ND_ENERGY_MECHANICAL);
+    for (int n = 0; n < (int)lround(4.0 / tau); ++n) ND_OK_OR_FAIL(nd_step(p));
+    ck_assert_double_gt(scalar(p, ND_DISSIPATION_DAMPING), 0);
+    ck_assert_double_lt(scalar(p, ND_ENERGY_MECHANICAL), E0);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
 }
 END_TEST
 
