@@ -11,6 +11,12 @@
 ! nd_problem_contact_step_residual and nd_problem_contact_step_tangent, with
 ! its own U^n.
 !
+! With the argument "damped" the Newmark run has Rayleigh damping
+! C = alpha M + beta K (alpha = 0.5, beta = 0.01, docs/design.md §10.5): the
+! host reads C (ND_MATRIX_DAMPING) and adds C V^{n+1} to its equation,
+! V^{n+1} = gamma/(beta tau) (U - U^n) + (1 - gamma/beta) V^n + tau (1 - gamma/(2 beta)) A^n:
+! A gains gamma/(beta tau) C, r the rest, M A^0 the term - C V^0.
+!
 ! The scene: a free elastic block (1 x 0.25, E = 1, nu = 0.3, rho = 1, P1)
 ! falling under gravity onto a rigid plane 0.002 below it, Theta = 1, the
 ! automatic gamma0, tau = 0.01. The same problem is stepped by nd_step
@@ -38,13 +44,14 @@ program host_newmark
   implicit none
 
   real(c_double), parameter :: tau = 0.01d0, beta = 0.25d0, gam = 0.5d0, rtol = 1d-10
+  real(c_double), parameter :: alpha_d = 0.5d0, beta_d = 0.01d0  ! the damped run's Rayleigh coefficients
   character(len=16) :: mode
-  logical :: hybrid
+  logical :: hybrid, damped
   real(c_double) :: kappa
   integer, parameter :: nsteps = 30
   type(c_ptr) :: p
   integer(c_int64_t) :: n, nn, i
-  real(c_double), allocatable :: Mass(:,:), K(:,:), KT(:,:), A(:,:), T(:,:)
+  real(c_double), allocatable :: Mass(:,:), K(:,:), KT(:,:), A(:,:), T(:,:), Cd(:,:)
   real(c_double), allocatable :: F(:), U(:), V(:), Acc(:), U1(:), V1(:), A1(:), r(:), G(:), Nc(:)
   real(c_double), allocatable :: Ulib(:), full(:), work(:)
   integer(c_int64_t), allocatable :: node(:), tptr(:), tcol(:)
@@ -62,6 +69,7 @@ program host_newmark
 
   call get_command_argument(1, mode)
   hybrid = mode == 'hybrid'
+  damped = mode == 'damped'
   p = make_scene()
   c = 1d0 / (beta * tau * tau)
   kappa = 1
@@ -77,6 +85,10 @@ program host_newmark
   n = size(Mass, 1, kind=c_int64_t)
   KT = K + KT                    ! K_Theta = K + (K_Theta - K)
   A = c * Mass + KT
+  if (damped) then               ! C V^{n+1}: its part in U^{n+1}
+    call get_dense(ND_MATRIX_DAMPING, Cd)
+    A = A + gam / (beta * tau) * Cd
+  end if
   allocate(F(n), U(n), V(n), Acc(n), U1(n), V1(n), A1(n), r(n), G(n), Nc(n))
   allocate(Ulib(n), work(n), T(n, n), node(n), comp(n))
   call check(nd_problem_get_load(p, n, F), 'nd_problem_get_load')
@@ -92,6 +104,7 @@ program host_newmark
   call field(ND_FIELD_VELOCITY, V)
   call check(nd_problem_contact_residual(p, n, U, Nc), 'nd_problem_contact_residual')
   Acc = F - matmul(KT, U) - Nc
+  if (damped) Acc = Acc - matmul(Cd, V)
   call solve(Mass, Acc)
   if (hybrid) Acc = 0            ! (the hybrid scheme carries no acceleration: predictor U + tau V)
 
@@ -101,6 +114,7 @@ program host_newmark
       r = 2 * F - matmul(KT, U) + matmul(Mass, c * U + 4 / tau * V)
     else
       r = F + matmul(Mass, c * U + V / (beta * tau) + (0.5d0 / beta - 1) * Acc)
+      if (damped) r = r + matmul(Cd, gam / (beta * tau) * U - (1 - gam / beta) * V - tau * (1 - gam / (2 * beta)) * Acc)
     end if
     ! ---- the host's Newmark step: semi-smooth Newton from the predictor ----
     U1 = U + tau * V + 0.5d0 * tau * tau * Acc
@@ -168,6 +182,7 @@ program host_newmark
         contact_steps, &
         ' in contact), max |U_host - U_lib| = ', worst, ', bound ', worst_bound
   ! (a main program's arrays are never freed by themselves: a legacy code frees them)
+  if (damped) deallocate(Cd)
   deallocate(Mass, K, KT, A, T, F, U, V, Acc, U1, V1, A1, r, G, Nc, Ulib, full, work, node, tptr, tcol, comp, &
              tval, last, cells)
   if (.not. ok .or. contact_steps < 3) stop 1
@@ -208,6 +223,7 @@ contains
     call check(nd_problem_set_contact_plane(q, 1, origin, up), 'nd_problem_set_contact_plane')
     call check(nd_problem_set_nitsche(q, 1d0, 0d0), 'nd_problem_set_nitsche')
     call check(nd_problem_set_body_force(q, gravity), 'nd_problem_set_body_force')
+    if (damped) call check(nd_problem_set_damping(q, alpha_d, beta_d), 'nd_problem_set_damping')
     if (hybrid) then
       call check(nd_problem_set_scheme(q, ND_SCHEME_HYBRID, [0d0]), 'nd_problem_set_scheme')
     else

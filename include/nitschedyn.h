@@ -139,6 +139,7 @@ extern "C" {
   X(ND_DISSIPATION_FRICTION, 55, "D_f, energy the friction dissipated since t = 0 (>= 0, non-decreasing)") \
   X(ND_SLIDING_POINTS, 56, "contact points in contact and sliding at the last step (friction)") \
   X(ND_STICKING_POINTS, 57, "contact points in contact and sticking at the last step (friction)") \
+  X(ND_DISSIPATION_DAMPING, 60, "dissipation of the Rayleigh damping since t = 0") \
   X(ND_CONTACT_FORCE_TANGENTIAL_X, 75, "x of the tangential contact force's resultant the last step applied, obstacle on body") \
   X(ND_CONTACT_FORCE_TANGENTIAL_Y, 76, "y of that resultant (0 in 1D)")                \
   X(ND_CONTACT_FORCE_TANGENTIAL_Z, 77, "z of that resultant (0 below 3D)")
@@ -169,12 +170,13 @@ extern "C" {
   X(ND_MATRIX_STIFFNESS, 2, "K, the stiffness")                                        \
   X(ND_MATRIX_NITSCHE, 3, "K_Theta - K = -Theta sum_q w_q gamma_q s_q^T s_q")           \
   X(ND_MATRIX_STEP, 4, "c M + K_Theta of the scheme and time step set (implicit schemes)") \
-  X(ND_MATRIX_LUMPED_MASS, 5, "the lumped (HRZ) mass, diagonal, whatever mass the scheme uses")
+  X(ND_MATRIX_LUMPED_MASS, 5, "the lumped (HRZ) mass, diagonal, whatever mass the scheme uses") \
+  X(ND_MATRIX_DAMPING, 6, "C = alpha M + beta K, the Rayleigh damping (zero when off)")
 
 /* Friction laws for nd_problem_set_friction: X(name, value, parameters) */
 #define ND_FRICTION_LIST(X)                                                            \
   X(ND_FRICTION_NONE, 0, "frictionless; no parameter")                                 \
-  X(ND_FRICTION_TRESCA, 1, "params[0] = s >= 0, the threshold (a stress), where in contact") \
+  X(ND_FRICTION_TRESCA, 1, "params[0] = s >= 0, the threshold (a stress), on the whole region") \
   X(ND_FRICTION_COULOMB, 2, "params[0] = F >= 0, the friction coefficient")
 
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
@@ -280,6 +282,13 @@ ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *para
 ND_EXPORT int nd_problem_set_nodal_forces(nd_problem p, int64_t n, const double *f);
 ND_EXPORT int nd_problem_set_newton(nd_problem p, double rtol, double atol, int max_iter);
 ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped);
+/* Rayleigh damping C = alpha M + beta K (M the scheme's mass), alpha, beta
+   >= 0 and finite; 0, 0 (the default) is off. Every scheme applies C V at
+   its own point (docs/design.md §10.5); ND_DISSIPATION_DAMPING sums it. */
+ND_EXPORT int nd_problem_set_damping(nd_problem p, double alpha, double beta);
+/* on = 1: plane stress in 2D (lambda* = 2 lambda mu/(lambda + 2 mu));
+   default 0, plane strain. In 1D and 3D only 0 is accepted. */
+ND_EXPORT int nd_problem_set_plane_stress(nd_problem p, int on);
 /* on = 1: the FE nodes of the contact facets get no mass, each cell touching
    them gives its mass to its other nodes keeping the total mass (and the
    first and second moments where its nodes allow); with an explicit scheme

@@ -595,6 +595,37 @@ START_TEST(problem_material) {
 }
 END_TEST
 
+/* Rayleigh damping: alpha, beta >= 0 and finite; plane stress only in 2D;
+   stiffness damping with mass redistribution refused at set-up */
+START_TEST(problem_damping_plane_stress) {
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_damping(NULL, 0.1, 0), ND_ERR_NULL, "nd_problem_set_damping", "problem");
+  EXPECT_ERR(nd_problem_set_damping(p, -0.1, 0), ND_ERR_VALUE, "nd_problem_set_damping", "alpha");
+  EXPECT_ERR(nd_problem_set_damping(p, NAN, 0), ND_ERR_VALUE, "nd_problem_set_damping", "alpha");
+  EXPECT_ERR(nd_problem_set_damping(p, 0, -1e-3), ND_ERR_VALUE, "nd_problem_set_damping", "beta");
+  EXPECT_ERR(nd_problem_set_damping(p, 0, INFINITY), ND_ERR_VALUE, "nd_problem_set_damping", "beta");
+  EXPECT_OK(nd_problem_set_damping(p, 0.1, 1e-3));
+  EXPECT_OK(nd_problem_set_damping(p, 0, 0));
+  EXPECT_ERR(nd_problem_set_plane_stress(NULL, 1), ND_ERR_NULL, "nd_problem_set_plane_stress", "problem");
+  EXPECT_ERR(nd_problem_set_plane_stress(p, 1), ND_ERR_DIMENSION, "nd_problem_set_plane_stress", "2D");
+  EXPECT_OK(nd_problem_set_plane_stress(p, 0));
+  EXPECT_OK(nd_problem_destroy(&p));
+  p = problem_2d();
+  EXPECT_OK(nd_problem_set_plane_stress(p, 1));
+  EXPECT_OK(nd_problem_set_plane_stress(p, 0));
+  EXPECT_OK(nd_problem_destroy(&p));
+  /* beta > 0 with mass redistribution: the massless DOFs would carry beta K V */
+  const double nm[2] = {0.25, 0.5};
+  p = nd_test_bar(8, 1, ND_SCHEME_NEWMARK, nm, 1.0, 0.2, 0.01);
+  EXPECT_OK(nd_problem_set_mass_redistribution(p, 1));
+  EXPECT_OK(nd_problem_set_damping(p, 0, 1e-3));
+  EXPECT_ERR(nd_problem_setup(p), ND_ERR_STATE, "nd_problem_setup", "redistribution");
+  EXPECT_OK(nd_problem_set_damping(p, 0.1, 0));
+  EXPECT_OK(nd_problem_setup(p));
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(problem_nitsche_timestep) {
   nd_problem p = problem_1d();
   EXPECT_OK(nd_problem_set_nitsche(p, 1, 0)); /* automatic */
@@ -1054,7 +1085,7 @@ START_TEST(host_calls_bad_arguments) {
   EXPECT_ERR(nd_problem_get_matrix(NULL, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL), ND_ERR_NULL,
              "nd_problem_get_matrix", "problem");
   EXPECT_ERR(nd_problem_get_matrix(p, 0, &n, &nnz, NULL, NULL, NULL), ND_ERR_KEY, "nd_problem_get_matrix", "which 0");
-  EXPECT_ERR(nd_problem_get_matrix(p, 6, &n, &nnz, NULL, NULL, NULL), ND_ERR_KEY, "nd_problem_get_matrix", "which 6");
+  EXPECT_ERR(nd_problem_get_matrix(p, 7, &n, &nnz, NULL, NULL, NULL), ND_ERR_KEY, "nd_problem_get_matrix", "which 7");
   EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, NULL, &nnz, NULL, NULL, NULL), ND_ERR_NULL,
              "nd_problem_get_matrix", "n is NULL");
   EXPECT_ERR(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, NULL, NULL, NULL, NULL), ND_ERR_NULL,
@@ -1431,6 +1462,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_create_degree);
   tcase_add_test(def, problem_material);
   tcase_add_test(def, problem_nitsche_timestep);
+  tcase_add_test(def, problem_damping_plane_stress);
   tcase_add_test(def, problem_scheme);
   tcase_add_test(def, problem_regions_and_loads);
   tcase_add_loop_test(def, problem_contact_normal_scale, 0, 2);

@@ -592,7 +592,7 @@ START_TEST(reads_version_4_checkpoints) {
 }
 END_TEST
 
-/* ---- every field's meaning (version 6) ----------------------------------- */
+/* ---- every field's meaning (version 8) ----------------------------------- */
 
 /* FNV-1a, the library's checksum: a test that changes a field reseals the
    block, as anyone can, so that the field's own check is what refuses it */
@@ -618,11 +618,11 @@ static int64_t get_i64(const unsigned char *buf, int64_t at) {
   return x;
 }
 
-/* the offsets of a version 6 block's fields (src/problem/checkpoint.cpp):
+/* the offsets of a version 8 block's fields (src/problem/checkpoint.cpp):
    header 32 bytes, the definition's 7 fingerprints, then the state */
 typedef struct {
   int64_t t, n, t_ref, tau_ref, n_ref, U, V, A, F, A_valid, W, last, total, E0, budget, F_fixed, gap, W_obstacle,
-      reaction, phi, log_i;
+      D_damping, curved, reaction, phi, log_i;
 } layout;
 static layout layout_of(int64_t nf, int64_t nc, int64_t np) {
   layout l;
@@ -633,7 +633,8 @@ static layout layout_of(int64_t nf, int64_t nc, int64_t np) {
   l.A_valid = l.F + 8 + 8 * nf;
   l.W = l.A_valid + 1, l.last = l.W + 8, l.total = l.last + 8, l.E0 = l.total + 8, l.budget = l.E0 + 8;
   l.F_fixed = l.budget + 8, l.gap = l.F_fixed + 8 + 8 * nc, l.W_obstacle = l.gap + 8 + 8 * np;
-  l.reaction = l.W_obstacle + 8, l.phi = l.reaction + 8 + 8 * nc, l.log_i = l.phi + 8 + 8 * np;
+  l.D_damping = l.W_obstacle + 8, l.curved = l.D_damping + 8; /* (version 8) */
+  l.reaction = l.curved + 1, l.phi = l.reaction + 8 + 8 * nc, l.log_i = l.phi + 8 + 8 * np;
   return l;
 }
 
@@ -665,7 +666,7 @@ START_TEST(fields_out_of_range_are_refused) {
   unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
-  ck_assert_int_eq(good[8], 6); /* the version */
+  ck_assert_int_eq(good[8], 8); /* the version */
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
   const layout l = layout_of(nf, nc, np);
   ck_assert_int_eq(get_i64(good, l.n), 30);
@@ -710,6 +711,8 @@ START_TEST(fields_out_of_range_are_refused) {
       {l.F_fixed + 8, 0, nan, "load on the clamped DOFs"},
       {l.gap + 8, 0, nan, "obstacle gaps"},
       {l.W_obstacle, 0, inf, "work of the obstacle"},
+      {l.D_damping, 0, nan, "dissipation of the damping"},
+      {l.curved, 2, 4, "section flags"},
       {l.reaction + 8, 0, nan, "reactions"},
       {l.phi + 8, 0, nan, "applied contact term"},
       {l.log_i, 1, 1, "tangent history"}, /* one index: nb = 0 points ... */
@@ -721,7 +724,7 @@ START_TEST(fields_out_of_range_are_refused) {
     if (cases[c].kind == 1) put_i64(bad, cases[c].at, (int64_t)cases[c].value);
     if (cases[c].kind == 2) bad[cases[c].at] = (unsigned char)cases[c].value;
     if (cases[c].at == l.log_i) put_i64(bad, l.log_i + 8, np + 5); /* ... but naming a point past the last */
-    if (cases[c].at == 12) put_i64(bad, 8, 6 | (7ll << 32));        /* (version 6 kept) */
+    if (cases[c].at == 12) put_i64(bad, 8, 8 | (7ll << 32));        /* (version 8 kept) */
     reseal(bad, nbytes);
     char what[64];
     snprintf(what, sizeof what, "case %zu (%s)", c, cases[c].word);

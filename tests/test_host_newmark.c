@@ -211,16 +211,20 @@ typedef struct {
   double theta, beta, gamma, am, af;
   double c, kappa;
   int step_form; /* the contact term by nd_problem_contact_step_residual (U^n given) */
+  /* Rayleigh damping (Newmark and hybrid here): C V^{n+1} with
+     V^{n+1} = gamma/(beta tau) (U - U^n) + (1 - gamma/beta) V^n + tau (1 - gamma/(2 beta)) A^n,
+     or twice C (U - U^n)/tau for the hybrid scheme (C at the midpoint): cd C joins A */
+  double cd;
 } scheme_t;
 
 static scheme_t make_scheme(int scheme, const double *prm, double tau, int step_form) {
-  scheme_t s = {0, 0, 0, 0, 0, 0, 0, 1, step_form};
+  scheme_t s = {0, 0, 0, 0, 0, 0, 0, 1, step_form, 0};
   if (scheme == ND_SCHEME_HYBRID) {
-    s.kind = 3, s.c = 4 / (tau * tau), s.kappa = 2, s.step_form = 1; /* (design.md §3) */
+    s.kind = 3, s.c = 4 / (tau * tau), s.kappa = 2, s.step_form = 1, s.cd = 2 / tau; /* (design.md §3) */
   } else if (scheme == ND_SCHEME_THETA) {
     s.kind = 0, s.theta = prm[0], s.c = 1 / (tau * tau * s.theta * s.theta);
   } else if (scheme == ND_SCHEME_NEWMARK) {
-    s.kind = 1, s.beta = prm[0], s.gamma = prm[1], s.c = 1 / (s.beta * tau * tau);
+    s.kind = 1, s.beta = prm[0], s.gamma = prm[1], s.c = 1 / (s.beta * tau * tau), s.cd = s.gamma / (s.beta * tau);
   } else {
     const double r = prm[0];
     s.kind = 2, s.am = (2 * r - 1) / (r + 1), s.af = r / (r + 1);
@@ -233,26 +237,28 @@ static scheme_t make_scheme(int scheme, const double *prm, double tau, int step_
 typedef struct {
   nd_problem p;
   int64_t n;
-  double *M, *K, *KT, *A; /* dense: mass, stiffness, K_Theta, c M + K_Theta */
+  double *M, *K, *KT, *A; /* dense: mass, stiffness, K_Theta, c M + K_Theta (+ cd C) */
+  double *C;              /* dense: the damping alpha M + beta K (zeros when off) */
   double *F;
   int64_t tnnz;
   int64_t *tptr, *tcol;
   double *tval;
 } host;
 
-static host host_make(nd_problem p, double c) {
+static host host_make(nd_problem p, double c, double cd) {
   host h;
   memset(&h, 0, sizeof h);
   h.p = p;
   csr M = get_matrix(p, ND_MATRIX_MASS), K = get_matrix(p, ND_MATRIX_STIFFNESS), N = get_matrix(p, ND_MATRIX_NITSCHE);
+  csr C = get_matrix(p, ND_MATRIX_DAMPING);
   h.n = M.n;
-  h.M = dense(&M), h.K = dense(&K);
+  h.M = dense(&M), h.K = dense(&K), h.C = dense(&C);
   double *NT = dense(&N);
   const int64_t nn = h.n * h.n;
   h.KT = malloc(sizeof(double) * (size_t)nn), h.A = malloc(sizeof(double) * (size_t)nn);
-  for (int64_t k = 0; k < nn; ++k) h.KT[k] = h.K[k] + NT[k], h.A[k] = c * h.M[k] + h.KT[k];
+  for (int64_t k = 0; k < nn; ++k) h.KT[k] = h.K[k] + NT[k], h.A[k] = c * h.M[k] + h.KT[k] + cd * h.C[k];
   free(NT);
-  csr_free(&M), csr_free(&K), csr_free(&N);
+  csr_free(&M), csr_free(&K), csr_free(&N), csr_free(&C);
   h.F = malloc(sizeof(double) * (size_t)h.n);
   ND_OK_OR_FAIL(nd_problem_get_load(p, h.n, h.F));
   ND_OK_OR_FAIL(nd_problem_contact_tangent(p, h.n, NULL, &h.tnnz, NULL, NULL, NULL));
@@ -263,7 +269,7 @@ static host host_make(nd_problem p, double c) {
 }
 
 static void host_free(host *h) {
-  free(h->M), free(h->K), free(h->KT), free(h->A), free(h->F), free(h->tptr), free(h->tcol), free(h->tval);
+  free(h->M), free(h->K), free(h->C), free(h->KT), free(h->A), free(h->F), free(h->tptr), free(h->tcol), free(h->tval);
 }
 
 /* the step's right-hand side r from a state (U, V, A) at t^n */
@@ -295,6 +301,15 @@ static void rhs(const host *h, const scheme_t *s, double tau, const double *U, c
     for (int64_t i = 0; i < n; ++i)
       r[i] = (h->F[i] - s->af * KU[i] - s->am * MA[i] + (1 - s->am) * Mw[i]) / (1 - s->af);
     free(KU), free(MA);
+  }
+  /* damping: C times the part of the damping velocity without U^{n+1} */
+  if (s->kind == 1 || s->kind == 3) {
+    const double b = s->beta, g = s->gamma;
+    for (int64_t i = 0; i < n; ++i)
+      w[i] = s->kind == 3 ? 2 / tau * U[i]
+                          : g / (b * tau) * U[i] - (1 - g / b) * V[i] - tau * (1 - g / (2 * b)) * A[i];
+    matvec(n, h->C, w, Mw);
+    for (int64_t i = 0; i < n; ++i) r[i] += Mw[i];
   }
   free(w), free(Mw);
 }
@@ -369,24 +384,27 @@ static void update(const scheme_t *s, double tau, int64_t n, const double *U0, c
   }
 }
 
-/* M A^0 = F - K_Theta U^0 - N(U^0) (Remark 3.2) */
-static void initial_acceleration(const host *h, const double *U, double *A) {
+/* M A^0 = F - K_Theta U^0 - N(U^0) - C V^0 (Remark 3.2) */
+static void initial_acceleration(const host *h, const double *U, const double *V, double *A) {
   const int64_t n = h->n;
-  double *N = malloc(sizeof(double) * (size_t)n);
+  double *N = malloc(sizeof(double) * (size_t)n), *CV = malloc(sizeof(double) * (size_t)n);
   matvec(n, h->KT, U, A);
+  matvec(n, h->C, V, CV);
   ND_OK_OR_FAIL(nd_problem_contact_residual(h->p, n, U, N));
-  for (int64_t i = 0; i < n; ++i) A[i] = h->F[i] - A[i] - N[i];
+  for (int64_t i = 0; i < n; ++i) A[i] = h->F[i] - A[i] - N[i] - CV[i];
   solve(n, h->M, A);
-  free(N);
+  free(N), free(CV);
 }
 
 /* The host's trajectory against nd_step's over `steps` steps; returns the
    largest |U_host - U_lib|_max, each step's checked against its bound. */
-static double host_against_library(int dim, int degree, int scheme, const double *prm, int step_form, int steps) {
+static double host_damped(int dim, int degree, int scheme, const double *prm, int step_form, int steps,
+                          double alpha, double beta) {
   nd_problem p = drop(dim, degree, scheme, prm);
+  ND_OK_OR_FAIL(nd_problem_set_damping(p, alpha, beta));
   const double tau = 0.01;
   const scheme_t s = make_scheme(scheme, prm, tau, step_form);
-  host h = host_make(p, s.c);
+  host h = host_make(p, s.c, s.cd);
   const int64_t n = h.n;
   const double lam = lambda_min_lower(n, h.A);
   int64_t *node = malloc(sizeof(int64_t) * (size_t)n);
@@ -398,7 +416,7 @@ static double host_against_library(int dim, int degree, int scheme, const double
   double *Ul = v[6], *Vl = v[7], *Al = v[8], *rh = v[9], *rl = v[10], *G = v[11];
   free_field(p, ND_FIELD_DISPLACEMENT, n, node, comp, dim, U);
   free_field(p, ND_FIELD_VELOCITY, n, node, comp, dim, V);
-  if (s.kind != 3) initial_acceleration(&h, U, A); /* (the hybrid scheme carries none: predictor U + tau V) */
+  if (s.kind != 3) initial_acceleration(&h, U, V, A); /* (the hybrid scheme carries none: predictor U + tau V) */
   double worst = 0, worst_bound = 0;
   int contact_steps = 0;
   for (int step = 0; step < steps; ++step) {
@@ -433,14 +451,19 @@ static double host_against_library(int dim, int degree, int scheme, const double
     free(Ulib);
   }
   ck_assert_msg(contact_steps >= 3, "the scene must touch the plane (%d contact steps)", contact_steps);
-  printf("host loop %dD P%d scheme %d (%.3g)%s: %d steps (%d in contact), max |U_host - U_lib| = %.3g, "
+  printf("host loop %dD P%d scheme %d (%.3g)%s%s: %d steps (%d in contact), max |U_host - U_lib| = %.3g, "
          "largest bound %.3g\n",
-         dim, degree, scheme, prm[0], s.step_form ? " step form" : "", steps, contact_steps, worst, worst_bound);
+         dim, degree, scheme, prm[0], s.step_form ? " step form" : "", alpha + beta > 0 ? " damped" : "", steps,
+         contact_steps, worst, worst_bound);
   for (int k = 0; k < 12; ++k) free(v[k]);
   free(node), free(comp);
   host_free(&h);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   return worst;
+}
+
+static double host_against_library(int dim, int degree, int scheme, const double *prm, int step_form, int steps) {
+  return host_damped(dim, degree, scheme, prm, step_form, steps, 0, 0);
 }
 
 START_TEST(host_loop_follows_nd_step) {
@@ -455,6 +478,9 @@ START_TEST(host_loop_follows_nd_step) {
   const int dim = 2 + _i / 2, degree = 1 + _i % 2;
   for (size_t k = 0; k < sizeof schemes / sizeof schemes[0]; ++k)
     host_against_library(dim, degree, schemes[k].scheme, schemes[k].prm, schemes[k].step_form, 30);
+  /* damped (docs/design.md §10.5): the host adds C to its Newmark and hybrid steps */
+  host_damped(dim, degree, ND_SCHEME_NEWMARK, nm, 0, 30, 0.5, 0.01);
+  host_damped(dim, degree, ND_SCHEME_HYBRID, &none, 1, 30, 0.5, 0.01);
 }
 END_TEST
 
@@ -707,7 +733,7 @@ START_TEST(momentum_is_the_impulse) {
   const int dim = 2 + _i / 2, degree = 1 + _i % 2;
   const double nm[2] = {0.25, 0.5}, tau = 0.01, g = 0.5;
   nd_problem p = drop(dim, degree, ND_SCHEME_NEWMARK, nm);
-  host h = host_make(p, 0);
+  host h = host_make(p, 0, 0);
   const int64_t n = h.n;
   int64_t nn = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));

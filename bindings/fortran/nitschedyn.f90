@@ -40,6 +40,7 @@ module nitschedyn
             nd_problem_move_obstacle, nd_problem_set_friction, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
             nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_mass_redistribution, nd_problem_set_linear_solver, &
+            nd_problem_set_damping, nd_problem_set_plane_stress, &
             nd_problem_set_comm_f, nd_problem_set_distributed_state, &
             nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor, &
             nd_problem_set_guard
@@ -383,6 +384,22 @@ module nitschedyn
       integer(c_int), value :: lumped
       integer(c_int) :: status
     end function nd_problem_set_mass_lumping
+
+    function nd_problem_set_damping(p, alpha, beta) result(status) &
+        bind(C, name='nd_problem_set_damping')
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: p
+      real(c_double), value :: alpha, beta
+      integer(c_int) :: status
+    end function nd_problem_set_damping
+
+    function nd_problem_set_plane_stress(p, on) result(status) &
+        bind(C, name='nd_problem_set_plane_stress')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: on
+      integer(c_int) :: status
+    end function nd_problem_set_plane_stress
 
     function nd_problem_set_mass_redistribution(p, on) result(status) &
         bind(C, name='nd_problem_set_mass_redistribution')

@@ -149,6 +149,8 @@ _PROTOTYPES = {
     "nd_problem_set_guard": (_int, [_ptr, _int, _dbl]),
     "nd_problem_set_mass_lumping": (_int, [_ptr, _int]),
     "nd_problem_set_mass_redistribution": (_int, [_ptr, _int]),
+    "nd_problem_set_damping": (_int, [_ptr, _dbl, _dbl]),
+    "nd_problem_set_plane_stress": (_int, [_ptr, _int]),
     "nd_problem_set_linear_solver": (_int, [_ptr, _int]),
     "nd_problem_set_comm_f": (_int, [_ptr, _int]),
     "nd_problem_set_distributed_state": (_int, [_ptr, _int]),
@@ -518,6 +520,14 @@ class Problem(_Handle):
     def set_mass_redistribution(self, on):
         _check(lib.nd_problem_set_mass_redistribution(self._h, int(bool(on))))
 
+    def set_damping(self, alpha, beta):
+        """Rayleigh damping C = alpha M + beta K (0, 0: off, the default)."""
+        _check(lib.nd_problem_set_damping(self._h, float(alpha), float(beta)))
+
+    def set_plane_stress(self, on):
+        """Plane stress in 2D (default: plane strain); ND_ERR_DIMENSION elsewhere."""
+        _check(lib.nd_problem_set_plane_stress(self._h, int(bool(on))))
+
     def set_linear_solver(self, solver):
         _check(lib.nd_problem_set_linear_solver(self._h, solver))
 
@@ -689,8 +699,8 @@ class Problem(_Handle):
 
     # operators out and contact on the host's operators (free DOFs, CSR 0-based)
     def matrix(self, which):
-        """nd_problem_get_matrix: ND_MATRIX_MASS, _STIFFNESS, _NITSCHE, _STEP or
-        _LUMPED_MASS as CSR arrays (row_ptr (n+1,), col_idx (nnz,), values (nnz,))."""
+        """nd_problem_get_matrix: ND_MATRIX_MASS, _STIFFNESS, _NITSCHE, _STEP,
+        _LUMPED_MASS or _DAMPING as CSR arrays (row_ptr (n+1,), col_idx (nnz,), values (nnz,))."""
         n, nnz = _i64(), _i64()
         _check(lib.nd_problem_get_matrix(self._h, which, ctypes.byref(n), ctypes.byref(nnz), None, None, None))
         ptr, col = np.empty(n.value + 1, dtype=np.int64), np.empty(nnz.value, dtype=np.int64)

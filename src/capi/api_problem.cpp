@@ -211,6 +211,23 @@ ND_EXPORT int nd_problem_set_mass_lumping(nd_problem p, int lumped) {
   });
 }
 
+ND_EXPORT int nd_problem_set_damping(nd_problem p, double alpha, double beta) {
+  return nd::guarded("nd_problem_set_damping", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    need_range(std::isfinite(alpha) && alpha >= 0, ND_ERR_VALUE, "alpha must be >= 0 and finite");
+    need_range(std::isfinite(beta) && beta >= 0, ND_ERR_VALUE, "beta must be >= 0 and finite");
+    pr.set_damping(alpha, beta);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_plane_stress(nd_problem p, int on) {
+  return nd::guarded("nd_problem_set_plane_stress", [&] {
+    nd::problem_of(p).set_plane_stress(on != 0);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_mass_redistribution(nd_problem p, int on) {
   return nd::guarded("nd_problem_set_mass_redistribution", [&] {
     nd::problem_of(p).set_mass_redistribution(on != 0);

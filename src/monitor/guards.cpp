@@ -87,13 +87,16 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   if (!std::isfinite(E))
     fail(ND_ERR_NONFINITE_STATE, "the energy after the step to t = " + num(next.t) +
                                      " is not finite; the step was not taken");
-  if (E > g.energy * gs.budget) {
+  // with damping the energy it dissipated counts with E: E + D <= f (E^0 + W + W_obstacle)
+  if (E + next.D_damping > g.energy * gs.budget) {
     // a gamma0 above the bound makes K_Theta indefinite (the free motion
     // grows): then the message says which gamma0 is safe
     const bool above_bound = d.theta > 0 && d.theta * d.gamma0 > d.gamma0_limit;
     const std::string safe = above_bound ? safe_gamma0(d.theta, d.gamma0_limit) : std::string();
     fail(ND_ERR_ENERGY_GROWTH,
-         "the step to t = " + num(next.t) + " raises the mechanical energy to " + num(E) + ", more than " +
+         "the step to t = " + num(next.t) + " raises the mechanical energy to " + num(E) +
+             (next.D_damping != 0 ? " (plus " + num(next.D_damping) + " dissipated by the damping)" : std::string()) +
+             ", more than " +
              num(g.energy) + " times the energy put in (E^0 + W + W_obstacle = " + num(gs.budget) +
              "): the scheme is unstable here. Lower the time step (explicit schemes: below the critical step), "
              "lower gamma0 (gamma0 = 0 chooses a safe one), or use a dissipative or the hybrid scheme" +

@@ -25,11 +25,13 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // meaning (versions 3 to 5 are still read, without the definition's check);
 // 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
 // and the obstacles' positions at t^n follow (without, version 6 is written);
-// 8: with friction (StateSizes::n_slip > 0) the section of version 7 (empty
-// without curved obstacles), then the slip references, the applied
-// tangential values, D_f and the sliding and sticking points
+// 8 (always written): after the obstacle's work the damping's dissipation
+// (State::D_damping) and a byte of flags saying which sections follow at
+// the end: 1, the normals and positions of 7 (curved obstacles); 2, the
+// friction's (StateSizes::n_slip > 0: the slip references, the applied
+// tangential values, D_f and the sliding and sticking points)
 constexpr uint32_t kVersion = 8;
-uint32_t version_for(const StateSizes &sizes) { return sizes.n_slip > 0 ? 8 : sizes.n_positions > 0 ? 7 : 6; }
+uint32_t version_for(const StateSizes &) { return kVersion; }
 
 class Writer {
  public:
@@ -127,6 +129,7 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
   {
     Hash h;
     h.value(def.material.young), h.value(def.material.poisson), h.value(def.material.density);
+    if (def.material.plane_stress) h.value(uint8_t{1});  // (only when on: older prints still match)
     done(kPrintMaterial, h);
   }
   if (def.given & kNitsche) {
@@ -227,16 +230,19 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.padded(s.F_fixed, n_clamped);
   payload.padded(s.gap, static_cast<uint64_t>(n_contact));
   payload.value(s.W_obstacle);
+  const uint32_t version = version_for(sizes);
+  payload.value(s.D_damping);
+  const bool positions = sizes.n_positions > 0, friction = sizes.n_slip > 0;
+  payload.value(static_cast<uint8_t>((positions ? 1 : 0) | (friction ? 2 : 0)));
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
-  const uint32_t version = version_for(sizes);
   payload.padded(s.tangent_log.i, log_indices(n_contact, version));
   payload.padded(s.tangent_log.x, log_values(n_contact, version));
-  if (version >= 7) {
+  if (positions) {
     payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
     payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
   }
-  if (version >= 8) {
+  if (friction) {
     payload.padded(s.slip, static_cast<uint64_t>(sizes.n_slip));
     payload.padded(s.phi_t, static_cast<uint64_t>(sizes.n_slip));
     payload.value(s.D_friction);
@@ -422,6 +428,15 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   need_finite(s.gap, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   need_finite(s.W_obstacle, "work of the obstacle (W_obstacle)");
+  bool positions = head.version == 7, friction = false;
+  if (head.version >= 8) {
+    s.D_damping = r.value<double>();
+    need_finite(s.D_damping, "dissipation of the damping");
+    const uint8_t flags = r.value<uint8_t>();
+    if (flags > 3) fail(ND_ERR_FORMAT, "the checkpoint's section flags are " + std::to_string(flags) + ", not 0 to 3");
+    positions = (flags & 1) != 0;
+    friction = (flags & 2) != 0;
+  }
   s.reaction = optional(sizes.n_clamped, "reactions");
   need_finite(s.reaction, "reactions");
   s.phi = optional(sizes.n_contact, "applied contact term");
@@ -433,13 +448,13 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }
-  if (head.version >= 7) {
+  if (positions) {
     s.normal = optional(3 * sizes.n_contact, "frozen contact normals");
     need_finite(s.normal, "frozen contact normals");
     s.positions = optional(sizes.n_positions, "obstacles' positions");
     need_finite(s.positions, "obstacles' positions");
   }
-  if (head.version >= 8) {
+  if (friction) {
     s.slip = optional(sizes.n_slip, "slip references (friction)");
     need_finite(s.slip, "slip references (friction)");
     s.phi_t = optional(sizes.n_slip, "applied tangential values (friction)");
@@ -452,10 +467,10 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     if (s.sliding < 0 || s.sticking < 0 || s.sliding > sizes.n_contact || s.sticking > sizes.n_contact - s.sliding)
       fail(ND_ERR_FORMAT, "the checkpoint's counts of sliding and sticking points are out of range");
   }
-  if ((sizes.n_slip > 0) != (head.version >= 8) || (sizes.n_slip > 0 && s.slip.empty()))
+  if ((sizes.n_slip > 0) != friction || (sizes.n_slip > 0 && s.slip.empty()))
     fail(ND_ERR_STATE, sizes.n_slip > 0 ? "the checkpoint has no friction state; this problem has friction"
                                         : "the checkpoint has a friction state; this problem has no friction");
-  if ((sizes.n_positions > 0) != (head.version >= 7 && !s.positions.empty()))
+  if ((sizes.n_positions > 0) != positions || (sizes.n_positions > 0 && s.positions.empty()))
     fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"
                                              : "the checkpoint has curved obstacles (sphere, cylinder, distance); this problem has none");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");

@@ -36,6 +36,7 @@ enum Aspect : unsigned {
   kNewton = 1u << 10,
   kGuards = 1u << 12,
   kObstacle = 1u << 13,  // a plane's point moved (same normal), an obstacle's pose: only the gaps change
+  kDamping = 1u << 14,   // Rayleigh damping alpha, beta
 };
 
 // What may change from step to step without new operators: the loads and
@@ -76,6 +77,8 @@ struct Definition : TimeData {
   double tau = 0;
   NewtonOptions newton;
   bool lumped = false;
+  // Rayleigh damping C = alpha M + beta K (both 0: off, no term anywhere)
+  double damping_alpha = 0, damping_beta = 0;
   bool redistributed = false;  // mass redistribution away from the contact nodes
   int solver = ND_SOLVER_AUTO;
   // the Newton tangent solver (white-box, not in the C API: tests and benchmarks)

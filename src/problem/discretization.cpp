@@ -115,6 +115,22 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
 }
 }  // namespace
 
+namespace {
+// C = alpha M + beta K with the scheme's mass, on their shared pattern
+void set_damping(Discretization &d, const Definition &def) {
+  d.damping_alpha = def.damping_alpha, d.damping_beta = def.damping_beta;
+  if (def.damping_alpha == 0 && def.damping_beta == 0) return;
+  if (d.rows_split)
+    fail(ND_ERR_STATE, "Rayleigh damping is not available yet with a distributed solver on several ranks "
+                       "(the rows split over the ranks)");
+  if (def.damping_beta != 0 && !d.massless.empty())
+    fail(ND_ERR_STATE, "stiffness-proportional damping (beta > 0) with mass redistribution: the massless DOFs "
+                       "would carry beta K V without an equation for V; use alpha only, or no redistribution");
+  count(d.counters, &Counters::matrix_assemblies);
+  csr_combine(def.damping_alpha, d.M, def.damping_beta, d.K, d.C);
+}
+}  // namespace
+
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
                                            const Ownership *own, const std::vector<double> *frozen) {
   require_complete(def.missing_for_operators());
@@ -172,6 +188,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   if (counters)
     counters->matrix_entries = static_cast<int64_t>(d->M.val.size() + d->K.val.size() + d->K_theta.val.size());
   if (!d->rows_split) d->node_blocks = make_node_blocks(d->K, d->M, space.dim);
+  set_damping(*d, def);
   if (d->dofs.n_free < space.n_dofs())
     d->clamped = std::make_unique<ClampedRows>(
         clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));
@@ -188,6 +205,7 @@ std::unique_ptr<Discretization> with_normals(const Space &space, const Definitio
   d->rows_split = from.rows_split;
   d->geometry.dim = space.dim;
   d->node_blocks = from.node_blocks;  // (K and M by nodes: the same)
+  d->damping_alpha = from.damping_alpha, d->damping_beta = from.damping_beta, d->C = from.C;
   if (from.clamped) d->clamped = std::make_unique<ClampedRows>(*from.clamped);
   // the rows with the frozen normals; gamma as the first discretization has it
   d->contact = contact_points(space, d->dofs, def, d->gamma0, &frozen);

@@ -6,6 +6,7 @@
 #include "assembly/bulk.hpp"
 #include "assembly/redistribution.hpp"
 #include "common/error.hpp"
+#include "problem/integrator.hpp"
 #include "time/scheme.hpp"
 
 namespace nd {
@@ -60,9 +61,12 @@ Csr exported_matrix(Problem &p, int which) {
         fail(ND_ERR_STATE, "the scheme set is explicit: it has no step matrix c M + K_Theta (theta = 0 or "
                            "Newmark beta = 0); set an implicit scheme");
       // the integrator's own combination (make_integrator): the same bits as the A a step factors
-      csr_combine(scheme->coefficients(def.tau).c, d.M, 1.0, d.K_theta, out);
+      step_matrix(d, *scheme, def.tau, out);
       return out;
     }
+    case ND_MATRIX_DAMPING:  // alpha M + beta K, zeros on their pattern when off
+      if (d.damped()) return d.C;
+      return d.K.zeros_like();
     default:
       fail(ND_ERR_KEY, "which " + std::to_string(which) + " is not an ND_MATRIX_* value");
   }

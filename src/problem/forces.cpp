@@ -81,7 +81,8 @@ std::vector<double> step_mean(const std::vector<double> &x_new, const std::vecto
 
 std::vector<double> clamped_residual(const Discretization &d, const std::vector<double> &Abar,
                                      const std::vector<double> &Ubar, const std::vector<double> &phi,
-                                     const std::vector<double> &Fbar_D, const std::vector<double> *phi_t) {
+                                     const std::vector<double> &Fbar_D, const std::vector<double> *phi_t,
+                                     const std::vector<double> *Vbar) {
   const ClampedRows &cr = *d.clamped;
   const size_t nD = cr.dofs.size();
   std::vector<double> R(nD, 0.0), MA(nD, 0.0);
@@ -89,6 +90,12 @@ std::vector<double> clamped_residual(const Discretization &d, const std::vector<
   if (!d.lumped) {  // a lumped (diagonal) mass couples no clamped row to a free DOF
     cr.M.multiply(Abar.data(), MA.data());
     for (size_t r = 0; r < nD; ++r) R[r] += MA[r];
+  }
+  if (Vbar && d.damped()) {  // C_DF Vbar = alpha M_DF Vbar + beta K_DF Vbar
+    std::vector<double> MV(nD, 0.0), KV(nD, 0.0);
+    if (!d.lumped) cr.M.multiply(Vbar->data(), MV.data());
+    cr.K.multiply(Vbar->data(), KV.data());
+    for (size_t r = 0; r < nD; ++r) R[r] += d.damping_alpha * MV[r] + d.damping_beta * KV[r];
   }
   // the contact rows on clamped DOFs are keyed by full DOF index
   std::vector<int64_t> row_of_dof;

@@ -27,9 +27,11 @@ std::vector<double> step_mean(const std::vector<double> &x_new, const std::vecto
 // (TimeScheme::mean_weight): R = M_DF Abar + K_Theta,DF Ubar + Nbar_D - Fbar_D,
 // with Nbar = sum_q (w_q/gamma_q) phi_q b_q. phi: the step's contact term per
 // point; phi_t (friction, m - 1 per point; null or empty: none) its tangential values.
+// With damping, + C_DF Vbar (Vbar where the scheme takes C V, docs/design.md §10.5).
 std::vector<double> clamped_residual(const Discretization &d, const std::vector<double> &Abar,
                                      const std::vector<double> &Ubar, const std::vector<double> &phi,
-                                     const std::vector<double> &Fbar_D, const std::vector<double> *phi_t = nullptr);
+                                     const std::vector<double> &Fbar_D, const std::vector<double> *phi_t = nullptr,
+                                     const std::vector<double> *Vbar = nullptr);
 
 // sum_q w_q lambda_q a_q over all DOFs (n_dofs values): the force the
 // obstacle exerts on the body at the state's time. With `points` (a

@@ -36,6 +36,15 @@ bool refactoring_tangent(const Definition &def, const Discretization &d) {
 
 }  // namespace
 
+double step_matrix(const Discretization &d, const TimeScheme &scheme, double tau, Csr &A) {
+  csr_combine(scheme.coefficients(tau).c, d.M, 1.0, d.K_theta, A);
+  if (!d.damped()) return 0;
+  // G gains kappa C Vbar; its part in U (docs/design.md §10.5)
+  const double damping = scheme.coefficients(tau).kappa * (1 - scheme.mean_weight()) * scheme.velocity_slope(tau);
+  csr_combine(1.0, A, damping, d.C, A);
+  return damping;
+}
+
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
                                             std::unique_ptr<Factorization> reuse,
                                             const std::function<Csr(double)> &own_part) {
@@ -45,11 +54,20 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   in->tau = def.tau;
   if (in->scheme->is_explicit()) {
     if (!d.massless.empty()) in->massless = std::make_unique<MasslessSolver>(d, def.solver);
+    // (M + slope C) A^{n+1} = ...: with beta = 0 a multiple of M, else a matrix of its own, factored once
+    const double slope = in->scheme->velocity_slope(def.tau);
+    if (d.damped() && d.damping_beta != 0 && slope != 0) {
+      count(d.counters, &Counters::matrix_assemblies);
+      csr_combine(1.0, d.M, slope, d.C, in->damped_mass);
+      in->damped_mass_factor = make_factorization(def.solver, in->damped_mass, Structure::SymmetricPositiveDefinite,
+                                                  d.counters, &d.geometry);
+      in->damped_mass_factor->factor(in->damped_mass, Structure::SymmetricPositiveDefinite);
+    }
     return in;
   }
   in->coef = in->scheme->coefficients(def.tau);
   count(d.counters, &Counters::matrix_assemblies);
-  csr_combine(in->coef.c, d.M, 1.0, d.K_theta, in->A);
+  in->damping = step_matrix(d, *in->scheme, def.tau, in->A);
   if (d.node_blocks && !d.contact.a.empty()) in->A_blocks = make_node_blocks(in->A, d.M, d.node_blocks->dim);
   const bool refactors = !d.contact.a.empty() && refactoring_tangent(def, d);
   // on split operators a Newton pass that refactors reads the points whose rows touch the rank's rows

@@ -20,7 +20,13 @@ struct Integrator {
   std::unique_ptr<TimeScheme> scheme;
   double tau = 0;
   StepCoefficients coef{0, 0};
-  Csr A;  // c M + K_Theta (implicit schemes)
+  Csr A;  // c M + K_Theta (implicit schemes), + damping * C with damping
+  // the coefficient of C in A: kappa (1 - a) dV^{n+1}/dU^{n+1}, a the
+  // scheme's mean_weight (docs/design.md §10.5); 0 without damping
+  double damping = 0;
+  // explicit scheme, beta > 0: M + slope C factored, slope = dV^{n+1}/dA^{n+1}
+  Csr damped_mass;
+  std::unique_ptr<Factorization> damped_mass_factor;
   // A and M by nodes for Newton's residual, where the discretization has
   // its operators so (Discretization::node_blocks) and contact points
   std::shared_ptr<const NodeBlocks> A_blocks;
@@ -56,6 +62,10 @@ struct Integrator {
   NewtonWork newton;
   PointValues at_solution;
 };
+
+// A = c M + K_Theta (+ damping C) of an implicit scheme: the step matrix;
+// returns the coefficient of C (0 without damping)
+double step_matrix(const Discretization &d, const TimeScheme &scheme, double tau, Csr &A);
 
 // Factorizes A for an implicit scheme, or (K_Theta)_mm for an explicit one
 // with massless DOFs: throws ND_ERR_INDEFINITE when the step is not well posed. reuse: a factorization made for A's pattern (of

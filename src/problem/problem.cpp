@@ -27,7 +27,7 @@
 namespace nd {
 
 // What each derived object depends on; the setters only name their aspect.
-constexpr unsigned kDiscretizationDeps = kMaterial | kDirichlet | kContact | kNitsche | kLumping;
+constexpr unsigned kDiscretizationDeps = kMaterial | kDirichlet | kContact | kNitsche | kLumping | kDamping;
 constexpr unsigned kLoadDeps = kDiscretizationDeps | kLoads;
 constexpr unsigned kMassFactorDeps = kDiscretizationDeps | kSolver;
 constexpr unsigned kIntegratorDeps = kDiscretizationDeps | kScheme | kTimestep | kSolver;
@@ -99,8 +99,23 @@ void Problem::require_region(int region, const char *what) const {
 }
 
 void Problem::set_material(const Material &m) {
+  const bool plane_stress = def_.material.plane_stress;  // (its own call)
   def_.material = m;
+  def_.material.plane_stress = plane_stress;
   changed(kMaterial);
+}
+
+void Problem::set_plane_stress(bool on) {
+  if (on && space_.dim != 2) fail(ND_ERR_DIMENSION, "plane stress is a 2D model; this mesh is " +
+                                                        std::to_string(space_.dim) + "D");
+  def_.material.plane_stress = on;
+  changed(kMaterial);
+}
+
+void Problem::set_damping(double alpha, double beta) {
+  def_.damping_alpha = alpha;
+  def_.damping_beta = beta;
+  changed(kDamping);
 }
 
 void Problem::add_dirichlet(int region) {
@@ -674,9 +689,11 @@ uint64_t Problem::inputs_digest() const {
   const Definition &d = def_;
   h.value(d.given);
   for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
-                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration})
+                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration, d.damping_alpha,
+                   d.damping_beta})
     h.value(x);
   for (const Definition::Friction &f : d.friction) h.value(f.region), h.value(f.law), h.value(f.parameter);
+  h.value(uint8_t{d.material.plane_stress});
   for (int x : {d.scheme, d.solver, d.newton.max_iter, static_cast<int>(d.tangent), int(d.lumped),
                 int(d.redistributed), int(d.guards.critical_timestep),
                 int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
@@ -1019,6 +1036,8 @@ double Problem::scalar(int key) {
       return static_cast<double>(c.sliding);
     case ND_STICKING_POINTS:
       return static_cast<double>(c.sticking);
+    case ND_DISSIPATION_DAMPING:
+      return c.D_damping;
     case ND_TIMESTEP:
       return def_.tau;
     case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)

@@ -50,6 +50,8 @@ class Problem {
   void set_nodal_forces(const double *f);  // n_dofs values
   void set_newton(const NewtonOptions &o);
   void set_mass_lumping(bool lumped);
+  void set_damping(double alpha, double beta);  // checked by the caller: >= 0, finite
+  void set_plane_stress(bool on);               // ND_ERR_DIMENSION outside 2D
   void set_mass_redistribution(bool on);
   void set_linear_solver(int solver);
   void set_timestep(double tau);

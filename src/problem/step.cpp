@@ -92,7 +92,8 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
 constexpr int64_t kPredictorProbe = 16;
 bool predictor_may_solve(const Integrator &in, const Discretization &d, const Definition &def, const State &old) {
   // (a law zero where free: else a free flight has forces, no constant acceleration)
-  if (!def.predicted_steps || !in.scheme->predicts_constant_acceleration() ||
+  // (damping: G's C term is not among the state's products the check reads)
+  if (!def.predicted_steps || d.damped() || !in.scheme->predicts_constant_acceleration() ||
       !d.contact_law->traits().zero_when_free || !old.A_valid || d.rows || !in.held.empty() || !d.massless.empty())
     return false;
   if (old.last_iterations == 0) return true;
@@ -128,6 +129,8 @@ class Step {
  private:
   void new_state_products(bool shown_free, PointValues *known, const HeldPoints *held);
   void newton(std::vector<double> &r);
+  void damping_rhs(std::vector<double> &r);
+  void damping_dissipation();
 
   Integrator &in_;
   Discretization &d_;
@@ -242,13 +245,57 @@ void Step::explicit_step() {
   next.last_iterations = 0;
   // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
   if (in_.massless) next.last_iterations = in_.massless->solve(def_.newton, next.load(), next.gap, next.t, next.U);
-  d_.equilibrium_acceleration(next, def_.solver, false, true, &in_.at_solution);  // every step: M factored once, kept
+  if (!d_.damped()) {
+    d_.equilibrium_acceleration(next, def_.solver, false, true, &in_.at_solution);  // every step: M factored once, kept
+    return;
+  }
+  // damping: V^{n+1} = V_known + slope A^{n+1} (the update with A^{n+1} = 0 gives V_known)
+  State known;
+  known.U = next.U;
+  known.A.assign(old_.U.size(), 0.0);
+  scheme_.update(tau_, old_, known);
+  const Discretization::DampedVelocity dv{&known.V, scheme_.velocity_slope(tau_), in_.damped_mass_factor.get()};
+  d_.equilibrium_acceleration(next, def_.solver, false, true, &in_.at_solution, &dv);
+}
+
+// The damping term of G, kappa C Vbar, Vbar = (1-a) V^{n+1} + a V^n (a the
+// scheme's mean_weight), V^{n+1} = V* + s (U - U^n) affine in U (s the
+// velocity slope, V* the update's V at U = U^n): kappa (1-a) s C U is in A
+// (Integrator::damping), the rest, kappa C z with z = (1-a)(V* - s U^n) + a V^n,
+// leaves the right-hand side. One update and one product with C, whatever the scheme.
+void Step::damping_rhs(std::vector<double> &r) {
+  const size_t n = old_.U.size();
+  const double a = scheme_.mean_weight(), s = scheme_.velocity_slope(tau_);
+  State at_old;
+  at_old.U = old_.U;
+  scheme_.update(tau_, old_, at_old);
+  std::vector<double> z(n), Cz(n);
+  for (size_t i = 0; i < n; ++i) z[i] = (1 - a) * (at_old.V[i] - s * old_.U[i]) + a * old_.V[i];
+  d_.C.multiply(z.data(), Cz.data());
+  count(d_.counters, &Counters::spmv);
+  for (size_t i = 0; i < n; ++i) r[i] -= in_.coef.kappa * Cz[i];
+}
+
+// dD = (U^{n+1} - U^n) . C Vbar: the work of the damping force the step
+// applied (Vbar as in damping_rhs); for the hybrid scheme tau Vbar' C Vbar >= 0
+void Step::damping_dissipation() {
+  next.D_damping = old_.D_damping;
+  if (!d_.damped()) return;
+  const size_t n = old_.U.size();
+  const std::vector<double> Vbar = step_mean(next.V, old_.V, scheme_.mean_weight());
+  std::vector<double> CV(n);
+  d_.C.multiply(Vbar.data(), CV.data());
+  count(d_.counters, &Counters::spmv);
+  double dD = 0;
+  for (size_t i = 0; i < n; ++i) dD += (next.U[i] - old_.U[i]) * CV[i];
+  next.D_damping += dD;
 }
 
 void Step::implicit_step() {
   std::vector<double> &r = in_.rhs;  // (its memory kept from step to step)
   r.clear();                         // (the scheme's rhs finds it empty, as a new vector)
   scheme_.rhs(StepInputs{*old_products_, d_.contact, d_.theta, *F_old_, next.load(), &in_.scratch}, tau_, old_, r);
+  if (d_.damped()) damping_rhs(r);
   if (predictor_may_solve(in_, d_, def_, old_)) {  // the new state's pass, made now, checks the predictor
     constant_acceleration_update(tau_, old_, next);
     new_state_products(may_leave_points_ && law_.certainly_free(next.U), nullptr, nullptr);
@@ -299,7 +346,8 @@ void Step::newton(std::vector<double> &r) {
       return next.products;
     };
     std::function<const Products &()> products_at;  // (by reference: no allocation)
-    if (!d_.rows && d_.massless.empty()) products_at = std::ref(update_and_pass);
+    // (damping: G's C term is not among the products)
+    if (!d_.rows && d_.massless.empty() && !d_.damped()) products_at = std::ref(update_and_pass);
     const CondensedResult cr = newton_condensed(sys, *in.A_factor, *in.condensed, in.max_rank, r, def_.newton, next.U,
                                                 solution_points, products_at ? &products_at : nullptr);
     res = cr.newton;
@@ -341,6 +389,7 @@ void Step::finish() {
     fail(ND_ERR_NONFINITE_STATE,
          "the step to t = " + num(next.t) + " produced non-finite values; the step was not taken");
   next.total_iterations = old_.total_iterations + next.last_iterations;
+  damping_dissipation();
   // The step's contact term phi_q: the obstacle moving by dg_q against the
   // mean pressure -phi_q/gamma_q does the work -sum_q (w_q/gamma_q) phi_q dg_q.
   // Hybrid, Theta = 1: the step times dU = U^{n+1} - U^n, with p_q.dU = dP_q + dg_q
@@ -381,8 +430,11 @@ void Step::finish() {
     const double a = scheme_.mean_weight();
     std::vector<double> Abar;
     scheme_.mean_acceleration(tau_, old_, next, Abar);
+    std::vector<double> Vbar;
+    if (d.damped()) Vbar = step_mean(next.V, old_.V, a);
     next.reaction = clamped_residual(d, Abar, step_mean(next.U, old_.U, a), phi,
-                                     step_mean(next.F_fixed, old_.F_fixed, a), &next.phi_t);
+                                     step_mean(next.F_fixed, old_.F_fixed, a), &next.phi_t,
+                                     d.damped() ? &Vbar : nullptr);
   }
   next.phi = std::move(phi);
   if (in_.points) sum_points(d, next, dW);  // (collective: every rank's step comes here)

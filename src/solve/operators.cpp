@@ -99,7 +99,8 @@ const Discretization::OwnColumns &Discretization::own_columns() const {
 Discretization::Discretization(DofMap d, bool lump)
     : id(++last_discretization_id), dofs(std::move(d)), lumped(lump) {}
 
-void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step, PointValues *at_U) {
+void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step, PointValues *at_U,
+                                              const DampedVelocity *damping) {
   // U and V stay: of the products only M A changes (products_current);
   // dropped first, so that a throw below leaves none of the old A's
   s.products.MA.clear();
@@ -113,6 +114,11 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   auto keep = [&](int64_t i, double ku, double, double, double) __attribute__((always_inline)) { rhs[i] = ku; };
   if (!for_node_rows<false, false>(by_nodes ? k_theta_blocks.get() : nullptr, s.U.data(), nullptr, nullptr, keep))
     K_theta.multiply(s.U.data(), rhs.data(), own_rows(share));
+  if (damped()) {  // + C V (the known part of V^{n+1} in an explicit step)
+    std::vector<double> CV(n, 0.0);
+    C.multiply((damping ? *damping->V_known : s.V).data(), CV.data(), own_rows(share));
+    for (size_t i = 0; i < n; ++i) rhs[i] += CV[i];
+  }
   // split operators: the mass solve is distributed and reads this rank's rows only
   if (share && !rows_split) gather(*share, {rhs.data()});
   ContactLaw law = state_contact_law(*this, s);
@@ -126,7 +132,14 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   }
   const std::vector<double> &F = s.load();
   for (size_t i = 0; i < n; ++i) rhs[i] = (F.empty() ? 0.0 : F[i]) - rhs[i];
-  mass_solve(rhs.data(), solver, once);
+  if (damping && damping->factor) {
+    damping->factor->solve(rhs.data());  // M + slope C, beta > 0
+  } else {
+    mass_solve(rhs.data(), solver, once);
+    // beta = 0: M + slope alpha M, a scalar multiple of M (a lumped mass stays a division)
+    if (damping && damping->slope != 0)
+      for (size_t i = 0; i < n; ++i) rhs[i] /= 1 + damping->slope * damping_alpha;
+  }
   s.A = std::move(rhs);
   s.A_valid = true;
 }

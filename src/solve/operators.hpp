@@ -38,6 +38,10 @@ struct Discretization {
   // and columns of M are zero (empty when off)
   std::vector<char> massless;
   Csr K, K_theta;                // K_Theta = K - Theta sum_q w_q gamma_q s_q^T s_q
+  // Rayleigh damping C = alpha M + beta K on their pattern (empty: none)
+  double damping_alpha = 0, damping_beta = 0;
+  Csr C;
+  bool damped() const { return !C.val.empty(); }
   ContactPoints contact;
   std::shared_ptr<const PointLaw> contact_law;  // the contact law (the definition's), never null
   double theta = 1;
@@ -89,8 +93,16 @@ struct Discretization {
   // evaluate its own contact points, then gather (parallel/share.hpp); a
   // query computes them all on its own. at_U (if given): the pass's P_q and
   // u_n - g0, for compute_products.
+  // With damping it solves (M + slope C) A = F - K_Theta U - N(U) - C V_known,
+  // V_known and slope from `damped` (an explicit step: V^{n+1} = V_known +
+  // slope A^{n+1}), else M A = ... - C V (the state's V).
+  struct DampedVelocity {
+    const std::vector<double> *V_known;
+    double slope;
+    const Factorization *factor;  // M + slope C factored (beta > 0, slope > 0), else null
+  };
   void equilibrium_acceleration(State &s, int solver, bool once = true, bool in_step = false,
-                                PointValues *at_U = nullptr);
+                                PointValues *at_U = nullptr, const DampedVelocity *damped = nullptr);
 };
 
 // The rows a process computes with d's operators: its own when they are

@@ -45,6 +45,7 @@ class GeneralizedAlpha : public TimeScheme {
     predict_taylor(tau, old, 0.5, U);
   }
   bool predicts_constant_acceleration() const override { return true; }
+  double velocity_slope(double tau) const override { return gamma_ / (beta_ * tau); }  // Newmark's
   void update(double tau, const State &old, State &next) const override {
     newmark_update(beta_, gamma_, tau, old, next);
   }

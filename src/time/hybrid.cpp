@@ -28,6 +28,7 @@ class Hybrid : public TimeScheme {
   void predict(double tau, const State &old, std::vector<double> &U) const override {
     predict_taylor(tau, old, 0, U);
   }
+  double velocity_slope(double tau) const override { return 2 / tau; }
   void update(double tau, const State &old, State &next) const override {
     const size_t n = old.U.size();
     next.V.resize(n);

@@ -31,6 +31,10 @@ class Newmark : public TimeScheme {
     predict_taylor(tau, old, 0.5, U);
   }
   bool predicts_constant_acceleration() const override { return true; }
+  // implicit: gamma/(beta tau) (A^{n+1}'s slope c times gamma tau); explicit: gamma tau
+  double velocity_slope(double tau) const override {
+    return is_explicit() ? gamma_ * tau : gamma_ / (beta_ * tau);
+  }
   void update(double tau, const State &old, State &next) const override {
     if (is_explicit())
       newmark_velocity(gamma_, tau, old, next);

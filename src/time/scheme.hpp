@@ -69,6 +69,10 @@ class TimeScheme {
   // mean_weight()), Nbar from the scheme's contact term and Abar from
   // mean_acceleration(). The reactions and the obstacle's work come from it.
   virtual double mean_weight() const { return 0; }
+  // The update's V^{n+1} is affine in the step's unknown: in U^{n+1} for an
+  // implicit scheme, in A^{n+1} for an explicit one; its slope (the damping
+  // term C Vbar of docs/design.md §10.5 is formed from it and from update()).
+  virtual double velocity_slope(double tau) const = 0;
   virtual void mean_acceleration(double tau, const State &old, const State &next, std::vector<double> &A) const {
     (void)tau, (void)old;
     A = next.A;

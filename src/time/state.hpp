@@ -134,6 +134,9 @@ struct State {
   // obstacles were at t^n (contact/obstacles.hpp: positions)
   std::vector<double> normal, positions;
   double W_obstacle = 0;
+  // the energy the Rayleigh damping dissipated since t = 0: per step
+  // dU . C Vbar, C V taken where the scheme takes it (docs/design.md §10.5)
+  double D_damping = 0;
   // the reactions on the clamped DOFs of the step that led here (docs/design.md §8;
   // empty: not computed yet, e.g. at t^0)
   std::vector<double> reaction;

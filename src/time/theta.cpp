@@ -26,6 +26,8 @@ class Theta : public TimeScheme {
     predict_taylor(tau, old, th_, U);
   }
   bool predicts_constant_acceleration() const override { return !is_explicit(); }
+  // V^{n+1} = (U^{n+1} - U^n)/(tau theta) - ...; explicit: V^n + tau A^n, no A^{n+1}
+  double velocity_slope(double tau) const override { return is_explicit() ? 0.0 : 1 / (tau * th_); }
   void update(double tau, const State &old, State &next) const override {
     const size_t n = old.U.size();
     next.V.resize(n);

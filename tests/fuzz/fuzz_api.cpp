@@ -254,7 +254,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       case 33:  // operators out: sizes, then the arrays; the DOF map and the load
         if (p) {
           int64_t n = 0, nnz = 0;
-          const int kind = in.ConsumeIntegralInRange<int>(0, 6);
+          const int kind = in.ConsumeIntegralInRange<int>(0, 7);
           if (CALL(nd_problem_get_matrix, p, kind, &n, &nnz, nullptr, nullptr, nullptr) == ND_OK && n >= 0 &&
               n < 100000 && nnz >= 0 && nnz < 10000000) {
             std::vector<int64_t> ptr(static_cast<size_t>(n + 1)), col(static_cast<size_t>(nnz + 1));
@@ -328,6 +328,35 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           }
         }
         break;
+      case 40:  // Rayleigh damping: any values (negative, NaN, infinite refused)
+        if (p) CALL(nd_problem_set_damping, p, any_double(in), any_double(in));
+        break;
+      case 41:  // plane stress: refused outside 2D
+        if (p) CALL(nd_problem_set_plane_stress, p, in.ConsumeIntegralInRange<int>(-1, 2));
+        break;
+      case 42:  // the damping matrix out
+        if (p) {
+          int64_t n = 0, nnz = 0;
+          if (CALL(nd_problem_get_matrix, p, ND_MATRIX_DAMPING, &n, &nnz, nullptr, nullptr, nullptr) == ND_OK &&
+              n >= 0 && n < 100000 && nnz >= 0 && nnz < 10000000) {
+            std::vector<int64_t> ptr(static_cast<size_t>(n + 1)), col(static_cast<size_t>(nnz + 1));
+            buf.assign(static_cast<size_t>(nnz + 1), 0.0);
+            CALL(nd_problem_get_matrix, p, ND_MATRIX_DAMPING, &n, &nnz, ptr.data(), col.data(), buf.data());
+          }
+        }
+        break;
+      case 43:  // a damped step (valid values), whatever the scheme
+        if (p && CALL(nd_problem_set_damping, p, std::fabs(any_double(in)), 1e-3 * std::fabs(any_double(in))) == ND_OK &&
+            steps < 24) {
+          ++steps;
+          CALL(nd_step, p);
+        }
+        break;
+      case 44: {  // the damping's dissipation
+        double x;
+        if (p) CALL(nd_get_scalar, p, ND_DISSIPATION_DAMPING, &x);
+        break;
+      }
       case 55:  // friction: any law id, region and coefficient, then a step
         if (p) {
           const double c = any_double(in);

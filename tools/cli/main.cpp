@@ -108,7 +108,10 @@ Setup build(const Scene &s, Problem &prob) {
   call(nd_problem_create(mesh.m, s.degree, &prob.p), "nd_problem_create");
   nd_problem p = prob.p;
   for (const auto &g : s.guards) scene_call(nd_problem_set_guard(p, g.id, g.value), g.at, g.key);
+  if (s.plane_stress) scene_call(nd_problem_set_plane_stress(p, 1), s.material_at, "material.plane_stress");
   scene_call(nd_problem_set_material(p, s.young, s.poisson, s.density), s.material_at, "[material]");
+  if (s.damping[0] != 0 || s.damping[1] != 0)
+    scene_call(nd_problem_set_damping(p, s.damping[0], s.damping[1]), s.damping_at, "material.damping");
   for (const auto &c : s.clamped) scene_call(nd_problem_set_dirichlet(p, ndcli::region_id(s, c)), c.at, "dirichlet");
   if (!s.body_force.empty())
     scene_call(nd_problem_set_body_force(p, s.body_force.data()), s.body_force_at, "loads.body_force");

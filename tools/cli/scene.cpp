@@ -26,7 +26,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
             "solver", "initial", "output", "guards", "checkpoint"}},
       {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
       {"regions.NAME", {"id", "lo", "hi"}},
-      {"material", {"E", "nu", "rho"}},
+      {"material", {"E", "nu", "rho", "damping", "plane_stress"}},
       {"loads", {"body_force", "traction"}},
       {"loads.traction", {"region", "value"}},
       {"dirichlet", {"regions"}},
@@ -633,6 +633,18 @@ Scene parse_scene(std::string_view text, const std::string &path) {
     const double zero = 0;
     s.poisson = r.number(t, "material", "nu", &zero);
     if (!s.poisson_given && s.dim > 1) r.missing(t, "material", "nu", "Poisson's ratio");
+    if (const toml::node *n = t.get("damping")) {  // Rayleigh: [alpha, beta], C = alpha M + beta K
+      const std::vector<double> ab = r.vector(*n, "material", "damping");
+      if (ab.size() != 2)
+        r.fail(n->source(), "'material.damping' is [alpha, beta] (C = alpha M + beta K), not " +
+                                std::to_string(ab.size()) + " numbers");
+      s.damping = {ab[0], ab[1]};
+      s.damping_at = r.where(n->source());
+    }
+    if (const toml::node *n = t.get("plane_stress")) {
+      if (!n->is_boolean()) r.wrong_type(*n, "material", "plane_stress", "true or false");
+      s.plane_stress = *n->value<bool>();
+    }
   }
 
   if (const toml::node *n = root.get("loads")) {

@@ -79,6 +79,9 @@ struct Scene {
   // [material]
   double young = 0, poisson = 0, density = 0;
   bool poisson_given = false;
+  std::array<double, 2> damping{0, 0};  // [material] damping = [alpha, beta]
+  std::string damping_at;
+  bool plane_stress = false;  // [material] plane_stress (2D)
   std::string material_at;
   // [loads]
   std::vector<double> body_force;

@@ -11,11 +11,13 @@
  * (the guard's default factor), became non-finite, or a contact point sank
  * deeper than half its cell size: what the guards exist to catch. late: the
  * steps accepted past those limits before a guard stopped the run.
- * theory: for the hybrid scheme with Theta = 1, whether E_Theta - W never
- * increased (part 2 of the paper), else "-".
+ * theory: for the hybrid scheme with Theta = 1, whether E_Theta + D - W never
+ * increased (part 2 of the paper; D the damping's dissipation), else "-".
  *
  * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR
- *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha */
+ *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha,
+ *   each with the suffix _damped for Rayleigh damping alpha = 0.05, beta = 0.1 tau
+ *   (damping ratio about 0.1 at the highest frequency the step resolves) */
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -52,7 +54,12 @@ int main(int argc, char **argv) {
     fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR\n", argv[0]);
     return 2;
   }
-  const char *scene = argv[1], *scheme_name = argv[3];
+  const char *scene = argv[1], *scheme_arg = argv[3];
+  char scheme_name[32];
+  snprintf(scheme_name, sizeof scheme_name, "%s", scheme_arg);
+  char *suffix = strstr(scheme_name, "_damped");
+  const int damped = suffix != NULL;
+  if (suffix) *suffix = '\0';
   const int degree = atoi(argv[2]);
   const double Theta = atof(argv[4]), gamma0E = atof(argv[5]);
   nd_mesh m = NULL;
@@ -100,6 +107,7 @@ int main(int argc, char **argv) {
   }
   if (!st) st = nd_problem_set_scheme(p, scheme, params);
   if (!st) st = nd_problem_set_timestep(p, tau);
+  if (!st && damped) st = nd_problem_set_damping(p, 0.05, 0.1 * tau);
   if (st) {
     fprintf(stderr, "%s\n", nd_last_error());
     return 1;
@@ -131,7 +139,7 @@ int main(int argc, char **argv) {
   int code = ND_OK;
   int64_t k = 0;
   double E0 = get(p, ND_ENERGY_MECHANICAL), budget = E0, growth = 0, pen = 0, its = 0;
-  double prev = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), scale = fabs(prev);
+  double prev = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), scale = fabs(prev);  /* (D = 0 at t = 0) */
   int theory_ok = 1, late = 0;
   st = nd_problem_setup(p);
   if (st) {
@@ -143,15 +151,15 @@ int main(int argc, char **argv) {
         outcome = "stopped_at_step", code = st;
         break;
       }
-      const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK);
+      const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK), D = get(p, ND_DISSIPATION_DAMPING);
       budget = fmax(budget, E0 + W);
-      const double r = budget > 0 ? Em / budget : (Em > 0 ? INFINITY : 0);
+      const double r = budget > 0 ? (Em + D) / budget : (Em + D > 0 ? INFINITY : 0);
       growth = fmax(growth, isfinite(r) ? r : INFINITY);
       pen = fmax(pen, get(p, ND_MAX_PENETRATION) / h);
       its += get(p, ND_NEWTON_ITERATIONS);
       if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) / h > 0.5) ++late;
-      const double e = get(p, ND_ENERGY_AUGMENTED) - W;
-      scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W));
+      const double e = get(p, ND_ENERGY_AUGMENTED) + D - W;
+      scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W) + D);
       if (e > prev + 1e-10 * scale) theory_ok = 0;
       prev = e;
     }
@@ -164,7 +172,7 @@ int main(int argc, char **argv) {
     for (char *c = msg; *c; ++c)
       if (*c == '"' || *c == ',' || *c == '\n') *c = ' ';
   }
-  printf("%s,%d,%s,%g,%g,%g,%" PRId64 ",%s,%s,%" PRId64 ",%.4g,%.4g,%d,%.3f,%.3f,%s,\"%s\"\n", scene, degree, scheme_name, Theta, gamma0E,
+  printf("%s,%d,%s,%g,%g,%g,%" PRId64 ",%s,%s,%" PRId64 ",%.4g,%.4g,%d,%.3f,%.3f,%s,\"%s\"\n", scene, degree, scheme_arg, Theta, gamma0E,
          tau, steps, outcome, code_name(code), code ? k : (int64_t)0, growth, pen, late,
          k > 0 ? its / (double)(code ? k - 1 : steps) : 0.0, now() - t0, theory, msg);
   nd_problem_destroy(&p);

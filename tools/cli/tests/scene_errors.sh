@@ -231,6 +231,16 @@ fi
 expect 2 guard_negative 'guards.energy' 's/^\[time\]/[guards]\nenergy = -1.0\n[time]/'
 expect 2 guard_not_bool 'guards.coercivity' 's/^\[time\]/[guards]\ncoercivity = 1\n[time]/'
 expect 2 guard_unknown "unknown key 'guards.energi'" 's/^\[time\]/[guards]\nenergi = 2.0\n[time]/'
+# [material] damping = [alpha, beta] and plane_stress (nd_problem_set_damping(3), nd_problem_set_plane_stress(3))
+expect 0 damped '' '6a\
+damping = [0.2, 0.001]\
+plane_stress = true'
+expect 2 damping_count "damping_count.toml:7:11: 'material.damping' is [alpha, beta]" '6a\
+damping = [0.2]'
+expect 2 damping_negative "nd_problem_set_damping: alpha must be >= 0" '6a\
+damping = [-0.2, 0.0]'
+expect 2 plane_stress_type "'material.plane_stress'" '6a\
+plane_stress = 1'
 expect 0 guards_valid '' 's/^\[time\]/[guards]\nenergy = 3.0\npenetration = 0.0\ncritical_timestep = true\n[time]/'
 grep -q ':1[0-9]:[0-9]*: ' guard_negative.err || fail "guard_negative: no file:line:col in $(cat guard_negative.err)"
 expect 2 checkpoint_no_file "[checkpoint] has no key 'file'" 's/^\[time\]/[checkpoint]\nevery = 2\n[time]/'
