@@ -56,7 +56,7 @@ import getfem as gf
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from getfem_drop import cell_diameters  # noqa: E402  (the same h_K as bench/getfem_drop.py)
+from getfem_drop import gamma0_field  # noqa: E402  (the same gamma as bench/getfem_drop.py)
 
 NX, NY, LO, HI = 8, 4, (0.0, 0.0), (2.0, 1.0)
 YOUNG, POISSON, RHO = 1e4, 0.3, 1.0
@@ -133,17 +133,7 @@ class GetFEM:
         self.n = self.mf.nbdof()
         self.c = 1.0 / (TAU * TAU)  # theta-scheme, theta = 1
 
-        mf0 = gf.MeshFem(m, 1)
-        mf0.set_classical_discontinuous_fem(0)
-        aux = gf.Model("real")
-        aux.add_fem_variable("e", mf0)
-        es = np.asarray(gf.asm_generic(self.mim, 1, "element_size*Test_e", -1, aux), dtype=float)
-        vol = np.asarray(gf.asm_generic(self.mim, 1, "Test_e", -1, aux), dtype=float)
-        hK = cell_diameters(m)
-        g0 = np.zeros(mf0.nbdof())
-        for cv in m.cvid():
-            dof = mf0.basic_dof_from_cv(cv)[0]
-            g0[dof] = (es[dof] / vol[dof]) / (gamma0 * hK[cv])
+        mf0, g0 = gamma0_field(m, self.mim, gamma0)
 
         md = gf.Model("real")
         md.add_fem_variable("u", self.mf)
