@@ -81,6 +81,23 @@ def cell_diameters(m):
     return h
 
 
+def gamma0_field(m, mim, gamma0):
+    """(mf0, gamma0_getfem): a P0 field with GetFEM's gamma = element_size /
+    gamma0_getfem equal to ours, gamma0 h_K, cell by cell."""
+    mf0 = gf.MeshFem(m, 1)
+    mf0.set_classical_discontinuous_fem(0)
+    aux = gf.Model("real")
+    aux.add_fem_variable("e", mf0)
+    es = np.asarray(gf.asm_generic(mim, 1, "element_size*Test_e", -1, aux), dtype=float)
+    vol = np.asarray(gf.asm_generic(mim, 1, "Test_e", -1, aux), dtype=float)
+    hK = cell_diameters(m)
+    g0 = np.zeros(mf0.nbdof())
+    for cv in m.cvid():
+        dof = mf0.basic_dof_from_cv(cv)[0]
+        g0[dof] = (es[dof] / vol[dof]) / (gamma0 * hK[cv])
+    return mf0, g0
+
+
 class Drop:
     def __init__(self, mesh, dim, degree, tau):
         self.dim, self.tau = dim, tau
@@ -94,18 +111,7 @@ class Drop:
         n = self.mf.nbdof()
         self.n = n
 
-        # gamma0_getfem per cell: GetFEM's gamma = element_size / gamma0_getfem = gamma0 h_K
-        mf0 = gf.MeshFem(m, 1)
-        mf0.set_classical_discontinuous_fem(0)
-        aux = gf.Model("real")
-        aux.add_fem_variable("e", mf0)
-        es = np.asarray(gf.asm_generic(self.mim, 1, "element_size*Test_e", -1, aux), dtype=float)
-        vol = np.asarray(gf.asm_generic(self.mim, 1, "Test_e", -1, aux), dtype=float)
-        hK = cell_diameters(m)
-        g0 = np.zeros(mf0.nbdof())
-        for cv in m.cvid():
-            dof = mf0.basic_dof_from_cv(cv)[0]
-            g0[dof] = (es[dof] / vol[dof]) / (GAMMA0 * hK[cv])
+        mf0, g0 = gamma0_field(m, self.mim, GAMMA0)
 
         md = gf.Model("real")
         md.add_fem_variable("u", self.mf)
