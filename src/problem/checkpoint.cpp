@@ -124,6 +124,8 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
   {
     Hash h;
     h.value(def.material.young), h.value(def.material.poisson), h.value(def.material.density);
+    for (const auto &[region, m] : def.region_materials)  // (none: the print of one material)
+      h.value(region), h.value(m.young), h.value(m.poisson), h.value(m.density);
     done(kPrintMaterial, h);
   }
   if (def.given & kNitsche) {

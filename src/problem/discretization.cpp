@@ -25,7 +25,8 @@ namespace {
 // nodes when the definition asks for it.
 BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const Definition &def,
                                  const std::vector<char> *on_contact, const AssemblyPart &part) {
-  BulkOperators bulk = assemble_bulk(space, dofs, def.material, def.redistributed ? on_contact : nullptr, part);
+  BulkOperators bulk =
+      assemble_bulk(space, dofs, materials_of(space, def), def.redistributed ? on_contact : nullptr, part);
   if (def.lumped) {
     bulk.M = bulk.K.zeros_like();
     for (int64_t i = 0; i < bulk.M.n; ++i)
@@ -34,6 +35,10 @@ BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const D
   return bulk;
 }
 }  // namespace
+
+CellMaterials materials_of(const Space &space, const Definition &def) {
+  return cell_materials(def.material, def.region_materials, space.mesh->cell_region);
+}
 
 bool splits_rows(const Definition &def) {
   return communicator_size(def.comm.get()) > 1 && linear_solver_distributes(def.solver) && !def.lumped &&
@@ -78,7 +83,7 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
         if (def.planes[ip].region == regions[r]) plane_of[r] = static_cast<int>(ip);
   size_t q = 0;  // (normal_of is called for each point in turn)
   ContactPoints cp = assemble_contact(
-      space, dofs, def.material, regions, plane_of,
+      space, dofs, materials_of(space, def), regions, plane_of,
       [&](size_t r, const double *x, double *nu) {
         if (plane_of[r] >= 0) {
           for (int k = 0; k < space.dim; ++k) nu[k] = def.planes[plane_of[r]].normal[k];
@@ -135,7 +140,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     fail(ND_ERR_INTERNAL, std::string("the contact law ") + d->contact_law->name() + " has " +
                               std::to_string(d->contact_law->traits().m) + " values per point; the passes hold one");
   d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr);
-  d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
+  d->gamma0_limit = gamma0_limit(space, d->dofs, materials_of(space, def), d->contact);
   if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen);
   d->theta = def.theta;
   d->gamma0 = def.gamma0;
@@ -143,7 +148,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     if (!(d->gamma0_limit > 0 && std::isfinite(d->gamma0_limit)))
       fail(ND_ERR_NITSCHE, "no automatic gamma0: the coercivity limit is " + num(d->gamma0_limit));
     d->gamma0 = kAutomaticGamma0Fraction * d->gamma0_limit / std::max(def.theta, 1.0);
-    for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
+    for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.gamma_length[q];
   }
   set_bounds(d->contact);
   require_shared_index_lists(d->contact);
@@ -160,7 +165,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   if (!d->rows_split) d->node_blocks = make_node_blocks(d->K, d->M, space.dim);
   if (d->dofs.n_free < space.n_dofs())
     d->clamped = std::make_unique<ClampedRows>(
-        clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));
+        clamped_rows(space, d->dofs, materials_of(space, def), def.redistributed ? &on_contact : nullptr));
   return d;
 }
 
