@@ -144,27 +144,36 @@ static nd_mesh layered_rectangle(int nx, int ny, double W, double H, int layers)
 static const double kLayers[3][3] = {{100, 0.3, 1}, {400, 0.25, 3}, {50, 0.2, 0.5}};
 static const double kDefault[3] = {70, 0.35, 2};
 
-/* gravity g downwards as nodal forces -g (M 1_y): the weight of each cell's
-   own density (every DOF free); returns the total weight g 1_y' M 1_y */
-static double gravity(nd_problem p, double g) {
+/* 1_y' M 1_y of the mass `which` (ND_MATRIX_MASS, ND_MATRIX_LUMPED_MASS; every
+   DOF free) and, unless f is NULL, the nodal forces f = -g M 1_y */
+static double mass_y(nd_problem p, int which, double g, double *f) {
   int64_t n = 0, nnz = 0;
-  ND_OK_OR_FAIL(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, NULL, NULL, NULL));
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &n, &nnz, NULL, NULL, NULL));
   int64_t *ptr = malloc(sizeof(int64_t) * (size_t)(n + 1)), *col = malloc(sizeof(int64_t) * (size_t)nnz),
           *node = malloc(sizeof(int64_t) * (size_t)n);
-  double *val = malloc(sizeof(double) * (size_t)nnz), *f = calloc((size_t)(2 * nodes(p)), sizeof(double));
+  double *val = malloc(sizeof(double) * (size_t)nnz);
   int *comp = malloc(sizeof(int) * (size_t)n);
-  ND_OK_OR_FAIL(nd_problem_get_matrix(p, ND_MATRIX_MASS, &n, &nnz, ptr, col, val));
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &n, &nnz, ptr, col, val));
   ND_OK_OR_FAIL(nd_problem_get_dof_map(p, n, node, comp));
   ck_assert_int_eq(n, 2 * nodes(p));
-  double weight = 0;
+  double mass = 0;
   for (int64_t i = 0; i < n; ++i)
     for (int64_t k = ptr[i]; k < ptr[i + 1]; ++k)
       if (comp[i] == 1 && comp[col[k]] == 1) {
-        f[2 * node[i] + 1] -= g * val[k];
-        weight += g * val[k];
+        if (f) f[2 * node[i] + 1] -= g * val[k];
+        mass += val[k];
       }
+  free(ptr), free(col), free(node), free(val), free(comp);
+  return mass;
+}
+
+/* gravity g downwards as nodal forces -g M 1_y: the weight of each cell's
+   own density; returns the total weight g 1_y' M 1_y */
+static double gravity(nd_problem p, double g) {
+  double *f = calloc((size_t)(2 * nodes(p)), sizeof(double));
+  const double weight = g * mass_y(p, ND_MATRIX_MASS, g, f);
   ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, nodes(p), f));
-  free(ptr), free(col), free(node), free(val), free(f), free(comp);
+  free(f);
   return weight;
 }
 
@@ -176,7 +185,8 @@ START_TEST(layered_column_carries_its_weight) {
      f^{n+1} - W, Pi the momentum, f the contact resultant, W the weight;
      at rest f = W to Newton's tolerance (relative 1e-10, the default). The weight itself
      is g 1_y' M 1_y = g sum_i rho_i V_i: the mass matrix integrates each
-     cell's own density exactly. The default material is no layer's: the
+     cell's own density exactly (and so do its HRZ lumping and its
+     redistribution, which keep each cell's mass). The default material is no layer's: the
      contact rows s_q and gamma_q = gamma0 h_K E/E_K are the bottom layer's,
      so gamma0* (ND_GAMMA0_LIMIT) is the bottom material's alone times E_K/E
      (S_K scales by E/E_K, K_e stays), to the eigensolver's round-off. */
@@ -201,6 +211,12 @@ START_TEST(layered_column_carries_its_weight) {
     ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
     const double W = gravity(p, g), exact = g * (kLayers[0][2] + kLayers[1][2] + kLayers[2][2]) * 1.0;
     ck_assert_double_le(fabs(W - exact), 1e-12 * exact);
+    /* the HRZ lumping and the mass redistribution keep each cell's mass */
+    ck_assert_double_le(fabs(g * mass_y(p, ND_MATRIX_LUMPED_MASS, g, NULL) - exact), 1e-12 * exact);
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+    ck_assert_double_le(fabs(g * mass_y(p, ND_MATRIX_MASS, g, NULL) - exact), 1e-12 * exact);
+    ck_assert_double_le(fabs(g * mass_y(p, ND_MATRIX_LUMPED_MASS, g, NULL) - exact), 1e-12 * exact);
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 0));
     double f = 0, pi = 0, worst = 0;
     for (int s = 0; s < 60; ++s) {
       ND_OK_OR_FAIL(nd_step(p));
@@ -331,6 +347,75 @@ START_TEST(one_material_in_regions_is_bitwise_one_material) {
 }
 END_TEST
 
+START_TEST(stress_and_restart_take_the_cells_material) {
+  /* The bar (0, 1) | (1, 2) of E = 1 | 4 at the uniform stress s = 0.3 of
+     uniaxial tension: u = s x / E1, then s (x - 1)/E2 past the interface
+     (continuous, piecewise linear: exact for P1 and P2). Each cell's stress
+     in the VTU is s to round-off. Then a checkpoint: a problem of the same
+     materials resumes it bit for bit; one of another region material refuses
+     it (ND_ERR_STATE, naming the material). */
+  const double E1 = 1, E2 = 4, s = 0.3, tau = 0.01;
+  for (int degree = 1; degree <= 2; ++degree) {
+    nd_problem p[3] = {NULL, NULL, NULL};
+    for (int k = 0; k < 3; ++k) {
+      nd_mesh m = NULL;
+      const int64_t right[3] = {3, 4, 5};
+      ND_OK_OR_FAIL(nd_mesh_create_interval(6, 0.0, 2.0, &m));
+      ND_OK_OR_FAIL(nd_mesh_set_cell_region(m, 1, 3, right));
+      ND_OK_OR_FAIL(nd_problem_create(m, degree, &p[k]));
+      ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+      ND_OK_OR_FAIL(nd_problem_set_material(p[k], E1, 0, 1));
+      ND_OK_OR_FAIL(nd_problem_set_material_region(p[k], 1, k == 2 ? 2 * E2 : E2, 0, 3));
+      ND_OK_OR_FAIL(nd_problem_set_scheme(p[k], ND_SCHEME_HYBRID, NULL));
+      ND_OK_OR_FAIL(nd_problem_set_timestep(p[k], tau));
+    }
+    const int64_t n = nodes(p[0]);
+    double *x = malloc(sizeof(double) * (size_t)n), *u = malloc(sizeof(double) * (size_t)n),
+           *a = malloc(sizeof(double) * (size_t)n), *b = malloc(sizeof(double) * (size_t)n);
+    ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p[0], n, x));
+    for (int64_t i = 0; i < n; ++i) u[i] = x[i] <= 1 ? s * x[i] / E1 : s / E1 + s * (x[i] - 1) / E2;
+    ND_OK_OR_FAIL(nd_problem_set_initial_state(p[0], n, u, NULL));
+    char vtu[64];
+    snprintf(vtu, sizeof vtu, "/tmp/nd_materials_%d.vtu", (int)getpid());
+    ND_OK_OR_FAIL(nd_problem_write_vtu(p[0], vtu));
+    static char text[1 << 16];
+    FILE *fp = fopen(vtu, "r");
+    ck_assert_ptr_nonnull(fp);
+    text[fread(text, 1, sizeof text - 1, fp)] = '\0';
+    fclose(fp);
+    remove(vtu);
+    const char *at = strstr(text, "Name=\"stress\"");
+    ck_assert_ptr_nonnull(at);
+    at = strchr(at, '>') + 1;
+    double worst = 0;
+    for (int c = 0; c < 6; ++c) {
+      char *end = NULL;
+      worst = fmax(worst, fabs(strtod(at, &end) - s));
+      ck_assert_msg(end != at, "cell %d: no stress", c);
+      at = end;
+    }
+    printf("bar of two materials in tension, P%d: every cell's stress %g to %.2g\n", degree, s, worst);
+    ck_assert_double_le(worst, 1e-14 * 4 * s); /* a few ulps of E |grad u| */
+    /* the restart */
+    for (int k = 0; k < 5; ++k) ND_OK_OR_FAIL(nd_step(p[0]));
+    int64_t size = 0;
+    unsigned char *buf = nd_test_checkpoint(p[0], &size);
+    ND_OK_OR_FAIL(nd_problem_load_state(p[1], size, buf));
+    ck_assert_int_eq(nd_problem_load_state(p[2], size, buf), ND_ERR_STATE);
+    ck_assert_msg(strstr(nd_last_error(), "material") != NULL, "%s", nd_last_error());
+    for (int k = 0; k < 5; ++k) {
+      ND_OK_OR_FAIL(nd_step(p[0]));
+      ND_OK_OR_FAIL(nd_step(p[1]));
+      ND_OK_OR_FAIL(nd_get_field(p[0], ND_FIELD_DISPLACEMENT, n, a));
+      ND_OK_OR_FAIL(nd_get_field(p[1], ND_FIELD_DISPLACEMENT, n, b));
+      ck_assert(memcmp(a, b, sizeof(double) * (size_t)n) == 0);
+    }
+    free(buf), free(x), free(u), free(a), free(b);
+    for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_problem_destroy(&p[k]));
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("materials");
   TCase *tc = tcase_create("materials");
@@ -339,6 +424,7 @@ int main(void) {
   tcase_add_test(tc, layered_column_carries_its_weight);
   tcase_add_test(tc, gmsh_physical_groups_of_cells);
   tcase_add_test(tc, one_material_in_regions_is_bitwise_one_material);
+  tcase_add_test(tc, stress_and_restart_take_the_cells_material);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

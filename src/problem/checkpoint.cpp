@@ -294,7 +294,7 @@ int64_t max_state_size(const StateSizes &sizes) {
 
 namespace {
 const char *const kAspectNames[kPrintAspects] = {
-    "material (nd_problem_set_material)",
+    "material (nd_problem_set_material, nd_problem_set_material_region)",
     "Nitsche parameters (Theta, gamma0 in use)",
     "time scheme or its parameters",
     "time step",
