@@ -235,15 +235,8 @@ START_TEST(layered_column_carries_its_weight) {
 }
 END_TEST
 
-static void write_file(const char *path, const char *text) {
-  FILE *fp = fopen(path, "w");
-  ck_assert_ptr_nonnull(fp);
-  fputs(text, fp);
-  fclose(fp);
-}
-
 static void expect_cell_regions(const char *path, const char *text, const int *expected) {
-  write_file(path, text);
+  nd_test_write_file(path, text);
   nd_mesh m = NULL;
   ND_OK_OR_FAIL(nd_mesh_read_gmsh(path, &m));
   int64_t n = 0, facets = 0;

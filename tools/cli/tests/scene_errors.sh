@@ -228,38 +228,26 @@ else
 fi
 
 # [[material]]: a material per cell region (the disk's physical surface is
-# cell region 10), and what is refused
-expect 0 material_region_gmsh '' '3s/.*/[[material]]/;6a\
-[[material]]\
-region = 10\
-E = 80.0\
-nu = 0.3\
-rho = 2.0'
-expect 2 material_region_none "cell region 5 has no cells" '3s/.*/[[material]]/;6a\
-[[material]]\
-region = 5\
-E = 80.0\
-nu = 0.3\
-rho = 2.0'
+# cell region 10), and what is refused. material_entry STATUS NAME 'MESSAGE'
+# LINES...: base.toml with its [material] as [[material]] and a second
+# entry of these lines
+material_entry() {
+  want=$1 name=$2 msg=$3
+  shift 3
+  printf '[[material]]\n' > "$name.entry"
+  printf '%s\n' "$@" >> "$name.entry"
+  sed -e '3s/.*/[[material]]/' -e "6r $name.entry" base.toml > "$name.toml"
+  expect_file "$want" "$name" "$msg"
+}
+material_entry 0 material_region_gmsh '' 'region = 10' 'E = 80.0' 'nu = 0.3' 'rho = 2.0'
+material_entry 2 material_region_none "cell region 5 has no cells" 'region = 5' 'E = 80.0' 'nu = 0.3' 'rho = 2.0'
+material_entry 2 material_two_defaults "a second [[material]] without 'region'" 'E = 1.0' 'nu = 0.3' 'rho = 1.0'
+material_entry 2 material_region_zero "'material.region' must be an integer from 1" 'region = 0' 'E = 8.0' 'nu = 0.3' \
+  'rho = 2.0'
+material_entry 2 material_region_nu "has no key 'nu'" 'region = 10' 'E = 80.0' 'rho = 2.0'
 expect 2 material_no_default "no default material" '3s/.*/[[material]]\nregion = 10/'
-expect 2 material_two_defaults "a second [[material]] without 'region'" '3s/.*/[[material]]/;6a\
-[[material]]\
-E = 1.0\
-nu = 0.3\
-rho = 1.0'
-expect 2 material_region_zero "material.region" '3s/.*/[[material]]/;6a\
-[[material]]\
-region = 0\
-E = 80.0\
-nu = 0.3\
-rho = 2.0'
 expect 2 material_box_without_region "'material.lo' needs 'material.region'" '6a\
 lo = [0.0, 0.0]'
-expect 2 material_region_nu "has no key 'nu'" '3s/.*/[[material]]/;6a\
-[[material]]\
-region = 10\
-E = 80.0\
-rho = 2.0'
 # the block's upper half as cell region 2 (by box) of the block's own
 # material: the history bit for bit; of another, a different one
 for case in same other; do
