@@ -247,7 +247,8 @@ ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
    after nd_problem_setup the point is where it is at the next step's end) */
 ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
                                            const double *normal);
-/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet);
+/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet; times
+   E / E_K with several materials, nd_problem_set_material_region);
    gamma0 = 0 chooses a safe value (half the coercivity limit, ND_GAMMA0) */
 /* More rigid obstacles for a region (docs/design.md §10.1); at each contact
    point the nearest acts. inside = 1: the body is inside the shell (a bowl).
