@@ -220,7 +220,9 @@ ND_EXPORT int nd_mesh_create_rectangle(int64_t nx, int64_t ny, const double lo[2
 ND_EXPORT int nd_mesh_create_box(int64_t nx, int64_t ny, int64_t nz, const double lo[3],
                                  const double hi[3], nd_mesh *out);
 /* Gmsh MSH 4.1 or 2.2, ASCII: the cells of the top dimension; each physical
-   group of facets becomes the region with the group's tag. */
+   group of facets becomes the region with the group's tag, each physical
+   group of cells the cell region with its tag (a cell in several groups:
+   the largest tag). */
 ND_EXPORT int nd_mesh_read_gmsh(const char *path, nd_mesh *out);
 /* Adds boundary facets (dim vertices each) to a region (region >= 0). */
 ND_EXPORT int nd_mesh_set_region(nd_mesh m, int region, int64_t n_facets,
@@ -228,6 +230,12 @@ ND_EXPORT int nd_mesh_set_region(nd_mesh m, int region, int64_t n_facets,
 /* Adds the boundary facets whose vertices all lie in the box [lo, hi]. */
 ND_EXPORT int nd_mesh_mark_boundary_box(nd_mesh m, int region, const double *lo,
                                         const double *hi);
+/* Puts n_cells cells (0-based indices) in cell region cell_region (>= 0),
+   taking them out of the region they were in; a cell in no region is in
+   region 0. Materials per cell region: nd_problem_set_material_region. */
+ND_EXPORT int nd_mesh_set_cell_region(nd_mesh m, int cell_region, int64_t n_cells, const int64_t *cells);
+/* Each cell's region (n_cells = the mesh's cell count values; 0: none). */
+ND_EXPORT int nd_mesh_get_cell_regions(nd_mesh m, int64_t n_cells, int *region);
 ND_EXPORT int nd_mesh_get_dimension(nd_mesh m, int *dim);
 ND_EXPORT int nd_mesh_get_vertex_count(nd_mesh m, int64_t *n_vertices);
 ND_EXPORT int nd_mesh_get_cell_count(nd_mesh m, int64_t *n_cells);
@@ -241,6 +249,11 @@ ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out);
    2D is plane strain. In 1D sigma = E u_x and `poisson` is ignored. */
 ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson,
                                       double density);
+/* The material of the cells of cell region cell_region (>= 1, with cells in
+   the problem's mesh); the other cells keep nd_problem_set_material's, which
+   stays required. Checked as nd_problem_set_material. */
+ND_EXPORT int nd_problem_set_material_region(nd_problem p, int cell_region, double young, double poisson,
+                                             double density);
 ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region);
 ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f);
 ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
@@ -249,7 +262,8 @@ ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
    after nd_problem_setup the point is where it is at the next step's end) */
 ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const double *point,
                                            const double *normal);
-/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet);
+/* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet; times
+   E / E_K with several materials, nd_problem_set_material_region);
    gamma0 = 0 chooses a safe value (half the coercivity limit, ND_GAMMA0) */
 /* More rigid obstacles for a region (docs/design.md §10.1); at each contact
    point the nearest acts. inside = 1: the body is inside the shell (a bowl).

@@ -626,6 +626,56 @@ START_TEST(problem_damping_plane_stress) {
 }
 END_TEST
 
+/* cell regions (nd_mesh_set_cell_region, nd_mesh_get_cell_regions) and a
+   material per region: each refusal changes nothing */
+START_TEST(cell_regions_and_materials) {
+  nd_mesh m = NULL;
+  int region[4] = {-1, -1, -1, -1};
+  const int64_t two[] = {1, 2}, mixed[] = {0, 4}, negative = -1;
+  EXPECT_OK(nd_mesh_create_interval(4, 0.0, 1.0, &m));
+  EXPECT_ERR(nd_mesh_set_cell_region(NULL, 1, 2, two), ND_ERR_NULL, "nd_mesh_set_cell_region", "mesh");
+  EXPECT_ERR(nd_mesh_set_cell_region(m, 1, 2, NULL), ND_ERR_NULL, "nd_mesh_set_cell_region", "cells");
+  EXPECT_ERR(nd_mesh_set_cell_region(m, -1, 2, two), ND_ERR_REGION, "nd_mesh_set_cell_region", "cell_region");
+  EXPECT_ERR(nd_mesh_set_cell_region(m, 1, 0, two), ND_ERR_SIZE, "nd_mesh_set_cell_region", "n_cells");
+  EXPECT_ERR(nd_mesh_set_cell_region(m, 1, 2, mixed), ND_ERR_INDEX, "nd_mesh_set_cell_region", "cells[1] = 4");
+  EXPECT_ERR(nd_mesh_set_cell_region(m, 1, 1, &negative), ND_ERR_INDEX, "nd_mesh_set_cell_region", "cells[0]");
+  EXPECT_ERR(nd_mesh_get_cell_regions(NULL, 4, region), ND_ERR_NULL, "nd_mesh_get_cell_regions", "mesh");
+  EXPECT_ERR(nd_mesh_get_cell_regions(m, 4, NULL), ND_ERR_NULL, "nd_mesh_get_cell_regions", "region");
+  EXPECT_ERR(nd_mesh_get_cell_regions(m, 3, region), ND_ERR_SIZE, "nd_mesh_get_cell_regions", "n_cells");
+  ck_assert_int_eq(region[0], -1); /* a refused call writes nothing */
+  EXPECT_OK(nd_mesh_get_cell_regions(m, 4, region)); /* the refused calls moved no cell */
+  for (int c = 0; c < 4; ++c) ck_assert_int_eq(region[c], 0);
+  EXPECT_OK(nd_mesh_set_cell_region(m, 5, 2, two));
+  EXPECT_OK(nd_mesh_get_cell_regions(m, 4, region));
+  ck_assert_int_eq(region[0], 0);
+  ck_assert_int_eq(region[1], 5);
+  ck_assert_int_eq(region[2], 5);
+
+  nd_problem p = NULL;
+  EXPECT_OK(nd_problem_create(m, 1, &p));
+  EXPECT_OK(nd_mesh_destroy(&m));
+  EXPECT_ERR(nd_problem_set_material_region(NULL, 5, 1, 0, 1), ND_ERR_NULL, "nd_problem_set_material_region",
+             "problem");
+  EXPECT_ERR(nd_problem_set_material_region(p, 0, 1, 0, 1), ND_ERR_REGION, "nd_problem_set_material_region",
+             "cell_region is 0");
+  EXPECT_ERR(nd_problem_set_material_region(p, 6, 1, 0, 1), ND_ERR_REGION, "nd_problem_set_material_region",
+             "cell region 6 has no cells");
+  EXPECT_ERR(nd_problem_set_material_region(p, 5, 0, 0, 1), ND_ERR_MATERIAL, "nd_problem_set_material_region",
+             "young");
+  EXPECT_ERR(nd_problem_set_material_region(p, 5, 1, 0, NAN), ND_ERR_MATERIAL, "nd_problem_set_material_region",
+             "density");
+  /* a region's material does not give the default one */
+  EXPECT_OK(nd_problem_set_material_region(p, 5, 2, 0, 3));
+  EXPECT_ERR(nd_problem_setup(p), ND_ERR_INCOMPLETE, "nd_problem_setup", "nd_problem_set_material");
+  EXPECT_OK(nd_problem_destroy(&p));
+
+  p = problem_2d(); /* 2D: Poisson's ratio is checked as nd_problem_set_material does */
+  EXPECT_ERR(nd_problem_set_material_region(p, 1, 1, 0.5, 1), ND_ERR_MATERIAL, "nd_problem_set_material_region",
+             "poisson");
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(problem_nitsche_timestep) {
   nd_problem p = problem_1d();
   EXPECT_OK(nd_problem_set_nitsche(p, 1, 0)); /* automatic */
@@ -1461,6 +1511,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_null_arrays);
   tcase_add_test(def, problem_create_degree);
   tcase_add_test(def, problem_material);
+  tcase_add_test(def, cell_regions_and_materials);
   tcase_add_test(def, problem_nitsche_timestep);
   tcase_add_test(def, problem_damping_plane_stress);
   tcase_add_test(def, problem_scheme);

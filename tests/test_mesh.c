@@ -44,13 +44,6 @@ START_TEST(duplicate_vertices_are_refused) {
 }
 END_TEST
 
-static void write_file(const char *path, const char *text) {
-  FILE *f = fopen(path, "w");
-  ck_assert_ptr_nonnull(f);
-  fputs(text, f);
-  fclose(f);
-}
-
 /* the Gmsh reader applies the rule to the nodes its cells use, by tag; a
    duplicate node that no cell uses is dropped with the other unused nodes */
 START_TEST(gmsh_duplicate_nodes) {
@@ -63,14 +56,14 @@ START_TEST(gmsh_duplicate_nodes) {
   char text[512];
   nd_mesh m = NULL;
   snprintf(text, sizeof text, "%s$Elements\n2\n1 2 2 0 1 1 2 3\n2 2 2 0 1 2 5 3\n$EndElements\n", head);
-  write_file(path, text);
+  nd_test_write_file(path, text);
   ND_OK_OR_FAIL(nd_mesh_read_gmsh(path, &m)); /* node 4 repeats node 2, unused */
   int64_t n = 0;
   ND_OK_OR_FAIL(nd_mesh_get_vertex_count(m, &n));
   ck_assert_int_eq(n, 4);
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
   snprintf(text, sizeof text, "%s$Elements\n2\n1 2 2 0 1 1 2 3\n2 2 2 0 1 4 5 3\n$EndElements\n", head);
-  write_file(path, text);
+  nd_test_write_file(path, text);
   ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_DEGENERATE); /* used by the second triangle */
   ck_assert_ptr_null(m);
   ck_assert_msg(mentions("nodes 2 and 4") && mentions(path), "%s", nd_last_error());

@@ -1,5 +1,6 @@
 #include "testutil.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 
 int nd_test_run(Suite *s) {
@@ -56,4 +57,11 @@ unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size) {
   ck_assert_ptr_nonnull(buf);
   ND_OK_OR_FAIL(nd_problem_save_state(p, *size, buf));
   return buf;
+}
+
+void nd_test_write_file(const char *path, const char *text) {
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  fputs(text, f);
+  fclose(f);
 }

@@ -33,6 +33,9 @@ extern const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES];
 /* explicit Newmark (beta = 0): lumped mass and small steps */
 int nd_test_is_explicit(const nd_test_scheme *s);
 
+/* writes text to the file at path (a check fails when it cannot) */
+void nd_test_write_file(const char *path, const char *text);
+
 /* p's checkpoint (nd_problem_save_state; collective), malloc'ed (the caller
    frees it), its size in *size; a check fails when it cannot be made */
 unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size);

@@ -33,8 +33,9 @@ module nitschedyn
   public :: nd_version, nd_last_error, nd_strerror, nd_set_blas_threads, nd_get_blas_threads
   public :: nd_mesh_create, nd_mesh_create_interval, nd_mesh_create_rectangle, nd_mesh_create_box, &
             nd_mesh_read_gmsh, nd_mesh_set_region, nd_mesh_mark_boundary_box, nd_mesh_get_dimension, &
-            nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy
-  public :: nd_problem_create, nd_problem_set_material, nd_problem_set_dirichlet, &
+            nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy, &
+            nd_mesh_set_cell_region, nd_mesh_get_cell_regions
+  public :: nd_problem_create, nd_problem_set_material, nd_problem_set_material_region, nd_problem_set_dirichlet, &
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
             nd_problem_add_contact_sphere, nd_problem_add_contact_cylinder, nd_problem_add_contact_distance, &
             nd_problem_move_obstacle, nd_problem_set_friction, &
@@ -186,6 +187,26 @@ module nitschedyn
       integer(c_int) :: status
     end function nd_mesh_set_region
 
+    ! cells: 0-based cell indices; a cell in no region is in region 0
+    function nd_mesh_set_cell_region(m, cell_region, n_cells, cells) result(status) &
+        bind(C, name='nd_mesh_set_cell_region')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int), value :: cell_region
+      integer(c_int64_t), value :: n_cells
+      integer(c_int64_t), intent(in) :: cells(*)
+      integer(c_int) :: status
+    end function nd_mesh_set_cell_region
+
+    function nd_mesh_get_cell_regions(m, n_cells, region) result(status) &
+        bind(C, name='nd_mesh_get_cell_regions')
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int64_t), value :: n_cells
+      integer(c_int), intent(out) :: region(*)
+      integer(c_int) :: status
+    end function nd_mesh_get_cell_regions
+
     function nd_mesh_mark_boundary_box(m, region, lo, hi) result(status) &
         bind(C, name='nd_mesh_mark_boundary_box')
       import :: c_int, c_double, c_ptr
@@ -249,6 +270,15 @@ module nitschedyn
       real(c_double), value :: young, poisson, density
       integer(c_int) :: status
     end function nd_problem_set_material
+
+    function nd_problem_set_material_region(p, cell_region, young, poisson, density) result(status) &
+        bind(C, name='nd_problem_set_material_region')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: cell_region
+      real(c_double), value :: young, poisson, density
+      integer(c_int) :: status
+    end function nd_problem_set_material_region
 
     function nd_problem_set_dirichlet(p, region) result(status) bind(C, name='nd_problem_set_dirichlet')
       import :: c_int, c_ptr

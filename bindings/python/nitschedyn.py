@@ -126,6 +126,8 @@ _PROTOTYPES = {
     "nd_mesh_read_gmsh": (_int, [_str, _pptr]),
     "nd_mesh_set_region": (_int, [_ptr, _int, _i64, _pi64]),
     "nd_mesh_mark_boundary_box": (_int, [_ptr, _int, _pdbl, _pdbl]),
+    "nd_mesh_set_cell_region": (_int, [_ptr, _int, _i64, _pi64]),
+    "nd_mesh_get_cell_regions": (_int, [_ptr, _i64, _pint]),
     "nd_mesh_get_dimension": (_int, [_ptr, _pint]),
     "nd_mesh_get_vertex_count": (_int, [_ptr, _pi64]),
     "nd_mesh_get_cell_count": (_int, [_ptr, _pi64]),
@@ -133,6 +135,7 @@ _PROTOTYPES = {
     "nd_mesh_destroy": (_int, [_pptr]),
     "nd_problem_create": (_int, [_ptr, _int, _pptr]),
     "nd_problem_set_material": (_int, [_ptr, _dbl, _dbl, _dbl]),
+    "nd_problem_set_material_region": (_int, [_ptr, _int, _dbl, _dbl, _dbl]),
     "nd_problem_set_dirichlet": (_int, [_ptr, _int]),
     "nd_problem_set_body_force": (_int, [_ptr, _pdbl]),
     "nd_problem_set_neumann": (_int, [_ptr, _int, _pdbl]),
@@ -384,6 +387,18 @@ class Mesh(_Handle):
         f = f.reshape(-1, dim)
         _check(lib.nd_mesh_set_region(self._h, region, f.shape[0], _i64ptr(f)))
 
+    def set_cell_region(self, region, cells):
+        """Puts cells (0-based indices) in cell region `region` (>= 0; 0: none)."""
+        c = np.ascontiguousarray(cells, dtype=np.int64).reshape(-1)
+        _check(lib.nd_mesh_set_cell_region(self._h, region, c.shape[0], _i64ptr(c)))
+
+    @property
+    def cell_regions(self):
+        """Each cell's region (0: in none), an int32 array of cell_count values."""
+        r = np.zeros(self.cell_count, dtype=np.int32)
+        _check(lib.nd_mesh_get_cell_regions(self._h, r.shape[0], r.ctypes.data_as(_pint)))
+        return r
+
     def mark_boundary_box(self, region, lo, hi):
         """Adds the boundary facets whose vertices all lie in [lo, hi]."""
         dim = self.dimension
@@ -421,6 +436,10 @@ class Problem(_Handle):
     # definition
     def set_material(self, young, poisson, density):
         _check(lib.nd_problem_set_material(self._h, young, poisson, density))
+
+    def set_material_region(self, cell_region, young, poisson, density):
+        """The material of the cells of a cell region (>= 1); the others keep set_material's."""
+        _check(lib.nd_problem_set_material_region(self._h, cell_region, young, poisson, density))
 
     def set_dirichlet(self, region):
         _check(lib.nd_problem_set_dirichlet(self._h, region))

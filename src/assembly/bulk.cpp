@@ -79,22 +79,24 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
   return A;
 }
 
-ElementMatrices::ElementMatrices(const Space &s, const Material &mat)
+ElementMatrices::ElementMatrices(const Space &s, const CellMaterials &mat)
     : me(static_cast<size_t>(s.basis.n * s.basis.n)),
       ke(static_cast<size_t>(s.basis.n * s.dim * s.basis.n * s.dim)),
       s_(s),
-      lam_(mat.lambda(s.dim)),
-      mu_(mat.mu(s.dim)),
-      rho_(mat.density),
+      mat_(mat),
       mass_rule_(simplex_rule(s.dim, 2 * s.degree)),
       stiff_rule_(simplex_rule(s.dim, 2 * (s.degree - 1))),
       phi_(static_cast<size_t>(s.basis.n)),
       gref_(static_cast<size_t>(s.basis.n * s.dim)),
-      g_(static_cast<size_t>(s.basis.n * s.dim)) {}
+      g_(static_cast<size_t>(s.basis.n * s.dim)) {
+  for (const Material &m : mat.list) lam_.push_back(m.lambda(s.dim)), mu_.push_back(m.mu(s.dim));
+}
 
 void ElementMatrices::compute(int64_t c) {
   const int nb = s_.basis.n, d = s_.dim;
-  const double lam = lam_, mu = mu_, rho = rho_;
+  const size_t which = mat_.uniform() ? 0 : static_cast<size_t>(mat_.index[c]);
+  const double lam = lam_[which], mu = mu_[which];
+  rho = mat_.list[which].density;
   const AffineMap map(*s_.mesh, c);
   det = map.det;
   std::fill(me.begin(), me.end(), 0.0);
@@ -124,14 +126,13 @@ void ElementMatrices::compute(int64_t c) {
   }
 }
 
-BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat,
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMaterials &mat,
                             const std::vector<char> *contact_nodes, const AssemblyPart &part) {
   BulkOperators ops;
   ops.M = operator_pattern(s, dofs, part);
   ops.K = ops.M.zeros_like();
   ops.M_lumped.assign(static_cast<size_t>(dofs.n_free), 0.0);
   const int nb = s.basis.n, d = s.dim;
-  const double rho = mat.density;
   ElementMatrices em(s, mat);
   const std::vector<double> &me = em.me, &ke = em.ke;
   std::vector<int64_t> offset(static_cast<size_t>(nb));
@@ -142,7 +143,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
     // HRZ lumping: the consistent diagonal scaled to the element's mass
     double diag = 0;
     for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
-    const double cell_mass = rho * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
+    const double cell_mass = em.rho * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
     const int64_t *nodes = s.nodes_of(c);
     for (int i = 0; i < nb; ++i) {
       bool found = false;  // offset[j]: where node j's columns start in node i's rows
@@ -180,14 +181,19 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &
       if (!std::isfinite(x)) return false;
     return true;
   };
+  // (with several materials the message names the default's values and says so)
+  const std::string which = mat.uniform() ? "" : " (the default material; the cells have several)";
+  const Material &m0 = mat.list[0];
   if (!all_finite(ops.K.val))
-    fail(ND_ERR_MATERIAL, "the stiffness matrix overflows with E = " + num(mat.young) + " and nu = " +
-                              num(mat.poisson) + " on this mesh: rescale the units");
+    fail(ND_ERR_MATERIAL, "the stiffness matrix overflows with E = " + num(m0.young) + " and nu = " +
+                              num(m0.poisson) + which + " on this mesh: rescale the units");
   if (!all_finite(ops.M.val) || !all_finite(ops.M_lumped))
-    fail(ND_ERR_MATERIAL, "the mass matrix overflows with density " + num(rho) + " on this mesh: rescale the units");
+    fail(ND_ERR_MATERIAL, "the mass matrix overflows with density " + num(m0.density) + which +
+                              " on this mesh: rescale the units");
   for (double m : ops.M_lumped)  // (a part leaves the other DOFs at 0)
     if (!(m > 0 || ((contact_nodes || part.cells || part.rows) && m == 0)) || !(m == 0 || std::isnormal(m)))
-      fail(ND_ERR_MATERIAL, "the mass matrix underflows with density " + num(rho) + " on this mesh: rescale the units");
+      fail(ND_ERR_MATERIAL, "the mass matrix underflows with density " + num(m0.density) + which +
+                                " on this mesh: rescale the units");
   return ops;
 }
 

@@ -29,17 +29,21 @@ struct AssemblyPart {
 Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &part = {});
 
 // The element mass (nb x nb, scalar, times rho) and stiffness (nb*dim
-// squared, row (i,a), column (j,b)) of one cell, over all its local DOFs.
+// squared, row (i,a), column (j,b)) of one cell, over all its local DOFs,
+// with the cell's own material.
 class ElementMatrices {
  public:
-  ElementMatrices(const Space &s, const Material &mat);
-  void compute(int64_t cell);  // fills me, ke and det
+  ElementMatrices(const Space &s, const CellMaterials &mat);
+  ElementMatrices(const Space &s, CellMaterials &&mat) = delete;  // (it keeps a reference)
+  void compute(int64_t cell);  // fills me, ke, det and rho
   std::vector<double> me, ke;
   double det = 0;  // of the cell's affine map
+  double rho = 0;  // the cell's density
 
  private:
   const Space &s_;
-  double lam_, mu_, rho_;
+  const CellMaterials &mat_;
+  std::vector<double> lam_, mu_;  // of each material of the list
   QuadratureRule mass_rule_, stiff_rule_;
   std::vector<double> phi_, gref_, g_;
 };
@@ -54,7 +58,7 @@ struct BulkOperators {
 // With a part: that part, on its pattern; each kept entry has the bits of
 // the whole assembly's (the same contributions, added in the same order).
 // The lumped diagonal is then the part's too.
-BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const Material &mat,
+BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMaterials &mat,
                             const std::vector<char> *contact_nodes = nullptr, const AssemblyPart &part = {});
 
 // Constant load: body force f (dim values, or nullptr) and Neumann tractions.

@@ -57,7 +57,7 @@ double largest_relative_eigenvalue(int m, std::vector<double> &K, const std::vec
 
 }  // namespace
 
-double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, const ContactPoints &cp) {
+double gamma0_limit(const Space &s, const DofMap &dofs, const CellMaterials &mat, const ContactPoints &cp) {
   // the contact points of each cell
   std::map<int64_t, std::vector<size_t>> by_cell;
   for (size_t q = 0; q < cp.size(); ++q) by_cell[s.mesh->boundary[cp.facet[q]].cell].push_back(q);
@@ -81,14 +81,15 @@ double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, con
     std::vector<double> K(static_cast<size_t>(m * m)), S(static_cast<size_t>(m * m), 0.0);
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) K[i * m + j] = em.ke[local[i] * nb * d + local[j]];
-    const double h = s.mesh->cell_diameter(cell);
-    for (size_t q : points)  // (a frictional point: its tangential tractions' terms too, as K_Theta has them)
+    for (size_t q : points) {  // (a frictional point: its tangential tractions' terms too, as K_Theta has them)
+      const double h = cp.gamma_length[q];  // gamma_q / gamma0: h_K (E / E_K with several materials)
       for (int k = 0; k < (cp.m > 1 && cp.friction[q] ? cp.m : 1); ++k) {
         const SparseRow &row = cp.s_row(q, k);
         for (size_t a = 0; a < row.idx.size(); ++a)
           for (size_t b = 0; b < row.idx.size(); ++b)
             S[where.at(row.idx[a]) * m + where.at(row.idx[b])] += h * cp.w[q] * row.val[a] * row.val[b];
       }
+    }
     const double lambda = largest_relative_eigenvalue(m, K, S);
     if (lambda > 0) limit = std::min(limit, 1 / lambda);
     if (std::isinf(lambda)) limit = 0;

@@ -1,6 +1,7 @@
 // The coercivity limit of Nitsche's term (docs/design.md §3b.1). K_Theta is positive
 // semi-definite if, on every cell K owning contact points,
-//   K_e - Theta gamma0 h_K sum_{q in K} w_q s_q s_q^T >= 0,
+//   K_e - Theta gamma0 h_K sum_{q in K} w_q s_q s_q^T >= 0
+// (h_K E/E_K in a cell of another material than the default, §10.6),
 // i.e. Theta gamma0 <= 1/lambda_K, lambda_K the largest eigenvalue of
 // h_K sum_q w_q s_q s_q^T relative to K_e (on the complement of K_e's kernel:
 // s_q vanishes on rigid motions). gamma0* = min_K 1/lambda_K is a sufficient
@@ -17,7 +18,7 @@ namespace nd {
 // gamma0* for Theta = 1 (for Theta > 0 the limit is gamma0*/Theta); +infinity
 // without contact points. The rows s_q and the weights w_q do not depend on
 // gamma0, so this can be computed before gamma0 is chosen.
-double gamma0_limit(const Space &s, const DofMap &dofs, const Material &mat, const ContactPoints &cp);
+double gamma0_limit(const Space &s, const DofMap &dofs, const CellMaterials &mat, const ContactPoints &cp);
 
 // What every refusal of a gamma0 too large says: "gamma0 <= X is safe
 // (...)", X = gamma0*/Theta with 6 significant digits, the bound that

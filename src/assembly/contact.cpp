@@ -8,7 +8,7 @@
 
 namespace nd {
 
-ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat,
                                const std::vector<ContactPlane> &planes, double gamma0) {
   std::vector<int> regions, plane_of;
   for (size_t ip = 0; ip < planes.size(); ++ip) regions.push_back(planes[ip].region), plane_of.push_back(int(ip));
@@ -21,14 +21,13 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
   return cp;
 }
 
-ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat, const std::vector<int> &regions,
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat, const std::vector<int> &regions,
                                const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,
                                bool tangential) {
   ContactPoints cp;
   const int d = sp.dim, nb = sp.basis.n;
   if (tangential && d > 1) cp.m = d;
   const int mt = cp.m - 1;  // tangential values per point
-  const double lam = mat.lambda(d), mu = mat.mu(d);
   // sigma_n sigma_n is of degree 2(p-1) and u_n u_n of degree 2p: the rule is
   // exact for the polynomial part of every contact integrand.
   const int degree = 2 * sp.degree;
@@ -37,7 +36,9 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
     for (int64_t b : sp.mesh->regions.at(regions[ir])) {
       const Facet &f = sp.mesh->boundary[b];
       const AffineMap map(*sp.mesh, f.cell);
-      const double h = sp.mesh->cell_diameter(f.cell);
+      const double h = sp.mesh->cell_diameter(f.cell), length = mat.gamma_length(f.cell, h);
+      const Material &m = mat.of(f.cell);
+      const double lam = m.lambda(d), mu = m.mu(d);
       const int64_t *nodes = sp.nodes_of(f.cell);
       for (const FacetPoint &fp : facet_quadrature(*sp.mesh, f, degree)) {
         double nu[3] = {0, 0, 0}, n[3] = {0, 0, 0};
@@ -91,8 +92,9 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Materi
         cp.normal.insert(cp.normal.end(), nu, nu + 3);
         cp.phi.insert(cp.phi.end(), phi.begin(), phi.end());
         cp.w.push_back(fp.weight);
-        cp.gamma.push_back(gamma0 * h);
+        cp.gamma.push_back(gamma0 * length);
         cp.h.push_back(h);
+        cp.gamma_length.push_back(length);
         cp.facet.push_back(b);
         for (int k = 0; k < d; ++k) cp.x.push_back(fp.x[k]);
       }

@@ -43,7 +43,10 @@ struct ContactPoints {
   std::vector<double> normal;            // nu_q = -n_q, 3 per point: what the rows were made with
   std::vector<double> phi;               // the basis values at the point (basis.n each): u_q(U) (contact/obstacles.hpp)
   std::vector<double> w, gamma, gap, x;  // x: n * dim
-  std::vector<double> h;                 // diameter h_K of the owning cell (gamma = gamma0 h)
+  std::vector<double> h;                 // diameter h_K of the owning cell
+  // gamma_q / gamma0: h_K, times E / E_K where the owning cell's material is
+  // not the default's (CellMaterials::gamma_length)
+  std::vector<double> gamma_length;
   std::vector<int64_t> facet;            // index into Mesh::boundary
   // nu_q = sum_k |a_qk| + gamma_q |s_qk| >= ||p_q||_1, so |P_q(U) - P_q(U')|
   // <= nu_q max_{i in dofs} |U_i - U'_i| with the gaps held, dofs the free
@@ -99,18 +102,19 @@ std::vector<double> contact_gaps(const ContactPoints &cp, const std::vector<Cont
 // nu, dofs and the runs, with the gammas the points have now
 void set_bounds(ContactPoints &cp);
 
-// The points of each region of `regions`, in that order; plane_of[r] the
+// The points of each region of `regions`, in that order (s_q with the
+// material of the point's cell); plane_of[r] the
 // index of regions[r]'s plane when its gaps have the closed form
 // (contact_gaps), -1 otherwise (gaps 0 here: contact/obstacles.hpp), and
 // normal_of(r, x, nu) the unit normal nu_q (from the obstacle towards the
 // body) of the next point of regions[r], at x: its rows hold n_q = -nu_q.
 using NormalOf = std::function<void(size_t r, const double *x, double *nu)>;
 // tangential: the friction rows too (m = dim)
-ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat, const std::vector<int> &regions,
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat, const std::vector<int> &regions,
                                const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,
                                bool tangential = false);
 // the planes alone (each region's plane's normal)
-ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const Material &mat,
+ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat,
                                const std::vector<ContactPlane> &planes, double gamma0);
 
 }  // namespace nd

@@ -6,7 +6,7 @@
 
 namespace nd {
 
-void cell_stress(const Space &s, const Material &mat, const double *U_full, int64_t c, const double *xi,
+void cell_stress(const Space &s, const CellMaterials &mat, const double *U_full, int64_t c, const double *xi,
                  double sigma[9]) {
   const int d = s.dim, n = s.basis.n;
   const AffineMap map(*s.mesh, c);
@@ -20,7 +20,7 @@ void cell_stress(const Space &s, const Material &mat, const double *U_full, int6
     for (int i = 0; i < d; ++i)
       for (int j = 0; j < d; ++j) G[i * 3 + j] += U_full[nodes[a] * d + i] * gx[j];
   }
-  const double lambda = mat.lambda(d), mu = mat.mu(d);
+  const double lambda = mat.of(c).lambda(d), mu = mat.of(c).mu(d);
   const double tr = G[0] + G[4] + G[8];  // 1D: lambda = 0; 2D: sigma_zz = lambda tr
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)

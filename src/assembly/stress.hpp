@@ -10,7 +10,7 @@
 namespace nd {
 
 // U_full: n_dofs values (node-major); xi: reference coordinates in cell c
-void cell_stress(const Space &s, const Material &mat, const double *U_full, int64_t c, const double *xi,
+void cell_stress(const Space &s, const CellMaterials &mat, const double *U_full, int64_t c, const double *xi,
                  double sigma[9]);
 
 }  // namespace nd

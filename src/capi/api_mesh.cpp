@@ -73,6 +73,24 @@ ND_EXPORT int nd_mesh_mark_boundary_box(nd_mesh m, int region, const double *lo,
   });
 }
 
+ND_EXPORT int nd_mesh_set_cell_region(nd_mesh m, int cell_region, int64_t n_cells, const int64_t *cells) {
+  return nd::guarded("nd_mesh_set_cell_region", [&] {
+    nd::set_cell_region(mesh_of(m).mesh, cell_region, n_cells, cells);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_mesh_get_cell_regions(nd_mesh m, int64_t n_cells, int *region) {
+  return nd::guarded("nd_mesh_get_cell_regions", [&] {
+    const nd::Mesh &mesh = mesh_of(m).mesh;
+    nd::need(region, "region");
+    if (n_cells != mesh.n_cells)
+      nd::fail(ND_ERR_SIZE, "n_cells is " + std::to_string(n_cells) + "; the mesh has " + std::to_string(mesh.n_cells));
+    for (int64_t c = 0; c < n_cells; ++c) region[c] = mesh.cell_region.empty() ? 0 : mesh.cell_region[c];
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_mesh_get_dimension(nd_mesh m, int *dim) {
   return nd::guarded("nd_mesh_get_dimension", [&] {
     nd::need(dim, "dim");

@@ -12,7 +12,8 @@ ND_EXPORT int nd_problem_write_vtu(nd_problem p, const char *path) {
     nd::Problem &pb = p->problem;
     nd::VtuSnapshot snap;
     snap.space = &pb.space();
-    snap.material = &pb.material();
+    const nd::CellMaterials materials = pb.materials();
+    snap.material = &materials;
     snap.U.resize(static_cast<size_t>(pb.space().n_dofs()));
     snap.V.resize(snap.U.size());
     pb.field(ND_FIELD_DISPLACEMENT, snap.U.data());

@@ -19,6 +19,15 @@ void need_range(bool ok, int code, const std::string &what) {
   if (!ok) nd::fail(code, what);
 }
 
+nd::Material checked_material(const nd::Problem &pr, double young, double poisson, double density) {
+  need_range(std::isfinite(young) && young > 0, ND_ERR_MATERIAL, "young must be positive and finite");
+  need_range(std::isfinite(density) && density > 0, ND_ERR_MATERIAL, "density must be positive and finite");
+  if (pr.space().dim > 1)  // in 1D sigma = E u_x: Poisson's ratio is not used
+    need_range(std::isfinite(poisson) && poisson > -1 && poisson < 0.5, ND_ERR_MATERIAL,
+               "poisson must lie in (-1, 1/2)");
+  return nd::Material{young, poisson, density};
+}
+
 }  // namespace
 
 extern "C" {
@@ -38,12 +47,19 @@ ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out) {
 ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson, double density) {
   return nd::guarded("nd_problem_set_material", [&] {
     nd::Problem &pr = nd::problem_of(p);
-    need_range(std::isfinite(young) && young > 0, ND_ERR_MATERIAL, "young must be positive and finite");
-    need_range(std::isfinite(density) && density > 0, ND_ERR_MATERIAL, "density must be positive and finite");
-    if (pr.space().dim > 1)  // in 1D sigma = E u_x: Poisson's ratio is not used
-      need_range(std::isfinite(poisson) && poisson > -1 && poisson < 0.5, ND_ERR_MATERIAL,
-                 "poisson must lie in (-1, 1/2)");
-    pr.set_material(nd::Material{young, poisson, density});
+    pr.set_material(checked_material(pr, young, poisson, density));
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_material_region(nd_problem p, int cell_region, double young, double poisson,
+                                             double density) {
+  return nd::guarded("nd_problem_set_material_region", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    need_range(cell_region >= 1, ND_ERR_REGION,
+               "cell_region is " + std::to_string(cell_region) + "; cell regions with a material are >= 1 "
+               "(region 0, the cells in none, takes nd_problem_set_material's)");
+    pr.set_material_region(cell_region, checked_material(pr, young, poisson, density));
     return ND_OK;
   });
 }

@@ -15,7 +15,7 @@ namespace nd {
 // (n_dofs each), the contact pressure lambda_q at each contact point.
 struct VtuSnapshot {
   const Space *space = nullptr;
-  const Material *material = nullptr;
+  const CellMaterials *material = nullptr;
   const ContactPoints *contact = nullptr;
   std::vector<double> U, V, pressure;
   double time = 0;

@@ -1,6 +1,7 @@
 // Gmsh MSH 4.1 and 2.2 readers (ASCII). The cells of the top dimension form
 // the mesh (only the vertices they use are kept); each physical group of
-// facet elements becomes the region with the group's tag. Higher-order
+// facet elements becomes the region with the group's tag, each group of
+// cells the cell region with its tag (a cell in several: the largest). Higher-order
 // Gmsh elements are read through their corner nodes (straight sides).
 //
 // A file is untrusted input: it is read whole (a NUL byte, as in a binary
@@ -357,8 +358,17 @@ Mesh read_gmsh(const char *path) {
     for (int k = 0; k < top; ++k) coords.push_back(x[k]);
     return id;
   };
+  std::vector<int> cell_region;  // each cell's largest physical tag, 0: none
+  bool any_group = false;         // (none: the mesh keeps no cell regions)
   for (const Element &e : raw.elements) {
     if (e.dim != top) continue;
+    int64_t tag = 0;
+    if (e.tags >= 0)
+      for (int64_t t : raw.tag_lists[e.tags]) tag = std::max(tag, t);
+    if (tag > 2147483647)
+      fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(tag) + " is not a valid cell region");
+    cell_region.push_back(static_cast<int>(tag));
+    any_group = any_group || tag > 0;
     const double *x[4];
     for (int i = 0; i <= top; ++i) x[i] = position(e.nodes[i]).data();
     double J[9];
@@ -378,6 +388,7 @@ Mesh read_gmsh(const char *path) {
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
                      static_cast<int64_t>(cells.size()) / (top + 1), cells.data(),
                      std::string(path) + ": ");
+  if (any_group) m.cell_region = std::move(cell_region);
   // facet elements of physical groups -> regions. Each (facet, group) pair
   // costs memory: a file may name at most as many pairs as it has bytes
   // (a facet element line in a real file is longer than its group count).

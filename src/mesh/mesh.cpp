@@ -282,6 +282,18 @@ void add_region_groups(Mesh &m, const std::map<int64_t, std::vector<int64_t>> &g
   }
 }
 
+void set_cell_region(Mesh &m, int region, int64_t n, const int64_t *cells) {
+  if (region < 0) fail(ND_ERR_REGION, "cell_region must be >= 0 (0: in no region)");
+  if (n <= 0) fail(ND_ERR_SIZE, "n_cells must be positive");
+  if (!cells) fail(ND_ERR_NULL, "cells is NULL");
+  for (int64_t i = 0; i < n; ++i)  // all checked before any is moved: a refused call changes nothing
+    if (cells[i] < 0 || cells[i] >= m.n_cells)
+      fail(ND_ERR_INDEX, "cells[" + std::to_string(i) + "] = " + std::to_string(cells[i]) + " is not a cell (0 to " +
+                             std::to_string(m.n_cells - 1) + ")");
+  if (m.cell_region.empty()) m.cell_region.assign(static_cast<size_t>(m.n_cells), 0);
+  for (int64_t i = 0; i < n; ++i) m.cell_region[cells[i]] = region;
+}
+
 void add_region_box(Mesh &m, int region, const double *lo, const double *hi) {
   if (region < 0) fail(ND_ERR_REGION, "region must be >= 0");
   if (!lo || !hi) fail(ND_ERR_NULL, std::string(!lo ? "lo" : "hi") + " is NULL");

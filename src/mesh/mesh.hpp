@@ -27,6 +27,8 @@ struct Mesh {
   std::vector<int64_t> cells;          // n_cells * (dim + 1)
   std::vector<Facet> boundary;         // facets owned by exactly one cell
   std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
+  // each cell's region (>= 0; 0: in none), or empty: every cell in region 0
+  std::vector<int> cell_region;
   // built by the first call that names facets by their vertices, then kept
   // (the boundary does not change): adding facets one call at a time costs
   // O(log n) per facet, not a pass over the boundary per call
@@ -55,7 +57,8 @@ Mesh make_interval(int64_t n_cells, double a, double b);
 // nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra
 Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi);
 Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double *hi);
-// Gmsh MSH 4.1 / 2.2 ASCII; physical groups of facets become regions.
+// Gmsh MSH 4.1 / 2.2 ASCII; physical groups of facets become regions, those
+// of cells cell regions (a cell in several: the largest tag).
 Mesh read_gmsh(const char *path);
 
 // Adds boundary facets given by their vertices (dim per facet) to a region;
@@ -66,6 +69,9 @@ void add_region_facets(Mesh &m, int region, int64_t n_facets, const int64_t *fac
 // the boundary indexed once: linear in the number of facets, whatever the
 // number of regions. Messages start with `where` followed by the region.
 void add_region_groups(Mesh &m, const std::map<int64_t, std::vector<int64_t>> &groups, const std::string &where);
+// Puts n cells (indices) in cell region `region` (>= 0; 0: in none), taking
+// them out of the region they were in.
+void set_cell_region(Mesh &m, int region, int64_t n, const int64_t *cells);
 // Adds the boundary facets whose vertices all lie in [lo, hi].
 void add_region_box(Mesh &m, int region, const double *lo, const double *hi);
 

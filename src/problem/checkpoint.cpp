@@ -130,6 +130,8 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
     Hash h;
     h.value(def.material.young), h.value(def.material.poisson), h.value(def.material.density);
     if (def.material.plane_stress) h.value(uint8_t{1});  // (only when on: older prints still match)
+    for (const auto &[region, m] : def.region_materials)  // (none: the print of one material)
+      h.value(region), h.value(m.young), h.value(m.poisson), h.value(m.density);
     done(kPrintMaterial, h);
   }
   if (def.given & kNitsche) {
@@ -312,7 +314,7 @@ int64_t max_state_size(const StateSizes &sizes) {
 
 namespace {
 const char *const kAspectNames[kPrintAspects] = {
-    "material (nd_problem_set_material)",
+    "material (nd_problem_set_material, nd_problem_set_material_region)",
     "Nitsche parameters (Theta, gamma0 in use)",
     "time scheme or its parameters",
     "time step",

@@ -4,6 +4,7 @@
 // its own aspect and what it invalidates follows.
 #pragma once
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,8 @@ struct TimeData {
 };
 
 struct Definition : TimeData {
-  Material material;
+  Material material;  // the default: every cell whose region has no material of its own
+  std::map<int, Material> region_materials;  // cell region -> its material (docs/design.md §10.6)
   std::vector<int> dirichlet;
   double theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
   int scheme = 0;  // ND_SCHEME_*

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 
 #include "assembly/bulk.hpp"
@@ -25,7 +26,8 @@ namespace {
 // nodes when the definition asks for it.
 BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const Definition &def,
                                  const std::vector<char> *on_contact, const AssemblyPart &part) {
-  BulkOperators bulk = assemble_bulk(space, dofs, def.material, def.redistributed ? on_contact : nullptr, part);
+  BulkOperators bulk =
+      assemble_bulk(space, dofs, materials_of(space, def), def.redistributed ? on_contact : nullptr, part);
   if (def.lumped) {
     bulk.M = bulk.K.zeros_like();
     for (int64_t i = 0; i < bulk.M.n; ++i)
@@ -34,6 +36,13 @@ BulkOperators mass_and_stiffness(const Space &space, const DofMap &dofs, const D
   return bulk;
 }
 }  // namespace
+
+CellMaterials materials_of(const Space &space, const Definition &def) {
+  // (plane stress is the 2D model's, every region's: nd_problem_set_plane_stress)
+  std::map<int, Material> regions = def.region_materials;
+  for (auto &[region, m] : regions) m.plane_stress = def.material.plane_stress;
+  return cell_materials(def.material, regions, space.mesh->cell_region);
+}
 
 bool splits_rows(const Definition &def) {
   return communicator_size(def.comm.get()) > 1 && linear_solver_distributes(def.solver) && !def.lumped &&
@@ -95,7 +104,7 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
         if (def.planes[ip].region == regions[r]) plane_of[r] = static_cast<int>(ip);
   size_t q = 0;  // (normal_of is called for each point in turn)
   ContactPoints cp = assemble_contact(
-      space, dofs, def.material, regions, plane_of,
+      space, dofs, materials_of(space, def), regions, plane_of,
       [&](size_t r, const double *x, double *nu) {
         if (plane_of[r] >= 0) {
           for (int k = 0; k < space.dim; ++k) nu[k] = def.planes[plane_of[r]].normal[k];
@@ -165,7 +174,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   const bool automatic = def.gamma0 == 0;
   d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr);
   d->contact_law = def.contact_law_given ? def.contact_law_given : point_laws(def, d->contact, space.dim);
-  d->gamma0_limit = gamma0_limit(space, d->dofs, def.material, d->contact);
+  d->gamma0_limit = gamma0_limit(space, d->dofs, materials_of(space, def), d->contact);
   if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen);
   d->theta = def.theta;
   d->gamma0 = def.gamma0;
@@ -173,7 +182,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     if (!(d->gamma0_limit > 0 && std::isfinite(d->gamma0_limit)))
       fail(ND_ERR_NITSCHE, "no automatic gamma0: the coercivity limit is " + num(d->gamma0_limit));
     d->gamma0 = kAutomaticGamma0Fraction * d->gamma0_limit / std::max(def.theta, 1.0);
-    for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.h[q];
+    for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.gamma_length[q];
   }
   set_bounds(d->contact);
   require_shared_index_lists(d->contact);
@@ -191,7 +200,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   set_damping(*d, def);
   if (d->dofs.n_free < space.n_dofs())
     d->clamped = std::make_unique<ClampedRows>(
-        clamped_rows(space, d->dofs, def.material, def.redistributed ? &on_contact : nullptr));
+        clamped_rows(space, d->dofs, materials_of(space, def), def.redistributed ? &on_contact : nullptr));
   return d;
 }
 

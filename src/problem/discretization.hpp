@@ -44,6 +44,10 @@ void locate_unknowns(const Space &space, const DofMap &dofs, DofGeometry &g);
 // neither mass lumping nor redistribution (whose diagonal and massless rows
 // the explicit steps read whole).
 bool splits_rows(const Definition &def);
+
+// The material of each cell: the definition's default and its cell regions'
+// materials over the mesh's cell regions (one material: no per-cell index)
+CellMaterials materials_of(const Space &space, const Definition &def);
 // A rank's part of the step matrix A = c M + K_Theta:
 // the contributions of its own cells, and of the contact points on them, on
 // the pattern of those cells (all rows, most of them empty). Summed over the

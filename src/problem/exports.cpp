@@ -27,7 +27,8 @@ std::vector<double> lumped_diagonal(Problem &p, const Discretization &d) {
   const Definition &def = p.definition();
   std::vector<char> on_contact;
   if (def.redistributed) on_contact = contact_nodes(p.space(), def.planes);
-  return assemble_bulk(p.space(), d.dofs, def.material, def.redistributed ? &on_contact : nullptr).M_lumped;
+  return assemble_bulk(p.space(), d.dofs, materials_of(p.space(), def), def.redistributed ? &on_contact : nullptr)
+      .M_lumped;
 }
 
 Csr diagonal(const std::vector<double> &m) {

@@ -9,7 +9,7 @@
 
 namespace nd {
 
-ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat,
+ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials &mat,
                          const std::vector<char> *contact_nodes) {
   ClampedRows cr;
   std::vector<int64_t> row_of(dofs.free.size(), -1);

@@ -13,7 +13,7 @@ namespace nd {
 // columns (U and A vanish on the clamped DOFs): n = number of clamped DOFs.
 // contact_nodes (mass redistribution, nullptr: off): the mass is the
 // redistributed one, as in the free rows (assembly/bulk.hpp).
-ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const Material &mat,
+ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials &mat,
                          const std::vector<char> *contact_nodes = nullptr);
 
 // The load on the clamped DOFs (body force, tractions, nodal forces), in

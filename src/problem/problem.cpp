@@ -42,6 +42,7 @@ uint64_t mesh_digest(const Mesh &m, const Space &s) {
   Hash h;
   h.value(s.dim), h.value(s.degree);
   h.vec(m.coords), h.vec(m.cells);
+  if (!m.cell_region.empty()) h.vec(m.cell_region);  // (none: the digest of a mesh without them)
   for (const auto &[region, facets] : m.regions) {
     h.value(region);
     for (int64_t f : facets) h.value(f);
@@ -116,6 +117,19 @@ void Problem::set_damping(double alpha, double beta) {
   def_.damping_alpha = alpha;
   def_.damping_beta = beta;
   changed(kDamping);
+}
+
+void Problem::set_material_region(int cell_region, const Material &m) {
+  const std::vector<int> &of = mesh_->cell_region;
+  if (std::find(of.begin(), of.end(), cell_region) == of.end())
+    fail(ND_ERR_REGION, "cell region " + std::to_string(cell_region) +
+                            " has no cells in the mesh the problem was created from (nd_mesh_set_cell_region, "
+                            "or a physical group of cells in a Gmsh file)");
+  def_.region_materials[cell_region] = m;
+  // a region's material does not give the default one, which stays required
+  const unsigned had_default = def_.given & kMaterial;
+  changed(kMaterial);
+  def_.given = (def_.given & ~kMaterial) | had_default;
 }
 
 void Problem::add_dirichlet(int region) {
@@ -699,6 +713,8 @@ uint64_t Problem::inputs_digest() const {
                 int(d.guards.unstable_scheme), int(d.guards.coercivity), int(d.guards.initial_penetration)})
     h.value(x);
   h.vec(d.dirichlet);
+  for (const auto &[region, m] : d.region_materials)
+    h.value(region), h.value(m.young), h.value(m.poisson), h.value(m.density);
   auto time_data = [&h](const TimeData &t) {
     h.value(int(t.has_body_force));
     h.bytes(t.body_force, sizeof t.body_force);

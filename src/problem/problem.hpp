@@ -27,6 +27,9 @@ class Problem {
 
   // ---- definition
   void set_material(const Material &m);
+  // The material of the cells of a cell region (ND_ERR_REGION: no cell in
+  // it); the others keep the default (set_material), which stays required.
+  void set_material_region(int cell_region, const Material &m);
   void add_dirichlet(int region);
   void set_body_force(const double *f);
   void add_neumann(int region, const double *g);
@@ -103,7 +106,7 @@ class Problem {
 
   // ---- queries
   const Space &space() const { return space_; }
-  const Material &material() const { return def_.material; }
+  CellMaterials materials() const { return materials_of(space_, def_); }
   const Definition &definition() const { return def_; }  // white-box (tests)
   const Discretization &discretization() { return discretization_(); }
   // white-box (tests): the state at t^n in free DOFs, with its load and gaps

@@ -328,6 +328,27 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           }
         }
         break;
+      case 45: {  // cells into a cell region: indices and counts possibly out of range
+        std::vector<int64_t> c(4);
+        for (auto &v : c) v = in.ConsumeIntegralInRange<int64_t>(-1, 30);
+        if (m) CALL(nd_mesh_set_cell_region, m, in.ConsumeIntegralInRange<int>(-1, 3),
+                    in.ConsumeBool() ? any_count(in, 4) : in.ConsumeIntegralInRange<int64_t>(-1, 4),
+                    in.ConsumeBool() ? c.data() : nullptr);
+        break;
+      }
+      case 46:
+        if (m) {
+          int64_t nc = 0;
+          nd_mesh_get_cell_count(m, &nc);
+          std::vector<int> r(static_cast<size_t>(nc + 1));
+          // (a count other than nc is refused before anything is written)
+          CALL(nd_mesh_get_cell_regions, m, in.ConsumeBool() ? nc : any_count(in, 8), in.ConsumeBool() ? r.data() : nullptr);
+        }
+        break;
+      case 47:
+        if (p) CALL(nd_problem_set_material_region, p, in.ConsumeIntegralInRange<int>(-1, 3), any_double(in),
+                    any_double(in), any_double(in));
+        break;
       case 40:  // Rayleigh damping: any values (negative, NaN, infinite refused)
         if (p) CALL(nd_problem_set_damping, p, any_double(in), any_double(in));
         break;

@@ -59,6 +59,31 @@ struct Problem {
   ~Problem() { nd_problem_destroy(&p); }
 };
 
+// The cells of m whose centroid lies in [lo, hi] (a degree-1 problem
+// numbers its FE nodes as the mesh's vertices).
+std::vector<int64_t> cells_in_box(nd_mesh m, int dim, const std::vector<double> &lo, const std::vector<double> &hi) {
+  Problem tmp;
+  call(nd_problem_create(m, 1, &tmp.p), "nd_problem_create");
+  int64_t nc = 0, nn = 0;
+  int per = 0;
+  call(nd_problem_get_cells(tmp.p, &nc, &per, nullptr), "nd_problem_get_cells");
+  call(nd_problem_get_node_count(tmp.p, &nn), "nd_problem_get_node_count");
+  std::vector<int64_t> nodes(static_cast<size_t>(nc * per)), in;
+  std::vector<double> x(static_cast<size_t>(nn * dim));
+  call(nd_problem_get_cells(tmp.p, &nc, &per, nodes.data()), "nd_problem_get_cells");
+  call(nd_problem_get_node_coordinates(tmp.p, nn, x.data()), "nd_problem_get_node_coordinates");
+  for (int64_t c = 0; c < nc; ++c) {
+    bool inside = true;
+    for (int k = 0; k < dim; ++k) {
+      double centroid = 0;
+      for (int i = 0; i < per; ++i) centroid += x[nodes[c * per + i] * dim + k] / per;
+      inside = inside && centroid >= lo[k] && centroid <= hi[k];
+    }
+    if (inside) in.push_back(c);
+  }
+  return in;
+}
+
 double scalar(nd_problem p, int key) {
   double x = 0;
   call(nd_get_scalar(p, key, &x), "nd_get_scalar");
@@ -105,6 +130,13 @@ Setup build(const Scene &s, Problem &prob) {
   for (const auto &t : s.tractions) facets(t.region, "loads.traction.region");
   for (const auto &c : s.clamped) facets(c, "dirichlet.regions");
 
+  for (const auto &m : s.region_materials) {  // cells by box: into their region before the problem copies the mesh
+    if (m.lo.empty()) continue;
+    const std::vector<int64_t> in = cells_in_box(mesh.m, out.dim, m.lo, m.hi);
+    if (in.empty()) throw SceneError(m.at + ": [[material]] of region " + std::to_string(m.region) + ": no cell's centroid lies in [lo, hi]");
+    scene_call(nd_mesh_set_cell_region(mesh.m, m.region, static_cast<int64_t>(in.size()), in.data()), m.at, "[[material]]");
+  }
+
   call(nd_problem_create(mesh.m, s.degree, &prob.p), "nd_problem_create");
   nd_problem p = prob.p;
   for (const auto &g : s.guards) scene_call(nd_problem_set_guard(p, g.id, g.value), g.at, g.key);
@@ -112,6 +144,8 @@ Setup build(const Scene &s, Problem &prob) {
   scene_call(nd_problem_set_material(p, s.young, s.poisson, s.density), s.material_at, "[material]");
   if (s.damping[0] != 0 || s.damping[1] != 0)
     scene_call(nd_problem_set_damping(p, s.damping[0], s.damping[1]), s.damping_at, "material.damping");
+  for (const auto &m : s.region_materials)
+    scene_call(nd_problem_set_material_region(p, m.region, m.young, m.poisson, m.density), m.at, "[[material]]");
   for (const auto &c : s.clamped) scene_call(nd_problem_set_dirichlet(p, ndcli::region_id(s, c)), c.at, "dirichlet");
   if (!s.body_force.empty())
     scene_call(nd_problem_set_body_force(p, s.body_force.data()), s.body_force_at, "loads.body_force");

@@ -26,7 +26,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
             "solver", "initial", "output", "guards", "checkpoint"}},
       {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
       {"regions.NAME", {"id", "lo", "hi"}},
-      {"material", {"E", "nu", "rho", "damping", "plane_stress"}},
+      {"material", {"E", "nu", "rho", "damping", "plane_stress", "region", "lo", "hi"}},
       {"loads", {"body_force", "traction"}},
       {"loads.traction", {"region", "value"}},
       {"dirichlet", {"regions"}},
@@ -570,6 +570,67 @@ void read_guards(const Reader &r, const toml::table &t, Scene &s) {
   }
 }
 
+// [material] (the default), or [[material]]: one entry without 'region' (the
+// default) and one per cell region with its own material
+void read_materials(const Reader &r, const toml::node &node, Scene &s) {
+  std::vector<const toml::table *> entries;
+  if (const toml::array *a = node.as_array()) {
+    for (size_t i = 0; i < a->size(); ++i) entries.push_back(&r.table((*a)[i], "", "material[" + std::to_string(i) + "]"));
+  } else {
+    entries.push_back(&r.table(node, "", "material"));
+  }
+  bool have_default = false;
+  for (const toml::table *t : entries) {
+    r.check_keys(*t, "material", "material");
+    RegionMaterial m;
+    m.at = r.where(t->source());
+    m.young = r.number(*t, "material", "E", nullptr, "Young's modulus");
+    m.density = r.number(*t, "material", "rho", nullptr, "the density");
+    m.poisson_given = t->get("nu") != nullptr;
+    const double zero = 0;
+    m.poisson = r.number(*t, "material", "nu", &zero);
+    if (!m.poisson_given && s.dim > 1) r.missing(*t, "material", "nu", "Poisson's ratio");
+    const toml::node *reg = t->get("region");
+    for (const char *k : {"lo", "hi"})
+      if (t->get(k) && !reg) r.fail(t->get(k)->source(), std::string("'material.") + k + "' needs 'material.region' (the cell region of the cells in [lo, hi])");
+    if (t->get("lo") || t->get("hi")) {
+      m.lo = r.vector(*t, "material", "lo", "the box's low corner (with 'hi')");
+      m.hi = r.vector(*t, "material", "hi", "the box's high corner (with 'lo')");
+    }
+    for (const char *k : {"damping", "plane_stress"})  // (the body's, not a region's)
+      if (t->get(k) && reg)
+        r.fail(t->get(k)->source(), std::string("'material.") + k + "' is the whole body's: give it in the default "
+                                                                     "[[material]] (the entry without 'region')");
+    if (const toml::node *n = t->get("damping")) {  // Rayleigh: [alpha, beta], C = alpha M + beta K
+      const std::vector<double> ab = r.vector(*n, "material", "damping");
+      if (ab.size() != 2)
+        r.fail(n->source(), "'material.damping' is [alpha, beta] (C = alpha M + beta K), not " +
+                                std::to_string(ab.size()) + " numbers");
+      s.damping = {ab[0], ab[1]};
+      s.damping_at = r.where(n->source());
+    }
+    if (const toml::node *n = t->get("plane_stress")) {
+      if (!n->is_boolean()) r.wrong_type(*n, "material", "plane_stress", "true or false");
+      s.plane_stress = *n->value<bool>();
+    }
+    if (!reg) {
+      if (have_default)
+        r.fail(t->source(), "a second [[material]] without 'region': one entry is the default, the others name a cell region");
+      have_default = true;
+      s.material_at = m.at, s.young = m.young, s.poisson = m.poisson, s.density = m.density;
+      s.poisson_given = m.poisson_given;
+      continue;
+    }
+    m.region = static_cast<int>(r.integer(*reg, "material", "region", 1, std::numeric_limits<int>::max()));
+    for (const RegionMaterial &o : s.region_materials)
+      if (o.region == m.region) r.fail(reg->source(), "cell region " + std::to_string(m.region) + " has a material already (" + o.at + ")");
+    s.region_materials.push_back(m);
+  }
+  if (!have_default)
+    throw SceneError(r.where(node.source()) + ": no default material: one [[material]] entry without 'region' "
+                     "(the cells of no region with a material of their own)");
+}
+
 void read_checkpoint(const Reader &r, const toml::table &t, Scene &s) {
   r.check_keys(t, "checkpoint", "checkpoint");
   s.checkpoint_at = r.where(t.source());
@@ -623,29 +684,7 @@ Scene parse_scene(std::string_view text, const std::string &path) {
 
   const toml::node *mat = root.get("material");
   if (!mat) throw SceneError(path + ": no [material] table (required: E, nu, rho)");
-  {
-    const toml::table &t = r.table(*mat, "", "material");
-    r.check_keys(t, "material", "material");
-    s.material_at = r.where(t.source());
-    s.young = r.number(t, "material", "E", nullptr, "Young's modulus");
-    s.density = r.number(t, "material", "rho", nullptr, "the density");
-    s.poisson_given = t.get("nu") != nullptr;
-    const double zero = 0;
-    s.poisson = r.number(t, "material", "nu", &zero);
-    if (!s.poisson_given && s.dim > 1) r.missing(t, "material", "nu", "Poisson's ratio");
-    if (const toml::node *n = t.get("damping")) {  // Rayleigh: [alpha, beta], C = alpha M + beta K
-      const std::vector<double> ab = r.vector(*n, "material", "damping");
-      if (ab.size() != 2)
-        r.fail(n->source(), "'material.damping' is [alpha, beta] (C = alpha M + beta K), not " +
-                                std::to_string(ab.size()) + " numbers");
-      s.damping = {ab[0], ab[1]};
-      s.damping_at = r.where(n->source());
-    }
-    if (const toml::node *n = t.get("plane_stress")) {
-      if (!n->is_boolean()) r.wrong_type(*n, "material", "plane_stress", "true or false");
-      s.plane_stress = *n->value<bool>();
-    }
-  }
+  read_materials(r, *mat, s);
 
   if (const toml::node *n = root.get("loads")) {
     const toml::table &t = r.table(*n, "", "loads");
@@ -902,6 +941,13 @@ void check_dimension(const Scene &s, int dim) {
   }
   if (dim > 1 && !s.poisson_given) throw SceneError(s.material_at + ": [material] has no key 'nu' (required in " +
                                                     std::to_string(dim) + "D: Poisson's ratio)");
+  for (const RegionMaterial &m : s.region_materials) {
+    check(m.lo, m.at, "material.lo");
+    check(m.hi, m.at, "material.hi");
+    if (dim > 1 && !m.poisson_given)
+      throw SceneError(m.at + ": [[material]] of region " + std::to_string(m.region) + " has no key 'nu' (required in " +
+                       std::to_string(dim) + "D: Poisson's ratio)");
+  }
 }
 
 std::vector<std::string> documented_keys() {

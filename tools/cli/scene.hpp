@@ -61,6 +61,16 @@ struct Guard {  // [guards]: an nd_problem_set_guard call
   std::string key, at;
 };
 
+// A [[material]] entry of a cell region (>= 1): a Gmsh physical group of
+// cells, or the cells whose centroid lies in [lo, hi] (lo, hi given)
+struct RegionMaterial {
+  int region = 0;
+  double young = 0, poisson = 0, density = 0;
+  bool poisson_given = false;
+  std::vector<double> lo, hi;  // empty: the mesh's own cell region
+  std::string at;
+};
+
 struct Scene {
   std::string file;   // the scene file as given
   std::string title;  // optional
@@ -76,13 +86,14 @@ struct Scene {
   // [regions]
   std::vector<RegionBox> boxes;
   std::vector<std::pair<std::string, int>> names;  // every named region
-  // [material]
+  // [material], or [[material]]: the entry without a region is the default
   double young = 0, poisson = 0, density = 0;
   bool poisson_given = false;
   std::array<double, 2> damping{0, 0};  // [material] damping = [alpha, beta]
   std::string damping_at;
   bool plane_stress = false;  // [material] plane_stress (2D)
   std::string material_at;
+  std::vector<RegionMaterial> region_materials;  // the entries with a region
   // [loads]
   std::vector<double> body_force;
   std::string body_force_at;

@@ -429,7 +429,7 @@ contains
   subroutine test_constants_and_api()
     type(c_ptr) :: p, m
     integer(c_int64_t) :: n, nc, nv, nf
-    integer(c_int) :: major, minor, patch, dim, i, bad, status
+    integer(c_int) :: major, minor, patch, dim, i, bad, status, regions(2)
     real(c_double), allocatable :: x(:), u(:), buf(:)
     real(c_double) :: s, w(1), xc(1), lam(1)
     character(len=16) :: version
@@ -528,6 +528,18 @@ contains
     status = nd_mesh_get_region_size(m, 8_c_int, nf)
     call check(status == ND_OK .and. nf == 1, 'region 8 has 1 facet')
     call check(nd_mesh_set_region(m, 7_c_int, 1_c_int64_t, [5_c_int64_t]) < 0, 'a facet vertex out of range fails')
+    ! cell regions and a material per region: the second cell in region 3
+    call check(nd_mesh_set_cell_region(m, 3_c_int, 1_c_int64_t, [1_c_int64_t]) == ND_OK, 'nd_mesh_set_cell_region')
+    status = nd_mesh_get_cell_regions(m, 2_c_int64_t, regions)
+    call check(status == ND_OK .and. regions(1) == 0 .and. regions(2) == 3, 'cell regions 0 and 3')
+    call check(nd_mesh_set_cell_region(m, 3_c_int, 1_c_int64_t, [2_c_int64_t]) == ND_ERR_INDEX, 'a cell out of range fails')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'a problem of two cell regions')
+    call check(nd_problem_set_material(p, 1.0_c_double, 0.0_c_double, 1.0_c_double) == ND_OK, 'the default material')
+    call check(nd_problem_set_material_region(p, 3_c_int, 4.0_c_double, 0.0_c_double, 2.0_c_double) == ND_OK, &
+               'nd_problem_set_material_region')
+    call check(nd_problem_set_material_region(p, 4_c_int, 4.0_c_double, 0.0_c_double, 2.0_c_double) == ND_ERR_REGION, &
+               'a cell region without cells fails')
+    call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy (two materials)')
     call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
   end subroutine test_constants_and_api
 

@@ -227,6 +227,44 @@ else
   fail "block: $(cat block.out)"
 fi
 
+# [[material]]: a material per cell region (the disk's physical surface is
+# cell region 10), and what is refused. material_entry STATUS NAME 'MESSAGE'
+# LINES...: base.toml with its [material] as [[material]] and a second
+# entry of these lines
+material_entry() {
+  want=$1 name=$2 msg=$3
+  shift 3
+  printf '[[material]]\n' > "$name.entry"
+  printf '%s\n' "$@" >> "$name.entry"
+  sed -e '3s/.*/[[material]]/' -e "6r $name.entry" base.toml > "$name.toml"
+  expect_file "$want" "$name" "$msg"
+}
+material_entry 0 material_region_gmsh '' 'region = 10' 'E = 80.0' 'nu = 0.3' 'rho = 2.0'
+material_entry 2 material_region_none "cell region 5 has no cells" 'region = 5' 'E = 80.0' 'nu = 0.3' 'rho = 2.0'
+material_entry 2 material_two_defaults "a second [[material]] without 'region'" 'E = 1.0' 'nu = 0.3' 'rho = 1.0'
+material_entry 2 material_region_zero "'material.region' must be an integer from 1" 'region = 0' 'E = 8.0' 'nu = 0.3' \
+  'rho = 2.0'
+material_entry 2 material_region_nu "has no key 'nu'" 'region = 10' 'E = 80.0' 'rho = 2.0'
+expect 2 material_no_default "no default material" '3s/.*/[[material]]\nregion = 10/'
+expect 2 material_box_without_region "'material.lo' needs 'material.region'" '6a\
+lo = [0.0, 0.0]'
+# the block's upper half as cell region 2 (by box) of the block's own
+# material: the history bit for bit; of another, a different one
+for case in same other; do
+  E=50.0
+  [ $case = other ] && E=200.0
+  sed -e 's/^\[material\]$/[[material]]/' -e "s|^rho = 1.0$|rho = 1.0\n[[material]]\nregion = 2\nlo = [-1.0, 1.5]\nhi = [5.0, 3.0]\nE = $E\nnu = 0.3\nrho = 1.0|" \
+    block.toml > block_$case.toml
+  if "$driver" block_$case.toml --out block_$case > block_$case.out 2>&1; then
+    if cmp -s block_out/block.csv block_$case/block.csv; then same=1; else same=0; fi
+    [ $case = same ] && [ $same -ne 1 ] && fail "block_same: the history differs from the block's"
+    [ $case = other ] && [ $same -ne 0 ] && fail "block_other: the history is the block's"
+    echo "ok: block_$case: $(tail -1 block_$case.out)"
+  else
+    fail "block_$case: $(cat block_$case.out)"
+  fi
+done
+
 # [guards]: bad values name their line and key; good ones are applied
 expect 2 guard_negative 'guards.energy' 's/^\[time\]/[guards]\nenergy = -1.0\n[time]/'
 expect 2 guard_not_bool 'guards.coercivity' 's/^\[time\]/[guards]\ncoercivity = 1\n[time]/'
