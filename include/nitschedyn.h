@@ -135,7 +135,8 @@ extern "C" {
   X(ND_ANGULAR_MOMENTUM_X, 43, "angular momentum sum_i x_i x (M V)_i about the origin, x (0 below 3D)") \
   X(ND_ANGULAR_MOMENTUM_Y, 44, "angular momentum about the origin, y (0 below 3D)")  \
   X(ND_ANGULAR_MOMENTUM_Z, 45, "angular momentum about the origin, z (0 in 1D)")               \
-  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)")
+  X(ND_STAT_NORMAL_REFRESHES, 50, "contact points whose frozen normal was refreshed (curved obstacles)") \
+  X(ND_WORK_PRESCRIBED, 70, "work of the prescribed motion on the body since t = 0")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -227,6 +228,14 @@ ND_EXPORT int nd_problem_create(nd_mesh m, int degree, nd_problem *out);
 ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson,
                                       double density);
 ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region);
+/* Prescribed motion of a clamped region: the displacement (dim values, the
+   same for every node of the region) its clamped DOFs take at t^{n+1} of the
+   next step, set before each step as loads are (before the first step a
+   first call gives t^0's value, a second t^1's). The nodal form sets every
+   clamped DOF (n = node count, n*dim values; the free DOFs' are not read).
+   Velocity and acceleration there follow the scheme. Default 0. */
+ND_EXPORT int nd_problem_set_dirichlet_value(nd_problem p, int region, const double *u);
+ND_EXPORT int nd_problem_set_dirichlet_nodal(nd_problem p, int64_t n, const double *u);
 ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f);
 ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
 /* normal points from the obstacle towards the body; a region's plane is

@@ -24,9 +24,10 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // (DefinitionPrint) open the payload, and every field is checked for its
 // meaning (versions 3 to 5 are still read, without the definition's check);
 // 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
-// and the obstacles' positions at t^n follow (without, version 6 is written)
-constexpr uint32_t kVersion = 7;
-uint32_t version_for(const StateSizes &sizes) { return sizes.n_positions > 0 ? 7 : 6; }
+// and the obstacles' positions at t^n follow (without, version 6 is written);
+// 8: a flag says whether they follow (curved obstacles), then the prescribed
+// motion: the clamped DOFs' U, V, A and the work W_prescribed (always written)
+constexpr uint32_t kVersion = 8;
 
 class Writer {
  public:
@@ -224,13 +225,18 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.value(s.W_obstacle);
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
-  const uint32_t version = version_for(sizes);
+  const uint32_t version = kVersion;
   payload.padded(s.tangent_log.i, log_indices(n_contact, version));
   payload.padded(s.tangent_log.x, log_values(n_contact, version));
-  if (version >= 7) {
+  payload.value(static_cast<uint8_t>(sizes.n_positions > 0));
+  if (sizes.n_positions > 0) {
     payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
     payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
   }
+  payload.padded(s.Uc, n_clamped);
+  payload.padded(s.Vc, n_clamped);
+  payload.padded(s.Ac, n_clamped);
+  payload.value(s.W_prescribed);
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(version);
@@ -287,6 +293,7 @@ int64_t max_state_size(const StateSizes &sizes) {
     s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
     s.positions.resize(static_cast<size_t>(sizes.n_positions));
   }
+  s.Uc = s.Vc = s.Ac = s.F_fixed;
   return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
 
@@ -419,13 +426,29 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     if (!tangent_log_well_formed(s.tangent_log, sizes.n_contact))
       fail(ND_ERR_FORMAT, "the checkpoint's tangent history is malformed");
   }
-  if (head.version >= 7) {
+  bool curved = head.version == 7;
+  if (head.version >= 8) {
+    const uint8_t flag = r.value<uint8_t>();
+    if (flag > 1) fail(ND_ERR_FORMAT, "the checkpoint's curved-obstacle flag is " + std::to_string(flag) + ", not 0 or 1");
+    curved = flag != 0;
+  }
+  if (curved) {
     s.normal = optional(3 * sizes.n_contact, "frozen contact normals");
     need_finite(s.normal, "frozen contact normals");
     s.positions = optional(sizes.n_positions, "obstacles' positions");
     need_finite(s.positions, "obstacles' positions");
   }
-  if ((sizes.n_positions > 0) != (head.version >= 7) || (sizes.n_positions > 0 && s.positions.empty()))
+  if (head.version >= 8) {  // prescribed motion: all three or none
+    s.Uc = optional(sizes.n_clamped, "prescribed displacement");
+    s.Vc = optional(sizes.n_clamped, "prescribed velocity");
+    s.Ac = optional(sizes.n_clamped, "prescribed acceleration");
+    for (const std::vector<double> *v : {&s.Uc, &s.Vc, &s.Ac}) need_finite(*v, "prescribed motion");
+    if (s.Vc.size() != s.Uc.size() || s.Ac.size() != s.Uc.size())
+      fail(ND_ERR_FORMAT, "the checkpoint's prescribed motion has some of U, V, A only");
+    s.W_prescribed = r.value<double>();
+    need_finite(s.W_prescribed, "work of the prescribed motion (W_prescribed)");
+  }
+  if ((sizes.n_positions > 0) != curved || (sizes.n_positions > 0 && s.positions.empty()))
     fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"
                                              : "the checkpoint has curved obstacles (sphere, cylinder, distance); this problem has none");
   if (r.at() != end) fail(ND_ERR_FORMAT, "the checkpoint's payload has an unexpected size");
