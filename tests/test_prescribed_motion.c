@@ -192,8 +192,8 @@ END_TEST
    translate rigidly by d(t) = d0 + w t: u = d(t) everywhere is the exact
    solution, which every scheme integrates exactly (its updates are exact
    for motions linear in t); no stress, so no reaction and no work of the
-   supports, and the energy is the whole body's kinetic energy
-   m |w|^2 / 2 (m = rho |Omega| = 2). Round-off: 1e-12 of the motion. The
+   supports, and the energy and momentum are the whole body's, m |w|^2 / 2
+   and m w (m = rho |Omega| = 2). Round-off: 1e-12 of the motion. The
    nodal form sets the same values on every clamped node. */
 START_TEST(rigid_translation_is_exact) {
   const int i = _i;
@@ -245,6 +245,9 @@ START_TEST(rigid_translation_is_exact) {
                     i, scalar(p, ND_ENERGY_MECHANICAL), kinetic);
       ck_assert_msg(fabs(scalar(p, ND_WORK_PRESCRIBED)) <= 1e-12, "scheme %d: W_prescribed %.3g", i,
                     scalar(p, ND_WORK_PRESCRIBED));
+      for (int c = 0; c < 2; ++c) /* the whole body's momentum m w, the supports' nodes included */
+        ck_assert_msg(fabs(scalar(p, ND_MOMENTUM_X + c) - 2 * w[c]) <= 1e-12, "scheme %d: momentum %.17g, m w %.17g", i,
+                      scalar(p, ND_MOMENTUM_X + c), 2 * w[c]);
       free(U);
       free(V);
       free(R);
