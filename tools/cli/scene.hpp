@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "time_value.hpp"
+
 namespace ndcli {
 
 // A scene that cannot be used: the message starts with "file:line:col: "
@@ -36,7 +38,19 @@ struct RegionBox {  // [regions] name = { id = N, lo = [...], hi = [...] }
 
 struct Traction {
   RegionRef region;
-  std::vector<double> value;
+  TimeValue value;
+  std::string at;
+};
+
+struct NodalLoad {  // [[loads.nodal]] node = N, value = ...: a force on one FE node
+  int64_t node = 0;
+  TimeValue value;
+  std::string at;
+};
+
+struct Motion {  // [[dirichlet.motion]] region = ..., displacement = ...: a clamped region moved
+  RegionRef region;
+  TimeValue displacement;
   std::string at;
 };
 
@@ -48,6 +62,8 @@ struct Obstacle {
   double radius = 0;
   bool inside = false;
   std::vector<double> velocity;  // a constant translation velocity (empty: at rest)
+  TimeValue position;            // its translation from where it is defined, in time (empty: none)
+  TimeValue rotation;            // an angle about the origin (2D) or the z axis (3D), in time (empty: none)
   std::string at;
 };
 
@@ -77,11 +93,13 @@ struct Scene {
   bool poisson_given = false;
   std::string material_at;
   // [loads]
-  std::vector<double> body_force;
+  TimeValue body_force;
   std::string body_force_at;
   std::vector<Traction> tractions;
+  std::vector<NodalLoad> nodal;
   // [dirichlet]
   std::vector<RegionRef> clamped;
+  std::vector<Motion> motions;
   // [obstacle] or [[obstacle]]
   std::vector<Obstacle> obstacles;
   // [nitsche]
