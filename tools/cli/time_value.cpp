@@ -77,9 +77,14 @@ class ExpressionParser {
     }
   }
   void signed_value() {
-    Nest n(*this);
-    if (take('-')) return signed_value(), emit(Expression::kNeg);
-    if (take('+')) return signed_value();
+    if (take('-')) {
+      Nest n(*this);
+      return signed_value(), emit(Expression::kNeg);
+    }
+    if (take('+')) {
+      Nest n(*this);
+      return signed_value();
+    }
     power();
   }
   void power() {
