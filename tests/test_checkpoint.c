@@ -618,7 +618,7 @@ static int64_t get_i64(const unsigned char *buf, int64_t at) {
   return x;
 }
 
-/* the offsets of a version 6 block's fields (src/problem/checkpoint.cpp):
+/* the offsets of a version 6 block's fields, which version 8 keeps (src/problem/checkpoint.cpp):
    header 32 bytes, the definition's 7 fingerprints, then the state */
 typedef struct {
   int64_t t, n, t_ref, tau_ref, n_ref, U, V, A, F, A_valid, W, last, total, E0, budget, F_fixed, gap, W_obstacle,
@@ -665,7 +665,7 @@ START_TEST(fields_out_of_range_are_refused) {
   unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
-  ck_assert_int_eq(good[8], 6); /* the version */
+  ck_assert_int_eq(good[8], 8); /* the version */
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
   const layout l = layout_of(nf, nc, np);
   ck_assert_int_eq(get_i64(good, l.n), 30);
@@ -676,6 +676,13 @@ START_TEST(fields_out_of_range_are_refused) {
   ck_assert_int_eq(get_i64(good, l.gap), np);
   ck_assert_int_eq(get_i64(good, l.reaction), nc);
   ck_assert_int_eq(get_i64(good, l.phi), np);
+  /* version 8's tail: the curved-obstacle flag, the clamped DOFs' U, V, A
+     (empty: no prescribed motion, in their room) and W_prescribed, then the checksum */
+  const int64_t W_prescribed = nbytes - 16, Ac = W_prescribed - 8 - 8 * nc, Vc = Ac - 8 - 8 * nc,
+                Uc = Vc - 8 - 8 * nc, curved = Uc - 1;
+  ck_assert_int_eq(get_i64(good, Uc), 0);
+  ck_assert_int_eq(get_i64(good, Ac), 0);
+  ck_assert_int_eq(good[curved], 0);
   for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
   const double nan = NAN, inf = INFINITY;
   struct {
@@ -714,6 +721,9 @@ START_TEST(fields_out_of_range_are_refused) {
       {l.phi + 8, 0, nan, "applied contact term"},
       {l.log_i, 1, 1, "tangent history"}, /* one index: nb = 0 points ... */
       {12, 1, 7, "reserved"},               /* (the header's reserved word and the fingerprint's first half) */
+      {curved, 2, 2, "curved-obstacle flag"},
+      {Uc, 1, (double)nc, "some of U, V, A only"}, /* (U_c's zeros there, V_c and A_c empty) */
+      {W_prescribed, 0, nan, "W_prescribed"},
   };
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     memcpy(bad, good, (size_t)nbytes);
@@ -721,7 +731,7 @@ START_TEST(fields_out_of_range_are_refused) {
     if (cases[c].kind == 1) put_i64(bad, cases[c].at, (int64_t)cases[c].value);
     if (cases[c].kind == 2) bad[cases[c].at] = (unsigned char)cases[c].value;
     if (cases[c].at == l.log_i) put_i64(bad, l.log_i + 8, np + 5); /* ... but naming a point past the last */
-    if (cases[c].at == 12) put_i64(bad, 8, 6 | (7ll << 32));        /* (version 6 kept) */
+    if (cases[c].at == 12) put_i64(bad, 8, 8 | (7ll << 32));        /* (version 8 kept) */
     reseal(bad, nbytes);
     char what[64];
     snprintf(what, sizeof what, "case %zu (%s)", c, cases[c].word);
@@ -729,8 +739,8 @@ START_TEST(fields_out_of_range_are_refused) {
   }
   /* padding (the room of a shorter field) that is not zero */
   memcpy(bad, good, (size_t)nbytes);
-  ck_assert_int_eq(bad[nbytes - 9], 0);
-  bad[nbytes - 9] = 1;
+  ck_assert_int_eq(bad[nbytes - 17], 0); /* (the last byte of A_c's room) */
+  bad[nbytes - 17] = 1;
   reseal(bad, nbytes);
   refused_unchanged(p, nbytes, bad, ND_ERR_FORMAT, "padding", "padding");
   /* a resealed copy of the good block still loads, and gives its time */
