@@ -11,12 +11,16 @@ ClampedMean prescribed_update(const TimeScheme &scheme, double tau, const State 
   o.U = or_zeros(old.Uc), o.V = or_zeros(old.Vc), o.A = or_zeros(old.Ac);
   o.A_valid = true;
   x.U = next.Uc;
-  if (scheme.is_explicit()) {
-    x.A.resize(m);
-    for (size_t i = 0; i < m; ++i) x.A[i] = 2 * (x.U[i] - o.U[i] - tau * o.V[i]) / (tau * tau);
+  if (scheme.is_explicit()) {  // backward differences (prescribed.hpp)
+    x.V.resize(m), x.A.resize(m);
+    for (size_t i = 0; i < m; ++i) {
+      x.V[i] = (x.U[i] - o.U[i]) / tau;
+      x.A[i] = (x.V[i] - o.V[i]) / tau;
+    }
     x.A_valid = true;
+  } else {
+    scheme.update(tau, o, x);
   }
-  scheme.update(tau, o, x);
   ClampedMean mean;
   const double a = scheme.mean_weight();
   mean.U.resize(m);

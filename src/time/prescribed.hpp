@@ -17,10 +17,14 @@ struct ClampedMean {
 };
 
 // next.Vc, next.Ac from next.Uc (set) and old's (empty: at rest at 0), by the
-// scheme's update applied to the clamped DOFs as to a state of their own; an
-// explicit scheme, whose update takes A^{n+1} as given, gets the one its
-// Taylor step U^{n+1} = U^n + tau V^n + tau^2/2 A needs to reach U_c^{n+1}
-// (exact for a motion quadratic in t). Returns the step's mean.
+// scheme's update applied to the clamped DOFs as to a state of their own. An
+// explicit scheme's update takes A^{n+1} from the equation of motion, which
+// the clamped DOFs do not have, and any A^{n+1} read into its velocity
+// update keeps an error forever (central difference: a period-4 oscillation
+// after a sudden start); they take backward differences,
+// V^{n+1} = (U^{n+1} - U^n)/tau, A^{n+1} = (V^{n+1} - V^n)/tau: exact for a
+// motion linear in t, a sudden start's impulse exactly the momentum it
+// gives. Returns the step's mean.
 ClampedMean prescribed_update(const TimeScheme &scheme, double tau, const State &old, State &next);
 
 }  // namespace nd

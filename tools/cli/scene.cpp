@@ -412,6 +412,30 @@ class Reader {
     return v;
   }
 
+  // The key's node, which must be there (else the table's place and `what`).
+  const toml::node &required(const toml::table &t, const std::string &table, const std::string &key,
+                             const std::string &what) const {
+    const toml::node *n = find(t, key);
+    if (!n) missing(t, table, key, what);
+    return *n;
+  }
+  // f(entry, "parent.key[i]") for each table of the array parent.key (if
+  // given), its keys checked against those of "parent.key"
+  template <class F>
+  void each_table(const toml::table &t, const std::string &parent, const std::string &key, const std::string &form,
+                  F &&f) const {
+    const toml::node *n = t.get(key);
+    if (!n) return;
+    const toml::array *a = n->as_array();
+    if (!a) wrong_type(*n, parent, key, "an array of tables " + form);
+    for (size_t i = 0; i < a->size(); ++i) {
+      const std::string entry = key + "[" + std::to_string(i) + "]";
+      const toml::table &e = table((*a)[i], parent, entry);
+      check_keys(e, dotted(parent, entry), dotted(parent, key));
+      f(e, dotted(parent, entry));
+    }
+  }
+
   const toml::table &table(const toml::node &n, const std::string &parent, const std::string &key) const {
     const toml::table *t = n.as_table();
     if (!t) wrong_type(n, parent, key, "a table");
@@ -698,41 +722,21 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       s.body_force = r.time_value(*b, "loads", "body_force");
       s.body_force_at = r.where(b->source());
     }
-    if (const toml::node *tr = t.get("traction")) {
-      const toml::array *a = tr->as_array();
-      if (!a) r.wrong_type(*tr, "loads", "traction", "an array of tables { region, value }");
-      for (size_t i = 0; i < a->size(); ++i) {
-        const std::string name = "loads.traction[" + std::to_string(i) + "]";
-        const toml::table &e = r.table((*a)[i], "loads", "traction[" + std::to_string(i) + "]");
-        r.check_keys(e, name, "loads.traction");
-        const toml::node *reg = e.get("region");
-        if (!reg) r.missing(e, name, "region", "the region the traction acts on");
-        Traction tt;
-        tt.region = r.region(*reg, name, "region");
-        const toml::node *value = e.get("value");
-        if (!value) r.missing(e, name, "value", "the traction vector");
-        tt.value = r.time_value(*value, name, "value");
-        tt.at = r.where(e.source());
-        s.tractions.push_back(tt);
-      }
-    }
-    if (const toml::node *nl = t.get("nodal")) {
-      const toml::array *a = nl->as_array();
-      if (!a) r.wrong_type(*nl, "loads", "nodal", "an array of tables { node, value }");
-      for (size_t i = 0; i < a->size(); ++i) {
-        const std::string name = "loads.nodal[" + std::to_string(i) + "]";
-        const toml::table &e = r.table((*a)[i], "loads", "nodal[" + std::to_string(i) + "]");
-        r.check_keys(e, name, "loads.nodal");
-        NodalLoad l;
-        const toml::node *node = e.get("node"), *value = e.get("value");
-        if (!node) r.missing(e, name, "node", "the FE node the force acts on (from 0)");
-        if (!value) r.missing(e, name, "value", "the force");
-        l.node = r.integer(*node, name, "node", 0, std::numeric_limits<int64_t>::max());
-        l.value = r.time_value(*value, name, "value");
-        l.at = r.where(e.source());
-        s.nodal.push_back(std::move(l));
-      }
-    }
+    r.each_table(t, "loads", "traction", "{ region, value }", [&](const toml::table &e, const std::string &name) {
+      Traction tt;
+      tt.region = r.region(r.required(e, name, "region", "the region the traction acts on"), name, "region");
+      tt.value = r.time_value(r.required(e, name, "value", "the traction vector"), name, "value");
+      tt.at = r.where(e.source());
+      s.tractions.push_back(std::move(tt));
+    });
+    r.each_table(t, "loads", "nodal", "{ node, value }", [&](const toml::table &e, const std::string &name) {
+      NodalLoad l;
+      l.node = r.integer(r.required(e, name, "node", "the FE node the force acts on (from 0)"), name, "node", 0,
+                         std::numeric_limits<int64_t>::max());
+      l.value = r.time_value(r.required(e, name, "value", "the force"), name, "value");
+      l.at = r.where(e.source());
+      s.nodal.push_back(std::move(l));
+    });
   }
 
   if (const toml::node *n = root.get("dirichlet")) {
@@ -744,23 +748,13 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       for (size_t i = 0; i < a->size(); ++i)
         s.clamped.push_back(r.region((*a)[i], "dirichlet", "regions[" + std::to_string(i) + "]"));
     }
-    if (const toml::node *mo = t.get("motion")) {
-      const toml::array *a = mo->as_array();
-      if (!a) r.wrong_type(*mo, "dirichlet", "motion", "an array of tables { region, displacement }");
-      for (size_t i = 0; i < a->size(); ++i) {
-        const std::string name = "dirichlet.motion[" + std::to_string(i) + "]";
-        const toml::table &e = r.table((*a)[i], "dirichlet", "motion[" + std::to_string(i) + "]");
-        r.check_keys(e, name, "dirichlet.motion");
-        Motion m;
-        const toml::node *reg = e.get("region"), *d = e.get("displacement");
-        if (!reg) r.missing(e, name, "region", "a clamped region of dirichlet.regions");
-        if (!d) r.missing(e, name, "displacement", "the region's displacement");
-        m.region = r.region(*reg, name, "region");
-        m.displacement = r.time_value(*d, name, "displacement");
-        m.at = r.where(e.source());
-        s.motions.push_back(std::move(m));
-      }
-    }
+    r.each_table(t, "dirichlet", "motion", "{ region, displacement }", [&](const toml::table &e, const std::string &name) {
+      Motion m;
+      m.region = r.region(r.required(e, name, "region", "a clamped region of dirichlet.regions"), name, "region");
+      m.displacement = r.time_value(r.required(e, name, "displacement", "the region's displacement"), name, "displacement");
+      m.at = r.where(e.source());
+      s.motions.push_back(std::move(m));
+    });
   }
 
   if (const toml::node *n = root.get("obstacle")) {
