@@ -90,7 +90,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     std::vector<const ndcli::TimeValue *> values{&s.body_force};
     for (const auto &t : s.tractions) values.push_back(&t.value);
     for (const auto &l : s.nodal) values.push_back(&l.value);
-    for (const auto &m : s.motions) values.push_back(&m.displacement);
+    for (const auto &m : s.motions) values.push_back(&m.value);
     for (const auto &o : s.obstacles) values.push_back(&o.position), values.push_back(&o.rotation);
     for (const ndcli::TimeValue *v : values)
       for (double t : {0.0, 0.5, -1.0, 1e300, std::nan("")})

@@ -106,8 +106,8 @@ void give_time_values(const Scene &s, nd_problem p, const Setup &set, double t, 
     scene_call(nd_problem_set_nodal_forces(p, set.nodes, f.data()), s.nodal.front().at, "loads.nodal");
   }
   for (const auto &m : s.motions)
-    if (all || m.displacement.varies())
-      scene_call(nd_problem_set_dirichlet_value(p, ndcli::region_id(s, m.region), m.displacement.at(t).data()), m.at,
+    if (all || m.value.varies())
+      scene_call(nd_problem_set_dirichlet_value(p, ndcli::region_id(s, m.region), m.value.at(t).data()), m.at,
                  "dirichlet.motion");
   const std::vector<int> added = added_indices(s);
   for (size_t i = 0; i < s.obstacles.size(); ++i) {

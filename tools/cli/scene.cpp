@@ -436,6 +436,18 @@ class Reader {
     }
   }
 
+  // the array of tables parent.key, each { region, `value` } (RegionValue)
+  void region_values(const toml::table &t, const std::string &parent, const std::string &key, const std::string &value,
+                     const std::string &what_region, const std::string &what_value, std::vector<RegionValue> &out) const {
+    each_table(t, parent, key, "{ region, " + value + " }", [&](const toml::table &e, const std::string &name) {
+      RegionValue v;
+      v.region = region(required(e, name, "region", what_region), name, "region");
+      v.value = time_value(required(e, name, value, what_value), name, value);
+      v.at = where(e.source());
+      out.push_back(std::move(v));
+    });
+  }
+
   const toml::table &table(const toml::node &n, const std::string &parent, const std::string &key) const {
     const toml::table *t = n.as_table();
     if (!t) wrong_type(n, parent, key, "a table");
@@ -722,13 +734,8 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       s.body_force = r.time_value(*b, "loads", "body_force");
       s.body_force_at = r.where(b->source());
     }
-    r.each_table(t, "loads", "traction", "{ region, value }", [&](const toml::table &e, const std::string &name) {
-      Traction tt;
-      tt.region = r.region(r.required(e, name, "region", "the region the traction acts on"), name, "region");
-      tt.value = r.time_value(r.required(e, name, "value", "the traction vector"), name, "value");
-      tt.at = r.where(e.source());
-      s.tractions.push_back(std::move(tt));
-    });
+    r.region_values(t, "loads", "traction", "value", "the region the traction acts on", "the traction vector",
+                    s.tractions);
     r.each_table(t, "loads", "nodal", "{ node, value }", [&](const toml::table &e, const std::string &name) {
       NodalLoad l;
       l.node = r.integer(r.required(e, name, "node", "the FE node the force acts on (from 0)"), name, "node", 0,
@@ -748,13 +755,8 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       for (size_t i = 0; i < a->size(); ++i)
         s.clamped.push_back(r.region((*a)[i], "dirichlet", "regions[" + std::to_string(i) + "]"));
     }
-    r.each_table(t, "dirichlet", "motion", "{ region, displacement }", [&](const toml::table &e, const std::string &name) {
-      Motion m;
-      m.region = r.region(r.required(e, name, "region", "a clamped region of dirichlet.regions"), name, "region");
-      m.displacement = r.time_value(r.required(e, name, "displacement", "the region's displacement"), name, "displacement");
-      m.at = r.where(e.source());
-      s.motions.push_back(std::move(m));
-    });
+    r.region_values(t, "dirichlet", "motion", "displacement", "a clamped region of dirichlet.regions",
+                    "the region's displacement", s.motions);
   }
 
   if (const toml::node *n = root.get("obstacle")) {
@@ -950,7 +952,7 @@ void check_dimension(const Scene &s, int dim) {
   check(s.v0, s.v0_at, "initial.velocity");
   for (const auto &t : s.tractions) check(t.value, t.at, "loads.traction.value");
   for (const auto &l : s.nodal) check(l.value, l.at, "loads.nodal.value");
-  for (const auto &m : s.motions) check(m.displacement, m.at, "dirichlet.motion.displacement");
+  for (const auto &m : s.motions) check(m.value, m.at, "dirichlet.motion.displacement");
   for (const auto &o : s.obstacles) {
     check(o.point, o.at, "obstacle.point");
     check(o.normal, o.at, "obstacle.normal");

@@ -36,11 +36,15 @@ struct RegionBox {  // [regions] name = { id = N, lo = [...], hi = [...] }
   std::string at;
 };
 
-struct Traction {
+// A region's vector in time: a traction ([[loads.traction]] region, value)
+// or a clamped region's displacement ([[dirichlet.motion]] region, displacement).
+struct RegionValue {
   RegionRef region;
   TimeValue value;
   std::string at;
 };
+using Traction = RegionValue;
+using Motion = RegionValue;
 
 struct NodalLoad {  // [[loads.nodal]] node = N, value = ...: a force on one FE node
   int64_t node = 0;
@@ -48,11 +52,6 @@ struct NodalLoad {  // [[loads.nodal]] node = N, value = ...: a force on one FE 
   std::string at;
 };
 
-struct Motion {  // [[dirichlet.motion]] region = ..., displacement = ...: a clamped region moved
-  RegionRef region;
-  TimeValue displacement;
-  std::string at;
-};
 
 struct Obstacle {
   RegionRef region;
