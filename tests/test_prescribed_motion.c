@@ -188,6 +188,10 @@ START_TEST(hybrid_ledger_with_prescribed_motion) {
       ck_assert_int_gt(kept, 50);
       ck_assert_int_gt(changed_sides, 0); /* the support did push the strip into the plane */
       ck_assert(scalar(p, ND_WORK_PRESCRIBED) != 0);
+      /* the energy guard (on, factor 2) counts the supports' work: from rest
+         (E^0 = 0), with no load and a fixed plane, every step raising E would
+         have been refused otherwise */
+      ck_assert(scalar(p, ND_ENERGY_MECHANICAL) > 2 * (scalar(p, ND_WORK) + scalar(p, ND_WORK_OBSTACLE)));
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
 }
