@@ -140,6 +140,7 @@ extern "C" {
   X(ND_SLIDING_POINTS, 56, "contact points in contact and sliding at the last step (friction)") \
   X(ND_STICKING_POINTS, 57, "contact points in contact and sticking at the last step (friction)") \
   X(ND_DISSIPATION_DAMPING, 60, "dissipation of the Rayleigh damping since t = 0") \
+  X(ND_WORK_PRESCRIBED, 70, "work of the prescribed motion on the body since t = 0") \
   X(ND_CONTACT_FORCE_TANGENTIAL_X, 75, "x of the tangential contact force's resultant the last step applied, obstacle on body") \
   X(ND_CONTACT_FORCE_TANGENTIAL_Y, 76, "y of that resultant (0 in 1D)")                \
   X(ND_CONTACT_FORCE_TANGENTIAL_Z, 77, "z of that resultant (0 below 3D)")
@@ -255,6 +256,14 @@ ND_EXPORT int nd_problem_set_material(nd_problem p, double young, double poisson
 ND_EXPORT int nd_problem_set_material_region(nd_problem p, int cell_region, double young, double poisson,
                                              double density);
 ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region);
+/* Prescribed motion of a clamped region: the displacement (dim values, the
+   same for every node of the region) its clamped DOFs take at t^{n+1} of the
+   next step, set before each step as loads are (before the first step a
+   first call gives t^0's value, a second t^1's). The nodal form sets every
+   clamped DOF (n = node count, n*dim values; the free DOFs' are not read).
+   Velocity and acceleration there follow the scheme. Default 0. */
+ND_EXPORT int nd_problem_set_dirichlet_value(nd_problem p, int region, const double *u);
+ND_EXPORT int nd_problem_set_dirichlet_nodal(nd_problem p, int64_t n, const double *u);
 ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f);
 ND_EXPORT int nd_problem_set_neumann(nd_problem p, int region, const double *g);
 /* normal points from the obstacle towards the body; a region's plane is

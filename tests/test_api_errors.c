@@ -507,6 +507,44 @@ START_TEST(problem_null_handles) {
 }
 END_TEST
 
+/* Prescribed motion: each argument refused with its code, the problem
+   unchanged; a step that would move a clamped DOF a contact point's rows
+   read (the one-cell bar: the contact point's s_q reads the clamped end) is
+   refused and not taken. */
+START_TEST(problem_prescribed_motion) {
+  nd_problem p = nd_test_bar(1, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
+  const int64_t n = node_count(p);
+  const double d = 0.01, nan = NAN;
+  double u[4] = {0, 0, 0, 0};
+  EXPECT_ERR(nd_problem_set_dirichlet_value(NULL, 2, &d), ND_ERR_NULL, "nd_problem_set_dirichlet_value", "problem");
+  EXPECT_ERR(nd_problem_set_dirichlet_nodal(NULL, n, u), ND_ERR_NULL, "nd_problem_set_dirichlet_nodal", "problem");
+  EXPECT_ERR(nd_problem_set_dirichlet_value(p, 2, NULL), ND_ERR_NULL, "nd_problem_set_dirichlet_value", "u");
+  EXPECT_ERR(nd_problem_set_dirichlet_nodal(p, n, NULL), ND_ERR_NULL, "nd_problem_set_dirichlet_nodal", "u");
+  EXPECT_ERR(nd_problem_set_dirichlet_value(p, 2, &nan), ND_ERR_NONFINITE, "nd_problem_set_dirichlet_value", "u");
+  u[1] = INFINITY;
+  EXPECT_ERR(nd_problem_set_dirichlet_nodal(p, n, u), ND_ERR_NONFINITE, "nd_problem_set_dirichlet_nodal", "u");
+  u[1] = 0;
+  EXPECT_ERR(nd_problem_set_dirichlet_nodal(p, n + 1, u), ND_ERR_SIZE, "nd_problem_set_dirichlet_nodal", NULL);
+  EXPECT_ERR(nd_problem_set_dirichlet_nodal(p, -1, u), ND_ERR_SIZE, "nd_problem_set_dirichlet_nodal", NULL);
+  /* region 1 is the contact end, not clamped; region 9 does not exist */
+  EXPECT_ERR(nd_problem_set_dirichlet_value(p, 1, &d), ND_ERR_REGION, "nd_problem_set_dirichlet_value", "region 1");
+  EXPECT_ERR(nd_problem_set_dirichlet_value(p, 9, &d), ND_ERR_REGION, "nd_problem_set_dirichlet_value", "region 9");
+  /* the failed calls left no motion: the step is the bar's own */
+  EXPECT_OK(nd_step(p));
+  double w = 1;
+  EXPECT_OK(nd_get_scalar(p, ND_WORK_PRESCRIBED, &w));
+  ck_assert_double_eq(w, 0);
+  EXPECT_OK(nd_problem_set_dirichlet_value(p, 2, &d));
+  EXPECT_ERR(nd_step(p), ND_ERR_STATE, "nd_step", "contact point");
+  double t = 0;
+  EXPECT_OK(nd_get_scalar(p, ND_STEP_INDEX, &t));
+  ck_assert_double_eq(t, 1);
+  EXPECT_OK(nd_problem_set_dirichlet_nodal(p, n, u)); /* back to 0: the bar steps again */
+  EXPECT_OK(nd_step(p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 START_TEST(problem_null_arrays) {
   nd_problem p = nd_test_bar(4, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
   const double one = 1;
@@ -1521,6 +1559,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_friction);
   tcase_add_test(def, problem_newton_solver);
   tcase_add_test(def, problem_guards);
+  tcase_add_test(def, problem_prescribed_motion);
   suite_add_tcase(s, def);
 
   TCase *step = tcase_create("stepping_getters");

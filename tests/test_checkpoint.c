@@ -677,6 +677,14 @@ START_TEST(fields_out_of_range_are_refused) {
   ck_assert_int_eq(get_i64(good, l.gap), np);
   ck_assert_int_eq(get_i64(good, l.reaction), nc);
   ck_assert_int_eq(get_i64(good, l.phi), np);
+  /* version 8's tail: the clamped DOFs' U, V, A (empty: no prescribed
+     motion, in their room) and W_prescribed, then the checksum; no section
+     flagged (no curved obstacle, no friction) */
+  const int64_t W_prescribed = nbytes - 16, Ac = W_prescribed - 8 - 8 * nc, Vc = Ac - 8 - 8 * nc,
+                Uc = Vc - 8 - 8 * nc;
+  ck_assert_int_eq(get_i64(good, Uc), 0);
+  ck_assert_int_eq(get_i64(good, Ac), 0);
+  ck_assert_int_eq(good[l.curved], 0);
   for (int k = 0; k < 3; ++k) ND_OK_OR_FAIL(nd_step(p));
   const double nan = NAN, inf = INFINITY;
   struct {
@@ -717,6 +725,8 @@ START_TEST(fields_out_of_range_are_refused) {
       {l.phi + 8, 0, nan, "applied contact term"},
       {l.log_i, 1, 1, "tangent history"}, /* one index: nb = 0 points ... */
       {12, 1, 7, "reserved"},               /* (the header's reserved word and the fingerprint's first half) */
+      {Uc, 1, (double)nc, "some of U, V, A only"}, /* (U_c's zeros there, V_c and A_c empty) */
+      {W_prescribed, 0, nan, "W_prescribed"},
   };
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     memcpy(bad, good, (size_t)nbytes);
@@ -732,8 +742,8 @@ START_TEST(fields_out_of_range_are_refused) {
   }
   /* padding (the room of a shorter field) that is not zero */
   memcpy(bad, good, (size_t)nbytes);
-  ck_assert_int_eq(bad[nbytes - 9], 0);
-  bad[nbytes - 9] = 1;
+  ck_assert_int_eq(bad[nbytes - 17], 0); /* (the last byte of A_c's room) */
+  bad[nbytes - 17] = 1;
   reseal(bad, nbytes);
   refused_unchanged(p, nbytes, bad, ND_ERR_FORMAT, "padding", "padding");
   /* a resealed copy of the good block still loads, and gives its time */

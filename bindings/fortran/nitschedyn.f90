@@ -36,6 +36,7 @@ module nitschedyn
             nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy, &
             nd_mesh_set_cell_region, nd_mesh_get_cell_regions
   public :: nd_problem_create, nd_problem_set_material, nd_problem_set_material_region, nd_problem_set_dirichlet, &
+            nd_problem_set_dirichlet_value, nd_problem_set_dirichlet_nodal, &
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
             nd_problem_add_contact_sphere, nd_problem_add_contact_cylinder, nd_problem_add_contact_distance, &
             nd_problem_move_obstacle, nd_problem_set_friction, &
@@ -378,6 +379,26 @@ module nitschedyn
       real(c_double), intent(in), optional :: params(*)
       integer(c_int) :: status
     end function nd_problem_set_scheme
+
+    ! u(dim): the region's displacement at t^{n+1} of the next step
+    function nd_problem_set_dirichlet_value(p, region, u) result(status) &
+        bind(C, name='nd_problem_set_dirichlet_value')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region
+      real(c_double), intent(in) :: u(*)
+      integer(c_int) :: status
+    end function nd_problem_set_dirichlet_value
+
+    ! u(dim, n): n FE nodes (only the clamped DOFs are read)
+    function nd_problem_set_dirichlet_nodal(p, n, u) result(status) &
+        bind(C, name='nd_problem_set_dirichlet_nodal')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: u(*)
+      integer(c_int) :: status
+    end function nd_problem_set_dirichlet_nodal
 
     ! f(dim, n): n FE nodes
     function nd_problem_set_nodal_forces(p, n, f) result(status) &

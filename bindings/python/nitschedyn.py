@@ -137,6 +137,8 @@ _PROTOTYPES = {
     "nd_problem_set_material": (_int, [_ptr, _dbl, _dbl, _dbl]),
     "nd_problem_set_material_region": (_int, [_ptr, _int, _dbl, _dbl, _dbl]),
     "nd_problem_set_dirichlet": (_int, [_ptr, _int]),
+    "nd_problem_set_dirichlet_value": (_int, [_ptr, _int, _pdbl]),
+    "nd_problem_set_dirichlet_nodal": (_int, [_ptr, _i64, _pdbl]),
     "nd_problem_set_body_force": (_int, [_ptr, _pdbl]),
     "nd_problem_set_neumann": (_int, [_ptr, _int, _pdbl]),
     "nd_problem_set_contact_plane": (_int, [_ptr, _int, _pdbl, _pdbl]),
@@ -443,6 +445,15 @@ class Problem(_Handle):
 
     def set_dirichlet(self, region):
         _check(lib.nd_problem_set_dirichlet(self._h, region))
+
+    def set_dirichlet_value(self, region, u):
+        """Prescribed motion: the clamped region's displacement (dim values) at
+        t^{n+1} of the next step (before the first step, a first call gives t^0's)."""
+        _check(lib.nd_problem_set_dirichlet_value(self._h, region, _dptr(self._vector(u, "u"))))
+
+    def set_dirichlet_nodal(self, u):
+        """Prescribed motion per FE node (node_count x dim values; only the clamped DOFs are read)."""
+        _check(lib.nd_problem_set_dirichlet_nodal(self._h, self.node_count, _dptr(self._nodal(u, "u"))))
 
     def set_body_force(self, f):
         _check(lib.nd_problem_set_body_force(self._h, _dptr(self._vector(f, "f"))))

@@ -277,6 +277,51 @@ def test_pressure_applied():
         check(p.scalar(nd.ND_CONTACT_FORCE_APPLIED) >= 0, "ND_CONTACT_FORCE_APPLIED >= 0")
 
 
+def test_prescribed_motion():
+    """A bar pushed at v from t = 0 into a wall: with the lumped P1 central
+    difference at Courant number 1 the nodal values are the d'Alembert
+    solution's, so the reaction is rho c v until the reflection returns and
+    the contact force 2 rho c v once the wave has reached the wall
+    (tests/test_prescribed_motion.c derives both); the nodal form gives the
+    region form's bits."""
+    n_cells, v = 20, 0.01
+    runs = []
+    for nodal in (False, True):
+        with nd.Mesh.interval(n_cells, 0.0, 1.0) as m:
+            m.mark_boundary_box(1, [-0.1], [0.1])
+            m.mark_boundary_box(2, [0.9], [1.1])
+            p = nd.Problem(m, 1)
+        with p:
+            p.set_material(1.0, 0.0, 1.0)
+            p.set_dirichlet(1)
+            p.set_contact_plane(2, [1.0], [-1.0])
+            p.set_nitsche(1.0, 0.5)
+            p.set_mass_lumping(1)
+            p.set_scheme(nd.ND_SCHEME_NEWMARK, [0.0, 0.5])
+            p.set_timestep(1.0 / n_cells)
+            p.set_guard(nd.ND_GUARD_CRITICAL_TIMESTEP, 0)
+            v0 = np.zeros((p.node_count, 1))
+            v0[0, 0] = v
+            p.set_initial_state(v0=v0)
+            reactions, forces = [], []
+            for k in range(0, 2 * n_cells):
+                d = v * k / n_cells
+                if nodal:
+                    p.set_dirichlet_nodal(np.full((p.node_count, 1), d))
+                else:
+                    p.set_dirichlet_value(1, [d])
+                if k == 0:
+                    continue
+                p.step()
+                reactions.append(p.field(nd.ND_FIELD_REACTION)[0, 0])
+                forces.append(p.scalar(nd.ND_CONTACT_FORCE))
+            runs.append((reactions, forces, p.scalar(nd.ND_WORK_PRESCRIBED)))
+    reactions, forces, work = runs[0]
+    check(all(abs(r - v) <= 1e-12 * v for r in reactions), "pushed bar: reaction rho c v (Python)")
+    check(all(abs(f - 2 * v) <= 1e-12 * v for f in forces[n_cells:]), "pushed bar: contact force 2 rho c v (Python)")
+    check(work > 0 and runs[1] == runs[0], "the nodal form gives the region form's bits (Python)")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bar1d", required=True)
@@ -295,6 +340,7 @@ def main():
     test_constants()
     test_checkpoint()
     test_pressure_applied()
+    test_prescribed_motion()
     print("%d passed, %d failed" % (passed, failed))
     return 1 if failed else 0
 

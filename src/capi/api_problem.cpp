@@ -71,6 +71,27 @@ ND_EXPORT int nd_problem_set_dirichlet(nd_problem p, int region) {
   });
 }
 
+ND_EXPORT int nd_problem_set_dirichlet_value(nd_problem p, int region, const double *u) {
+  return nd::guarded("nd_problem_set_dirichlet_value", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need(u, "u");
+    nd::need_finite(u, pr.space().dim, "u");
+    pr.set_dirichlet_value(region, u);
+    return ND_OK;
+  });
+}
+
+ND_EXPORT int nd_problem_set_dirichlet_nodal(nd_problem p, int64_t n, const double *u) {
+  return nd::guarded("nd_problem_set_dirichlet_nodal", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    need_node_array(pr, n, "u");
+    nd::need(u, "u");
+    nd::need_finite(u, n * pr.space().dim, "u");
+    pr.set_dirichlet_nodal(u);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_body_force(nd_problem p, const double *f) {
   return nd::guarded("nd_problem_set_body_force", [&] {
     nd::Problem &pr = nd::problem_of(p);

@@ -67,7 +67,10 @@ void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
 void guard_step(const Discretization &d, const Guards &g, const State &old, State &next) {
   GuardState &gs = next.guard;
   gs = old.guard;
-  gs.budget = std::max(gs.budget, gs.E0 + next.W + next.W_obstacle);  // a moving obstacle puts energy in too
+  // a moving obstacle puts energy in too, and so do moving supports (prescribed motion)
+  double put_in = gs.E0 + next.W + next.W_obstacle;
+  if (next.W_prescribed != 0) put_in += next.W_prescribed;
+  gs.budget = std::max(gs.budget, put_in);
   // (a state whose points the step did not evaluate: first from their
   // reference, without a pass)
   const PointReference *ref = next.products.of == d.id ? next.products.points.ref.get() : nullptr;
@@ -97,7 +100,7 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
          "the step to t = " + num(next.t) + " raises the mechanical energy to " + num(E) +
              (next.D_damping != 0 ? " (plus " + num(next.D_damping) + " dissipated by the damping)" : std::string()) +
              ", more than " +
-             num(g.energy) + " times the energy put in (E^0 + W + W_obstacle = " + num(gs.budget) +
+             num(g.energy) + " times the energy put in (E^0 + W + W_obstacle + W_prescribed = " + num(gs.budget) +
              "): the scheme is unstable here. Lower the time step (explicit schemes: below the critical step), "
              "lower gamma0 (gamma0 = 0 chooses a safe one), or use a dissipative or the hybrid scheme" +
              (safe.empty() ? std::string()

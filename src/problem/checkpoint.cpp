@@ -26,10 +26,11 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // 7: with curved obstacles (StateSizes::n_positions > 0) the frozen normals
 // and the obstacles' positions at t^n follow (without, version 6 is written);
 // 8 (always written): after the obstacle's work the damping's dissipation
-// (State::D_damping) and a byte of flags saying which sections follow at
-// the end: 1, the normals and positions of 7 (curved obstacles); 2, the
-// friction's (StateSizes::n_slip > 0: the slip references, the applied
-// tangential values, D_f and the sliding and sticking points)
+// (State::D_damping) and a byte of flags saying which sections follow the
+// tangent's history: 1, the normals and positions of 7 (curved obstacles);
+// 2, the friction's (StateSizes::n_slip > 0: the slip references, the
+// applied tangential values, D_f and the sliding and sticking points); then
+// always the prescribed motion: the clamped DOFs' U, V, A and W_prescribed
 constexpr uint32_t kVersion = 8;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
@@ -251,6 +252,10 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
     payload.value(s.sliding);
     payload.value(s.sticking);
   }
+  payload.padded(s.Uc, n_clamped);
+  payload.padded(s.Vc, n_clamped);
+  payload.padded(s.Ac, n_clamped);
+  payload.value(s.W_prescribed);
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(version);
@@ -309,6 +314,7 @@ int64_t max_state_size(const StateSizes &sizes) {
   }
   s.slip.resize(static_cast<size_t>(sizes.n_slip));
   s.phi_t = s.slip;
+  s.Uc = s.Vc = s.Ac = s.F_fixed;
   return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
 
@@ -472,6 +478,16 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   if ((sizes.n_slip > 0) != friction || (sizes.n_slip > 0 && s.slip.empty()))
     fail(ND_ERR_STATE, sizes.n_slip > 0 ? "the checkpoint has no friction state; this problem has friction"
                                         : "the checkpoint has a friction state; this problem has no friction");
+  if (head.version >= 8) {  // prescribed motion: all three or none
+    s.Uc = optional(sizes.n_clamped, "prescribed displacement");
+    s.Vc = optional(sizes.n_clamped, "prescribed velocity");
+    s.Ac = optional(sizes.n_clamped, "prescribed acceleration");
+    for (const std::vector<double> *v : {&s.Uc, &s.Vc, &s.Ac}) need_finite(*v, "prescribed motion");
+    if (s.Vc.size() != s.Uc.size() || s.Ac.size() != s.Uc.size())
+      fail(ND_ERR_FORMAT, "the checkpoint's prescribed motion has some of U, V, A only");
+    s.W_prescribed = r.value<double>();
+    need_finite(s.W_prescribed, "work of the prescribed motion (W_prescribed)");
+  }
   if ((sizes.n_positions > 0) != positions || (sizes.n_positions > 0 && s.positions.empty()))
     fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"
                                              : "the checkpoint has curved obstacles (sphere, cylinder, distance); this problem has none");

@@ -38,6 +38,7 @@ enum Aspect : unsigned {
   kGuards = 1u << 12,
   kObstacle = 1u << 13,  // a plane's point moved (same normal), an obstacle's pose: only the gaps change
   kDamping = 1u << 14,   // Rayleigh damping alpha, beta
+  kMotion = 1u << 15,    // the clamped DOFs' prescribed displacement: only the step's data change
 };
 
 // What may change from step to step without new operators: the loads and
@@ -51,6 +52,9 @@ struct TimeData {
   std::vector<ContactPlane> planes;
   // more obstacles of the regions (contact/obstacle.hpp), each with its pose
   std::vector<Obstacle> obstacles;
+  // the prescribed displacement of every DOF (n_dofs; only the clamped ones
+  // are read), or empty: the clamped DOFs stay at 0 (docs/design.md §10.5)
+  std::vector<double> prescribed;
 };
 
 struct Definition : TimeData {

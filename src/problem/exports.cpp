@@ -7,6 +7,7 @@
 #include "assembly/redistribution.hpp"
 #include "common/error.hpp"
 #include "problem/integrator.hpp"
+#include "solve/clamped_coupling.hpp"
 #include "time/scheme.hpp"
 
 namespace nd {
@@ -102,10 +103,15 @@ double momentum(Problem &p, int key) {
   // coupled (non-diagonal) mass
   std::vector<double> MV(static_cast<size_t>(d.dofs.n_free), 0.0), full(static_cast<size_t>(sp.n_dofs()), 0.0);
   d.M.multiply(s.V.data(), MV.data());
+  // prescribed motion: the clamped DOFs' velocity V_c, in M's clamped columns
+  const bool moving = d.clamped && !s.Vc.empty();
+  const ClampedMean at_Vc{moving ? std::vector<double>(s.Vc.size(), 0.0) : std::vector<double>(), s.Vc};
+  if (moving) subtract_clamped_coupling(d, at_Vc, -1.0, MV.data());  // + M_fc V_c
   d.dofs.extend_to_full(MV.data(), full.data());
-  if (d.clamped && !d.lumped) {
+  if (d.clamped && (!d.lumped || moving)) {
     std::vector<double> MVc(d.clamped->dofs.size(), 0.0);
-    d.clamped->M.multiply(s.V.data(), MVc.data());
+    if (!d.lumped) d.clamped->M.multiply(s.V.data(), MVc.data());
+    if (moving) add_clamped_block(d, at_Vc, MVc);  // + M_cc V_c
     for (size_t r = 0; r < MVc.size(); ++r) full[d.clamped->dofs[r]] = MVc[r];
   }
   double L[3] = {0, 0, 0}, H[3] = {0, 0, 0};

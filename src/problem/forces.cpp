@@ -19,20 +19,25 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
       cr.dofs.push_back(static_cast<int64_t>(k));
     }
   const int nb = s.basis.n, d = s.dim;
-  std::vector<std::vector<int64_t>> cols(cr.dofs.size());
+  // the free columns (K, M) and the clamped ones (Kcc, Mcc) of each clamped row
+  std::vector<std::vector<int64_t>> cols(cr.dofs.size()), cols_c(cr.dofs.size());
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     const int64_t *nodes = s.nodes_of(c);
     for (int i = 0; i < nb * d; ++i) {
       const int64_t r = row_of[nodes[i / d] * d + i % d];
       if (r < 0) continue;
       for (int j = 0; j < nb * d; ++j) {
-        const int64_t col = dofs.free[nodes[j / d] * d + j % d];
-        if (col >= 0) cols[r].push_back(col);
+        const int64_t dof = nodes[j / d] * d + j % d;
+        if (dofs.free[dof] >= 0) cols[r].push_back(dofs.free[dof]);
+        else cols_c[r].push_back(row_of[dof]);
       }
     }
   }
   cr.K = csr_from_rows(std::move(cols));
   cr.M = cr.K.zeros_like();
+  cr.Kcc = csr_from_rows(std::move(cols_c));
+  cr.Mcc = cr.Kcc.zeros_like();
+  cr.M_lumped.assign(cr.dofs.size(), 0.0);
   ElementMatrices em(s, mat);
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     const int64_t *nodes = s.nodes_of(c);
@@ -41,17 +46,22 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
     if (!any) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
+    double diag = 0;  // HRZ, as assemble_bulk: the consistent diagonal scaled to the element's mass
+    for (int i = 0; i < nb; ++i) diag += em.me[i * nb + i];
+    const double cell_mass = mat.of(c).density * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) {
         const int64_t r = row_of[nodes[i] * d + a];
         if (r < 0) continue;
+        cr.M_lumped[r] += em.me[i * nb + i] * cell_mass / diag;
         for (int j = 0; j < nb; ++j)
           for (int b = 0; b < d; ++b) {
-            const int64_t col = dofs.free[nodes[j] * d + b];
-            if (col < 0) continue;
-            const int64_t k = cr.K.find(r, col);
-            cr.K.val[k] += em.ke[(i * d + a) * nb * d + j * d + b];
-            if (a == b) cr.M.val[k] += em.me[i * nb + j];
+            const int64_t dof = nodes[j] * d + b, col = dofs.free[dof];
+            Csr &K = col >= 0 ? cr.K : cr.Kcc;
+            Csr &M = col >= 0 ? cr.M : cr.Mcc;
+            const int64_t k = K.find(r, col >= 0 ? col : row_of[dof]);
+            K.val[k] += em.ke[(i * d + a) * nb * d + j * d + b];
+            if (a == b) M.val[k] += em.me[i * nb + j];
           }
       }
   }

@@ -85,6 +85,9 @@ struct StepData {
   std::shared_ptr<const std::vector<double>> F;  // (the next state shares it)
   const std::vector<double> &F_fixed, &gap;
   const std::vector<double> *gap_old = nullptr;
+  // the clamped DOFs' prescribed displacement at t^{n+1} (ClampedRows order;
+  // null or empty: none, at 0 unless the old state moved them)
+  const std::vector<double> *Uc = nullptr;
 };
 
 // The state at t^{n+1} from `old` with the data at t^{n+1}; also the

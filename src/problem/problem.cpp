@@ -22,6 +22,7 @@
 #include "parallel/ownership.hpp"
 #include "parallel/share.hpp"
 #include "problem/forces.hpp"
+#include "solve/clamped_coupling.hpp"
 #include "contact/obstacles.hpp"
 
 namespace nd {
@@ -34,9 +35,16 @@ constexpr unsigned kIntegratorDeps = kDiscretizationDeps | kScheme | kTimestep |
 // Before the first step the state at t^0 (its load F^0 and acceleration A^0)
 // is derived from the definition; later the state is the history and stays
 // (a changed load enters as F^{n+1}); new initial values always replace it.
-constexpr unsigned kInitialStateDeps = kLoadDeps | kNodal | kObstacle | kInitial;
+constexpr unsigned kInitialStateDeps = kLoadDeps | kNodal | kObstacle | kMotion | kInitial;
 
 namespace {
+// a full vector's (n_dofs) values at the clamped DOFs, in ClampedRows order
+std::vector<double> clamped_values(const Discretization &d, const std::vector<double> &full) {
+  std::vector<double> c(d.clamped->dofs.size());
+  for (size_t r = 0; r < c.size(); ++r) c[r] = full[d.clamped->dofs[r]];
+  return c;
+}
+
 // the mesh and the space, for the ranks' agreement (Problem::inputs_digest)
 uint64_t mesh_digest(const Mesh &m, const Space &s) {
   Hash h;
@@ -61,7 +69,7 @@ void Problem::changed(unsigned aspects) {
   if (aspects & kContact) obstacle_redefined_ = true;
   // once t^0's loads are fixed (set up, or a second value given) a load is
   // F^{n+1} of the next step, also at n = 0
-  const unsigned initial = kInitialStateDeps & ~(setup_done_ || start_ ? kLoads | kNodal | kObstacle : 0u);
+  const unsigned initial = kInitialStateDeps & ~(setup_done_ || start_ ? kLoads | kNodal | kObstacle | kMotion : 0u);
   if ((aspects & kInitial) || ((aspects & initial) && state_.n == 0)) {
     state_ready_ = false;
     setup_done_ = false;
@@ -143,7 +151,10 @@ void Problem::add_dirichlet(int region) {
 
 // what giving() keys a load or a position by: (kind, region)
 // (an added obstacle's pose: kObstaclePose + its index in Definition::obstacles)
-enum TimeDataKind { kBodyForce, kNodalForces, kTraction, kObstaclePosition, kObstaclePose };
+// (a clamped region's prescribed displacement: kPrescribedRegion, its region;
+// the nodal form: kPrescribedNodes)
+enum TimeDataKind { kBodyForce, kNodalForces, kTraction, kObstaclePosition, kPrescribedNodes, kPrescribedRegion,
+                    kObstaclePose };
 
 void Problem::giving(std::pair<int, int> what) {
   const bool before_first_step = !setup_done_ && !(state_ready_ && state_.n > 0);
@@ -263,6 +274,25 @@ void Problem::move_obstacle(int region, int index, const double *translation, co
   giving({kObstaclePose + static_cast<int>(at), region});
   def_.obstacles[at].pose = pose;
   changed(kObstacle);
+}
+
+void Problem::set_dirichlet_value(int region, const double *u) {
+  if (std::find(def_.dirichlet.begin(), def_.dirichlet.end(), region) == def_.dirichlet.end())
+    fail(ND_ERR_REGION, "region " + std::to_string(region) +
+                            " is not clamped: give it to nd_problem_set_dirichlet first (only clamped DOFs move)");
+  giving({kPrescribedRegion, region});
+  const int d = space_.dim;
+  if (def_.prescribed.empty()) def_.prescribed.assign(static_cast<size_t>(space_.n_dofs()), 0.0);
+  for (int64_t f : mesh_->regions.at(region))
+    for (int64_t node : space_.facet_nodes(mesh_->boundary[f]))
+      for (int k = 0; k < d; ++k) def_.prescribed[node * d + k] = u[k];
+  changed(kMotion);
+}
+
+void Problem::set_dirichlet_nodal(const double *u) {
+  giving({kPrescribedNodes, 0});
+  def_.prescribed.assign(u, u + space_.n_dofs());
+  changed(kMotion);
 }
 
 void Problem::set_nitsche(double theta, double gamma0) {
@@ -512,6 +542,12 @@ const State &Problem::state() {
     s.A.assign(n, 0.0);
     if (!def_.u0.empty()) d.dofs.restrict_to_free(def_.u0.data(), s.U.data());
     if (!def_.v0.empty()) d.dofs.restrict_to_free(def_.v0.data(), s.V.data());
+    const std::vector<double> &motion0 = start_ ? start_->prescribed : def_.prescribed;
+    if (d.clamped && !motion0.empty()) {  // prescribed motion: the supports at t^0, at the initial velocity
+      s.Uc = clamped_values(d, motion0);
+      s.Vc = def_.v0.empty() ? std::vector<double>(s.Uc.size(), 0.0) : clamped_values(d, def_.v0);
+      s.Ac.assign(s.Uc.size(), 0.0);
+    }
     if (start_) {  // t^0's loads and positions, not the next step's
       const Definition d0 = at_start();
       s.F = with_nodal(std::make_shared<const std::vector<double>>(constant_load(space_, d, d0)), d0.nodal);
@@ -653,8 +689,11 @@ void Problem::step() {
       }
       gap = &geo.gap;
     }
+    const std::vector<double> motion =
+        disc_->clamped && !def_.prescribed.empty() ? clamped_values(*disc_, def_.prescribed) : std::vector<double>();
     next = advance(*integrator_, *disc_, def_, state_,
-                   StepData{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr}, std::move(spare_));
+                   StepData{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr, &motion},
+                   std::move(spare_));
     if (curved) next.normal = std::move(geo.normal), next.positions = positions(def_.planes, def_.obstacles);
     else next.normal.clear(), next.positions.clear();
     guard_step(*disc_, def_.guards, state_, next);
@@ -727,6 +766,7 @@ uint64_t Problem::inputs_digest() const {
       h.bytes(o.pose.R, sizeof o.pose.R), h.bytes(o.pose.t, sizeof o.pose.t);
     }
     h.vec(t.nodal);
+    h.vec(t.prescribed);
   };
   time_data(d);
   h.value(start_ != nullptr);
@@ -904,7 +944,9 @@ std::vector<double> Problem::reaction_at_equilibrium(const State &s) {
     double slope;
     law.law(q, law.P(q, e.U.data()), phi[q], slope);
   }
-  return clamped_residual(d, e.A, e.U, phi, e.F_fixed);
+  std::vector<double> R = clamped_residual(d, e.A, e.U, phi, e.F_fixed);
+  if (!e.Uc.empty()) add_clamped_block(d, ClampedMean{e.Uc, e.Ac}, R);
+  return R;
 }
 
 namespace {
@@ -935,7 +977,12 @@ void Problem::field(int which, double *full) {
   }
   complete_state();  // whole vectors: collective when the state is partial
   if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
-  discretization_().dofs.extend_to_full(state_vector(s, which)->data(), full);
+  const Discretization &d = discretization_();
+  d.dofs.extend_to_full(state_vector(s, which)->data(), full);
+  // prescribed motion: the clamped DOFs where the supports have taken them
+  const std::vector<double> &c = which == ND_FIELD_DISPLACEMENT ? s.Uc : which == ND_FIELD_VELOCITY ? s.Vc : s.Ac;
+  if (d.clamped && c.size() == d.clamped->dofs.size())
+    for (size_t r = 0; r < c.size(); ++r) full[d.clamped->dofs[r]] = c[r];
 }
 
 const Ownership &Problem::ownership() {
@@ -1054,6 +1101,8 @@ double Problem::scalar(int key) {
       return static_cast<double>(c.sticking);
     case ND_DISSIPATION_DAMPING:
       return c.D_damping;
+    case ND_WORK_PRESCRIBED:
+      return c.W_prescribed;
     case ND_TIMESTEP:
       return def_.tau;
     case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)

@@ -31,6 +31,11 @@ class Problem {
   // it); the others keep the default (set_material), which stays required.
   void set_material_region(int cell_region, const Material &m);
   void add_dirichlet(int region);
+  // Prescribed motion (docs/design.md §10.5): the displacement a clamped
+  // region's nodes (dim values), or every clamped DOF (n_dofs values, the
+  // free ones not read), take at t^{n+1} of the next step, as a load's value.
+  void set_dirichlet_value(int region, const double *u);
+  void set_dirichlet_nodal(const double *u);
   void set_body_force(const double *f);
   void add_neumann(int region, const double *g);
   // Sets the region's plane: replaces the one it has. With the same normal

@@ -1,7 +1,7 @@
 // The step driver (docs/architecture.md §2): one step from t^n to t^{n+1},
 // naming no scheme, law or obstacle. advance() below reads as the method
 // does; each phase is a method of Step:
-//   start         time, loads and gaps at t^{n+1}
+//   start         time, loads, gaps and prescribed motion at t^{n+1}
 //   contact_term  the law over the step: P^n, and what the bounds start from
 //   explicit_step M A^{n+1} = F - K_Theta U - N(U) at the predicted U
 //   implicit_step the scheme's right-hand side, then the cheapest solve that
@@ -25,6 +25,7 @@
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
 #include "solve/friction.hpp"
+#include "solve/clamped_coupling.hpp"
 #include "solve/newton.hpp"
 #include "solve/predictor_check.hpp"
 #include "solve/products.hpp"
@@ -90,10 +91,11 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
 // pass in kPredictorProbe for the try). Serial operators, every DOF with
 // mass. From the state alone: a resumed run tries the same steps.
 constexpr int64_t kPredictorProbe = 16;
-bool predictor_may_solve(const Integrator &in, const Discretization &d, const Definition &def, const State &old) {
+bool predictor_may_solve(const Integrator &in, const Discretization &d, const Definition &def, const State &old,
+                         bool moving) {
   // (a law zero where free: else a free flight has forces, no constant acceleration)
   // (damping: G's C term is not among the state's products the check reads)
-  if (!def.predicted_steps || d.damped() || !in.scheme->predicts_constant_acceleration() ||
+  if (moving || !def.predicted_steps || d.damped() || !in.scheme->predicts_constant_acceleration() ||
       !d.contact_law->traits().zero_when_free || !old.A_valid || d.rows || !in.held.empty() || !d.massless.empty())
     return false;
   if (old.last_iterations == 0) return true;
@@ -128,6 +130,7 @@ class Step {
 
  private:
   void new_state_products(bool shown_free, PointValues *known, const HeldPoints *held);
+  void prescribed_work(const Discretization &d, std::vector<double> &R);
   void newton(std::vector<double> &r);
   void damping_rhs(std::vector<double> &r);
   void damping_dissipation();
@@ -159,6 +162,10 @@ class Step {
   // its pass made); the condensed Newton's check updated the state and made
   // its pass; Newton's solution shown contact-free by the bound from law.Un
   bool predicted_ = false, made_ = false, bounded_ = false;
+  // prescribed motion (docs/design.md §10.5): the clamped DOFs move this
+  // step (next.Uc set), read at the scheme's mean point
+  bool moving_ = false;
+  ClampedMean clamped_mean_;
 };
 
 void Step::start() {
@@ -183,6 +190,19 @@ void Step::start() {
                          "friction moved); the step was not taken");
     next.slip = old_.slip;
   }
+  // prescribed motion: the clamped DOFs' U, V, A at t^{n+1} (a definition
+  // without values brings a moved support back to 0)
+  const bool given = at_new_.Uc && !at_new_.Uc->empty();
+  moving_ = d_.clamped && (given || !old_.Uc.empty());
+  next.W_prescribed = old_.W_prescribed;
+  if (!moving_) return;
+  if (d_.damped())
+    fail(ND_ERR_STATE, "prescribed motion with Rayleigh damping is not supported yet (the lifting would need the "
+                       "damping's coupling to the moving supports); the step was not taken");
+  if (given) next.Uc = *at_new_.Uc;
+  else next.Uc.assign(d_.clamped->dofs.size(), 0.0);
+  require_motion_supported(d_, next, !in_.held.empty() || in_.points, scheme_.is_explicit());
+  clamped_mean_ = prescribed_update(scheme_, tau_, old_, next);
 }
 
 void Step::contact_term() {
@@ -241,6 +261,24 @@ void Step::new_state_products(bool shown_free, PointValues *known, const HeldPoi
   else compute_products(d_, next, known, held);
 }
 
+// The moving supports' share of the step's work: the loads on the clamped
+// DOFs by the trapezoid, as W's, and the reactions R (with the clamped
+// rows' own block) times dU_c: W_prescribed, the work of the prescribed
+// motion on the body. With the hybrid scheme R is the midpoint equation's,
+// so that E_Theta - W - W_obstacle - W_prescribed holds as without motion.
+void Step::prescribed_work(const Discretization &d, std::vector<double> &R) {
+  add_clamped_block(d, clamped_mean_, R);
+  const std::vector<double> &F1 = next.F_fixed, &F0 = old_.F_fixed;
+  double w = 0, wr = 0;
+  for (size_t c = 0; c < R.size(); ++c) {
+    const double dU = next.Uc[c] - (old_.Uc.empty() ? 0.0 : old_.Uc[c]);
+    wr += R[c] * dU;
+    if (!F1.empty() || !F0.empty()) w += 0.5 * ((F1.empty() ? 0.0 : F1[c]) + (F0.empty() ? 0.0 : F0[c])) * dU;
+  }
+  next.W += w;
+  next.W_prescribed += wr;
+}
+
 void Step::explicit_step() {
   next.last_iterations = 0;
   // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
@@ -296,7 +334,8 @@ void Step::implicit_step() {
   r.clear();                         // (the scheme's rhs finds it empty, as a new vector)
   scheme_.rhs(StepInputs{*old_products_, d_.contact, d_.theta, *F_old_, next.load(), &in_.scratch}, tau_, old_, r);
   if (d_.damped()) damping_rhs(r);
-  if (predictor_may_solve(in_, d_, def_, old_)) {  // the new state's pass, made now, checks the predictor
+  if (moving_) subtract_clamped_coupling(d_, clamped_mean_, in_.coef.kappa, r.data());  // the lifting
+  if (predictor_may_solve(in_, d_, def_, old_, moving_)) {  // the new state's pass, made now, checks the predictor
     constant_acceleration_update(tau_, old_, next);
     new_state_products(may_leave_points_ && law_.certainly_free(next.U), nullptr, nullptr);
     predicted_ = predictor_solves_step(law_, in_.coef.c, r, next, in_.scratch);
@@ -435,6 +474,7 @@ void Step::finish() {
     next.reaction = clamped_residual(d, Abar, step_mean(next.U, old_.U, a), phi,
                                      step_mean(next.F_fixed, old_.F_fixed, a), &next.phi_t,
                                      d.damped() ? &Vbar : nullptr);
+    if (moving_) prescribed_work(d, next.reaction);
   }
   next.phi = std::move(phi);
   if (in_.points) sum_points(d, next, dW);  // (collective: every rank's step comes here)

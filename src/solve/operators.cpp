@@ -8,6 +8,7 @@
 #include "linalg/pcg.hpp"
 #include "nitschedyn.h"
 #include "parallel/share.hpp"
+#include "solve/clamped_coupling.hpp"
 #include "solve/contact_law.hpp"
 #include "solve/products.hpp"
 
@@ -130,6 +131,8 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
   } else {
     law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
   }
+  // prescribed motion: the free rows' coupling to the clamped DOFs at U_c, A_c
+  if (!s.Uc.empty() && clamped) subtract_clamped_coupling(*this, ClampedMean{s.Uc, s.Ac}, -1.0, rhs.data());
   const std::vector<double> &F = s.load();
   for (size_t i = 0; i < n; ++i) rhs[i] = (F.empty() ? 0.0 : F[i]) - rhs[i];
   if (damping && damping->factor) {

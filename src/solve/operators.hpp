@@ -21,9 +21,13 @@ namespace nd {
 
 // The clamped DOFs and their rows of K and of the consistent mass on the free
 // columns (problem/forces.hpp): what the reactions need.
+// Prescribed motion (docs/design.md §10.5) reads also their block among
+// themselves (Kcc, Mcc: columns in row order) and their lumped (HRZ) mass.
 struct ClampedRows {
   std::vector<int64_t> dofs;  // full DOF indices, in row order
   Csr K, M;
+  Csr Kcc, Mcc;
+  std::vector<double> M_lumped;
 };
 
 struct Discretization {

@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "nitschedyn.h"
 #include "parallel/share.hpp"
+#include "solve/clamped_coupling.hpp"
 #include "solve/contact_law.hpp"
 
 namespace nd {
@@ -169,6 +170,7 @@ void products_of_state(const Discretization &d, State &s) {
   s.products.pass = ++passes;  // (a query's sums from an earlier pass no longer hold)
   if (d.rows_split && d.rows) products_pass<true, true>(d, s, s.products);
   else products_pass<true>(d, s, s.products);
+  add_clamped_energy(d, s, s.products.kinetic, s.products.strain);  // (prescribed motion: the whole body's)
 }
 }  // namespace
 
@@ -232,6 +234,7 @@ const Products &products_of(const Discretization &d, const State &s, Products &s
   if (products_current(d, s, with_acceleration)) return s.products;
   State copy;  // the same pass as compute_products, on a state we may not change
   copy.U = s.U, copy.V = s.V, copy.A = s.A, copy.A_valid = s.A_valid, copy.gap = s.gap, copy.partial = s.partial;
+  copy.Uc = s.Uc, copy.Vc = s.Vc;
   compute_products(d, copy);
   scratch = std::move(copy.products);
   return scratch;
@@ -249,6 +252,7 @@ const PointValues &state_points(const Discretization &d, const State &s, PointVa
 Products product_sums(const Discretization &d, const State &s) {
   Products sums;
   products_pass<false>(d, s, sums);
+  add_clamped_energy(d, s, sums.kinetic, sums.strain);
   return sums;
 }
 

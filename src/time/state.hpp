@@ -137,6 +137,12 @@ struct State {
   // the energy the Rayleigh damping dissipated since t = 0: per step
   // dU . C Vbar, C V taken where the scheme takes it (docs/design.md §10.5)
   double D_damping = 0;
+  // prescribed motion (docs/design.md §10.5): the clamped DOFs' displacement,
+  // velocity and acceleration at t^n (ClampedRows order; empty: at rest at 0,
+  // no motion prescribed yet), and the work the supports have done on the
+  // body since t = 0 moving them
+  std::vector<double> Uc, Vc, Ac;
+  double W_prescribed = 0;
   // the reactions on the clamped DOFs of the step that led here (docs/design.md §8;
   // empty: not computed yet, e.g. at t^0)
   std::vector<double> reaction;

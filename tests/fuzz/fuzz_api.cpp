@@ -384,6 +384,42 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           CALL(nd_problem_set_friction, p, in.ConsumeIntegralInRange<int>(-1, 3),
                in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeBool() ? &c : nullptr);
           if (in.ConsumeBool()) CALL(nd_step, p);
+      case 50:  // prescribed motion of a region (clamped or not), values possibly not finite
+        if (p) CALL(nd_problem_set_dirichlet_value, p, in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeBool() ? a : nullptr);
+        break;
+      case 51:  // the nodal form, counts possibly lying about the array
+        if (p) {
+          buf.assign(static_cast<size_t>(3 * nodes + 1), 0.0);
+          for (auto &x : buf) x = in.ConsumeBool() ? any_double(in) : 0.0;
+          CALL(nd_problem_set_dirichlet_nodal, p, in.ConsumeBool() ? nodes : any_count(in, 40), buf.data());
+        }
+        break;
+      case 52:  // a moved support, then a step with it (refused when a contact point reads it)
+        if (p && steps < 24) {
+          ++steps;
+          const double d[3] = {0.01 * a[0], 0.01 * a[1], 0.01 * a[2]};
+          CALL(nd_problem_set_dirichlet_value, p, in.ConsumeIntegralInRange<int>(0, 3), d);
+          CALL(nd_step, p);
+        }
+        break;
+      case 53:  // what the motion reports: its work, the reactions, the supports' velocity
+        if (p && nodes > 0 && nodes < 100000) {
+          double w;
+          CALL(nd_get_scalar, p, ND_WORK_PRESCRIBED, &w);
+          buf.assign(static_cast<size_t>(3 * nodes), 0.0);
+          CALL(nd_get_field, p, in.ConsumeBool() ? ND_FIELD_REACTION : ND_FIELD_VELOCITY, nodes, buf.data());
+        }
+        break;
+      case 54:  // a checkpoint with the motion, loaded into the other problem (or this one)
+        if (p) {
+          int64_t nb = 0;
+          if (CALL(nd_problem_get_state_size, p, &nb) == ND_OK && nb > 0 && nb < (int64_t(1) << 26)) {
+            std::vector<unsigned char> bytes(static_cast<size_t>(nb));
+            if (CALL(nd_problem_save_state, p, nb, bytes.data()) == ND_OK) {
+              nd_problem other = problems[in.ConsumeBool() ? which : 1 - which];
+              if (other) CALL(nd_problem_load_state, other, nb, bytes.data());
+            }
+          }
         }
         break;
       default: {

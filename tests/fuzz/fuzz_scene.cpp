@@ -8,13 +8,16 @@
 // sanitizer report or timeout, and the loader's contract: a scene within the
 // limits, or a SceneError naming the scene.
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <stdexcept>
 #include <string_view>
+#include <vector>
 
 #include "scene.hpp"
 
@@ -47,6 +50,12 @@ void require_under_out(const std::string &name, const char *what) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   const std::string_view text(reinterpret_cast<const char *>(data), size);
+  // the expression parser on the raw bytes: refused with a message, or a program that evaluates
+  try {
+    const ndcli::Expression e = ndcli::Expression::parse(text);
+    (void)e.at(0.25);
+  } catch (const std::invalid_argument &) {
+  }
   const std::string path = ND_FUZZ_SCENE_PATH;
   try {
     const ndcli::Scene s = ndcli::parse_scene(text, path);
@@ -77,6 +86,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     for (const auto &t : s.tractions) require(ndcli::region_id(s, t.region) >= 0, "a region number");
     for (const auto &c : s.clamped) require(ndcli::region_id(s, c) >= 0, "a region number");
     for (const auto &o : s.obstacles) require(ndcli::region_id(s, o.region) >= 0, "a region number");
+    // the values in time evaluate anywhere (any value, NaN included: the library refuses a non-finite one)
+    std::vector<const ndcli::TimeValue *> values{&s.body_force};
+    for (const auto &t : s.tractions) values.push_back(&t.value);
+    for (const auto &l : s.nodal) values.push_back(&l.value);
+    for (const auto &m : s.motions) values.push_back(&m.value);
+    for (const auto &o : s.obstacles) values.push_back(&o.position), values.push_back(&o.rotation);
+    for (const ndcli::TimeValue *v : values)
+      for (double t : {0.0, 0.5, -1.0, 1e300, std::nan("")})
+        require(v->at(t).size() == v->size(), "a value in time has its components");
   } catch (const ndcli::SceneError &e) {
     const std::string what = e.what();
     require(what.compare(0, path.size(), path) == 0, "the message names the scene:", what);

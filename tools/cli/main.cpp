@@ -95,6 +95,72 @@ struct Setup {
   int64_t nodes = 0;
 };
 
+// Each obstacle's index among the obstacles added to its region (-1: a plane,
+// moved by its point), for nd_problem_move_obstacle.
+std::vector<int> added_indices(const Scene &s) {
+  std::vector<int> index(s.obstacles.size(), -1);
+  std::map<int, int> added;
+  for (size_t i = 0; i < s.obstacles.size(); ++i)
+    if (s.obstacles[i].shape != "plane") index[i] = added[ndcli::region_id(s, s.obstacles[i].region)]++;
+  return index;
+}
+
+// The scene's values in time (tools/cli/time_value.hpp) at t, given to the
+// library: every one at t = 0 as the problem is defined (the library's
+// first value of each is t^0's), then before each step at t^{n+1} those that
+// change (`all` false), as loads are given (nd_problem_set_nodal_forces(3)).
+void give_time_values(const Scene &s, nd_problem p, const Setup &set, double t, bool all) {
+  const int dim = set.dim;
+  if (!s.body_force.empty() && (all || s.body_force.varies()))
+    scene_call(nd_problem_set_body_force(p, s.body_force.at(t).data()), s.body_force_at, "loads.body_force");
+  for (const auto &tr : s.tractions)
+    if (all || tr.value.varies())
+      scene_call(nd_problem_set_neumann(p, ndcli::region_id(s, tr.region), tr.value.at(t).data()), tr.at,
+                 "loads.traction");
+  bool nodal = false;
+  for (const auto &l : s.nodal) nodal = nodal || all || l.value.varies();
+  if (nodal) {  // every nodal load at once: the call replaces them all
+    std::vector<double> f(static_cast<size_t>(set.nodes * dim), 0.0);
+    for (const auto &l : s.nodal) {
+      if (l.node >= set.nodes)
+        throw SceneError(l.at + ": 'loads.nodal.node' is " + std::to_string(l.node) + "; the FE nodes are 0 to " +
+                         std::to_string(set.nodes - 1));
+      const std::vector<double> v = l.value.at(t);
+      for (int k = 0; k < dim; ++k) f[static_cast<size_t>(l.node * dim + k)] += v[k];
+    }
+    scene_call(nd_problem_set_nodal_forces(p, set.nodes, f.data()), s.nodal.front().at, "loads.nodal");
+  }
+  for (const auto &m : s.motions)
+    if (all || m.value.varies())
+      scene_call(nd_problem_set_dirichlet_value(p, ndcli::region_id(s, m.region), m.value.at(t).data()), m.at,
+                 "dirichlet.motion");
+  const std::vector<int> added = added_indices(s);
+  for (size_t i = 0; i < s.obstacles.size(); ++i) {
+    const auto &o = s.obstacles[i];
+    const bool moves = !o.velocity.empty() || o.position.varies() || o.rotation.varies();
+    // (a plane is defined where it is at t = 0; an added obstacle is placed by a pose)
+    if (!(all ? !o.position.empty() || !o.rotation.empty() : moves) || (all && o.shape == "plane")) continue;
+    std::vector<double> shift(static_cast<size_t>(dim), 0.0);
+    for (int k = 0; k < dim; ++k)
+      shift[k] = !o.velocity.empty() ? o.velocity[k] * t : o.position.empty() ? 0.0 : o.position.at(t)[k];
+    const int region = ndcli::region_id(s, o.region);
+    const std::string key = !o.velocity.empty() ? "obstacle.velocity" : "obstacle.position";
+    if (o.shape == "plane") {
+      for (int k = 0; k < dim; ++k) shift[k] += o.point[k];
+      scene_call(nd_problem_set_contact_plane(p, region, shift.data(), o.normal.data()), o.at, key);
+      continue;
+    }
+    std::vector<double> R;  // about the origin (2D), about the z axis (3D)
+    if (!o.rotation.empty()) {
+      const double a = o.rotation.at(t)[0], c = std::cos(a), sn = std::sin(a);
+      R = dim == 2 ? std::vector<double>{c, -sn, sn, c} : std::vector<double>{c, -sn, 0, sn, c, 0, 0, 0, 1};
+      if (dim == 1) R = {1};  // (the library refuses the shapes of 1D with its reason)
+    }
+    scene_call(nd_problem_move_obstacle(p, region, added[i], shift.data(), R.empty() ? nullptr : R.data()), o.at,
+               o.rotation.empty() ? key : "obstacle.rotation");
+  }
+}
+
 // The problem of the scene, defined and set up (assembled, factorized, the
 // initial acceleration computed: nd_problem_setup).
 Setup build(const Scene &s, Problem &prob) {
@@ -147,10 +213,6 @@ Setup build(const Scene &s, Problem &prob) {
   for (const auto &m : s.region_materials)
     scene_call(nd_problem_set_material_region(p, m.region, m.young, m.poisson, m.density), m.at, "[[material]]");
   for (const auto &c : s.clamped) scene_call(nd_problem_set_dirichlet(p, ndcli::region_id(s, c)), c.at, "dirichlet");
-  if (!s.body_force.empty())
-    scene_call(nd_problem_set_body_force(p, s.body_force.data()), s.body_force_at, "loads.body_force");
-  for (const auto &t : s.tractions)
-    scene_call(nd_problem_set_neumann(p, ndcli::region_id(s, t.region), t.value.data()), t.at, "loads.traction");
   for (const auto &o : s.obstacles) {
     const int region = ndcli::region_id(s, o.region);
     if (o.shape == "sphere")
@@ -159,8 +221,12 @@ Setup build(const Scene &s, Problem &prob) {
     else if (o.shape == "cylinder")
       scene_call(nd_problem_add_contact_cylinder(p, region, o.point.data(), o.axis.data(), o.radius, o.inside ? 1 : 0),
                  o.at, "[obstacle]");
-    else
-      scene_call(nd_problem_set_contact_plane(p, region, o.point.data(), o.normal.data()), o.at, "[obstacle]");
+    else {  // where it is at t = 0
+      std::vector<double> point = o.point;
+      const std::vector<double> shift = o.position.empty() ? std::vector<double>() : o.position.at(0);
+      for (size_t k = 0; k < shift.size() && k < point.size(); ++k) point[k] += shift[k];
+      scene_call(nd_problem_set_contact_plane(p, region, point.data(), o.normal.data()), o.at, "[obstacle]");
+    }
     if (!o.friction_at.empty())
       scene_call(nd_problem_set_friction(p, region, o.friction_law, &o.friction_parameter), o.friction_at,
                  "obstacle.friction");
@@ -178,6 +244,7 @@ Setup build(const Scene &s, Problem &prob) {
   if (s.mass_redistribution)
     scene_call(nd_problem_set_mass_redistribution(p, 1), solver_at, "solver.mass_redistribution");
   call(nd_problem_get_node_count(p, &out.nodes), "nd_problem_get_node_count");
+  give_time_values(s, p, out, 0, true);  // loads, motions and poses at t = 0
   if (!s.u0.empty() || !s.v0.empty()) {  // uniform vectors at every node
     std::vector<double> u, v;
     for (int64_t i = 0; i < out.nodes; ++i)
@@ -289,7 +356,7 @@ int run(const Options &opt) {
     if (!s.title.empty())  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
       std::fprintf(history.f, "# title: %s\n", ndcli::printable(s.title).c_str());
     std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied,"
-               "dissipation_friction\n",
+               "W_obstacle,W_prescribed,dissipation_friction\n",
                history.f);
   }
   fs::path prefix;
@@ -318,36 +385,12 @@ int run(const Options &opt) {
   if (!checkpoint.empty()) make_parent(checkpoint);
   const size_t frame0 = (size_t)(first / every + (first % every != 0));  // first + every - 1 may overflow
   Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
-  // obstacles moving at a constant velocity: each placed before a step where
-  // it is at the step's end, x(t) = x(0) + velocity t (an added obstacle by
-  // its index among its region's, a plane by its point)
-  std::vector<int> added_index(s.obstacles.size(), -1);
-  {
-    std::map<int, int> added;
-    for (size_t i = 0; i < s.obstacles.size(); ++i)
-      if (s.obstacles[i].shape != "plane") added_index[i] = added[ndcli::region_id(s, s.obstacles[i].region)]++;
-  }
-  auto move_obstacles = [&](double t) {
-    for (size_t i = 0; i < s.obstacles.size(); ++i) {
-      const auto &o = s.obstacles[i];
-      if (o.velocity.empty()) continue;
-      std::vector<double> shift(o.velocity.size());
-      for (size_t k = 0; k < shift.size(); ++k) shift[k] = o.velocity[k] * t;
-      const int region = ndcli::region_id(s, o.region);
-      if (o.shape == "plane") {
-        for (size_t k = 0; k < shift.size(); ++k) shift[k] += o.point[k];
-        scene_call(nd_problem_set_contact_plane(p, region, shift.data(), o.normal.data()), o.at, "obstacle.velocity");
-      } else {
-        scene_call(nd_problem_move_obstacle(p, region, added_index[i], shift.data(), nullptr), o.at,
-                   "obstacle.velocity");
-      }
-    }
-  };
   const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
   double max_force = 0, max_pen = 0, newton = 0;
   for (int64_t k = first; k <= steps; ++k) {
     if (k > first) {
-      move_obstacles(scalar(p, ND_TIME) + scalar(p, ND_TIMESTEP));  // (where they are at t^{n+1})
+      // the values in time where they are at t^{n+1}: loads, motions, obstacles
+      give_time_values(s, p, su, scalar(p, ND_TIME) + scalar(p, ND_TIMESTEP), false);
       const int st = nd_step(p);
       if (st < 0) {
         bar.finish();
@@ -362,10 +405,11 @@ int run(const Options &opt) {
     max_force = std::max(max_force, force);
     max_pen = std::max(max_pen, pen);
     if (history.f) {
-      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g\n", k, t,
+      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g,%.17g,%.17g\n", k, t,
                    scalar(p, ND_ENERGY_MECHANICAL), scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK), force,
                    scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0,
-                   scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_DISSIPATION_FRICTION));
+                   scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_WORK_OBSTACLE), scalar(p, ND_WORK_PRESCRIBED),
+                   scalar(p, ND_DISSIPATION_FRICTION));
       if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
     }
     if (!prefix.empty() && (k % every == 0 || k == steps)) {

@@ -27,10 +27,13 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
       {"regions.NAME", {"id", "lo", "hi"}},
       {"material", {"E", "nu", "rho", "damping", "plane_stress", "region", "lo", "hi"}},
-      {"loads", {"body_force", "traction"}},
+      {"loads", {"body_force", "traction", "nodal"}},
       {"loads.traction", {"region", "value"}},
-      {"dirichlet", {"regions"}},
-      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity", "friction"}},
+      {"loads.nodal", {"node", "value"}},
+      {"dirichlet", {"regions", "motion"}},
+      {"dirichlet.motion", {"region", "displacement"}},
+      {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity", "position",
+                    "rotation", "friction"}},
       {"obstacle.friction", {"law", "coefficient", "threshold"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
@@ -356,6 +359,96 @@ class Reader {
     if (!n) missing(t, table, key, what);
     return vector(*n, table, key);
   }
+  // A value in time (time_value.hpp): an array of 1 to 3 components, each a
+  // number or an expression in t (a string), or a table { table = [[t, v_1,
+  // .., v_n], ...] } with increasing t. `scalar`: one component, which may
+  // also be written alone (a number or a string).
+  TimeValue time_value(const toml::node &n, const std::string &table, const std::string &key,
+                       bool scalar = false) const {
+    const std::string name = dotted(table, key);
+    auto part = [&](const toml::node &c, const std::string &k) {
+      if (c.is_number()) return Expression(number(c, table, k));
+      if (!c.is_string()) wrong_type(c, table, k, "a number or an expression in t (a string)");
+      try {
+        return Expression::parse(string(c, table, k));
+      } catch (const std::invalid_argument &e) {
+        fail(c.source(), "'" + dotted(table, k) + "': the expression " + e.what());
+      }
+    };
+    TimeValue v;
+    if (scalar && (n.is_number() || n.is_string())) {
+      v.parts.push_back(part(n, key));
+      return v;
+    }
+    if (const toml::table *t = n.as_table()) {
+      for (auto &&[k, x] : *t)
+        if (k.str() != "table") fail(k.source(), "'" + name + "." + std::string(k.str()) + "': the only key is 'table'");
+      const toml::node *rows = t->get("table");
+      if (!rows) missing(*t, name, "table", "rows [t, value...] of the value in time");
+      const toml::array *a = rows->as_array();
+      if (!a || a->empty()) fail(rows->source(), "'" + name + ".table' must be a non-empty array of rows [t, value...]");
+      for (size_t i = 0; i < a->size(); ++i) {
+        const std::string row = name + ".table[" + std::to_string(i) + "]";
+        const toml::array *r = (*a)[i].as_array();
+        const size_t want = v.rows.empty() ? (scalar ? 2 : 0) : v.rows[0].size() + 1;
+        if (!r || r->size() < 2 || r->size() > 4 || (want && r->size() != want))
+          fail((*a)[i].source(), "'" + row + "' must be a row [t, value" + (scalar ? "" : "s (1 to 3)") + "]" +
+                                     (want ? " of " + std::to_string(want) + " numbers, as the first" : ""));
+        std::vector<double> x;
+        for (size_t j = 0; j < r->size(); ++j) x.push_back(number((*r)[j], table, key + ".table[" + std::to_string(i) + "]"));
+        if (!v.times.empty() && !(x[0] > v.times.back()))
+          fail((*a)[i].source(), "'" + row + "': the times must increase from row to row");
+        v.times.push_back(x[0]);
+        v.rows.emplace_back(x.begin() + 1, x.end());
+      }
+      return v;
+    }
+    const toml::array *a = n.as_array();
+    if (!a) wrong_type(n, table, key, scalar ? "a number, an expression in t or { table = [[t, value], ...] }"
+                                             : "an array of numbers or expressions in t, or { table = [[t, ...], ...] }");
+    if (a->empty() || a->size() > (scalar ? 1u : 3u))
+      fail(n.source(), "'" + name + "' must have " + (scalar ? "1 component" : "1 to 3 components") + ", not " +
+                           std::to_string(a->size()));
+    for (size_t i = 0; i < a->size(); ++i) v.parts.push_back(part((*a)[i], key + "[" + std::to_string(i) + "]"));
+    return v;
+  }
+
+  // The key's node, which must be there (else the table's place and `what`).
+  const toml::node &required(const toml::table &t, const std::string &table, const std::string &key,
+                             const std::string &what) const {
+    const toml::node *n = find(t, key);
+    if (!n) missing(t, table, key, what);
+    return *n;
+  }
+  // f(entry, "parent.key[i]") for each table of the array parent.key (if
+  // given), its keys checked against those of "parent.key"
+  template <class F>
+  void each_table(const toml::table &t, const std::string &parent, const std::string &key, const std::string &form,
+                  F &&f) const {
+    const toml::node *n = t.get(key);
+    if (!n) return;
+    const toml::array *a = n->as_array();
+    if (!a) wrong_type(*n, parent, key, "an array of tables " + form);
+    for (size_t i = 0; i < a->size(); ++i) {
+      const std::string entry = key + "[" + std::to_string(i) + "]";
+      const toml::table &e = table((*a)[i], parent, entry);
+      check_keys(e, dotted(parent, entry), dotted(parent, key));
+      f(e, dotted(parent, entry));
+    }
+  }
+
+  // the array of tables parent.key, each { region, `value` } (RegionValue)
+  void region_values(const toml::table &t, const std::string &parent, const std::string &key, const std::string &value,
+                     const std::string &what_region, const std::string &what_value, std::vector<RegionValue> &out) const {
+    each_table(t, parent, key, "{ region, " + value + " }", [&](const toml::table &e, const std::string &name) {
+      RegionValue v;
+      v.region = region(required(e, name, "region", what_region), name, "region");
+      v.value = time_value(required(e, name, value, what_value), name, value);
+      v.at = where(e.source());
+      out.push_back(std::move(v));
+    });
+  }
+
   const toml::table &table(const toml::node &n, const std::string &parent, const std::string &key) const {
     const toml::table *t = n.as_table();
     if (!t) wrong_type(n, parent, key, "a table");
@@ -690,25 +783,19 @@ Scene parse_scene(std::string_view text, const std::string &path) {
     const toml::table &t = r.table(*n, "", "loads");
     r.check_keys(t, "loads", "loads");
     if (const toml::node *b = t.get("body_force")) {
-      s.body_force = r.vector(*b, "loads", "body_force");
+      s.body_force = r.time_value(*b, "loads", "body_force");
       s.body_force_at = r.where(b->source());
     }
-    if (const toml::node *tr = t.get("traction")) {
-      const toml::array *a = tr->as_array();
-      if (!a) r.wrong_type(*tr, "loads", "traction", "an array of tables { region, value }");
-      for (size_t i = 0; i < a->size(); ++i) {
-        const std::string name = "loads.traction[" + std::to_string(i) + "]";
-        const toml::table &e = r.table((*a)[i], "loads", "traction[" + std::to_string(i) + "]");
-        r.check_keys(e, name, "loads.traction");
-        const toml::node *reg = e.get("region");
-        if (!reg) r.missing(e, name, "region", "the region the traction acts on");
-        Traction tt;
-        tt.region = r.region(*reg, name, "region");
-        tt.value = r.vector(e, name, "value", "the traction vector");
-        tt.at = r.where(e.source());
-        s.tractions.push_back(tt);
-      }
-    }
+    r.region_values(t, "loads", "traction", "value", "the region the traction acts on", "the traction vector",
+                    s.tractions);
+    r.each_table(t, "loads", "nodal", "{ node, value }", [&](const toml::table &e, const std::string &name) {
+      NodalLoad l;
+      l.node = r.integer(r.required(e, name, "node", "the FE node the force acts on (from 0)"), name, "node", 0,
+                         std::numeric_limits<int64_t>::max());
+      l.value = r.time_value(r.required(e, name, "value", "the force"), name, "value");
+      l.at = r.where(e.source());
+      s.nodal.push_back(std::move(l));
+    });
   }
 
   if (const toml::node *n = root.get("dirichlet")) {
@@ -720,6 +807,8 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       for (size_t i = 0; i < a->size(); ++i)
         s.clamped.push_back(r.region((*a)[i], "dirichlet", "regions[" + std::to_string(i) + "]"));
     }
+    r.region_values(t, "dirichlet", "motion", "displacement", "a clamped region of dirichlet.regions",
+                    "the region's displacement", s.motions);
   }
 
   if (const toml::node *n = root.get("obstacle")) {
@@ -747,10 +836,13 @@ Scene parse_scene(std::string_view text, const std::string &path) {
           {"cylinder", {"point", "axis", "radius", "inside"}}};
       for (auto &&[k, v] : *t) {
         const std::string key(k.str());
-        if (key == "region" || key == "shape" || key == "velocity" || key == "friction") continue;
+        if (key == "region" || key == "shape" || key == "velocity" || key == "position" || key == "rotation" ||
+            key == "friction")
+          continue;
         const std::vector<std::string> &mine = shape_keys.at(o.shape);
         if (std::find(mine.begin(), mine.end(), key) == mine.end())
-          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape + " (its keys: region, shape, velocity, friction, " +
+          r.fail(k.source(), "'obstacle." + key + "' is not a key of a " + o.shape +
+                                 " (its keys: region, shape, velocity, position, rotation, friction, " +
                                  [&] {
                                    std::string list;
                                    for (const auto &m : mine) list += (list.empty() ? "" : ", ") + m;
@@ -799,6 +891,16 @@ Scene parse_scene(std::string_view text, const std::string &path) {
                                           o.friction_law == ND_FRICTION_COULOMB ? "the friction coefficient F"
                                                                                 : "the threshold s, a stress");
         o.friction_at = r.where(fr->source());
+      }
+      if (const toml::node *pos = t->get("position")) {
+        if (t->get("velocity")) r.fail(pos->source(), "'obstacle.position' and 'obstacle.velocity' both move it: keep one");
+        o.position = r.time_value(*pos, "obstacle", "position");
+      }
+      if (const toml::node *rot = t->get("rotation")) {
+        if (o.shape == "plane")
+          r.fail(rot->source(), "'obstacle.rotation': a plane moves by translation only (a turned plane is another "
+                                "obstacle); give it 'position'");
+        o.rotation = r.time_value(*rot, "obstacle", "rotation", true);
       }
       o.at = r.where(t->source());
       s.obstacles.push_back(o);
@@ -867,6 +969,7 @@ Scene parse_scene(std::string_view text, const std::string &path) {
   auto check_ref = [&](const RegionRef &ref) { region_id(s, ref); };
   for (const auto &t : s.tractions) check_ref(t.region);
   for (const auto &c : s.clamped) check_ref(c);
+  for (const auto &m : s.motions) check_ref(m.region);
   for (const auto &o : s.obstacles) check_ref(o.region);
   if (s.dim > 0) check_dimension(s, s.dim);
   return s;
@@ -918,7 +1021,7 @@ int region_id(const Scene &s, const RegionRef &r) {
 }
 
 void check_dimension(const Scene &s, int dim) {
-  auto check = [&](const std::vector<double> &v, const std::string &at, const std::string &key) {
+  auto check = [&](const auto &v, const std::string &at, const std::string &key) {
     if (!v.empty() && (int)v.size() != dim)
       throw SceneError(at + ": '" + key + "' has " + std::to_string(v.size()) + " components; the mesh is " +
                        std::to_string(dim) + "D");
@@ -927,12 +1030,15 @@ void check_dimension(const Scene &s, int dim) {
   check(s.u0, s.u0_at, "initial.displacement");
   check(s.v0, s.v0_at, "initial.velocity");
   for (const auto &t : s.tractions) check(t.value, t.at, "loads.traction.value");
+  for (const auto &l : s.nodal) check(l.value, l.at, "loads.nodal.value");
+  for (const auto &m : s.motions) check(m.value, m.at, "dirichlet.motion.displacement");
   for (const auto &o : s.obstacles) {
     check(o.point, o.at, "obstacle.point");
     check(o.normal, o.at, "obstacle.normal");
     check(o.center, o.at, "obstacle.center");
     check(o.axis, o.at, "obstacle.axis");
     check(o.velocity, o.at, "obstacle.velocity");
+    check(o.position, o.at, "obstacle.position");
     // (the library refuses a sphere in 1D and a cylinder outside 3D, with its reason)
   }
   for (const auto &b : s.boxes) {

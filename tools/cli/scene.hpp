@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "time_value.hpp"
+
 namespace ndcli {
 
 // A scene that cannot be used: the message starts with "file:line:col: "
@@ -34,11 +36,22 @@ struct RegionBox {  // [regions] name = { id = N, lo = [...], hi = [...] }
   std::string at;
 };
 
-struct Traction {
+// A region's vector in time: a traction ([[loads.traction]] region, value)
+// or a clamped region's displacement ([[dirichlet.motion]] region, displacement).
+struct RegionValue {
   RegionRef region;
-  std::vector<double> value;
+  TimeValue value;
   std::string at;
 };
+using Traction = RegionValue;
+using Motion = RegionValue;
+
+struct NodalLoad {  // [[loads.nodal]] node = N, value = ...: a force on one FE node
+  int64_t node = 0;
+  TimeValue value;
+  std::string at;
+};
+
 
 struct Obstacle {
   RegionRef region;
@@ -52,6 +65,8 @@ struct Obstacle {
   int friction_law = 0;  // ND_FRICTION_*
   double friction_parameter = 0;
   std::string friction_at;
+  TimeValue position;            // its translation from where it is defined, in time (empty: none)
+  TimeValue rotation;            // an angle about the origin (2D) or the z axis (3D), in time (empty: none)
   std::string at;
 };
 
@@ -95,11 +110,13 @@ struct Scene {
   std::string material_at;
   std::vector<RegionMaterial> region_materials;  // the entries with a region
   // [loads]
-  std::vector<double> body_force;
+  TimeValue body_force;
   std::string body_force_at;
   std::vector<Traction> tractions;
+  std::vector<NodalLoad> nodal;
   // [dirichlet]
   std::vector<RegionRef> clamped;
+  std::vector<Motion> motions;
   // [obstacle] or [[obstacle]]
   std::vector<Obstacle> obstacles;
   // [nitsche]

@@ -344,6 +344,7 @@ contains
 
   ! ---- checkpoint and restart, the way a legacy code holds its data --------
   subroutine test_checkpoint()
+    integer(c_int), parameter :: CLAMPED = 1, CONTACT = 2  ! (make_bar's regions: x = 1, x = 0)
     type(c_ptr) :: p
     integer(c_int64_t) :: n, nbytes
     integer(c_signed_char), allocatable :: buf(:)
@@ -422,6 +423,19 @@ contains
     call check(abs(w1 - w0) <= 0, 'the work is kept')
     call check(nd_problem_set_guard(p, ND_GUARD_ENERGY, 3.0_c_double) == ND_OK, 'nd_problem_set_guard from Fortran')
     call check(nd_step(p) == ND_OK, 'a step after set_state')
+    ! prescribed motion: the clamped end moved by 1e-4, then every clamped DOF back to 0
+    call check(nd_problem_set_dirichlet_value(p, CLAMPED, [1e-4_c_double]) == ND_OK, 'nd_problem_set_dirichlet_value')
+    call check(nd_problem_set_dirichlet_value(p, CONTACT, [1e-4_c_double]) == ND_ERR_REGION, &
+               'nd_problem_set_dirichlet_value on a region that is not clamped: ND_ERR_REGION')
+    call check(nd_step(p) == ND_OK, 'a step with the clamped end moved')
+    call check(nd_get_field(p, ND_FIELD_DISPLACEMENT, n, u) == ND_OK .and. abs(u(21) - 1e-4_c_double) <= 0, &
+               'the clamped end (vertex 20 of 20 cells, x = 1) is where it was moved')
+    call check(nd_get_scalar(p, ND_WORK_PRESCRIBED, t) == ND_OK .and. abs(t) > 0, 'nd_get_scalar(ND_WORK_PRESCRIBED)')
+    u = 0
+    call check(nd_problem_set_dirichlet_nodal(p, n, u) == ND_OK, 'nd_problem_set_dirichlet_nodal')
+    call check(nd_problem_set_dirichlet_nodal(p, n + 1, u) == ND_ERR_SIZE, &
+               'nd_problem_set_dirichlet_nodal with a wrong count: ND_ERR_SIZE')
+    call check(nd_step(p) == ND_OK, 'a step with the clamped end back at 0')
     call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
   end subroutine test_checkpoint
 

@@ -90,6 +90,54 @@ expect 0 moving_plane '' '10a\
 velocity = [0.0, 0.1]'
 expect 2 velocity_dimension "'obstacle.velocity' has 3 components; the mesh is 2D" '10a\
 velocity = [0.0, 0.1, 0.0]'
+# values in time: expressions in t and tables of (t, value) rows, and their errors
+expect 0 time_expression '' '$a\
+[loads]\
+body_force = [0.0, "-0.1 * (1 - cos(pi * t)) + 2^-3^2 * sqrt(exp(-t))"]'
+expect 0 time_table '' '$a\
+[loads]\
+body_force = { table = [[0.0, 0.0, 0.0], [0.5, 0.0, -0.1]] }\
+nodal = [{ node = 0, value = ["0", "-0.01 * t"] }]'
+expect 0 time_position '' '10a\
+position = ["0", "-0.1 * t"]'
+expect 2 time_parenthesis "'loads.body_force[1]': the expression at character 24: ')' expected" '$a\
+[loads]\
+body_force = [0.0, "-0.1 * (1 - cos(pi * t)"]'
+expect 2 time_unknown_name "the expression at character 3: unknown name 'tan'" '$a\
+[loads]\
+body_force = [0.0, "2*tan(t)"]'
+expect 2 time_trailing "the expression at character 4: unexpected ')'" '$a\
+[loads]\
+body_force = [0.0, "2*t)"]'
+expect 2 time_empty "the expression at character 3: empty" '$a\
+[loads]\
+body_force = [0.0, "  "]'
+expect 2 time_deep "the expression at character 65: nested more than 64 deep" "\$a\\
+[loads]\\
+body_force = [0.0, \"$(printf '(%.0s' $(seq 70))t$(printf ')%.0s' $(seq 70))\"]"
+expect 2 time_table_order "'loads.body_force.table[1]': the times must increase" '$a\
+[loads]\
+body_force = { table = [[1.0, 0.0, 0.0], [0.5, 0.0, -0.1]] }'
+expect 2 time_table_row "'loads.body_force.table[1]' must be a row [t, values (1 to 3)] of 3 numbers" '$a\
+[loads]\
+body_force = { table = [[0.0, 0.0, 0.0], [0.5, 0.0]] }'
+expect 2 time_table_key "'loads.body_force.rows': the only key is 'table'" '$a\
+[loads]\
+body_force = { rows = [[0.0, 0.0, 0.0]] }'
+expect 2 time_not_finite "loads.body_force: nd_problem_set_body_force: " '$a\
+[loads]\
+body_force = [0.0, "1 / (t - 0.05)"]'
+expect 2 time_plane_rotation "'obstacle.rotation': a plane moves by translation only" '10a\
+rotation = 0.1'
+expect 2 time_position_and_velocity "'obstacle.position' and 'obstacle.velocity' both move it" '10a\
+velocity = [0.0, 0.1]\
+position = [0.0, 0.1]'
+expect 2 motion_not_clamped "dirichlet.motion: nd_problem_set_dirichlet_value: region 1 is not clamped" '$a\
+[dirichlet]\
+motion = [{ region = 1, displacement = [0.0, "0.01 * t"] }]'
+expect 2 nodal_node "'loads.nodal.node' is 100000000" '$a\
+[loads]\
+nodal = [{ node = 100000000, value = [0.0, 1.0] }]'
 expect 2 library_refuses_nu "library_refuses_nu.toml:3:1: [material]: nd_problem_set_material" '5s/.*/nu = 0.6/'
 expect 2 dimension "dimension.toml:15:14: 'loads.body_force' has 3 components; the mesh is 2D" '$a\
 [loads]\
