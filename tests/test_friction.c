@@ -359,6 +359,51 @@ START_TEST(oblique_impact_at_gross_slip) {
 }
 END_TEST
 
+/* Friction with the rest of the physics (issue 58): Rayleigh damping, two
+   materials (the block's lowest row of cells twice as stiff and dense),
+   plane stress; the hybrid scheme with Theta = 1: E_Theta + D_f + D_damping
+   - W still never increases, step by step, to round-off. */
+START_TEST(ledger_with_damping_and_materials) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double lo[2] = {0, 0}, hi[2] = {2, 1}, blo[2] = {-1, -1e-9}, bhi[2] = {3, 1e-9};
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(8, 4, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  int64_t lowest[16];
+  for (int i = 0; i < 16; ++i) lowest[i] = i; /* (the generator's first row: 8 squares, 2 triangles each) */
+  ND_OK_OR_FAIL(nd_mesh_set_cell_region(m, 2, 16, lowest));
+  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1e4, 0.3, 1));
+  ND_OK_OR_FAIL(nd_problem_set_material_region(p, 2, 2e4, 0.25, 2));
+  ND_OK_OR_FAIL(nd_problem_set_plane_stress(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_damping(p, 0.1, 1e-4));
+  const double point[2] = {0, 0}, up[2] = {0, 1}, F = 0.3, g[2] = {sin(0.5), -cos(0.5)};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, up));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1, 0));
+  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 2e-3));
+  double before = scalar(p, ND_ENERGY_AUGMENTED), worst = -INFINITY, scale = fabs(before);
+  for (int n = 0; n < 300; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    const double L = scalar(p, ND_ENERGY_AUGMENTED) + scalar(p, ND_DISSIPATION_FRICTION) +
+                     scalar(p, ND_DISSIPATION_DAMPING) - scalar(p, ND_WORK);
+    scale = fmax(scale, fabs(scalar(p, ND_WORK)));
+    worst = fmax(worst, L - before);
+    before = L;
+  }
+  printf("friction, damping, two materials, plane stress: max step increase of E_Theta + D_f + D_d - W = %.2e "
+         "(D_f %.4e, D_d %.4e, W %.4e)\n", worst, scalar(p, ND_DISSIPATION_FRICTION), scalar(p, ND_DISSIPATION_DAMPING),
+         scalar(p, ND_WORK));
+  ck_assert_double_gt(scalar(p, ND_DISSIPATION_FRICTION), 0);
+  ck_assert_double_gt(scalar(p, ND_DISSIPATION_DAMPING), 0);
+  ck_assert_double_le(worst, 1e-12 * scale);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 /* Theta = 0 carries no tangential term in K_Theta, and F = 0 applies none:
    the frictionless trajectory, to the Newton tolerance. */
 START_TEST(zero_coefficient_is_frictionless) {
@@ -427,6 +472,7 @@ int main(void) {
   tcase_add_test(tc, hybrid_ledger_never_increases);
   tcase_add_test(tc, launched_block_stops);
   tcase_add_test(tc, oblique_impact_at_gross_slip);
+  tcase_add_test(tc, ledger_with_damping_and_materials);
   tcase_add_test(tc, zero_coefficient_is_frictionless);
   tcase_add_test(tc, restart_is_bitwise);
   suite_add_tcase(s, tc);
