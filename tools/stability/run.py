@@ -31,11 +31,20 @@ GAMMA0E = ["1e-8", "1e-6", "1e-4", "1e-2", "1", "1e2", "1e4"]
 def plan(quick):
     if quick:
         return [(sc, 1, s, th, g) for sc in ("bar", "rect")
-                for s in ("hybrid", "newmark", "explicit", "hybrid_damped", "explicit_damped")
-                for th in ("1", "-1") for g in ("1e-4", "1", "1e4")]
+                for s in ("hybrid", "newmark", "explicit", "hybrid_damped", "explicit_damped", "hybrid_friction",
+                          "explicit_friction", "hybrid_layered", "explicit_layered")
+                for th in ("1", "-1") for g in ("1e-4", "1", "1e4") if applies(sc, s)]
     return [(sc, d, s, th, g) for sc in ("bar", "rect", "disk") for d in (1, 2)
-            for s in ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_damped", "explicit_damped")
-            for th in ("1", "0", "-1") for g in GAMMA0E]
+            for s in ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_damped", "explicit_damped",
+                      "hybrid_friction", "newmark_friction", "explicit_friction", "hybrid_layered", "newmark_layered",
+                      "explicit_layered")
+            for th in ("1", "0", "-1") for g in GAMMA0E if applies(sc, s)]
+
+
+def applies(scene, scheme):
+    """Friction needs a tangent plane (2D: not the bar); two materials the
+    generated meshes (the bar, the rectangle)."""
+    return not (scene == "bar" and "_friction" in scheme) and not (scene == "disk" and "_layered" in scheme)
 
 
 def run_one(exe, meshes, case):
@@ -64,7 +73,8 @@ def report(rows, out, seconds, quick):
               platform.machine(), os.cpu_count(), platform.platform(), time.strftime("%Y-%m-%d"), len(rows), seconds),
           "Every run uses the library's default guards (`nd_problem_set_guard(3)`). A run is a **silent "
           "failure** when `nd_step` returned ND_OK on a step whose mechanical energy (plus the damping's "
-          "dissipation, in the `_damped` runs: Rayleigh alpha = 0.05, beta = 0.1 tau) exceeded twice the energy "
+          "dissipation, in the `_damped` runs: Rayleigh alpha = 0.05, beta = 0.1 tau; and friction's, in the "
+          "`_friction` runs: Coulomb F = 0.3; `_layered`: half the cells 4 times as stiff and twice as dense) exceeded twice the energy "
           "put in (E^0 + max W), became non-finite, or whose deepest contact point sank more than half its "
           "cell size, as measured by the driver itself (`tools/stability/stability_case.c`), and the run "
           "completed all the same.\n",
@@ -78,7 +88,7 @@ def report(rows, out, seconds, quick):
           table(["outcome", "code", "runs"], [[o, c, n] for (o, c), n in sorted(codes.items())]),
           "## The theory's verdict\n",
           "Hybrid scheme, Θ = 1: E_Θ + D − W never increases (part 2 of the paper, D the damping's "
-          "dissipation, docs/design.md §10.5; loads only on the disk). ",
+          "dissipation with friction's, docs/design.md §10.5 and §10.2; loads only on the disk). ",
           ]
     hyb = [r for r in rows if r["theory"] != "-"]
     md.append("Of %d such runs that reached a step, %d held and %d violated it%s.\n" % (

@@ -16,8 +16,13 @@
  *
  * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR
  *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha,
- *   each with the suffix _damped for Rayleigh damping alpha = 0.05, beta = 0.1 tau
- *   (damping ratio about 0.1 at the highest frequency the step resolves) */
+ *   each with the suffixes (any of them, in this order) _damped for Rayleigh
+ *   damping alpha = 0.05, beta = 0.1 tau (damping ratio about 0.1 at the
+ *   highest frequency the step resolves), _friction for Coulomb friction F =
+ *   0.3 on the contact region (2D), _layered for two materials: the half of
+ *   the bar's or the rectangle's cells at the obstacle 4 times as stiff and
+ *   twice as dense.
+ *   The energies then count D_f with D (ND_DISSIPATION_FRICTION). */
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -57,9 +62,16 @@ int main(int argc, char **argv) {
   const char *scene = argv[1], *scheme_arg = argv[3];
   char scheme_name[32];
   snprintf(scheme_name, sizeof scheme_name, "%s", scheme_arg);
-  char *suffix = strstr(scheme_name, "_damped");
-  const int damped = suffix != NULL;
-  if (suffix) *suffix = '\0';
+  /* the suffixes, cut off the scheme's name */
+  int damped = 0, friction = 0, layered = 0;
+  struct {
+    const char *name;
+    int *flag;
+  } suffixes[] = {{"_layered", &layered}, {"_friction", &friction}, {"_damped", &damped}};
+  for (size_t k = 0; k < sizeof suffixes / sizeof suffixes[0]; ++k) {
+    char *at = strstr(scheme_name, suffixes[k].name);
+    if (at) *suffixes[k].flag = 1, *at = '\0';
+  }
   const int degree = atoi(argv[2]);
   const double Theta = atof(argv[4]), gamma0E = atof(argv[5]);
   nd_mesh m = NULL;
@@ -87,9 +99,20 @@ int main(int argc, char **argv) {
     g[1] = -0.1, up[1] = 1;
     st = nd_mesh_read_gmsh(path, &m);
   }
+  /* _layered: the half of the cells numbered first (the generators number
+     them from the origin: the bar's contact end, the rectangle's lower rows) */
+  int64_t cells = 0;
+  if (!st && layered) st = nd_mesh_get_cell_count(m, &cells);
+  if (!st && layered) {
+    int64_t *lower = malloc(sizeof(int64_t) * (size_t)(cells / 2 + 1));
+    for (int64_t c = 0; c < cells / 2; ++c) lower[c] = c;
+    st = nd_mesh_set_cell_region(m, 1, cells / 2, lower);
+    free(lower);
+  }
   if (!st) st = nd_problem_create(m, degree, &p);
   nd_mesh_destroy(&m);
   if (!st) st = nd_problem_set_material(p, E, nu, 1.0);
+  if (!st && layered) st = nd_problem_set_material_region(p, 1, 4 * E, nu, 2.0);
   if (!st && !strcmp(scene, "bar")) st = nd_problem_set_dirichlet(p, 2);
   if (!st && !strcmp(scene, "disk")) st = nd_problem_set_body_force(p, g);
   if (!st) st = nd_problem_set_contact_plane(p, 1, origin, up);
@@ -108,6 +131,8 @@ int main(int argc, char **argv) {
   if (!st) st = nd_problem_set_scheme(p, scheme, params);
   if (!st) st = nd_problem_set_timestep(p, tau);
   if (!st && damped) st = nd_problem_set_damping(p, 0.05, 0.1 * tau);
+  const double F = 0.3;
+  if (!st && friction) st = nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F);
   if (st) {
     fprintf(stderr, "%s\n", nd_last_error());
     return 1;
@@ -151,7 +176,8 @@ int main(int argc, char **argv) {
         outcome = "stopped_at_step", code = st;
         break;
       }
-      const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK), D = get(p, ND_DISSIPATION_DAMPING);
+      const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK),
+                   D = get(p, ND_DISSIPATION_DAMPING) + get(p, ND_DISSIPATION_FRICTION);
       budget = fmax(budget, E0 + W);
       const double r = budget > 0 ? (Em + D) / budget : (Em + D > 0 ? INFINITY : 0);
       growth = fmax(growth, isfinite(r) ? r : INFINITY);
