@@ -15,27 +15,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "nitschedyn.h"
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static double scalar(nd_problem p, int key) {
-  double x = 0;
-  nd_get_scalar(p, key, &x);
-  return x;
-}
-
-#define CHECK(call)                                                          \
-  do {                                                                       \
-    if ((call) != ND_OK) {                                                   \
-      fprintf(stderr, "friction_step: %s: %s\n", #call, nd_last_error()); \
-      exit(1);                                                               \
-    }                                                                        \
-  } while (0)
+#define BENCH_NAME "friction_step"
+#include "step_timing.h"
 
 static double run(const char *mesh, int dim, double F, int newmark, double T, int *contact_steps, double *newton) {
   nd_mesh m;

@@ -14,27 +14,8 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "nitschedyn.h"
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static double scalar(nd_problem p, int key) {
-  double x = 0;
-  nd_get_scalar(p, key, &x);
-  return x;
-}
-
-#define CHECK(call)                                                          \
-  do {                                                                       \
-    if ((call) != ND_OK) {                                                   \
-      fprintf(stderr, "obstacle_step: %s: %s\n", #call, nd_last_error()); \
-      exit(1);                                                               \
-    }                                                                        \
-  } while (0)
+#define BENCH_NAME "obstacle_step"
+#include "step_timing.h"
 
 /* kind 0: the plane; 1: a sphere of radius R below (outside); 2: a bowl of radius R above */
 static double run(const char *mesh, int kind, double R, double T, double *rebuilds, int *contact_steps) {
