@@ -384,6 +384,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           CALL(nd_problem_set_friction, p, in.ConsumeIntegralInRange<int>(-1, 3),
                in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeBool() ? &c : nullptr);
           if (in.ConsumeBool()) CALL(nd_step, p);
+        }
+        break;
       case 50:  // prescribed motion of a region (clamped or not), values possibly not finite
         if (p) CALL(nd_problem_set_dirichlet_value, p, in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeBool() ? a : nullptr);
         break;
