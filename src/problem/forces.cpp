@@ -156,8 +156,8 @@ void contact_force_field(const Discretization &d, const State &s, double *full,
   std::vector<double> P, wt(cp.size() * static_cast<size_t>(m - 1), 0.0);
   if (m > 1) law.P_all(s.U.data(), P);
   each([&](size_t q) {
-    double phi, slope;
-    law_at(law.law_object(), law.P(q, s.U.data()), phi, slope);  // the law at the state
+    double phi, slope;  // the law at the state (friction: P_q from the pass above, the same bits)
+    law_at(law.law_object(), m > 1 ? P[q] : law.P(q, s.U.data()), phi, slope);
     wl[q] = phi != 0 ? -cp.w[q] * phi / cp.gamma[q] : 0.0;         // w_q lambda_q (+0 where free)
     const SparseRow &a = cp.a[q];
     for (size_t k = 0; k < a.idx.size(); ++k) f[a.idx[k]] += wl[q] * a.val[k];

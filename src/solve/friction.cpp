@@ -7,12 +7,14 @@ namespace nd {
 
 namespace {
 size_t tangential_count(const ContactPoints &cp) { return cp.size() * static_cast<size_t>(cp.m - 1); }
-// p_t . U = ta . U - gamma ts . U of every tangential value
+// p_t . U = ta . U - gamma ts . U of every tangential value: the passes'
+// tangential values with no slip reference
 std::vector<double> tangential_dots(const ContactPoints &cp, const std::vector<double> &U) {
-  const size_t mt = static_cast<size_t>(cp.m - 1);
-  std::vector<double> p(tangential_count(cp));
-  for (size_t j = 0; j < p.size(); ++j) p[j] = cp.ta[j].dot(U.data()) - cp.gamma[j / mt] * cp.ts[j].dot(U.data());
-  return p;
+  ContactLaw law;
+  law.cp = &cp;
+  std::vector<double> P(law.values());
+  law.tangential_values(U.data(), P.data());
+  return std::vector<double>(P.begin() + static_cast<std::ptrdiff_t>(cp.size()), P.end());
 }
 }  // namespace
 

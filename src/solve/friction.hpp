@@ -18,9 +18,6 @@
 
 namespace nd {
 
-// Whether the problem has friction (tangential values per point)
-inline bool has_friction(const Discretization &d) { return d.contact.m > 1; }
-
 // s.slip such that the tangential values at s.U are 0 (no frictional
 // traction stored: the initial state), for a problem with friction; else empty
 void start_slip(const Discretization &d, State &s);
