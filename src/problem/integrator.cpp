@@ -124,13 +124,18 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     // (a law of m > 1 values, friction, on one process in 2D: the Woodbury
     // identity over its blocks with A's factor, refactoring past the rank
     // limit; in 3D a column is a solve with a denser factor and a landing
-    // activates hundreds of points: refactoring T costs less there,
-    // docs/performance.md, "Friction")
+    // activates hundreds of points: GMRES there, preconditioned by a
+    // sticking tangent's factor kept while it serves; docs/performance.md,
+    // "Friction")
     const bool blocks = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
                         !d.rows_split && !d.rows && d.geometry.dim == 2;
+    const bool sticking = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
+                          !d.rows_split && !d.rows && d.geometry.dim == 3 && !linear_solver_iterative(def.solver);
     if (blocks) {
       in->tangent = make_block_tangent(in->A, *in->A_factor, def.solver, s, lowrank_rank_limit(in->A.n, d.contact),
                                        d.counters, &d.geometry);
+    } else if (sticking) {
+      in->tangent = make_sticking_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
     } else if (refactors) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
       std::vector<int64_t> held = in->held;  // a distributed state's rows, else those Newton reads

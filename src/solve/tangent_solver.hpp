@@ -26,6 +26,7 @@ struct TangentStats {
   int64_t lowrank = 0;           // calls solved by the Woodbury update (k >= 1)
   int64_t columns = 0;           // columns Z_q = A^{-1} b_q computed (each one solve with A's factor)
   int64_t max_rank = 0;          // the largest k seen
+  int64_t krylov = 0;            // Krylov iterations (the sticking tangent's GMRES)
 };
 
 class TangentSolver {
@@ -133,6 +134,15 @@ std::unique_ptr<TangentSolver> make_lowrank_tangent(const Csr &A, const Factoriz
 std::unique_ptr<TangentSolver> make_block_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                   Structure structure, int64_t max_rank, Counters *counters = nullptr,
                                                   const DofGeometry *geometry = nullptr);
+
+// The tangent of a law with m > 1 values per point where its columns cost
+// more than factoring (friction in 3D: solve/tangent_sticking.cpp): GMRES
+// on T, preconditioned by the factor of the sticking tangent of T's active
+// set, refactored only when that set changes; T refactored itself where
+// GMRES does not converge.
+std::unique_ptr<TangentSolver> make_sticking_tangent(const Csr &A, const Factorization &A_factor, int solver,
+                                                     Structure structure, Counters *counters = nullptr,
+                                                     const DofGeometry *geometry = nullptr);
 
 // The rank above which the second solve beats Z w: the measured crossovers
 // lie on either side of it, and near it the two variants cost about the
