@@ -136,13 +136,46 @@ bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
   return true;
 }
 
+namespace {
+// ta_j.U and ts_j.U for point q's m - 1 tangential pairs, each summed in
+// index order (the bits of SparseRow::dot), in one loop over the index list
+// they share with a_q: U and the indices read once
+void tangential_dots(const ContactPoints &cp, size_t q, const double *U, double *ta, double *ts) {
+  const size_t mt = static_cast<size_t>(cp.m - 1), j0 = q * mt;
+  const int64_t *idx = cp.a[q].idx.data();
+  const double *a1 = cp.ta[j0].val.data(), *s1 = cp.ts[j0].val.data();
+  double sa1 = 0, ss1 = 0, sa2 = 0, ss2 = 0;
+  const size_t len = cp.a[q].idx.size();
+  if (mt == 1) {
+    for (size_t k = 0; k < len; ++k) {
+      const double u = U[idx[k]];
+      sa1 += a1[k] * u;
+      ss1 += s1[k] * u;
+    }
+  } else {
+    const double *a2 = cp.ta[j0 + 1].val.data(), *s2 = cp.ts[j0 + 1].val.data();
+    for (size_t k = 0; k < len; ++k) {
+      const double u = U[idx[k]];
+      sa1 += a1[k] * u;
+      ss1 += s1[k] * u;
+      sa2 += a2[k] * u;
+      ss2 += s2[k] * u;
+    }
+  }
+  ta[0] = sa1, ts[0] = ss1, ta[1] = sa2, ts[1] = ss2;
+}
+}  // namespace
+
 void ContactLaw::tangential_values(const double *U, double *P) const {
   const size_t nq = cp->size(), mt = static_cast<size_t>(cp->m - 1);
-  for (size_t q = 0; q < nq; ++q)
+  double ta[2], ts[2];
+  for (size_t q = 0; q < nq; ++q) {
+    tangential_dots(*cp, q, U, ta, ts);
     for (size_t k = 0; k < mt; ++k) {
       const size_t j = q * mt + k;
-      P[nq + j] = cp->ta[j].dot(U) - cp->gamma[q] * cp->ts[j].dot(U) - (gap_t ? gap_t[j] : 0.0);
+      P[nq + j] = ta[k] - cp->gamma[q] * ts[k] - (gap_t ? gap_t[j] : 0.0);
     }
+  }
 }
 
 void ContactLaw::law_m(size_t q, const std::vector<double> &P, double *value, double *J) const {
