@@ -141,6 +141,7 @@ extern "C" {
   X(ND_STICKING_POINTS, 57, "contact points in contact and sticking at the last step (friction)") \
   X(ND_DISSIPATION_DAMPING, 60, "dissipation of the Rayleigh damping since t = 0") \
   X(ND_WORK_PRESCRIBED, 70, "work of the prescribed motion on the body since t = 0") \
+  X(ND_WORK_GEOMETRY, 71, "E_Theta change of curved obstacles' re-linearisations (gaps, refreshed normals) since t = 0") \
   X(ND_CONTACT_FORCE_TANGENTIAL_X, 75, "x of the tangential contact force's resultant the last step applied, obstacle on body") \
   X(ND_CONTACT_FORCE_TANGENTIAL_Y, 76, "y of that resultant (0 in 1D)")                \
   X(ND_CONTACT_FORCE_TANGENTIAL_Z, 77, "z of that resultant (0 below 3D)")

@@ -6,6 +6,7 @@
  * another load; nd_problem_set_state overwrites U and V at the current time.
  * The file variant (nd_problem_save_state_file) holds the same block, is
  * written atomically and is read with the same checks. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -592,7 +593,7 @@ START_TEST(reads_version_4_checkpoints) {
 }
 END_TEST
 
-/* ---- every field's meaning (version 8) ----------------------------------- */
+/* ---- every field's meaning (version 9) ----------------------------------- */
 
 /* FNV-1a, the library's checksum: a test that changes a field reseals the
    block, as anyone can, so that the field's own check is what refuses it */
@@ -618,7 +619,7 @@ static int64_t get_i64(const unsigned char *buf, int64_t at) {
   return x;
 }
 
-/* the offsets of a version 8 block's fields (src/problem/checkpoint.cpp):
+/* the offsets of a version 9 block's fields (src/problem/checkpoint.cpp):
    header 32 bytes, the definition's 7 fingerprints, then the state */
 typedef struct {
   int64_t t, n, t_ref, tau_ref, n_ref, U, V, A, F, A_valid, W, last, total, E0, budget, F_fixed, gap, W_obstacle,
@@ -666,7 +667,7 @@ START_TEST(fields_out_of_range_are_refused) {
   unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
-  ck_assert_int_eq(good[8], 8); /* the version */
+  ck_assert_int_eq(good[8], 9); /* the version */
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
   const layout l = layout_of(nf, nc, np);
   ck_assert_int_eq(get_i64(good, l.n), 30);
@@ -734,7 +735,7 @@ START_TEST(fields_out_of_range_are_refused) {
     if (cases[c].kind == 1) put_i64(bad, cases[c].at, (int64_t)cases[c].value);
     if (cases[c].kind == 2) bad[cases[c].at] = (unsigned char)cases[c].value;
     if (cases[c].at == l.log_i) put_i64(bad, l.log_i + 8, np + 5); /* ... but naming a point past the last */
-    if (cases[c].at == 12) put_i64(bad, 8, 8 | (7ll << 32));        /* (version 8 kept) */
+    if (cases[c].at == 12) put_i64(bad, 8, 9 | (7ll << 32));        /* (version 9 kept) */
     reseal(bad, nbytes);
     char what[64];
     snprintf(what, sizeof what, "case %zu (%s)", c, cases[c].word);
@@ -834,6 +835,56 @@ START_TEST(other_definitions_are_refused) {
 }
 END_TEST
 
+/* A version 8 checkpoint with curved obstacles (before W_geometry, the
+   re-linearisations' energy, closed their section) still loads: the run
+   goes on bitwise in its fields, W_geometry counted from 0 at the load */
+START_TEST(version_8_curved_checkpoint_loads) {
+  /* a circle above the scene's plane under the whole block (top at y = 0.01), so that it acts */
+  const double centre[2] = {1, -100};
+  nd_problem a = scene(2, 1, ND_SCHEME_HYBRID, NULL), b = scene(2, 1, ND_SCHEME_HYBRID, NULL);
+  ND_OK_OR_FAIL(nd_problem_add_contact_sphere(a, 1, centre, 100.01, 0));
+  ND_OK_OR_FAIL(nd_problem_add_contact_sphere(b, 1, centre, 100.01, 0));
+  for (int k = 0; k < 30; ++k) ND_OK_OR_FAIL(nd_step(a));
+  double Wg = 0, Wa = 0, Wb = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(a, ND_WORK_GEOMETRY, &Wg));
+  ck_assert(Wg != 0);
+  int64_t n9 = 0;
+  unsigned char *v9 = save(a, &n9);
+  ck_assert_int_eq(v9[8], 9);
+  int64_t at = -1, found = 0; /* W_geometry's one place in the payload */
+  for (int64_t i = 32; i + 8 <= n9 - 8; ++i)
+    if (memcmp(v9 + i, &Wg, 8) == 0) at = i, ++found;
+  ck_assert_int_eq(found, 1);
+  const int64_t n8 = n9 - 8;
+  unsigned char *v8 = malloc((size_t)n8);
+  memcpy(v8, v9, (size_t)at);
+  memcpy(v8 + at, v9 + at + 8, (size_t)(n9 - at - 8));
+  v8[8] = 8;
+  put_i64(v8, 24, get_i64(v9, 24) - 8); /* the payload's size */
+  reseal(v8, n8);
+  ND_OK_OR_FAIL(nd_problem_load_state(b, n8, v8));
+  ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_GEOMETRY, &Wb));
+  ck_assert_double_eq(Wb, 0);
+  for (int k = 0; k < 20; ++k) {
+    ND_OK_OR_FAIL(nd_step(a));
+    ND_OK_OR_FAIL(nd_step(b));
+  }
+  int64_t nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(a, &nodes));
+  double *ua = malloc(sizeof(double) * (size_t)(2 * nodes)), *ub = malloc(sizeof(double) * (size_t)(2 * nodes));
+  ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, nodes, ua));
+  ND_OK_OR_FAIL(nd_get_field(b, ND_FIELD_DISPLACEMENT, nodes, ub));
+  ck_assert(memcmp(ua, ub, sizeof(double) * (size_t)(2 * nodes)) == 0);
+  ND_OK_OR_FAIL(nd_get_scalar(a, ND_WORK_GEOMETRY, &Wa));
+  ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_GEOMETRY, &Wb));
+  /* the same 20 terms added to Wg and to 0: apart by the rounding of 20 sums */
+  ck_assert_double_le(fabs(Wb - (Wa - Wg)), 20 * DBL_EPSILON * (fabs(Wa) + fabs(Wg)));
+  free(v9), free(v8), free(ua), free(ub);
+  ND_OK_OR_FAIL(nd_problem_destroy(&a));
+  ND_OK_OR_FAIL(nd_problem_destroy(&b));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("checkpoint");
   TCase *tc = tcase_create("checkpoint");
@@ -849,6 +900,7 @@ int main(void) {
   tcase_add_test(tc, bad_checkpoint_files_are_refused_and_change_nothing);
   tcase_add_test(tc, reads_version_4_checkpoints);
   tcase_add_test(tc, fields_out_of_range_are_refused);
+  tcase_add_test(tc, version_8_curved_checkpoint_loads);
   tcase_add_test(tc, other_definitions_are_refused);
   suite_add_tcase(s, tc);
   return nd_test_run(s);

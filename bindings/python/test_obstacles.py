@@ -123,6 +123,8 @@ for k in range(60):
     d.step()
     touched = max(touched, d.scalar(nd.ND_ACTIVE_POINTS))
 check(touched > 0, "the block came onto the circle")
+wg = d.scalar(nd.ND_WORK_GEOMETRY)
+check(math.isfinite(wg) and wg != 0, "ND_WORK_GEOMETRY: the re-linearisations on the circle changed E_Theta")
 
 # bad arguments
 check(raises(nd.ND_ERR_VALUE, lambda: d.add_contact_sphere(1, [0.0, 0.0], -1.0)), "a negative radius")

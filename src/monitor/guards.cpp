@@ -70,6 +70,7 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   // a moving obstacle puts energy in too, and so do moving supports (prescribed motion)
   double put_in = gs.E0 + next.W + next.W_obstacle;
   if (next.W_prescribed != 0) put_in += next.W_prescribed;
+  if (next.W_geometry != 0) put_in += next.W_geometry;  // (curved obstacles' re-linearisations)
   gs.budget = std::max(gs.budget, put_in);
   // (a state whose points the step did not evaluate: first from their
   // reference, without a pass)

@@ -30,8 +30,9 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // tangent's history: 1, the normals and positions of 7 (curved obstacles);
 // 2, the friction's (StateSizes::n_slip > 0: the slip references, the
 // applied tangential values, D_f and the sliding and sticking points); then
-// always the prescribed motion: the clamped DOFs' U, V, A and W_prescribed
-constexpr uint32_t kVersion = 8;
+// always the prescribed motion: the clamped DOFs' U, V, A and W_prescribed;
+// 9 (always written): the curved obstacles' section ends with W_geometry
+constexpr uint32_t kVersion = 9;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
 class Writer {
@@ -244,6 +245,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   if (positions) {
     payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
     payload.padded(s.positions, static_cast<uint64_t>(sizes.n_positions));
+    payload.value(s.W_geometry);
   }
   if (friction) {
     payload.padded(s.slip, static_cast<uint64_t>(sizes.n_slip));
@@ -461,6 +463,10 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     need_finite(s.normal, "frozen contact normals");
     s.positions = optional(sizes.n_positions, "obstacles' positions");
     need_finite(s.positions, "obstacles' positions");
+    if (head.version >= 9) {
+      s.W_geometry = r.value<double>();
+      need_finite(s.W_geometry, "re-linearisation energy of the curved obstacles (W_geometry)");
+    }
   }
   if (friction) {
     s.slip = optional(sizes.n_slip, "slip references (friction)");

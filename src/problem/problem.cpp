@@ -667,6 +667,15 @@ StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
   return geo;
 }
 
+// R at the state's U with the current discretization's rows and the gaps
+// a step starts from (g_q^n of its re-linearisation): the Nitsche energy
+// the state has in the step's geometry
+double Problem::relinearised_nitsche_energy(const std::vector<double> &gap_n) {
+  State at;
+  at.U = state_.U, at.gap = gap_n, at.slip = state_.slip, at.phi = state_.phi;
+  return nitsche_energy(*disc_, at);
+}
+
 void Problem::step() {
   agree_on_inputs("nd_step");
   State next;
@@ -679,8 +688,11 @@ void Problem::step() {
     const std::vector<double> *gap = &current_gaps();
     StepGeometry geo;
     const bool curved = !def_.obstacles.empty();
+    double relinearised = 0;  // E_Theta at U^n with this step's rows and gaps, less with the state's
     if (curved) {
       geo = curved_geometry(*gap);
+      if (def_.theta != 0) complete_state();  // (a distributed state: R reads every point)
+      const double R_old = def_.theta != 0 ? nitsche_energy(*disc_, state_) : 0;
       if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
         kept_disc = std::move(disc_);
         kept_integrator = std::move(integrator_);
@@ -688,6 +700,7 @@ void Problem::step() {
         prepare();
       }
       gap = &geo.gap;
+      if (def_.theta != 0) relinearised = -def_.theta * (relinearised_nitsche_energy(geo.gap_old) - R_old);
     }
     const std::vector<double> motion =
         disc_->clamped && !def_.prescribed.empty() ? clamped_values(*disc_, def_.prescribed) : std::vector<double>();
@@ -696,6 +709,7 @@ void Problem::step() {
                    std::move(spare_));
     if (curved) next.normal = std::move(geo.normal), next.positions = positions(def_.planes, def_.obstacles);
     else next.normal.clear(), next.positions.clear();
+    next.W_geometry += relinearised;
     guard_step(*disc_, def_.guards, state_, next);
   };
   try {
@@ -1103,6 +1117,8 @@ double Problem::scalar(int key) {
       return c.D_damping;
     case ND_WORK_PRESCRIBED:
       return c.W_prescribed;
+    case ND_WORK_GEOMETRY:
+      return c.W_geometry;
     case ND_TIMESTEP:
       return def_.tau;
     case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)

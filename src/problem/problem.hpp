@@ -195,6 +195,7 @@ class Problem {
   // points' gaps at U, where `at` places the obstacles now
   void curved_gaps(State &s, const Discretization &d, const TimeData &at);
   StepGeometry curved_geometry(const std::vector<double> &plane_gaps);
+  double relinearised_nitsche_energy(const std::vector<double> &gap_n);
   void require_region(int region, const char *what) const;
 
   std::shared_ptr<const Mesh> mesh_;

@@ -184,6 +184,7 @@ void Step::start() {
   next.gap = at_new_.gap;
   // friction: the slip reference of the step is the state's (static obstacles)
   next.D_friction = old_.D_friction;
+  next.W_geometry = old_.W_geometry;  // (Problem::step adds this step's re-linearisation)
   if (d_.contact.m > 1) {
     if (next.gap != old_.gap)
       fail(ND_ERR_STATE, "friction with a moving obstacle is not supported yet (the obstacle of a region with "

@@ -134,6 +134,12 @@ struct State {
   // obstacles were at t^n (contact/obstacles.hpp: positions)
   std::vector<double> normal, positions;
   double W_obstacle = 0;
+  // curved obstacles: what the steps' re-linearisations (gaps measured
+  // anew from the current positions, normals refreshed) changed E_Theta by
+  // at the states they started from, since t = 0: -Theta (R_new - R_old)
+  // at U^n (docs/design.md §10.1), so that E_Theta - W - W_obstacle -
+  // W_geometry is the hybrid scheme's non-increasing ledger with them
+  double W_geometry = 0;
   // the energy the Rayleigh damping dissipated since t = 0: per step
   // dU . C Vbar, C V taken where the scheme takes it (docs/design.md §10.5)
   double D_damping = 0;

@@ -302,6 +302,8 @@ contains
       touched = max(touched, active)
     end do
     call check(touched > 0, 'the block came onto the circle')
+    call check(nd_get_scalar(a, ND_WORK_GEOMETRY, active) == ND_OK .and. abs(active) > 0 .and. abs(active) < huge(active), &
+               'ND_WORK_GEOMETRY: the re-linearisations on the circle changed E_Theta')
     call check(nd_problem_destroy(a) == ND_OK, 'destroy')
   end subroutine test_obstacles
 
