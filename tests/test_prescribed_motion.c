@@ -151,9 +151,12 @@ static void motion(double t, double *d) {
    ulps of the energies' terms, summed over the DOFs: 1e-12 of the largest
    energy seen. */
 START_TEST(hybrid_ledger_with_prescribed_motion) {
+  for (int damped = 0; damped <= 1; ++damped)
   for (int dim = 1; dim <= 2; ++dim)
     for (int degree = 1; degree <= 2; ++degree) {
       nd_problem p = strip(dim, degree, 0);
+      /* Rayleigh damping (docs/design.md §10.5): its dissipation D joins the ledger */
+      if (damped) ND_OK_OR_FAIL(nd_problem_set_damping(p, 0.3, 0.02));
       ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
       const double tau = 0.01;
       ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
@@ -168,18 +171,20 @@ START_TEST(hybrid_ledger_with_prescribed_motion) {
         ND_OK_OR_FAIL(nd_problem_set_dirichlet_value(p, 1, d));
         ND_OK_OR_FAIL(nd_step(p));
         const double E = scalar(p, ND_ENERGY_AUGMENTED),
-                     ledger = E - scalar(p, ND_WORK) - scalar(p, ND_WORK_OBSTACLE) - scalar(p, ND_WORK_PRESCRIBED);
+                     ledger = E + scalar(p, ND_DISSIPATION_DAMPING) - scalar(p, ND_WORK) -
+                              scalar(p, ND_WORK_OBSTACLE) - scalar(p, ND_WORK_PRESCRIBED);
         const double active = scalar(p, ND_ACTIVE_POINTS);
         scale = fmax(scale, fabs(E));
         if (k > 1) {
           const double tol = 1e-12 * scale;
           if (active == active_before && (active == 0 || dim == 1)) {
             /* the same points on each side (in 2D: none active before and after) */
-            ck_assert_msg(fabs(ledger - last) <= tol, "%dD P%d step %d: ledger moved by %.3g (tolerance %.3g)", dim,
-                          degree, k, ledger - last, tol);
+            ck_assert_msg(fabs(ledger - last) <= tol, "%s%dD P%d step %d: ledger moved by %.3g (tolerance %.3g)",
+                          damped ? "damped " : "", dim, degree, k, ledger - last, tol);
             ++kept;
           } else {
-            ck_assert_msg(ledger <= last + tol, "%dD P%d step %d: ledger rose by %.3g", dim, degree, k, ledger - last);
+            ck_assert_msg(ledger <= last + tol, "%s%dD P%d step %d: ledger rose by %.3g", damped ? "damped " : "", dim,
+                          degree, k, ledger - last);
             ++changed_sides;
           }
         }
@@ -188,10 +193,11 @@ START_TEST(hybrid_ledger_with_prescribed_motion) {
       ck_assert_int_gt(kept, 50);
       ck_assert_int_gt(changed_sides, 0); /* the support did push the strip into the plane */
       ck_assert(scalar(p, ND_WORK_PRESCRIBED) != 0);
+      if (damped) ck_assert(scalar(p, ND_DISSIPATION_DAMPING) > 0);
       /* the energy guard (on, factor 2) counts the supports' work: from rest
          (E^0 = 0), with no load and a fixed plane, every step raising E would
          have been refused otherwise */
-      ck_assert(scalar(p, ND_ENERGY_MECHANICAL) > 2 * (scalar(p, ND_WORK) + scalar(p, ND_WORK_OBSTACLE)));
+      if (!damped) ck_assert(scalar(p, ND_ENERGY_MECHANICAL) > 2 * (scalar(p, ND_WORK) + scalar(p, ND_WORK_OBSTACLE)));
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
 }
@@ -207,7 +213,11 @@ END_TEST
 START_TEST(rigid_translation_is_exact) {
   const int i = _i;
   const nd_test_scheme *s = &nd_test_schemes[i];
-  for (int nodal = 0; nodal <= 1; ++nodal) {
+  /* run 2: with stiffness-proportional damping C = beta K, which a rigid
+     motion does not strain: exact still, only if the supports' C_fc V_c
+     is in the free rows (C_ff V_f alone is not zero) */
+  for (int run = 0; run <= 2; ++run) {
+    const int nodal = run == 1, damped = run == 2;
     nd_mesh m = NULL;
     nd_problem p = NULL;
     const double lo[2] = {0, 0}, hi[2] = {2, 1};
@@ -223,6 +233,7 @@ START_TEST(rigid_translation_is_exact) {
     const int expl = nd_test_is_explicit(s);
     ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, expl));
     ND_OK_OR_FAIL(nd_problem_set_scheme(p, s->scheme, s->params));
+    if (damped) ND_OK_OR_FAIL(nd_problem_set_damping(p, 0, 0.05));
     const double tau = expl ? 0.01 : 0.05, w[2] = {0.3, -0.2}, d0[2] = {0.01, 0.02};
     ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
     const int64_t n = nodes(p);
@@ -254,6 +265,8 @@ START_TEST(rigid_translation_is_exact) {
                     i, scalar(p, ND_ENERGY_MECHANICAL), kinetic);
       ck_assert_msg(fabs(scalar(p, ND_WORK_PRESCRIBED)) <= 1e-12, "scheme %d: W_prescribed %.3g", i,
                     scalar(p, ND_WORK_PRESCRIBED));
+      ck_assert_msg(fabs(scalar(p, ND_DISSIPATION_DAMPING)) <= 1e-12, "scheme %d: D_damping %.3g", i,
+                    scalar(p, ND_DISSIPATION_DAMPING));
       for (int c = 0; c < 2; ++c) /* the whole body's momentum m w, the supports' nodes included */
         ck_assert_msg(fabs(scalar(p, ND_MOMENTUM_X + c) - 2 * w[c]) <= 1e-12, "scheme %d: momentum %.17g, m w %.17g", i,
                       scalar(p, ND_MOMENTUM_X + c), 2 * w[c]);
@@ -265,6 +278,58 @@ START_TEST(rigid_translation_is_exact) {
     free(v0);
     ND_OK_OR_FAIL(nd_problem_destroy(&p));
   }
+}
+END_TEST
+
+/* Hybrid scheme, Rayleigh damping C = alpha M + beta K, one support moving
+   and the other fixed, no load, no contact: summing the step's mean
+   equation over every DOF, the supports' rows giving the reactions,
+   K's and beta K's columns sum to zero (a rigid translation is in K's
+   kernel) and alpha M's to alpha P, so
+     P^{n+1} - P^n = tau (sum R - alpha (P^{n+1} + P^n)/2)
+   per component (P the whole body's momentum, the supports' nodes
+   included). The reactions must carry C's clamped rows (C_cf V_f + C_cc
+   V_c) for it to hold. Round-off: 1e-12 of the momenta's scale. */
+START_TEST(damped_momentum_with_a_moving_support) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double lo[2] = {0, 0}, hi[2] = {2, 1}, alpha = 0.4, beta = 0.03, tau = 0.02;
+  const double l1[2] = {-1e-3, -9}, h1[2] = {1e-3, 9}, l2[2] = {2 - 1e-3, -9}, h2[2] = {2 + 1e-3, 9};
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(8, 4, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, l1, h1));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, l2, h2));
+  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
+  ND_OK_OR_FAIL(nd_problem_set_damping(p, alpha, beta));
+  const int64_t n = nodes(p);
+  double worst = 0, scale = 0, d[2];
+  for (int k = 0; k <= 200; ++k) {
+    motion(k * tau, d);
+    ND_OK_OR_FAIL(nd_problem_set_dirichlet_value(p, 1, d));
+    if (k == 0) continue;
+    const double P0[2] = {scalar(p, ND_MOMENTUM_X), scalar(p, ND_MOMENTUM_Y)};
+    ND_OK_OR_FAIL(nd_step(p));
+    double *R = field(p, ND_FIELD_REACTION, 2);
+    for (int c = 0; c < 2; ++c) {
+      double sumR = 0;
+      for (int64_t j = 0; j < n; ++j) sumR += R[2 * j + c];
+      const double P1 = scalar(p, ND_MOMENTUM_X + c);
+      const double defect = (P1 - P0[c]) - tau * (sumR - alpha * 0.5 * (P1 + P0[c]));
+      scale = fmax(scale, fmax(fabs(P1), tau * fabs(sumR)));
+      worst = fmax(worst, fabs(defect));
+    }
+    free(R);
+  }
+  printf("damped strip, moving support: momentum balance off by %.3g (scale %.3g)\n", worst, scale);
+  ck_assert_double_gt(scale, 0);
+  ck_assert_double_le(worst, 1e-12 * scale);
+  ck_assert(scalar(p, ND_DISSIPATION_DAMPING) > 0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST
 
@@ -360,6 +425,7 @@ int main(void) {
   tcase_add_loop_test(tc, no_refactorization_when_only_the_values_change, 0, ND_TEST_N_SCHEMES);
   tcase_add_loop_test(tc, restart_is_bitwise, 0, ND_TEST_N_SCHEMES);
   tcase_add_test(tc, only_clamped_regions_move);
+  tcase_add_test(tc, damped_momentum_with_a_moving_support);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -105,7 +105,7 @@ double momentum(Problem &p, int key) {
   d.M.multiply(s.V.data(), MV.data());
   // prescribed motion: the clamped DOFs' velocity V_c, in M's clamped columns
   const bool moving = d.clamped && !s.Vc.empty();
-  const ClampedMean at_Vc{moving ? std::vector<double>(s.Vc.size(), 0.0) : std::vector<double>(), s.Vc};
+  const ClampedMean at_Vc{moving ? std::vector<double>(s.Vc.size(), 0.0) : std::vector<double>(), s.Vc, {}};
   if (moving) subtract_clamped_coupling(d, at_Vc, -1.0, MV.data());  // + M_fc V_c
   d.dofs.extend_to_full(MV.data(), full.data());
   if (d.clamped && (!d.lumped || moving)) {

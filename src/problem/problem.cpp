@@ -959,7 +959,7 @@ std::vector<double> Problem::reaction_at_equilibrium(const State &s) {
     law.law(q, law.P(q, e.U.data()), phi[q], slope);
   }
   std::vector<double> R = clamped_residual(d, e.A, e.U, phi, e.F_fixed);
-  if (!e.Uc.empty()) add_clamped_block(d, ClampedMean{e.Uc, e.Ac}, R);
+  if (!e.Uc.empty()) add_clamped_block(d, ClampedMean{e.Uc, e.Ac, {}}, R);  // (as clamped_residual: no C term)
   return R;
 }
 

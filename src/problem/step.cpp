@@ -197,9 +197,6 @@ void Step::start() {
   moving_ = d_.clamped && (given || !old_.Uc.empty());
   next.W_prescribed = old_.W_prescribed;
   if (!moving_) return;
-  if (d_.damped())
-    fail(ND_ERR_STATE, "prescribed motion with Rayleigh damping is not supported yet (the lifting would need the "
-                       "damping's coupling to the moving supports); the step was not taken");
   if (given) next.Uc = *at_new_.Uc;
   else next.Uc.assign(d_.clamped->dofs.size(), 0.0);
   require_motion_supported(d_, next, !in_.held.empty() || in_.points, scheme_.is_explicit());
@@ -327,6 +324,12 @@ void Step::damping_dissipation() {
   count(d_.counters, &Counters::spmv);
   double dD = 0;
   for (size_t i = 0; i < n; ++i) dD += (next.U[i] - old_.U[i]) * CV[i];
+  if (moving_) {  // the whole body's: the moving supports' rows and columns of C too
+    std::vector<double> dU(n), dUc(next.Uc.size());
+    for (size_t i = 0; i < n; ++i) dU[i] = next.U[i] - old_.U[i];
+    for (size_t c = 0; c < dUc.size(); ++c) dUc[c] = next.Uc[c] - (old_.Uc.empty() ? 0.0 : old_.Uc[c]);
+    dD += clamped_damping_work(d_, clamped_mean_, dU.data(), Vbar.data(), dUc);
+  }
   next.D_damping += dD;
 }
 

@@ -132,7 +132,7 @@ void Discretization::equilibrium_acceleration(State &s, int solver, bool once, b
     law.add_force(s.U.data(), 1.0, rhs.data(), nullptr);
   }
   // prescribed motion: the free rows' coupling to the clamped DOFs at U_c, A_c
-  if (!s.Uc.empty() && clamped) subtract_clamped_coupling(*this, ClampedMean{s.Uc, s.Ac}, -1.0, rhs.data());
+  if (!s.Uc.empty() && clamped) subtract_clamped_coupling(*this, ClampedMean{s.Uc, s.Ac, s.Vc}, -1.0, rhs.data());
   const std::vector<double> &F = s.load();
   for (size_t i = 0; i < n; ++i) rhs[i] = (F.empty() ? 0.0 : F[i]) - rhs[i];
   if (damping && damping->factor) {

@@ -26,6 +26,8 @@ ClampedMean prescribed_update(const TimeScheme &scheme, double tau, const State 
   mean.U.resize(m);
   for (size_t i = 0; i < m; ++i) mean.U[i] = a == 0 ? x.U[i] : (1 - a) * x.U[i] + a * o.U[i];
   scheme.mean_acceleration(tau, o, x, mean.A);
+  mean.V.resize(m);
+  for (size_t i = 0; i < m; ++i) mean.V[i] = a == 0 ? x.V[i] : (1 - a) * x.V[i] + a * o.V[i];
   next.Vc = std::move(x.V);
   next.Ac = x.A.size() == m ? std::move(x.A) : std::vector<double>(m, 0.0);
   return mean;

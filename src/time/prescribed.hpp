@@ -12,8 +12,10 @@ namespace nd {
 // The clamped DOFs over one step: Ubar = (1-a) U_c^{n+1} + a U_c^n and Abar,
 // the scheme's mean acceleration there, at which the free rows' coupling
 // (the lifting) and the reactions read them.
+// V: the mean velocity (1-a) V_c^{n+1} + a V_c^n, which the damping's
+// coupling C_fc reads (empty: none)
 struct ClampedMean {
-  std::vector<double> U, A;
+  std::vector<double> U, A, V;
 };
 
 // next.Vc, next.Ac from next.Uc (set) and old's (empty: at rest at 0), by the
