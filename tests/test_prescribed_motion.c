@@ -203,6 +203,24 @@ START_TEST(hybrid_ledger_with_prescribed_motion) {
 }
 END_TEST
 
+/* the rectangle [0, 2] x [0, 1] (nx x ny, degree), E = 1, nu = 0.3, rho = 1,
+   clamped at both ends (regions 1 and 2), no obstacle */
+static nd_problem clamped_rectangle(int64_t nx, int64_t ny, int degree) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double lo[2] = {0, 0}, hi[2] = {2, 1};
+  const double l1[2] = {-1e-3, -9}, h1[2] = {1e-3, 9}, l2[2] = {2 - 1e-3, -9}, h2[2] = {2 + 1e-3, 9};
+  ND_OK_OR_FAIL(nd_mesh_create_rectangle(nx, ny, lo, hi, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, l1, h1));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, l2, h2));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
+  return p;
+}
+
 /* A body in free flight at velocity w whose clamped regions (both ends)
    translate rigidly by d(t) = d0 + w t: u = d(t) everywhere is the exact
    solution, which every scheme integrates exactly (its updates are exact
@@ -218,18 +236,7 @@ START_TEST(rigid_translation_is_exact) {
      is in the free rows (C_ff V_f alone is not zero) */
   for (int run = 0; run <= 2; ++run) {
     const int nodal = run == 1, damped = run == 2;
-    nd_mesh m = NULL;
-    nd_problem p = NULL;
-    const double lo[2] = {0, 0}, hi[2] = {2, 1};
-    const double l1[2] = {-1e-3, -9}, h1[2] = {1e-3, 9}, l2[2] = {2 - 1e-3, -9}, h2[2] = {2 + 1e-3, 9};
-    ND_OK_OR_FAIL(nd_mesh_create_rectangle(6, 3, lo, hi, &m));
-    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, l1, h1));
-    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, l2, h2));
-    ND_OK_OR_FAIL(nd_problem_create(m, 2, &p));
-    ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-    ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
-    ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
-    ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
+    nd_problem p = clamped_rectangle(6, 3, 2);
     const int expl = nd_test_is_explicit(s);
     ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, expl));
     ND_OK_OR_FAIL(nd_problem_set_scheme(p, s->scheme, s->params));
@@ -291,18 +298,8 @@ END_TEST
    included). The reactions must carry C's clamped rows (C_cf V_f + C_cc
    V_c) for it to hold. Round-off: 1e-12 of the momenta's scale. */
 START_TEST(damped_momentum_with_a_moving_support) {
-  nd_mesh m = NULL;
-  nd_problem p = NULL;
-  const double lo[2] = {0, 0}, hi[2] = {2, 1}, alpha = 0.4, beta = 0.03, tau = 0.02;
-  const double l1[2] = {-1e-3, -9}, h1[2] = {1e-3, 9}, l2[2] = {2 - 1e-3, -9}, h2[2] = {2 + 1e-3, 9};
-  ND_OK_OR_FAIL(nd_mesh_create_rectangle(8, 4, lo, hi, &m));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, l1, h1));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, l2, h2));
-  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
-  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
-  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
-  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
+  const double alpha = 0.4, beta = 0.03, tau = 0.02;
+  nd_problem p = clamped_rectangle(8, 4, 1);
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
   ND_OK_OR_FAIL(nd_problem_set_damping(p, alpha, beta));

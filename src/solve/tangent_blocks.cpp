@@ -33,10 +33,7 @@ class BlockTangent : public TangentSolver {
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
              const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
-    if (!any_active) {
-      A_factor_.solve_from(x, guess);
-      return;
-    }
+    if (solved_without_contact(A_factor_, any_active, x, guess)) return;
     const ContactPoints &cp = *law.cp;
     bind(cp, law.theta);
     const int m = cp.m;

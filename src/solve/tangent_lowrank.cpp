@@ -55,10 +55,7 @@ class LowRankTangent : public TangentSolver {
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
              const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
-    if (!any_active) {
-      A_factor_.solve_from(x, guess);
-      return;
-    }
+    if (solved_without_contact(A_factor_, any_active, x, guess)) return;
     require_rank_one_updates(law, "the low-rank tangent");
     if (columns_->bind(*law.cp, law.theta)) lu_valid_ = false;
     theta_ = law.theta;

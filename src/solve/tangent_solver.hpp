@@ -53,6 +53,15 @@ class TangentSolver {
   // gathers them from their ranks once, at its end.
   virtual const std::vector<int64_t> *held() const { return nullptr; }
   TangentStats stats;
+
+ protected:
+  // With no active point T = A: x solved with A's factor from `guess`
+  // (true: done). The solvers that keep no rows of their own start so.
+  static bool solved_without_contact(const Factorization &A_factor, bool any_active, double *x, const double *guess) {
+    if (any_active) return false;
+    A_factor.solve_from(x, guess);
+    return true;
+  }
 };
 
 // Which tangent solver make_integrator builds (white-box: tests, benchmarks).
