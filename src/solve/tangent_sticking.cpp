@@ -34,6 +34,10 @@ namespace {
 // is refactored (a solve with S costs a small fraction of a factorization).
 constexpr double kTolerance = 1e-13;
 constexpr int kKeep = 20, kIterations = 40;
+// GMRES keeps 2 k vectors of n: at most 2^23 values (64 MiB), whatever n
+int iterations_for(int64_t n, int wanted) {
+  return static_cast<int>(std::clamp<int64_t>((int64_t(1) << 22) / std::max<int64_t>(n, 1), 4, wanted));
+}
 
 class StickingTangent : public TangentSolver {
  public:
@@ -77,7 +81,8 @@ class StickingTangent : public TangentSolver {
       if (fresh || !S_factor_ || S_log_ != log_ || kappa != S_kappa_ || law.theta != S_theta_)
         factor_S(law, kappa, c);
       if (attempt == 1) std::copy(b_.begin(), b_.end(), x);
-      const GmresResult r = gmres(n, apply, precondition, x, kTolerance, fresh ? kIterations : kKeep, work_);
+      const GmresResult r = gmres(n, apply, precondition, x, kTolerance, iterations_for(n, fresh ? kIterations : kKeep),
+                                  work_);
       stats.krylov += r.iterations;
       if (r.converged) {
         ++stats.lowrank;
