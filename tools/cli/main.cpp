@@ -356,7 +356,7 @@ int run(const Options &opt) {
     if (!s.title.empty())  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
       std::fprintf(history.f, "# title: %s\n", ndcli::printable(s.title).c_str());
     std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied,"
-               "W_obstacle,W_prescribed,dissipation_friction\n",
+               "W_obstacle,W_prescribed,dissipation_friction,dissipation_damping,W_geometry\n",
                history.f);
   }
   fs::path prefix;
@@ -405,11 +405,12 @@ int run(const Options &opt) {
     max_force = std::max(max_force, force);
     max_pen = std::max(max_pen, pen);
     if (history.f) {
-      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g,%.17g,%.17g\n", k, t,
+      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                   k, t,
                    scalar(p, ND_ENERGY_MECHANICAL), scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK), force,
                    scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0,
                    scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_WORK_OBSTACLE), scalar(p, ND_WORK_PRESCRIBED),
-                   scalar(p, ND_DISSIPATION_FRICTION));
+                   scalar(p, ND_DISSIPATION_FRICTION), scalar(p, ND_DISSIPATION_DAMPING), scalar(p, ND_WORK_GEOMETRY));
       if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
     }
     if (!prefix.empty() && (k % every == 0 || k == steps)) {

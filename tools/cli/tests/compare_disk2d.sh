@@ -31,7 +31,7 @@ g_example=$(sed -n 's/.*gamma0 = \([^ ]*\) (automatic.*/\1/p' "$work/example.log
 csv=$(ls "$work"/*_history.csv)
 # the comments first (the scene's title: "# title: ..."), then the header
 header=$(grep -v '^#' "$csv" | head -1)
-[ "$header" = "step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied,W_obstacle,W_prescribed,dissipation_friction" ] ||
+[ "$header" = "step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied,W_obstacle,W_prescribed,dissipation_friction,dissipation_damping,W_geometry" ] ||
   fail "$csv: unexpected header $header"
 title=$(sed -n 's/^title *= *"\(.*\)".*$/\1/p' "$scene")
 [ -z "$title" ] || [ "$(head -1 "$csv")" = "# title: $title" ] || fail "$csv: line 1 is not '# title: $title'"

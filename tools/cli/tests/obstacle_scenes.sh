@@ -3,7 +3,11 @@
 # dropped into a spherical bowl, a coin dropped on a cylinder
 # (examples/scenes/ball_bowl.toml, disk_cylinder.toml). Each must finish,
 # touch (a positive contact force) and stay out of the obstacle (the
-# penetration below the library's guard, half a cell: checked by the run).
+# penetration below the library's guard, half a cell: checked by the run),
+# and its history's ledger (hybrid scheme, Theta = 1: docs/design.md
+# §10.1) E_Theta + D_f + D - W - W_obstacle - W_prescribed - W_geometry
+# must not rise from row to row by more than round-off (1e-12 of the
+# largest energy in the run).
 # And the sliding block with Coulomb friction (sliding_block.toml) dissipates.
 # usage: obstacle_scenes.sh DRIVER SCENES_DIR WORK_DIR
 set -u
@@ -25,18 +29,34 @@ for s in ball_bowl disk_cylinder; do
   else
     echo "ok: $s: $line"
   fi
+  # the ledger, read by column name from the history
+  csv="$work/$s/${s}_history.csv"
+  verdict=$(grep -v '^#' "$csv" | awk -F, '
+    NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+    { e = $c["E_Theta"] + $c["dissipation_friction"] + $c["dissipation_damping"] - $c["W"] - $c["W_obstacle"] \
+          - $c["W_prescribed"] - $c["W_geometry"]
+      s = ($c["E_Theta"] < 0 ? -$c["E_Theta"] : $c["E_Theta"]) + ($c["W"] < 0 ? -$c["W"] : $c["W"])
+      if (s > scale) scale = s
+      if (NR > 2 && e - prev > rise) rise = e - prev
+      prev = e; wg = $c["W_geometry"] }
+    END { printf "%s %.3g %.3g %.3g\n", (rise <= 1e-12 * scale ? "ok" : "FAIL"), rise, scale, wg }')
+  case "$verdict" in
+    ok*) echo "ok: $s: ledger (largest rise, scale, W_geometry) $verdict" ;;
+    *) echo "FAIL: $s: ledger rose: (largest rise, scale, W_geometry) $verdict"; fails=$((fails + 1)) ;;
+  esac
 done
 # the sliding block (examples/scenes/sliding_block.toml): friction dissipates
-# (the history's last column, D_f, grows from 0 to a positive value)
+# (the history's column dissipation_friction, D_f, grows from 0 to a positive value)
 if ! "$driver" "$scenes/sliding_block.toml" --quiet --T 0.5 --out "$work/sliding_block" > "$work/sliding_block.out" \
      2> "$work/sliding_block.err"; then
   echo "FAIL: sliding_block: $(cat "$work/sliding_block.err")"
   fails=$((fails + 1))
 else
   csv="$work/sliding_block/sliding_block_history.csv"
-  last=$(grep -v '^#' "$csv" | tail -1 | awk -F, '{ print $NF }')
-  header=$(grep -v '^#' "$csv" | head -1 | awk -F, '{ print $NF }')
-  if [ "$header" != dissipation_friction ] || ! awk -v d="$last" 'BEGIN { exit !(d > 0) }'; then
+  col=$(grep -v '^#' "$csv" | head -1 | tr , '\n' | grep -n '^dissipation_friction$' | cut -d: -f1)
+  last=$(grep -v '^#' "$csv" | tail -1 | cut -d, -f"${col:-1}")
+  header=dissipation_friction
+  if [ -z "$col" ] || ! awk -v d="$last" 'BEGIN { exit !(d > 0) }'; then
     echo "FAIL: sliding_block: no frictional dissipation in $csv (last column $header = $last)"
     fails=$((fails + 1))
   else
