@@ -695,6 +695,23 @@ START_TEST(restart_moving_plane_is_bitwise) {
 }
 END_TEST
 
+/* A plane replaced by another (another normal: a new obstacle, not a
+   motion) holds from t^n on: its point is not a displacement of the old
+   one, so no slip is shifted and no work counted (the block's plane
+   through (5, 0), tilted by 1e-6, in place of the one through the origin). */
+START_TEST(replaced_plane_counts_no_work) {
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, &kTheta1};
+  nd_problem p = block(&b);
+  for (int n = 0; n < 50; ++n) ND_OK_OR_FAIL(nd_step(p));
+  const double point[2] = {5, 0}, tilted[2] = {1e-6, 1};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, tilted));
+  ND_OK_OR_FAIL(nd_step(p));
+  ck_assert_double_gt(scalar(p, ND_SLIDING_POINTS), 0);
+  ck_assert_double_eq(scalar(p, ND_WORK_OBSTACLE), 0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("friction");
   TCase *tc = tcase_create("friction");
@@ -713,6 +730,7 @@ int main(void) {
   tcase_add_test(tc, conveyor_drags_then_carries);
   tcase_add_test(tc, hybrid_ledger_moving_plane);
   tcase_add_test(tc, restart_moving_plane_is_bitwise);
+  tcase_add_test(tc, replaced_plane_counts_no_work);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

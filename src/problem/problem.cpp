@@ -224,8 +224,13 @@ void Problem::set_contact_plane(int region, const double *point, const double *n
   }
   // another obstacle, not a motion: it holds from t^0 on
   given_.insert({kObstaclePosition, region});
+  const bool replaced = it != def_.planes.end();
+  const size_t at = 3 * static_cast<size_t>(it - def_.planes.begin());
   if (start_) put_plane(start_->planes, pl);
   put_plane(def_.planes, pl);
+  // (friction: and the state's point of it, so that no slip is counted for it)
+  if (replaced && state_ready_ && def_.has_friction() && state_.positions.size() >= at + 3)
+    std::copy(pl.point, pl.point + 3, state_.positions.begin() + static_cast<std::ptrdiff_t>(at));
   changed(kContact);
 }
 
