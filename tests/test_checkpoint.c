@@ -890,7 +890,7 @@ END_TEST
    shifts the slip references; the block holds them (here, where the plane
    was at the last step), a NaN there is refused naming them, and a block
    that moves them moves the next step: a resumed run differs from the
-   uninterrupted one unless they are the saved ones. */
+   uninterrupted one unless they are the saved ones. Version 8 still loads. */
 START_TEST(friction_section_holds_the_planes) {
   const double th[2] = {1, 0}, F = 0.3, up[2] = {0, 1};
   nd_problem p = scene(2, 1, ND_SCHEME_THETA, th);
@@ -935,6 +935,26 @@ START_TEST(friction_section_holds_the_planes) {
     free(again.f);
   }
   free(next.f);
+  /* a version 8 block (its friction section without the points: friction
+     had static planes then) still loads, the planes taken where they are:
+     with the plane kept still, the run goes on as from the version 9 one */
+  const int64_t n8 = nbytes - 32;
+  unsigned char *v8 = malloc((size_t)n8);
+  memcpy(v8, good, (size_t)points);
+  memcpy(v8 + points, good + points + 32, (size_t)(nbytes - points - 32));
+  v8[8] = 8;
+  put_i64(v8, 24, get_i64(good, 24) - 32); /* the payload's size */
+  reseal(v8, n8);
+  snap from[2];
+  for (int run = 0; run < 2; ++run) {
+    ND_OK_OR_FAIL(run == 0 ? nd_problem_load_state(p, nbytes, good) : nd_problem_load_state(p, n8, v8));
+    const double at[2] = {x, 0};
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, at, up));
+    ND_OK_OR_FAIL(nd_step(p));
+    from[run] = take(p, 2);
+  }
+  ck_assert(same(from[0], from[1]));
+  free(from[0].f), free(from[1].f), free(v8);
   free(good);
   free(bad);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
