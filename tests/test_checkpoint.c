@@ -619,6 +619,20 @@ static int64_t get_i64(const unsigned char *buf, int64_t at) {
   return x;
 }
 
+/* buf (n bytes) without its `len` bytes at `at`, as a block of `version`:
+   an older layout, its payload's size and checksum made right (*n_out bytes) */
+static unsigned char *older_block(const unsigned char *buf, int64_t n, int64_t at, int64_t len, int version,
+                                  int64_t *n_out) {
+  *n_out = n - len;
+  unsigned char *out = malloc((size_t)*n_out);
+  memcpy(out, buf, (size_t)at);
+  memcpy(out + at, buf + at + len, (size_t)(n - at - len));
+  out[8] = (unsigned char)version;
+  put_i64(out, 24, get_i64(buf, 24) - len); /* the payload's size */
+  reseal(out, *n_out);
+  return out;
+}
+
 /* the offsets of a version 9 block's fields (src/problem/checkpoint.cpp):
    header 32 bytes, the definition's 7 fingerprints, then the state */
 typedef struct {
@@ -855,13 +869,8 @@ START_TEST(version_8_curved_checkpoint_loads) {
   for (int64_t i = 32; i + 8 <= n9 - 8; ++i)
     if (memcmp(v9 + i, &Wg, 8) == 0) at = i, ++found;
   ck_assert_int_eq(found, 1);
-  const int64_t n8 = n9 - 8;
-  unsigned char *v8 = malloc((size_t)n8);
-  memcpy(v8, v9, (size_t)at);
-  memcpy(v8 + at, v9 + at + 8, (size_t)(n9 - at - 8));
-  v8[8] = 8;
-  put_i64(v8, 24, get_i64(v9, 24) - 8); /* the payload's size */
-  reseal(v8, n8);
+  int64_t n8 = 0;
+  unsigned char *v8 = older_block(v9, n9, at, 8, 8, &n8);
   ND_OK_OR_FAIL(nd_problem_load_state(b, n8, v8));
   ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_GEOMETRY, &Wb));
   ck_assert_double_eq(Wb, 0);
@@ -938,13 +947,8 @@ START_TEST(friction_section_holds_the_planes) {
   /* a version 8 block (its friction section without the points: friction
      had static planes then) still loads, the planes taken where they are:
      with the plane kept still, the run goes on as from the version 9 one */
-  const int64_t n8 = nbytes - 32;
-  unsigned char *v8 = malloc((size_t)n8);
-  memcpy(v8, good, (size_t)points);
-  memcpy(v8 + points, good + points + 32, (size_t)(nbytes - points - 32));
-  v8[8] = 8;
-  put_i64(v8, 24, get_i64(good, 24) - 32); /* the payload's size */
-  reseal(v8, n8);
+  int64_t n8 = 0;
+  unsigned char *v8 = older_block(good, nbytes, points, 32, 8, &n8);
   snap from[2];
   for (int run = 0; run < 2; ++run) {
     ND_OK_OR_FAIL(run == 0 ? nd_problem_load_state(p, nbytes, good) : nd_problem_load_state(p, n8, v8));
