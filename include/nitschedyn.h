@@ -296,7 +296,8 @@ ND_EXPORT int nd_problem_move_obstacle(nd_problem p, int region, int index, cons
                                        const double *rotation);
 /* The friction law of a contact region (docs/design.md §10.2): law one of
    ND_FRICTION_LIST, params its parameters (NULL for ND_FRICTION_NONE). 2D
-   and 3D; the region's obstacles static planes; one rank. */
+   and 3D; the region's obstacle its plane alone (it may move: slip is
+   relative to it); one rank. */
 ND_EXPORT int nd_problem_set_friction(nd_problem p, int region, int law, const double *params);
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);

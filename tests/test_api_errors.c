@@ -980,6 +980,31 @@ START_TEST(problem_friction) {
   EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
   EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_NONE, NULL));
   EXPECT_OK(nd_problem_destroy(&p));
+  /* friction needs its region's plane alone, which may move (docs/design.md
+     §10.2): a circle on the region refuses the step, and a moving plane steps */
+  p = problem_2d();
+  const double theta = 1, point[2] = {0, -0.01}, up[2] = {0, 1}, centre[2] = {0.5, -100};
+  EXPECT_OK(nd_problem_set_material(p, 100, 0.3, 1));
+  EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_THETA, &theta));
+  EXPECT_OK(nd_problem_set_timestep(p, 1e-2));
+  EXPECT_OK(nd_problem_set_contact_plane(p, 1, point, up));
+  EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  EXPECT_OK(nd_problem_add_contact_sphere(p, 1, centre, 99.99, 0));
+  EXPECT_ERR(nd_step(p), ND_ERR_STATE, "nd_step", "sphere, cylinder or distance");
+  EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_NONE, NULL));
+  EXPECT_OK(nd_step(p));
+  EXPECT_OK(nd_problem_destroy(&p));
+  p = problem_2d();
+  EXPECT_OK(nd_problem_set_material(p, 100, 0.3, 1));
+  EXPECT_OK(nd_problem_set_scheme(p, ND_SCHEME_THETA, &theta));
+  EXPECT_OK(nd_problem_set_timestep(p, 1e-2));
+  EXPECT_OK(nd_problem_set_contact_plane(p, 1, point, up));
+  EXPECT_OK(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  EXPECT_OK(nd_step(p));
+  const double moved[2] = {0.01, -0.005};
+  EXPECT_OK(nd_problem_set_contact_plane(p, 1, moved, up));
+  EXPECT_OK(nd_step(p));
+  EXPECT_OK(nd_problem_destroy(&p));
 }
 END_TEST
 

@@ -619,6 +619,20 @@ static int64_t get_i64(const unsigned char *buf, int64_t at) {
   return x;
 }
 
+/* buf (n bytes) without its `len` bytes at `at`, as a block of `version`:
+   an older layout, its payload's size and checksum made right (*n_out bytes) */
+static unsigned char *older_block(const unsigned char *buf, int64_t n, int64_t at, int64_t len, int version,
+                                  int64_t *n_out) {
+  *n_out = n - len;
+  unsigned char *out = malloc((size_t)*n_out);
+  memcpy(out, buf, (size_t)at);
+  memcpy(out + at, buf + at + len, (size_t)(n - at - len));
+  out[8] = (unsigned char)version;
+  put_i64(out, 24, get_i64(buf, 24) - len); /* the payload's size */
+  reseal(out, *n_out);
+  return out;
+}
+
 /* the offsets of a version 9 block's fields (src/problem/checkpoint.cpp):
    header 32 bytes, the definition's 7 fingerprints, then the state */
 typedef struct {
@@ -855,13 +869,8 @@ START_TEST(version_8_curved_checkpoint_loads) {
   for (int64_t i = 32; i + 8 <= n9 - 8; ++i)
     if (memcmp(v9 + i, &Wg, 8) == 0) at = i, ++found;
   ck_assert_int_eq(found, 1);
-  const int64_t n8 = n9 - 8;
-  unsigned char *v8 = malloc((size_t)n8);
-  memcpy(v8, v9, (size_t)at);
-  memcpy(v8 + at, v9 + at + 8, (size_t)(n9 - at - 8));
-  v8[8] = 8;
-  put_i64(v8, 24, get_i64(v9, 24) - 8); /* the payload's size */
-  reseal(v8, n8);
+  int64_t n8 = 0;
+  unsigned char *v8 = older_block(v9, n9, at, 8, 8, &n8);
   ND_OK_OR_FAIL(nd_problem_load_state(b, n8, v8));
   ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_GEOMETRY, &Wb));
   ck_assert_double_eq(Wb, 0);
@@ -885,6 +894,77 @@ START_TEST(version_8_curved_checkpoint_loads) {
 }
 END_TEST
 
+/* Friction against a moving plane (docs/design.md §10.2): the friction
+   section ends with the planes' points at t^n, from which the next step
+   shifts the slip references; the block holds them (here, where the plane
+   was at the last step), a NaN there is refused naming them, and a block
+   that moves them moves the next step: a resumed run differs from the
+   uninterrupted one unless they are the saved ones. Version 8 still loads. */
+START_TEST(friction_section_holds_the_planes) {
+  const double th[2] = {1, 0}, F = 0.3, up[2] = {0, 1};
+  nd_problem p = scene(2, 1, ND_SCHEME_THETA, th);
+  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  double x = 0;
+  for (int k = 1; k <= 20; ++k) {
+    x = 0.01 * k;
+    const double o[2] = {x, 0};
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, up));
+    ND_OK_OR_FAIL(nd_step(p));
+  }
+  int64_t nbytes = 0, nodes = 0, np = 0;
+  unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
+  const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = 2 * nodes - nf;
+  /* from the end: the checksum, W_prescribed, A_c, V_c, U_c (each its count
+     and room), then the planes' points: a count and 3 values per plane */
+  const int64_t Uc = nbytes - 16 - 3 * (8 + 8 * nc), points = Uc - 8 - 3 * 8;
+  ck_assert_int_eq(good[layout_of(nf, nc, np).curved], 2); /* (the friction section alone) */
+  ck_assert_int_eq(get_i64(good, points), 3);
+  ck_assert(get_double(good, points + 8) == x && get_double(good, points + 16) == 0);
+  memcpy(bad, good, (size_t)nbytes);
+  put_double(bad, points + 8, NAN);
+  reseal(bad, nbytes);
+  refused_unchanged(p, nbytes, bad, ND_ERR_FORMAT, "planes' points", "a NaN plane point");
+  /* resumed from the block, the next step is the uninterrupted one's; from
+     a block whose plane was elsewhere, it is not (the references shift by
+     the difference) */
+  const double o[2] = {x + 0.01, 0};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, up));
+  ND_OK_OR_FAIL(nd_step(p));
+  const snap next = take(p, 2);
+  memcpy(bad, good, (size_t)nbytes);
+  put_double(bad, points + 8, x - 0.01);
+  reseal(bad, nbytes);
+  for (int run = 0; run < 2; ++run) {
+    ND_OK_OR_FAIL(nd_problem_load_state(p, nbytes, run == 0 ? good : bad));
+    ND_OK_OR_FAIL(nd_step(p));
+    const snap again = take(p, 2);
+    ck_assert_int_eq(same(next, again), run == 0);
+    free(again.f);
+  }
+  free(next.f);
+  /* a version 8 block (its friction section without the points: friction
+     had static planes then) still loads, the planes taken where they are:
+     with the plane kept still, the run goes on as from the version 9 one */
+  int64_t n8 = 0;
+  unsigned char *v8 = older_block(good, nbytes, points, 32, 8, &n8);
+  snap from[2];
+  for (int run = 0; run < 2; ++run) {
+    ND_OK_OR_FAIL(run == 0 ? nd_problem_load_state(p, nbytes, good) : nd_problem_load_state(p, n8, v8));
+    const double at[2] = {x, 0};
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, at, up));
+    ND_OK_OR_FAIL(nd_step(p));
+    from[run] = take(p, 2);
+  }
+  ck_assert(same(from[0], from[1]));
+  free(from[0].f), free(from[1].f), free(v8);
+  free(good);
+  free(bad);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("checkpoint");
   TCase *tc = tcase_create("checkpoint");
@@ -902,6 +982,7 @@ int main(void) {
   tcase_add_test(tc, fields_out_of_range_are_refused);
   tcase_add_test(tc, version_8_curved_checkpoint_loads);
   tcase_add_test(tc, other_definitions_are_refused);
+  tcase_add_test(tc, friction_section_holds_the_planes);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -15,7 +15,12 @@
  *  - the hybrid scheme with Theta = 1: E_Theta + D_f - W never increases
  *    (to round-off), D_f >= 0 and non-decreasing;
  *  - a block launched at v0 stops after v0/(F g), having slid v0^2/(2 F g);
- *  - F = 0 with Theta = 0 is the frictionless method; a restart is bitwise. */
+ *  - F = 0 with Theta = 0 is the frictionless method; a restart is bitwise;
+ *  - a moving plane (slip is relative): body and plane carried along
+ *    together are the static run shifted; a conveyor drags the resting
+ *    block to its speed and carries it (momentum, the plane's work v dP,
+ *    D_f = m v^2/2); the hybrid ledger with the plane's work W_obstacle,
+ *    tangential part included, never increases; a restart is bitwise. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -72,6 +77,24 @@ static nd_problem block(const block_spec *b) {
     ND_OK_OR_FAIL(nd_problem_set_timestep(p, b->tau));
   }
   return p;
+}
+
+/* the block's plane through (x, z) in 2D, (x, y, z) in 3D (z along its
+   normal, up): a translation of the plane, whose tangential part the slip
+   follows (docs/design.md §10.2) */
+static void place_plane(nd_problem p, int dim, double x, double y, double z) {
+  const double point2[2] = {x, z}, point3[3] = {x, y, z}, up2[2] = {0, 1}, up3[3] = {0, 0, 1};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, dim == 2 ? point2 : point3, dim == 2 ? up2 : up3));
+}
+
+/* every node's velocity (vx, 0[, 0]) */
+static void launch(nd_problem p, int dim, double vx) {
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *v = calloc((size_t)(dim * nn), sizeof *v);
+  for (int64_t i = 0; i < nn; ++i) v[dim * i] = vx;
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nn, NULL, v));
+  free(v);
 }
 
 static const nd_test_scheme kTheta1 = {ND_SCHEME_THETA, {1, 0}}, kHybrid = {ND_SCHEME_HYBRID, {0, 0}};
@@ -261,11 +284,10 @@ START_TEST(launched_block_stops) {
   const double F = 0.3, v0 = 0.3;
   const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1};
   nd_problem p = block(&b);
+  launch(p, 2, v0);
   int64_t nn = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
-  double *v = calloc((size_t)(2 * nn), sizeof *v), *u = calloc((size_t)(2 * nn), sizeof *u);
-  for (int64_t i = 0; i < nn; ++i) v[2 * i] = v0;
-  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nn, NULL, v));
+  double *u = calloc((size_t)(2 * nn), sizeof *u);
   double t_stop = -1, N_sum = 0, D_stop = 0;
   int sliding_steps = 0;
   const double t_exact = v0 / F, d_exact = v0 * v0 / (2 * F);
@@ -288,7 +310,7 @@ START_TEST(launched_block_stops) {
          t_exact, mean, d_exact, share);
   ck_assert_double_le(fabs(t_stop - t_exact), b.tau + 2 * share * t_exact);
   ck_assert_double_le(fabs(mean - d_exact), v0 * b.tau + 2 * share * d_exact);
-  free(v), free(u);
+  free(u);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST
@@ -430,6 +452,178 @@ START_TEST(zero_coefficient_is_frictionless) {
 }
 END_TEST
 
+/* ---- a moving plane (docs/design.md §10.2: slip is relative) ----------- */
+
+/* Galilean invariance: the block on the slope (sliding, F = 0.3 < tan 0.5)
+   and on the flat plane with a stick phase after landing (alpha = 0.1),
+   body and plane carried along x at v = 0.7, is the static run shifted by
+   v t, u_y alike, D_f the same: the plane's translation moves the slip
+   references by v tau a step, the block's T u likewise. Every scheme
+   (each integrates a uniform translation exactly; generalized-alpha mixes
+   P_t^n at the state's reference, which moves with the body as P_t^{n+1}
+   at the shifted one does). */
+START_TEST(galilean_moving_plane) {
+  const double v = 0.7, alphas[2] = {0.5, 0.1};
+  for (int a = 0; a < 2; ++a)
+    for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
+      const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, alphas[a], 1, 2e-3, &nd_test_schemes[k]};
+      nd_problem still = block(&b), moving = block(&b);
+      launch(moving, 2, v);
+      int64_t nn = 0;
+      ND_OK_OR_FAIL(nd_problem_get_node_count(still, &nn));
+      double *us = calloc((size_t)(2 * nn), sizeof *us), *um = calloc((size_t)(2 * nn), sizeof *um);
+      double diff = 0, scale = 0, dD = 0;
+      const int steps = 200;
+      const double tau = scalar(still, ND_TIMESTEP);  /* (the explicit one's: half its critical step) */
+      for (int n = 1; n <= steps; ++n) {
+        const double t = n * tau;
+        place_plane(moving, 2, v * t, 0, 0);
+        ND_OK_OR_FAIL(nd_step(still));
+        ND_OK_OR_FAIL(nd_step(moving));
+        ND_OK_OR_FAIL(nd_get_field(still, ND_FIELD_DISPLACEMENT, nn, us));
+        ND_OK_OR_FAIL(nd_get_field(moving, ND_FIELD_DISPLACEMENT, nn, um));
+        for (int64_t i = 0; i < nn; ++i) {
+          diff = fmax(diff, fabs(um[2 * i] - v * t - us[2 * i]));
+          diff = fmax(diff, fabs(um[2 * i + 1] - us[2 * i + 1]));
+          scale = fmax(scale, fabs(um[2 * i]));
+        }
+        dD = fmax(dD, fabs(scalar(moving, ND_DISSIPATION_FRICTION) - scalar(still, ND_DISSIPATION_FRICTION)));
+      }
+      const double D = scalar(still, ND_DISSIPATION_FRICTION);
+      printf("Galilean, alpha %.1f scheme %d: max |u_moving - v t - u_still| = %.2e (max |u| %.2e), "
+             "|dD_f| = %.2e (D_f %.3e, sliding %g sticking %g)\n", alphas[a], k, diff, scale, dD, D,
+             scalar(still, ND_SLIDING_POINTS), scalar(still, ND_STICKING_POINTS));
+      /* the two runs differ by the rounding of v t in U and in the references
+         (ulp(|u|) a step) amplified through the solves, and by Newton's
+         stopping point (its tolerance, 1e-10 of the right-hand side with the
+         translation in it): 1e-9 |u| covers both with room (measured: see
+         the printout) */
+      ck_assert_double_le(diff, 1e-9 * scale);
+      ck_assert_double_le(dD, 1e-9 * fmax(D, 1e-300) + 1e-15);
+      free(us), free(um);
+      ND_OK_OR_FAIL(nd_problem_destroy(&still));
+      ND_OK_OR_FAIL(nd_problem_destroy(&moving));
+    }
+}
+END_TEST
+
+/* The conveyor: the block resting on the flat plane (alpha = 0, g = 1;
+   theta = 1 has damped its landing for 0.3 s), then the plane moves along
+   x at v = 0.1. Friction drags the block at F g until it has the plane's
+   speed, after v/(F g), then it sticks and rides along. Checked:
+    - theta = 1: the momentum gains tau f_t,x a step (the only force along
+      x), to Newton's tolerance (the steps where every point slides, or
+      sticks, solve exactly: the 2D law is linear there; a step where the
+      points change status stops within the tolerance);
+    - the plane's work is its velocity times the impulse it gave, W_obstacle
+      = v (P - P_0): each step's -sum (w/gamma) phi_t . shift with shift =
+      v tau t_x is v tau f_t,x;
+    - the rigid block's ledger: the plane does m v^2, friction dissipates
+      F N (v t_s - v t_s/2) = m v^2/2 (whatever N: t_s = m v/(F N)), the
+      block keeps m v^2/2; theta = 1's velocity steps F g tau slip
+      m sum dv^2/2 = m F g v tau/2 less (bound: twice that), the elastic
+      block's N the weight's to a share (measured, as in launched_block_stops);
+    - carried: from 0.3 s after, no point slides and D_f stays, bitwise. */
+START_TEST(conveyor_drags_then_carries) {
+  const double F = 0.1, v = 0.1;
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1};
+  nd_problem p = block(&b);
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *u = calloc((size_t)(2 * nn), sizeof *u);
+  for (int n = 0; n < 300; ++n) ND_OK_OR_FAIL(nd_step(p));
+  const double D0 = scalar(p, ND_DISSIPATION_FRICTION), W0 = scalar(p, ND_WORK_OBSTACLE), P0 = scalar(p, ND_MOMENTUM_X);
+  double P = P0, worst = 0, defects = 0, t_reach = -1, N_sum = 0, D_carried = -1;
+  int drag_steps = 0;
+  for (int n = 1; n <= 1600; ++n) {
+    const double t = n * b.tau;
+    place_plane(p, 2, v * t, 0, 0);
+    ND_OK_OR_FAIL(nd_step(p));
+    const double P_new = scalar(p, ND_MOMENTUM_X), fx = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X);
+    /* Newton's residual G, ||G|| <= 1e-10 (||r|| + c ||M U||), c = 1/tau^2,
+       enters dP as tau sum_x G_i <= tau sqrt(2 nn) ||G||; ||M U|| <= 2 m
+       max |u| (M >= 0 entrywise, its entries summing to 2 m), and ||r||
+       (c M times the predictor, plus the loads) is of the same size */
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, u));
+    double umax = 0;
+    for (int64_t i = 0; i < 2 * nn; ++i) umax = fmax(umax, fabs(u[i]));
+    const double newton = b.tau * sqrt(2.0 * nn) * 1e-10 * 2 * (2 * kMass * umax / (b.tau * b.tau) + kMass);
+    const double defect = fabs(P_new - P - b.tau * fx);
+    ck_assert_double_le(defect, newton);
+    worst = fmax(worst, defect), defects += defect;
+    P = P_new;
+    if (t_reach < 0) N_sum += scalar(p, ND_CONTACT_FORCE_APPLIED), ++drag_steps;
+    if (t_reach < 0 && P - P0 >= kMass * v) t_reach = t;
+    if (t_reach > 0 && t > t_reach + 0.3) {
+      if (D_carried < 0) D_carried = scalar(p, ND_DISSIPATION_FRICTION);
+      ck_assert_double_eq(scalar(p, ND_SLIDING_POINTS), 0);
+      ck_assert_double_eq(scalar(p, ND_DISSIPATION_FRICTION), D_carried);
+    }
+  }
+  const double share = fabs(N_sum / drag_steps / kMass - 1), t_exact = v / F;
+  const double D = scalar(p, ND_DISSIPATION_FRICTION) - D0, W = scalar(p, ND_WORK_OBSTACLE) - W0;
+  const double E = kMass * v * v / 2;
+  printf("conveyor: max |dP - tau f_t,x| = %.2e; reaches v at %.4f (v/(F g) = %.4f), D_f %.8f (m v^2/2 = %.4f), "
+         "W_obstacle %.8f, v (P - P0) = %.8f, N/(m g) - 1 = %.2e\n", worst, t_reach, t_exact, D, E, W, v * (P - P0),
+         share);
+  ck_assert_double_ge(D_carried, 0);  /* (it was carried for 0.3 s at least) */
+  /* (the step that crosses v, and the crossing step's P = m v to round-off) */
+  ck_assert_double_le(fabs(t_reach - t_exact), 2 * b.tau + 2 * share * t_exact);
+  /* (each step's shift rounds v tau: 1e-15 of W a step) */
+  ck_assert_double_le(fabs(W - v * (P - P0)), v * defects + 1600 * 1e-15 * fabs(W));
+  ck_assert_double_le(fabs(D - E), kMass * F * v * b.tau + 2 * share * E);
+  free(u);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+/* The hybrid scheme with Theta = 1 against a moving plane (docs/design.md
+   §10.2): E_Theta + D_f - W - W_obstacle never increases, step by step, to
+   round-off, W_obstacle the plane's work with the tangential traction's
+   part (its velocity times the whole contact force). The plane slides
+   under the block along x (3D: along (1, 1/2)) at v = 0.3 and rises and
+   falls by 1e-4 (pressing the block), from rest; 2D and 3D, both laws,
+   sliding (drag) and sticking (carried, alpha = 0.1 and F = 0.3). Without
+   the tangential work the same sum rises by the drag's work (printed). */
+START_TEST(hybrid_ledger_moving_plane) {
+  struct {
+    int law;
+    double coefficient, alpha;
+  } cases[] = {{ND_FRICTION_COULOMB, 0.3, 0.1}, {ND_FRICTION_COULOMB, 0.05, 0.5}, {ND_FRICTION_TRESCA, 0.2, 0.3}};
+  const double v = 0.3, a = 1e-4, omega = 20;
+  for (int dim = 2; dim <= 3; ++dim)
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+      const block_spec b = {dim, 1, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid};
+      nd_problem p = block(&b);
+      /* (the identity is the solved step's: in 3D the sliding turns, the
+         projection on the disk is curved, and Newton's default tolerance
+         1e-10 left steps 3e-9 off it; at 1e-12 they solve to round-off) */
+      ND_OK_OR_FAIL(nd_problem_set_newton(p, 1e-12, 0, 50));
+      double before = scalar(p, ND_ENERGY_AUGMENTED), worst = -INFINITY, scale = fabs(before), rise = 0;
+      double bare = before;
+      for (int n = 1; n <= 300; ++n) {
+        const double t = n * b.tau, s = v * t, h = a * (1 - cos(omega * t));
+        place_plane(p, dim, s, dim == 3 ? s / 2 : 0, h);
+        ND_OK_OR_FAIL(nd_step(p));
+        const double E = scalar(p, ND_ENERGY_AUGMENTED) + scalar(p, ND_DISSIPATION_FRICTION) - scalar(p, ND_WORK);
+        const double L = E - scalar(p, ND_WORK_OBSTACLE);
+        scale = fmax(scale, fmax(fabs(scalar(p, ND_WORK)), fabs(scalar(p, ND_WORK_OBSTACLE))));
+        worst = fmax(worst, L - before);
+        rise = fmax(rise, E - bare);
+        before = L, bare = E;
+      }
+      printf("hybrid, moving plane, dim %d law %d F|s %.2f alpha %.1f: max step increase of E_Theta + D_f - W - "
+             "W_obstacle = %.2e (W %.3e, W_obstacle %.3e, D_f %.3e; sliding %g sticking %g); without W_obstacle "
+             "%.2e\n", dim, cases[c].law, cases[c].coefficient, cases[c].alpha, worst, scalar(p, ND_WORK),
+             scalar(p, ND_WORK_OBSTACLE), scalar(p, ND_DISSIPATION_FRICTION), scalar(p, ND_SLIDING_POINTS),
+             scalar(p, ND_STICKING_POINTS), rise);
+      ck_assert_double_le(worst, 1e-12 * scale);
+      ck_assert_double_gt(rise, 1e-6 * scale);  /* (the plane's work is in the test) */
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+}
+END_TEST
+
 /* A run resumed from a checkpoint taken while the block slides is bitwise
    the uninterrupted one (the slip references travel in the checkpoint); a
    frictionless problem refuses it. 2D and 3D (in 3D the tangent's
@@ -464,6 +658,62 @@ START_TEST(restart_is_bitwise) {
 }
 END_TEST
 
+/* A run against a moving plane resumed from a checkpoint is bitwise the
+   uninterrupted one: the planes' points at t^n travel in the checkpoint's
+   friction section, and the next step's shift of the references is the
+   same. 2D and 3D, the hybrid scheme, the block dragged (sliding). */
+START_TEST(restart_moving_plane_is_bitwise) {
+  const double v = 0.3;
+  for (int dim = 2; dim <= 3; ++dim) {
+    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, 0.3, 0.1, 1, 2e-3, &kHybrid};
+    nd_problem p = block(&b), q = block(&b);
+    for (int n = 1; n <= 60; ++n) {
+      place_plane(p, dim, v * n * b.tau, 0, 0);
+      ND_OK_OR_FAIL(nd_step(p));
+    }
+    int64_t size = 0;
+    unsigned char *buf = nd_test_checkpoint(p, &size);
+    ND_OK_OR_FAIL(nd_problem_load_state(q, size, buf));
+    for (int n = 61; n <= 120; ++n) {
+      place_plane(p, dim, v * n * b.tau, 0, 0);
+      place_plane(q, dim, v * n * b.tau, 0, 0);
+      ND_OK_OR_FAIL(nd_step(p));
+      ND_OK_OR_FAIL(nd_step(q));
+    }
+    ck_assert_double_gt(scalar(p, ND_SLIDING_POINTS), 0);
+    int64_t nn = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+    const size_t bytes = sizeof(double) * (size_t)(dim * nn);
+    double *up = malloc(bytes), *uq = malloc(bytes);
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, up));
+    ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_DISPLACEMENT, nn, uq));
+    ck_assert_int_eq(memcmp(up, uq, bytes), 0);
+    ck_assert_double_eq(scalar(p, ND_DISSIPATION_FRICTION), scalar(q, ND_DISSIPATION_FRICTION));
+    ck_assert_double_eq(scalar(p, ND_WORK_OBSTACLE), scalar(q, ND_WORK_OBSTACLE));
+    free(buf), free(up), free(uq);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  }
+}
+END_TEST
+
+/* A plane replaced by another (another normal: a new obstacle, not a
+   motion) holds from t^n on: its point is not a displacement of the old
+   one, so no slip is shifted and no work counted (the block's plane
+   through (5, 0), tilted by 1e-6, in place of the one through the origin). */
+START_TEST(replaced_plane_counts_no_work) {
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, &kTheta1};
+  nd_problem p = block(&b);
+  for (int n = 0; n < 50; ++n) ND_OK_OR_FAIL(nd_step(p));
+  const double point[2] = {5, 0}, tilted[2] = {1e-6, 1};
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, tilted));
+  ND_OK_OR_FAIL(nd_step(p));
+  ck_assert_double_gt(scalar(p, ND_SLIDING_POINTS), 0);
+  ck_assert_double_eq(scalar(p, ND_WORK_OBSTACLE), 0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("friction");
   TCase *tc = tcase_create("friction");
@@ -478,6 +728,11 @@ int main(void) {
   tcase_add_test(tc, ledger_with_damping_and_materials);
   tcase_add_test(tc, zero_coefficient_is_frictionless);
   tcase_add_loop_test(tc, restart_is_bitwise, 2, 4);
+  tcase_add_test(tc, galilean_moving_plane);
+  tcase_add_test(tc, conveyor_drags_then_carries);
+  tcase_add_test(tc, hybrid_ledger_moving_plane);
+  tcase_add_test(tc, restart_moving_plane_is_bitwise);
+  tcase_add_test(tc, replaced_plane_counts_no_work);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -31,7 +31,9 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // 2, the friction's (StateSizes::n_slip > 0: the slip references, the
 // applied tangential values, D_f and the sliding and sticking points); then
 // always the prescribed motion: the clamped DOFs' U, V, A and W_prescribed;
-// 9 (always written): the curved obstacles' section ends with W_geometry
+// 9 (always written): the curved obstacles' section ends with W_geometry,
+// and without curved obstacles the friction section with the planes' points
+// at t^n (StateSizes::n_places)
 constexpr uint32_t kVersion = 9;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
@@ -253,6 +255,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
     payload.value(s.D_friction);
     payload.value(s.sliding);
     payload.value(s.sticking);
+    if (sizes.n_places > 0) payload.padded(s.positions, static_cast<uint64_t>(sizes.n_places));
   }
   payload.padded(s.Uc, n_clamped);
   payload.padded(s.Vc, n_clamped);
@@ -314,6 +317,7 @@ int64_t max_state_size(const StateSizes &sizes) {
     s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
     s.positions.resize(static_cast<size_t>(sizes.n_positions));
   }
+  if (sizes.n_places > 0) s.positions.resize(static_cast<size_t>(sizes.n_places));
   s.slip.resize(static_cast<size_t>(sizes.n_slip));
   s.phi_t = s.slip;
   s.Uc = s.Vc = s.Ac = s.F_fixed;
@@ -480,6 +484,12 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     s.sticking = r.value<int64_t>();
     if (s.sliding < 0 || s.sticking < 0 || s.sliding > sizes.n_contact || s.sticking > sizes.n_contact - s.sliding)
       fail(ND_ERR_FORMAT, "the checkpoint's counts of sliding and sticking points are out of range");
+    // (the planes' points, for the slip's shift; version 8 had none: its
+    // friction had static planes, and Problem::prepare takes them where they are)
+    if (head.version >= 9 && sizes.n_places > 0 && !positions) {
+      s.positions = optional(sizes.n_places, "contact planes' points (friction)");
+      need_finite(s.positions, "contact planes' points (friction)");
+    }
   }
   if ((sizes.n_slip > 0) != friction || (sizes.n_slip > 0 && s.slip.empty()))
     fail(ND_ERR_STATE, sizes.n_slip > 0 ? "the checkpoint has no friction state; this problem has friction"

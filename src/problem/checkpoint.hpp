@@ -55,6 +55,9 @@ struct StateSizes {
   int64_t n_free, n_clamped, n_contact;
   int64_t n_positions = 0;
   int64_t n_slip = 0;  // friction: the slip references' values (m - 1 per point), else 0
+  // friction without curved obstacles: the planes' points at t^n (3 per
+  // plane, State::positions), in the friction section; else 0
+  int64_t n_places = 0;
 };
 // Every field that may be absent or grow (the load, the reactions, the
 // tangent's history) takes the room of its longest form: a problem's

@@ -88,6 +88,9 @@ struct StepData {
   // the clamped DOFs' prescribed displacement at t^{n+1} (ClampedRows order;
   // null or empty: none, at 0 unless the old state moved them)
   const std::vector<double> *Uc = nullptr;
+  // friction against a moving obstacle: the shift of the slip references
+  // over the step (solve/friction.hpp: obstacle_slip; null or empty: none)
+  const std::vector<double> *slip_shift = nullptr;
 };
 
 // The state at t^{n+1} from `old` with the data at t^{n+1}; also the

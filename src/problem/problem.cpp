@@ -224,8 +224,13 @@ void Problem::set_contact_plane(int region, const double *point, const double *n
   }
   // another obstacle, not a motion: it holds from t^0 on
   given_.insert({kObstaclePosition, region});
+  const bool replaced = it != def_.planes.end();
+  const size_t at = 3 * static_cast<size_t>(it - def_.planes.begin());
   if (start_) put_plane(start_->planes, pl);
   put_plane(def_.planes, pl);
+  // (friction: and the state's point of it, so that no slip is counted for it)
+  if (replaced && state_ready_ && def_.has_friction() && state_.positions.size() >= at + 3)
+    std::copy(pl.point, pl.point + 3, state_.positions.begin() + static_cast<std::ptrdiff_t>(at));
   changed(kContact);
 }
 
@@ -570,6 +575,8 @@ const State &Problem::state() {
 void Problem::curved_gaps(State &s, const Discretization &d, const TimeData &at) {
   if (at.obstacles.empty()) {
     s.normal.clear(), s.positions.clear();
+    // friction: where the planes are, for the slip's shift (obstacle_slip)
+    if (d.contact.m > 1) s.positions = positions(at.planes, at.obstacles);
     return;
   }
   // the rows' normals, the obstacles where `at` places them now, g = g^n
@@ -609,6 +616,12 @@ void Problem::prepare() {
     fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
   if (def_.has_friction() && def_.redistributed)
     fail(ND_ERR_STATE, "friction with mass redistribution is not supported yet (nd_problem_set_mass_redistribution)");
+  for (const Definition::Friction &f : def_.friction)
+    if (f.law != kFrictionNone && curved_region(f.region, def_.obstacles))
+      fail(ND_ERR_STATE, "friction on a region with a sphere, cylinder or distance obstacle is not supported yet "
+                         "(region " + std::to_string(f.region) + "; a refresh of the frozen normals turns the tangent "
+                         "basis, in which the slip references have no exact expression): friction needs the region's "
+                         "plane alone, which may move");
   require_blas_buffer();  // ND_ERR_NOMEM, not OpenBLAS's endless retry (linalg/blas_threads.hpp)
   Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
@@ -635,6 +648,9 @@ void Problem::prepare() {
     start_slip(d, state_);
     state_.products.of = 0;
   }
+  // (and the planes where they are now, from which the next step's move)
+  if (d.contact.m > 1 && state_.positions.size() != positions(def_.planes, def_.obstacles).size())
+    state_.positions = positions(def_.planes, def_.obstacles);
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) {
     complete_state();
@@ -704,11 +720,16 @@ void Problem::step() {
     }
     const std::vector<double> motion =
         disc_->clamped && !def_.prescribed.empty() ? clamped_values(*disc_, def_.prescribed) : std::vector<double>();
-    next = advance(*integrator_, *disc_, def_, state_,
-                   StepData{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr, &motion},
-                   std::move(spare_));
-    if (curved) next.normal = std::move(geo.normal), next.positions = positions(def_.planes, def_.obstacles);
-    else next.normal.clear(), next.positions.clear();
+    const bool friction = disc_->contact.m > 1;
+    const std::vector<double> shift =
+        friction ? obstacle_slip(disc_->contact, space_.dim, state_.positions, def_.planes) : std::vector<double>();
+    StepData data{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr, &motion};
+    data.slip_shift = &shift;
+    next = advance(*integrator_, *disc_, def_, state_, data, std::move(spare_));
+    if (curved) next.normal = std::move(geo.normal);
+    else next.normal.clear();
+    if (curved || friction) next.positions = positions(def_.planes, def_.obstacles);
+    else next.positions.clear();
     next.W_geometry += relinearised;
     guard_step(*disc_, def_.guards, state_, next);
   };
@@ -914,7 +935,8 @@ StateSizes Problem::state_sizes() {
   return {d.dofs.n_free, d.clamped ? static_cast<int64_t>(d.clamped->dofs.size()) : 0,
           static_cast<int64_t>(d.contact.size()),
           def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size()),
-          static_cast<int64_t>(d.contact.size()) * (d.contact.m - 1)};
+          static_cast<int64_t>(d.contact.size()) * (d.contact.m - 1),
+          d.contact.m > 1 && def_.obstacles.empty() ? static_cast<int64_t>(3 * def_.planes.size()) : 0};
 }
 
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {

@@ -166,6 +166,7 @@ class Step {
   // step (next.Uc set), read at the scheme's mean point
   bool moving_ = false;
   ClampedMean clamped_mean_;
+  const std::vector<double> *shift_ = nullptr;  // the step's shift of the slip references (null: none)
 };
 
 void Step::start() {
@@ -182,14 +183,17 @@ void Step::start() {
   F_old_ = no_load_before_ ? no_load_before_.get() : &old_.load();
   next.F_fixed = at_new_.F_fixed;
   next.gap = at_new_.gap;
-  // friction: the slip reference of the step is the state's (static obstacles)
+  // friction: the slip reference of the step is the state's, moved with the
+  // obstacle's tangential displacement (slip is relative: docs/design.md §10.2)
   next.D_friction = old_.D_friction;
   next.W_geometry = old_.W_geometry;  // (Problem::step adds this step's re-linearisation)
   if (d_.contact.m > 1) {
-    if (next.gap != old_.gap)
-      fail(ND_ERR_STATE, "friction with a moving obstacle is not supported yet (the obstacle of a region with "
-                         "friction moved); the step was not taken");
     next.slip = old_.slip;
+    shift_ = at_new_.slip_shift && !at_new_.slip_shift->empty() ? at_new_.slip_shift : nullptr;
+    if (shift_ && shift_->size() != next.slip.size())
+      fail(ND_ERR_INTERNAL, "the shift of the slip references does not match them");
+    if (shift_)
+      for (size_t j = 0; j < next.slip.size(); ++j) next.slip[j] += (*shift_)[j];
   }
   // prescribed motion: the clamped DOFs' U, V, A at t^{n+1} (a definition
   // without values brings a moved support back to 0)
@@ -468,7 +472,7 @@ void Step::finish() {
     for (size_t q = 0; q < phi.size(); ++q) apply(q);
   }
   // friction: the tangential values applied, the new slip reference, D_f (solve/friction.hpp)
-  if (d.contact.m > 1) end_friction_step(law_, d, phi, next);
+  if (d.contact.m > 1) end_friction_step(law_, d, phi, shift_, next);
   if (d.clamped) {
     const double a = scheme_.mean_weight();
     std::vector<double> Abar;

@@ -31,7 +31,29 @@ void carry_slip(const Discretization &d, const State &from, State &to) {
   for (size_t j = 0; j < p_to.size(); ++j) to.slip[j] = from.slip[j] + (p_to[j] - p_from[j]);
 }
 
-void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi, State &next) {
+std::vector<double> obstacle_slip(const ContactPoints &cp, int dim, const std::vector<double> &before,
+                                  const std::vector<ContactPlane> &now) {
+  if (cp.m <= 1 || before.size() < 3 * now.size()) return {};
+  std::vector<double> moved(3 * now.size());
+  bool any = false;
+  for (size_t i = 0; i < moved.size(); ++i) {
+    moved[i] = now[i / 3].point[i % 3] - before[i];
+    any = any || moved[i] != 0;
+  }
+  if (!any) return {};
+  const size_t mt = static_cast<size_t>(cp.m - 1);
+  std::vector<double> shift(cp.size() * mt, 0.0);
+  for (size_t q = 0; q < cp.size(); ++q) {
+    if (cp.plane[q] < 0) continue;  // (a curved region: friction refuses it, Problem::prepare)
+    const double *dx = &moved[3 * static_cast<size_t>(cp.plane[q])];
+    for (size_t k = 0; k < mt; ++k)
+      for (int c = 0; c < dim; ++c) shift[q * mt + k] += cp.tangent[3 * (q * mt + k) + static_cast<size_t>(c)] * dx[c];
+  }
+  return shift;
+}
+
+void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi,
+                       const std::vector<double> *shift, State &next) {
   const ContactPoints &cp = d.contact;
   const size_t nq = cp.size(), mt = static_cast<size_t>(cp.m - 1);
   std::vector<double> &P = next.products.points.P;
@@ -40,7 +62,7 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
   next.phi_t.assign(nq * mt, 0.0);
   next.sliding = next.sticking = 0;
   const double c = tangential_weight(law.rule());
-  double value[3], J[9], D = 0;
+  double value[3], J[9], D = 0, W = 0;
   for (size_t q = 0; q < nq; ++q) {
     law.law_m(q, P, value, J);
     if (value[0] != phi[q]) fail(ND_ERR_INTERNAL, "the normal value of a frictional point differs from the step's");
@@ -52,11 +74,13 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
       next.phi_t[j] = value[k + 1];
       next.slip[j] += e;
       D += cp.w[q] / cp.gamma[q] * value[k + 1] * e;
+      if (shift) W -= cp.w[q] / cp.gamma[q] * value[k + 1] * (*shift)[j];
       slides = slides || e != 0;
     }
     if (value[0] > 0 && cp.friction[q]) (slides ? next.sliding : next.sticking) += 1;
   }
   next.D_friction += D;
+  if (shift) next.W_obstacle += W;
   ContactLaw at_state = law;
   at_state.gap_t = next.slip.data();
   at_state.tangential_values(next.U.data(), P.data());

@@ -11,6 +11,7 @@
 #pragma once
 #include <array>
 
+#include "assembly/contact.hpp"
 #include "contact/friction.hpp"
 #include "solve/contact_law.hpp"
 #include "solve/operators.hpp"
@@ -26,12 +27,26 @@ void start_slip(const Discretization &d, State &s);
 // a state overwritten (nd_problem_set_state) keeps its frictional traction
 void carry_slip(const Discretization &d, const State &from, State &to);
 
+// Friction against a moving obstacle (docs/design.md §10.2): slip is
+// relative, so over a step each point's reference moves with the obstacle's
+// tangential displacement there, t_qk . (x_o^{n+1} - x_o^n) for a point of
+// a plane region (its plane's translation; a plane does not rotate). before:
+// the state's positions (contact/obstacles.hpp: the planes' points first),
+// now: the planes at t^{n+1}. Empty when no plane moved (or before has no
+// positions): the references stay, bit for bit.
+std::vector<double> obstacle_slip(const ContactPoints &cp, int dim, const std::vector<double> &before,
+                                  const std::vector<ContactPlane> &now);
+
 // The end of a step with friction: `law` the step's (its rule and P^n),
 // next.products.points.P the values at U^{n+1} with the step's reference
 // (next.slip): phi_t, the new reference, D_f, the sliding and sticking
 // points; then the new state's tangential values with the new reference
 // (the bits a restart's products have). phi: the step's normal values.
-void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi, State &next);
+// shift: the step's obstacle_slip (null: none); the tangential traction
+// does the work -sum (w_q/gamma_q) phi_t . shift on the body, added to
+// next.W_obstacle (the obstacle's velocity times the whole contact force).
+void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi,
+                       const std::vector<double> *shift, State &next);
 
 // sum_q w_q lambda_t,q: the tangential contact force the last step applied
 // (obstacle on body), lambda_t = -phi_t/gamma_q along the t_qk; zeros

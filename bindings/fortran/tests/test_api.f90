@@ -341,6 +341,10 @@ contains
     call check(sliding > 0, 'the block slides')
     call check(worst <= 1e-12_c_double, 'f_t = -F f_n while every pressed point slides')
     call check(nd_get_scalar(p, ND_DISSIPATION_FRICTION, D) == ND_OK .and. D > 0, 'friction dissipates')
+    ! the plane moves along x and down (slip is relative): a step with friction on a moving plane is taken
+    call check(nd_problem_set_contact_plane(p, 1_c_int, [0.02_c_double, -0.01_c_double], up) == ND_OK, &
+               'the plane moves')
+    call check(nd_step(p) == ND_OK, 'a step with friction on a moving plane')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_friction
 
