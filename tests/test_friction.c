@@ -225,6 +225,36 @@ END_TEST
    frictional dissipation, E_Theta + D_f - W never increases, step by step,
    to round-off; D_f is non-decreasing. 2D and 3D, P1 and P2, both laws,
    sliding and sticking. */
+/* steps of the hybrid scheme with Theta = 1 (docs/design.md §10.2): D_f
+   non-decreasing, E_Theta + D_f - W never increasing, step by step, to
+   round-off; with F > 0 (Coulomb, 2D) also f_t,x = -F f_n at every step
+   where every active point slides. Returns those steps' count. */
+static int hybrid_ledger(nd_problem p, int steps, double F, const char *label) {
+  double before = scalar(p, ND_ENERGY_AUGMENTED), D = 0, worst = -INFINITY, scale = fabs(before), coulomb = 0;
+  int sliding_steps = 0;
+  for (int n = 0; n < steps; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    const double D_new = scalar(p, ND_DISSIPATION_FRICTION);
+    ck_assert_double_ge(D_new, D);
+    D = D_new;
+    const double L = scalar(p, ND_ENERGY_AUGMENTED) + D - scalar(p, ND_WORK);
+    scale = fmax(scale, fabs(scalar(p, ND_WORK)));
+    worst = fmax(worst, L - before);
+    before = L;
+    if (F > 0 && scalar(p, ND_STICKING_POINTS) == 0 && scalar(p, ND_SLIDING_POINTS) > 0) {
+      const double fn = scalar(p, ND_CONTACT_FORCE_APPLIED);
+      coulomb = fmax(coulomb, fabs(scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X) + F * fn) / (F * fn));
+      ++sliding_steps;
+    }
+  }
+  printf("%s: max step increase of E_Theta + D_f - W = %.2e (W %.3e, D_f %.3e)", label, worst, scalar(p, ND_WORK), D);
+  if (F > 0) printf("; %d steps all sliding, max |f_t,x + F f_n|/(F f_n) = %.2e", sliding_steps, coulomb);
+  printf("\n");
+  ck_assert_double_le(worst, 1e-12 * scale);
+  ck_assert_double_le(coulomb, 1e-12);
+  return sliding_steps;
+}
+
 START_TEST(hybrid_ledger_never_increases) {
   struct {
     int law;
@@ -236,20 +266,9 @@ START_TEST(hybrid_ledger_never_increases) {
         if (dim == 3 && degree == 2 && c > 0) continue;  /* (3D P2: one case; the others' cost, not their checks) */
         const block_spec b = {dim, degree, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid};
         nd_problem p = block(&b);
-        double before = scalar(p, ND_ENERGY_AUGMENTED), D = 0, worst = -INFINITY, scale = fabs(before);
-        for (int n = 0; n < 150; ++n) {
-          ND_OK_OR_FAIL(nd_step(p));
-          const double D_new = scalar(p, ND_DISSIPATION_FRICTION);
-          ck_assert_double_ge(D_new, D);
-          D = D_new;
-          const double L = scalar(p, ND_ENERGY_AUGMENTED) + D - scalar(p, ND_WORK);
-          scale = fmax(scale, fabs(scalar(p, ND_WORK)));
-          worst = fmax(worst, L - before);
-          before = L;
-        }
-        printf("hybrid dim %d P%d law %d alpha %.1f: max step increase of E_Theta + D_f - W = %.2e (W %.3e, D_f %.3e)\n",
-               dim, degree, cases[c].law, cases[c].alpha, worst, scalar(p, ND_WORK), D);
-        ck_assert_double_le(worst, 1e-12 * scale);
+        char label[64];
+        snprintf(label, sizeof label, "hybrid dim %d P%d law %d alpha %.1f", dim, degree, cases[c].law, cases[c].alpha);
+        hybrid_ledger(p, 150, 0, label);
         ND_OK_OR_FAIL(nd_problem_destroy(&p));
       }
 }
@@ -518,6 +537,40 @@ START_TEST(oblique_impact_spin) {
 }
 END_TEST
 
+/* Friction with mass redistribution (nd_problem_set_mass_redistribution):
+   the contact DOFs carry no mass, their rows are static, (K_Theta U +
+   N(U))_m = F_m, and an implicit step solves them with the rest, the
+   frictional law included. The hybrid scheme with Theta = 1 keeps its
+   ledger (2D and 3D, P1 and P2; the kinetic energy is V'M V with the
+   redistributed M), sliding obeys Coulomb (2D: f_t = -F f_n; F = 0 with
+   Theta = 0 is the frictionless method: zero_coefficient_is_frictionless),
+   and an explicit scheme is refused (its massless solve carries the normal
+   law only). */
+START_TEST(friction_with_mass_redistribution) {
+  const double F = 0.3;
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int degree = 1; degree <= (dim == 2 ? 2 : 1); ++degree) {  /* (3D P2: its cost, not its check) */
+      const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 2e-3, &kHybrid};
+      nd_problem p = block(&b);
+      ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+      char label[64];
+      snprintf(label, sizeof label, "redistributed mass, hybrid dim %d P%d", dim, degree);
+      const int sliding_steps = hybrid_ledger(p, 150, dim == 2 ? F : 0, label);
+      if (dim == 2) ck_assert_int_gt(sliding_steps, 100);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+  {  /* an explicit scheme: refused, the problem unchanged */
+    const nd_test_scheme central = {ND_SCHEME_NEWMARK, {0, 0.5}};
+    const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0.5, 1, 0, &central};
+    nd_problem p = block(&b);
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+    ck_assert_int_eq(nd_step(p), ND_ERR_STATE);
+    ck_assert_double_eq(scalar(p, ND_STEP_INDEX), 0);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
 /* Friction with the rest of the physics (issue 58): Rayleigh damping, two
    materials (the block's lowest row of cells twice as stiff and dense),
    plane stress; the hybrid scheme with Theta = 1: E_Theta + D_f + D_damping
@@ -566,25 +619,30 @@ END_TEST
 /* Theta = 0 carries no tangential term in K_Theta, and F = 0 applies none:
    the frictionless trajectory, to the Newton tolerance. */
 START_TEST(zero_coefficient_is_frictionless) {
-  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0, 0.5, 0, 2e-3, &kTheta1};
-  block_spec f = b;
-  f.law = ND_FRICTION_NONE;
-  nd_problem p = block(&b), q = block(&f);
-  int64_t nn = 0;
-  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
-  double *up = calloc((size_t)(2 * nn), sizeof *up), *uq = calloc((size_t)(2 * nn), sizeof *uq), diff = 0, scale = 0;
-  for (int n = 0; n < 200; ++n) {
-    ND_OK_OR_FAIL(nd_step(p));
-    ND_OK_OR_FAIL(nd_step(q));
-    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, up));
-    ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_DISPLACEMENT, nn, uq));
-    for (int64_t i = 0; i < 2 * nn; ++i) diff = fmax(diff, fabs(up[i] - uq[i])), scale = fmax(scale, fabs(uq[i]));
+  for (int redistributed = 0; redistributed <= 1; ++redistributed) {  /* (and with mass redistribution, both) */
+    const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0, 0.5, 0, 2e-3, &kTheta1};
+    block_spec f = b;
+    f.law = ND_FRICTION_NONE;
+    nd_problem p = block(&b), q = block(&f);
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, redistributed));
+    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(q, redistributed));
+    int64_t nn = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+    double *up = calloc((size_t)(2 * nn), sizeof *up), *uq = calloc((size_t)(2 * nn), sizeof *uq), diff = 0, scale = 0;
+    for (int n = 0; n < 200; ++n) {
+      ND_OK_OR_FAIL(nd_step(p));
+      ND_OK_OR_FAIL(nd_step(q));
+      ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, up));
+      ND_OK_OR_FAIL(nd_get_field(q, ND_FIELD_DISPLACEMENT, nn, uq));
+      for (int64_t i = 0; i < 2 * nn; ++i) diff = fmax(diff, fabs(up[i] - uq[i])), scale = fmax(scale, fabs(uq[i]));
+    }
+    printf("F = 0, Theta = 0%s: max |u - u_frictionless| = %.2e (max |u| %.2e)\n",
+           redistributed ? ", mass redistribution" : "", diff, scale);
+    ck_assert_double_le(diff, 1e-9 * scale);
+    free(up), free(uq);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    ND_OK_OR_FAIL(nd_problem_destroy(&q));
   }
-  printf("F = 0, Theta = 0: max |u - u_frictionless| = %.2e (max |u| %.2e)\n", diff, scale);
-  ck_assert_double_le(diff, 1e-9 * scale);
-  free(up), free(uq);
-  ND_OK_OR_FAIL(nd_problem_destroy(&p));
-  ND_OK_OR_FAIL(nd_problem_destroy(&q));
 }
 END_TEST
 
@@ -632,6 +690,7 @@ int main(void) {
   tcase_add_test(tc, launched_block_stops);
   tcase_add_test(tc, oblique_impact_at_gross_slip);
   tcase_add_test(tc, oblique_impact_spin);
+  tcase_add_test(tc, friction_with_mass_redistribution);
   tcase_add_test(tc, ledger_with_damping_and_materials);
   tcase_add_test(tc, zero_coefficient_is_frictionless);
   tcase_add_test(tc, restart_is_bitwise);
