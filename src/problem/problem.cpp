@@ -607,9 +607,6 @@ void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
   if (def_.has_friction() && rank_count() > 1)
     fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
-  if (def_.has_friction() && def_.redistributed && make_scheme(def_.scheme, def_.scheme_params)->is_explicit())
-    fail(ND_ERR_STATE, "friction with mass redistribution and an explicit scheme is not supported yet (the "
-                       "massless DOFs' static solve carries the normal law only): use an implicit scheme");
   require_blas_buffer();  // ND_ERR_NOMEM, not OpenBLAS's endless retry (linalg/blas_threads.hpp)
   Discretization &d = discretization_agreed();
   Integrator &in = integrator_or_build();
