@@ -11,7 +11,8 @@ namespace nd {
 
 namespace {
 // A state that is the problem's at t^n except for U: its gaps (the obstacle
-// at t^n), no products (so every monitor evaluates its points at U)
+// at t^n) and slip references (friction, docs/design.md §10.2), no products
+// (so every monitor evaluates its points at U)
 State at_host_U(Problem &p, const Discretization &d, const double *U) {
   const State &s = p.current_state();
   State t;
@@ -19,6 +20,7 @@ State at_host_U(Problem &p, const Discretization &d, const double *U) {
   t.U.assign(U, U + d.dofs.n_free);
   t.V.assign(static_cast<size_t>(d.dofs.n_free), 0.0);
   t.gap = s.gap;
+  t.slip = s.slip;
   return t;
 }
 // the law [P]_+ at t's gaps, every point evaluated here (a query, not a step)

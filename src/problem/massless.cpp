@@ -13,6 +13,37 @@
 
 namespace nd {
 
+namespace {
+// Friction: the discretization's law seen from the local points (a law by
+// point reads its region's law at q: the discretization's index of local q)
+class LocalPointLaw final : public PointLaw {
+ public:
+  LocalPointLaw(std::shared_ptr<const PointLaw> law, const std::vector<size_t> &point)
+      : PointLaw(law->traits()), law_(std::move(law)), point_(point) {}
+  const char *name() const override { return law_->name(); }
+  void at(double x, double &value, double &slope) const override { law_->at(x, value, slope); }
+  void over_step(const TimeRule &r, double P, double Pn, double &value, double &slope) const override {
+    law_->over_step(r, P, Pn, value, slope);
+  }
+  void over_step_m(const TimeRule &r, size_t q, double gamma, int m, const double *P, const double *Pn,
+                   double *value, double *J) const override {
+    law_->over_step_m(r, point_[q], gamma, m, P, Pn, value, J);
+  }
+
+ private:
+  std::shared_ptr<const PointLaw> law_;
+  const std::vector<size_t> &point_;  // (the solver's, which owns this law)
+};
+
+// row's entries on the local DOFs (local[i] >= 0), local indices, into `in`
+void split_row(const SparseRow &row, const std::vector<int64_t> &local, SparseRow &in) {
+  for (size_t k = 0; k < row.idx.size(); ++k) {
+    const int64_t j = local[static_cast<size_t>(row.idx[k])];
+    if (j >= 0) in.idx.push_back(j), in.val.push_back(row.val[k]);
+  }
+}
+}  // namespace
+
 MasslessSolver::MasslessSolver(const Discretization &d, int solver)
     : theta_(d.theta), law_(d.contact_law), counters_(d.counters) {
   const int64_t n = d.K_theta.n;
@@ -47,6 +78,7 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver)
   M0_ = A_.zeros_like();
   // the points whose rows reach m; a_q and s_q share their index list
   const ContactPoints &cp = d.contact;
+  const size_t mt = static_cast<size_t>(cp.m - 1);  // friction: the tangential pairs per point
   for (size_t q = 0; q < cp.size(); ++q) {
     SparseRow a, s, pf;
     for (size_t k = 0; k < cp.a[q].idx.size(); ++k) {
@@ -66,6 +98,26 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver)
     cp_.gap.push_back(cp.gap[q]);
     pf_.push_back(std::move(pf));
     point_.push_back(q);
+    // friction: the tangential pairs likewise (a_q's index list), their
+    // parts on the other DOFs shifting the slip references as pf the gaps
+    for (size_t j = q * mt; j < (q + 1) * mt; ++j) {
+      SparseRow ta, ts, ptf;
+      split_row(cp.ta[j], local, ta);
+      split_row(cp.ts[j], local, ts);
+      for (size_t k = 0; k < cp.ta[j].idx.size(); ++k)
+        if (local[static_cast<size_t>(cp.ta[j].idx[k])] < 0)
+          ptf.idx.push_back(cp.ta[j].idx[k]), ptf.val.push_back(cp.ta[j].val[k] - cp.gamma[q] * cp.ts[j].val[k]);
+      cp_.ta.push_back(std::move(ta));
+      cp_.ts.push_back(std::move(ts));
+      ptf_.push_back(std::move(ptf));
+      slip_point_.push_back(j);
+    }
+    if (mt) cp_.friction.push_back(cp.friction[q]);
+  }
+  if (mt) {
+    cp_.m = cp.m;
+    law_ = std::make_shared<LocalPointLaw>(d.contact_law, point_);
+    gap_t_.resize(slip_point_.size());
   }
   r_.resize(static_cast<size_t>(m));
   x_.resize(static_cast<size_t>(m));
@@ -84,13 +136,15 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver)
                                 (safe.empty() ? std::string()
                                               : "; " + safe + ", and gamma0 = 0 chooses one automatically"));
   }
-  // the tangent (K_Theta)_mm + N~'(x): symmetric, and positive definite, iff Theta = 1
-  const Structure ts = theta_ == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+  // the tangent (K_Theta)_mm + N~'(x): symmetric, and positive definite, iff
+  // Theta = 1 and the law's tangent is (not Coulomb's)
+  const Structure ts =
+      theta_ == 1 && law_->traits().symmetric ? Structure::SymmetricPositiveDefinite : Structure::General;
   tangent_ = make_refactoring_tangent(A_, *factor_, solver, ts, counters_);
 }
 
 int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F, const std::vector<double> &gap,
-                          double t, std::vector<double> &U) {
+                          const std::vector<double> &slip, double t, std::vector<double> &U) {
   // r = F_m - (K_Theta)_mf U_f; the gaps seen by x: g_q - p_q,f . U_f
   double scale2 = 0;  // the size of r's terms: its round-off
   for (size_t i = 0; i < dofs_.size(); ++i) {
@@ -107,6 +161,11 @@ int MasslessSolver::solve(const NewtonOptions &opt, const std::vector<double> &F
   for (size_t q = 0; q < gap_.size(); ++q) gap_[q] = (gap.empty() ? cp_.gap[q] : gap[point_[q]]) - pf_[q].dot(U.data());
   ContactLaw law{&cp_, theta_, nullptr, nullptr, gap_.data(), counters_};
   law.point_law = law_.get();
+  if (!gap_t_.empty()) {  // friction: the references seen by x, s_j - pt_j,f . U_f
+    for (size_t j = 0; j < gap_t_.size(); ++j)
+      gap_t_[j] = (slip.empty() ? 0.0 : slip[slip_point_[j]]) - ptf_[j].dot(U.data());
+    law.gap_t = gap_t_.data();
+  }
   law.buffers = &scratch_;
   NewtonSystem sys{&A_, tangent_.get(), &M0_, 0.0, 1.0, &law};
   sys.guess = factor_->starts_from_guess();

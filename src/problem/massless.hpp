@@ -6,7 +6,8 @@
 // With x = U_m this is G(x) = A x + N~(x) - r = 0,
 //   A = (K_Theta)_mm,  r = F_m - (K_Theta)_mf U_f,
 //   N~ = N restricted to the rows m, its points' rows restricted to m and
-//   their gaps shifted by p_q,f . U_f (P_q is linear in U),
+//   their gaps shifted by p_q,f . U_f (P_q is linear in U); with friction
+//   the tangential pairs likewise, their slip references shifted so,
 // a small semi-smooth system solved by newton_solve (its stopping rule, c = 0:
 // ||G|| <= rtol ||r|| + atol or an update at round-off, with the active set
 // unchanged; atol raised to the round-off of r's terms, since U_m may be
@@ -37,8 +38,9 @@ class MasslessSolver {
   // guess), with the load F (empty: none) and the gaps (empty: the
   // assembled ones) at the step's end. Returns the Newton iterations; throws
   // ND_ERR_NEWTON (U then partly written: the caller discards it) at time t.
-  int solve(const NewtonOptions &opt, const std::vector<double> &F, const std::vector<double> &gap, double t,
-            std::vector<double> &U);
+  // With friction, slip: the state's slip references (empty: zero).
+  int solve(const NewtonOptions &opt, const std::vector<double> &F, const std::vector<double> &gap,
+            const std::vector<double> &slip, double t, std::vector<double> &U);
   const std::vector<int64_t> &dofs() const { return dofs_; }
   const TangentStats &tangent_stats() const { return tangent_->stats; }
 
@@ -54,6 +56,12 @@ class MasslessSolver {
   std::vector<size_t> point_;   // their index among the discretization's points
   std::vector<SparseRow> pf_;   // p_q = a_q - gamma_q s_q on the other DOFs (free indices)
   std::vector<double> base_gap_;  // the assembled gaps of those points
+  // friction: the tangential pairs' p_qk on the other DOFs (as pf_), the
+  // index of each pair among the discretization's (its slip reference), and
+  // the references x sees
+  std::vector<SparseRow> ptf_;
+  std::vector<size_t> slip_point_;
+  std::vector<double> gap_t_;
   std::vector<double> r_, gap_, x_;
   ContactScratch scratch_;      // the buffers of the contact passes (ContactLaw::buffers)
   std::unique_ptr<Factorization> factor_;

@@ -614,8 +614,6 @@ void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
   if (def_.has_friction() && rank_count() > 1)
     fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
-  if (def_.has_friction() && def_.redistributed)
-    fail(ND_ERR_STATE, "friction with mass redistribution is not supported yet (nd_problem_set_mass_redistribution)");
   for (const Definition::Friction &f : def_.friction)
     if (f.law != kFrictionNone && curved_region(f.region, def_.obstacles))
       fail(ND_ERR_STATE, "friction on a region with a sphere, cylinder or distance obstacle is not supported yet "

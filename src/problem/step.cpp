@@ -284,7 +284,8 @@ void Step::prescribed_work(const Discretization &d, std::vector<double> &R) {
 void Step::explicit_step() {
   next.last_iterations = 0;
   // massless DOFs: their static equilibrium with U_f predicted (problem/massless.hpp)
-  if (in_.massless) next.last_iterations = in_.massless->solve(def_.newton, next.load(), next.gap, next.t, next.U);
+  if (in_.massless)
+    next.last_iterations = in_.massless->solve(def_.newton, next.load(), next.gap, next.slip, next.t, next.U);
   if (!d_.damped()) {
     d_.equilibrium_acceleration(next, def_.solver, false, true, &in_.at_solution);  // every step: M factored once, kept
     return;
