@@ -54,12 +54,13 @@ struct Scene {
   bool explicit_scheme;
 };
 
-enum Where { kAlone, kEveryRank, kSplitRows };
+enum Where { kAlone, kEveryRank, kSplitRows, kAloneAuto };
 
 // The block [0,2] x [0,1] (x [0,1]) 5e-3 above the plane y = 0 (z = 0),
 // launched at 0.5 towards the plane (the landing's pressure makes its
 // points stick, then they slide); rho = 1, g = 1
-// tilted by 0.5 rad along x. kAlone: one process, the refactoring tangent;
+// tilted by 0.5 rad along x. kAlone: one process, the refactoring tangent
+// (kAloneAuto: its own, the block tangent in 2D, GMRES in 3D);
 // kEveryRank: CHOLMOD on every rank; kSplitRows: MUMPS over the ranks.
 nd_problem block(const Scene &s, Where where) {
   nd_mesh m = nullptr;
@@ -100,15 +101,17 @@ nd_problem block(const Scene &s, Where where) {
     ND_OK_OR_FAIL(nd_problem_set_timestep(p, 2e-3));
   }
   if (where == kAlone) p->problem.set_tangent(nd::TangentChoice::Refactor);
-  else ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
+  else if (where != kAloneAuto) ND_OK_OR_FAIL(nd_problem_set_comm(p, MPI_COMM_WORLD));
   return p;
 }
 
-// What a step leaves, compared: the displacement field, D_f, the
-// tangential resultant, the sliding and sticking points
+// What a step leaves, compared: the displacement field, the nodal contact
+// force (normal and tangential), D_f, the tangential resultant, the normal
+// force applied, the Nitsche energy (with its tangential part), the sliding
+// and sticking points
 struct Record {
-  std::vector<double> u;
-  double D = 0, ft[3] = {0, 0, 0}, sliding = 0, sticking = 0;
+  std::vector<double> u, f;
+  double D = 0, ft[3] = {0, 0, 0}, fn = 0, nitsche = 0, sliding = 0, sticking = 0;
 };
 
 Record record(nd_problem p) {
@@ -117,7 +120,11 @@ Record record(nd_problem p) {
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   const int64_t dim = p->problem.space().dim;
   r.u.resize(static_cast<size_t>(dim * nodes));
+  r.f.resize(r.u.size());
   ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nodes, r.u.data()));
+  ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_CONTACT_FORCE, nodes, r.f.data()));
+  r.fn = scalar(p, ND_CONTACT_FORCE_APPLIED);
+  r.nitsche = scalar(p, ND_ENERGY_NITSCHE);
   r.D = scalar(p, ND_DISSIPATION_FRICTION);
   r.ft[0] = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X);
   r.ft[1] = scalar(p, ND_CONTACT_FORCE_TANGENTIAL_Y);
@@ -127,16 +134,22 @@ Record record(nd_problem p) {
   return r;
 }
 
+// a record's values in one array
+std::vector<double> values(const Record &r) {
+  std::vector<double> all = r.u;
+  all.insert(all.end(), r.f.begin(), r.f.end());
+  all.insert(all.end(), {r.D, r.ft[0], r.ft[1], r.ft[2], r.fn, r.nitsche, r.sliding, r.sticking});
+  return all;
+}
+
 bool same(const Record &a, const Record &b) {
-  return a.u.size() == b.u.size() && std::memcmp(a.u.data(), b.u.data(), sizeof(double) * a.u.size()) == 0 &&
-         std::memcmp(&a.D, &b.D, sizeof a.D) == 0 && std::memcmp(a.ft, b.ft, sizeof a.ft) == 0 &&
-         a.sliding == b.sliding && a.sticking == b.sticking;
+  const std::vector<double> x = values(a), y = values(b);
+  return x.size() == y.size() && std::memcmp(x.data(), y.data(), sizeof(double) * x.size()) == 0;
 }
 
 // every rank holds rank 0's record, bitwise
 bool same_on_all_ranks(const Record &r) {
-  std::vector<double> all = r.u;
-  all.insert(all.end(), {r.D, r.ft[0], r.ft[1], r.ft[2], r.sliding, r.sticking});
+  const std::vector<double> all = values(r);
   return nd_test_same_on_all_ranks(all.data(), static_cast<int>(sizeof(double) * all.size()));
 }
 
@@ -153,35 +166,6 @@ const Scene kScenes[] = {{2, ND_FRICTION_COULOMB, 0.3, false},
                          {3, ND_FRICTION_TRESCA, 0.2, false}};
 constexpr int kSteps = 60;  // the landing at step 3, then sticking and sliding points
 
-// The run on every rank (CHOLMOD) is one process's, bitwise, at every step,
-// and it lands, sticks and slides.
-START_TEST(every_rank_solving_is_one_process_bitwise) {
-  const Scene explicit_disk = {2, ND_FRICTION_COULOMB, 0.3, true};
-  for (int k = 0; k < 5; ++k) {
-    const Scene &s = k < 4 ? kScenes[k] : explicit_disk;
-    nd_problem alone = block(s, kAlone), ranks = block(s, kEveryRank);
-    const int steps = s.explicit_scheme ? 4 * kSteps : kSteps;
-    double slid = 0, stuck = 0;
-    for (int n = 0; n < steps; ++n) {
-      ND_OK_OR_FAIL(nd_step(alone));
-      ND_OK_OR_FAIL(nd_step(ranks));
-      const Record a = record(alone), b = record(ranks);
-      ck_assert_msg(same(a, b), "%s, step %d: the ranks' run is not one process's", name(s), n);
-      ck_assert(same_on_all_ranks(b));
-      slid += a.sliding, stuck += a.sticking;
-    }
-    const double D = scalar(ranks, ND_DISSIPATION_FRICTION);
-    if (g_rank == 0)
-      std::printf("%s, %d ranks: bitwise one process's over %d steps (point-steps sliding %g, sticking %g, D_f %.6e)\n",
-                  name(s), g_size, steps, slid, stuck, D);
-    ck_assert_msg(slid > 0 && D > 0, "%s: nothing slid", name(s));
-    if (!s.explicit_scheme) ck_assert_msg(stuck > 0, "%s: nothing stuck", name(s));
-    ND_OK_OR_FAIL(nd_problem_destroy(&alone));
-    ND_OK_OR_FAIL(nd_problem_destroy(&ranks));
-  }
-}
-END_TEST
-
 // |x - y| over the history relative to the largest |x| (NaN-safe: a NaN fails)
 struct Gap {
   double diff = 0, size = 0;
@@ -193,6 +177,41 @@ struct Gap {
   double relative() const { return diff / size; }
 };
 
+// The run on every rank (CHOLMOD) is one process's, bitwise, at every step,
+// and it lands, sticks and slides.
+START_TEST(every_rank_solving_is_one_process_bitwise) {
+  const Scene explicit_disk = {2, ND_FRICTION_COULOMB, 0.3, true};
+  for (int k = 0; k < 5; ++k) {
+    const Scene &s = k < 4 ? kScenes[k] : explicit_disk;
+    nd_problem alone = block(s, kAlone), ranks = block(s, kEveryRank), own = block(s, kAloneAuto);
+    const int steps = s.explicit_scheme ? 4 * kSteps : kSteps;
+    double slid = 0, stuck = 0;
+    Gap u;  // (printed: one process with its own tangent, off by Newton's tolerance)
+    for (int n = 0; n < steps; ++n) {
+      ND_OK_OR_FAIL(nd_step(alone));
+      ND_OK_OR_FAIL(nd_step(ranks));
+      ND_OK_OR_FAIL(nd_step(own));
+      const Record a = record(alone), b = record(ranks), c = record(own);
+      ck_assert_msg(same(a, b), "%s, step %d: the ranks' run is not one process's", name(s), n);
+      ck_assert(same_on_all_ranks(b));
+      slid += a.sliding, stuck += a.sticking;
+      for (size_t i = 0; i < a.u.size(); ++i) u.add(a.u[i], c.u[i]);
+    }
+    const double D = scalar(ranks, ND_DISSIPATION_FRICTION);
+    if (g_rank == 0)
+      std::printf("%s, %d ranks: bitwise one process's over %d steps (point-steps sliding %g, sticking %g, D_f %.6e); "
+                  "one process with its own tangent: U %.2e off\n",
+                  name(s), g_size, steps, slid, stuck, D, u.relative());
+    ck_assert_msg(slid > 0 && D > 0, "%s: nothing slid", name(s));
+    if (!s.explicit_scheme) ck_assert_msg(stuck > 0, "%s: nothing stuck", name(s));
+    ND_OK_OR_FAIL(nd_problem_destroy(&alone));
+    ND_OK_OR_FAIL(nd_problem_destroy(&ranks));
+    ND_OK_OR_FAIL(nd_problem_destroy(&own));
+  }
+}
+END_TEST
+
+
 // MUMPS on split rows: within 1e-8 of one process (mpi_distributed.c's
 // bound for MUMPS: its sums over the ranks are in another order, each
 // solve off by a few ulps times the condition number), the same sliding
@@ -200,25 +219,25 @@ struct Gap {
 START_TEST(split_rows_follow_one_process) {
   for (const Scene &s : kScenes) {
     nd_problem alone = block(s, kAlone), split = block(s, kSplitRows);
-    Gap u, D, ft;
+    Gap u, f, D, ft;
     int counts_differ = -1;
     for (int n = 0; n < kSteps; ++n) {
       ND_OK_OR_FAIL(nd_step(alone));
       ND_OK_OR_FAIL(nd_step(split));
       const Record a = record(alone), b = record(split);
       ck_assert(same_on_all_ranks(b));
-      for (size_t i = 0; i < a.u.size(); ++i) u.add(a.u[i], b.u[i]);
+      for (size_t i = 0; i < a.u.size(); ++i) u.add(a.u[i], b.u[i]), f.add(a.f[i], b.f[i]);
       D.add(a.D, b.D);
       for (int k = 0; k < 3; ++k) ft.add(a.ft[k], b.ft[k]);
       if (counts_differ < 0 && (a.sliding != b.sliding || a.sticking != b.sticking)) counts_differ = n;
     }
     if (g_rank == 0)
-      std::printf("%s, MUMPS on %d ranks: U %.2e, D_f %.2e, f_t %.2e off one process's\n", name(s), g_size,
-                  u.relative(), D.relative(), ft.relative());
+      std::printf("%s, MUMPS on %d ranks: U %.2e, contact force %.2e, D_f %.2e, f_t %.2e off one process's\n",
+                  name(s), g_size, u.relative(), f.relative(), D.relative(), ft.relative());
     ck_assert_msg(counts_differ < 0, "%s: the sliding and sticking counts differ at step %d", name(s), counts_differ);
-    ck_assert_msg(u.relative() <= 1e-8 && D.relative() <= 1e-8 && ft.relative() <= 1e-8,
-                  "%s: U %.3g, D_f %.3g, f_t %.3g off one process's", name(s), u.relative(), D.relative(),
-                  ft.relative());
+    ck_assert_msg(u.relative() <= 1e-8 && f.relative() <= 1e-8 && D.relative() <= 1e-8 && ft.relative() <= 1e-8,
+                  "%s: U %.3g, contact force %.3g, D_f %.3g, f_t %.3g off one process's", name(s), u.relative(),
+                  f.relative(), D.relative(), ft.relative());
     ND_OK_OR_FAIL(nd_problem_destroy(&alone));
     ND_OK_OR_FAIL(nd_problem_destroy(&split));
   }
