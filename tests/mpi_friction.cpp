@@ -11,9 +11,11 @@
 //    work outside the solves split): the refactoring tangent is the Newton
 //    tangent on several ranks (the block and sticking tangents are one
 //    process's), so against one process with that tangent every step is
-//    bitwise: the displacement field, D_f, the tangential force's resultant,
-//    the sliding and sticking counts. Likewise the explicit central
-//    difference (no tangent).
+//    bitwise: the displacement field, the nodal contact force, D_f, the
+//    tangential force's resultant, the normal force applied, the Nitsche
+//    energy, the sliding and sticking counts. Likewise the explicit central
+//    difference (no tangent). (One process with its own tangent, printed, is
+//    off by Newton's tolerance.)
 //  - MUMPS on split rows (each rank its rows of the operators, the Newton
 //    passes reading the points touching them): MUMPS's parallel sums are not
 //    one process's, so the histories are held to 1e-8 of one process's as
@@ -164,7 +166,7 @@ const Scene kScenes[] = {{2, ND_FRICTION_COULOMB, 0.3, false},
                          {2, ND_FRICTION_TRESCA, 0.2, false},
                          {3, ND_FRICTION_COULOMB, 0.3, false},
                          {3, ND_FRICTION_TRESCA, 0.2, false}};
-constexpr int kSteps = 60;  // the landing at step 3, then sticking and sliding points
+constexpr int kSteps = 60;  // the landing in the fifth step (5e-3 at 0.5), then sticking and sliding points
 
 // |x - y| over the history relative to the largest |x| (NaN-safe: a NaN fails)
 struct Gap {
@@ -180,9 +182,9 @@ struct Gap {
 // The run on every rank (CHOLMOD) is one process's, bitwise, at every step,
 // and it lands, sticks and slides.
 START_TEST(every_rank_solving_is_one_process_bitwise) {
-  const Scene explicit_disk = {2, ND_FRICTION_COULOMB, 0.3, true};
+  const Scene explicit_block = {2, ND_FRICTION_COULOMB, 0.3, true};
   for (int k = 0; k < 5; ++k) {
-    const Scene &s = k < 4 ? kScenes[k] : explicit_disk;
+    const Scene &s = k < 4 ? kScenes[k] : explicit_block;
     nd_problem alone = block(s, kAlone), ranks = block(s, kEveryRank), own = block(s, kAloneAuto);
     const int steps = s.explicit_scheme ? 4 * kSteps : kSteps;
     double slid = 0, stuck = 0;
