@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
@@ -50,11 +51,22 @@ double scalar(nd_problem p, int key) {
   return x;
 }
 
+enum { kExplicit = 0 };  // (Scene::scheme: the central difference, lumped mass)
+
 struct Scene {
   int dim, law;
   double parameter;
-  bool explicit_scheme;
+  int scheme = ND_SCHEME_HYBRID;  // an ND_SCHEME_* (its parameters: scheme_params) or kExplicit
 };
+
+// the implicit schemes' parameters (mpi_distributed.c's)
+const double *scheme_params(int scheme) {
+  static const double newmark[2] = {0.25, 0.5}, alpha[1] = {0.8}, theta[1] = {0.75};
+  return scheme == ND_SCHEME_NEWMARK ? newmark
+         : scheme == ND_SCHEME_GENERALIZED_ALPHA ? alpha
+         : scheme == ND_SCHEME_THETA ? theta
+                                     : nullptr;
+}
 
 enum Where { kAlone, kEveryRank, kSplitRows, kAloneAuto };
 
@@ -91,7 +103,7 @@ nd_problem block(const Scene &s, Where where) {
   for (int64_t i = 0; i < nodes; ++i) v[s.dim * i + s.dim - 1] = -0.5;
   ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nodes, nullptr, v.data()));
   ND_OK_OR_FAIL(nd_problem_set_linear_solver(p, where == kSplitRows ? ND_SOLVER_PETSC_MUMPS : ND_SOLVER_CHOLMOD));
-  if (s.explicit_scheme) {
+  if (s.scheme == kExplicit) {
     const double central[2] = {0.0, 0.5};
     ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_NEWMARK, central));
     ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, 1));
@@ -99,7 +111,7 @@ nd_problem block(const Scene &s, Where where) {
     ND_OK_OR_FAIL(nd_problem_estimate_critical_timestep(p, &tau_c));
     ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.5 * tau_c));
   } else {
-    ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, nullptr));
+    ND_OK_OR_FAIL(nd_problem_set_scheme(p, s.scheme, scheme_params(s.scheme)));
     ND_OK_OR_FAIL(nd_problem_set_timestep(p, 2e-3));
   }
   if (where == kAlone) p->problem.set_tangent(nd::TangentChoice::Refactor);
@@ -157,15 +169,14 @@ bool same_on_all_ranks(const Record &r) {
 
 const char *name(const Scene &s) {
   static char text[64];
-  std::snprintf(text, sizeof text, "%dD %s%s", s.dim, s.law == ND_FRICTION_COULOMB ? "Coulomb" : "Tresca",
-                s.explicit_scheme ? " explicit" : "");
+  const char *schemes[] = {"explicit", "theta", "Newmark", "hybrid", "generalized-alpha"};
+  std::snprintf(text, sizeof text, "%dD %s %s", s.dim, s.law == ND_FRICTION_COULOMB ? "Coulomb" : "Tresca",
+                schemes[s.scheme]);
   return text;
 }
 
-const Scene kScenes[] = {{2, ND_FRICTION_COULOMB, 0.3, false},
-                         {2, ND_FRICTION_TRESCA, 0.2, false},
-                         {3, ND_FRICTION_COULOMB, 0.3, false},
-                         {3, ND_FRICTION_TRESCA, 0.2, false}};
+const Scene kScenes[] = {{2, ND_FRICTION_COULOMB, 0.3}, {2, ND_FRICTION_TRESCA, 0.2},
+                         {3, ND_FRICTION_COULOMB, 0.3}, {3, ND_FRICTION_TRESCA, 0.2}};
 constexpr int kSteps = 60;  // the landing in the fifth step (5e-3 at 0.5), then sticking and sliding points
 
 // |x - y| over the history relative to the largest |x| (NaN-safe: a NaN fails)
@@ -180,13 +191,17 @@ struct Gap {
 };
 
 // The run on every rank (CHOLMOD) is one process's, bitwise, at every step,
-// and it lands, sticks and slides.
+// and it lands, sticks and slides: the four scenes with the hybrid scheme,
+// Coulomb with the other schemes
 START_TEST(every_rank_solving_is_one_process_bitwise) {
-  const Scene explicit_block = {2, ND_FRICTION_COULOMB, 0.3, true};
-  for (int k = 0; k < 5; ++k) {
-    const Scene &s = k < 4 ? kScenes[k] : explicit_block;
+  std::vector<Scene> scenes(std::begin(kScenes), std::end(kScenes));
+  scenes.push_back({2, ND_FRICTION_COULOMB, 0.3, kExplicit});
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int scheme : {ND_SCHEME_NEWMARK, ND_SCHEME_GENERALIZED_ALPHA, ND_SCHEME_THETA})
+      scenes.push_back({dim, ND_FRICTION_COULOMB, 0.3, scheme});
+  for (const Scene &s : scenes) {
     nd_problem alone = block(s, kAlone), ranks = block(s, kEveryRank), own = block(s, kAloneAuto);
-    const int steps = s.explicit_scheme ? 4 * kSteps : kSteps;
+    const int steps = s.scheme == kExplicit ? 4 * kSteps : kSteps;
     double slid = 0, stuck = 0;
     Gap u;  // (printed: one process with its own tangent, off by Newton's tolerance)
     for (int n = 0; n < steps; ++n) {
@@ -205,7 +220,7 @@ START_TEST(every_rank_solving_is_one_process_bitwise) {
                   "one process with its own tangent: U %.2e off\n",
                   name(s), g_size, steps, slid, stuck, D, u.relative());
     ck_assert_msg(slid > 0 && D > 0, "%s: nothing slid", name(s));
-    if (!s.explicit_scheme) ck_assert_msg(stuck > 0, "%s: nothing stuck", name(s));
+    if (s.scheme != kExplicit) ck_assert_msg(stuck > 0, "%s: nothing stuck", name(s));
     ND_OK_OR_FAIL(nd_problem_destroy(&alone));
     ND_OK_OR_FAIL(nd_problem_destroy(&ranks));
     ND_OK_OR_FAIL(nd_problem_destroy(&own));
@@ -217,9 +232,13 @@ END_TEST
 // MUMPS on split rows: within 1e-8 of one process (mpi_distributed.c's
 // bound for MUMPS: its sums over the ranks are in another order, each
 // solve off by a few ulps times the condition number), the same sliding
-// and sticking counts, every rank the same values.
+// and sticking counts, every rank the same values. The four scenes with the
+// hybrid scheme, and Coulomb with generalized-alpha and Newmark.
 START_TEST(split_rows_follow_one_process) {
-  for (const Scene &s : kScenes) {
+  std::vector<Scene> scenes(std::begin(kScenes), std::end(kScenes));
+  scenes.push_back({2, ND_FRICTION_COULOMB, 0.3, ND_SCHEME_GENERALIZED_ALPHA});  // (right-hand sides read M A^n)
+  scenes.push_back({3, ND_FRICTION_COULOMB, 0.3, ND_SCHEME_NEWMARK});
+  for (const Scene &s : scenes) {
     nd_problem alone = block(s, kAlone), split = block(s, kSplitRows);
     Gap u, f, D, ft;
     int counts_differ = -1;
