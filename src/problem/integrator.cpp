@@ -121,16 +121,17 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     const bool updown = updown_tangent_applies(def.solver, s) &&
                         (def.tangent == TangentChoice::Updown ||
                          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
-    // (a law of m > 1 values, friction, on one process in 2D: the Woodbury
+    // (a law of m > 1 values, friction, with the operators whole on the
+    // rank (one process, or CHOLMOD on every rank): in 2D the Woodbury
     // identity over its blocks with A's factor, refactoring past the rank
     // limit; in 3D a column is a solve with a denser factor and a landing
     // activates hundreds of points: GMRES there, preconditioned by a
     // sticking tangent's factor kept while it serves; docs/performance.md,
-    // "Friction")
+    // "Friction". Every rank makes the same solves: one process's bits)
     const bool blocks = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
-                        !d.rows_split && !d.rows && d.geometry.dim == 2;
+                        !d.rows_split && d.geometry.dim == 2;
     const bool sticking = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
-                          !d.rows_split && !d.rows && d.geometry.dim == 3 && !linear_solver_iterative(def.solver);
+                          !d.rows_split && d.geometry.dim == 3 && !linear_solver_iterative(def.solver);
     if (blocks) {
       in->tangent = make_block_tangent(in->A, *in->A_factor, def.solver, s, lowrank_rank_limit(in->A.n, d.contact),
                                        d.counters, &d.geometry);

@@ -315,8 +315,6 @@ void Problem::set_friction(int region, int law, const double *params) {
   if (n_params > 0 && !params) fail(ND_ERR_NULL, "params is NULL; this law takes " + std::to_string(n_params) + " value");
   if (law != kFrictionNone && space_.dim < 2)
     fail(ND_ERR_DIMENSION, "friction needs a tangent plane: 2D or 3D (this mesh is 1D)");
-  if (law != kFrictionNone && def_.comm && rank_count() > 1)
-    fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
   make_law(law, params, space_.dim);  // (its parameters checked: ND_ERR_VALUE)
   const double parameter = n_params > 0 ? params[0] : 0.0;
   auto it = std::find_if(def_.friction.begin(), def_.friction.end(),
@@ -612,8 +610,11 @@ void Problem::setup(const char *call) {
 
 void Problem::prepare() {
   require_complete(def_.missing_for_step());  // everything missing, in one message
-  if (def_.has_friction() && rank_count() > 1)
-    fail(ND_ERR_STATE, "friction on several ranks is not supported yet: step a problem with friction on one rank");
+  // (friction on several ranks: every rank evaluates every point, which a
+  // distributed state, right at the rank's points' DOFs only, cannot)
+  if (def_.has_friction() && def_.distributed_state && splits_rows(def_))
+    fail(ND_ERR_STATE, "friction with a distributed state is not supported yet (nd_problem_set_distributed_state): "
+                       "step a problem with friction with the state whole on every rank");
   for (const Definition::Friction &f : def_.friction)
     if (f.law != kFrictionNone && curved_region(f.region, def_.obstacles))
       fail(ND_ERR_STATE, "friction on a region with a sphere, cylinder or distance obstacle is not supported yet "

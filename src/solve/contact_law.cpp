@@ -190,7 +190,11 @@ void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<doub
   if (un) un->resize(cp->size());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);
-  if (cp->m > 1) {  // friction: every value here, one process (docs/design.md §10.2)
+  // friction: every value here, on every rank (no share, no message): a
+  // rank's U is right at every point's DOFs (a whole state, and Newton's
+  // solves on split rows keep them: newton_held_rows), so each rank has one
+  // process's bits (docs/design.md §10.2)
+  if (cp->m > 1) {
     P.resize(values());
     for (size_t q = 0; q < cp->size(); ++q) {
       double sa, ss;
@@ -221,7 +225,7 @@ void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<doub
 }
 
 void ContactLaw::P_read(const double *U, std::vector<double> &P, bool received) const {
-  if (reads_all()) return P_all(U, P);
+  if (reads_all() || cp->m > 1) return P_all(U, P);  // (friction: every point on every rank, P_all)
   P.assign(cp->size(), std::numeric_limits<double>::quiet_NaN());
   if (P.empty()) return;
   count(counters, &Counters::contact_evaluations);

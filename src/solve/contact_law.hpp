@@ -182,7 +182,8 @@ struct ContactLaw {
   }
   // P[q] = P_q(U) for every point (P sized here), in a step: with several
   // ranks each evaluates the points of its own cells and the values are
-  // gathered (collective; see evaluate). Counts one pass. With un, also
+  // gathered (collective; see evaluate), except with friction (cp->m > 1:
+  // every rank evaluates every value, no message). Counts one pass. With un, also
   // un[q] = a_q.U - g_q (u_n - g0, the penetration guard's) from the same
   // pass, bitwise SparseRow::dot's.
   void P_all(const double *U, std::vector<double> &P, std::vector<double> *un = nullptr) const;
@@ -227,7 +228,8 @@ struct ContactLaw {
                  int64_t own) const;
   // P[q] = P_q(U) where this rank reads it: with a halo, its own points and
   // (if `received`) the halo's others (evaluated here with halo_here), NaN at
-  // the rest (a reader that slipped through fails loudly); without, P_all.
+  // the rest (a reader that slipped through fails loudly); without, or with
+  // friction (cp->m > 1: every point on every rank), P_all.
   // Counts one pass, each point once for the ranks together.
   void P_read(const double *U, std::vector<double> &P, bool received = true) const;
   // Whether N and N' vanish at U at every point: certainly_free, else a pass
