@@ -1,0 +1,467 @@
+/* Quadrilaterals and hexahedra, Q1 and Q2 (issue 60), by identities that hold
+ * exactly (to round-off):
+ *  - a strip of one row of Q cells (one cell thick), nu = 0, moving along its
+ *    axis, is the 1D bar of P1 (P2) cells: with u_x = u(x) alone the Q
+ *    operators are the 1D ones times the cross-section's weights, the
+ *    consistent mass a tensor product, the lumped one too (row sums for Q1;
+ *    HRZ for Q2, whose 1D factor is P2's HRZ, Simpson's weights);
+ *  - the patch test: on distorted cells a linear field is in the space, its
+ *    stress constant: K u vanishes at the interior nodes and u'Ku is
+ *    |Omega| sigma:eps (the rules integrate both exactly, fem/cube.cpp);
+ *  - the mass: sum of M's entries and of the lumped diagonal is
+ *    rho |Omega| per component, consistent and lumped, the lumped positive;
+ *  - the Gmsh reader: a file of quadrilaterals or hexahedra (4, 8, 9, 27
+ *    nodes) gives the generator's operators; curved, mixed and serendipity
+ *    elements are refused;
+ *  - the refusals: a bad cell type, a dimension that does not match it, an
+ *    inverted or non-convex cell, contact on Q facets (not supported yet). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "testutil.h"
+
+typedef struct {
+  int64_t n, nnz;
+  int64_t *ptr, *col;
+  double *val;
+} csr;
+
+static csr get_matrix(nd_problem p, int which) {
+  csr a = {0, 0, NULL, NULL, NULL};
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &a.n, &a.nnz, NULL, NULL, NULL));
+  a.ptr = malloc(sizeof(int64_t) * (size_t)(a.n + 1));
+  a.col = malloc(sizeof(int64_t) * (size_t)(a.nnz ? a.nnz : 1));
+  a.val = malloc(sizeof(double) * (size_t)(a.nnz ? a.nnz : 1));
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &a.n, &a.nnz, a.ptr, a.col, a.val));
+  return a;
+}
+
+static void csr_free(csr *a) { free(a->ptr), free(a->col), free(a->val); }
+
+/* ---- the strip is the bar -------------------------------------------------- */
+
+enum { NX = 6, STEPS = 80 };
+static const double kLength = 2.0, kYoung = 3.0, kTau = 0.01;
+
+static double v0_of(double x) { return 0.3 * sin(1.0 + 2.0 * x); }
+
+/* the bar (dim 1) or the strip (dim 2, 3: one cell across, thickness 0.3),
+   clamped at x = 0, free at x = L, nu = 0, initial velocity v0(x) along x */
+static nd_problem strip(int dim, int degree, const nd_test_scheme *sc, int lumped) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double lo[3] = {0, 0, 0}, hi[3] = {kLength, 0.3, 0.3};
+  const double clamp_lo[3] = {-1, -1, -1}, clamp_hi[3] = {1e-9, 2, 2};
+  if (dim == 1) ND_OK_OR_FAIL(nd_mesh_create_interval(NX, 0.0, kLength, &m));
+  if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(NX, 1, lo, hi, ND_CELL_QUADRILATERAL, &m));
+  if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(NX, 1, 1, lo, hi, ND_CELL_HEXAHEDRON, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, clamp_lo, clamp_hi));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, kYoung, 0.0, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, lumped));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, sc->scheme, sc->params));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, kTau));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *x = malloc(sizeof(double) * (size_t)(n * dim)), *v0 = calloc((size_t)(n * dim), sizeof(double));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  for (int64_t i = 0; i < n; ++i) v0[i * dim] = v0_of(x[i * dim]);
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, NULL, v0));
+  free(x);
+  free(v0);
+  return p;
+}
+
+START_TEST(strip_is_the_bar) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  for (int s = 0; s < ND_TEST_N_SCHEMES; ++s)
+    for (int lumped = 0; lumped <= 1; ++lumped) {
+      const nd_test_scheme *sc = &nd_test_schemes[s];
+      if (nd_test_is_explicit(sc) && !lumped) continue; /* (explicit: lumped mass only) */
+      nd_problem bar = strip(1, degree, sc, lumped), q = strip(dim, degree, sc, lumped);
+      int64_t nb = 0, nq = 0;
+      ND_OK_OR_FAIL(nd_problem_get_node_count(bar, &nb));
+      ND_OK_OR_FAIL(nd_problem_get_node_count(q, &nq));
+      double *xb = malloc(sizeof(double) * (size_t)nb), *xq = malloc(sizeof(double) * (size_t)(nq * dim));
+      ND_OK_OR_FAIL(nd_problem_get_node_coordinates(bar, nb, xb));
+      ND_OK_OR_FAIL(nd_problem_get_node_coordinates(q, nq, xq));
+      int64_t *twin = malloc(sizeof(int64_t) * (size_t)nq); /* the bar's node at the same x */
+      for (int64_t i = 0; i < nq; ++i) {
+        twin[i] = -1;
+        for (int64_t j = 0; j < nb; ++j)
+          if (fabs(xq[i * dim] - xb[j]) <= 1e-12) twin[i] = j;
+        ck_assert_msg(twin[i] >= 0, "node %lld of the strip has no twin in the bar", (long long)i);
+      }
+      double *ub = malloc(sizeof(double) * (size_t)nb), *uq = malloc(sizeof(double) * (size_t)(nq * dim));
+      double worst = 0, size = 0, first = 0;
+      for (int k = 0; k < STEPS; ++k) {
+        ND_OK_OR_FAIL(nd_step(bar));
+        ND_OK_OR_FAIL(nd_step(q));
+        for (int field = ND_FIELD_DISPLACEMENT; field <= ND_FIELD_VELOCITY; ++field) {
+          ND_OK_OR_FAIL(nd_get_field(bar, field, nb, ub));
+          ND_OK_OR_FAIL(nd_get_field(q, field, nq, uq));
+          for (int64_t i = 0; i < nq; ++i) {
+            worst = fmax(worst, fabs(uq[i * dim] - ub[twin[i]]));
+            for (int c = 1; c < dim; ++c) worst = fmax(worst, fabs(uq[i * dim + c]));
+            size = fmax(size, fabs(ub[twin[i]]));
+          }
+        }
+        if (k == 0) first = worst;
+      }
+      /* the same equations solved with other round-off (larger systems,
+         other factorizations): a few ulps after one step (printed), growing
+         about linearly over the 80 steps to ~1e-12 relative; 1e-11 bounds
+         that with margin, while any difference of the discretizations
+         would be of the order of its error, h^2 ~ 1e-2 */
+      printf("strip %dD Q%d scheme %d%s: max |strip - bar| = %.3g, after one step %.3g (|u|, |v| up to %.3g)\n", dim,
+             degree, sc->scheme, lumped ? " lumped" : "", worst, first, size);
+      ck_assert_msg(worst <= 1e-11 * size, "%dD Q%d scheme %d lumped %d: %.3g", dim, degree, sc->scheme, lumped, worst);
+      free(xb), free(xq), free(twin), free(ub), free(uq);
+      ND_OK_OR_FAIL(nd_problem_destroy(&bar));
+      ND_OK_OR_FAIL(nd_problem_destroy(&q));
+    }
+}
+END_TEST
+
+/* ---- distorted patches ----------------------------------------------------- */
+
+/* [0,1]^dim in 2 cells a side, the interior vertex (2D) or the centre and the
+   face centres' vertices (3D) moved off the grid: the boundary stays the
+   box's, so |Omega| = 1 */
+static nd_mesh distorted_patch(int dim) {
+  nd_mesh m = NULL;
+  const int nv = dim == 2 ? 9 : 27, nc = dim == 2 ? 4 : 8;
+  double x[27 * 3];
+  int64_t cells[8 * 8];
+  for (int v = 0; v < nv; ++v) {
+    const int i[3] = {v % 3, (v / 3) % 3, v / 9};
+    for (int k = 0; k < dim; ++k) x[v * dim + k] = 0.5 * i[k];
+    int interior = 0; /* coordinates strictly inside (0, 1) */
+    for (int k = 0; k < dim; ++k) interior += i[k] == 1;
+    /* move the coordinates that are interior: along the free directions */
+    for (int k = 0; k < dim; ++k)
+      if (i[k] == 1) x[v * dim + k] += 0.035 * (k + 1) * (interior == dim ? 1.0 : -0.6) + 0.01 * v / nv;
+  }
+  static const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (int c = 0; c < nc; ++c) {
+    const int ci[3] = {c % 2, (c / 2) % 2, c / 4};
+    for (int k = 0; k < (1 << dim); ++k) {
+      const int a = ci[0] + corner[k][0], b = ci[1] + corner[k][1], z = dim == 3 ? ci[2] + corner[k][2] : 0;
+      cells[c * (1 << dim) + k] = a + 3 * b + 9 * z;
+    }
+  }
+  ND_OK_OR_FAIL(nd_mesh_create_cells(dim, dim == 2 ? ND_CELL_QUADRILATERAL : ND_CELL_HEXAHEDRON, nv, x, nc, cells, &m));
+  return m;
+}
+
+static nd_problem patch_problem(int dim, int degree, double young, double nu, double rho) {
+  nd_mesh m = distorted_patch(dim);
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, young, nu, rho));
+  return p;
+}
+
+START_TEST(patch_test_on_distorted_cells) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  const double young = 5.0, nu = 0.3;
+  nd_problem p = patch_problem(dim, degree, young, nu, 1.0);
+  csr K = get_matrix(p, ND_MATRIX_STIFFNESS);
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  ck_assert_int_eq(K.n, nn * dim); /* nothing clamped */
+  double *x = malloc(sizeof(double) * (size_t)(nn * dim)), *u = malloc(sizeof(double) * (size_t)K.n);
+  int64_t *node = malloc(sizeof(int64_t) * (size_t)K.n);
+  int *comp = malloc(sizeof(int) * (size_t)K.n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, x));
+  ND_OK_OR_FAIL(nd_problem_get_dof_map(p, K.n, node, comp));
+  /* u = G x + b, G neither symmetric nor trace-free */
+  const double G[3][3] = {{0.3, -0.2, 0.15}, {0.1, -0.25, 0.05}, {-0.12, 0.07, 0.2}}, b[3] = {0.4, -0.3, 0.2};
+  for (int64_t r = 0; r < K.n; ++r) {
+    u[r] = b[comp[r]];
+    for (int k = 0; k < dim; ++k) u[r] += G[comp[r]][k] * x[node[r] * dim + k];
+  }
+  double energy = 0, worst = 0, scale = 0;
+  for (int64_t r = 0; r < K.n; ++r) {
+    double Ku = 0, absKu = 0;
+    for (int64_t k = K.ptr[r]; k < K.ptr[r + 1]; ++k) Ku += K.val[k] * u[K.col[k]], absKu += fabs(K.val[k] * u[K.col[k]]);
+    energy += u[r] * Ku;
+    scale = fmax(scale, absKu);
+    int inside = 1; /* interior node: every coordinate strictly inside (0, 1) */
+    for (int k = 0; k < dim; ++k) inside &= x[node[r] * dim + k] > 1e-12 && x[node[r] * dim + k] < 1 - 1e-12;
+    if (inside) worst = fmax(worst, fabs(Ku));
+  }
+  /* sigma:eps |Omega| with lambda of plane strain (2D) or 3D, |Omega| = 1 */
+  const double lambda = young * nu / ((1 + nu) * (1 - 2 * nu)), mu = young / (2 * (1 + nu));
+  double tr = 0, ee = 0;
+  for (int a = 0; a < dim; ++a) tr += G[a][a];
+  for (int a = 0; a < dim; ++a)
+    for (int c = 0; c < dim; ++c) ee += 0.25 * (G[a][c] + G[c][a]) * (G[a][c] + G[c][a]);
+  const double exact = lambda * tr * tr + 2 * mu * ee;
+  printf("patch %dD Q%d: max interior |K u| = %.3g (terms up to %.3g); u'Ku = %.17g, exact %.17g\n", dim, degree, worst,
+         scale, energy, exact);
+  /* sums of a few hundred terms of size `scale`: round-off ~1e-13 of it */
+  ck_assert_msg(worst <= 1e-12 * scale, "interior residual %.3g", worst);
+  ck_assert_msg(fabs(energy - exact) <= 1e-12 * exact, "energy %.17g vs %.17g", energy, exact);
+  free(x), free(u), free(node), free(comp);
+  csr_free(&K);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
+START_TEST(mass_is_rho_times_volume) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  const double rho = 2.5; /* |Omega| = 1 */
+  for (int lumped = 0; lumped <= 1; ++lumped) {
+    nd_problem p = patch_problem(dim, degree, 1.0, 0.25, rho);
+    ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, lumped));
+    csr M = get_matrix(p, ND_MATRIX_MASS), L = get_matrix(p, ND_MATRIX_LUMPED_MASS);
+    double sum = 0, sum_lumped = 0, lowest = INFINITY;
+    for (int64_t k = 0; k < M.nnz; ++k) sum += M.val[k];
+    for (int64_t k = 0; k < L.nnz; ++k) sum_lumped += L.val[k], lowest = fmin(lowest, L.val[k]);
+    printf("mass %dD Q%d%s: sum M = %.17g, sum lumped = %.17g, smallest lumped %.3g (rho |Omega| dim = %g)\n", dim, degree,
+           lumped ? " (lumped)" : "", sum, sum_lumped, lowest, rho * dim);
+    /* exact rules (det J's degree included): round-off of a few hundred sums */
+    ck_assert(fabs(sum - rho * dim) <= 1e-13 * rho * dim);
+    ck_assert(fabs(sum_lumped - rho * dim) <= 1e-13 * rho * dim);
+    ck_assert(lowest > 0);
+    csr_free(&M), csr_free(&L);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+/* ---- the Gmsh reader ---------------------------------------------------------- */
+
+/* A 2 x 1 (x 1) grid of [0,2] x [0,1] (x [0,1]) in MSH 2.2: quadrilaterals
+   or hexahedra, first order (types 3, 5) or 9/27 nodes (types 10, 12), the
+   facets at x = 0 in physical group 5, the cells in group 1. The nodes are
+   those of the grid refined twice, their tags in reverse order (the reader
+   numbers vertices by first use: not the generator's numbering). With
+   `bend`, the first cell's centre node moves off the mean of its corners. */
+static const int kHex27[19][8] = {{0, 1, -1}, {0, 3, -1}, {0, 4, -1}, {1, 2, -1}, {1, 5, -1}, {2, 3, -1}, {2, 6, -1},
+                                  {3, 7, -1}, {4, 5, -1}, {4, 7, -1}, {5, 6, -1}, {6, 7, -1}, {0, 3, 2, 1, -1},
+                                  {0, 1, 5, 4, -1}, {0, 4, 7, 3, -1}, {1, 2, 6, 5, -1}, {2, 3, 7, 6, -1},
+                                  {4, 5, 6, 7, -1}, {0, 1, 2, 3, 4, 5, 6, 7}};
+static const int kQuad9[5][8] = {{0, 1, -1}, {1, 2, -1}, {2, 3, -1}, {3, 0, -1}, {0, 1, 2, 3, -1}};
+static const int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+
+enum { GX = 5, GY = 3, GZ = 3 }; /* the refined grid's points a direction */
+static int grid_tag(int i, int j, int k) { return GX * GY * GZ - ((k * GY + j) * GX + i); }
+
+/* the refined-grid point of the mean of corners list (of the cell at x offset cx) */
+static int mean_tag(int dim, int cx, const int *list) {
+  int at[3] = {0, 0, 0}, m = 0;
+  while (m < 8 && list[m] >= 0) {
+    for (int k = 0; k < dim; ++k) at[k] += 2 * kCorner[list[m]][k];
+    ++m;
+  }
+  return grid_tag(2 * cx + at[0] / m, at[1] / m, dim == 3 ? at[2] / m : 0);
+}
+
+static void write_grid_msh(const char *path, int dim, int degree, int bend) {
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  fprintf(f, "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n", GX * GY * (dim == 3 ? GZ : 1));
+  for (int k = 0; k < (dim == 3 ? GZ : 1); ++k)
+    for (int j = 0; j < GY; ++j)
+      for (int i = 0; i < GX; ++i) {
+        const int centre_of_first = bend && i == 1 && j == 1 && (dim == 2 || k == 1);
+        fprintf(f, "%d %.17g %.17g %.17g\n", grid_tag(i, j, k), 0.5 * i + (centre_of_first ? 0.01 : 0.0), 0.5 * j,
+                dim == 3 ? 0.5 * k : 0.0);
+      }
+  const int n_facet_nodes = dim == 2 ? (degree == 1 ? 2 : 3) : (degree == 1 ? 4 : 9);
+  fprintf(f, "$EndNodes\n$Elements\n%d\n", 2 + 1);
+  int tag = 1;
+  for (int cx = 0; cx < 2; ++cx) { /* the cells */
+    const int nc = 1 << dim, n = degree == 1 ? nc : dim == 2 ? 9 : 27;
+    fprintf(f, "%d %d 2 1 1", tag++, dim == 2 ? (degree == 1 ? 3 : 10) : (degree == 1 ? 5 : 12));
+    for (int c = 0; c < nc; ++c)
+      fprintf(f, " %d", grid_tag(2 * (cx + kCorner[c][0]), 2 * kCorner[c][1], dim == 3 ? 2 * kCorner[c][2] : 0));
+    for (int e = 0; e < n - nc; ++e) fprintf(f, " %d", mean_tag(dim, cx, dim == 2 ? kQuad9[e] : kHex27[e]));
+    fprintf(f, "\n");
+  }
+  /* the facet x = 0 of the first cell: a line (3 nodes) or a quadrilateral (9) */
+  static const int line[2] = {3, 0}, face[4] = {0, 4, 7, 3};
+  fprintf(f, "%d %d 2 5 2", tag++, dim == 2 ? (degree == 1 ? 1 : 8) : (degree == 1 ? 3 : 10));
+  for (int c = 0; c < (dim == 2 ? 2 : 4); ++c) {
+    const int v = dim == 2 ? line[c] : face[c];
+    fprintf(f, " %d", grid_tag(0, 2 * kCorner[v][1], dim == 3 ? 2 * kCorner[v][2] : 0));
+  }
+  if (n_facet_nodes == 3) fprintf(f, " %d", grid_tag(0, 1, 0));
+  if (n_facet_nodes == 9) /* edges (0,1) (1,2) (2,3) (3,0) of the face, then its centre */
+    fprintf(f, " %d %d %d %d %d", grid_tag(0, 0, 1), grid_tag(0, 1, 2), grid_tag(0, 2, 1), grid_tag(0, 1, 0),
+            grid_tag(0, 1, 1));
+  fprintf(f, "\n$EndElements\n");
+  fclose(f);
+}
+
+/* the dense operator of a problem, rows and columns by node coordinates: the
+   index of DOF (node, component) in the generator's numbering is found by
+   position, so that two numberings compare */
+static double *dense_by_position(nd_problem p, int which, int dim, const double *x_ref, int64_t n_ref) {
+  csr A = get_matrix(p, which);
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  ck_assert_int_eq(nn, n_ref);
+  double *x = malloc(sizeof(double) * (size_t)(nn * dim));
+  int64_t *node = malloc(sizeof(int64_t) * (size_t)A.n), *ref = malloc(sizeof(int64_t) * (size_t)nn);
+  int *comp = malloc(sizeof(int) * (size_t)A.n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, x));
+  ND_OK_OR_FAIL(nd_problem_get_dof_map(p, A.n, node, comp));
+  for (int64_t i = 0; i < nn; ++i) {
+    ref[i] = -1;
+    for (int64_t j = 0; j < n_ref; ++j) {
+      double d = 0;
+      for (int k = 0; k < dim; ++k) d = fmax(d, fabs(x[i * dim + k] - x_ref[j * dim + k]));
+      if (d <= 1e-14) ref[i] = j;
+    }
+    ck_assert_msg(ref[i] >= 0, "node %lld has no twin", (long long)i);
+  }
+  const int64_t n = n_ref * dim;
+  double *D = calloc((size_t)(n * n), sizeof(double));
+  for (int64_t r = 0; r < A.n; ++r)
+    for (int64_t k = A.ptr[r]; k < A.ptr[r + 1]; ++k) {
+      const int64_t c = A.col[k];
+      D[(ref[node[r]] * dim + comp[r]) * n + ref[node[c]] * dim + comp[c]] = A.val[k];
+    }
+  free(x), free(node), free(ref), free(comp);
+  csr_free(&A);
+  return D;
+}
+
+START_TEST(gmsh_reads_quadrilaterals_and_hexahedra) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  char path[] = "/tmp/nd_quads_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  write_grid_msh(path, dim, degree, 0);
+  nd_mesh read = NULL, made = NULL;
+  ND_OK_OR_FAIL(nd_mesh_read_gmsh(path, &read));
+  const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1}, blo[3] = {-1, -1, -1}, bhi[3] = {1e-9, 2, 2};
+  if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(2, 1, lo, hi, ND_CELL_QUADRILATERAL, &made));
+  if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(2, 1, 1, lo, hi, ND_CELL_HEXAHEDRON, &made));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(made, 5, blo, bhi));
+  int64_t n_read = 0, n_made = 0;
+  ND_OK_OR_FAIL(nd_mesh_get_region_size(read, 5, &n_read));
+  ND_OK_OR_FAIL(nd_mesh_get_region_size(made, 5, &n_made));
+  ck_assert_int_eq(n_read, 1);
+  ck_assert_int_eq(n_made, 1);
+  nd_problem p = NULL, q = NULL;
+  ND_OK_OR_FAIL(nd_problem_create(read, degree, &p));
+  ND_OK_OR_FAIL(nd_problem_create(made, degree, &q));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&read));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&made));
+  for (int k = 0; k < 2; ++k) {
+    ND_OK_OR_FAIL(nd_problem_set_material(k ? q : p, 2.0, 0.3, 1.5));
+    ND_OK_OR_FAIL(nd_problem_set_dirichlet(k ? q : p, 5));
+  }
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(q, &nn));
+  double *x = malloc(sizeof(double) * (size_t)(nn * dim));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(q, nn, x));
+  const int which[3] = {ND_MATRIX_MASS, ND_MATRIX_STIFFNESS, ND_MATRIX_LUMPED_MASS};
+  for (int w = 0; w < 3; ++w) {
+    double *A = dense_by_position(p, which[w], dim, x, nn), *B = dense_by_position(q, which[w], dim, x, nn);
+    double diff = 0, size = 0;
+    for (int64_t i = 0; i < nn * dim * nn * dim; ++i) diff = fmax(diff, fabs(A[i] - B[i])), size = fmax(size, fabs(B[i]));
+    /* the same cells, their vertices in another order: the same integrals
+       summed in another order, a few ulps apart */
+    ck_assert_msg(diff <= 1e-14 * size, "%dD Q%d operator %d: %.3g of %.3g", dim, degree, which[w], diff, size);
+    free(A), free(B);
+  }
+  free(x);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+  if (degree == 2) { /* a curved element: refused */
+    write_grid_msh(path, dim, degree, 1);
+    ck_assert_int_eq(nd_mesh_read_gmsh(path, &read), ND_ERR_FORMAT);
+    ck_assert_msg(strstr(nd_last_error(), "curved") != NULL, "%s", nd_last_error());
+  }
+  remove(path);
+}
+END_TEST
+
+START_TEST(gmsh_refuses_mixed_and_serendipity) {
+  char path[] = "/tmp/nd_quads_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  nd_mesh m = NULL;
+  nd_test_write_file(path,
+                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n"
+                     "$EndNodes\n$Elements\n2\n1 3 2 1 1 1 2 3 4\n2 2 2 1 1 2 5 3\n$EndElements\n");
+  ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
+  ck_assert_msg(strstr(nd_last_error(), "mixed") != NULL, "%s", nd_last_error());
+  nd_test_write_file(path,
+                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
+                     "5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n"
+                     "$EndNodes\n$Elements\n1\n1 16 2 1 1 1 2 3 4 5 6 7 8\n$EndElements\n");
+  ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
+  ck_assert_msg(strstr(nd_last_error(), "serendipity") != NULL, "%s", nd_last_error());
+  ck_assert_ptr_null(m);
+  remove(path);
+}
+END_TEST
+
+/* ---- refusals -------------------------------------------------------------- */
+
+START_TEST(refusals) {
+  nd_mesh m = NULL;
+  const double sq[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+  const int64_t ccw[4] = {0, 1, 2, 3}, cw[4] = {0, 3, 2, 1}, crossed[4] = {0, 1, 3, 2};
+  const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+  ck_assert_int_eq(nd_mesh_create_cells(2, 7, 4, sq, 1, ccw, &m), ND_ERR_VALUE);
+  ck_assert_ptr_null(m);
+  ck_assert_int_eq(nd_mesh_create_cells(3, ND_CELL_QUADRILATERAL, 4, sq, 1, ccw, &m), ND_ERR_DIMENSION);
+  ck_assert_int_eq(nd_mesh_create_cells(2, ND_CELL_HEXAHEDRON, 4, sq, 1, ccw, &m), ND_ERR_DIMENSION);
+  ck_assert_int_eq(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, cw, &m), ND_ERR_DEGENERATE);
+  ck_assert_int_eq(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, crossed, &m), ND_ERR_DEGENERATE);
+  ck_assert_int_eq(nd_mesh_create_rectangle_cells(2, 2, lo, hi, ND_CELL_HEXAHEDRON, &m), ND_ERR_VALUE);
+  ck_assert_int_eq(nd_mesh_create_box_cells(2, 2, 2, lo, hi, ND_CELL_QUADRILATERAL, &m), ND_ERR_VALUE);
+  ck_assert_int_eq(nd_mesh_create_rectangle_cells(2, 2, lo, NULL, ND_CELL_QUADRILATERAL, &m), ND_ERR_NULL);
+  ck_assert_int_eq(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, ccw, NULL), ND_ERR_NULL);
+  /* contact on quadrilateral or hexahedral facets: refused at setup, by name */
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem p = NULL;
+    const double blo[3] = {-1, -1, -1}, bhi[3] = {2, 1e-9, 2}, point[3] = {0, -0.1, 0}, normal[3] = {0, -1, 0};
+    if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(2, 2, lo, hi, ND_CELL_QUADRILATERAL, &m));
+    if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(2, 2, 2, lo, hi, ND_CELL_HEXAHEDRON, &m));
+    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+    int64_t n_facets = 0;
+    ND_OK_OR_FAIL(nd_mesh_get_region_size(m, 1, &n_facets));
+    ck_assert_int_eq(n_facets, dim == 2 ? 2 : 4);
+    ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+    ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+    ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, normal));
+    ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 10.0));
+    ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+    ck_assert_int_eq(nd_problem_setup(p), ND_ERR_STATE);
+    ck_assert_msg(strstr(nd_last_error(), "not supported yet") != NULL, "%s", nd_last_error());
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("quads");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 120);
+  tcase_add_loop_test(tc, strip_is_the_bar, 0, 4);
+  tcase_add_loop_test(tc, patch_test_on_distorted_cells, 0, 4);
+  tcase_add_loop_test(tc, mass_is_rho_times_volume, 0, 4);
+  tcase_add_loop_test(tc, gmsh_reads_quadrilaterals_and_hexahedra, 0, 4);
+  tcase_add_test(tc, gmsh_refuses_mixed_and_serendipity);
+  tcase_add_test(tc, refusals);
+  suite_add_tcase(s, tc);
+  return nd_test_run(s);
+}
