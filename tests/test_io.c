@@ -87,15 +87,15 @@ START_TEST(malformed_files_are_refused_with_file_and_line) {
       {"$MeshFormat\n4.1 1 8\n$EndMeshFormat\n", ":2: binary MSH files are not supported", ND_ERR_FORMAT},
       {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 x 0 0\n$EndNodes\n",
        ":7: expected a node coordinate (a number), found 'x'", ND_ERR_FORMAT},
-      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n"
-       "$Elements\n1\n1 3 2 0 1 1 2 3 4\n$EndElements\n",
-       ":13: element type 3 is not supported", ND_ERR_FORMAT},
+      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 0 1\n6 0 1 1\n"
+       "$EndNodes\n$Elements\n1\n1 6 2 0 1 1 2 3 4 5 6\n$EndElements\n",
+       ":15: element type 6 is not supported", ND_ERR_FORMAT},
       {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n$Elements\n1\n1 1 2 0 1 1 7\n"
        "$EndElements\n",
        "node 7, which is not in $Nodes", ND_ERR_FORMAT},
       {"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n0 1 0 2\n1\n",
        ":5: the number of nodes (2) is more than the rest of the file (15 bytes) can hold", ND_ERR_FORMAT},
-      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n", "no line, triangle or tetrahedron",
+      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n", "no line, triangle, quadrilateral, tetrahedron or hexahedron",
        ND_ERR_FORMAT},
   };
   char path[256];
