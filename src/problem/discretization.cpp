@@ -145,9 +145,6 @@ namespace {
 // untested (issue 60).
 void require_supported_cells(const Space &space, const Definition &def) {
   if (space.mesh->simplicial()) return;
-  const std::string facets = space.dim == 2 ? "quadrilateral facets (segments)" : "hexahedral facets";
-  if (!def.planes.empty() || !def.obstacles.empty())
-    fail(ND_ERR_STATE, "contact on " + facets + " is not supported yet: use a simplicial mesh for contact");
   if (def.redistributed)
     fail(ND_ERR_STATE, "mass redistribution on quadrilaterals and hexahedra is not supported yet");
 }
