@@ -438,7 +438,8 @@ ND_EXPORT int nd_problem_get_dof_map(nd_problem p, int64_t n, int64_t *node, int
 /* F^n on the n free DOFs: the load the state at the current time holds. */
 ND_EXPORT int nd_problem_get_load(nd_problem p, int64_t n, double *f);
 /* The cells as the space numbers their FE nodes (P2: vertices, then the
-   edges (i,j), i<j, lexicographically): with nodes NULL the sizes, then
+   edges (i,j), i<j, lexicographically; Q2: vertices, edges, faces, centre
+   in VTK's order, nd_mesh_create_cells(3)): with nodes NULL the sizes, then
    *n_cells * *nodes_per_cell node indices. */
 ND_EXPORT int nd_problem_get_cells(nd_problem p, int64_t *n_cells, int *nodes_per_cell, int64_t *nodes);
 

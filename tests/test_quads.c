@@ -408,13 +408,10 @@ static double *dense_by_position(nd_problem p, int which, int dim, const double 
   return D;
 }
 
-START_TEST(gmsh_reads_quadrilaterals_and_hexahedra) {
-  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
-  char path[] = "/tmp/nd_quads_XXXXXX";
-  const int fd = mkstemp(path);
-  ck_assert_int_ge(fd, 0);
-  close(fd);
-  write_grid_msh(path, dim, degree, 0);
+/* The mesh read from path against the generator's 2 x 1 (x 1) grid of
+   [0,2] x [0,1] (x [0,1]): one facet in region 5 (x = 0) in both, and the
+   same M, K and lumped M (clamped on region 5), DOFs matched by position */
+static void same_as_generated(const char *path, int dim, int degree) {
   nd_mesh read = NULL, made = NULL;
   ND_OK_OR_FAIL(nd_mesh_read_gmsh(path, &read));
   const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1}, blo[3] = {-1, -1, -1}, bhi[3] = {1e-9, 2, 2};
@@ -446,17 +443,47 @@ START_TEST(gmsh_reads_quadrilaterals_and_hexahedra) {
     for (int64_t i = 0; i < nn * dim * nn * dim; ++i) diff = fmax(diff, fabs(A[i] - B[i])), size = fmax(size, fabs(B[i]));
     /* the same cells, their vertices in another order: the same integrals
        summed in another order, a few ulps apart */
-    ck_assert_msg(diff <= 1e-14 * size, "%dD Q%d operator %d: %.3g of %.3g", dim, degree, which[w], diff, size);
+    ck_assert_msg(diff <= 1e-14 * size, "%s: %dD Q%d operator %d: %.3g of %.3g", path, dim, degree, which[w], diff,
+                  size);
     free(A), free(B);
   }
   free(x);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+
+START_TEST(gmsh_reads_quadrilaterals_and_hexahedra) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  char path[] = "/tmp/nd_quads_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  write_grid_msh(path, dim, degree, 0);
+  same_as_generated(path, dim, degree);
   if (degree == 2) { /* a curved element: refused */
+    nd_mesh read = NULL;
     write_grid_msh(path, dim, degree, 1);
     ck_assert_int_eq(nd_mesh_read_gmsh(path, &read), ND_ERR_FORMAT);
     ck_assert_msg(strstr(nd_last_error(), "curved") != NULL, "%s", nd_last_error());
   }
+  remove(path);
+}
+END_TEST
+
+/* MSH 4.1: the 2 x 1 quadrilaterals, entities carrying the physical groups
+   (the curve x = 0: group 5; the surface: group 1), node and element blocks */
+START_TEST(gmsh_41_reads_quadrilaterals) {
+  char path[] = "/tmp/nd_quads_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  nd_test_write_file(path,
+                     "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                     "$Entities\n0 1 1 0\n1 0 0 0 0 1 0 1 5 0\n1 0 0 0 2 1 0 1 1 0\n$EndEntities\n"
+                     "$Nodes\n1 6 1 6\n2 1 0 6\n1\n2\n3\n4\n5\n6\n"
+                     "0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n$EndNodes\n"
+                     "$Elements\n2 3 1 3\n1 1 1 1\n1 4 1\n2 1 3 2\n2 1 2 5 4\n3 2 3 6 5\n$EndElements\n");
+  for (int degree = 1; degree <= 2; ++degree) same_as_generated(path, 2, degree);
   remove(path);
 }
 END_TEST
@@ -534,6 +561,7 @@ int main(void) {
   tcase_add_loop_test(tc, patch_test_on_distorted_cells, 0, 4);
   tcase_add_loop_test(tc, mass_is_rho_times_volume, 0, 4);
   tcase_add_loop_test(tc, gmsh_reads_quadrilaterals_and_hexahedra, 0, 4);
+  tcase_add_test(tc, gmsh_41_reads_quadrilaterals);
   tcase_add_test(tc, gmsh_refuses_mixed_and_serendipity);
   tcase_add_test(tc, refusals);
   suite_add_tcase(s, tc);
