@@ -200,6 +200,46 @@ START_TEST(strip_bounces_as_the_bar) {
 }
 END_TEST
 
+/* the 3D Q2 strip in contact written as VTU: its 8 triquadratic hexahedra
+   (VTK type 29, 27 nodes each) and its contact facet, a quadrilateral (9) */
+START_TEST(vtu_of_hexahedra_in_contact) {
+  const nd_test_scheme hybrid = {ND_SCHEME_HYBRID, {0, 0}};
+  nd_problem q = bouncing_strip(3, 2, &hybrid, 1.0, 0.1);
+  double active = 0;
+  for (int k = 0; k < 150 && active == 0; ++k) {
+    ND_OK_OR_FAIL(nd_step(q));
+    ND_OK_OR_FAIL(nd_get_scalar(q, ND_ACTIVE_POINTS, &active));
+  }
+  ck_assert(active > 0);
+  char path[] = "/tmp/nd_quads_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  ND_OK_OR_FAIL(nd_problem_write_vtu(q, path));
+  FILE *f = fopen(path, "r");
+  ck_assert_ptr_nonnull(f);
+  static char text[1 << 20];
+  const size_t got = fread(text, 1, sizeof text - 1, f);
+  text[got] = '\0';
+  fclose(f);
+  remove(path);
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(q, &n));
+  char expect[128];
+  snprintf(expect, sizeof expect, "NumberOfPoints=\"%lld\" NumberOfCells=\"%d\"", (long long)n, BAR_NX + 1);
+  ck_assert_msg(strstr(text, expect) != NULL, "missing %s", expect);
+  const char *types = strstr(text, "Name=\"types\"");
+  ck_assert_ptr_nonnull(types);
+  types = strchr(types, '>') + 1;
+  for (int c = 0; c <= BAR_NX; ++c) {
+    char *end = NULL;
+    ck_assert_int_eq(strtol(types, &end, 10), c < BAR_NX ? 29 : 9);
+    types = end;
+  }
+  ND_OK_OR_FAIL(nd_problem_destroy(&q));
+}
+END_TEST
+
 /* ---- distorted patches ----------------------------------------------------- */
 
 /* [0,1]^dim in 2 cells a side, the interior vertex (2D) or the centre and the
@@ -537,6 +577,14 @@ START_TEST(refusals) {
     int64_t n_facets = 0;
     ND_OK_OR_FAIL(nd_mesh_get_region_size(m, 1, &n_facets));
     ck_assert_int_eq(n_facets, dim == 2 ? 2 : 4);
+    /* a facet by its vertices: 2 (a segment) or 4 (a hexahedron's face), in
+       any order; the grid's vertex (i, j, k) is i + 3 j + 9 k: the face
+       z = 0 of the first cell, a diagonal of it not a facet */
+    const int64_t face[4] = {4, 0, 3, 1}, segment[2] = {1, 0}, diagonal[2] = {0, 4};
+    ND_OK_OR_FAIL(nd_mesh_set_region(m, 2, 1, dim == 2 ? segment : face));
+    ND_OK_OR_FAIL(nd_mesh_get_region_size(m, 2, &n_facets));
+    ck_assert_int_eq(n_facets, 1);
+    ck_assert_int_eq(nd_mesh_set_region(m, 3, 1, dim == 2 ? diagonal : (const int64_t[4]){0, 1, 4, 13}), ND_ERR_REGION);
     ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
     ND_OK_OR_FAIL(nd_mesh_destroy(&m));
     ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
@@ -558,6 +606,7 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_loop_test(tc, strip_is_the_bar, 0, 4);
   tcase_add_loop_test(tc, strip_bounces_as_the_bar, 0, 4);
+  tcase_add_test(tc, vtu_of_hexahedra_in_contact);
   tcase_add_loop_test(tc, patch_test_on_distorted_cells, 0, 4);
   tcase_add_loop_test(tc, mass_is_rho_times_volume, 0, 4);
   tcase_add_loop_test(tc, gmsh_reads_quadrilaterals_and_hexahedra, 0, 4);
