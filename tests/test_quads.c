@@ -200,6 +200,29 @@ START_TEST(strip_bounces_as_the_bar) {
 }
 END_TEST
 
+/* Coulomb friction on the strip's contact facet: the impact is normal, the
+   tangential displacement stays 0 (to round-off), so does the friction
+   force: the strip still bounces as the frictionless bar (Theta = 1, the
+   implicit schemes but the explicit one) */
+START_TEST(normal_impact_with_friction_is_the_bar) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  const double coefficient = 0.3, gamma0 = 0.1;
+  for (int s = 0; s < ND_TEST_N_SCHEMES; ++s) {
+    const nd_test_scheme *sc = &nd_test_schemes[s];
+    if (nd_test_is_explicit(sc)) continue;
+    nd_problem bar = nd_test_bar(BAR_NX, degree, sc->scheme, sc->params, 1.0, gamma0, kTau);
+    nd_problem q = bouncing_strip(dim, degree, sc, 1.0, gamma0);
+    ND_OK_OR_FAIL(nd_problem_set_friction(q, 1, ND_FRICTION_COULOMB, &coefficient));
+    const comparison r = side_by_side(bar, q, dim, 150, pow(1.0 / BAR_NX, dim - 1));
+    printf("friction %dD Q%d scheme %d: max |strip - bar| = %.3g (|u|, |v| up to %.3g), force %.3g of %.3g\n", dim,
+           degree, sc->scheme, r.worst, r.size, r.force, r.force_size);
+    ck_assert(r.contact_steps > 0);
+    ck_assert_msg(r.worst <= 1e-10 * r.size, "%dD Q%d scheme %d: %.3g", dim, degree, sc->scheme, r.worst);
+    ck_assert_msg(r.force <= 1e-10 * r.force_size, "force %.3g of %.3g", r.force, r.force_size);
+  }
+}
+END_TEST
+
 /* the 3D Q2 strip in contact written as VTU: its 8 triquadratic hexahedra
    (VTK type 29, 27 nodes each) and its contact facet, a quadrilateral (9) */
 START_TEST(vtu_of_hexahedra_in_contact) {
@@ -606,6 +629,7 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_loop_test(tc, strip_is_the_bar, 0, 4);
   tcase_add_loop_test(tc, strip_bounces_as_the_bar, 0, 4);
+  tcase_add_loop_test(tc, normal_impact_with_friction_is_the_bar, 0, 4);
   tcase_add_test(tc, vtu_of_hexahedra_in_contact);
   tcase_add_loop_test(tc, patch_test_on_distorted_cells, 0, 4);
   tcase_add_loop_test(tc, mass_is_rho_times_volume, 0, 4);
