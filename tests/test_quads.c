@@ -16,8 +16,10 @@
  *  - contact on Q facets: the strip bouncing on a plane is the bar bouncing,
  *    gamma matched cell by cell (h_K = sqrt(dim) h), every implicit scheme
  *    and Theta = 1, 0, -1;
+ *  - mass redistribution keeps the mass; on a Q1 strip it is the P1 bar's
+ *    (for rectangles it factors by direction as the mass does);
  *  - the refusals: a bad cell type, a dimension that does not match it, an
- *    inverted or non-convex cell, mass redistribution (not supported yet). */
+ *    inverted or non-convex cell; facets by their vertices. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -175,28 +177,37 @@ static nd_problem bouncing_strip(int dim, int degree, const nd_test_scheme *sc, 
 START_TEST(strip_bounces_as_the_bar) {
   const int dim = 2 + _i / 2, degree = 1 + _i % 2;
   const double thetas[3] = {1, 0, -1}, gamma0 = 0.1; /* (below the bar's limits 1 and 1/4: K_Theta >= 0) */
-  for (int s = 0; s < ND_TEST_N_SCHEMES; ++s)
-    for (int t = 0; t < 3; ++t) {
-      const nd_test_scheme *sc = &nd_test_schemes[s];
-      if (nd_test_is_explicit(sc)) continue; /* (the explicit scheme's lumped mass: strip_is_the_bar) */
-      nd_problem bar = nd_test_bar(BAR_NX, degree, sc->scheme, sc->params, thetas[t], gamma0, kTau);
-      nd_problem q = bouncing_strip(dim, degree, sc, thetas[t], gamma0);
-      /* Newton to round-off in both (the active set fixed, it ends in one
-         more iteration): the runs then differ by round-off alone */
-      ND_OK_OR_FAIL(nd_problem_set_newton(bar, 1e-14, 1e-300, 50));
-      ND_OK_OR_FAIL(nd_problem_set_newton(q, 1e-14, 1e-300, 50));
-      const comparison r = side_by_side(bar, q, dim, 150, pow(1.0 / BAR_NX, dim - 1));
-      printf("bounce %dD Q%d scheme %d theta %g: max |strip - bar| = %.3g (|u|, |v| up to %.3g), force %.3g of %.3g, "
-             "%g steps in contact\n",
-             dim, degree, sc->scheme, thetas[t], r.worst, r.size, r.force, r.force_size, r.contact_steps);
-      ck_assert(r.contact_steps > 0); /* (it does bounce) */
-      /* as strip_is_the_bar (1e-11 there, over 80 steps), here over 150
-         steps and the impacts: round-off; a wrong gamma, normal stress or
-         facet rule would show at 1e-2 */
-      ck_assert_msg(r.worst <= 1e-10 * r.size, "%dD Q%d scheme %d theta %g: %.3g", dim, degree, sc->scheme, thetas[t],
-                    r.worst);
-      ck_assert_msg(r.force <= 1e-10 * r.force_size, "force %.3g of %.3g", r.force, r.force_size);
-    }
+  /* mass: 0 consistent; Q1 also 1 redistributed, 2 redistributed and lumped
+     (for rectangles the redistribution factors by direction: the rows of
+     the affine functions on the kept nodes are 1 and y, those of the bar's
+     node 1, and both cells' masses are tensor products) */
+  for (int mass = 0; mass <= (degree == 1 ? 2 : 0); ++mass)
+    for (int s = 0; s < ND_TEST_N_SCHEMES; ++s)
+      for (int t = 0; t < 3; ++t) {
+        const nd_test_scheme *sc = &nd_test_schemes[s];
+        if (nd_test_is_explicit(sc)) continue; /* (the explicit scheme's lumped mass: strip_is_the_bar) */
+        nd_problem bar = nd_test_bar(BAR_NX, degree, sc->scheme, sc->params, thetas[t], gamma0, kTau);
+        nd_problem q = bouncing_strip(dim, degree, sc, thetas[t], gamma0);
+        for (int k = 0; k < 2 && mass > 0; ++k) {
+          ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(k ? q : bar, 1));
+          ND_OK_OR_FAIL(nd_problem_set_mass_lumping(k ? q : bar, mass == 2));
+        }
+        /* Newton to round-off in both (the active set fixed, it ends in one
+           more iteration): the runs then differ by round-off alone */
+        ND_OK_OR_FAIL(nd_problem_set_newton(bar, 1e-14, 1e-300, 50));
+        ND_OK_OR_FAIL(nd_problem_set_newton(q, 1e-14, 1e-300, 50));
+        const comparison r = side_by_side(bar, q, dim, 150, pow(1.0 / BAR_NX, dim - 1));
+        printf("bounce %dD Q%d mass %d scheme %d theta %g: max |strip - bar| = %.3g (|u|, |v| up to %.3g), "
+               "force %.3g of %.3g, %g steps in contact\n",
+               dim, degree, mass, sc->scheme, thetas[t], r.worst, r.size, r.force, r.force_size, r.contact_steps);
+        ck_assert(r.contact_steps > 0); /* (it does bounce) */
+        /* as strip_is_the_bar (1e-11 there, over 80 steps), here over 150
+           steps and the impacts: round-off; a wrong gamma, normal stress or
+           facet rule would show at 1e-2 */
+        ck_assert_msg(r.worst <= 1e-10 * r.size, "%dD Q%d mass %d scheme %d theta %g: %.3g", dim, degree, mass,
+                      sc->scheme, thetas[t], r.worst);
+        ck_assert_msg(r.force <= 1e-10 * r.force_size, "force %.3g of %.3g", r.force, r.force_size);
+      }
 }
 END_TEST
 
@@ -590,16 +601,11 @@ START_TEST(refusals) {
   ck_assert_int_eq(nd_mesh_create_box_cells(2, 2, 2, lo, hi, ND_CELL_QUADRILATERAL, &m), ND_ERR_VALUE);
   ck_assert_int_eq(nd_mesh_create_rectangle_cells(2, 2, lo, NULL, ND_CELL_QUADRILATERAL, &m), ND_ERR_NULL);
   ck_assert_int_eq(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, ccw, NULL), ND_ERR_NULL);
-  /* mass redistribution on quadrilaterals and hexahedra: refused at setup, by name */
+  /* boundary facets by their vertices */
   for (int dim = 2; dim <= 3; ++dim) {
-    nd_problem p = NULL;
-    const double blo[3] = {-1, -1, -1}, bhi[3] = {2, 1e-9, 2}, point[3] = {0, -0.1, 0}, normal[3] = {0, -1, 0};
     if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(2, 2, lo, hi, ND_CELL_QUADRILATERAL, &m));
     if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(2, 2, 2, lo, hi, ND_CELL_HEXAHEDRON, &m));
-    ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
     int64_t n_facets = 0;
-    ND_OK_OR_FAIL(nd_mesh_get_region_size(m, 1, &n_facets));
-    ck_assert_int_eq(n_facets, dim == 2 ? 2 : 4);
     /* a facet by its vertices: 2 (a segment) or 4 (a hexahedron's face), in
        any order; the grid's vertex (i, j, k) is i + 3 j + 9 k: the face
        z = 0 of the first cell, a diagonal of it not a facet */
@@ -608,18 +614,64 @@ START_TEST(refusals) {
     ND_OK_OR_FAIL(nd_mesh_get_region_size(m, 2, &n_facets));
     ck_assert_int_eq(n_facets, 1);
     ck_assert_int_eq(nd_mesh_set_region(m, 3, 1, dim == 2 ? diagonal : (const int64_t[4]){0, 1, 4, 13}), ND_ERR_REGION);
-    ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
     ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-    ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, 1.0));
-    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, normal));
-    ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 0.0, 0.1));
-    ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
-    ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
-    ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
-    ck_assert_int_eq(nd_problem_setup(p), ND_ERR_STATE);
-    ck_assert_msg(strstr(nd_last_error(), "not supported yet") != NULL, "%s", nd_last_error());
-    ND_OK_OR_FAIL(nd_problem_destroy(&p));
   }
+}
+END_TEST
+
+/* Mass redistribution on Q cells keeps the mass: the entries of M and of
+   its lumped diagonal (HRZ of the redistributed element masses) sum to
+   rho |Omega| per component, the contact nodes' rows are 0, the lumped
+   diagonal positive elsewhere */
+START_TEST(redistribution_keeps_the_mass) {
+  const int dim = 2 + _i / 2, degree = 1 + _i % 2;
+  const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1}, rho = 1.5;
+  const double blo[3] = {-1, -1, -1}, bhi[3] = {2, 1e-9, 2}, point[3] = {0, -0.1, 0}, normal[3] = {0, 1, 0};
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(2, 2, lo, hi, ND_CELL_QUADRILATERAL, &m));
+  if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(2, 2, 2, lo, hi, ND_CELL_HEXAHEDRON, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.3, rho));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, normal));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 0.0, 0.1));
+  ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  ND_OK_OR_FAIL(nd_problem_setup(p));
+  csr M = get_matrix(p, ND_MATRIX_MASS), L = get_matrix(p, ND_MATRIX_LUMPED_MASS);
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *x = malloc(sizeof(double) * (size_t)(nn * dim));
+  int64_t *node = malloc(sizeof(int64_t) * (size_t)M.n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, x));
+  ND_OK_OR_FAIL(nd_problem_get_dof_map(p, M.n, node, NULL));
+  double sum = 0, sum_lumped = 0, on_contact = 0, lowest = INFINITY;
+  for (int64_t r = 0; r < M.n; ++r) {
+    const int contact = x[node[r] * dim + 1] == 0; /* the bottom, y = 0 */
+    for (int64_t k = M.ptr[r]; k < M.ptr[r + 1]; ++k) {
+      sum += M.val[k];
+      if (contact) on_contact = fmax(on_contact, fabs(M.val[k]));
+    }
+    for (int64_t k = L.ptr[r]; k < L.ptr[r + 1]; ++k) {
+      sum_lumped += L.val[k];
+      if (contact) on_contact = fmax(on_contact, fabs(L.val[k]));
+      else lowest = fmin(lowest, L.val[k]);
+    }
+  }
+  const double exact = rho * dim; /* |Omega| = 1 */
+  printf("redistributed %dD Q%d: sum M = %.17g, sum lumped = %.17g, smallest off contact %.3g (exact %g)\n", dim, degree,
+         sum, sum_lumped, lowest, exact);
+  ck_assert(on_contact == 0);
+  /* the redistribution keeps each cell's mass up to its small solves' round-off */
+  ck_assert_msg(fabs(sum - exact) <= 1e-12 * exact, "sum M %.17g", sum);
+  ck_assert_msg(fabs(sum_lumped - exact) <= 1e-12 * exact, "sum lumped %.17g", sum_lumped);
+  ck_assert(lowest > 0);
+  free(x), free(node);
+  csr_free(&M), csr_free(&L);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST
 
@@ -637,6 +689,7 @@ int main(void) {
   tcase_add_test(tc, gmsh_41_reads_quadrilaterals);
   tcase_add_test(tc, gmsh_refuses_mixed_and_serendipity);
   tcase_add_test(tc, refusals);
+  tcase_add_loop_test(tc, redistribution_keeps_the_mass, 0, 4);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -132,10 +132,10 @@ void ElementMatrices::compute(int64_t c) {
   }
 }
 
-void ElementMatrices::lump(std::vector<double> &diagonal) const {
+void ElementMatrices::lump(std::vector<double> &diagonal, bool redistributed) const {
   const int nb = s_.basis.n;
   diagonal.resize(static_cast<size_t>(nb));
-  if (!s_.mesh->simplicial() && s_.degree == 1) {
+  if (!s_.mesh->simplicial() && s_.degree == 1 && !redistributed) {
     for (int i = 0; i < nb; ++i) {
       double sum = 0;
       for (int j = 0; j < nb; ++j) sum += me[i * nb + j];
@@ -163,7 +163,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMateri
     if (!part.takes(s, dofs, c)) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
-    em.lump(lumped);
+    em.lump(lumped, contact_nodes != nullptr);
     const int64_t *nodes = s.nodes_of(c);
     for (int i = 0; i < nb; ++i) {
       bool found = false;  // offset[j]: where node j's columns start in node i's rows

@@ -36,9 +36,9 @@ class ElementMatrices {
   ElementMatrices(const Space &s, const CellMaterials &mat);
   ElementMatrices(const Space &s, CellMaterials &&mat) = delete;  // (it keeps a reference)
   void compute(int64_t cell);  // fills me, ke, mass and rho
-  // The lumped diagonal of me (as it is then: after a redistribution too):
-  // Q1, the row sums; otherwise HRZ, the diagonal scaled to the cell's mass.
-  void lump(std::vector<double> &diagonal) const;
+  // The lumped diagonal of me as it is then: Q1, the row sums; otherwise,
+  // and after a redistribution, HRZ: the diagonal scaled to the cell's mass.
+  void lump(std::vector<double> &diagonal, bool redistributed) const;
   std::vector<double> me, ke;
   double mass = 0;  // the cell's: rho |K|
   double rho = 0;   // the cell's density

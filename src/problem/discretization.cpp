@@ -140,20 +140,10 @@ void set_damping(Discretization &d, const Definition &def) {
 }
 }  // namespace
 
-namespace {
-// What quadrilaterals and hexahedra do not have yet: refused by name, not run
-// untested (issue 60).
-void require_supported_cells(const Space &space, const Definition &def) {
-  if (space.mesh->simplicial()) return;
-  if (def.redistributed)
-    fail(ND_ERR_STATE, "mass redistribution on quadrilaterals and hexahedra is not supported yet");
-}
-}  // namespace
 
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
                                            const Ownership *own, const std::vector<double> *frozen) {
   require_complete(def.missing_for_operators());
-  require_supported_cells(space, def);
   auto d = std::make_unique<Discretization>(DofMap(space, def.dirichlet), def.lumped);
   d->counters = counters;
   std::vector<char> own_rows;  // per free DOF: of one of own's nodes

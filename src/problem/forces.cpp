@@ -47,7 +47,7 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
     if (!any) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
-    em.lump(lumped);  // as assemble_bulk
+    em.lump(lumped, contact_nodes != nullptr);  // as assemble_bulk
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) {
         const int64_t r = row_of[nodes[i] * d + a];
