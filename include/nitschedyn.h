@@ -181,6 +181,12 @@ extern "C" {
   X(ND_FRICTION_TRESCA, 1, "params[0] = s >= 0, the threshold (a stress), on the whole region") \
   X(ND_FRICTION_COULOMB, 2, "params[0] = F >= 0, the friction coefficient")
 
+/* Cell types for nd_mesh_create_cells and the generators: X(name, value, description) */
+#define ND_CELL_LIST(X)                                                                \
+  X(ND_CELL_SIMPLEX, 0, "intervals, triangles, tetrahedra: dim + 1 vertices; P1, P2")  \
+  X(ND_CELL_QUADRILATERAL, 1, "2D, 4 vertices counter-clockwise; Q1, Q2 (9 nodes)")    \
+  X(ND_CELL_HEXAHEDRON, 2, "3D, 8 vertices: the bottom face counter-clockwise, then the top; Q1, Q2 (27 nodes)")
+
 #define ND_ENUM_ENTRY_(name, value, text) name = value,
 enum nd_status { ND_STATUS_LIST(ND_ENUM_ENTRY_) };
 enum nd_scheme { ND_SCHEME_LIST(ND_ENUM_ENTRY_) };
@@ -190,6 +196,7 @@ enum nd_solver { ND_SOLVER_LIST(ND_ENUM_ENTRY_) };
 enum nd_guard { ND_GUARD_LIST(ND_ENUM_ENTRY_) };
 enum nd_matrix { ND_MATRIX_LIST(ND_ENUM_ENTRY_) };
 enum nd_friction { ND_FRICTION_LIST(ND_ENUM_ENTRY_) };
+enum nd_cell_type { ND_CELL_LIST(ND_ENUM_ENTRY_) };
 #undef ND_ENUM_ENTRY_
 
 typedef struct nd_mesh_s *nd_mesh;
@@ -221,12 +228,25 @@ ND_EXPORT int nd_mesh_create_rectangle(int64_t nx, int64_t ny, const double lo[2
 /* nx*ny*nz boxes of [lo, hi], each split into 6 tetrahedra */
 ND_EXPORT int nd_mesh_create_box(int64_t nx, int64_t ny, int64_t nz, const double lo[3],
                                  const double hi[3], nd_mesh *out);
+/* As nd_mesh_create with a cell type of ND_CELL_LIST: ND_CELL_SIMPLEX is
+   nd_mesh_create; ND_CELL_QUADRILATERAL (dim 2) and ND_CELL_HEXAHEDRON
+   (dim 3) cells have 2^dim vertices each, in the VTK and Gmsh order. */
+ND_EXPORT int nd_mesh_create_cells(int dim, int cell_type, int64_t n_nodes, const double *coords,
+                                   int64_t n_cells, const int64_t *cells, nd_mesh *out);
+/* The generators with a cell type: ND_CELL_SIMPLEX gives the meshes above,
+   ND_CELL_QUADRILATERAL (rectangle) and ND_CELL_HEXAHEDRON (box) keep each
+   rectangle or box whole. */
+ND_EXPORT int nd_mesh_create_rectangle_cells(int64_t nx, int64_t ny, const double lo[2], const double hi[2],
+                                             int cell_type, nd_mesh *out);
+ND_EXPORT int nd_mesh_create_box_cells(int64_t nx, int64_t ny, int64_t nz, const double lo[3],
+                                       const double hi[3], int cell_type, nd_mesh *out);
 /* Gmsh MSH 4.1 or 2.2, ASCII: the cells of the top dimension; each physical
    group of facets becomes the region with the group's tag, each physical
    group of cells the cell region with its tag (a cell in several groups:
    the largest tag). */
 ND_EXPORT int nd_mesh_read_gmsh(const char *path, nd_mesh *out);
-/* Adds boundary facets (dim vertices each) to a region (region >= 0). */
+/* Adds boundary facets (dim vertices each; a hexahedron's face: 4) to a
+   region (region >= 0). */
 ND_EXPORT int nd_mesh_set_region(nd_mesh m, int region, int64_t n_facets,
                                  const int64_t *facet_vertices);
 /* Adds the boundary facets whose vertices all lie in the box [lo, hi]. */
@@ -419,7 +439,8 @@ ND_EXPORT int nd_problem_get_dof_map(nd_problem p, int64_t n, int64_t *node, int
 /* F^n on the n free DOFs: the load the state at the current time holds. */
 ND_EXPORT int nd_problem_get_load(nd_problem p, int64_t n, double *f);
 /* The cells as the space numbers their FE nodes (P2: vertices, then the
-   edges (i,j), i<j, lexicographically): with nodes NULL the sizes, then
+   edges (i,j), i<j, lexicographically; Q2: vertices, edges, faces, centre
+   in VTK's order, nd_mesh_create_cells(3)): with nodes NULL the sizes, then
    *n_cells * *nodes_per_cell node indices. */
 ND_EXPORT int nd_problem_get_cells(nd_problem p, int64_t *n_cells, int *nodes_per_cell, int64_t *nodes);
 

@@ -225,6 +225,39 @@ START_TEST(mesh_create_dimension_and_sizes) {
 }
 END_TEST
 
+START_TEST(mesh_create_cells_errors) {
+  const double sq[8] = {0, 0, 1, 0, 1, 1, 0, 1}, lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+  const int64_t q[4] = {0, 1, 2, 3}, cw[4] = {0, 3, 2, 1};
+  nd_mesh m = MESH_SENTINEL;
+  EXPECT_ERR(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, q, NULL), ND_ERR_NULL, "nd_mesh_create_cells",
+             "out");
+  EXPECT_ERR(nd_mesh_create_cells(2, 3, 4, sq, 1, q, &m), ND_ERR_VALUE, "nd_mesh_create_cells", "cell_type");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create_cells(2, -1, 4, sq, 1, q, &m), ND_ERR_VALUE, "nd_mesh_create_cells", "cell_type");
+  EXPECT_ERR(nd_mesh_create_cells(3, ND_CELL_QUADRILATERAL, 4, sq, 1, q, &m), ND_ERR_DIMENSION,
+             "nd_mesh_create_cells", "quadrilaterals need dim 2");
+  EXPECT_ERR(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, NULL, 1, q, &m), ND_ERR_NULL, "nd_mesh_create_cells",
+             "coords");
+  EXPECT_ERR(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 0, q, &m), ND_ERR_SIZE, "nd_mesh_create_cells",
+             "n_cells");
+  EXPECT_ERR(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, cw, &m), ND_ERR_DEGENERATE,
+             "nd_mesh_create_cells", "counter-clockwise");
+  EXPECT_ERR(nd_mesh_create_rectangle_cells(2, 2, lo, hi, ND_CELL_HEXAHEDRON, &m), ND_ERR_VALUE,
+             "nd_mesh_create_rectangle_cells", "cell_type");
+  EXPECT_ERR(nd_mesh_create_rectangle_cells(0, 2, lo, hi, ND_CELL_QUADRILATERAL, &m), ND_ERR_SIZE,
+             "nd_mesh_create_rectangle_cells", "direction 0");
+  EXPECT_ERR(nd_mesh_create_rectangle_cells(2, 2, lo, hi, ND_CELL_QUADRILATERAL, NULL), ND_ERR_NULL,
+             "nd_mesh_create_rectangle_cells", "out");
+  EXPECT_ERR(nd_mesh_create_box_cells(2, 2, 2, lo, hi, 5, &m), ND_ERR_VALUE, "nd_mesh_create_box_cells",
+             "cell_type");
+  EXPECT_ERR(nd_mesh_create_box_cells(2, 2, 2, NULL, hi, ND_CELL_HEXAHEDRON, &m), ND_ERR_NULL,
+             "nd_mesh_create_box_cells", "lo");
+  ck_assert_ptr_null(m);
+  EXPECT_OK(nd_mesh_create_cells(2, ND_CELL_QUADRILATERAL, 4, sq, 1, q, &m));
+  EXPECT_OK(nd_mesh_destroy(&m));
+}
+END_TEST
+
 START_TEST(mesh_create_indices) {
   const double x[] = {0, 1, 2};
   nd_mesh m = MESH_SENTINEL;
@@ -1560,6 +1593,7 @@ static Suite *api_errors_suite(void) {
   TCase *mesh = tcase_create("mesh");
   tcase_add_test(mesh, mesh_null_arguments);
   tcase_add_test(mesh, mesh_create_dimension_and_sizes);
+  tcase_add_test(mesh, mesh_create_cells_errors);
   tcase_add_test(mesh, mesh_create_orphan_vertex);
   tcase_add_test(mesh, mesh_create_indices);
   tcase_add_test(mesh, mesh_create_nonfinite);

@@ -41,25 +41,9 @@ static const double kRtol = 1e-10; /* the library's default Newton rtol, asked o
 
 /* ---- the host's dense linear algebra ---------------------------------------- */
 
-typedef struct {
-  int64_t n, nnz;
-  int64_t *ptr, *col;
-  double *val;
-} csr;
-
-static csr get_matrix(nd_problem p, int which) {
-  csr a = {0, 0, NULL, NULL, NULL};
-  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &a.n, &a.nnz, NULL, NULL, NULL));
-  a.ptr = malloc(sizeof(int64_t) * (size_t)(a.n + 1));
-  a.col = malloc(sizeof(int64_t) * (size_t)(a.nnz ? a.nnz : 1));
-  a.val = malloc(sizeof(double) * (size_t)(a.nnz ? a.nnz : 1));
-  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &a.n, &a.nnz, a.ptr, a.col, a.val));
-  return a;
-}
-
-static void csr_free(csr *a) {
-  free(a->ptr), free(a->col), free(a->val);
-}
+typedef nd_test_csr csr;
+static csr get_matrix(nd_problem p, int which) { return nd_test_get_matrix(p, which); }
+static void csr_free(csr *a) { nd_test_csr_free(a); }
 
 /* dense n x n, row-major, from a CSR */
 static double *dense(const csr *a) {

@@ -87,15 +87,15 @@ START_TEST(malformed_files_are_refused_with_file_and_line) {
       {"$MeshFormat\n4.1 1 8\n$EndMeshFormat\n", ":2: binary MSH files are not supported", ND_ERR_FORMAT},
       {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 x 0 0\n$EndNodes\n",
        ":7: expected a node coordinate (a number), found 'x'", ND_ERR_FORMAT},
-      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n"
-       "$Elements\n1\n1 3 2 0 1 1 2 3 4\n$EndElements\n",
-       ":13: element type 3 is not supported", ND_ERR_FORMAT},
+      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 0 1\n6 0 1 1\n"
+       "$EndNodes\n$Elements\n1\n1 6 2 0 1 1 2 3 4 5 6\n$EndElements\n",
+       ":15: element type 6 is not supported", ND_ERR_FORMAT},
       {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n$Elements\n1\n1 1 2 0 1 1 7\n"
        "$EndElements\n",
        "node 7, which is not in $Nodes", ND_ERR_FORMAT},
       {"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n0 1 0 2\n1\n",
        ":5: the number of nodes (2) is more than the rest of the file (15 bytes) can hold", ND_ERR_FORMAT},
-      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n", "no line, triangle or tetrahedron",
+      {"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n", "no line, triangle, quadrilateral, tetrahedron or hexahedron",
        ND_ERR_FORMAT},
   };
   char path[256];
@@ -203,12 +203,13 @@ START_TEST(vtu_has_time_cycle_and_stress) {
   char vtu[256];
   snprintf(vtu, sizeof vtu, "/tmp/nd_test_io_stress_%d.vtu", (int)getpid());
   for (int dim = 1; dim <= 3; ++dim)
+    for (int type = 0; type <= (dim > 1 ? dim - 1 : 0); type += dim > 1 ? dim - 1 : 1) /* simplices, Q cells */
     for (int degree = 1; degree <= 2; ++degree) {
       nd_mesh m = NULL;
       nd_problem p = NULL;
       if (dim == 1) ND_OK_OR_FAIL(nd_mesh_create_interval(5, 0, 1, &m));
-      if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle(3, 2, lo, hi, &m));
-      if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box(2, 2, 1, lo, hi, &m));
+      if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(3, 2, lo, hi, type, &m));
+      if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(2, 2, 1, lo, hi, type, &m));
       int64_t n_cells = 0;
       ND_OK_OR_FAIL(nd_mesh_get_cell_count(m, &n_cells));
       ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
@@ -258,7 +259,11 @@ START_TEST(vtu_has_time_cycle_and_stress) {
         }
       /* the gradient of an interpolated affine field: sums of O(1/h) terms,
          a few hundred ulps of E |G| at most */
-      ck_assert_msg(worst <= 1e-12 * E * gmax, "%dD P%d: stress off by %g", dim, degree, worst);
+      ck_assert_msg(worst <= 1e-12 * E * gmax, "%dD P%d cell type %d: stress off by %g", dim, degree, type, worst);
+      if (type) { /* VTK_QUAD 9, VTK_HEXAHEDRON 12, VTK_BIQUADRATIC_QUAD 28, VTK_TRIQUADRATIC_HEXAHEDRON 29 */
+        const long vtk = strtol(values_of(text, "types"), NULL, 10);
+        ck_assert_int_eq(vtk, degree == 1 ? (dim == 2 ? 9 : 12) : (dim == 2 ? 28 : 29));
+      }
       free(x);
       free(u);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));

@@ -59,6 +59,18 @@ unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size) {
   return buf;
 }
 
+nd_test_csr nd_test_get_matrix(nd_problem p, int which) {
+  nd_test_csr a = {0, 0, NULL, NULL, NULL};
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &a.n, &a.nnz, NULL, NULL, NULL));
+  a.ptr = malloc(sizeof(int64_t) * (size_t)(a.n + 1));
+  a.col = malloc(sizeof(int64_t) * (size_t)(a.nnz ? a.nnz : 1));
+  a.val = malloc(sizeof(double) * (size_t)(a.nnz ? a.nnz : 1));
+  ND_OK_OR_FAIL(nd_problem_get_matrix(p, which, &a.n, &a.nnz, a.ptr, a.col, a.val));
+  return a;
+}
+
+void nd_test_csr_free(nd_test_csr *a) { free(a->ptr), free(a->col), free(a->val); }
+
 void nd_test_write_file(const char *path, const char *text) {
   FILE *f = fopen(path, "w");
   ck_assert_ptr_nonnull(f);

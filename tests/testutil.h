@@ -33,6 +33,16 @@ extern const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES];
 /* explicit Newmark (beta = 0): lumped mass and small steps */
 int nd_test_is_explicit(const nd_test_scheme *s);
 
+/* An operator of nd_problem_get_matrix (CSR on the free DOFs), fetched in
+   its two calls; nd_test_csr_free frees its arrays. */
+typedef struct {
+  int64_t n, nnz;
+  int64_t *ptr, *col;
+  double *val;
+} nd_test_csr;
+nd_test_csr nd_test_get_matrix(nd_problem p, int which);
+void nd_test_csr_free(nd_test_csr *a);
+
 /* writes text to the file at path (a check fails when it cannot) */
 void nd_test_write_file(const char *path, const char *text);
 

@@ -30,6 +30,7 @@ static const constant solver_list[] = {ND_SOLVER_LIST(ND_GEN_ENTRY_)};
 static const constant guard_list[] = {ND_GUARD_LIST(ND_GEN_ENTRY_)};
 static const constant matrix_list[] = {ND_MATRIX_LIST(ND_GEN_ENTRY_)};
 static const constant friction_list[] = {ND_FRICTION_LIST(ND_GEN_ENTRY_)};
+static const constant cell_list[] = {ND_CELL_LIST(ND_GEN_ENTRY_)};
 #undef ND_GEN_ENTRY_
 
 typedef struct {
@@ -45,6 +46,7 @@ static const group groups[] = {
     ND_GROUP_(ND_FIELD_LIST, "FIELD", field_list),    ND_GROUP_(ND_SCALAR_LIST, "SCALAR", scalar_list),
     ND_GROUP_(ND_SOLVER_LIST, "SOLVER", solver_list), ND_GROUP_(ND_GUARD_LIST, "GUARD", guard_list),
     ND_GROUP_(ND_MATRIX_LIST, "MATRIX", matrix_list), ND_GROUP_(ND_FRICTION_LIST, "FRICTION", friction_list),
+    ND_GROUP_(ND_CELL_LIST, "CELL", cell_list),
 };
 #undef ND_GROUP_
 enum { N_GROUPS = sizeof groups / sizeof groups[0], FORTRAN_LINE_MAX = 132 };

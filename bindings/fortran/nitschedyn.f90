@@ -32,6 +32,7 @@ module nitschedyn
   ! ---- the C functions, under their C names --------------------------------
   public :: nd_version, nd_last_error, nd_strerror, nd_set_blas_threads, nd_get_blas_threads
   public :: nd_mesh_create, nd_mesh_create_interval, nd_mesh_create_rectangle, nd_mesh_create_box, &
+            nd_mesh_create_cells, nd_mesh_create_rectangle_cells, nd_mesh_create_box_cells, &
             nd_mesh_read_gmsh, nd_mesh_set_region, nd_mesh_mark_boundary_box, nd_mesh_get_dimension, &
             nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy, &
             nd_mesh_set_cell_region, nd_mesh_get_cell_regions
@@ -168,6 +169,38 @@ module nitschedyn
       type(c_ptr), intent(out) :: out
       integer(c_int) :: status
     end function nd_mesh_create_box
+
+    ! cell_type: ND_CELL_SIMPLEX, ND_CELL_QUADRILATERAL, ND_CELL_HEXAHEDRON
+    function nd_mesh_create_cells(dim, cell_type, n_nodes, coords, n_cells, cells, out) result(status) &
+        bind(C, name='nd_mesh_create_cells')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int), value :: dim, cell_type
+      integer(c_int64_t), value :: n_nodes, n_cells
+      real(c_double), intent(in) :: coords(*)
+      integer(c_int64_t), intent(in) :: cells(*)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_cells
+
+    function nd_mesh_create_rectangle_cells(nx, ny, lo, hi, cell_type, out) result(status) &
+        bind(C, name='nd_mesh_create_rectangle_cells')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nx, ny
+      real(c_double), intent(in) :: lo(2), hi(2)
+      integer(c_int), value :: cell_type
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_rectangle_cells
+
+    function nd_mesh_create_box_cells(nx, ny, nz, lo, hi, cell_type, out) result(status) &
+        bind(C, name='nd_mesh_create_box_cells')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nx, ny, nz
+      real(c_double), intent(in) :: lo(3), hi(3)
+      integer(c_int), value :: cell_type
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_box_cells
 
     ! path NUL-terminated: trim(path)//c_null_char, or use nd_mesh_read_gmsh_f
     function nd_mesh_read_gmsh(path, out) result(status) bind(C, name='nd_mesh_read_gmsh')

@@ -123,6 +123,9 @@ _PROTOTYPES = {
     "nd_mesh_create_interval": (_int, [_i64, _dbl, _dbl, _pptr]),
     "nd_mesh_create_rectangle": (_int, [_i64, _i64, _pdbl, _pdbl, _pptr]),
     "nd_mesh_create_box": (_int, [_i64, _i64, _i64, _pdbl, _pdbl, _pptr]),
+    "nd_mesh_create_cells": (_int, [_int, _int, _i64, _pdbl, _i64, _pi64, _pptr]),
+    "nd_mesh_create_rectangle_cells": (_int, [_i64, _i64, _pdbl, _pdbl, _int, _pptr]),
+    "nd_mesh_create_box_cells": (_int, [_i64, _i64, _i64, _pdbl, _pdbl, _int, _pptr]),
     "nd_mesh_read_gmsh": (_int, [_str, _pptr]),
     "nd_mesh_set_region": (_int, [_ptr, _int, _i64, _pi64]),
     "nd_mesh_mark_boundary_box": (_int, [_ptr, _int, _pdbl, _pdbl]),
@@ -313,14 +316,17 @@ class _Handle:
 
 
 class Mesh(_Handle):
-    """A simplicial mesh (nd_mesh) with boundary regions."""
+    """A mesh (nd_mesh) of simplices, quadrilaterals or hexahedra, with
+    boundary regions."""
 
     _destroy = lib.nd_mesh_destroy
 
-    def __init__(self, coords=None, cells=None):
+    def __init__(self, coords=None, cells=None, cell_type=0):
         """A mesh from coords (n_nodes, dim) and cells (n_cells, dim+1) of
-        0-based vertex indices (both copied); Mesh() alone is empty, for
-        the constructors below."""
+        0-based vertex indices (both copied); with cell_type
+        ND_CELL_QUADRILATERAL or ND_CELL_HEXAHEDRON, cells (n_cells, 2**dim)
+        (nd_mesh_create_cells). Mesh() alone is empty, for the constructors
+        below."""
         super().__init__()
         if coords is None:
             return
@@ -329,9 +335,14 @@ class Mesh(_Handle):
             x = x.reshape(-1, 1)
         c = np.ascontiguousarray(cells, dtype=np.int64)
         dim = x.shape[1]
-        if c.ndim != 2 or c.shape[1] != dim + 1:
-            raise ValueError("cells must have shape (n_cells, %d)" % (dim + 1))
-        _check(lib.nd_mesh_create(dim, x.shape[0], _dptr(x), c.shape[0], _i64ptr(c), ctypes.byref(self._h)))
+        nv = dim + 1 if cell_type == 0 else 2**dim
+        if c.ndim != 2 or c.shape[1] != nv:
+            raise ValueError("cells must have shape (n_cells, %d)" % nv)
+        if cell_type == 0:
+            _check(lib.nd_mesh_create(dim, x.shape[0], _dptr(x), c.shape[0], _i64ptr(c), ctypes.byref(self._h)))
+        else:
+            _check(lib.nd_mesh_create_cells(dim, cell_type, x.shape[0], _dptr(x), c.shape[0], _i64ptr(c),
+                                            ctypes.byref(self._h)))
 
     @classmethod
     def interval(cls, n_cells, a=0.0, b=1.0):
@@ -340,17 +351,29 @@ class Mesh(_Handle):
         return m
 
     @classmethod
-    def rectangle(cls, nx, ny, lo, hi):
+    def rectangle(cls, nx, ny, lo, hi, cell_type=0):
+        """nx*ny rectangles, each in two triangles (cell_type 0) or whole
+        (ND_CELL_QUADRILATERAL)"""
         m = cls()
-        _check(lib.nd_mesh_create_rectangle(nx, ny, _dptr(_doubles(lo, 2, "lo")), _dptr(_doubles(hi, 2, "hi")),
-                                            ctypes.byref(m._h)))
+        if cell_type == 0:
+            _check(lib.nd_mesh_create_rectangle(nx, ny, _dptr(_doubles(lo, 2, "lo")), _dptr(_doubles(hi, 2, "hi")),
+                                                ctypes.byref(m._h)))
+        else:
+            _check(lib.nd_mesh_create_rectangle_cells(nx, ny, _dptr(_doubles(lo, 2, "lo")),
+                                                      _dptr(_doubles(hi, 2, "hi")), cell_type, ctypes.byref(m._h)))
         return m
 
     @classmethod
-    def box(cls, nx, ny, nz, lo, hi):
+    def box(cls, nx, ny, nz, lo, hi, cell_type=0):
+        """nx*ny*nz boxes, each in six tetrahedra (cell_type 0) or whole
+        (ND_CELL_HEXAHEDRON)"""
         m = cls()
-        _check(lib.nd_mesh_create_box(nx, ny, nz, _dptr(_doubles(lo, 3, "lo")), _dptr(_doubles(hi, 3, "hi")),
-                                      ctypes.byref(m._h)))
+        if cell_type == 0:
+            _check(lib.nd_mesh_create_box(nx, ny, nz, _dptr(_doubles(lo, 3, "lo")), _dptr(_doubles(hi, 3, "hi")),
+                                          ctypes.byref(m._h)))
+        else:
+            _check(lib.nd_mesh_create_box_cells(nx, ny, nz, _dptr(_doubles(lo, 3, "lo")), _dptr(_doubles(hi, 3, "hi")),
+                                                cell_type, ctypes.byref(m._h)))
         return m
 
     @classmethod

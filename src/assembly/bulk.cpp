@@ -84,8 +84,10 @@ ElementMatrices::ElementMatrices(const Space &s, const CellMaterials &mat)
       ke(static_cast<size_t>(s.basis.n * s.dim * s.basis.n * s.dim)),
       s_(s),
       mat_(mat),
-      mass_rule_(simplex_rule(s.dim, 2 * s.degree)),
-      stiff_rule_(simplex_rule(s.dim, 2 * (s.degree - 1))),
+      // a multilinear map's det J has degree dim - 1 in each variable: the
+      // mass is exact with it, the stiffness on parallelograms and parallelepipeds
+      mass_rule_(cell_rule(s.mesh->cell_type, s.dim, s.mesh->simplicial() ? 2 * s.degree : 2 * s.degree + s.dim - 1)),
+      stiff_rule_(cell_rule(s.mesh->cell_type, s.dim, s.mesh->simplicial() ? 2 * (s.degree - 1) : 2 * s.degree)),
       phi_(static_cast<size_t>(s.basis.n)),
       gref_(static_cast<size_t>(s.basis.n * s.dim)),
       g_(static_cast<size_t>(s.basis.n * s.dim)) {
@@ -97,18 +99,22 @@ void ElementMatrices::compute(int64_t c) {
   const size_t which = mat_.uniform() ? 0 : static_cast<size_t>(mat_.index[c]);
   const double lam = lam_[which], mu = mu_[which];
   rho = mat_.list[which].density;
-  const AffineMap map(*s_.mesh, c);
-  det = map.det;
+  CellMap map(*s_.mesh, c);
+  const bool affine = map.affine;
+  mass = affine ? rho * map.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0) : 0.0;
   std::fill(me.begin(), me.end(), 0.0);
   std::fill(ke.begin(), ke.end(), 0.0);
   for (size_t q = 0; q < mass_rule_.size(); ++q) {
+    map.at(&mass_rule_.points[q * d]);
     s_.basis.values(&mass_rule_.points[q * d], phi_.data());
     const double w = mass_rule_.weights[q] * map.det * rho;
+    if (!affine) mass += w;
     for (int i = 0; i < nb; ++i)
       for (int j = 0; j < nb; ++j) me[i * nb + j] += w * phi_[i] * phi_[j];
   }
   const std::vector<double> &g = g_;
   for (size_t q = 0; q < stiff_rule_.size(); ++q) {
+    map.at(&stiff_rule_.points[q * d]);
     s_.basis.gradients(&stiff_rule_.points[q * d], gref_.data());
     for (int i = 0; i < nb; ++i) map.physical_gradient(&gref_[i * d], &g_[i * d]);
     const double w = stiff_rule_.weights[q] * map.det;
@@ -126,6 +132,22 @@ void ElementMatrices::compute(int64_t c) {
   }
 }
 
+void ElementMatrices::lump(std::vector<double> &diagonal, bool redistributed) const {
+  const int nb = s_.basis.n;
+  diagonal.resize(static_cast<size_t>(nb));
+  if (!s_.mesh->simplicial() && s_.degree == 1 && !redistributed) {
+    for (int i = 0; i < nb; ++i) {
+      double sum = 0;
+      for (int j = 0; j < nb; ++j) sum += me[i * nb + j];
+      diagonal[i] = sum;
+    }
+    return;
+  }
+  double diag = 0;
+  for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
+  for (int i = 0; i < nb; ++i) diagonal[i] = me[i * nb + i] * mass / diag;
+}
+
 BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMaterials &mat,
                             const std::vector<char> *contact_nodes, const AssemblyPart &part) {
   BulkOperators ops;
@@ -136,14 +158,12 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMateri
   ElementMatrices em(s, mat);
   const std::vector<double> &me = em.me, &ke = em.ke;
   std::vector<int64_t> offset(static_cast<size_t>(nb));
+  std::vector<double> lumped;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     if (!part.takes(s, dofs, c)) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
-    // HRZ lumping: the consistent diagonal scaled to the element's mass
-    double diag = 0;
-    for (int i = 0; i < nb; ++i) diag += me[i * nb + i];
-    const double cell_mass = em.rho * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
+    em.lump(lumped, contact_nodes != nullptr);
     const int64_t *nodes = s.nodes_of(c);
     for (int i = 0; i < nb; ++i) {
       bool found = false;  // offset[j]: where node j's columns start in node i's rows
@@ -159,7 +179,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMateri
           }
           found = true;
         }
-        ops.M_lumped[r] += me[i * nb + i] * cell_mass / diag;
+        ops.M_lumped[r] += lumped[i];
         for (int j = 0; j < nb; ++j) {
           if (offset[j] < 0) continue;
           int64_t k = row_start + offset[j];
@@ -210,11 +230,12 @@ std::vector<double> assemble_load(const Space &s, const DofMap &dofs, const doub
         if (r >= 0) F[r] += w * phi[i] * vec[a];
       }
   };
-  if (f) {
-    const QuadratureRule rule = simplex_rule(d, s.degree);
+  if (f) {  // (exact for P1, P2; for Q1, Q2 with det J's degree added)
+    const QuadratureRule rule = cell_rule(s.mesh->cell_type, d, s.mesh->simplicial() ? s.degree : s.degree + d - 1);
     for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
-      const AffineMap map(*s.mesh, c);
+      CellMap map(*s.mesh, c);
       for (size_t q = 0; q < rule.size(); ++q) {
+        map.at(&rule.points[q * d]);
         s.basis.values(&rule.points[q * d], phi.data());
         add(s.nodes_of(c), f, rule.weights[q] * map.det);
       }

@@ -35,10 +35,13 @@ class ElementMatrices {
  public:
   ElementMatrices(const Space &s, const CellMaterials &mat);
   ElementMatrices(const Space &s, CellMaterials &&mat) = delete;  // (it keeps a reference)
-  void compute(int64_t cell);  // fills me, ke, det and rho
+  void compute(int64_t cell);  // fills me, ke, mass and rho
+  // The lumped diagonal of me as it is then: Q1, the row sums; otherwise,
+  // and after a redistribution, HRZ: the diagonal scaled to the cell's mass.
+  void lump(std::vector<double> &diagonal, bool redistributed) const;
   std::vector<double> me, ke;
-  double det = 0;  // of the cell's affine map
-  double rho = 0;  // the cell's density
+  double mass = 0;  // the cell's: rho |K|
+  double rho = 0;   // the cell's density
 
  private:
   const Space &s_;
@@ -50,7 +53,7 @@ class ElementMatrices {
 
 struct BulkOperators {
   Csr M, K;
-  std::vector<double> M_lumped;  // diagonal, HRZ (row sums for P1)
+  std::vector<double> M_lumped;  // diagonal, HRZ (row sums for P1 and Q1)
 };
 // With `contact_nodes` (assembly/redistribution.hpp; nullptr: off) the mass
 // of those nodes is redistributed; the lumped mass is then the HRZ lumping of

@@ -35,7 +35,7 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
   for (size_t ir = 0; ir < regions.size(); ++ir) {
     for (int64_t b : sp.mesh->regions.at(regions[ir])) {
       const Facet &f = sp.mesh->boundary[b];
-      const AffineMap map(*sp.mesh, f.cell);
+      CellMap map(*sp.mesh, f.cell);
       const double h = sp.mesh->cell_diameter(f.cell), length = mat.gamma_length(f.cell, h);
       const Material &m = mat.of(f.cell);
       const double lam = m.lambda(d), mu = m.mu(d);
@@ -46,6 +46,7 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
         for (int k = 0; k < 3; ++k) n[k] = -nu[k];
         sp.basis.values(fp.xi, phi.data());
         sp.basis.gradients(fp.xi, gref.data());
+        map.at(fp.xi);
         for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
         SparseRow a, s, af, sf;
         double t[6] = {0, 0, 0, 0, 0, 0};

@@ -9,7 +9,8 @@ namespace nd {
 void cell_stress(const Space &s, const CellMaterials &mat, const double *U_full, int64_t c, const double *xi,
                  double sigma[9]) {
   const int d = s.dim, n = s.basis.n;
-  const AffineMap map(*s.mesh, c);
+  CellMap map(*s.mesh, c);
+  map.at(xi);
   std::vector<double> gref(static_cast<size_t>(n * d));
   s.basis.gradients(xi, gref.data());
   double G[9] = {0};  // G[i][j] = du_i/dx_j

@@ -50,6 +50,33 @@ ND_EXPORT int nd_mesh_create_box(int64_t nx, int64_t ny, int64_t nz, const doubl
   });
 }
 
+ND_EXPORT int nd_mesh_create_cells(int dim, int cell_type, int64_t n_nodes, const double *coords, int64_t n_cells,
+                                   const int64_t *cells, nd_mesh *out) {
+  return nd::guarded("nd_mesh_create_cells", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    return publish(nd::make_mesh(dim, n_nodes, coords, n_cells, cells, {}, cell_type), out);
+  });
+}
+
+ND_EXPORT int nd_mesh_create_rectangle_cells(int64_t nx, int64_t ny, const double lo[2], const double hi[2],
+                                             int cell_type, nd_mesh *out) {
+  return nd::guarded("nd_mesh_create_rectangle_cells", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    return publish(nd::make_rectangle(nx, ny, lo, hi, cell_type), out);
+  });
+}
+
+ND_EXPORT int nd_mesh_create_box_cells(int64_t nx, int64_t ny, int64_t nz, const double lo[3], const double hi[3],
+                                       int cell_type, nd_mesh *out) {
+  return nd::guarded("nd_mesh_create_box_cells", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    return publish(nd::make_box(nx, ny, nz, lo, hi, cell_type), out);
+  });
+}
+
 ND_EXPORT int nd_mesh_read_gmsh(const char *path, nd_mesh *out) {
   return nd::guarded("nd_mesh_read_gmsh", [&] {
     nd::need(out, "out");

@@ -2,14 +2,30 @@
 
 #include <cmath>
 
+#include "mesh/cell_shape.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/mesh.hpp"
 
 namespace nd {
 
-AffineMap::AffineMap(const Mesh &m, int64_t c) : dim(m.dim) {
+CellMap::CellMap(const Mesh &m, int64_t c) : dim(m.dim), affine(m.simplicial()) {
   for (int i = 0; i < dim; ++i) x0[i] = m.x(m.cell(c)[0])[i];
+  if (!affine) {
+    for (int v = 0; v < m.cell_vertices(); ++v) corners_[v] = m.x(m.cell(c)[v]);
+    const double centre[3] = {0.5, 0.5, 0.5};
+    multilinear_at(centre);
+    return;
+  }
   m.cell_jacobian(c, J);
+  invert();
+}
+
+void CellMap::multilinear_at(const double *xi) {
+  cube::jacobian(dim, corners_, xi, J);
+  invert();
+}
+
+void CellMap::invert() {
   det = determinant(dim, J);
   if (dim == 1) {
     Jinv[0] = 1.0 / det;
@@ -32,7 +48,7 @@ AffineMap::AffineMap(const Mesh &m, int64_t c) : dim(m.dim) {
   }
 }
 
-void AffineMap::physical_gradient(const double *gxi, double *gx) const {
+void CellMap::physical_gradient(const double *gxi, double *gx) const {
   for (int i = 0; i < dim; ++i) {
     double s = 0;
     for (int k = 0; k < dim; ++k) s += Jinv[k * dim + i] * gxi[k];
@@ -40,7 +56,11 @@ void AffineMap::physical_gradient(const double *gxi, double *gx) const {
   }
 }
 
-void AffineMap::to_physical(const double *xi, double *x) const {
+void CellMap::to_physical(const double *xi, double *x) const {
+  if (!affine) {
+    cube::to_physical(dim, corners_, xi, x);
+    return;
+  }
   for (int i = 0; i < dim; ++i) {
     double s = x0[i];
     for (int k = 0; k < dim; ++k) s += J[i * dim + k] * xi[k];
@@ -48,7 +68,11 @@ void AffineMap::to_physical(const double *xi, double *x) const {
   }
 }
 
-Lagrange::Lagrange(int d, int p) : dim(d), degree(p), n(p == 1 ? d + 1 : d + 1 + n_edges(d)) {}
+Lagrange::Lagrange(int d, int p, int type)
+    : dim(d), degree(p), n(type ? (p == 1 ? 1 << d : d == 2 ? 9 : 27) : p == 1 ? d + 1 : d + 1 + n_edges(d)),
+      cell_type(type) {
+  if (type) cube_nodes(d, p, index_);
+}
 
 void Lagrange::edge_vertices(int d, int e, int &a, int &b) {
   for (int i = 0, k = 0; i <= d; ++i)
@@ -75,6 +99,10 @@ void barycentric(int dim, const double *xi, double *lam, double *dlam) {
 }  // namespace
 
 void Lagrange::values(const double *xi, double *phi) const {
+  if (cell_type) {
+    cube_values(xi, phi);
+    return;
+  }
   double lam[4], dlam[12];
   barycentric(dim, xi, lam, dlam);
   if (degree == 1) {
@@ -90,6 +118,10 @@ void Lagrange::values(const double *xi, double *phi) const {
 }
 
 void Lagrange::gradients(const double *xi, double *dphi) const {
+  if (cell_type) {
+    cube_gradients(xi, dphi);
+    return;
+  }
   double lam[4], dlam[12];
   barycentric(dim, xi, lam, dlam);
   for (int i = 0; i <= dim; ++i)

@@ -1,17 +1,23 @@
 #include "fem/space.hpp"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <utility>
 
 #include "common/error.hpp"
+#include "mesh/cell_shape.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
 
 Space::Space(std::shared_ptr<const Mesh> m, int p)
-    : mesh(std::move(m)), dim(mesh->dim), degree(p), basis(mesh->dim, p) {
+    : mesh(std::move(m)), dim(mesh->dim), degree(p), basis(mesh->dim, p, mesh->cell_type) {
   const Mesh &msh = *mesh;
+  if (!msh.simplicial()) {
+    number_cube_nodes();
+    return;
+  }
   const int nv = dim + 1;
   cell_nodes.resize(static_cast<size_t>(msh.n_cells) * basis.n);
   std::map<std::pair<int64_t, int64_t>, int64_t> edge_id;
@@ -42,19 +48,68 @@ Space::Space(std::shared_ptr<const Mesh> m, int p)
     }
 }
 
+// Q2: the vertices, then per cell in turn its new edges, faces (3D) and its
+// centre; a node's position is the mean of its edge's, face's or cell's
+// vertices (the multilinear map's value at its reference position).
+void Space::number_cube_nodes() {
+  const Mesh &msh = *mesh;
+  const int nv = msh.cell_vertices(), nb = basis.n;
+  cell_nodes.resize(static_cast<size_t>(msh.n_cells) * nb);
+  std::map<std::array<int64_t, 4>, int64_t> shared;  // sorted vertices (edges padded with -1) -> node
+  int64_t next = msh.n_vertices;
+  auto node_of = [&](std::array<int64_t, 4> key, int n_vertices) {
+    std::sort(key.begin(), key.begin() + n_vertices);
+    auto it = shared.emplace(key, next);
+    if (it.second) {
+      ++next;
+      double x[3] = {0, 0, 0};
+      for (int i = 0; i < n_vertices; ++i)
+        for (int k = 0; k < dim; ++k) x[k] += msh.x(key[i])[k];
+      for (int k = 0; k < dim; ++k) edge_coords_.push_back(x[k] / n_vertices);
+    }
+    return it.first->second;
+  };
+  for (int64_t c = 0; c < msh.n_cells; ++c) {
+    const int64_t *v = msh.cell(c);
+    int64_t *out = &cell_nodes[c * nb];
+    for (int i = 0; i < nv; ++i) out[i] = v[i];
+    if (degree == 1) continue;
+    int at = nv;
+    for (int e = 0; e < cube::n_edges(dim); ++e)
+      out[at++] = node_of({v[cube::kEdge[e][0]], v[cube::kEdge[e][1]], -1, -1}, 2);
+    if (dim == 3)
+      for (int f = 0; f < cube::n_facets(dim); ++f) {
+        std::array<int64_t, 4> face;
+        for (int k = 0; k < 4; ++k) face[k] = v[cube::facet_vertex(dim, f, k)];
+        out[at++] = node_of(face, 4);
+      }
+    double x[3] = {0, 0, 0};  // the centre: the cell's own node
+    for (int i = 0; i < nv; ++i)
+      for (int k = 0; k < dim; ++k) x[k] += msh.x(v[i])[k];
+    for (int k = 0; k < dim; ++k) edge_coords_.push_back(x[k] / nv);
+    out[at] = next++;
+  }
+  n_nodes = next;
+}
+
 std::vector<int64_t> Space::facet_nodes(const Facet &f) const {
   std::vector<int64_t> out;
   const int64_t *nodes = nodes_of(f.cell);
+  if (!mesh->simplicial()) {  // facet 2 axis + side: the nodes at xi_axis = side
+    for (int i = 0; i < basis.n; ++i)
+      if (basis.tensor_index(i, f.local / 2) == f.local % 2) out.push_back(nodes[i]);
+    return out;
+  }
   for (int i = 0; i < basis.n; ++i) {
     // a vertex node lies on the facet unless it is the opposite vertex; an
     // edge node unless its edge touches the opposite vertex
     bool on = true;
     if (i <= dim) {
-      on = i != f.opposite;
+      on = i != f.local;
     } else {
       int a, b;
       Lagrange::edge_vertices(dim, i - dim - 1, a, b);
-      on = a != f.opposite && b != f.opposite;
+      on = a != f.local && b != f.local;
     }
     if (on) out.push_back(nodes[i]);
   }

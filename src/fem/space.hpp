@@ -1,5 +1,5 @@
-// The vector P1/P2 Lagrange space on a mesh: FE nodes (vertices, then one
-// node per edge for P2), DOFs (node * dim + component) and the numbering of
+// The vector P1/P2 (Q1/Q2) Lagrange space on a mesh: FE nodes (vertices,
+// then one node per edge for P2; per edge, face and cell for Q2), DOFs (node * dim + component) and the numbering of
 // the free DOFs left after eliminating the clamped (Dirichlet) ones.
 #pragma once
 #include <cstdint>
@@ -20,7 +20,7 @@ struct Space {
 
   Space(std::shared_ptr<const Mesh> m, int degree);
   // a node's dim coordinates: a vertex's are the mesh's (not copied), an
-  // edge node's (P2) its edge's midpoint
+  // edge node's (P2) its edge's midpoint (Q2: a face's, a cell's centre)
   const double *node_x(int64_t node) const {
     return node < mesh->n_vertices ? mesh->x(node) : &edge_coords_[(node - mesh->n_vertices) * dim];
   }
@@ -31,6 +31,7 @@ struct Space {
 
  private:
   std::vector<double> edge_coords_;  // (n_nodes - n_vertices) * dim
+  void number_cube_nodes();
 };
 
 // Free DOFs: free[dof] = index in the unknown vector U, or -1 if clamped.

@@ -49,13 +49,19 @@ struct VtkCell {
   int type;
   std::vector<int> order;
 };
-VtkCell vtk_cell(int dim, int degree) {
+VtkCell vtk_cell(int dim, int degree, int cell_type) {
+  if (cell_type != ND_CELL_SIMPLEX) {  // (the local order is VTK's: fem/simplex.hpp)
+    std::vector<int> order(static_cast<size_t>(degree == 1 ? 1 << dim : dim == 2 ? 9 : 27));
+    for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+    return {degree == 1 ? (dim == 2 ? 9 : 12) : (dim == 2 ? 28 : 29), order};
+  }
   if (degree == 1) return {dim == 1 ? 3 : dim == 2 ? 5 : 10, dim == 1 ? std::vector<int>{0, 1} : dim == 2 ? std::vector<int>{0, 1, 2} : std::vector<int>{0, 1, 2, 3}};
   if (dim == 1) return {21, {0, 1, 2}};
   if (dim == 2) return {22, {0, 1, 2, 3, 5, 4}};        // edges (0,1),(1,2),(2,0)
   return {24, {0, 1, 2, 3, 4, 7, 5, 6, 8, 9}};           // (0,1),(1,2),(2,0),(0,3),(1,3),(2,3)
 }
-int vtk_facet_type(int dim) { return dim == 1 ? 1 : dim == 2 ? 3 : 5; }  // vertex, line, triangle
+// vertex, line, triangle or quadrilateral
+int vtk_facet_type(const Mesh &m) { return m.dim == 1 ? 1 : m.dim == 2 ? 3 : m.simplicial() ? 5 : 9; }
 
 void write_vector_field(FILE *f, const char *name, const std::vector<double> &full, int dim, int64_t n) {
   std::fprintf(f, "        <DataArray type=\"Float64\" Name=\"%s\" NumberOfComponents=\"3\" format=\"ascii\">\n", name);
@@ -81,7 +87,8 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
     acc.first += cp.w[q] * lam[q];
     acc.second += cp.w[q];
   }
-  const VtkCell cell = vtk_cell(d, s.degree);
+  const VtkCell cell = vtk_cell(d, s.degree, m.cell_type);
+  const int facet_size = m.facet_size();
   const int64_t n_cells = m.n_cells, n_facets = static_cast<int64_t>(facet_pressure.size());
   AtomicFile f(path);
   FILE *o = f.get();
@@ -104,15 +111,16 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
       std::fprintf(o, "%lld%c", static_cast<long long>(s.nodes_of(c)[cell.order[k]]), k + 1 == cell.order.size() ? '\n' : ' ');
   for (auto &fp : facet_pressure) {  // contact facets through their vertices
     const auto v = m.facet_vertices(m.boundary[fp.first]);
-    for (int k = 0; k < d; ++k) std::fprintf(o, "%lld%c", static_cast<long long>(v[k]), k + 1 == d ? '\n' : ' ');
+    for (int k = 0; k < facet_size; ++k)
+      std::fprintf(o, "%lld%c", static_cast<long long>(v[k]), k + 1 == facet_size ? '\n' : ' ');
   }
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
   int64_t offset = 0;
   for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%lld\n", static_cast<long long>(offset += static_cast<int64_t>(cell.order.size())));
-  for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%lld\n", static_cast<long long>(offset += d));
+  for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%lld\n", static_cast<long long>(offset += facet_size));
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
   for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%d\n", cell.type);
-  for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%d\n", vtk_facet_type(d));
+  for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%d\n", vtk_facet_type(m));
   std::fprintf(o, "        </DataArray>\n      </Cells>\n      <PointData Vectors=\"displacement\">\n");
   write_vector_field(o, "displacement", U, d, s.n_nodes);
   write_vector_field(o, "velocity", V, d, s.n_nodes);
@@ -122,11 +130,12 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
   for (auto &fp : facet_pressure) std::fprintf(o, "%.17g\n", fp.second.first / fp.second.second);
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"contact_facet\" format=\"ascii\">\n");
   for (int64_t c = 0; c < n_cells + n_facets; ++c) std::fprintf(o, "%d\n", c >= n_cells ? 1 : 0);
-  // the Cauchy stress at each cell's centroid (constant on a P1 cell); the
+  // the Cauchy stress at each cell's centroid (constant on a P1 cell; of a
+  // quadrilateral or hexahedron: its reference centre's image); the
   // contact facets get zeros. 1D: sigma_xx alone; 2D/3D: 3x3, row-major.
   const int n_comp = d == 1 ? 1 : 9;
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"%d\" format=\"ascii\">\n", n_comp);
-  std::vector<double> centroid(static_cast<size_t>(d), 1.0 / (d + 1));
+  std::vector<double> centroid(static_cast<size_t>(d), m.simplicial() ? 1.0 / (d + 1) : 0.5);
   for (int64_t c = 0; c < n_cells; ++c) {
     double sigma[9];
     cell_stress(s, *snap.material, U.data(), c, centroid.data(), sigma);

@@ -2,13 +2,18 @@
 // the mesh (only the vertices they use are kept); each physical group of
 // facet elements becomes the region with the group's tag, each group of
 // cells the cell region with its tag (a cell in several: the largest). Higher-order
-// Gmsh elements are read through their corner nodes (straight sides).
+// Gmsh elements are read through their corner nodes (straight sides); a
+// 9-node quadrilateral's or 27-node hexahedron's other nodes must lie where
+// the space puts its Q2 nodes (the means of their edges', faces', cell's
+// corners), or the file is refused. The cells are all simplices, or all
+// quadrilaterals (hexahedra): a mesh holds one cell type.
 //
 // A file is untrusted input: it is read whole (a NUL byte, as in a binary
 // file or /dev/zero, stops the reading at once), every count in it is
 // checked against what the rest of the file can hold before it sizes
 // anything, and every loop consumes tokens of the file. A file of n bytes
 // therefore costs O(n) memory and O(n log n) time, whatever its counts say.
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <charconv>
@@ -21,6 +26,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "mesh/cell_shape.hpp"
 #include "mesh/geometry.hpp"
 #include "mesh/mesh.hpp"
 #include "nitschedyn.h"
@@ -126,49 +132,73 @@ class Tokens {
 
 struct Element {
   int dim;
+  int cell_type;                   // ND_CELL_SIMPLEX, _QUADRILATERAL, _HEXAHEDRON
   int64_t tags;                    // index into RawMesh::tag_lists, -1: no physical group
-  std::array<int64_t, 4> nodes;    // corner node tags (dim + 1 of them)
+  std::array<int64_t, 8> nodes;    // corner node tags
+  int64_t high = -1;               // 9-node quadrilateral, 27-node hexahedron: its other nodes
+                                   // in RawMesh::high_order from here; -1: none
 };
 
 struct RawMesh {
   std::map<int64_t, std::array<double, 3>> nodes;  // tag -> xyz
   std::vector<std::vector<int64_t>> tag_lists;      // lists of physical tags, shared by elements
   std::vector<Element> elements;
+  std::vector<int64_t> high_order;                  // (Element::high)
 };
 
 struct ElementType {
-  int dim, nodes;
+  int dim, nodes, corners, cell_type;
 };
-// The Gmsh element types we read: simplices and points, first or second order
-// (dim < 0: not supported).
+// The Gmsh element types we read: points, simplices, quadrilaterals and
+// hexahedra, first or second order (dim < 0: not supported).
 ElementType element_type(int64_t type) {
   switch (type) {
-    case 15: return {0, 1};   // point
-    case 1: return {1, 2};    // line
-    case 8: return {1, 3};    // line, 2nd order
-    case 2: return {2, 3};    // triangle
-    case 9: return {2, 6};    // triangle, 2nd order
-    case 4: return {3, 4};    // tetrahedron
-    case 11: return {3, 10};  // tetrahedron, 2nd order
-    default: return {-1, 0};
+    case 15: return {0, 1, 1, ND_CELL_SIMPLEX};    // point
+    case 1: return {1, 2, 2, ND_CELL_SIMPLEX};     // line
+    case 8: return {1, 3, 2, ND_CELL_SIMPLEX};     // line, 2nd order
+    case 2: return {2, 3, 3, ND_CELL_SIMPLEX};     // triangle
+    case 9: return {2, 6, 3, ND_CELL_SIMPLEX};     // triangle, 2nd order
+    case 4: return {3, 4, 4, ND_CELL_SIMPLEX};     // tetrahedron
+    case 11: return {3, 10, 4, ND_CELL_SIMPLEX};   // tetrahedron, 2nd order
+    case 3: return {2, 4, 4, ND_CELL_QUADRILATERAL};   // quadrilateral
+    case 10: return {2, 9, 4, ND_CELL_QUADRILATERAL};  // quadrilateral, 9 nodes
+    case 5: return {3, 8, 8, ND_CELL_HEXAHEDRON};      // hexahedron
+    case 12: return {3, 27, 8, ND_CELL_HEXAHEDRON};    // hexahedron, 27 nodes
+    default: return {-1, 0, 0, 0};
   }
 }
 
 ElementType supported(Tokens &tk, int64_t type) {
   const ElementType et = element_type(type);
   if (et.dim < 0)
-    tk.error("element type " + std::to_string(type) + " is not supported (simplices only: 15, 1, 2, 4, 8, 9, 11)");
+    tk.error("element type " + std::to_string(type) + " is not supported (15, 1, 2, 4, 8, 9, 11; 3, 5, 10, 12" +
+             (type == 16 || type == 17 ? std::string("; serendipity elements, 8-node quadrilaterals and 20-node "
+                                                     "hexahedra, are not: see nd_mesh_create_cells(3)")
+                                       : std::string()) +
+             ")");
   return et;
 }
 
-Element read_element(Tokens &tk, ElementType et, int64_t tags) {
-  Element el{et.dim, tags, {-1, -1, -1, -1}};
+Element read_element(Tokens &tk, RawMesh &raw, ElementType et, int64_t tags) {
+  Element el{et.dim, et.cell_type, tags, {-1, -1, -1, -1, -1, -1, -1, -1}};
+  if (et.nodes > et.corners && et.cell_type != ND_CELL_SIMPLEX) el.high = static_cast<int64_t>(raw.high_order.size());
   for (int k = 0; k < et.nodes; ++k) {
     const int64_t node = tk.integer("a node tag");
-    if (k <= et.dim) el.nodes[k] = node;
+    if (k < et.corners)
+      el.nodes[k] = node;
+    else if (el.high >= 0)
+      raw.high_order.push_back(node);
   }
   return el;
 }
+
+// Gmsh's 9-node quadrilateral and 27-node hexahedron: the corners whose mean
+// each of the other nodes is at (edges, faces, the centre; -1 ends a list)
+const int kQuad9[5][8] = {{0, 1, -1}, {1, 2, -1}, {2, 3, -1}, {3, 0, -1}, {0, 1, 2, 3, -1}};
+const int kHex27[19][8] = {{0, 1, -1}, {0, 3, -1}, {0, 4, -1}, {1, 2, -1}, {1, 5, -1}, {2, 3, -1}, {2, 6, -1},
+                           {3, 7, -1}, {4, 5, -1}, {4, 7, -1}, {5, 6, -1}, {6, 7, -1}, {0, 3, 2, 1, -1},
+                           {0, 1, 5, 4, -1}, {0, 4, 7, 3, -1}, {1, 2, 6, 5, -1}, {2, 3, 7, 6, -1},
+                           {4, 5, 6, 7, -1}, {0, 1, 2, 3, 4, 5, 6, 7}};
 
 void read_node(Tokens &tk, RawMesh &raw, int64_t tag, const std::array<double, 3> &x) {
   if (!raw.nodes.emplace(tag, x).second) tk.error("node " + std::to_string(tag) + " is defined twice");
@@ -264,7 +294,7 @@ void read_v4(Tokens &tk, RawMesh &raw) {
         raw.elements.reserve(raw.elements.size() + static_cast<size_t>(n));
         for (int64_t e = 0; e < n; ++e) {
           tk.integer("an element tag");
-          raw.elements.push_back(read_element(tk, et, tags));
+          raw.elements.push_back(read_element(tk, raw, et, tags));
         }
         found += n;
       }
@@ -310,12 +340,40 @@ void read_v2(Tokens &tk, RawMesh &raw) {
             list = it.first->second;
           }
         }
-        raw.elements.push_back(read_element(tk, et, list));
+        raw.elements.push_back(read_element(tk, raw, et, list));
       }
       tk.expect("$EndElements");
     } else {
       other_section(tk, t);
     }
+  }
+}
+
+// A 9-node quadrilateral's or 27-node hexahedron's other nodes at the means
+// of their corners (to 1e-12 of the cell's extent), where the space's Q2
+// nodes are: else the element is curved, which the space cannot represent.
+template <class Position>
+void straight_high_order_nodes(const char *path, const Element &e, const double *const *x, const RawMesh &raw,
+                               const Position &position) {
+  const int d = e.dim, n = d == 2 ? 5 : 19;
+  double extent = 0;
+  for (int i = 0; i < (1 << d); ++i)
+    for (int k = 0; k < d; ++k) extent = std::max(extent, std::fabs(x[i][k] - x[0][k]));
+  for (int j = 0; j < n; ++j) {
+    const int *corners = d == 2 ? kQuad9[j] : kHex27[j];
+    double mean[3] = {0, 0, 0};
+    int m = 0;
+    while (m < 8 && corners[m] >= 0) ++m;
+    for (int i = 0; i < m; ++i)
+      for (int k = 0; k < d; ++k) mean[k] += x[corners[i]][k] / m;
+    const int64_t tag = raw.high_order[static_cast<size_t>(e.high + j)];
+    const auto &p = position(tag);
+    for (int k = 0; k < d; ++k)
+      if (!(std::fabs(p[k] - mean[k]) <= 1e-12 * extent))
+        fail(ND_ERR_FORMAT, std::string(path) + ": node " + std::to_string(tag) + " of a " +
+                                (d == 2 ? "9-node quadrilateral" : "27-node hexahedron") +
+                                " is not at the mean of its corners (a curved element): only straight-sided "
+                                "Q2 cells are read (the space places their nodes)");
   }
 }
 
@@ -338,7 +396,17 @@ Mesh read_gmsh(const char *path) {
 
   int top = -1;
   for (const Element &e : raw.elements) top = std::max(top, e.dim);
-  if (top < 1) fail(ND_ERR_FORMAT, std::string(path) + ": no line, triangle or tetrahedron elements");
+  if (top < 1) fail(ND_ERR_FORMAT, std::string(path) + ": no line, triangle, quadrilateral, tetrahedron or hexahedron elements");
+  int cell_type = -1;  // of the top-dimensional elements: one type
+  for (const Element &e : raw.elements) {
+    if (e.dim != top) continue;
+    if (cell_type >= 0 && e.cell_type != cell_type)
+      fail(ND_ERR_FORMAT, std::string(path) + ": the cells mix simplices and " +
+                              (top == 2 ? "quadrilaterals" : "hexahedra") +
+                              ": mixed meshes are not supported yet (one cell type a mesh)");
+    cell_type = e.cell_type;
+  }
+  const int nv = cell_type == ND_CELL_SIMPLEX ? top + 1 : 1 << top;
   // keep the vertices of top-dimensional cells, numbered by first use
   std::map<int64_t, int64_t> index;
   std::vector<double> coords;
@@ -369,13 +437,22 @@ Mesh read_gmsh(const char *path) {
       fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(tag) + " is not a valid cell region");
     cell_region.push_back(static_cast<int>(tag));
     any_group = any_group || tag > 0;
-    const double *x[4];
-    for (int i = 0; i <= top; ++i) x[i] = position(e.nodes[i]).data();
+    const double *x[8];
+    for (int i = 0; i < nv; ++i) x[i] = position(e.nodes[i]).data();
+    if (e.high >= 0) straight_high_order_nodes(path, e, x, raw, position);
     double J[9];
-    simplex_jacobian(top, x, J);
-    std::array<int64_t, 4> v = e.nodes;
-    if (determinant(top, J) < 0) std::swap(v[0], v[1]);  // Gmsh does not fix the orientation
-    for (int i = 0; i <= top; ++i) cells.push_back(vertex(v[i]));
+    const double centre[3] = {0.5, 0.5, 0.5};
+    if (cell_type == ND_CELL_SIMPLEX)
+      simplex_jacobian(top, x, J);
+    else
+      cube::jacobian(top, x, centre, J);
+    std::array<int64_t, 8> v = e.nodes;
+    if (determinant(top, J) < 0) {  // Gmsh does not fix the orientation
+      if (cell_type == ND_CELL_SIMPLEX) std::swap(v[0], v[1]);
+      if (cell_type == ND_CELL_QUADRILATERAL) std::swap(v[1], v[3]);
+      if (cell_type == ND_CELL_HEXAHEDRON) std::swap_ranges(v.begin(), v.begin() + 4, v.begin() + 4);
+    }
+    for (int i = 0; i < nv; ++i) cells.push_back(vertex(v[i]));
   }
   // two used nodes at one position: refused with their tags (unused nodes,
   // which Gmsh files may repeat, were left out above)
@@ -386,8 +463,8 @@ Mesh read_gmsh(const char *path) {
                               std::string(path) + ": ", tags.data());
   }
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
-                     static_cast<int64_t>(cells.size()) / (top + 1), cells.data(),
-                     std::string(path) + ": ");
+                     static_cast<int64_t>(cells.size()) / nv, cells.data(),
+                     std::string(path) + ": ", cell_type);
   if (any_group) m.cell_region = std::move(cell_region);
   // facet elements of physical groups -> regions. Each (facet, group) pair
   // costs memory: a file may name at most as many pairs as it has bytes
@@ -397,8 +474,13 @@ Mesh read_gmsh(const char *path) {
   for (const Element &e : raw.elements) {
     if (e.dim != top - 1 || e.tags < 0) continue;
     const std::vector<int64_t> &tags = raw.tag_lists[e.tags];
-    int64_t v[3];
-    for (int i = 0; i < top; ++i) {
+    const int nf = m.facet_size();
+    if ((e.cell_type == ND_CELL_SIMPLEX ? e.dim + 1 : 1 << e.dim) != nf)
+      fail(ND_ERR_FORMAT, std::string(path) + ": a facet of physical group " + std::to_string(tags[0]) +
+                              " is not a facet of the cells (" + (nf == 4 ? "a quadrilateral" : "a triangle") +
+                              " expected)");
+    int64_t v[4];
+    for (int i = 0; i < nf; ++i) {
       auto it = index.find(e.nodes[i]);
       if (it == index.end())
         fail(ND_ERR_FORMAT, std::string(path) + ": a facet of physical group " + std::to_string(tags[0]) + " uses a node of no cell");
@@ -407,7 +489,7 @@ Mesh read_gmsh(const char *path) {
     pairs += tags.size();
     if (pairs > tk.size())
       fail(ND_ERR_FORMAT, std::string(path) + ": the facets name more (facet, physical group) pairs than the file has bytes");
-    for (int64_t tag : tags) facets[tag].insert(facets[tag].end(), v, v + top);
+    for (int64_t tag : tags) facets[tag].insert(facets[tag].end(), v, v + nf);
   }
   for (auto &kv : facets)
     if (kv.first < 0 || kv.first > 2147483647)

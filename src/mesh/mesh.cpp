@@ -8,13 +8,14 @@
 #include "common/checked.hpp"
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "mesh/cell_shape.hpp"
 #include "mesh/geometry.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
 namespace {
 
-using FacetKey = std::array<int64_t, 3>;  // sorted vertices, padded with -1
+using FacetKey = std::array<int64_t, 4>;  // sorted vertices, padded with -1
 
 struct FacetKeyHash {
   size_t operator()(const FacetKey &k) const {
@@ -24,19 +25,22 @@ struct FacetKeyHash {
   }
 };
 
-// The key of a facet with n (1..3) vertices: the first n entries of v
-// sorted, the rest -1. Straight-line code (a fixed three-element sorting
+// The key of a facet with n (1..4) vertices: the first n entries of v
+// sorted, the rest -1. Straight-line code (a fixed four-element sorting
 // network, padding by fixed indices): no loop whose bound the optimizer
 // cannot prove, which GCC 12 at -O3 reported as a false -Warray-bounds.
-FacetKey key_of(std::array<int64_t, 3> v, int n) {
+FacetKey key_of(std::array<int64_t, 4> v, int n) {
+  if (n < 4) v[3] = -1;
   if (n < 3) v[2] = -1;
   if (n < 2) v[1] = -1;
   auto order = [&v](size_t a, size_t b) {
     if (v[a] > v[b]) std::swap(v[a], v[b]);
   };
   order(0, 1);
+  order(2, 3);
+  order(0, 2);
+  order(1, 3);
   order(1, 2);
-  order(0, 1);
   return v;
 }
 
@@ -52,7 +56,7 @@ const BoundaryIndex &boundary_index(Mesh &m) {
     auto index = std::make_shared<BoundaryIndex>();
     index->reserve(m.boundary.size());
     for (size_t i = 0; i < m.boundary.size(); ++i)
-      index->emplace(key_of(m.facet_vertices(m.boundary[i]), m.dim), static_cast<int64_t>(i));
+      index->emplace(key_of(m.facet_vertices(m.boundary[i]), m.facet_size()), static_cast<int64_t>(i));
     m.boundary_lookup = std::move(index);
   }
   return *m.boundary_lookup;
@@ -61,11 +65,11 @@ const BoundaryIndex &boundary_index(Mesh &m) {
 void find_boundary(Mesh &m, const std::string &where) {
   // A facet is on the boundary when exactly one cell owns it.
   std::unordered_map<FacetKey, std::pair<Facet, int>, FacetKeyHash> seen;
-  seen.reserve(static_cast<size_t>(m.n_cells) * (m.dim + 1));
+  seen.reserve(static_cast<size_t>(m.n_cells) * m.cell_facets());
   for (int64_t c = 0; c < m.n_cells; ++c)
-    for (int f = 0; f <= m.dim; ++f) {
+    for (int f = 0; f < m.cell_facets(); ++f) {
       Facet facet{c, f};
-      auto it = seen.emplace(key_of(m.facet_vertices(facet), m.dim), std::make_pair(facet, 0));
+      auto it = seen.emplace(key_of(m.facet_vertices(facet), m.facet_size()), std::make_pair(facet, 0));
       if (++it.first->second.second > 2)
         fail(ND_ERR_DEGENERATE, where + "a facet of cell " + std::to_string(c) +
                                        " is shared by more than two cells");
@@ -73,26 +77,31 @@ void find_boundary(Mesh &m, const std::string &where) {
   for (auto &kv : seen)
     if (kv.second.second == 1) m.boundary.push_back(kv.second.first);
   std::sort(m.boundary.begin(), m.boundary.end(), [](const Facet &a, const Facet &b) {
-    return a.cell != b.cell ? a.cell < b.cell : a.opposite < b.opposite;
+    return a.cell != b.cell ? a.cell < b.cell : a.local < b.local;
   });
 }
 
 }  // namespace
 
-std::array<int64_t, 3> Mesh::facet_vertices(const Facet &f) const {
-  std::array<int64_t, 3> v{-1, -1, -1};
+std::array<int64_t, 4> Mesh::facet_vertices(const Facet &f) const {
+  std::array<int64_t, 4> v{-1, -1, -1, -1};
   const int64_t *c = cell(f.cell);
+  if (!simplicial()) {
+    for (int k = 0; k < facet_size(); ++k) v[k] = c[cube::facet_vertex(dim, f.local, k)];
+    return v;
+  }
   int k = 0;
   for (int i = 0; i <= dim; ++i)
-    if (i != f.opposite) v[k++] = c[i];
+    if (i != f.local) v[k++] = c[i];
   return v;
 }
 
 double Mesh::cell_diameter(int64_t c) const {
   const int64_t *v = cell(c);
+  const int nv = cell_vertices();
   double h2 = 0;
-  for (int i = 0; i <= dim; ++i)
-    for (int j = i + 1; j <= dim; ++j) {
+  for (int i = 0; i < nv; ++i)
+    for (int j = i + 1; j < nv; ++j) {
       double d2 = 0;
       for (int k = 0; k < dim; ++k) d2 += std::pow(x(v[i])[k] - x(v[j])[k], 2);
       h2 = std::max(h2, d2);
@@ -102,25 +111,60 @@ double Mesh::cell_diameter(int64_t c) const {
 
 void Mesh::cell_jacobian(int64_t c, double *J) const {
   const int64_t *v = cell(c);
-  const double *corners[4];
-  for (int i = 0; i <= dim; ++i) corners[i] = x(v[i]);
-  simplex_jacobian(dim, corners, J);
+  const double *corners[8];
+  for (int i = 0; i < cell_vertices(); ++i) corners[i] = x(v[i]);
+  if (simplicial()) {
+    simplex_jacobian(dim, corners, J);
+  } else {
+    const double xi[3] = {0, 0, 0};
+    cube::jacobian(dim, corners, xi, J);
+  }
 }
 
+namespace {
+
+// The smallest determinant of a quadrilateral's or hexahedron's map over its
+// vertices: positive at every vertex for a convex quadrilateral, and a
+// hexahedron's map is taken as valid when it is (the usual check).
+double smallest_corner_determinant(const Mesh &m, int64_t c) {
+  const int64_t *v = m.cell(c);
+  const double *corners[8];
+  for (int i = 0; i < m.cell_vertices(); ++i) corners[i] = m.x(v[i]);
+  double lowest = 0;
+  for (int i = 0; i < m.cell_vertices(); ++i) {
+    const double xi[3] = {1.0 * cube::kCorner[i][0], 1.0 * cube::kCorner[i][1], 1.0 * cube::kCorner[i][2]};
+    double J[9];
+    cube::jacobian(m.dim, corners, xi, J);
+    const double det = determinant(m.dim, J);
+    if (i == 0 || !(det >= lowest)) lowest = det;
+  }
+  return lowest;
+}
+
+}  // namespace
+
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells, const std::string &where) {
+               const int64_t *cells, const std::string &where, int cell_type) {
   if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, where + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
+  if (cell_type != ND_CELL_SIMPLEX && cell_type != ND_CELL_QUADRILATERAL && cell_type != ND_CELL_HEXAHEDRON)
+    fail(ND_ERR_VALUE, where + "cell_type is " + std::to_string(cell_type) +
+                           ", not ND_CELL_SIMPLEX (0), ND_CELL_QUADRILATERAL (1) or ND_CELL_HEXAHEDRON (2)");
+  if (cell_type != ND_CELL_SIMPLEX && dim != cell_type + 1)
+    fail(ND_ERR_DIMENSION, where + (cell_type == ND_CELL_QUADRILATERAL ? "quadrilaterals" : "hexahedra") +
+                               " need dim " + std::to_string(cell_type + 1) + ", not " + std::to_string(dim));
+  const int nv = cell_type == ND_CELL_SIMPLEX ? dim + 1 : 1 << dim;
   if (n_vertices <= dim) fail(ND_ERR_SIZE, where + "n_nodes must be at least dim + 1");
   if (n_cells <= 0) fail(ND_ERR_SIZE, where + "n_cells must be positive");
   if (!coords) fail(ND_ERR_NULL, where + "coords is NULL");
   if (!cells) fail(ND_ERR_NULL, where + "cells is NULL");
   // sizes from the caller: checked before any arithmetic on pointers
   const int64_t n_coords = checked_mul(n_vertices, dim, "n_nodes * dim");
-  const int64_t n_indices = checked_mul(n_cells, dim + 1, "n_cells * (dim + 1)");
+  const int64_t n_indices = checked_mul(n_cells, nv, "n_cells * vertices per cell");
   checked_count<double>(n_coords, "n_nodes * dim");
-  checked_count<int64_t>(n_indices, "n_cells * (dim + 1)");
+  checked_count<int64_t>(n_indices, "n_cells * vertices per cell");
   Mesh m;
   m.dim = dim;
+  m.cell_type = cell_type;
   m.n_vertices = n_vertices;
   m.n_cells = n_cells;
   m.coords.assign(coords, coords + n_coords);
@@ -135,7 +179,7 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
   const auto [lowest, highest] = std::minmax_element(m.cells.begin(), m.cells.end());
   for (int64_t c = 0; c < n_cells; ++c) {
     const int64_t *v = m.cell(c);
-    for (int i = 0; i <= dim; ++i) {
+    for (int i = 0; i < nv; ++i) {
       if (v[i] < 0 || v[i] >= n_vertices)
         fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " names vertex " + std::to_string(v[i]) +
                                ", outside [0, " + std::to_string(n_vertices) + "): vertex indices are 0-based" +
@@ -151,7 +195,7 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
   for (int64_t c = 0; c < n_cells; ++c) {
     double J[9];
     m.cell_jacobian(c, J);
-    const double det = determinant(dim, J);
+    const double det = m.simplicial() ? determinant(dim, J) : smallest_corner_determinant(m, c);
     const double h = m.cell_diameter(c);
     if (!std::isfinite(det) || !std::isfinite(std::pow(h, dim)))
       fail(ND_ERR_VALUE, where + "cell " + std::to_string(c) + ": its size overflows (diameter " + num(h) +
@@ -162,9 +206,15 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
                                   (dim == 1 ? "length" : dim == 2 ? "area" : "volume"));
     if (det < 0)
       fail(ND_ERR_DEGENERATE, where + "cell " + std::to_string(c) +
-                                  " is inverted (negative orientation): order its vertices " +
-                                  (dim == 1 ? "left to right" : dim == 2 ? "counter-clockwise"
-                                                                          : "with positive volume"));
+                                  (m.simplicial() ? " is inverted (negative orientation): order its vertices " +
+                                                        std::string(dim == 1   ? "left to right"
+                                                                    : dim == 2 ? "counter-clockwise"
+                                                                               : "with positive volume")
+                                                  : dim == 2 ? " is inverted or not convex: order its vertices "
+                                                               "counter-clockwise"
+                                                             : " is inverted or too distorted: order its vertices "
+                                                               "counter-clockwise on the bottom face, then the "
+                                                               "top face above them"));
   }
   // An orphan vertex would carry unknowns with no mass and no stiffness.
   std::vector<char> used(static_cast<size_t>(n_vertices), 0);
@@ -244,17 +294,19 @@ void add_facets_indexed(Mesh &m, const BoundaryIndex &index, int region, int64_t
   if (region < 0) fail(ND_ERR_REGION, where + "region must be >= 0");
   if (n_facets <= 0) fail(ND_ERR_SIZE, where + "n_facets must be positive");
   if (!facet_vertices) fail(ND_ERR_NULL, where + "facet_vertices is NULL");
-  checked_count<int64_t>(checked_mul(n_facets, m.dim, "n_facets * dim"), "n_facets * dim");
+  checked_count<int64_t>(checked_mul(n_facets, m.facet_size(), "n_facets * vertices per facet"),
+                         "n_facets * vertices per facet");
   std::vector<int64_t> found;
   for (int64_t f = 0; f < n_facets; ++f) {
-    std::array<int64_t, 3> v{-1, -1, -1};
-    for (int i = 0; i < m.dim; ++i) {
-      v[i] = facet_vertices[f * m.dim + i];
+    std::array<int64_t, 4> v{-1, -1, -1, -1};
+    const int n = m.facet_size();
+    for (int i = 0; i < n; ++i) {
+      v[i] = facet_vertices[f * n + i];
       if (v[i] < 0 || v[i] >= m.n_vertices)
         fail(ND_ERR_INDEX, where + "facet " + std::to_string(f) + " names vertex " + std::to_string(v[i]) +
                                ", outside [0, " + std::to_string(m.n_vertices) + ")");
     }
-    auto it = index.find(key_of(v, m.dim));
+    auto it = index.find(key_of(v, n));
     if (it == index.end())
       fail(ND_ERR_REGION, where + "facet " + std::to_string(f) + " is not a boundary facet of the mesh");
     found.push_back(it->second);
@@ -277,7 +329,7 @@ void add_region_groups(Mesh &m, const std::map<int64_t, std::vector<int64_t>> &g
   const BoundaryIndex &index = boundary_index(m);
   for (const auto &g : groups) {
     if (g.first < 0 || g.first > 2147483647) fail(ND_ERR_REGION, where + std::to_string(g.first) + ": not a valid region");
-    add_facets_indexed(m, index, static_cast<int>(g.first), static_cast<int64_t>(g.second.size()) / m.dim,
+    add_facets_indexed(m, index, static_cast<int>(g.first), static_cast<int64_t>(g.second.size()) / m.facet_size(),
                        g.second.data(), where + std::to_string(g.first) + ": ");
   }
 }
@@ -316,7 +368,7 @@ void add_region_box(Mesh &m, int region, const double *lo, const double *hi) {
   for (size_t i = 0; i < m.boundary.size(); ++i) {
     const auto v = m.facet_vertices(m.boundary[i]);
     bool inside = true;
-    for (int j = 0; j < m.dim && inside; ++j)
+    for (int j = 0; j < m.facet_size() && inside; ++j)
       for (int k = 0; k < m.dim; ++k)
         if (m.x(v[j])[k] < lo[k] - tol || m.x(v[j])[k] > hi[k] + tol) inside = false;
     if (inside) found.push_back(static_cast<int64_t>(i));

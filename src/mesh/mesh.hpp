@@ -1,5 +1,6 @@
-// Simplicial meshes in 1D (intervals), 2D (triangles) and 3D (tetrahedra),
-// with their boundary facets and numbered boundary regions.
+// Meshes in 1D (intervals), 2D (triangles or quadrilaterals) and 3D
+// (tetrahedra or hexahedra), one cell type per mesh, with their boundary
+// facets and numbered boundary regions.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -11,20 +12,23 @@
 
 namespace nd {
 
-// A facet of a cell, named by the cell and the local vertex opposite to it.
+// A facet of a cell, named by the cell and its local facet index: for a
+// simplex the local vertex opposite to it, for a quadrilateral or hexahedron
+// 2 axis + side (mesh/cell_shape.hpp).
 struct Facet {
   int64_t cell;
-  int opposite;
+  int local;
 };
 
 struct BoundaryIndex;  // mesh.cpp: a boundary facet's index from its vertices
 
 struct Mesh {
   int dim = 0;
+  int cell_type = 0;                   // ND_CELL_SIMPLEX, _QUADRILATERAL or _HEXAHEDRON
   int64_t n_vertices = 0;
   int64_t n_cells = 0;
   std::vector<double> coords;          // n_vertices * dim
-  std::vector<int64_t> cells;          // n_cells * (dim + 1)
+  std::vector<int64_t> cells;          // n_cells * cell_vertices()
   std::vector<Facet> boundary;         // facets owned by exactly one cell
   std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
   // each cell's region (>= 0; 0: in none), or empty: every cell in region 0
@@ -35,28 +39,40 @@ struct Mesh {
   std::shared_ptr<const BoundaryIndex> boundary_lookup;
 
   const double *x(int64_t v) const { return &coords[v * dim]; }
-  const int64_t *cell(int64_t c) const { return &cells[c * (dim + 1)]; }
-  // The dim vertices of a facet, in the cell's local order.
-  std::array<int64_t, 3> facet_vertices(const Facet &f) const;
+  bool simplicial() const { return cell_type == 0; }
+  // vertices of a cell (dim + 1, or 2^dim), facets of a cell, vertices of a facet
+  int cell_vertices() const { return simplicial() ? dim + 1 : 1 << dim; }
+  int cell_facets() const { return simplicial() ? dim + 1 : 2 * dim; }
+  int facet_size() const { return simplicial() ? dim : 1 << (dim - 1); }
+  const int64_t *cell(int64_t c) const { return &cells[c * cell_vertices()]; }
+  // The facet_size() vertices of a facet (the rest -1): a simplex's in the
+  // cell's local order, a quadrilateral's or hexahedron's turning about the
+  // outward normal (mesh/cell_shape.hpp).
+  std::array<int64_t, 4> facet_vertices(const Facet &f) const;
   double cell_diameter(int64_t c) const;
   // The Jacobian of the affine map from the reference simplex onto cell c
-  // (dim x dim, row-major; see mesh/geometry.hpp).
+  // (dim x dim, row-major; see mesh/geometry.hpp); of a quadrilateral's or
+  // hexahedron's multilinear map, at its first vertex.
   void cell_jacobian(int64_t c, double *J) const;
 };
 
 // Validates and copies; computes the boundary facets. Error messages start
 // with `where` (a file reader passes "PATH: ").
+// cell_type: ND_CELL_SIMPLEX (dim + 1 vertices a cell), ND_CELL_QUADRILATERAL
+// (dim 2) or ND_CELL_HEXAHEDRON (dim 3), 2^dim vertices a cell in the VTK and
+// Gmsh order (counter-clockwise; the bottom face, then the top one above it).
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells, const std::string &where = {});
+               const int64_t *cells, const std::string &where = {}, int cell_type = 0);
 // ND_ERR_DEGENERATE naming both when two of the n vertices (dim coordinates
 // each, finite) are at exactly the same position; O(n log n). names: what to
 // call vertex i in the message (null: i; a file reader passes its node tags).
 void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const std::string &where,
                                const int64_t *names = nullptr);
 Mesh make_interval(int64_t n_cells, double a, double b);
-// nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra
-Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi);
-Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double *hi);
+// nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra;
+// or kept whole (cell_type ND_CELL_QUADRILATERAL, ND_CELL_HEXAHEDRON)
+Mesh make_rectangle(int64_t nx, int64_t ny, const double *lo, const double *hi, int cell_type = 0);
+Mesh make_box(int64_t nx, int64_t ny, int64_t nz, const double *lo, const double *hi, int cell_type = 0);
 // Gmsh MSH 4.1 / 2.2 ASCII; physical groups of facets become regions, those
 // of cells cell regions (a cell in several: the largest tag).
 Mesh read_gmsh(const char *path);

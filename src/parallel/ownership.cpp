@@ -6,7 +6,7 @@
 namespace nd {
 
 std::vector<int> slab_partition(const Mesh &m, int parts) {
-  const int d = m.dim, nv = d + 1;
+  const int d = m.dim, nv = m.cell_vertices();
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   for (int k = 0; k < d; ++k) {
     lo[k] = hi[k] = m.n_vertices ? m.x(0)[k] : 0.0;
@@ -33,9 +33,9 @@ namespace {
 
 #ifdef ND_HAVE_PETSC
 // The dual graph's rows of the cells [begin, end): the cells sharing a facet
-// (dim vertices) with each, ascending.
+// (facet_size() vertices) with each, ascending.
 void dual_graph(const Mesh &m, int64_t begin, int64_t end, std::vector<int64_t> &ia, std::vector<int64_t> &ja) {
-  const int nv = m.dim + 1;
+  const int nv = m.cell_vertices();
   std::vector<int64_t> first(static_cast<size_t>(m.n_vertices + 1), 0), cells(m.cells.size());
   for (int64_t v : m.cells) ++first[v + 1];
   std::partial_sum(first.begin(), first.end(), first.begin());
@@ -52,10 +52,10 @@ void dual_graph(const Mesh &m, int64_t begin, int64_t end, std::vector<int64_t> 
       met.insert(met.end(), cells.begin() + first[v], cells.begin() + first[v + 1]);
     }
     std::sort(met.begin(), met.end());
-    for (size_t k = 0; k < met.size();) {  // a neighbour through a facet appears dim times
+    for (size_t k = 0; k < met.size();) {  // a neighbour through a facet appears facet_size() times
       size_t e = k;
       while (e < met.size() && met[e] == met[k]) ++e;
-      if (met[k] != c && static_cast<int>(e - k) >= m.dim) ja.push_back(met[k]);
+      if (met[k] != c && static_cast<int>(e - k) >= m.facet_size()) ja.push_back(met[k]);
       k = e;
     }
     ia.push_back(static_cast<int64_t>(ja.size()));

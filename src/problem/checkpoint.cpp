@@ -190,6 +190,7 @@ uint64_t state_fingerprint(const Space &s, const Discretization &d) {
   h.value(s.degree);
   h.vec(s.mesh->coords);
   h.vec(s.mesh->cells);
+  if (s.mesh->cell_type) h.value(s.mesh->cell_type);  // (simplices: the digest as before)
   h.vec(d.dofs.free);
   h.vec(d.contact.w);
   h.vec(d.contact.x);

@@ -140,6 +140,7 @@ void set_damping(Discretization &d, const Definition &def) {
 }
 }  // namespace
 
+
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
                                            const Ownership *own, const std::vector<double> *frozen) {
   require_complete(def.missing_for_operators());

@@ -39,6 +39,7 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
   cr.Mcc = cr.Kcc.zeros_like();
   cr.M_lumped.assign(cr.dofs.size(), 0.0);
   ElementMatrices em(s, mat);
+  std::vector<double> lumped;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     const int64_t *nodes = s.nodes_of(c);
     bool any = false;
@@ -46,14 +47,12 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
     if (!any) continue;
     em.compute(c);
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
-    double diag = 0;  // HRZ, as assemble_bulk: the consistent diagonal scaled to the element's mass
-    for (int i = 0; i < nb; ++i) diag += em.me[i * nb + i];
-    const double cell_mass = mat.of(c).density * em.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0);
+    em.lump(lumped, contact_nodes != nullptr);  // as assemble_bulk
     for (int i = 0; i < nb; ++i)
       for (int a = 0; a < d; ++a) {
         const int64_t r = row_of[nodes[i] * d + a];
         if (r < 0) continue;
-        cr.M_lumped[r] += em.me[i * nb + i] * cell_mass / diag;
+        cr.M_lumped[r] += lumped[i];
         for (int j = 0; j < nb; ++j)
           for (int b = 0; b < d; ++b) {
             const int64_t dof = nodes[j] * d + b, col = dofs.free[dof];

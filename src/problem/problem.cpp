@@ -50,6 +50,7 @@ uint64_t mesh_digest(const Mesh &m, const Space &s) {
   Hash h;
   h.value(s.dim), h.value(s.degree);
   h.vec(m.coords), h.vec(m.cells);
+  if (m.cell_type) h.value(m.cell_type);  // (simplices: the digest as before)
   if (!m.cell_region.empty()) h.vec(m.cell_region);  // (none: the digest of a mesh without them)
   for (const auto &[region, facets] : m.regions) {
     h.value(region);

@@ -233,7 +233,7 @@ class Locator {
     return std::clamp(static_cast<int>(std::floor((v - lo_[d]) / size_[d])), 0, nb_ - 1);
   }
   void reference(int64_t c, const double *x, double *xi) const {
-    const nd::AffineMap A(m_, c);
+    const nd::CellMap A(m_, c);
     const double dx[2] = {x[0] - A.x0[0], x[1] - A.x0[1]};
     xi[0] = A.Jinv[0] * dx[0] + A.Jinv[1] * dx[1];
     xi[1] = A.Jinv[2] * dx[0] + A.Jinv[3] * dx[1];
@@ -245,7 +245,7 @@ class Locator {
 };
 
 // u and its gradient (row-major 2x2, du_i/dx_j) at reference point xi of cell c (map A)
-void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, const nd::AffineMap &A, const double *xi,
+void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, const nd::CellMap &A, const double *xi,
               double *val, double *grad) {
   double phi[6], dphi_ref[12], dphi[2];
   s.basis.values(xi, phi);
@@ -278,14 +278,14 @@ void field_errors(const Run &ref, const std::vector<double> &ur, const Run &run,
   const nd::QuadratureRule q = nd::simplex_rule(2, 2 * R.degree);
   double e_l2 = 0, r_l2 = 0, e_en = 0, r_en = 0;
   for (int64_t c = 0; c < R.mesh->n_cells; ++c) {
-    const nd::AffineMap A(*R.mesh, c);
+    const nd::CellMap A(*R.mesh, c);
     for (size_t k = 0; k < q.size(); ++k) {
       const double *xi = &q.points[2 * k];
       double x[2], vr[2], gr[4], vc[2], gc[4], xic[2];
       A.to_physical(xi, x);
       evaluate(R, ur, c, A, xi, vr, gr);
       const int64_t cc = loc.find(x, xic);
-      evaluate(C, uc, cc, nd::AffineMap(*C.mesh, cc), xic, vc, gc);
+      evaluate(C, uc, cc, nd::CellMap(*C.mesh, cc), xic, vc, gc);
       const double w = q.weights[k] * std::abs(A.det);
       const double d[2] = {vc[0] - vr[0], vc[1] - vr[1]};
       double dg[4];

@@ -531,6 +531,27 @@ contains
     call check(nd_problem_set_mass_redistribution(p, 1_c_int) == ND_OK, 'nd_problem_set_mass_redistribution')
     call check(nd_problem_destroy(p) == ND_OK, 'nd_problem_destroy')
 
+    ! quadrilaterals and hexahedra: a square in one cell, a box of 2 x 1 x 1
+    call check(nd_mesh_create_cells(2_c_int, ND_CELL_QUADRILATERAL, 4_c_int64_t, &
+                                    [0.0_c_double, 0.0_c_double, 1.0_c_double, 0.0_c_double, &
+                                     1.0_c_double, 1.0_c_double, 0.0_c_double, 1.0_c_double], 1_c_int64_t, &
+                                    [0_c_int64_t, 1_c_int64_t, 2_c_int64_t, 3_c_int64_t], m) == ND_OK, &
+               'nd_mesh_create_cells')
+    status = nd_mesh_get_cell_count(m, nc)
+    call check(status == ND_OK .and. nc == 1, 'one quadrilateral')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_mesh_create_box_cells(2_c_int64_t, 1_c_int64_t, 1_c_int64_t, [0.0_c_double, 0.0_c_double, &
+                                        0.0_c_double], [2.0_c_double, 1.0_c_double, 1.0_c_double], &
+                                        ND_CELL_HEXAHEDRON, m) == ND_OK, 'nd_mesh_create_box_cells')
+    status = nd_mesh_get_vertex_count(m, nv)
+    call check(status == ND_OK .and. nv == 12, '12 vertices')
+    status = nd_mesh_get_cell_count(m, nc)
+    call check(status == ND_OK .and. nc == 2, '2 hexahedra')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    status = nd_mesh_create_rectangle_cells(2_c_int64_t, 2_c_int64_t, [0.0_c_double, 0.0_c_double], &
+                                            [1.0_c_double, 1.0_c_double], ND_CELL_HEXAHEDRON, m)
+    call check(status == ND_ERR_VALUE, 'a hexahedral rectangle is refused')
+
     ! a general mesh: three vertices, two cells, 0-based indices, int64
     call check(nd_mesh_create(1_c_int, 3_c_int64_t, [0.0_c_double, 0.5_c_double, 1.0_c_double], 2_c_int64_t, &
                               [0_c_int64_t, 1_c_int64_t, 1_c_int64_t, 2_c_int64_t], m) == ND_OK, 'nd_mesh_create')
