@@ -95,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 60)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 62)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -123,6 +123,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       case 4:
         if (m) CALL(nd_mesh_mark_boundary_box, m, in.ConsumeIntegralInRange<int>(-1, 3), lo, hi);
         break;
+      case 61: {  // a raw mesh of any cell type (4 or 8 vertices a cell), counts lying only where refused
+        const int d = in.ConsumeIntegralInRange<int>(0, 4), type = in.ConsumeIntegralInRange<int>(-1, 3);
+        const int64_t nv = in.ConsumeIntegralInRange<int64_t>(0, 12), nc = in.ConsumeIntegralInRange<int64_t>(0, 3);
+        std::vector<double> x(static_cast<size_t>(nv * 3 + 1));
+        std::vector<int64_t> c(static_cast<size_t>(nc * 8 + 1));
+        for (auto &v : x) v = any_double(in);
+        for (auto &v : c) v = in.ConsumeIntegralInRange<int64_t>(-1, 13);
+        nd_mesh_destroy(&m);
+        if (CALL(nd_mesh_create_cells, d, type, nv, x.data(), nc, c.data(), &m) != ND_OK && m)
+          violated("cells", 0, "handle");
+        break;
+      }
+      case 62: {  // the generators with a cell type, any type
+        const int type = in.ConsumeIntegralInRange<int>(-1, 3);
+        nd_mesh_destroy(&m);
+        const int st = in.ConsumeBool()
+                           ? CALL(nd_mesh_create_rectangle_cells, any_count(in, 4), any_count(in, 4), lo, hi, type, &m)
+                           : CALL(nd_mesh_create_box_cells, any_count(in, 2), any_count(in, 2), any_count(in, 2), lo, hi,
+                                  type, &m);
+        if (st != ND_OK && m) violated("cells generator", 0, "handle");
+        break;
+      }
       case 5: {
         std::vector<int64_t> f(static_cast<size_t>(3 * 3));
         for (auto &v : f) v = in.ConsumeIntegralInRange<int64_t>(-1, 10);
