@@ -9,27 +9,14 @@ raised again; bad arguments are nd.Error with their codes.
 usage: test_obstacles.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
 import math
-import os
 import sys
 
 import numpy as np
 
-# the package of the build tree (PYTHONPATH), not nitschedyn.py next to this
-# script: the source has no _constants.py
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
-
-passed = failed = 0
+import nitschedyn as nd
+from ndcheck import check, finish, raises
 
 
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL  " + what)
 
 
 def block():
@@ -44,13 +31,6 @@ def block():
     p.set_timestep(0.02)
     return p
 
-
-def raises(code, fn):
-    try:
-        fn()
-    except nd.Error as e:
-        return e.code == code
-    return False
 
 
 calls = [0]
@@ -134,5 +114,4 @@ check(raises(nd.ND_ERR_DIMENSION, lambda: d.add_contact_cylinder(1, [0.0, 0.0], 
 check(raises(nd.ND_ERR_INDEX, lambda: d.move_obstacle(1, 1, [0.0, 0.0])), "a second obstacle that is not there")
 check(raises(nd.ND_ERR_VALUE, lambda: d.move_obstacle(1, 0, [0.0, 0.0], [[1.0, 0.5], [0.0, 1.0]])),
       "a matrix that is no rotation")
-print("%d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+sys.exit(finish())

@@ -24,26 +24,15 @@ Prints "N passed, M failed"; exit status 1 when a check failed.
 
 import ctypes
 import math
-import os
 import sys
 
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
+import nitschedyn as nd
+from ndcheck import check, finish
 
 lib = nd.lib
 i64, dbl, cint = ctypes.c_int64, ctypes.c_double, ctypes.c_int
-passed = failed = 0
 RTOL, TAU, BETA, GAMMA = 1e-10, 0.01, 0.25, 0.5
 
-
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL  " + what)
 
 
 def call(status):
@@ -280,5 +269,4 @@ def main(hybrid):
 
 main(False)
 main(True)
-print("%d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+sys.exit(finish())

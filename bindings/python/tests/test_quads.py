@@ -7,34 +7,15 @@ bad cell types are nd.Error.
 
 usage: test_quads.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
-import os
 import sys
 
 import numpy as np
 
-# the package of the build tree (PYTHONPATH), not nitschedyn.py next to this
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
-
-passed = failed = 0
+import nitschedyn as nd
+from ndcheck import check, finish, raises
 
 
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL  " + what)
 
-
-def raises(code, fn):
-    try:
-        fn()
-    except nd.Error as e:
-        return e.code == code
-    return False
 
 
 rho = 2.0
@@ -62,5 +43,4 @@ check(raises(nd.ND_ERR_DEGENERATE, lambda: nd.Mesh(np.array([[0, 0], [1, 0], [1,
                                                    np.array([[0, 3, 2, 1]]), cell_type=nd.ND_CELL_QUADRILATERAL)),
       "a clockwise quadrilateral is refused")
 
-print("%d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+sys.exit(finish())

@@ -10,33 +10,13 @@ friction gave; bad arguments are nd.Error with their codes.
 usage: test_friction.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
 import math
-import os
 import sys
 
-# the package of the build tree (PYTHONPATH), not nitschedyn.py next to this
-# script: the source has no _constants.py
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
-
-passed = failed = 0
+import nitschedyn as nd
+from ndcheck import check, finish, raises
 
 
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL  " + what)
 
-
-def raises(code, fn):
-    try:
-        fn()
-    except nd.Error as e:
-        return e.code == code
-    return False
 
 
 def block(F):
@@ -100,5 +80,4 @@ check(raises(nd.ND_ERR_VALUE, lambda: p.set_friction(1, nd.ND_FRICTION_COULOMB, 
 check(raises(nd.ND_ERR_NULL, lambda: p.set_friction(1, nd.ND_FRICTION_TRESCA)), "Tresca without its threshold")
 check(raises(nd.ND_ERR_KEY, lambda: p.set_friction(1, 7, 0.1)), "an unknown law")
 check(raises(nd.ND_ERR_REGION, lambda: p.set_friction(9, nd.ND_FRICTION_COULOMB, 0.1)), "an unknown region")
-print("%d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+sys.exit(finish())

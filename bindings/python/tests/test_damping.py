@@ -9,23 +9,13 @@ their codes; plane stress is refused in 1D.
 
 usage: test_damping.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
-import os
 import sys
 
-# the package of the build tree (PYTHONPATH), not nitschedyn.py next to this
-# script: the source has no _constants.py
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
+import nitschedyn as nd
+from ndcheck import check, finish
 
 EPS = 2.0 ** -52
-results = []  # one bool per check
 
-
-def check(ok, what):
-    results.append(bool(ok))
-    if not ok:
-        print("FAIL  " + what)
 
 
 def bar(nx=40, damping=None):
@@ -95,6 +85,4 @@ check(status_of(lambda: b.set_plane_stress(1)) == nd.ND_ERR_DIMENSION, "plane st
 b.set_plane_stress(0)
 b.close()
 
-failed = results.count(False)
-print("%d passed, %d failed" % (len(results) - failed, failed))
-sys.exit(1 if failed else 0)
+sys.exit(finish())

@@ -8,34 +8,15 @@ round-off; the cell regions read back; bad arguments are nd.Error.
 usage: test_materials.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
 import math
-import os
 import sys
 
 import numpy as np
 
-# the package of the build tree (PYTHONPATH), not nitschedyn.py next to this
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
-
-passed = failed = 0
+import nitschedyn as nd
+from ndcheck import check, finish, raises
 
 
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL  " + what)
 
-
-def raises(code, fn):
-    try:
-        fn()
-    except nd.Error as e:
-        return e.code == code
-    return False
 
 
 def pulse(x):
@@ -76,5 +57,4 @@ exact = np.where(x <= L1, pulse(x - c1 * t) + R * pulse(2 * L1 - x - c1 * t),
 err = np.max(np.abs(p.field().reshape(-1) - exact))
 print("two materials: R = %.3f, T = %.3f, max error %.3g of the pulse's height" % (R, T, err / 1e-3))
 check(err <= 1e-9 * 1e-3, "the reflected and transmitted waves are the closed form")
-print("%d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+sys.exit(finish())

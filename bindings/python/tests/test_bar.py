@@ -26,23 +26,13 @@ import sys
 
 import numpy as np
 
-# Import the package that CMake assembled (PYTHONPATH=<build>/bindings/python),
-# not nitschedyn.py next to this script: the source has no _constants.py.
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [d for d in sys.path if os.path.abspath(d or os.curdir) != _here]
-import nitschedyn as nd  # noqa: E402
+import ndcheck
+import nitschedyn as nd
+from ndcheck import check, finish
 
-passed = failed = 0
+ndcheck.verbose = True  # (this test lists its checks)
 
 
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-        print("ok    " + what)
-    else:
-        failed += 1
-        print("FAIL  " + what)
 
 
 CLAMPED, CONTACT = 1, 2
@@ -341,8 +331,7 @@ def main():
     test_checkpoint()
     test_pressure_applied()
     test_prescribed_motion()
-    print("%d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
+    return finish()
 
 
 if __name__ == "__main__":
