@@ -11,6 +11,11 @@
 ! nd_problem_contact_step_residual and nd_problem_contact_step_tangent, with
 ! its own U^n.
 !
+! With the argument "hexahedra" the Newmark run is in 3D on a mesh of
+! trilinear hexahedra (Q1, nd_mesh_create_box_cells), the host's arrays and
+! loop unchanged: the library's operators and contact term are the same
+! calls whatever the cells.
+!
 ! With the argument "damped" the Newmark run has Rayleigh damping
 ! C = alpha M + beta K (alpha = 0.5, beta = 0.01, docs/design.md §10.5): the
 ! host reads C (ND_MATRIX_DAMPING) and adds C V^{n+1} to its equation,
@@ -46,7 +51,8 @@ program host_newmark
   real(c_double), parameter :: tau = 0.01d0, beta = 0.25d0, gam = 0.5d0, rtol = 1d-10
   real(c_double), parameter :: alpha_d = 0.5d0, beta_d = 0.01d0  ! the damped run's Rayleigh coefficients
   character(len=16) :: mode
-  logical :: hybrid, damped
+  logical :: hybrid, damped, hexahedra
+  integer :: dim
   real(c_double) :: kappa
   integer, parameter :: nsteps = 30
   type(c_ptr) :: p
@@ -70,6 +76,9 @@ program host_newmark
   call get_command_argument(1, mode)
   hybrid = mode == 'hybrid'
   damped = mode == 'damped'
+  hexahedra = mode == 'hexahedra'
+  dim = 2
+  if (hexahedra) dim = 3
   p = make_scene()
   c = 1d0 / (beta * tau * tau)
   kappa = 1
@@ -94,7 +103,7 @@ program host_newmark
   call check(nd_problem_get_load(p, n, F), 'nd_problem_get_load')
   call check(nd_problem_get_dof_map(p, n, node, comp), 'nd_problem_get_dof_map')
   call check(nd_problem_get_node_count(p, nn), 'nd_problem_get_node_count')
-  allocate(full(2 * nn))
+  allocate(full(dim * nn))
   call check(nd_problem_contact_tangent(p, n, nnz=tnnz), 'nd_problem_contact_tangent')
   allocate(tptr(n + 1), tcol(tnnz), tval(tnnz), last(tnnz))
   lam = lambda_min_lower(A)
@@ -176,7 +185,12 @@ program host_newmark
   call check(nd_problem_get_cells(p, ncells, npc), 'nd_problem_get_cells')
   allocate(cells(npc * ncells))
   call check(nd_problem_get_cells(p, ncells, npc, cells), 'nd_problem_get_cells')
-  if (npc /= 3 .or. ncells /= 8 .or. minval(cells) /= 0 .or. maxval(cells) /= nn - 1) ok = .false.
+  if (hexahedra) then  ! 4 x 1 x 1 hexahedra, 8 nodes each
+    if (npc /= 8 .or. ncells /= 4) ok = .false.
+  else                 ! 4 x 1 rectangles, 2 triangles each
+    if (npc /= 3 .or. ncells /= 8) ok = .false.
+  end if
+  if (minval(cells) /= 0 .or. maxval(cells) /= nn - 1) ok = .false.
   call check(nd_problem_destroy(p), 'nd_problem_destroy')
   print '(a, i0, a, i0, a, es10.3, a, es10.3)', 'host_newmark'//trim(' '//mode)//': ', nsteps, ' steps (', &
         contact_steps, &
@@ -211,18 +225,26 @@ contains
 
   function make_scene() result(q)
     type(c_ptr) :: q, m
-    real(c_double) :: lo(2) = [0d0, 0.002d0], hi(2) = [1d0, 0.252d0], blo(2) = [-1d0, -1d0], bhi(2) = [2d0, 0.0021d0]
-    real(c_double) :: origin(2) = [0d0, 0d0], up(2) = [0d0, 1d0], gravity(2) = [0.05d0, -1d0]
+    ! the block 1 x 0.25 (x 0.25 in 3D, the last coordinate up) 0.002 above the plane
+    real(c_double) :: lo(3), hi(3), blo(3), bhi(3), origin(3) = 0d0, up(3) = 0d0, gravity(3) = 0d0
     real(c_double), allocatable :: x(:), v0(:)
     integer(c_int64_t) :: nodes, j
-    call check(nd_mesh_create_rectangle(4_c_int64_t, 1_c_int64_t, lo, hi, m), 'nd_mesh_create_rectangle')
-    call check(nd_mesh_mark_boundary_box(m, 1, blo, bhi), 'nd_mesh_mark_boundary_box')
+    lo = 0d0; hi = [1d0, 0.25d0, 0.25d0]; blo = -1d0; bhi = 2d0
+    lo(dim) = 0.002d0; hi(dim) = 0.252d0; bhi(dim) = 0.0021d0
+    up(dim) = 1d0; gravity(1) = 0.05d0; gravity(dim) = -1d0
+    if (hexahedra) then
+      call check(nd_mesh_create_box_cells(4_c_int64_t, 1_c_int64_t, 1_c_int64_t, lo, hi, ND_CELL_HEXAHEDRON, m), &
+                 'nd_mesh_create_box_cells')
+    else
+      call check(nd_mesh_create_rectangle(4_c_int64_t, 1_c_int64_t, lo(1:2), hi(1:2), m), 'nd_mesh_create_rectangle')
+    end if
+    call check(nd_mesh_mark_boundary_box(m, 1, blo(1:dim), bhi(1:dim)), 'nd_mesh_mark_boundary_box')
     call check(nd_problem_create(m, 1, q), 'nd_problem_create')
     call check(nd_mesh_destroy(m), 'nd_mesh_destroy')
     call check(nd_problem_set_material(q, 1d0, 0.3d0, 1d0), 'nd_problem_set_material')
-    call check(nd_problem_set_contact_plane(q, 1, origin, up), 'nd_problem_set_contact_plane')
+    call check(nd_problem_set_contact_plane(q, 1, origin(1:dim), up(1:dim)), 'nd_problem_set_contact_plane')
     call check(nd_problem_set_nitsche(q, 1d0, 0d0), 'nd_problem_set_nitsche')
-    call check(nd_problem_set_body_force(q, gravity), 'nd_problem_set_body_force')
+    call check(nd_problem_set_body_force(q, gravity(1:dim)), 'nd_problem_set_body_force')
     if (damped) call check(nd_problem_set_damping(q, alpha_d, beta_d), 'nd_problem_set_damping')
     if (hybrid) then
       call check(nd_problem_set_scheme(q, ND_SCHEME_HYBRID, [0d0]), 'nd_problem_set_scheme')
@@ -231,11 +253,12 @@ contains
     end if
     call check(nd_problem_set_timestep(q, tau), 'nd_problem_set_timestep')
     call check(nd_problem_get_node_count(q, nodes), 'nd_problem_get_node_count')
-    allocate(x(2 * nodes), v0(2 * nodes))
+    allocate(x(dim * nodes), v0(dim * nodes))
     call check(nd_problem_get_node_coordinates(q, nodes, x), 'nd_problem_get_node_coordinates')
+    v0 = 0d0
     do j = 0, nodes - 1   ! falling, sliding, spinning and stretching a little
-      v0(2 * j + 1) = 0.2d0 - 0.3d0 * x(2 * j + 2) + 0.1d0 * x(2 * j + 1)**2
-      v0(2 * j + 2) = -0.5d0 + 0.3d0 * (x(2 * j + 1) - 0.5d0)
+      v0(dim * j + 1) = 0.2d0 - 0.3d0 * x(dim * j + dim) + 0.1d0 * x(dim * j + 1)**2
+      v0(dim * j + dim) = -0.5d0 + 0.3d0 * (x(dim * j + 1) - 0.5d0)
     end do
     call check(nd_problem_set_initial_state(q, nodes, v0=v0), 'nd_problem_set_initial_state')
   end function make_scene
@@ -256,14 +279,14 @@ contains
     end do
   end subroutine get_dense
 
-  ! a field of the library's state on the free DOFs (2D)
+  ! a field of the library's state on the free DOFs
   subroutine field(which, out)
     integer(c_int), intent(in) :: which
     real(c_double), intent(out) :: out(:)
     integer(c_int64_t) :: j
     call check(nd_get_field(p, which, nn, full), 'nd_get_field')
     do j = 1, n
-      out(j) = full(2 * node(j) + comp(j) + 1)
+      out(j) = full(dim * node(j) + comp(j) + 1)
     end do
   end subroutine field
 
