@@ -146,32 +146,8 @@ END_TEST
    cell by cell: gamma_q = gamma0 h_K with h_K the cell's diameter, sqrt(dim) h */
 enum { BAR_NX = 8 };
 static nd_problem bouncing_strip(int dim, int degree, const nd_test_scheme *sc, double theta, double gamma0_bar) {
-  nd_mesh m = NULL;
-  nd_problem p = NULL;
-  const double h = 1.0 / BAR_NX, lo[3] = {0, 0, 0}, hi[3] = {1, h, h};
-  const double left_lo[3] = {-0.5, -1, -1}, left_hi[3] = {1e-9, 2, 2}, right_lo[3] = {1 - 1e-9, -1, -1},
-               right_hi[3] = {1.5, 2, 2}, point[3] = {0, 0, 0}, normal[3] = {1, 0, 0};
-  if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(BAR_NX, 1, lo, hi, ND_CELL_QUADRILATERAL, &m));
-  if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(BAR_NX, 1, 1, lo, hi, ND_CELL_HEXAHEDRON, &m));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, left_lo, left_hi));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, right_lo, right_hi));
-  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
-  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0));
-  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
-  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, point, normal));
-  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, gamma0_bar / sqrt((double)dim)));
-  ND_OK_OR_FAIL(nd_problem_set_scheme(p, sc->scheme, sc->params));
-  ND_OK_OR_FAIL(nd_problem_set_timestep(p, kTau));
-  int64_t n = 0;
-  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
-  double *x = malloc(sizeof(double) * (size_t)(n * dim)), *u0 = calloc((size_t)(n * dim), sizeof(double));
-  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
-  for (int64_t i = 0; i < n; ++i) u0[i * dim] = 0.5 * (1 - x[i * dim]);
-  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, u0, NULL));
-  free(x);
-  free(u0);
-  return p;
+  return nd_test_strip(dim, dim == 2 ? ND_CELL_QUADRILATERAL : ND_CELL_HEXAHEDRON, BAR_NX, degree, sc->scheme,
+                       sc->params, theta, gamma0_bar / sqrt((double)dim), kTau);
 }
 
 START_TEST(strip_bounces_as_the_bar) {

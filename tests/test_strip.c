@@ -20,36 +20,7 @@ enum { NX = 40 };
    contact at x = 0. Its cells' diameter is sqrt(dim) h where the 1D cell's is
    h: gamma0 / sqrt(dim) gives the same gamma = gamma0_1D h on the contact. */
 static nd_problem strip(int dim, int degree, double tau) {
-  const double h = 1.0 / NX, gamma0 = GAMMA0 / sqrt((double)dim);
-  const double lo[3] = {0, 0, 0}, hi[3] = {1, h, h};
-  const double clo[3] = {-1, -1, -1}, chi[3] = {1e-9, 1, 1}, dlo[3] = {1 - 1e-9, -1, -1}, dhi[3] = {2, 1, 1};
-  const double origin[3] = {0, 0, 0}, normal[3] = {1, 0, 0};
-  nd_mesh m = NULL;
-  nd_problem p = NULL;
-  if (dim == 2)
-    ND_OK_OR_FAIL(nd_mesh_create_rectangle(NX, 1, lo, hi, &m));
-  else
-    ND_OK_OR_FAIL(nd_mesh_create_box(NX, 1, 1, lo, hi, &m));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, clo, chi));
-  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, dlo, dhi));
-  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
-  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
-  /* rho = 1 and E = 1 per unit cross-section */
-  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0));
-  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
-  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, origin, normal));
-  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, gamma0));
-  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
-  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
-  int64_t n = 0;
-  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
-  double *x = malloc(sizeof(double) * (size_t)(n * dim)), *u0 = calloc((size_t)(n * dim), sizeof(double));
-  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
-  for (int64_t i = 0; i < n; ++i) u0[i * dim] = 0.5 * (1 - x[i * dim]);
-  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, u0, NULL));
-  free(x);
-  free(u0);
-  return p;
+  return nd_test_strip(dim, ND_CELL_SIMPLEX, NX, degree, ND_SCHEME_HYBRID, NULL, 1.0, GAMMA0 / sqrt((double)dim), tau);
 }
 
 /* the x-components on the line y = z = 0, as a 1D field in library order */

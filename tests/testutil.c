@@ -44,6 +44,36 @@ nd_problem nd_test_bar_at(int nx, int degree, int scheme, const double *params, 
   return p;
 }
 
+nd_problem nd_test_strip(int dim, int cell_type, int nx, int degree, int scheme, const double *params,
+                         double theta, double gamma0, double tau) {
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  const double h = 1.0 / nx, lo[3] = {0, 0, 0}, hi[3] = {1, h, h};
+  const double clo[3] = {-1, -1, -1}, chi[3] = {1e-9, 2, 2}, dlo[3] = {1 - 1e-9, -1, -1}, dhi[3] = {2, 2, 2};
+  const double origin[3] = {0, 0, 0}, normal[3] = {1, 0, 0};
+  if (dim == 2) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(nx, 1, lo, hi, cell_type, &m));
+  if (dim == 3) ND_OK_OR_FAIL(nd_mesh_create_box_cells(nx, 1, 1, lo, hi, cell_type, &m));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, clo, chi));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, dlo, dhi));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0)); /* rho = E = 1 per unit cross-section */
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 2));
+  ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, origin, normal));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, gamma0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *x = malloc(sizeof(double) * (size_t)(n * dim)), *u0 = calloc((size_t)(n * dim), sizeof(double));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  for (int64_t i = 0; i < n; ++i) u0[i * dim] = 0.5 * (1 - x[i * dim]);
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, u0, NULL));
+  free(x);
+  free(u0);
+  return p;
+}
+
 const nd_test_scheme nd_test_schemes[ND_TEST_N_SCHEMES] = {
     {ND_SCHEME_THETA, {0.5, 0}},   {ND_SCHEME_THETA, {1, 0}},  {ND_SCHEME_NEWMARK, {0.25, 0.5}},
     {ND_SCHEME_NEWMARK, {0, 0.5}}, {ND_SCHEME_HYBRID, {0, 0}}, {ND_SCHEME_GENERALIZED_ALPHA, {0.8, 0}}};

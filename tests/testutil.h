@@ -22,6 +22,15 @@ nd_problem nd_test_bar(int nx, int degree, int scheme, const double *params, dou
 nd_problem nd_test_bar_at(int nx, int degree, int scheme, const double *params, double theta,
                           double gamma0, double tau, double plane_x, const double *body_force);
 
+/* The same bar as a strip [0,1] x [0,1/nx]^(dim-1) of nx cells, one across
+   (cell_type ND_CELL_SIMPLEX, or ND_CELL_QUADRILATERAL / ND_CELL_HEXAHEDRON
+   for dim 2 / 3), nu = 0: region 1 at x = 0 against the plane x = 0,
+   region 2 at x = 1 clamped, u0 = ((1-x)/2, 0, 0). gamma0 as given (a
+   cell's diameter is sqrt(dim) h where the bar's is h: gamma0_bar /
+   sqrt(dim) gives the bar's gamma on the contact). */
+nd_problem nd_test_strip(int dim, int cell_type, int nx, int degree, int scheme, const double *params,
+                         double theta, double gamma0, double tau);
+
 /* The schemes the whole-run tests go through: theta = 1/2 and 1,
    Newmark(1/4, 1/2), explicit Newmark(0, 1/2), hybrid, generalized-alpha 0.8. */
 typedef struct {
