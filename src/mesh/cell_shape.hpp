@@ -23,8 +23,9 @@ inline int n_vertices(int dim) { return 1 << dim; }
 inline int n_edges(int dim) { return dim == 2 ? 4 : 12; }
 inline int n_facets(int dim) { return 2 * dim; }
 inline int facet_size(int dim) { return 1 << (dim - 1); }
-// vertex k (< facet_size) of facet f
-inline int facet_vertex(int dim, int f, int k) { return dim == 2 ? kQuadFacet[f][k] : kHexFacet[f][k]; }
+// vertex k (< facet_size) of facet f (a quadrilateral's k taken mod 2: the
+// same for k < 2, and within its row for an optimiser that cannot see the bound)
+inline int facet_vertex(int dim, int f, int k) { return dim == 2 ? kQuadFacet[f][k & 1] : kHexFacet[f][k]; }
 
 // J = dx/dxi (dim x dim, row-major) at xi of the multilinear map
 // x = sum_v N_v(xi) x[v], N_v = prod_k (xi_k or 1 - xi_k), of the cell with
