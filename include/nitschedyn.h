@@ -307,6 +307,12 @@ ND_EXPORT int nd_problem_add_contact_cylinder(nd_problem p, int region, const do
    the step fails with ND_ERR_CALLBACK and is not taken. */
 typedef int (*nd_distance_fn)(double t, const double *x, double *distance, double *normal, void *user);
 ND_EXPORT int nd_problem_add_contact_distance(nd_problem p, int region, nd_distance_fn f, void *user);
+/* Contact between two bodies (docs/design.md §10.3): the contact points of
+   region `slave` against the surface of region `master` (master/slave
+   Nitsche, any Theta), paired anew from the current positions as they
+   slide. Both regions of one mesh (its connected components are the bodies);
+   a slave region has one master (set again: replaced). */
+ND_EXPORT int nd_problem_set_contact_pair(nd_problem p, int slave, int master);
 /* Places the region's obstacle `index` (0-based, in the order added; the
    plane moves with nd_problem_set_contact_plane) at x -> R x + translation
    relative to its definition (rotation: dim x dim row-major, NULL: none):

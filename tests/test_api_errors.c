@@ -966,6 +966,11 @@ START_TEST(problem_obstacles) {
   EXPECT_ERR(nd_problem_add_contact_distance(p, 1, NULL, NULL), ND_ERR_NULL, "nd_problem_add_contact_distance", "f");
   EXPECT_ERR(nd_problem_add_contact_distance(p, 7, unit_up, NULL), ND_ERR_REGION, "nd_problem_add_contact_distance",
              "region 7");
+  /* contact pairs: the problem, the regions */
+  EXPECT_ERR(nd_problem_set_contact_pair(NULL, 1, 1), ND_ERR_NULL, "nd_problem_set_contact_pair", "p");
+  EXPECT_ERR(nd_problem_set_contact_pair(p, 7, 1), ND_ERR_REGION, "nd_problem_set_contact_pair", "region 7");
+  EXPECT_ERR(nd_problem_set_contact_pair(p, 1, -1), ND_ERR_REGION, "nd_problem_set_contact_pair", "region -1");
+  EXPECT_ERR(nd_problem_set_contact_pair(p, 1, 1), ND_ERR_REGION, "nd_problem_set_contact_pair", "its own master");
   /* nothing to move yet */
   EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, zero, NULL), ND_ERR_INDEX, "nd_problem_move_obstacle", "index 0");
   EXPECT_OK(nd_problem_add_contact_sphere(p, 1, c, 1, 0));

@@ -681,7 +681,7 @@ START_TEST(fields_out_of_range_are_refused) {
   unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
-  ck_assert_int_eq(good[8], 9); /* the version */
+  ck_assert_int_eq(good[8], 10); /* the version */
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
   const layout l = layout_of(nf, nc, np);
   ck_assert_int_eq(get_i64(good, l.n), 30);
@@ -735,7 +735,7 @@ START_TEST(fields_out_of_range_are_refused) {
       {l.gap + 8, 0, nan, "obstacle gaps"},
       {l.W_obstacle, 0, inf, "work of the obstacle"},
       {l.D_damping, 0, nan, "dissipation of the damping"},
-      {l.curved, 2, 4, "section flags"},
+      {l.curved, 2, 8, "section flags"}, /* (1, 2 and 4 name sections) */
       {l.reaction + 8, 0, nan, "reactions"},
       {l.phi + 8, 0, nan, "applied contact term"},
       {l.log_i, 1, 1, "tangent history"}, /* one index: nb = 0 points ... */
@@ -864,7 +864,7 @@ START_TEST(version_8_curved_checkpoint_loads) {
   ck_assert(Wg != 0);
   int64_t n9 = 0;
   unsigned char *v9 = save(a, &n9);
-  ck_assert_int_eq(v9[8], 9);
+  ck_assert_int_eq(v9[8], 10); /* (version 10 without pairs: version 9's layout) */
   int64_t at = -1, found = 0; /* W_geometry's one place in the payload */
   for (int64_t i = 32; i + 8 <= n9 - 8; ++i)
     if (memcmp(v9 + i, &Wg, 8) == 0) at = i, ++found;
@@ -888,6 +888,21 @@ START_TEST(version_8_curved_checkpoint_loads) {
   ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_GEOMETRY, &Wb));
   /* the same 20 terms added to Wg and to 0: apart by the rounding of 20 sums */
   ck_assert_double_le(fabs(Wb - (Wa - Wg)), 20 * DBL_EPSILON * (fabs(Wa) + fabs(Wg)));
+  /* and as version 9 (10 without the pairs' section is 9's layout) it loads
+     with W_geometry kept, the run going on bitwise */
+  int64_t n_9 = 0;
+  unsigned char *as9 = older_block(v9, n9, 0, 0, 9, &n_9);
+  nd_problem c = scene(2, 1, ND_SCHEME_HYBRID, NULL);
+  ND_OK_OR_FAIL(nd_problem_add_contact_sphere(c, 1, centre, 100.01, 0));
+  ND_OK_OR_FAIL(nd_problem_load_state(c, n_9, as9));
+  double Wc = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(c, ND_WORK_GEOMETRY, &Wc));
+  ck_assert(Wc == Wg);
+  for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(c));
+  ND_OK_OR_FAIL(nd_get_field(c, ND_FIELD_DISPLACEMENT, nodes, ub));
+  ck_assert(memcmp(ua, ub, sizeof(double) * (size_t)(2 * nodes)) == 0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&c));
+  free(as9);
   free(v9), free(v8), free(ua), free(ub);
   ND_OK_OR_FAIL(nd_problem_destroy(&a));
   ND_OK_OR_FAIL(nd_problem_destroy(&b));

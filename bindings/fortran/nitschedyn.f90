@@ -39,6 +39,7 @@ module nitschedyn
   public :: nd_problem_create, nd_problem_set_material, nd_problem_set_material_region, nd_problem_set_dirichlet, &
             nd_problem_set_dirichlet_value, nd_problem_set_dirichlet_nodal, &
             nd_problem_set_body_force, nd_problem_set_neumann, nd_problem_set_contact_plane, &
+            nd_problem_set_contact_pair, &
             nd_problem_add_contact_sphere, nd_problem_add_contact_cylinder, nd_problem_add_contact_distance, &
             nd_problem_move_obstacle, nd_problem_set_friction, &
             nd_problem_set_nitsche, nd_problem_set_scheme, nd_problem_set_nodal_forces, &
@@ -344,6 +345,16 @@ module nitschedyn
       real(c_double), intent(in) :: point(*), normal(*)
       integer(c_int) :: status
     end function nd_problem_set_contact_plane
+
+    ! contact between two bodies: the slave region's points against the
+    ! master region's surface (nd_problem_set_contact_pair(3))
+    function nd_problem_set_contact_pair(p, slave, master) result(status) &
+        bind(C, name='nd_problem_set_contact_pair')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: slave, master
+      integer(c_int) :: status
+    end function nd_problem_set_contact_pair
 
     function nd_problem_add_contact_sphere(p, region, center, radius, inside) result(status) &
         bind(C, name='nd_problem_add_contact_sphere')

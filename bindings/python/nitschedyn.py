@@ -145,6 +145,7 @@ _PROTOTYPES = {
     "nd_problem_set_body_force": (_int, [_ptr, _pdbl]),
     "nd_problem_set_neumann": (_int, [_ptr, _int, _pdbl]),
     "nd_problem_set_contact_plane": (_int, [_ptr, _int, _pdbl, _pdbl]),
+    "nd_problem_set_contact_pair": (_int, [_ptr, _int, _int]),
     "nd_problem_add_contact_sphere": (_int, [_ptr, _int, _pdbl, _dbl, _int]),
     "nd_problem_add_contact_cylinder": (_int, [_ptr, _int, _pdbl, _pdbl, _dbl, _int]),
     "nd_problem_add_contact_distance": (_int, [_ptr, _int, DISTANCE, _ptr]),
@@ -487,6 +488,11 @@ class Problem(_Handle):
     def set_contact_plane(self, region, point, normal):
         _check(lib.nd_problem_set_contact_plane(self._h, region, _dptr(self._vector(point, "point")),
                                                 _dptr(self._vector(normal, "normal"))))
+
+    def set_contact_pair(self, slave, master):
+        """Contact between two bodies of the mesh: the slave region's points
+        against the master region's surface (nd_problem_set_contact_pair(3))."""
+        _check(lib.nd_problem_set_contact_pair(self._h, slave, master))
 
     def add_contact_sphere(self, region, center, radius, inside=False):
         """Another obstacle of the region: a sphere (a circle in 2D); inside:

@@ -85,9 +85,14 @@ double gamma0_limit(const Space &s, const DofMap &dofs, const CellMaterials &mat
       const double h = cp.gamma_length[q];  // gamma_q / gamma0: h_K (E / E_K with several materials)
       for (int k = 0; k < (cp.m > 1 && cp.friction[q] ? cp.m : 1); ++k) {
         const SparseRow &row = cp.s_row(q, k);
-        for (size_t a = 0; a < row.idx.size(); ++a)
-          for (size_t b = 0; b < row.idx.size(); ++b)
+        // (a pair's point: s_q is the slave cell's, zeros on the master's DOFs)
+        for (size_t a = 0; a < row.idx.size(); ++a) {
+          if (row.val[a] == 0 && !where.count(row.idx[a])) continue;
+          for (size_t b = 0; b < row.idx.size(); ++b) {
+            if (row.val[b] == 0 && !where.count(row.idx[b])) continue;
             S[where.at(row.idx[a]) * m + where.at(row.idx[b])] += h * cp.w[q] * row.val[a] * row.val[b];
+          }
+        }
       }
     }
     const double lambda = largest_relative_eigenvalue(m, K, S);

@@ -105,6 +105,39 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
   return cp;
 }
 
+void append_counterpart(const Space &sp, const DofMap &dofs, ContactPoints &cp, size_t q, int64_t cell,
+                        const double *xi) {
+  const int d = sp.dim, nb = sp.basis.n, mt = cp.m - 1;
+  std::vector<double> phi(static_cast<size_t>(nb));
+  sp.basis.values(xi, phi.data());
+  cp.counterpart_phi.resize(cp.size() * static_cast<size_t>(nb));
+  std::copy(phi.begin(), phi.end(), cp.counterpart_phi.begin() + static_cast<std::ptrdiff_t>(q * nb));
+  const double *nu = &cp.normal[q * 3];
+  const int64_t *nodes = sp.nodes_of(cell);
+  // rows: a (the normal), then ta k; each with its stress row of zeros
+  auto add = [](SparseRow &a, SparseRow &s, int64_t at, double v) {
+    const auto it = std::find(a.idx.begin(), a.idx.end(), at);
+    if (it != a.idx.end()) {
+      a.val[static_cast<size_t>(it - a.idx.begin())] += v;
+      return;
+    }
+    a.idx.push_back(at), a.val.push_back(v);
+    s.idx.push_back(at), s.val.push_back(0.0);
+  };
+  for (int i = 0; i < nb; ++i)
+    for (int c = 0; c < d; ++c) {
+      const int64_t dof = nodes[i] * d + c, r = dofs.free[dof];
+      const int64_t at = r < 0 ? dof : r;
+      // -phi_i n_c, n = -nu
+      add(r < 0 ? cp.a_fixed[q] : cp.a[q], r < 0 ? cp.s_fixed[q] : cp.s[q], at, phi[i] * nu[c]);
+      for (int k = 0; k < mt; ++k) {
+        const size_t row = q * static_cast<size_t>(mt) + static_cast<size_t>(k);
+        add(r < 0 ? cp.ta_fixed[row] : cp.ta[row], r < 0 ? cp.ts_fixed[row] : cp.ts[row], at,
+            -phi[i] * cp.tangent[row * 3 + static_cast<size_t>(c)]);
+      }
+    }
+}
+
 void set_bounds(ContactPoints &cp) {
   cp.nu.assign(cp.size(), 0.0);
   cp.a_sum.assign(cp.size(), 0.0);

@@ -33,6 +33,10 @@ struct ContactPlane {
   double normal[3];
 };
 
+// values per point of a pairing (contact/pairing.hpp): the master facet, -1
+// for a point not of a pair, and 3 barycentric coordinates there
+constexpr int kPairingValues = 4;
+
 struct ContactPoints {
   std::vector<SparseRow> a, s;
   // the same rows on the clamped DOFs (full DOF indices): the nodal contact
@@ -84,6 +88,11 @@ struct ContactPoints {
   // per point (m > 1): whether its region's law is frictional; K_Theta then
   // carries its tangential Theta-term -Theta w_q gamma_q sum_k ts_qk ts_qk^T
   std::vector<char> friction;
+  // Two bodies (docs/design.md §10.3, contact/pairing.hpp): each point's
+  // pairing, kPairingValues values (the master facet, -1 for a point not of
+  // a pair, and its barycentric coordinates there), and the master cell's
+  // basis values at the paired point (basis.n each); both empty without pairs
+  std::vector<double> pairing, counterpart_phi;
   size_t size() const { return w.size(); }
   // the a and s rows of value k (0: the normal, k >= 1: tangential k - 1)
   const SparseRow &a_row(size_t q, int k) const { return k == 0 ? a[q] : ta[q * (m - 1) + (k - 1)]; }
@@ -113,6 +122,13 @@ using NormalOf = std::function<void(size_t r, const double *x, double *nu)>;
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat, const std::vector<int> &regions,
                                const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,
                                bool tangential = false);
+// Point q of a pair: its rows gain the master's side, a_q . U = n_q . (u(x_q)
+// - u(X_q)) with X_q the point of master cell `cell` at reference
+// coordinates xi (the tangential rows likewise); the stresses s_q stay the
+// slave's, zeros on the master's DOFs (one index list for a_q and s_q). A DOF
+// of both sides (a body touching itself next to a shared node) is one entry.
+void append_counterpart(const Space &sp, const DofMap &dofs, ContactPoints &cp, size_t q, int64_t cell,
+                        const double *xi);
 // the planes alone (each region's plane's normal)
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat,
                                const std::vector<ContactPlane> &planes, double gamma0);

@@ -125,6 +125,13 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
   });
 }
 
+ND_EXPORT int nd_problem_set_contact_pair(nd_problem p, int slave, int master) {
+  return nd::guarded("nd_problem_set_contact_pair", [&] {
+    nd::problem_of(p).set_contact_pair(slave, master);
+    return ND_OK;
+  });
+}
+
 namespace {
 void need_inside(int inside) {
   need_range(inside == 0 || inside == 1, ND_ERR_VALUE,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "common/error.hpp"
 
@@ -28,12 +29,29 @@ void obstacle_distance(const Shape &s, const Pose &pose, int dim, double t, cons
   }
 }
 
-std::vector<int> contact_regions(const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles) {
+std::vector<int> contact_regions(const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles,
+                                 const std::vector<ContactPair> &pairs) {
   std::vector<int> r;
   for (const ContactPlane &pl : planes) r.push_back(pl.region);
   for (const Obstacle &o : obstacles)
     if (std::find(r.begin(), r.end(), o.region) == r.end()) r.push_back(o.region);
+  for (const ContactPair &p : pairs)
+    if (std::find(r.begin(), r.end(), p.slave) == r.end()) r.push_back(p.slave);
   return r;
+}
+
+std::vector<int> contact_node_regions(const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles,
+                                      const std::vector<ContactPair> &pairs) {
+  std::vector<int> r = contact_regions(planes, obstacles, pairs);
+  for (const ContactPair &p : pairs)
+    if (std::find(r.begin(), r.end(), p.master) == r.end()) r.push_back(p.master);
+  return r;
+}
+
+int pair_of(int region, const std::vector<ContactPair> &pairs) {
+  for (size_t i = 0; i < pairs.size(); ++i)
+    if (pairs[i].slave == region) return static_cast<int>(i);
+  return -1;
 }
 
 bool curved_region(int region, const std::vector<Obstacle> &obstacles) {
@@ -120,46 +138,101 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
   g.gap = plane_gap;
   g.gap_old = plane_gap_old.empty() ? plane_gap : plane_gap_old;
   g.normal = frozen;
+  const std::vector<ContactPair> none;
+  const std::vector<ContactPair> &pairs = now.pairs ? *now.pairs : none;
+  if (!pairs.empty()) {
+    if (!now.pairing || now.pairing->size() != kPairingValues * cp.size())
+      fail(ND_ERR_INTERNAL, "a pair's points without their pairings");
+    g.pairing = *now.pairing;
+  }
+  // each pair's master surface where U^n places it (built when first needed)
+  std::vector<std::unique_ptr<MasterSurface>> surfaces(pairs.size());
   struct Seen {
     Nearest n;
+    Projection p;  // a pair's point: where it lands on the master surface
     double u[3], y[3], c;
     bool near;
+    bool pair = false, far = false;  // a pair's point; beyond the search's reach (kPairReach)
   };
   std::vector<Seen> seen(cp.size());
-  bool turned = false;  // a near point's normal turned past delta
+  bool turned = false;  // a near point's normal turned past delta (or a pair's point slid off its facet)
   for (size_t q = 0; q < cp.size(); ++q) {
     if (cp.plane[q] >= 0) continue;  // a plane region's point: its closed form
     Seen &e = seen[q];
     displacement_at(sp, dofs, cp, q, U.data(), e.u);
     for (int k = 0; k < 3; ++k) e.y[k] = k < d ? cp.x[q * d + k] + e.u[k] : 0;
-    e.n = nearest(cp.region[q], now.planes, now.obstacles, d, now.t, e.y);
+    const int pair = pairs.empty() ? -1 : pair_of(cp.region[q], pairs);
+    double c_held = 1;  // a pair's point: its paired facet's normal now against the frozen one
+    bool slid = false;
+    if (pair >= 0) {
+      auto &surface = surfaces[static_cast<size_t>(pair)];
+      if (!surface) surface = std::make_unique<MasterSurface>(sp, dofs, pairs[pair].master, U.data());
+      e.pair = true;
+      const double reach = kPairReach * surface->bucket();
+      e.p = surface->project(e.y, reach, static_cast<int64_t>(g.pairing[q * kPairingValues]));
+      e.far = e.p.facet < 0;
+      if (e.far) {  // nothing within reach: the gap's lower bound, along the frozen normal
+        e.n.d = reach;
+        std::copy_n(&g.normal[q * 3], 3, e.n.nu);
+      } else {
+        e.n.d = e.p.d;
+        std::copy_n(e.p.nu, 3, e.n.nu);
+      }
+      // (the paired facet, not the nearest: a point over an edge between two
+      // facets would otherwise see the edge's angle as a turn at every step)
+      const Projection held = surface->on_facet(static_cast<int64_t>(g.pairing[q * kPairingValues]), e.y);
+      for (int k = 0; k < sp.mesh->facet_size(); ++k) slid = slid || held.bary[k] < -kPairSlack;
+      c_held = 0;
+      for (int k = 0; k < d; ++k) c_held += held.nu[k] * g.normal[q * 3 + k];
+    } else {
+      e.n = nearest(cp.region[q], now.planes, now.obstacles, d, now.t, e.y);
+    }
     e.c = 0;
     for (int k = 0; k < d; ++k) e.c += e.n.nu[k] * g.normal[q * 3 + k];
     // near: within kNearCells cells of the owning cell's size (a measure of
     // the relative position alone: a Galilean change of frame keeps it)
     e.near = e.n.d <= kNearCells * cp.h[q];
-    if (e.near && !(e.c >= cos_turn)) turned = true;
+    const double c_turn = pair >= 0 ? c_held : e.c;
+    if (e.near && (!(c_turn >= cos_turn) || slid)) turned = true;
   }
   for (size_t q = 0; q < cp.size(); ++q) {
     if (cp.plane[q] >= 0) continue;
     Seen &e = seen[q];
     double *nf = &g.normal[q * 3];
+    const bool paired = e.pair;
+    double *pq = paired ? &g.pairing[q * kPairingValues] : nullptr;
+    const bool moved = paired && !e.far &&
+                       (pq[0] != static_cast<double>(e.p.facet) || !std::equal(pq + 1, pq + kPairingValues, e.p.bary));
     // once the operators are made again, every point takes its normal now
     // (not only the near ones past delta): the next refresh is then as far
-    // off as it can be
-    if (may_refresh && turned && !std::equal(nf, nf + d, e.n.nu)) {
+    // off as it can be (a pair's point out of reach keeps its own)
+    if (may_refresh && turned && !e.far && (!std::equal(nf, nf + d, e.n.nu) || moved)) {
       for (int k = 0; k < d; ++k) nf[k] = e.n.nu[k];
+      if (paired) {
+        pq[0] = static_cast<double>(e.p.facet);
+        std::copy_n(e.p.bary, kPairingValues - 1, pq + 1);
+      }
       e.c = 1;
       ++g.refreshed;
     }
     // a far point's normal may have turned more: its gap is then measured
     // along nu as if within delta (<= the distance along n_q: conservative)
     const double cc = std::max(e.c, cos_turn);
+    double un = 0;  // n_q.u_q = -nu_f.u_q (a pair's: of the slave's motion relative to the paired point's)
+    double rel[3] = {e.u[0], e.u[1], e.u[2]};
+    if (paired) {
+      double um[3];
+      counterpart_displacement(sp, dofs, static_cast<int64_t>(pq[0]), pq + 1, U.data(), um);
+      for (int k = 0; k < d; ++k) rel[k] -= um[k];
+    }
+    for (int k = 0; k < d; ++k) un -= nf[k] * rel[k];
+    g.gap[q] = e.n.d / cc + un;
+    if (paired) {
+      g.gap_old[q] = g.gap[q];  // the master moves with U alone
+      continue;
+    }
     double d_old = 0, nu_old[3];
     distance_of(e.n.which, cp.region[q], before.planes, before.obstacles, d, before.t, e.y, d_old, nu_old);
-    double un = 0;  // n_q.u_q = -nu_f.u_q
-    for (int k = 0; k < d; ++k) un -= nf[k] * e.u[k];
-    g.gap[q] = e.n.d / cc + un;
     g.gap_old[q] = d_old / cc + un;
   }
   return g;

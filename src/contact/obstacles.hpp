@@ -18,6 +18,7 @@
 
 #include "assembly/contact.hpp"
 #include "contact/obstacle.hpp"
+#include "contact/pairing.hpp"
 #include "fem/space.hpp"
 
 namespace nd {
@@ -33,8 +34,24 @@ constexpr double kNearCells = 0.5;
 
 // The regions with contact points, in the order of their points: the
 // planes' regions as given, then those with obstacles but no plane, in the
-// order of their first obstacle.
-std::vector<int> contact_regions(const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles);
+// order of their first obstacle, then the pairs' slave regions.
+std::vector<int> contact_regions(const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles,
+                                 const std::vector<ContactPair> &pairs = {});
+// Those and the pairs' master regions: the nodes a contact force acts on
+// (mass redistribution)
+std::vector<int> contact_node_regions(const std::vector<ContactPlane> &planes, const std::vector<Obstacle> &obstacles,
+                                      const std::vector<ContactPair> &pairs);
+// The pair whose slave region is `region` (-1: none)
+int pair_of(int region, const std::vector<ContactPair> &pairs);
+// a pair's point is paired anew when it has slid this far off its facet:
+// its projection's barycentric coordinates on the facet's plane below
+// -kPairSlack (a quarter of the facet beyond its edge; the slack keeps a
+// point that sits on an edge from being paired back and forth)
+constexpr double kPairSlack = 0.25;
+// a pair's point farther than this many of the master's buckets (its
+// largest facet) from every master facet is not projected: its gap is that
+// distance, a lower bound of the true one, its pairing kept
+constexpr double kPairReach = 2;
 // whether the region has an added obstacle (its points follow the curved rule)
 bool curved_region(int region, const std::vector<Obstacle> &obstacles);
 
@@ -59,13 +76,17 @@ Nearest nearest(int region, const std::vector<ContactPlane> &planes, const std::
 // refresh rule (may_refresh false: kept, as for a state's own gaps). U: the
 // state's at t^n. Throws what a shape throws (a callback that failed).
 struct StepGeometry {
-  std::vector<double> gap, gap_old, normal;
+  std::vector<double> gap, gap_old, normal, pairing;
   int64_t refreshed = 0;
 };
 struct StepPlaces {
   const std::vector<ContactPlane> &planes;
   const std::vector<Obstacle> &obstacles;
   double t;
+  // the pairs (their points' gaps: from the master surface at U, no motion
+  // of its own: g^n = g^{n+1}) and the pairings the rows hold
+  const std::vector<ContactPair> *pairs = nullptr;
+  const std::vector<double> *pairing = nullptr;
 };
 StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoints &cp, const StepPlaces &now,
                            const StepPlaces &before, const std::vector<double> &U, const std::vector<double> &frozen,

@@ -459,8 +459,10 @@ Mesh read_gmsh(const char *path) {
   {
     std::vector<int64_t> tags(index.size());
     for (const auto &[tag, id] : index) tags[static_cast<size_t>(id)] = tag;
-    refuse_duplicate_vertices(top, static_cast<int64_t>(index.size()), coords.data(),
-                              std::string(path) + ": ", tags.data());
+    const int64_t n = static_cast<int64_t>(index.size());
+    const std::vector<int64_t> component =
+        vertex_components(n, static_cast<int64_t>(cells.size()) / nv, cells.data(), nv);
+    refuse_duplicate_vertices(top, n, coords.data(), std::string(path) + ": ", tags.data(), &component);
   }
   Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
                      static_cast<int64_t>(cells.size()) / nv, cells.data(),

@@ -191,7 +191,8 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
           fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
     }
   }
-  refuse_duplicate_vertices(dim, n_vertices, m.coords.data(), where);
+  const std::vector<int64_t> component = vertex_components(n_vertices, n_cells, m.cells.data(), m.cell_vertices());
+  refuse_duplicate_vertices(dim, n_vertices, m.coords.data(), where, nullptr, &component);
   for (int64_t c = 0; c < n_cells; ++c) {
     double J[9];
     m.cell_jacobian(c, J);
@@ -226,8 +227,24 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
   return m;
 }
 
+std::vector<int64_t> vertex_components(int64_t n, int64_t n_cells, const int64_t *cells, int per_cell) {
+  std::vector<int64_t> root(static_cast<size_t>(n));
+  for (int64_t v = 0; v < n; ++v) root[v] = v;
+  auto find = [&](int64_t v) {
+    while (root[v] != v) v = root[v] = root[root[v]];  // (path halving)
+    return v;
+  };
+  for (int64_t c = 0; c < n_cells; ++c)
+    for (int i = 1; i < per_cell; ++i) {
+      const int64_t a = find(cells[c * per_cell]), b = find(cells[c * per_cell + i]);
+      if (a != b) root[std::max(a, b)] = std::min(a, b);  // the smaller index names the component
+    }
+  for (int64_t v = 0; v < n; ++v) root[v] = find(v);
+  return root;
+}
+
 void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const std::string &where,
-                               const int64_t *names) {
+                               const int64_t *names, const std::vector<int64_t> *component) {
   auto at = [&](int64_t v) { return coords + v * dim; };
   for (int64_t i = 0; i < n * dim; ++i)
     if (!std::isfinite(coords[i])) return;  // (refused as not finite by the caller; no order to sort by)
@@ -240,13 +257,28 @@ void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const s
     return a < b;
   });
   for (size_t i = 1; i < order.size(); ++i) {
-    const int64_t a = order[i - 1], b = order[i];
+    int64_t a = order[i - 1];
+    const int64_t b = order[i];
+    // (of two bodies: where they touch. Equal positions sort together, and
+    // any two of one body among them meet as neighbours or with one of
+    // another body between: checked pairwise over the run of equals)
     if (std::equal(at(a), at(a) + dim, at(b))) {
+      if (component) {
+        size_t first = i - 1;
+        while (first > 0 && std::equal(at(order[first - 1]), at(order[first - 1]) + dim, at(b))) --first;
+        bool same = false;
+        int64_t other = a;
+        for (size_t j = first; j < i && !same; ++j)
+          if ((*component)[order[j]] == (*component)[b]) same = true, other = order[j];
+        if (!same) continue;
+        a = other;
+      }
       std::string position;
       for (int k = 0; k < dim; ++k) position += (k ? ", " : "") + num(at(a)[k]);
       fail(ND_ERR_DEGENERATE, where + (names ? "nodes " : "vertices ") + std::to_string(names ? names[a] : a) + " and " +
                                   std::to_string(names ? names[b] : b) + " are at the same position (" + position +
-                                  "): merge them (a mesh holds each point once)");
+                                  "): merge them (a body holds each point once; two bodies, connected components of the mesh, "
+                                  "may touch)");
     }
   }
 }

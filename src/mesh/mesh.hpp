@@ -64,10 +64,15 @@ struct Mesh {
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
                const int64_t *cells, const std::string &where = {}, int cell_type = 0);
 // ND_ERR_DEGENERATE naming both when two of the n vertices (dim coordinates
-// each, finite) are at exactly the same position; O(n log n). names: what to
-// call vertex i in the message (null: i; a file reader passes its node tags).
+// each, finite) of one connected component are at exactly the same position
+// (two bodies may touch there: docs/design.md §10.3); O(n log n). names:
+// what to call vertex i in the message (null: i; a file reader passes its
+// node tags); component: each vertex's (vertex_components; null: one body).
 void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const std::string &where,
-                               const int64_t *names = nullptr);
+                               const int64_t *names = nullptr, const std::vector<int64_t> *component = nullptr);
+// The connected component of each of n vertices (the smallest vertex index
+// in it) through the cells, per_cell vertices each
+std::vector<int64_t> vertex_components(int64_t n, int64_t n_cells, const int64_t *cells, int per_cell);
 Mesh make_interval(int64_t n_cells, double a, double b);
 // nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra;
 // or kept whole (cell_type ND_CELL_QUADRILATERAL, ND_CELL_HEXAHEDRON)

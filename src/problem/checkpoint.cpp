@@ -33,8 +33,10 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // always the prescribed motion: the clamped DOFs' U, V, A and W_prescribed;
 // 9 (always written): the curved obstacles' section ends with W_geometry,
 // and without curved obstacles the friction section with the planes' points
-// at t^n (StateSizes::n_places)
-constexpr uint32_t kVersion = 9;
+// at t^n (StateSizes::n_places); 10 (always written): flag 4, the contact
+// pairs' section after the friction's: each point's pairing, then (without
+// the curved obstacles' section) the frozen normals and W_geometry
+constexpr uint32_t kVersion = 10;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
 class Writer {
@@ -179,6 +181,9 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
     // the added obstacles, by what they are (where they are may change, as a plane's point)
     if (!def.obstacles.empty()) h.value(static_cast<uint64_t>(def.obstacles.size()));
     for (const Obstacle &o : def.obstacles) h.value(o.region), o.shape->fingerprint(h);
+    // the contact pairs (none: the digest as before)
+    if (!def.pairs.empty()) h.value(static_cast<uint64_t>(def.pairs.size()));
+    for (const ContactPair &pair : def.pairs) h.value(pair.slave), h.value(pair.master);
     done(kPrintPlanes, h);
   }
   return print;
@@ -239,8 +244,8 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.value(s.W_obstacle);
   const uint32_t version = version_for(sizes);
   payload.value(s.D_damping);
-  const bool positions = sizes.n_positions > 0, friction = sizes.n_slip > 0;
-  payload.value(static_cast<uint8_t>((positions ? 1 : 0) | (friction ? 2 : 0)));
+  const bool positions = sizes.n_positions > 0, friction = sizes.n_slip > 0, pairs = sizes.pairs;
+  payload.value(static_cast<uint8_t>((positions ? 1 : 0) | (friction ? 2 : 0) | (pairs ? 4 : 0)));
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
   payload.padded(s.tangent_log.i, log_indices(n_contact, version));
@@ -257,6 +262,13 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
     payload.value(s.sliding);
     payload.value(s.sticking);
     if (sizes.n_places > 0) payload.padded(s.positions, static_cast<uint64_t>(sizes.n_places));
+  }
+  if (pairs) {
+    payload.padded(s.pairing, static_cast<uint64_t>(kPairingValues * n_contact));
+    if (!positions) {
+      payload.padded(s.normal, static_cast<uint64_t>(3 * n_contact));
+      payload.value(s.W_geometry);
+    }
   }
   payload.padded(s.Uc, n_clamped);
   payload.padded(s.Vc, n_clamped);
@@ -321,6 +333,10 @@ int64_t max_state_size(const StateSizes &sizes) {
   if (sizes.n_places > 0) s.positions.resize(static_cast<size_t>(sizes.n_places));
   s.slip.resize(static_cast<size_t>(sizes.n_slip));
   s.phi_t = s.slip;
+  if (sizes.pairs) {
+    s.pairing.resize(static_cast<size_t>(kPairingValues * sizes.n_contact));
+    s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
+  }
   s.Uc = s.Vc = s.Ac = s.F_fixed;
   return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
@@ -443,14 +459,18 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   need_finite(s.gap, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   need_finite(s.W_obstacle, "work of the obstacle (W_obstacle)");
-  bool positions = head.version == 7, friction = false;
+  bool positions = head.version == 7, friction = false, pairs = false;
   if (head.version >= 8) {
     s.D_damping = r.value<double>();
     need_finite(s.D_damping, "dissipation of the damping");
     const uint8_t flags = r.value<uint8_t>();
-    if (flags > 3) fail(ND_ERR_FORMAT, "the checkpoint's section flags are " + std::to_string(flags) + ", not 0 to 3");
+    const unsigned most = head.version >= 10 ? 7 : 3;
+    if (flags > most)
+      fail(ND_ERR_FORMAT, "the checkpoint's section flags are " + std::to_string(flags) + ", not 0 to " +
+                              std::to_string(most));
     positions = (flags & 1) != 0;
     friction = (flags & 2) != 0;
+    pairs = (flags & 4) != 0;
   }
   s.reaction = optional(sizes.n_clamped, "reactions");
   need_finite(s.reaction, "reactions");
@@ -492,6 +512,24 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
       need_finite(s.positions, "contact planes' points (friction)");
     }
   }
+  if (pairs) {
+    s.pairing = optional(kPairingValues * sizes.n_contact, "contact pairings");
+    need_finite(s.pairing, "contact pairings");
+    // (a facet index, -1 or one of the mesh's: the rows are made from it)
+    for (size_t q = 0; q < s.pairing.size(); q += kPairingValues)
+      if (s.pairing[q] != std::floor(s.pairing[q]) || s.pairing[q] < -1 || s.pairing[q] >= sizes.n_boundary)
+        fail(ND_ERR_FORMAT, "the checkpoint's contact pairing of point " + std::to_string(q / kPairingValues) +
+                                " names no boundary facet");
+    if (!positions) {
+      s.normal = optional(3 * sizes.n_contact, "frozen contact normals");
+      need_finite(s.normal, "frozen contact normals");
+      s.W_geometry = r.value<double>();
+      need_finite(s.W_geometry, "re-linearisation energy of the contact pairs (W_geometry)");
+    }
+  }
+  if (sizes.pairs != pairs || (pairs && (s.pairing.empty() || s.normal.empty())))
+    fail(ND_ERR_STATE, sizes.pairs ? "the checkpoint has no contact pairs' state; this problem has contact pairs"
+                                   : "the checkpoint has contact pairs; this problem has none");
   if ((sizes.n_slip > 0) != friction || (sizes.n_slip > 0 && s.slip.empty()))
     fail(ND_ERR_STATE, sizes.n_slip > 0 ? "the checkpoint has no friction state; this problem has friction"
                                         : "the checkpoint has a friction state; this problem has no friction");

@@ -58,6 +58,11 @@ struct StateSizes {
   // friction without curved obstacles: the planes' points at t^n (3 per
   // plane, State::positions), in the friction section; else 0
   int64_t n_places = 0;
+  // contact pairs: the pairings (kPairingValues per point) and, without
+  // curved obstacles, the frozen normals and W_geometry follow the friction's
+  // section; n_boundary, the mesh's boundary facets, bounds a pairing's facet
+  bool pairs = false;
+  int64_t n_boundary = 0;
 };
 // Every field that may be absent or grow (the load, the reactions, the
 // tangent's history) takes the room of its longest form: a problem's

@@ -14,6 +14,7 @@
 #include "contact/law.hpp"
 #include "common/error.hpp"
 #include "contact/obstacle.hpp"
+#include "contact/pairing.hpp"
 #include "monitor/guards.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator.hpp"
@@ -71,6 +72,12 @@ struct Definition : TimeData {
     double parameter;
   };
   std::vector<Friction> friction;
+  // contact between two regions (docs/design.md §10.3; part of the contact
+  // aspect): the slave's points against the master's surface
+  std::vector<ContactPair> pairs;
+  // whether points follow the curved rule (frozen normals, gaps measured
+  // anew at each step: contact/obstacles.hpp): an added obstacle or a pair
+  bool curved() const { return !obstacles.empty() || !pairs.empty(); }
   // whether a region with points has a frictional law
   bool has_friction() const {
     for (const Friction &f : friction)
@@ -113,7 +120,7 @@ struct Definition : TimeData {
   unsigned missing_for_operators() const {
     unsigned m = 0;
     if (!(given & kMaterial)) m |= kMaterial;
-    if ((!planes.empty() || !obstacles.empty()) && !(given & kNitsche)) m |= kNitsche;
+    if ((!planes.empty() || !obstacles.empty() || !pairs.empty()) && !(given & kNitsche)) m |= kNitsche;
     return m;
   }
   unsigned missing_for_step() const {

@@ -1,11 +1,13 @@
 #include "problem/discretization.hpp"
 
 #include "contact/obstacles.hpp"
+#include "contact/pairing.hpp"
 
 #include <cstdint>
 
 #include <algorithm>
 #include <map>
+#include <memory>
 #include <cmath>
 
 #include "assembly/bulk.hpp"
@@ -88,36 +90,68 @@ std::shared_ptr<const PointLaw> point_laws(const Definition &def, const ContactP
 
 // The contact points with each one's normal: a plane region's plane's, a
 // curved point's frozen (given) or nearest obstacle's at x_q, the obstacles
-// where the definition places them (t = 0)
+// where the definition places them (t = 0); a pair's point with its frozen
+// pairing (given with the normals) or its projection on the master surface
+// in the reference configuration, its rows holding the master's side
 ContactPoints contact_points(const Space &space, const DofMap &dofs, const Definition &def, double gamma0,
-                             const std::vector<double> *frozen) {
+                             const std::vector<double> *frozen, const std::vector<double> *pairing) {
   // without frozen normals: the obstacles as defined (no pose), so that the
   // normals, and gamma0* from them, depend on the definition alone (a restart
   // makes the same)
   std::vector<Obstacle> defined = def.obstacles;
   for (Obstacle &o : defined) o.pose = Pose{};
-  const std::vector<int> regions = contact_regions(def.planes, def.obstacles);
+  const std::vector<int> regions = contact_regions(def.planes, def.obstacles, def.pairs);
   std::vector<int> plane_of(regions.size(), -1);
   for (size_t r = 0; r < regions.size(); ++r)
-    if (!curved_region(regions[r], def.obstacles))
+    if (!curved_region(regions[r], def.obstacles) && pair_of(regions[r], def.pairs) < 0)
       for (size_t ip = 0; ip < def.planes.size(); ++ip)
         if (def.planes[ip].region == regions[r]) plane_of[r] = static_cast<int>(ip);
+  std::vector<std::unique_ptr<MasterSurface>> surfaces(def.pairs.size());
+  std::vector<double> paired;  // the pairings, kPairingValues per point
   size_t q = 0;  // (normal_of is called for each point in turn)
   ContactPoints cp = assemble_contact(
       space, dofs, materials_of(space, def), regions, plane_of,
       [&](size_t r, const double *x, double *nu) {
+        const int pair = pair_of(regions[r], def.pairs);
+        double at[kPairingValues] = {-1, 0, 0, 0};
         if (plane_of[r] >= 0) {
           for (int k = 0; k < space.dim; ++k) nu[k] = def.planes[plane_of[r]].normal[k];
         } else if (frozen) {
           if (frozen->size() < 3 * (q + 1)) fail(ND_ERR_INTERNAL, "fewer frozen normals than contact points");
           for (int k = 0; k < space.dim; ++k) nu[k] = (*frozen)[3 * q + k];
+          if (pair >= 0) {
+            if (!pairing || pairing->size() < kPairingValues * (q + 1))
+              fail(ND_ERR_INTERNAL, "fewer pairings than contact points");
+            std::copy_n(&(*pairing)[kPairingValues * q], kPairingValues, at);
+          }
+        } else if (pair >= 0) {
+          auto &surface = surfaces[static_cast<size_t>(pair)];
+          if (!surface) surface = std::make_unique<MasterSurface>(space, dofs, def.pairs[pair].master, nullptr);
+          const Projection p = surface->project(x);
+          for (int k = 0; k < space.dim; ++k) nu[k] = p.nu[k];
+          at[0] = static_cast<double>(p.facet);
+          std::copy_n(p.bary, kPairingValues - 1, at + 1);
         } else {
           const Nearest n = nearest(regions[r], def.planes, defined, space.dim, 0.0, x);
           for (int k = 0; k < space.dim; ++k) nu[k] = n.nu[k];
         }
+        paired.insert(paired.end(), at, at + kPairingValues);
         ++q;
       },
       gamma0, def.has_friction());
+  if (!def.pairs.empty()) {
+    cp.pairing = std::move(paired);
+    for (size_t p = 0; p < cp.size(); ++p) {
+      const double *at = &cp.pairing[kPairingValues * p];
+      if (at[0] < 0) continue;
+      const int64_t facet = static_cast<int64_t>(at[0]);
+      if (facet >= static_cast<int64_t>(space.mesh->boundary.size()))
+        fail(ND_ERR_INTERNAL, "a pairing's facet is out of range");
+      double xi[3] = {0, 0, 0};
+      facet_point_reference(*space.mesh, space.mesh->boundary[facet], at + 1, xi);
+      append_counterpart(space, dofs, cp, p, space.mesh->boundary[facet].cell, xi);
+    }
+  }
   cp.gap = contact_gaps(cp, def.planes);
   mark_friction(def, cp);
   return cp;
@@ -142,7 +176,8 @@ void set_damping(Discretization &d, const Definition &def) {
 
 
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
-                                           const Ownership *own, const std::vector<double> *frozen) {
+                                           const Ownership *own, const std::vector<double> *frozen,
+                                           const std::vector<double> *pairing) {
   require_complete(def.missing_for_operators());
   auto d = std::make_unique<Discretization>(DofMap(space, def.dirichlet), def.lumped);
   d->counters = counters;
@@ -158,7 +193,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   count(counters, &Counters::matrix_assemblies, 2);  // M and K in one pass
   std::vector<char> on_contact;
   if (def.redistributed) {
-    on_contact = contact_nodes(space, contact_regions(def.planes, def.obstacles));
+    on_contact = contact_nodes(space, contact_node_regions(def.planes, def.obstacles, def.pairs));
     d->massless.assign(static_cast<size_t>(d->dofs.n_free), 0);
     for (int64_t node = 0; node < space.n_nodes; ++node)
       for (int a = 0; a < space.dim; ++a) {
@@ -173,10 +208,10 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   d->M = std::move(bulk.M);
   if (def.lumped) d->M_lumped = std::move(bulk.M_lumped);
   const bool automatic = def.gamma0 == 0;
-  d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr);
+  d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr, nullptr);
   d->contact_law = def.contact_law_given ? def.contact_law_given : point_laws(def, d->contact, space.dim);
   d->gamma0_limit = gamma0_limit(space, d->dofs, materials_of(space, def), d->contact);
-  if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen);
+  if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen, pairing);
   d->theta = def.theta;
   d->gamma0 = def.gamma0;
   if (automatic && d->contact.size() > 0) {
@@ -206,7 +241,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
 }
 
 std::unique_ptr<Discretization> with_normals(const Space &space, const Definition &def, const Discretization &from,
-                                             const std::vector<double> &frozen) {
+                                             const std::vector<double> &frozen, const std::vector<double> *pairing) {
   auto d = std::make_unique<Discretization>(from.dofs, from.lumped);
   d->counters = from.counters;
   d->M = from.M, d->M_lumped = from.M_lumped, d->massless = from.massless, d->K = from.K;
@@ -218,7 +253,7 @@ std::unique_ptr<Discretization> with_normals(const Space &space, const Definitio
   d->damping_alpha = from.damping_alpha, d->damping_beta = from.damping_beta, d->C = from.C;
   if (from.clamped) d->clamped = std::make_unique<ClampedRows>(*from.clamped);
   // the rows with the frozen normals; gamma as the first discretization has it
-  d->contact = contact_points(space, d->dofs, def, d->gamma0, &frozen);
+  d->contact = contact_points(space, d->dofs, def, d->gamma0, &frozen, pairing);
   for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = from.contact.gamma[q];
   set_bounds(d->contact);
   require_shared_index_lists(d->contact);
@@ -235,7 +270,7 @@ Csr assemble_own_step_matrix(const Space &space, const Discretization &d, const 
   for (int64_t cell = 0; cell < space.mesh->n_cells; ++cell) cells[cell] = own.owns_cell(cell);
   for (size_t q = 0; q < points.size(); ++q) points[q] = own.owns_cell(space.mesh->boundary[d.contact.facet[q]].cell);
   const std::vector<char> on_contact =
-      def.redistributed ? contact_nodes(space, contact_regions(def.planes, def.obstacles)) : std::vector<char>();
+      def.redistributed ? contact_nodes(space, contact_node_regions(def.planes, def.obstacles, def.pairs)) : std::vector<char>();
   BulkOperators bulk = mass_and_stiffness(space, d.dofs, def, &on_contact, AssemblyPart{&cells, nullptr});
   count(d.counters, &Counters::matrix_assemblies);
   add_nitsche_terms(bulk.K, d.contact, d.theta, &points);

@@ -28,13 +28,17 @@ constexpr double kAutomaticGamma0Fraction = 0.5;
 // the nearest obstacle's at its reference position, the obstacles as
 // defined, unmoved (contact/obstacles.hpp);
 // the automatic gamma0 is always from those (a refresh keeps it).
+// pairing: with frozen, a pair's points' pairings (contact/pairing.hpp), the
+// state's; null with frozen: none (no pair)
 std::unique_ptr<Discretization> discretize(const Space &space, const Definition &def, Counters *counters,
-                                           const Ownership *own = nullptr, const std::vector<double> *frozen = nullptr);
+                                           const Ownership *own = nullptr, const std::vector<double> *frozen = nullptr,
+                                           const std::vector<double> *pairing = nullptr);
 // The discretization `from` with other frozen normals (a refresh,
 // contact/obstacles.hpp): its M, K, gamma0 and clamped rows, new contact
 // rows and K_Theta; the same as discretize(..., &frozen) would make.
 std::unique_ptr<Discretization> with_normals(const Space &space, const Definition &def, const Discretization &from,
-                                             const std::vector<double> &frozen);
+                                             const std::vector<double> &frozen,
+                                             const std::vector<double> *pairing = nullptr);
 // Where the unknowns sit (g.x, g.component), which GAMG's near-null space
 // reads: for every unknown, or with g.own_rows_only for the rows
 // [g.row_begin, g.row_end) of g.row_of's numbering only (no array n long).

@@ -245,6 +245,19 @@ void Problem::add_obstacle(int region, std::shared_ptr<const Shape> shape) {
   changed(kContact);
 }
 
+void Problem::set_contact_pair(int slave, int master) {
+  require_region(slave, "contact");
+  require_region(master, "contact");
+  if (slave == master)
+    fail(ND_ERR_REGION, "region " + std::to_string(slave) + " as its own master: a body touching itself through one "
+                        "region is not supported yet; give the two sides as two regions");
+  const ContactPair pair{slave, master};
+  auto it = std::find_if(def_.pairs.begin(), def_.pairs.end(), [&](const ContactPair &x) { return x.slave == slave; });
+  if (it != def_.pairs.end()) *it = pair;
+  else def_.pairs.push_back(pair);
+  changed(kContact);
+}
+
 void Problem::move_obstacle(int region, int index, const double *translation, const double *rotation) {
   const int d = space_.dim;
   int seen = -1;
@@ -427,9 +440,11 @@ Discretization &Problem::discretization_() {
   if (!disc_) {
     // curved obstacles: the rows hold the state's frozen normals (a step's
     // refresh gives its own), unless the obstacles were redefined since
+    // (and a pair's points their state's pairings)
     const std::vector<double> *frozen =
         state_ready_ && !obstacle_redefined_ && !state_.normal.empty() ? &state_.normal : nullptr;
-    disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr, frozen);
+    const std::vector<double> *pairing = frozen && !state_.pairing.empty() ? &state_.pairing : nullptr;
+    disc_ = discretize(space_, def_, counters_.get(), splits_rows(def_) ? &ownership() : nullptr, frozen, pairing);
   }
   DofGeometry &g = disc_->geometry;
   if (g.row_end < 0 || g.comm != def_.comm) {
@@ -572,16 +587,17 @@ const State &Problem::state() {
 }
 
 void Problem::curved_gaps(State &s, const Discretization &d, const TimeData &at) {
-  if (at.obstacles.empty()) {
-    s.normal.clear(), s.positions.clear();
+  if (at.obstacles.empty() && def_.pairs.empty()) {
+    s.normal.clear(), s.positions.clear(), s.pairing.clear();
     // friction: where the planes are, for the slip's shift (obstacle_slip)
     if (d.contact.m > 1) s.positions = positions(at.planes, at.obstacles);
     return;
   }
   // the rows' normals, the obstacles where `at` places them now, g = g^n
   s.normal = d.contact.normal;
+  s.pairing = d.contact.pairing;
   s.positions = positions(at.planes, at.obstacles);
-  const StepPlaces here{at.planes, at.obstacles, s.t};
+  const StepPlaces here{at.planes, at.obstacles, s.t, &def_.pairs, &s.pairing};
   s.gap = step_geometry(space_, d.dofs, d.contact, here, here, s.U, s.normal, s.gap, s.gap, false).gap;
 }
 
@@ -616,6 +632,22 @@ void Problem::prepare() {
   if (def_.has_friction() && def_.distributed_state && splits_rows(def_))
     fail(ND_ERR_STATE, "friction with a distributed state is not supported yet (nd_problem_set_distributed_state): "
                        "step a problem with friction with the state whole on every rank");
+  for (const ContactPair &pair : def_.pairs) {
+    if (communicator_size(def_.comm.get()) > 1)
+      fail(ND_ERR_STATE, "contact pairs on several MPI ranks are not supported yet: step a problem with a contact "
+                         "pair in one process");
+    for (const ContactPlane &pl : def_.planes)
+      if (pl.region == pair.slave)
+        fail(ND_ERR_STATE, "region " + std::to_string(pair.slave) + " is a contact pair's slave and has a plane: a "
+                           "region's points meet one master surface or rigid obstacles, not both (yet)");
+    if (curved_region(pair.slave, def_.obstacles))
+      fail(ND_ERR_STATE, "region " + std::to_string(pair.slave) + " is a contact pair's slave and has an obstacle: a "
+                         "region's points meet one master surface or rigid obstacles, not both (yet)");
+    for (const Definition::Friction &f : def_.friction)
+      if (f.law != kFrictionNone && f.region == pair.slave)
+        fail(ND_ERR_STATE, "friction between two bodies is not supported yet (region " + std::to_string(f.region) +
+                           " is a contact pair's slave): its tangential rows would need the pairing's slip reference");
+  }
   for (const Definition::Friction &f : def_.friction)
     if (f.law != kFrictionNone && curved_region(f.region, def_.obstacles))
       fail(ND_ERR_STATE, "friction on a region with a sphere, cylinder or distance obstacle is not supported yet "
@@ -677,8 +709,9 @@ StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
   const State &s = state_;
   const double tau = def_.tau;  // (t^{n+1} as advance computes it)
   const double t_new = s.tau_ref != tau ? s.t + tau : s.t_ref + static_cast<double>(s.n + 1 - s.n_ref) * tau;
-  StepGeometry geo = step_geometry(space_, disc_->dofs, disc_->contact, {def_.planes, def_.obstacles, t_new},
-                                   {planes_n, obstacles_n, s.t}, s.U, s.normal, plane_gaps, s.gap, true);
+  StepGeometry geo =
+      step_geometry(space_, disc_->dofs, disc_->contact, {def_.planes, def_.obstacles, t_new, &def_.pairs, &s.pairing},
+                    {planes_n, obstacles_n, s.t}, s.U, s.normal, plane_gaps, s.gap, true);
   count(counters_.get(), &Counters::normal_refreshes, geo.refreshed);
   return geo;
 }
@@ -703,16 +736,18 @@ void Problem::step() {
     prepare();
     const std::vector<double> *gap = &current_gaps();
     StepGeometry geo;
-    const bool curved = !def_.obstacles.empty();
+    const bool curved = def_.curved();
     double relinearised = 0;  // E_Theta at U^n with this step's rows and gaps, less with the state's
     if (curved) {
       geo = curved_geometry(*gap);
       if (def_.theta != 0) complete_state();  // (a distributed state: R reads every point)
       const double R_old = def_.theta != 0 ? nitsche_energy(*disc_, state_) : 0;
-      if (geo.normal != disc_->contact.normal) {  // new rows: A refactored, the columns dropped
+      // new rows: A refactored, the columns dropped
+      if (geo.normal != disc_->contact.normal || geo.pairing != disc_->contact.pairing) {
         kept_disc = std::move(disc_);
         kept_integrator = std::move(integrator_);
-        disc_ = with_normals(space_, def_, *kept_disc, geo.normal);  // (only the contact rows and K_Theta change)
+        // (only the contact rows and K_Theta change)
+        disc_ = with_normals(space_, def_, *kept_disc, geo.normal, geo.pairing.empty() ? nullptr : &geo.pairing);
         prepare();
       }
       gap = &geo.gap;
@@ -726,8 +761,8 @@ void Problem::step() {
     StepData data{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr, &motion};
     data.slip_shift = &shift;
     next = advance(*integrator_, *disc_, def_, state_, data, std::move(spare_));
-    if (curved) next.normal = std::move(geo.normal);
-    else next.normal.clear();
+    if (curved) next.normal = std::move(geo.normal), next.pairing = std::move(geo.pairing);
+    else next.normal.clear(), next.pairing.clear();
     if (curved || friction) next.positions = positions(def_.planes, def_.obstacles);
     else next.positions.clear();
     next.W_geometry += relinearised;
@@ -936,7 +971,8 @@ StateSizes Problem::state_sizes() {
           static_cast<int64_t>(d.contact.size()),
           def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size()),
           static_cast<int64_t>(d.contact.size()) * (d.contact.m - 1),
-          d.contact.m > 1 && def_.obstacles.empty() ? static_cast<int64_t>(3 * def_.planes.size()) : 0};
+          d.contact.m > 1 && def_.obstacles.empty() ? static_cast<int64_t>(3 * def_.planes.size()) : 0,
+          !def_.pairs.empty(), static_cast<int64_t>(mesh_->boundary.size())};
 }
 
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
@@ -944,7 +980,8 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   State s;
   decode_state(buf, nbytes, state_fingerprint(space_, d), definition_print(def_, d), state_sizes(), s);
   // curved obstacles: the operators are made again with the checkpoint's normals
-  const bool other_rows = !s.normal.empty() && s.normal != d.contact.normal;
+  const bool other_rows =
+      (!s.normal.empty() && s.normal != d.contact.normal) || (!s.pairing.empty() && s.pairing != d.contact.pairing);
   state_ = std::move(s);
   state_ready_ = true;
   if (other_rows) disc_.reset(), integrator_.reset();

@@ -50,6 +50,10 @@ class Problem {
   // null); like a plane's point, where it is at t^{n+1} of the next step.
   void move_obstacle(int region, int index, const double *translation, const double *rotation);
   static constexpr double kRotationTolerance = 1e-12;
+  // Contact between two regions (docs/design.md §10.3): the slave region's
+  // points against the master region's surface; a slave region has one
+  // master (set again: replaced)
+  void set_contact_pair(int slave, int master);
   void set_nitsche(double theta, double gamma0);
   // the friction law of a contact region (law registered, parameter checked by its law)
   void set_friction(int region, int law, const double *params);

@@ -2,7 +2,10 @@
 // factor it numerically at every Newton iteration with an active point.
 #include "solve/tangent_solver.hpp"
 
+#include <algorithm>
 #include <utility>
+
+#include "solve/contact_law.hpp"
 
 namespace nd {
 namespace {
@@ -12,7 +15,8 @@ class RefactoringTangent : public TangentSolver {
   RefactoringTangent(const Csr &A, const Factorization &A_factor, int solver, Structure s, Counters *c,
                      const DofGeometry *g, std::vector<int64_t> held, bool linear_held)
       : A_(A), A_factor_(A_factor), T_(A), structure_(s), T_factor_(make_factorization(solver, A, s, c, g)),
-        held_(std::move(held)), linear_held_(linear_held && !held_.empty()) {}
+        held_(std::move(held)), linear_held_(linear_held && !held_.empty()), solver_(solver), counters_(c),
+        geometry_(g) {}
   void solve(const ContactLaw &law, double kappa, const double *U, bool any_active, double *x,
              const double *guess, const std::vector<double> *P_U) override {
     ++stats.calls;
@@ -21,7 +25,13 @@ class RefactoringTangent : public TangentSolver {
       A_factor_.solve_from(x, guess);
       return;
     }
-    T_.val = A_.val;  // same size: no allocation
+    if (!law.cp->pairing.empty() && widened_for_ != law.cp) widen(*law.cp);
+    if (place_.empty()) {
+      T_.val = A_.val;  // same size: no allocation
+    } else {
+      std::fill(T_.val.begin(), T_.val.end(), 0.0);
+      for (size_t k = 0; k < place_.size(); ++k) T_.val[place_[k]] = A_.val[k];
+    }
     law.add_tangent(U, kappa, T_, P_U);
     // (GAMG keeps its preconditioner from tangent to tangent while it serves)
     if (T_factor_->refactor(T_, structure_)) ++stats.refactorizations;
@@ -32,6 +42,24 @@ class RefactoringTangent : public TangentSolver {
   const std::vector<int64_t> *held() const override { return held_.empty() ? nullptr : &held_; }
 
  private:
+  // Two bodies (contact/pairing.hpp): a pair's point couples its slave cell's
+  // DOFs with its master cell's, which A's pattern (the cells') lacks: T's
+  // pattern is A's and every point's a_q x a_q (s_q has a_q's index list),
+  // A's entries scattered into it (place_), and T's factor analysed anew
+  void widen(const ContactPoints &cp) {
+    std::vector<std::vector<int64_t>> rows(static_cast<size_t>(A_.n));
+    for (int64_t i = 0; i < A_.n; ++i) rows[i].assign(A_.col.begin() + A_.ptr[i], A_.col.begin() + A_.ptr[i + 1]);
+    for (size_t q = 0; q < cp.size(); ++q)
+      for (int64_t i : cp.a[q].idx) rows[i].insert(rows[i].end(), cp.a[q].idx.begin(), cp.a[q].idx.end());
+    T_ = csr_from_rows(std::move(rows));
+    place_.resize(A_.val.size());
+    for (int64_t i = 0; i < A_.n; ++i)
+      for (int64_t k = A_.ptr[i]; k < A_.ptr[i + 1]; ++k)
+        place_[k] = std::lower_bound(T_.col.begin() + T_.ptr[i], T_.col.begin() + T_.ptr[i + 1], A_.col[k]) -
+                    T_.col.begin();
+    T_factor_ = make_factorization(solver_, T_, structure_, counters_, geometry_);
+    widened_for_ = &cp;
+  }
   const Csr &A_;
   const Factorization &A_factor_;
   Csr T_;
@@ -39,6 +67,11 @@ class RefactoringTangent : public TangentSolver {
   std::unique_ptr<Factorization> T_factor_;
   std::vector<int64_t> held_;
   bool linear_held_;
+  int solver_;
+  Counters *counters_;
+  const DofGeometry *geometry_;
+  std::vector<int64_t> place_;  // A's entry k is T's place_[k] (empty: T has A's pattern)
+  const ContactPoints *widened_for_ = nullptr;
 };
 
 }  // namespace

@@ -133,6 +133,9 @@ struct State {
   // normal nu (3 per point), which its rows hold, and where the planes and
   // obstacles were at t^n (contact/obstacles.hpp: positions)
   std::vector<double> normal, positions;
+  // contact pairs (contact/pairing.hpp), else empty: each point's frozen
+  // pairing (kPairingValues per point), which its rows hold with `normal`
+  std::vector<double> pairing;
   double W_obstacle = 0;
   // curved obstacles: what the steps' re-linearisations (gaps measured
   // anew from the current positions, normals refreshed) changed E_Theta by

@@ -95,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 62)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 63)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -310,6 +310,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       case 35:
         if (p) CALL(nd_problem_add_contact_sphere, p, in.ConsumeIntegralInRange<int>(-1, 3), a, any_double(in),
                     in.ConsumeIntegralInRange<int>(-1, 2));
+        break;
+      case 63:  // two regions in contact (the same one, unknown ones: refused); steps then pair them
+        if (p) CALL(nd_problem_set_contact_pair, p, in.ConsumeIntegralInRange<int>(-1, 3),
+                    in.ConsumeIntegralInRange<int>(-1, 3));
         break;
       case 36:
         if (p) CALL(nd_problem_add_contact_cylinder, p, in.ConsumeIntegralInRange<int>(-1, 3), a, b, any_double(in),

@@ -193,6 +193,7 @@ Setup build(const Scene &s, Problem &prob) {
     return id;
   };
   for (const auto &o : s.obstacles) facets(o.region, "obstacle.region");
+  for (const auto &c : s.pairs) facets(c.slave, "contact_pair.slave"), facets(c.master, "contact_pair.master");
   for (const auto &t : s.tractions) facets(t.region, "loads.traction.region");
   for (const auto &c : s.clamped) facets(c, "dirichlet.regions");
 
@@ -231,6 +232,9 @@ Setup build(const Scene &s, Problem &prob) {
       scene_call(nd_problem_set_friction(p, region, o.friction_law, &o.friction_parameter), o.friction_at,
                  "obstacle.friction");
   }
+  for (const auto &c : s.pairs)
+    scene_call(nd_problem_set_contact_pair(p, ndcli::region_id(s, c.slave), ndcli::region_id(s, c.master)), c.at,
+               "[contact_pair]");
   scene_call(nd_problem_set_nitsche(p, s.Theta, s.gamma0), s.nitsche_at.empty() ? s.file : s.nitsche_at, "[nitsche]");
   scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
              "[scheme]");

@@ -22,8 +22,8 @@ namespace {
 // The keys of every table (the regions table has names chosen by the user).
 const std::map<std::string, std::vector<std::string>> &table_keys() {
   static const std::map<std::string, std::vector<std::string>> keys = {
-      {"", {"title", "mesh", "regions", "material", "loads", "dirichlet", "obstacle", "nitsche", "scheme", "time",
-            "solver", "initial", "output", "guards", "checkpoint"}},
+      {"", {"title", "mesh", "regions", "material", "loads", "dirichlet", "obstacle", "contact_pair", "nitsche",
+            "scheme", "time", "solver", "initial", "output", "guards", "checkpoint"}},
       {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
       {"regions.NAME", {"id", "lo", "hi"}},
       {"material", {"E", "nu", "rho", "damping", "plane_stress", "region", "lo", "hi"}},
@@ -35,6 +35,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity", "position",
                     "rotation", "friction"}},
       {"obstacle.friction", {"law", "coefficient", "threshold"}},
+      {"contact_pair", {"slave", "master"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
       {"time", {"tau", "T"}},
@@ -904,6 +905,27 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       }
       o.at = r.where(t->source());
       s.obstacles.push_back(o);
+    }
+  }
+
+  if (const toml::node *n = root.get("contact_pair")) {  // two bodies: one table, or an array of them
+    std::vector<const toml::table *> tables;
+    if (const toml::array *a = n->as_array()) {
+      for (size_t i = 0; i < a->size(); ++i)
+        tables.push_back(&r.table((*a)[i], "", "contact_pair[" + std::to_string(i) + "]"));
+    } else {
+      tables.push_back(&r.table(*n, "", "contact_pair"));
+    }
+    for (const toml::table *t : tables) {
+      r.check_keys(*t, "contact_pair", "contact_pair");
+      ContactPairEntry e;
+      const toml::node *slave = t->get("slave"), *master = t->get("master");
+      if (!slave) r.missing(*t, "contact_pair", "slave", "the region whose points meet the master's surface");
+      if (!master) r.missing(*t, "contact_pair", "master", "the region of the other body's surface");
+      e.slave = r.region(*slave, "contact_pair", "slave");
+      e.master = r.region(*master, "contact_pair", "master");
+      e.at = r.where(t->source());
+      s.pairs.push_back(e);
     }
   }
 

@@ -70,6 +70,11 @@ struct Obstacle {
   std::string at;
 };
 
+struct ContactPairEntry {  // [[contact_pair]]: two bodies' regions (nd_problem_set_contact_pair)
+  RegionRef slave, master;
+  std::string at;
+};
+
 struct Guard {  // [guards]: an nd_problem_set_guard call
   int id = 0;
   double value = 0;
@@ -119,6 +124,8 @@ struct Scene {
   std::vector<Motion> motions;
   // [obstacle] or [[obstacle]]
   std::vector<Obstacle> obstacles;
+  // [contact_pair] or [[contact_pair]]
+  std::vector<ContactPairEntry> pairs;
   // [nitsche]
   double Theta = 1, gamma0 = 0;  // gamma0 = 0: automatic
   std::string nitsche_at;

@@ -43,7 +43,7 @@ program test_api
 
   character(len=32) :: part
   if (command_argument_count() /= 1) then
-    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles|friction'
+    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles|friction|pairs'
     stop 2, quiet=.true.
   end if
   call get_command_argument(1, part)
@@ -62,6 +62,8 @@ program test_api
     call test_obstacles()
   case ('friction')
     call test_friction()
+  case ('pairs')
+    call test_pairs()
   case default
     write (error_unit, '(a)') 'test_api: unknown part ' // trim(part)
     stop 2, quiet=.true.
@@ -347,6 +349,63 @@ contains
     call check(nd_step(p) == ND_OK, 'a step with friction on a moving plane')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_friction
+
+  ! ---- two bodies (the twin of tests/test_pairs.c's bars) ------------------
+  ! bars [0, 1] and [1.01, 2.01], ten cells each, rho = E = 1, at +-0.1: no
+  ! load and no support, so the total momentum stays 0 to round-off; with
+  ! Theta = 1 the hybrid scheme's E_Theta - W - W_geometry never rises; the
+  ! contact lasts about 2L/c = 2 and bar 1 leaves backwards
+  subroutine test_pairs()
+    type(c_ptr) :: m, p
+    real(c_double) :: x(22), v(22), mom, e, previous, rise, active, t, first, last
+    integer(c_int64_t) :: cells(40), a(1) = [10_c_int64_t], b(1) = [11_c_int64_t]
+    integer :: i, k
+    do i = 0, 10
+      x(1 + i) = i / 10.0_c_double
+      x(12 + i) = 1.01_c_double + i / 10.0_c_double
+    end do
+    do i = 0, 19
+      cells(1 + 2 * i) = merge(i, i + 1, i < 10)
+      cells(2 + 2 * i) = cells(1 + 2 * i) + 1
+    end do
+    call check(nd_mesh_create(1_c_int, 22_c_int64_t, x, 20_c_int64_t, cells, m) == ND_OK, 'two bars in one mesh')
+    call check(nd_mesh_set_region(m, 1_c_int, 1_c_int64_t, a) == ND_OK, 'bar 1''s end')
+    call check(nd_mesh_set_region(m, 2_c_int, 1_c_int64_t, b) == ND_OK, 'bar 2''s end')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_problem_set_material(p, 1.0_c_double, 0.0_c_double, 1.0_c_double) == ND_OK, 'material')
+    call check(nd_problem_set_contact_pair(p, 1_c_int, 1_c_int) == ND_ERR_REGION, 'a region as its own master is refused')
+    call check(nd_problem_set_contact_pair(p, 1_c_int, 2_c_int) == ND_OK, 'nd_problem_set_contact_pair')
+    call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.0_c_double) == ND_OK, 'nd_problem_set_nitsche')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'the hybrid scheme')
+    call check(nd_problem_set_timestep(p, 0.01_c_double) == ND_OK, 'nd_problem_set_timestep')
+    v = merge(0.1_c_double, -0.1_c_double, [(i <= 10, i = 0, 21)])
+    call check(nd_problem_set_initial_state(p, 22_c_int64_t, v0=v) == ND_OK, 'the bars at +-0.1')
+    call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, previous) == ND_OK, 'ND_ENERGY_AUGMENTED')
+    rise = 0
+    first = -1
+    last = -1
+    do k = 1, 300
+      call check(nd_step(p) == ND_OK, 'a step of the bars')
+      call check(nd_get_scalar(p, ND_MOMENTUM_X, mom) == ND_OK, 'ND_MOMENTUM_X')
+      call check(abs(mom) <= 1.3e-12_c_double, 'the total momentum stays 0 to round-off')
+      call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, e) == ND_OK, 'ND_ENERGY_AUGMENTED')
+      call check(nd_get_scalar(p, ND_WORK_GEOMETRY, t) == ND_OK, 'ND_WORK_GEOMETRY')
+      rise = max(rise, (e - t) - previous)
+      previous = e - t
+      call check(nd_get_scalar(p, ND_ACTIVE_POINTS, active) == ND_OK, 'ND_ACTIVE_POINTS')
+      call check(nd_get_scalar(p, ND_TIME, t) == ND_OK, 'ND_TIME')
+      if (active > 0) then
+        if (first < 0) first = t
+        last = t
+      end if
+    end do
+    call check(rise <= 1e-12_c_double * 0.01_c_double, 'E_Theta - W_geometry never rises (Theta = 1, hybrid)')
+    call check(abs(last - first - 2) <= 0.05_c_double, 'the contact lasts 2L/c to the discretization''s error')
+    call check(nd_get_field(p, ND_FIELD_VELOCITY, 22_c_int64_t, v) == ND_OK, 'ND_FIELD_VELOCITY')
+    call check(sum(v(1:11)) / 11 < -0.09_c_double, 'bar 1 leaves backwards at about -v0')
+    call check(nd_problem_destroy(p) == ND_OK, 'destroy')
+  end subroutine test_pairs
 
   ! ---- checkpoint and restart, the way a legacy code holds its data --------
   subroutine test_checkpoint()

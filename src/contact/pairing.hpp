@@ -1,0 +1,93 @@
+// Contact between two boundary regions of one problem (docs/design.md §10.3):
+// the master region's surface where U places it, and the projection of a
+// slave point onto it. Master/slave Nitsche: the slave region carries the
+// contact points; each is paired with a point of a master facet, which its
+// rows hold (assembly/contact.hpp: append_counterpart), frozen between
+// re-pairings as the curved obstacles' normals are (contact/obstacles.hpp).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "assembly/contact.hpp"
+#include "fem/space.hpp"
+
+namespace nd {
+
+// The contact points of region `slave` against the surface of region
+// `master` (may be the same region: a body touching itself).
+struct ContactPair {
+  int slave, master;
+};
+
+// A pairing (kPairingValues per point in ContactPoints::pairing, in
+// assembly/contact.hpp, and in the state): the master facet (an index into
+// Mesh::boundary, as a double: exact below 2^53) and the point's barycentric
+// coordinates on it (its facet_size() vertices, Mesh::facet_vertices order;
+// the rest 0).
+
+// Where a point lands on the master surface: the nearest point z of the
+// nearest facet, the facet's outward unit normal nu there (from the master
+// towards the slave side) and d = (y - z).nu, the signed distance to the
+// facet's tangent plane (negative: y is inside the master).
+struct Projection {
+  int64_t facet = -1;
+  double bary[3] = {0, 0, 0};
+  double d = 0, nu[3] = {0, 0, 0};
+};
+
+// The facets of a region at the positions x + u (the facets' vertices moved
+// by U's vertex values; a P2 facet by its corners: its chord), with a bucket
+// grid for the nearest-facet search: built in O(n log n) for n facets, a
+// query O(1) for a point near the surface.
+class MasterSurface {
+ public:
+  // U: the free DOFs' values (null: the reference positions); clamped DOFs
+  // do not move (as contact/obstacles.hpp's displacement_at)
+  MasterSurface(const Space &sp, const DofMap &dofs, int region, const double *U);
+  // The nearest facet to y (dim values) and where y lands on it; with
+  // `within`, none (facet -1) when every facet is farther than that from y
+  // (the search then stops at that distance)
+  // (hint: a facet to try first, e.g. the point's pairing: the same answer,
+  // found sooner)
+  Projection project(const double *y, double within = std::numeric_limits<double>::infinity(),
+                     int64_t hint = -1) const;
+  // the size of the search's buckets: the largest facet's extent
+  double bucket() const { return cell_; }
+  // y's landing on this facet's plane, its barycentric coordinates not
+  // clamped to the facet (how far outside the facet y has slid)
+  Projection on_facet(int64_t facet, const double *y) const;
+  bool empty() const { return facets_.empty(); }
+
+ private:
+  struct Moved {
+    int64_t facet;  // into Mesh::boundary
+    int n;          // vertices
+    double x[3][3];  // their positions
+    double nu[3];    // outward unit normal
+    double lo[3], hi[3];
+  };
+  Projection land(const Moved &f, const double *y, bool clamp) const;
+  int dim_;
+  std::vector<Moved> facets_;
+  std::vector<int64_t> where_;  // facet index -> position in facets_ (-1: not of the region)
+  // the grid: cells of size `cell_` from `origin_`, `counts_` per axis;
+  // bucket b's facets are entries [start_[b], start_[b + 1]) of `members_`
+  double origin_[3] = {0, 0, 0}, cell_ = 1;
+  double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0};  // the facets' box
+  int64_t counts_[3] = {1, 1, 1};
+  std::vector<int64_t> start_, members_;
+};
+
+// The master cell's reference coordinates (xi, dim values) of the point with
+// barycentric coordinates `bary` on its boundary facet f; ND_ERR_STATE for a
+// hexahedron's face (not supported yet).
+void facet_point_reference(const Mesh &m, const Facet &f, const double *bary, double *xi);
+
+// u at the paired point (dim values): the master cell's interpolation of U
+// (clamped DOFs: zero) at the point of facet `facet` with barycentric `bary`
+void counterpart_displacement(const Space &sp, const DofMap &dofs, int64_t facet, const double *bary, const double *U,
+                              double *u);
+
+}  // namespace nd
