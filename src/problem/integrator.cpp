@@ -47,7 +47,8 @@ double step_matrix(const Discretization &d, const TimeScheme &scheme, double tau
 
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
                                             std::unique_ptr<Factorization> reuse,
-                                            const std::function<Csr(double)> &own_part) {
+                                            const std::function<Csr(double)> &own_part,
+                                            const Factorization *ordered_like) {
   require_complete(def.missing_for_step());
   auto in = std::make_unique<Integrator>();
   in->scheme = make_scheme(def.scheme, def.scheme_params);
@@ -80,7 +81,7 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   }
   in->A_factor = reuse ? std::move(reuse)
                        : make_factorization(def.solver, in->A, Structure::SymmetricPositiveDefinite, d.counters,
-                                                            &d.geometry);
+                                            &d.geometry, ordered_like);
   try {
     if (own_part) {  // several ranks: each adds its own cells' part of A to the distributed matrix
       Csr own;  // assembled by each rank alone: agreed before the factorization, which they make together

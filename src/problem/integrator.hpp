@@ -72,9 +72,14 @@ double step_matrix(const Discretization &d, const TimeScheme &scheme, double tau
 // this discretization and solver), or none: its symbolic analysis is reused.
 // own_part (several ranks): this rank's part of A for the scheme's c
 // (assemble_own_step_matrix), from which a distributed solver assembles A.
+// ordered_like (without reuse; may be null): a factor of a matrix of A's
+// pattern, whose fill-reducing ordering A's reuses (make_factorization): a
+// refresh of the contact rows keeps A's pattern, and the old factor, which
+// a failed step gives back, stays as it is.
 std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition &def,
                                             std::unique_ptr<Factorization> reuse = nullptr,
-                                            const std::function<Csr(double)> &own_part = {});
+                                            const std::function<Csr(double)> &own_part = {},
+                                            const Factorization *ordered_like = nullptr);
 
 // What is prescribed at t^{n+1}: the load on the free DOFs and on the clamped
 // ones (empty: none), and the gaps g_q of the obstacle where it is then.

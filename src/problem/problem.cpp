@@ -525,7 +525,7 @@ Integrator &Problem::integrator_or_build() {
   std::function<Csr(double)> own_part;
   if (linear_solver_distributes(def_.solver) && !d.rows_split && !ownership().node_owner.empty())
     own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
-  integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part);
+  integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part, refresh_ordering_);
   integrator_new_ = true;
   return *integrator_;
 }
@@ -748,7 +748,9 @@ void Problem::step() {
         kept_integrator = std::move(integrator_);
         // (only the contact rows and K_Theta change)
         disc_ = with_normals(space_, def_, *kept_disc, geo.normal, geo.pairing.empty() ? nullptr : &geo.pairing);
+        refresh_ordering_ = kept_integrator && kept_integrator->A_factor ? kept_integrator->A_factor.get() : nullptr;
         prepare();
+        refresh_ordering_ = nullptr;
       }
       gap = &geo.gap;
       if (def_.theta != 0) relinearised = -def_.theta * (relinearised_nitsche_energy(geo.gap_old) - R_old);
@@ -773,6 +775,7 @@ void Problem::step() {
     // the std::function holds it without allocating)
     nd::on_every_rank(def_.comm.get(), std::ref(body), "the step", "no rank took it");
   } catch (...) {
+    refresh_ordering_ = nullptr;
     if (kept_disc) disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
     throw;
   }

@@ -226,6 +226,9 @@ class Problem {
   // Newton path), so the next step completes the state first
   bool integrator_new_ = false;
   std::unique_ptr<Factorization> spare_A_factor_;  // of a dropped integrator: A's pattern analysed
+  // during a step's refresh of the contact rows: the kept integrator's factor,
+  // whose ordering the new one reuses (A's pattern is the same)
+  const Factorization *refresh_ordering_ = nullptr;
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
   State state_;
   State spare_;  // the state before state_ (values not read): the next step reuses its memory
