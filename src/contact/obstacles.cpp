@@ -133,7 +133,7 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
                            const std::vector<double> &plane_gap, const std::vector<double> &plane_gap_old,
                            bool may_refresh) {
   const int d = sp.dim;
-  const double cos_turn = std::cos(kNormalTurn);
+  const double cos_turn = std::cos(kNormalTurn), cos_pair_turn = std::cos(kPairTurn);
   StepGeometry g;
   g.gap = plane_gap;
   g.gap_old = plane_gap_old.empty() ? plane_gap : plane_gap_old;
@@ -192,8 +192,8 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
     // near: within kNearCells cells of the owning cell's size (a measure of
     // the relative position alone: a Galilean change of frame keeps it)
     e.near = e.n.d <= kNearCells * cp.h[q];
-    const double c_turn = pair >= 0 ? c_held : e.c;
-    if (e.near && (!(c_turn >= cos_turn) || slid)) turned = true;
+    const bool turning = pair >= 0 ? !(c_held >= cos_pair_turn) : !(e.c >= cos_turn);
+    if (e.near && (turning || slid)) turned = true;
   }
   for (size_t q = 0; q < cp.size(); ++q) {
     if (cp.plane[q] >= 0) continue;
@@ -217,7 +217,7 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
     }
     // a far point's normal may have turned more: its gap is then measured
     // along nu as if within delta (<= the distance along n_q: conservative)
-    const double cc = std::max(e.c, cos_turn);
+    const double cc = std::max(e.c, paired ? cos_pair_turn : cos_turn);
     double un = 0;  // n_q.u_q = -nu_f.u_q (a pair's: of the slave's motion relative to the paired point's)
     double rel[3] = {e.u[0], e.u[1], e.u[2]};
     if (paired) {

@@ -37,6 +37,40 @@ double along(const double *a, const double *b, const double *y, int d) {
 
 }  // namespace
 
+bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *U, double *nu) {
+  const Mesh &m = *sp.mesh;
+  const int d = sp.dim;
+  const Facet &facet = m.boundary[b];
+  const std::array<int64_t, 4> v = m.facet_vertices(facet);
+  double x[3][3] = {};
+  for (int i = 0; i < m.facet_size(); ++i) moved(sp, dofs, v[i], U, x[i]);
+  // across the facet, away from the cell's centre
+  double centre[3] = {0, 0, 0}, c[3];
+  for (int i = 0; i < m.cell_vertices(); ++i) {
+    moved(sp, dofs, m.cell(facet.cell)[i], U, c);
+    for (int k = 0; k < d; ++k) centre[k] += c[k] / m.cell_vertices();
+  }
+  double n[3] = {0, 0, 0};
+  if (d == 1) {
+    n[0] = 1;
+  } else if (d == 2) {
+    n[0] = x[1][1] - x[0][1], n[1] = -(x[1][0] - x[0][0]);
+  } else {
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = x[1][k] - x[0][k], e2[k] = x[2][k] - x[0][k];
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  }
+  const double len = length(n, d);
+  if (!(len > 0) || !std::isfinite(len)) return false;
+  double out[3];
+  for (int k = 0; k < d; ++k) out[k] = x[0][k] - centre[k];
+  const double sign = dot(out, n, d) < 0 ? -1.0 : 1.0;
+  for (int k = 0; k < 3; ++k) nu[k] = k < d ? sign * n[k] / len : 0.0;
+  return true;
+}
+
 MasterSurface::MasterSurface(const Space &sp, const DofMap &dofs, int region, const double *U) : dim_(sp.dim) {
   const Mesh &m = *sp.mesh;
   const int d = dim_;
@@ -56,32 +90,9 @@ MasterSurface::MasterSurface(const Space &sp, const DofMap &dofs, int region, co
     const std::array<int64_t, 4> v = m.facet_vertices(facet);
     f.n = m.facet_size();
     for (int i = 0; i < f.n; ++i) moved(sp, dofs, v[i], U, f.x[i]);
-    // the outward normal: across the facet, away from the cell's centre
-    double centre[3] = {0, 0, 0}, x[3];
-    for (int i = 0; i < m.cell_vertices(); ++i) {
-      moved(sp, dofs, m.cell(facet.cell)[i], U, x);
-      for (int k = 0; k < d; ++k) centre[k] += x[k] / m.cell_vertices();
-    }
-    double nu[3] = {0, 0, 0};
-    if (d == 1) {
-      nu[0] = 1;
-    } else if (d == 2) {
-      nu[0] = f.x[1][1] - f.x[0][1], nu[1] = -(f.x[1][0] - f.x[0][0]);
-    } else {
-      double e1[3], e2[3];
-      for (int k = 0; k < 3; ++k) e1[k] = f.x[1][k] - f.x[0][k], e2[k] = f.x[2][k] - f.x[0][k];
-      nu[0] = e1[1] * e2[2] - e1[2] * e2[1];
-      nu[1] = e1[2] * e2[0] - e1[0] * e2[2];
-      nu[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    }
-    const double len = length(nu, d);
-    if (!(len > 0) || !std::isfinite(len))
+    if (!facet_normal(sp, dofs, b, U, f.nu))
       fail(ND_ERR_DEGENERATE, "a facet of the contact pair's master region " + std::to_string(region) +
                                   " has collapsed (cell " + std::to_string(facet.cell) + ")");
-    double out[3];
-    for (int k = 0; k < d; ++k) out[k] = f.x[0][k] - centre[k];
-    const double sign = dot(out, nu, d) < 0 ? -1.0 : 1.0;
-    for (int k = 0; k < d; ++k) f.nu[k] = sign * nu[k] / len;
     for (int k = 0; k < d; ++k) {
       f.lo[k] = f.hi[k] = f.x[0][k];
       for (int i = 1; i < f.n; ++i) f.lo[k] = std::min(f.lo[k], f.x[i][k]), f.hi[k] = std::max(f.hi[k], f.x[i][k]);
@@ -214,9 +225,17 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
   // farther than `within` from the facets' box: from every facet
   if (box_distance2(lo_, hi_, y, d) > within * within) return Projection{};
   int64_t at[3] = {0, 0, 0};
-  for (int k = 0; k < d; ++k)
+  // y's bucket (of y clamped into the grid, which is no farther from any
+  // facet), and how far the clamped y is from that bucket's walls
+  double wall = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < d; ++k) {
     at[k] = static_cast<int64_t>(std::clamp(std::floor((y[k] - origin_[k]) / cell_), 0.0,
                                             static_cast<double>(counts_[k] - 1)));
+    const double yc = std::clamp(y[k], origin_[k], origin_[k] + static_cast<double>(counts_[k]) * cell_);
+    const double low = origin_[k] + static_cast<double>(at[k]) * cell_;
+    wall = std::min({wall, yc - low, low + cell_ - yc});
+  }
+  wall = std::max(wall, 0.0);
   Projection best;
   double best2 = std::numeric_limits<double>::infinity();
   if (hint >= 0 && hint < static_cast<int64_t>(where_.size()) && where_[hint] >= 0) {
@@ -225,9 +244,8 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
     best2 = squared_distance(f.x, f.n, best.bary, y, d);
   }
   const int64_t most = std::max({counts_[0], counts_[1], counts_[2]});
-  // rings of buckets about y's (of the box: y clamped into it, which is no
-  // farther from any facet): after ring r every facet not seen is at least
-  // r buckets away
+  // rings of buckets about y's: after ring r every facet not seen is at
+  // least r buckets and y's distance to its bucket's walls away
   for (int64_t r = 0; r <= most; ++r) {
     int64_t a[3], b[3];
     for (int k = 0; k < 3; ++k) a[k] = std::max<int64_t>(at[k] - r, 0), b[k] = std::min(at[k] + r, counts_[k] - 1);
@@ -249,7 +267,9 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
             if (z2 < best2 || (z2 == best2 && p.facet < best.facet)) best = p, best2 = z2;
           }
         }
-    const double seen = static_cast<double>(r) * cell_;  // every facet not seen is at least this far
+    // every facet not seen is at least this far: beyond the block of
+    // buckets within r of y's
+    const double seen = static_cast<double>(r) * cell_ + wall;
     if (best.facet >= 0 && std::sqrt(best2) <= seen) break;
     if (seen >= within) break;
   }

@@ -80,6 +80,11 @@ class MasterSurface {
   std::vector<int64_t> start_, members_;
 };
 
+// The outward unit normal (3 values, the unused 0) of boundary facet b where
+// U places it (null: the reference configuration; a P2 facet by its
+// corners); false when the facet has collapsed
+bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *U, double *nu);
+
 // The master cell's reference coordinates (xi, dim values) of the point with
 // barycentric coordinates `bary` on its boundary facet f; ND_ERR_STATE for a
 // hexahedron's face (not supported yet).
