@@ -1,7 +1,8 @@
 #!/bin/sh
 # The curved-obstacle scenes run through their impact (t = 10): a ball
 # dropped into a spherical bowl, a coin dropped on a cylinder
-# (examples/scenes/ball_bowl.toml, disk_cylinder.toml). Each must finish,
+# (examples/scenes/ball_bowl.toml, disk_cylinder.toml), and a ball dropped on
+# another (two_balls.toml: a contact pair, §10.3). Each must finish,
 # touch (a positive contact force) and stay out of the obstacle (the
 # penetration below the library's guard, half a cell: checked by the run),
 # and its history's ledger (hybrid scheme, Theta = 1: docs/design.md
@@ -15,7 +16,7 @@ driver=$1 scenes=$2 work=$3
 rm -rf "$work"
 mkdir -p "$work"
 fails=0
-for s in ball_bowl disk_cylinder; do
+for s in ball_bowl disk_cylinder two_balls; do
   if ! "$driver" "$scenes/$s.toml" --quiet --T 14 --out "$work/$s" > "$work/$s.out" 2> "$work/$s.err"; then
     echo "FAIL: $s: $(cat "$work/$s.err")"
     fails=$((fails + 1))
