@@ -114,7 +114,17 @@ static double exact_momentum(double t, double gap, double v0) {
 
 /* bars [0, 1] and [1 + gap, 2 + gap] of n cells each, rho = E = 1, at +v0
    and -v0 (single: bar 1 alone against the wall x = 1 + gap/2) */
+static bar_run bars_mass(int n, int degree, double theta, double tau, int scheme, const double *params, int single,
+                         int mass);
 static bar_run bars(int n, int degree, double theta, double tau, int scheme, int single) {
+  const double half = 0.5, alpha = 0.8;
+  const double *params = scheme == ND_SCHEME_THETA ? &half : scheme == ND_SCHEME_GENERALIZED_ALPHA ? &alpha : NULL;
+  return bars_mass(n, degree, theta, tau, scheme, params, single, 0);
+}
+
+/* mass: 0 consistent, 1 lumped, 2 redistributed away from the contact nodes */
+static bar_run bars_mass(int n, int degree, double theta, double tau, int scheme, const double *params, int single,
+                         int mass) {
   const double gap = 0.01, v0 = 0.1;
   const int64_t nv = single ? n + 1 : 2 * (n + 1), nc = single ? n : 2 * n;
   double *x = malloc(sizeof(double) * (size_t)nv);
@@ -140,9 +150,9 @@ static bar_run bars(int n, int degree, double theta, double tau, int scheme, int
     ND_OK_OR_FAIL(nd_problem_set_contact_pair(p, 1, 2));
   }
   ND_OK_OR_FAIL(nd_problem_set_nitsche(p, theta, 0.0));
-  const double half = 0.5;
-  const double alpha = 0.8, *params = scheme == ND_SCHEME_THETA ? &half : scheme == ND_SCHEME_GENERALIZED_ALPHA ? &alpha : NULL;
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
+  ND_OK_OR_FAIL(nd_problem_set_mass_lumping(p, mass == 1));
+  ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, mass == 2));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
   int64_t nn = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
@@ -215,14 +225,28 @@ START_TEST(bars_head_on_conserve_momentum_and_energy) {
       ck_assert_double_gt(r.t_on, 0);
       free(r.momentum);
     }
-  /* and with the other schemes: momentum is the scheme's balance of equal
-     and opposite forces whatever it averages */
-  const int schemes[2] = {ND_SCHEME_THETA, ND_SCHEME_GENERALIZED_ALPHA};
-  for (int s = 0; s < 2; ++s) {
-    bar_run r = bars(10, 1, 1, 0.01, schemes[s], 0);
-    ck_assert_double_le(r.momentum_drift, kMomentumRoundOff);
-    free(r.momentum);
-  }
+  /* and with every scheme, the explicit one included, and every mass
+     (consistent, lumped, redistributed: the two contact nodes massless,
+     their Newton coupling the two bodies): momentum is each scheme's
+     balance of equal and opposite forces whatever it averages */
+  const double half = 0.5, alpha = 0.8, explicit_newmark[2] = {0, 0.5}, newmark[2] = {0.25, 0.5};
+  const struct {
+    int scheme;
+    const double *params;
+    double tau;
+  } schemes[5] = {{ND_SCHEME_THETA, &half, 0.01},
+                  {ND_SCHEME_GENERALIZED_ALPHA, &alpha, 0.01},
+                  {ND_SCHEME_NEWMARK, newmark, 0.01},
+                  {ND_SCHEME_HYBRID, NULL, 0.01},
+                  {ND_SCHEME_NEWMARK, explicit_newmark, 0.002}};
+  for (int k = 0; k < 5; ++k)
+    for (int mass = 0; mass < 3; ++mass) {
+      bar_run r = bars_mass(10, 1, 1, schemes[k].tau, schemes[k].scheme, schemes[k].params, 0, mass);
+      ck_assert_msg(r.momentum_drift <= kMomentumRoundOff, "scheme %d, mass %d: momentum drift %g", k, mass,
+                    r.momentum_drift);
+      ck_assert_double_gt(r.t_on, 0);
+      free(r.momentum);
+    }
 }
 END_TEST
 

@@ -98,6 +98,11 @@ MasslessSolver::MasslessSolver(const Discretization &d, int solver)
     cp_.gap.push_back(cp.gap[q]);
     pf_.push_back(std::move(pf));
     point_.push_back(q);
+    // (a pair's point couples the two bodies' massless DOFs, which (K_Theta)_mm's
+    // pattern lacks: the tangent widens it for the points with pairings)
+    if (!cp.pairing.empty())
+      cp_.pairing.insert(cp_.pairing.end(), cp.pairing.begin() + static_cast<std::ptrdiff_t>(q * kPairingValues),
+                         cp.pairing.begin() + static_cast<std::ptrdiff_t>((q + 1) * kPairingValues));
     // friction: the tangential pairs likewise (a_q's index list), their
     // parts on the other DOFs shifting the slip references as pf the gaps
     for (size_t j = q * mt; j < (q + 1) * mt; ++j) {
