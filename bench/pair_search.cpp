@@ -7,7 +7,9 @@
 // the pairing's work of a step is timed alone, white-box: the master
 // surface built where U places it and every slave point projected on it
 // (contact/pairing.hpp), as a step's start does. Prints the mean contact
-// step, the pairing's time and its share, and the steps that paired anew.
+// step, the pairing's time and its share, the steps that paired anew, and
+// the mean contact step of the upper ball dropped on the plane z = 0 instead
+// (the same mesh and unknowns).
 //
 //   pair_search MESH_DIR [h=4] [T=12]
 #include <algorithm>
@@ -33,31 +35,41 @@ int main(int argc, char **argv) {
   const std::string h = argc > 2 ? argv[2] : "4";
   const double T = argc > 3 ? std::atof(argv[3]) : 12, tau = 0.05;
   const std::string mesh = std::string(argv[1]) + "/two_balls_h" + h + ".msh";
-  nd_mesh m;
-  nd_problem p;
-  CHECK(nd_mesh_read_gmsh(mesh.c_str(), &m));
-  CHECK(nd_problem_create(m, 1, &p));
-  CHECK(nd_mesh_destroy(&m));
-  const double g[3] = {0, 0, -0.1};
-  CHECK(nd_problem_set_material(p, 50, 0.25, 1));
-  CHECK(nd_problem_set_body_force(p, g));
-  CHECK(nd_problem_set_dirichlet(p, 4));
-  CHECK(nd_problem_set_contact_pair(p, 1, 2));
-  CHECK(nd_problem_set_nitsche(p, 1, 0));
-  CHECK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, nullptr));
-  CHECK(nd_problem_set_timestep(p, tau));
-  CHECK(nd_problem_setup(p));
-  double total = 0, repairing_steps = 0;
-  int contact_steps = 0;
   const int steps = static_cast<int>(T / tau + 0.5);
-  for (int k = 0; k < steps; ++k) {
-    const double before = scalar(p, ND_ACTIVE_POINTS), repaired = scalar(p, ND_STAT_NORMAL_REFRESHES);
-    const double t0 = now();
-    CHECK(nd_step(p));
-    const double dt = now() - t0;
-    if (before > 0 || scalar(p, ND_ACTIVE_POINTS) > 0) total += dt, ++contact_steps;
-    if (scalar(p, ND_STAT_NORMAL_REFRESHES) > repaired) ++repairing_steps;
-  }
+  // pair: the upper ball on the lower one; else on the plane z = 0 (the
+  // lower ball untouched): the same mesh and unknowns, a rigid obstacle
+  auto run = [&](bool pair, double &total, int &contact_steps, double &repairing_steps) {
+    nd_mesh m;
+    nd_problem p;
+    CHECK(nd_mesh_read_gmsh(mesh.c_str(), &m));
+    CHECK(nd_problem_create(m, 1, &p));
+    CHECK(nd_mesh_destroy(&m));
+    const double g[3] = {0, 0, -0.1}, origin[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+    CHECK(nd_problem_set_material(p, 50, 0.25, 1));
+    CHECK(nd_problem_set_body_force(p, g));
+    CHECK(nd_problem_set_dirichlet(p, 4));
+    if (pair) CHECK(nd_problem_set_contact_pair(p, 1, 2));
+    else CHECK(nd_problem_set_contact_plane(p, 1, origin, up));
+    CHECK(nd_problem_set_nitsche(p, 1, 0));
+    CHECK(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, nullptr));
+    CHECK(nd_problem_set_timestep(p, tau));
+    CHECK(nd_problem_setup(p));
+    total = 0, repairing_steps = 0, contact_steps = 0;
+    for (int k = 0; k < steps; ++k) {
+      const double before = scalar(p, ND_ACTIVE_POINTS), repaired = scalar(p, ND_STAT_NORMAL_REFRESHES);
+      const double t0 = now();
+      CHECK(nd_step(p));
+      const double dt = now() - t0;
+      if (before > 0 || scalar(p, ND_ACTIVE_POINTS) > 0) total += dt, ++contact_steps;
+      if (scalar(p, ND_STAT_NORMAL_REFRESHES) > repaired) ++repairing_steps;
+    }
+    return p;
+  };
+  double plane_total = 0, plane_repairing = 0, total = 0, repairing_steps = 0;
+  int plane_contact = 0, contact_steps = 0;
+  nd_problem plane = run(false, plane_total, plane_contact, plane_repairing);
+  CHECK(nd_problem_destroy(&plane));
+  nd_problem p = run(true, total, contact_steps, repairing_steps);
   int64_t nodes = 0;
   CHECK(nd_problem_get_node_count(p, &nodes));
   std::vector<double> u(static_cast<size_t>(3 * nodes));
@@ -100,10 +112,13 @@ int main(int argc, char **argv) {
   }
   searched = (now() - t0) / repeat;
   const double step = contact_steps ? total / contact_steps : 0;
+  const double plane_step = plane_contact ? plane_total / plane_contact : 0;
   std::printf("two_balls_h%s: %zu slave points (%lld within reach), %d contact steps of %.3f ms, pairing %.3f ms "
-              "(%.1f %% of a contact step); %g of %d steps paired anew\n",
+              "(%.1f %% of a contact step); %g of %d steps paired anew; on the plane z = 0: %d contact steps of "
+              "%.3f ms (the pair's %.1fx)\n",
               h.c_str(), n, static_cast<long long>(found / repeat), contact_steps, 1e3 * step, 1e3 * searched,
-              100 * searched / step, repairing_steps, steps);
+              100 * searched / step, repairing_steps, steps, plane_contact, 1e3 * plane_step,
+              plane_step > 0 ? step / plane_step : 0.0);
   CHECK(nd_problem_destroy(&p));
   return 0;
 }

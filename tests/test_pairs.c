@@ -466,27 +466,6 @@ END_TEST
 
 /* ---- failures, restarts, bad input */
 
-typedef struct {
-  int64_t n;
-  double *fields;
-  double scalars[15];
-} snapshot;
-
-static snapshot take(nd_problem p, int dim) {
-  snapshot s;
-  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &s.n));
-  s.fields = malloc(sizeof(double) * (size_t)(3 * dim * s.n));
-  for (int f = 0; f < 3; ++f)
-    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT + f, s.n, s.fields + (size_t)(f * dim * s.n)));
-  s.n *= dim;
-  for (int k = 0; k < 15; ++k) ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME + k, &s.scalars[k]));
-  return s;
-}
-
-static int same(const snapshot *a, const snapshot *b) {
-  return a->n == b->n && memcmp(a->fields, b->fields, sizeof(double) * (size_t)(3 * a->n)) == 0 &&
-         memcmp(a->scalars, b->scalars, sizeof a->scalars) == 0;
-}
 
 START_TEST(a_failed_step_after_a_new_pairing_keeps_the_problem) {
   /* one Newton iteration allowed: contact steps fail, some after their new
@@ -497,23 +476,23 @@ START_TEST(a_failed_step_after_a_new_pairing_keeps_the_problem) {
   int failures = 0, after_repairing = 0;
   for (int k = 0; k < 120; ++k) {
     ND_OK_OR_FAIL(nd_problem_set_newton(p, 1e-10, 0.0, 1));
-    snapshot before = take(p, 2);
+    nd_test_snapshot before = nd_test_take(p, 2);
     const double repaired = scalar(p, ND_STAT_NORMAL_REFRESHES);
     const int status = nd_step(p);
     if (status != ND_OK) {
       ck_assert_int_eq(status, ND_ERR_NEWTON);
       ++failures;
       if (scalar(p, ND_STAT_NORMAL_REFRESHES) > repaired) ++after_repairing;
-      snapshot after = take(p, 2);
-      ck_assert_msg(same(&before, &after), "step %d: the failed step changed the problem", k + 1);
+      nd_test_snapshot after = nd_test_take(p, 2);
+      ck_assert_msg(nd_test_same(&before, &after), "step %d: the failed step changed the problem", k + 1);
       free(after.fields);
       ND_OK_OR_FAIL(nd_problem_set_newton(p, 1e-10, 0.0, 50));
       ND_OK_OR_FAIL(nd_step(p));
     }
     free(before.fields);
     ND_OK_OR_FAIL(nd_step(ref));
-    snapshot a = take(p, 2), b = take(ref, 2);
-    ck_assert_msg(same(&a, &b), "step %d: the run differs from the run without failures", k + 1);
+    nd_test_snapshot a = nd_test_take(p, 2), b = nd_test_take(ref, 2);
+    ck_assert_msg(nd_test_same(&a, &b), "step %d: the run differs from the run without failures", k + 1);
     free(a.fields), free(b.fields);
   }
   printf("failed steps: %d, of which %d after a new pairing\n", failures, after_repairing);
@@ -540,7 +519,7 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
     nd_problem b = thrown(dim, 1, 1.0);
     ND_OK_OR_FAIL(nd_problem_load_state(b, size, saved));
     for (int k = at + 1; k <= steps; ++k) ND_OK_OR_FAIL(nd_step(b));
-    snapshot sa = take(a, dim), sb = take(b, dim);
+    nd_test_snapshot sa = nd_test_take(a, dim), sb = nd_test_take(b, dim);
     ck_assert(memcmp(sa.fields, sb.fields, sizeof(double) * (size_t)(3 * sa.n)) == 0);
     for (int k = 0; k < ND_WORK_OBSTACLE; ++k)
       ck_assert_msg(memcmp(&sa.scalars[k], &sb.scalars[k], sizeof(double)) == 0, "scalar %d: %.17g vs %.17g", k + 1,

@@ -2,6 +2,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 int nd_test_run(Suite *s) {
   SRunner *sr = srunner_create(s);
@@ -106,4 +107,26 @@ void nd_test_write_file(const char *path, const char *text) {
   ck_assert_ptr_nonnull(f);
   fputs(text, f);
   fclose(f);
+}
+
+nd_test_snapshot nd_test_take(nd_problem p, int dim) {
+  nd_test_snapshot s;
+  int64_t nodes = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
+  s.n = nodes * dim;
+  s.fields = malloc(sizeof(double) * (size_t)(3 * s.n));
+  ck_assert_ptr_nonnull(s.fields);
+  for (int f = 0; f < 3; ++f) ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT + f, nodes, s.fields + f * s.n));
+  for (int k = 0; k < 15; ++k) ND_OK_OR_FAIL(nd_get_scalar(p, ND_TIME + k, &s.scalars[k]));
+  return s;
+}
+
+int nd_test_same(const nd_test_snapshot *a, const nd_test_snapshot *b) {
+  return a->n == b->n && memcmp(a->fields, b->fields, sizeof(double) * (size_t)(3 * a->n)) == 0 &&
+         memcmp(a->scalars, b->scalars, sizeof a->scalars) == 0;
+}
+
+void nd_test_snapshot_free(nd_test_snapshot *s) {
+  free(s->fields);
+  s->fields = NULL;
 }

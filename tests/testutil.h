@@ -59,6 +59,19 @@ void nd_test_write_file(const char *path, const char *text);
    frees it), its size in *size; a check fails when it cannot be made */
 unsigned char *nd_test_checkpoint(nd_problem p, int64_t *size);
 
+/* What a step may change, to compare bitwise: the displacement, velocity and
+   acceleration (dim values per node) and the first 15 scalars (ND_TIME on).
+   nd_test_take fails the test on an error; nd_test_same is 1 when a and b
+   hold the same bits; nd_test_snapshot_free frees the fields. */
+typedef struct {
+  int64_t n; /* values per field: nodes times dim */
+  double *fields;
+  double scalars[15];
+} nd_test_snapshot;
+nd_test_snapshot nd_test_take(nd_problem p, int dim);
+int nd_test_same(const nd_test_snapshot *a, const nd_test_snapshot *b);
+void nd_test_snapshot_free(nd_test_snapshot *s);
+
 #ifdef __cplusplus
 }
 #endif

@@ -450,6 +450,16 @@ class Reader {
     });
   }
 
+  // a top-level key given as one table, or as an array of them ([[key]])
+  std::vector<const toml::table *> tables(const toml::node &n, const std::string &key) const {
+    std::vector<const toml::table *> all;
+    if (const toml::array *a = n.as_array()) {
+      for (size_t i = 0; i < a->size(); ++i) all.push_back(&table((*a)[i], "", key + "[" + std::to_string(i) + "]"));
+    } else {
+      all.push_back(&table(n, "", key));
+    }
+    return all;
+  }
   const toml::table &table(const toml::node &n, const std::string &parent, const std::string &key) const {
     const toml::table *t = n.as_table();
     if (!t) wrong_type(n, parent, key, "a table");
@@ -813,14 +823,7 @@ Scene parse_scene(std::string_view text, const std::string &path) {
   }
 
   if (const toml::node *n = root.get("obstacle")) {
-    std::vector<const toml::table *> planes;
-    if (const toml::array *a = n->as_array()) {
-      for (size_t i = 0; i < a->size(); ++i)
-        planes.push_back(&r.table((*a)[i], "", "obstacle[" + std::to_string(i) + "]"));
-    } else {
-      planes.push_back(&r.table(*n, "", "obstacle"));
-    }
-    for (const toml::table *t : planes) {
+    for (const toml::table *t : r.tables(*n, "obstacle")) {
       r.check_keys(*t, "obstacle", "obstacle");
       const toml::node *reg = t->get("region");
       if (!reg) r.missing(*t, "obstacle", "region", "the contact region");
@@ -908,15 +911,8 @@ Scene parse_scene(std::string_view text, const std::string &path) {
     }
   }
 
-  if (const toml::node *n = root.get("contact_pair")) {  // two bodies: one table, or an array of them
-    std::vector<const toml::table *> tables;
-    if (const toml::array *a = n->as_array()) {
-      for (size_t i = 0; i < a->size(); ++i)
-        tables.push_back(&r.table((*a)[i], "", "contact_pair[" + std::to_string(i) + "]"));
-    } else {
-      tables.push_back(&r.table(*n, "", "contact_pair"));
-    }
-    for (const toml::table *t : tables) {
+  if (const toml::node *n = root.get("contact_pair")) {  // two bodies
+    for (const toml::table *t : r.tables(*n, "contact_pair")) {
       r.check_keys(*t, "contact_pair", "contact_pair");
       ContactPairEntry e;
       const toml::node *slave = t->get("slave"), *master = t->get("master");
