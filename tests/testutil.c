@@ -130,3 +130,29 @@ void nd_test_snapshot_free(nd_test_snapshot *s) {
   free(s->fields);
   s->fields = NULL;
 }
+
+int nd_test_step_failing_once(nd_problem p, nd_problem ref, int dim, int k) {
+  ND_OK_OR_FAIL(nd_problem_set_newton(p, 1e-10, 0.0, 1));
+  nd_test_snapshot before = nd_test_take(p, dim);
+  double refreshes = 0, after_refreshes = 0;
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_STAT_NORMAL_REFRESHES, &refreshes));
+  const int status = nd_step(p);
+  int failed = 0;
+  if (status != ND_OK) {
+    ck_assert_int_eq(status, ND_ERR_NEWTON);
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_STAT_NORMAL_REFRESHES, &after_refreshes));
+    failed = after_refreshes > refreshes ? 2 : 1;
+    nd_test_snapshot after = nd_test_take(p, dim);
+    /* (the refresh counter counts the work done, not the state) */
+    ck_assert_msg(nd_test_same(&before, &after), "step %d: the failed step changed the problem", k + 1);
+    nd_test_snapshot_free(&after);
+    ND_OK_OR_FAIL(nd_problem_set_newton(p, 1e-10, 0.0, 50));
+    ND_OK_OR_FAIL(nd_step(p));
+  }
+  nd_test_snapshot_free(&before);
+  ND_OK_OR_FAIL(nd_step(ref));
+  nd_test_snapshot a = nd_test_take(p, dim), b = nd_test_take(ref, dim);
+  ck_assert_msg(nd_test_same(&a, &b), "step %d: the run differs from the run without failures", k + 1);
+  nd_test_snapshot_free(&a), nd_test_snapshot_free(&b);
+  return failed;
+}

@@ -72,6 +72,14 @@ nd_test_snapshot nd_test_take(nd_problem p, int dim);
 int nd_test_same(const nd_test_snapshot *a, const nd_test_snapshot *b);
 void nd_test_snapshot_free(nd_test_snapshot *s);
 
+/* Step k (0-based) of p with Newton allowed one iteration: a failure
+   (ND_ERR_NEWTON) must leave p bitwise as it was, and the step is taken
+   again with 50; then ref (never limited) steps, and p and ref must be
+   bitwise the same. Returns 0 when the first try was taken, 1 when it
+   failed, 2 when it failed after a refresh of the contact rows (a curved
+   obstacle's normals, a pair's pairings: ND_STAT_NORMAL_REFRESHES grew). */
+int nd_test_step_failing_once(nd_problem p, nd_problem ref, int dim, int k);
+
 #ifdef __cplusplus
 }
 #endif
