@@ -408,6 +408,11 @@ ND_EXPORT int nd_get_field_owned(nd_problem p, int field, int64_t n_owned, doubl
    it is nd_get_field. */
 ND_EXPORT int nd_get_field_gathered(nd_problem p, int field, int root, int64_t n, double *out);
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
+/* A contact scalar of one contact region's points alone (a contact pair's:
+   its slave region): ND_CONTACT_FORCE, ND_CONTACT_FORCE_APPLIED,
+   ND_ACTIVE_POINTS, ND_MAX_PENETRATION or ND_ENERGY_NITSCHE (its part of R).
+   The regions' values add up to nd_get_scalar's (the deepest: its max). */
+ND_EXPORT int nd_get_region_scalar(nd_problem p, int region, int key, double *out);
 /* Checkpoint: the whole state at t^n (t, n, U, V, A, F^n, W, Newton totals,
    the guards' reference) as a versioned, checksummed block of nbytes bytes;
    a run resumed from it is bitwise the uninterrupted one. Loading checks the

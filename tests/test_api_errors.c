@@ -971,6 +971,11 @@ START_TEST(problem_obstacles) {
   EXPECT_ERR(nd_problem_set_contact_pair(p, 7, 1), ND_ERR_REGION, "nd_problem_set_contact_pair", "region 7");
   EXPECT_ERR(nd_problem_set_contact_pair(p, 1, -1), ND_ERR_REGION, "nd_problem_set_contact_pair", "region -1");
   EXPECT_ERR(nd_problem_set_contact_pair(p, 1, 1), ND_ERR_REGION, "nd_problem_set_contact_pair", "its own master");
+  /* a contact region's scalars */
+  double x = 0;
+  EXPECT_ERR(nd_get_region_scalar(NULL, 1, ND_CONTACT_FORCE, &x), ND_ERR_NULL, "nd_get_region_scalar", "p");
+  EXPECT_ERR(nd_get_region_scalar(p, 1, ND_CONTACT_FORCE, NULL), ND_ERR_NULL, "nd_get_region_scalar", "out");
+  EXPECT_ERR(nd_get_region_scalar(p, 1, 999, &x), ND_ERR_KEY, "nd_get_region_scalar", "999");
   /* nothing to move yet */
   EXPECT_ERR(nd_problem_move_obstacle(p, 1, 0, zero, NULL), ND_ERR_INDEX, "nd_problem_move_obstacle", "index 0");
   EXPECT_OK(nd_problem_add_contact_sphere(p, 1, c, 1, 0));

@@ -6,7 +6,7 @@
  * and P2, non-matching meshes); a block bouncing and sliding over another
  * (paired anew as it slides) keeps both momenta and the ledger; a failed
  * step leaves the problem as it was; a restart is bitwise; bad pairs are
- * refused. */
+ * refused; two pairs carry their own forces (nd_get_region_scalar). */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -269,6 +269,62 @@ START_TEST(bars_head_on_converge_to_the_elastic_impact) {
     last = pair.exact_error;
     free(pair.momentum), free(wall.momentum);
   }
+}
+END_TEST
+
+START_TEST(two_pairs_carry_their_own_forces) {
+  /* three bars, A = [0, 1], B = [1.01, 2.01], C = [2.02, 3.02], ten cells
+     each: A at +0.1 and C at -0.1 hit B (at rest) from both sides, A's end
+     and C's end the slaves of two pairs against B's ends. The configuration
+     is its own mirror image (x -> 3.02 - x swaps A and C, B's ends, and the
+     pairs): the two pairs carry the same force to round-off, each
+     nd_get_region_scalar, and they add up to nd_get_scalar's */
+  double x[33];
+  int64_t cells[60];
+  for (int b = 0; b < 3; ++b)
+    for (int i = 0; i <= 10; ++i) x[11 * b + i] = 1.01 * b + i / 10.0;
+  for (int b = 0; b < 3; ++b)
+    for (int i = 0; i < 10; ++i) cells[2 * (10 * b + i)] = 11 * b + i, cells[2 * (10 * b + i) + 1] = 11 * b + i + 1;
+  nd_mesh m = NULL;
+  ND_OK_OR_FAIL(nd_mesh_create(1, 33, x, 30, cells, &m));
+  const int64_t ends[4] = {10, 11, 21, 22};
+  for (int r = 0; r < 4; ++r) ND_OK_OR_FAIL(nd_mesh_set_region(m, r + 1, 1, &ends[r]));
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_contact_pair(p, 1, 2));
+  ND_OK_OR_FAIL(nd_problem_set_contact_pair(p, 4, 3));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 0.0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  double v[33];
+  for (int i = 0; i < 33; ++i) v[i] = i < 11 ? 0.1 : i < 22 ? 0 : -0.1;
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, 33, NULL, v));
+  double worst = 0, largest = 0, sum_error = 0;
+  for (int k = 0; k < 300; ++k) {
+    ND_OK_OR_FAIL(nd_step(p));
+    double a = 0, c = 0, all = 0, active_a = 0, active_c = 0, active = 0;
+    ND_OK_OR_FAIL(nd_get_region_scalar(p, 1, ND_CONTACT_FORCE, &a));
+    ND_OK_OR_FAIL(nd_get_region_scalar(p, 4, ND_CONTACT_FORCE, &c));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_CONTACT_FORCE, &all));
+    ND_OK_OR_FAIL(nd_get_region_scalar(p, 1, ND_ACTIVE_POINTS, &active_a));
+    ND_OK_OR_FAIL(nd_get_region_scalar(p, 4, ND_ACTIVE_POINTS, &active_c));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_ACTIVE_POINTS, &active));
+    worst = fmax(worst, fabs(a - c)), largest = fmax(largest, all);
+    sum_error = fmax(sum_error, fabs(a + c - all));
+    ck_assert_double_eq(active_a + active_c, active);
+  }
+  printf("two pairs: largest force %.6g, the pairs' difference %.3g, their sum's %.3g\n", largest, worst, sum_error);
+  ck_assert_double_gt(largest, 0);
+  ck_assert_double_le(worst, 1e-12 * largest);
+  ck_assert_double_le(sum_error, 1e-14 * largest);
+  /* a region without contact points, a key of no region */
+  double out = 0;
+  ck_assert_int_eq(nd_get_region_scalar(p, 2, ND_CONTACT_FORCE, &out), ND_ERR_REGION);
+  ck_assert_int_eq(nd_get_region_scalar(p, 1, ND_WORK, &out), ND_ERR_KEY);
+  ck_assert_int_eq(nd_get_region_scalar(p, 1, ND_CONTACT_FORCE, NULL), ND_ERR_NULL);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
 }
 END_TEST
 
@@ -560,6 +616,7 @@ int main(void) {
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, bars_head_on_conserve_momentum_and_energy);
   tcase_add_test(tc, bars_head_on_converge_to_the_elastic_impact);
+  tcase_add_test(tc, two_pairs_carry_their_own_forces);
   tcase_add_test(tc, a_resting_block_carries_its_weight);
   tcase_add_test(tc, a_block_sliding_over_another_keeps_momentum_and_the_ledger);
   tcase_add_test(tc, mirror_disks_approach_one_disk_on_the_symmetry_plane);

@@ -52,6 +52,7 @@ module nitschedyn
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
   public :: nd_problem_estimate_critical_timestep
   public :: nd_problem_setup, nd_step, nd_get_field, nd_get_scalar, nd_get_contact_pressure, nd_problem_destroy
+  public :: nd_get_region_scalar
   public :: nd_get_contact_pressure_applied
   public :: nd_problem_get_owned_node_count, nd_get_field_owned, nd_get_field_gathered
   public :: nd_problem_get_state_size, nd_problem_save_state, nd_problem_load_state, nd_problem_set_state
@@ -709,6 +710,15 @@ module nitschedyn
       real(c_double), intent(out) :: out
       integer(c_int) :: status
     end function nd_get_scalar
+
+    ! a contact scalar of one contact region's points (nd_get_field(3))
+    function nd_get_region_scalar(p, region, key, out) result(status) bind(C, name='nd_get_region_scalar')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      integer(c_int), value :: region, key
+      real(c_double), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_get_region_scalar
 
     function nd_get_contact_pressure(p, n, out) result(status) bind(C, name='nd_get_contact_pressure')
       import :: c_int, c_int64_t, c_double, c_ptr

@@ -184,6 +184,7 @@ _PROTOTYPES = {
     "nd_get_field_owned": (_int, [_ptr, _int, _i64, _pdbl, _pi64]),
     "nd_get_field_gathered": (_int, [_ptr, _int, _int, _i64, _pdbl]),
     "nd_get_scalar": (_int, [_ptr, _int, _pdbl]),
+    "nd_get_region_scalar": (_int, [_ptr, _int, _int, _pdbl]),
     "nd_get_contact_pressure": (_int, [_ptr, _i64, _pdbl]),
     "nd_get_contact_pressure_applied": (_int, [_ptr, _i64, _pdbl]),
     "nd_problem_destroy": (_int, [_pptr]),
@@ -740,6 +741,13 @@ class Problem(_Handle):
         """nd_get_scalar: ND_TIME, ND_ENERGY_AUGMENTED, ..."""
         x = _dbl()
         _check(lib.nd_get_scalar(self._h, key, ctypes.byref(x)))
+        return x.value
+
+    def region_scalar(self, region, key):
+        """nd_get_region_scalar: a contact scalar (ND_CONTACT_FORCE, ...) of
+        one contact region's points (a contact pair's: its slave region)."""
+        x = _dbl()
+        _check(lib.nd_get_region_scalar(self._h, region, key, ctypes.byref(x)))
         return x.value
 
     def contact_pressure(self):

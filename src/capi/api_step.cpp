@@ -96,6 +96,16 @@ ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out) {
   });
 }
 
+ND_EXPORT int nd_get_region_scalar(nd_problem p, int region, int key, double *out) {
+  return nd::guarded("nd_get_region_scalar", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    nd::need_member(ND_IS_MEMBER_(ND_SCALAR_LIST, key), ND_ERR_KEY, "key", key, "ND_* scalar key");
+    nd::need(out, "out");
+    *out = pr.region_scalar(region, key);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_get_contact_point_count(nd_problem p, int64_t *n_points) {
   return nd::guarded("nd_problem_get_contact_point_count", [&] {
     nd::Problem &pr = nd::problem_of(p);

@@ -112,6 +112,17 @@ void sum_points(const Discretization &d, State &s, const std::vector<double> &dW
 
 double nitsche_energy(const Discretization &d, const State &s) { return state_sums(d, s, true).nitsche; }
 
+PointSums region_sums(const Discretization &d, const State &s, int region) {
+  PointValues scratch;
+  const PointValues &v = state_points(d, s, scratch);
+  const std::vector<double> &P = whole(v.P, v), &un = whole(v.un, v);
+  PointSums t;
+  const double *phi = s.phi.empty() ? nullptr : s.phi.data();
+  for (size_t q = 0; q < d.contact.size(); ++q)
+    if (d.contact.region[q] == region) add_point<false>(d.contact, *d.contact_law, q, P, un[q], phi, s.U.data(), true, t);
+  return t;
+}
+
 std::vector<double> contact_pressure(const Discretization &d, const State &s) {
   PointValues scratch;
   const PointValues &points = state_points(d, s, scratch);

@@ -28,6 +28,10 @@ double contact_force_applied(const Discretization &d, const State &s);
 int64_t active_points(const Discretization &d, const State &s);
 // max_q (u_n - g0)_+
 double max_penetration(const Discretization &d, const State &s);
+// The sums of the points of one contact region alone (a pair's: its slave
+// region): R's part, the force, the applied force, the active points and
+// the deepest penetration (PointSums), from the state's P_q as the whole's
+PointSums region_sums(const Discretization &d, const State &s, int region);
 // lambda_q = -[P_q]_+/gamma_q
 std::vector<double> contact_pressure(const Discretization &d, const State &s);
 

@@ -1149,6 +1149,31 @@ constexpr StatKey kStatKeys[] = {
 };
 }  // namespace
 
+double Problem::region_scalar(int region, int key) {
+  const Discretization &d = discretization_();
+  if (std::find(d.contact.region.begin(), d.contact.region.end(), region) == d.contact.region.end())
+    fail(ND_ERR_REGION, "region " + std::to_string(region) +
+                            " has no contact points (a region with a plane or an obstacle, or a pair's slave region)");
+  if (key != ND_CONTACT_FORCE && key != ND_CONTACT_FORCE_APPLIED && key != ND_ACTIVE_POINTS &&
+      key != ND_MAX_PENETRATION && key != ND_ENERGY_NITSCHE)
+    fail(ND_ERR_KEY, "key " + std::to_string(key) + " is not a scalar of a contact region's points (ND_CONTACT_FORCE, "
+                     "ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION, ND_ENERGY_NITSCHE)");
+  complete_state();  // (a distributed state: every point's values)
+  const PointSums t = region_sums(d, state(), region);
+  switch (key) {
+    case ND_CONTACT_FORCE:
+      return t.force;
+    case ND_CONTACT_FORCE_APPLIED:
+      return t.force_applied;
+    case ND_ACTIVE_POINTS:
+      return t.active;
+    case ND_MAX_PENETRATION:
+      return t.penetration;
+    default:
+      return t.nitsche;
+  }
+}
+
 double Problem::scalar(int key) {
   for (const StatKey &k : kStatKeys)
     if (k.key == key) return static_cast<double>(counters_.get()->*k.field);

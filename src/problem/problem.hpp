@@ -155,6 +155,9 @@ class Problem {
   int rank() const { return communicator_rank(def_.comm.get()); }
   int rank_count() const { return communicator_size(def_.comm.get()); }
   double scalar(int key);               // an ND_* scalar key
+  // a contact scalar (the force, the applied force, the active points, the
+  // deepest penetration, R) of one contact region's points alone
+  double region_scalar(int region, int key);
   std::vector<double> contact_pressure();  // lambda_q
   // -phi_q/gamma_q: the pressure the last step applied (lambda_q before any step)
   std::vector<double> contact_pressure_applied();

@@ -95,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 63)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 64)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -315,6 +315,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         if (p) CALL(nd_problem_set_contact_pair, p, in.ConsumeIntegralInRange<int>(-1, 3),
                     in.ConsumeIntegralInRange<int>(-1, 3));
         break;
+      case 64: {  // a contact region's scalar: any region, any key
+        double x = 0;
+        if (p) CALL(nd_get_region_scalar, p, in.ConsumeIntegralInRange<int>(-1, 3), in.ConsumeIntegralInRange<int>(-1, 80),
+                    &x);
+        break;
+      }
       case 36:
         if (p) CALL(nd_problem_add_contact_cylinder, p, in.ConsumeIntegralInRange<int>(-1, 3), a, b, any_double(in),
                     in.ConsumeIntegralInRange<int>(-1, 2));

@@ -394,6 +394,8 @@ contains
       rise = max(rise, (e - t) - previous)
       previous = e - t
       call check(nd_get_scalar(p, ND_ACTIVE_POINTS, active) == ND_OK, 'ND_ACTIVE_POINTS')
+      call check(nd_get_region_scalar(p, 1_c_int, ND_ACTIVE_POINTS, t) == ND_OK .and. abs(t - active) < 0.5_c_double, &
+                 'nd_get_region_scalar: the one pair''s points are all the points')
       call check(nd_get_scalar(p, ND_TIME, t) == ND_OK, 'ND_TIME')
       if (active > 0) then
         if (first < 0) first = t

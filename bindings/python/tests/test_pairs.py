@@ -28,7 +28,7 @@ p.set_scheme(nd.ND_SCHEME_HYBRID)
 p.set_timestep(0.01)
 p.set_initial_state(v0=np.where(np.arange(22) <= 10, 0.1, -0.1))
 previous = p.scalar(nd.ND_ENERGY_AUGMENTED)
-drift, rise, touched = 0.0, 0.0, []
+drift, rise, touched, region_gap = 0.0, 0.0, [], 0.0
 for k in range(300):
     p.step()
     drift = max(drift, abs(p.scalar(nd.ND_MOMENTUM_X)))
@@ -37,6 +37,10 @@ for k in range(300):
     previous = ledger
     if p.scalar(nd.ND_ACTIVE_POINTS) > 0:
         touched.append(p.scalar(nd.ND_TIME))
+    # the pair's slave region carries every contact point: its force is the whole
+    region_gap = max(region_gap, abs(p.region_scalar(1, nd.ND_CONTACT_FORCE) - p.scalar(nd.ND_CONTACT_FORCE)))
+check(region_gap <= 1e-15, "nd_get_region_scalar: the one pair's force is the whole (%.3g)" % region_gap)
+check(raises(nd.ND_ERR_REGION, lambda: p.region_scalar(2, nd.ND_CONTACT_FORCE)), "a region without points")
 # (300 steps of forces on ~20 rows that cancel in the sum, momenta 0.1)
 check(drift <= 1.3e-12, "the total momentum stays 0 to round-off (%.3g)" % drift)
 check(rise <= 1e-12 * 0.01, "E_Theta - W_geometry never rises with Theta = 1 (%.3g)" % rise)
