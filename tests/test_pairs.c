@@ -3,7 +3,7 @@
  * hybrid scheme's ledger with Theta = 1 never rising, contact for 2L/c and
  * the velocities reversed as h -> 0, each bar as one bar against a rigid
  * wall); a block resting on a larger one carries its weight (2D and 3D, P1
- * and P2, non-matching meshes); a block bouncing and sliding over another
+ * and P2, Q1 and Q2 in 2D, non-matching meshes); a block bouncing and sliding over another
  * (paired anew as it slides) keeps both momenta and the ledger; a failed
  * step leaves the problem as it was; a restart is bitwise; bad pairs are
  * refused; two pairs carry their own forces (nd_get_region_scalar). */
@@ -24,7 +24,7 @@ static double scalar(nd_problem p, int key) {
 /* ---- meshes of blocks: one connected component each */
 
 typedef struct {
-  int dim;
+  int dim, cell_type; /* ND_CELL_SIMPLEX or, in 2D, ND_CELL_QUADRILATERAL */
   int64_t nv, nc;
   double *x;
   int64_t *cells;
@@ -44,9 +44,10 @@ static double volume6(const double *a, const double *b, const double *c, const d
    split into 2 triangles, each box into the 6 tetrahedra along its diagonal
    (conforming from box to box) */
 static void add_block(blocks *m, const double *lo, const double *hi, const int *n) {
-  const int d = m->dim, nz = d == 3 ? n[2] : 0, per = d + 1;
+  const int quads = m->cell_type == ND_CELL_QUADRILATERAL;
+  const int d = m->dim, nz = d == 3 ? n[2] : 0, per = quads ? 4 : d + 1;
   const int64_t base = m->nv, nv = (int64_t)(n[0] + 1) * (n[1] + 1) * (nz + 1);
-  const int64_t nc = d == 2 ? 2LL * n[0] * n[1] : 6LL * n[0] * n[1] * n[2];
+  const int64_t nc = quads ? (int64_t)n[0] * n[1] : d == 2 ? 2LL * n[0] * n[1] : 6LL * n[0] * n[1] * n[2];
   m->x = realloc(m->x, sizeof(double) * (size_t)(d * (m->nv + nv)));
   m->cells = realloc(m->cells, sizeof(int64_t) * (size_t)(per * (m->nc + nc)));
   ck_assert(m->x && m->cells);
@@ -65,7 +66,8 @@ static void add_block(blocks *m, const double *lo, const double *hi, const int *
         if (d == 2) {
           const int64_t a = base + vertex_at(n, i, j, 0), b = base + vertex_at(n, i + 1, j, 0),
                         e = base + vertex_at(n, i + 1, j + 1, 0), f = base + vertex_at(n, i, j + 1, 0);
-          *c++ = a, *c++ = b, *c++ = e, *c++ = a, *c++ = e, *c++ = f;
+          if (quads) *c++ = a, *c++ = b, *c++ = e, *c++ = f;
+          else *c++ = a, *c++ = b, *c++ = e, *c++ = a, *c++ = e, *c++ = f;
           continue;
         }
         static const int order[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
@@ -86,7 +88,7 @@ static void add_block(blocks *m, const double *lo, const double *hi, const int *
 
 static nd_mesh make(blocks *m) {
   nd_mesh h = NULL;
-  ND_OK_OR_FAIL(nd_mesh_create(m->dim, m->nv, m->x, m->nc, m->cells, &h));
+  ND_OK_OR_FAIL(nd_mesh_create_cells(m->dim, m->cell_type, m->nv, m->x, m->nc, m->cells, &h));
   free(m->x), free(m->cells);
   return h;
 }
@@ -333,9 +335,9 @@ END_TEST
 /* a block [0.5, 1.5] x [1 + delta, 1.5] (x [0.5, 1.5]) over [0, 2] x [0, 1]
    (x [0, 2]), non-matching meshes; regions: 1 the upper block's bottom, 2 the
    lower block's top, 3 the lower block's base */
-static nd_problem stack(int dim, int degree, int top_cells, int base_cells) {
+static nd_problem stack_cells(int dim, int cell_type, int degree, int top_cells, int base_cells) {
   const double delta = 1e-3;
-  blocks m = {dim, 0, 0, NULL, NULL};
+  blocks m = {dim, cell_type, 0, 0, NULL, NULL};
   const double lo1[3] = {0, 0, 0}, hi1[3] = {2, 1, 2}, lo2[3] = {0.5, 1 + delta, 0.5}, hi2[3] = {1.5, 1.5, 1.5};
   const int n1[3] = {2 * base_cells, base_cells, 2 * base_cells}, n2[3] = {top_cells, top_cells / 2 + 1, top_cells};
   add_block(&m, lo1, hi1, n1);
@@ -356,6 +358,10 @@ static nd_problem stack(int dim, int degree, int top_cells, int base_cells) {
   return p;
 }
 
+static nd_problem stack(int dim, int degree, int top_cells, int base_cells) {
+  return stack_cells(dim, ND_CELL_SIMPLEX, degree, top_cells, base_cells);
+}
+
 START_TEST(a_resting_block_carries_its_weight) {
   /* under gravity g = 1 the upper block (density 1, volume 0.499 in 2D and
      3D) falls through the gap onto the lower one (clamped at its base);
@@ -364,17 +370,20 @@ START_TEST(a_resting_block_carries_its_weight) {
      sum to zero over a free body's translation): the resultant reaches the
      weight as the velocity dies out */
   const double g[3] = {0, -1, 0}, one = 1;
-  for (int dim = 2; dim <= 3; ++dim)
+  for (int dim = 2; dim <= 4; ++dim) /* (4: 2D on quadrilaterals) */
     for (int degree = 1; degree <= 2; ++degree) {
       if (dim == 3 && degree == 2) continue; /* (3D P2: in the bouncing test below) */
-      nd_problem p = dim == 2 ? stack(2, degree, 5, 4) : stack(3, degree, 3, 2);
+      nd_problem p = dim == 2   ? stack(2, degree, 5, 4)
+                     : dim == 3 ? stack(3, degree, 3, 2)
+                                : stack_cells(2, ND_CELL_QUADRILATERAL, degree, 5, 4);
       ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 3));
       ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
       ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_THETA, &one));
       ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.05));
       for (int k = 0; k < 300; ++k) ND_OK_OR_FAIL(nd_step(p));
       const double weight = 0.499, resultant = scalar(p, ND_CONTACT_FORCE);
-      printf("stack %dD P%d: resultant %.15f, weight %.15f\n", dim, degree, resultant, weight);
+      printf("stack %s%d: resultant %.15f, weight %.15f\n", dim == 2 ? "2D P" : dim == 3 ? "3D P" : "2D Q", degree,
+             resultant, weight);
       ck_assert_double_le(fabs(resultant - weight), 1e-10 * weight);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
