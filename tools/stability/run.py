@@ -75,9 +75,11 @@ def report(rows, out, seconds, quick):
           "failure** when `nd_step` returned ND_OK on a step whose mechanical energy (plus the damping's "
           "dissipation, in the `_damped` runs: Rayleigh alpha = 0.05, beta = 0.1 tau; and friction's, in the "
           "`_friction` runs: Coulomb F = 0.3; `_layered`: half the cells 4 times as stiff and twice as dense) exceeded twice the energy "
-          "put in (E^0 + max W), became non-finite, or whose deepest contact point sank more than half its "
-          "cell size, as measured by the driver itself (`tools/stability/stability_case.c`), and the run "
-          "completed all the same.\n",
+          "put in (E^0 + max W), became non-finite, or whose deepest contact point sank more than "
+          "4 eps* min(h, L/8) (eps* = sqrt(2 (E^0 + max W) / int E dx), the strain of the energy put in; L = "
+          "|Omega|/|Gamma_C|, the body's length across its contact region: the penetration guard's default, "
+          "invariant under a change of units), as measured by the driver itself "
+          "(`tools/stability/stability_case.c`), and the run completed all the same.\n",
           "## Outcomes\n",
           table(["outcome", "runs"], sorted(by.items())),
           "**Silent failures: %d of %d runs.**\n" % (len(silent), len(rows)),

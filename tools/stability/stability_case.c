@@ -9,7 +9,10 @@
  * A run is a silent failure when every call returned ND_OK although, by this
  * program's own measurement, the mechanical energy passed 2 (E^0 + max_k W^k)
  * (the guard's default factor), became non-finite, or a contact point sank
- * deeper than half its cell size: what the guards exist to catch. late: the
+ * deeper than 4 eps* min(h, L/8), eps* = sqrt(2 (E^0 + max_k W^k) / int E dx)
+ * the strain of the energy put in and L = |Omega| / |Gamma_C| (the
+ * penetration guard's default, docs/design.md §3b.5, measured here from the
+ * scene's own dimensions): what the guards exist to catch. late: the
  * steps accepted past those limits before a guard stopped the run.
  * theory: for the hybrid scheme with Theta = 1, whether E_Theta + D - W never
  * increased (part 2 of the paper; D the damping's dissipation), else "-".
@@ -77,11 +80,15 @@ int main(int argc, char **argv) {
   nd_mesh m = NULL;
   nd_problem p = NULL;
   double E = 1, nu = 0.3, h = 0, tau = 0, T = 0;
+  /* |Omega| and |Gamma_C| (the body's length across its contact region L
+     is their ratio), for the penetration criterion */
+  double volume = 0, contact_area = 0;
   int st = ND_OK;
   double g[3] = {0, 0, 0}, origin[3] = {0, 0, 0}, up[3] = {0, 0, 0};
   if (!strcmp(scene, "bar")) { /* docs/design.md §7: clamped at x = 1, u0 = (1-x)/2 */
     const double lo[2] = {-0.5, 0.5}, hi[2] = {0.5, 1.5};
     h = 1.0 / 40, tau = h / 2, T = 6;
+    volume = 1, contact_area = 1;
     st = nd_mesh_create_interval(40, 0, 1, &m);
     if (!st) st = nd_mesh_mark_boundary_box(m, 1, &lo[0], &hi[0]);
     if (!st) st = nd_mesh_mark_boundary_box(m, 2, &lo[1], &hi[1]);
@@ -89,6 +96,7 @@ int main(int argc, char **argv) {
   } else if (!strcmp(scene, "rect")) { /* a free 16 x 4 block, 0.05 above the plane, falling at 0.5 */
     const double lo[2] = {0, 0.05}, hi[2] = {4, 1.05}, blo[2] = {-1, 0}, bhi[2] = {5, 0.05};
     h = 0.25 * sqrt(2.0), tau = 0.02, T = 4;
+    volume = 4, contact_area = 4;
     st = nd_mesh_create_rectangle(16, 4, lo, hi, &m);
     if (!st) st = nd_mesh_mark_boundary_box(m, 1, blo, bhi);
     up[1] = 1;
@@ -96,6 +104,7 @@ int main(int argc, char **argv) {
     char path[1024];
     snprintf(path, sizeof path, "%s/disk_h4.msh", argv[6]);
     E = 50, nu = 0.25, h = 4, tau = 0.1, T = 32;
+    volume = 3.14159265358979 * 20 * 20, contact_area = 3.14159265358979 * 20; /* radius 20, the lower half circle */
     g[1] = -0.1, up[1] = 1;
     st = nd_mesh_read_gmsh(path, &m);
   }
@@ -153,6 +162,9 @@ int main(int argc, char **argv) {
     free(x);
     free(u0);
   }
+  /* int E dx: _layered, the half of the volume at the obstacle 4 times as stiff */
+  const double stiffness_volume = (layered ? 2.5 : 1.0) * E * volume;
+  const double pen_length = fmin(h, volume / contact_area / 8);
   const int64_t steps = nd_step_count(T, tau);
   if (steps < 0) {
     fprintf(stderr, "%s: T / tau = %g / %g is not a number of steps (0 to 2^63 - 1)\n", argv[0], T, tau);
@@ -183,7 +195,8 @@ int main(int argc, char **argv) {
       growth = fmax(growth, isfinite(r) ? r : INFINITY);
       pen = fmax(pen, get(p, ND_MAX_PENETRATION) / h);
       its += get(p, ND_NEWTON_ITERATIONS);
-      if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) / h > 0.5) ++late;
+      const double strain = sqrt(2 * budget / stiffness_volume);
+      if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) > 4 * strain * pen_length) ++late;
       const double e = get(p, ND_ENERGY_AUGMENTED) + D - W;
       scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W) + D);
       if (e > prev + 1e-10 * scale) theory_ok = 0;
