@@ -961,6 +961,11 @@ void Problem::overwrite_state(const double *u, const double *v) {
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
   s.guard.E0 += dE;
   s.guard.budget += dE;
+  // the energy balance starts again from the new state (its first state
+  // out of contact): a state set by the caller is not a step's
+  s.guard.balance = s.guard.balance_low = std::numeric_limits<double>::quiet_NaN();
+  s.guard.exchange = 0;
+  s.guard.in_contact = false;
   state_ = std::move(s);
   initial_guarded_ = false;  // at n = 0 the next step checks the new initial state, as before
 }
