@@ -17,7 +17,22 @@
  * theory: for the hybrid scheme with Theta = 1, whether E_Theta + D - W never
  * increased (part 2 of the paper; D the damping's dissipation), else "-".
  *
- * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR
+ * With a 7th argument `unguarded` the run is made again with the guards that
+ * act during the steps off (energy, energy balance, penetration; the set-up's
+ * checks stay) to judge a refusal, and prints instead
+ *
+ *   outcome,code,step,energy_growth,balance_gain,penetration_ratio
+ *
+ * balance_gain: the largest rise of the balance L = E_Theta - W - W_obstacle
+ * - W_prescribed - W_geometry + D_damping + D_friction at a state without
+ * an active point above its lowest value at such a state before (t^0
+ * included), relative to the largest of E^0 + max W and max E; and
+ * penetration_ratio the deepest point over eps* min(h, L/8). run.py calls a
+ * refusal justified when the unguarded run then fails (a non-finite state,
+ * Newton), gains (energy_growth > 1.05 or balance_gain > 0.05) or sinks
+ * (penetration_ratio > 4), and a false alarm otherwise.
+ *
+ * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded]
  *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha,
  *   each with the suffixes (any of them, in this order) _damped for Rayleigh
  *   damping alpha = 0.05, beta = 0.1 tau (damping ratio about 0.1 at the
@@ -58,10 +73,11 @@ static double now(void) {
 }
 
 int main(int argc, char **argv) {
-  if (argc != 7) {
-    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR\n", argv[0]);
+  if (argc != 7 && !(argc == 8 && !strcmp(argv[7], "unguarded"))) {
+    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded]\n", argv[0]);
     return 2;
   }
+  const int unguarded = argc == 8;
   const char *scene = argv[1], *scheme_arg = argv[3];
   char scheme_name[32];
   snprintf(scheme_name, sizeof scheme_name, "%s", scheme_arg);
@@ -142,6 +158,9 @@ int main(int argc, char **argv) {
   if (!st && damped) st = nd_problem_set_damping(p, 0.05, 0.1 * tau);
   const double F = 0.3;
   if (!st && friction) st = nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F);
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY, 0);
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0);
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0);
   if (st) {
     fprintf(stderr, "%s\n", nd_last_error());
     return 1;
@@ -178,6 +197,9 @@ int main(int argc, char **argv) {
   double E0 = get(p, ND_ENERGY_MECHANICAL), budget = E0, growth = 0, pen = 0, its = 0;
   double prev = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), scale = fabs(prev);  /* (D = 0 at t = 0) */
   int theory_ok = 1, late = 0;
+  /* the unguarded rerun's measures: the balance out of contact, its lowest
+     value so far, its largest rise; the deepest point over eps* min(h, L/8) */
+  double low = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), rise = 0, Etop = E0, pen_ratio = 0;
   st = nd_problem_setup(p);
   if (st) {
     outcome = "refused_at_setup", code = st;
@@ -201,9 +223,23 @@ int main(int argc, char **argv) {
       scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W) + D);
       if (e > prev + 1e-10 * scale) theory_ok = 0;
       prev = e;
+      const double L = e - get(p, ND_WORK_OBSTACLE) - get(p, ND_WORK_PRESCRIBED) - get(p, ND_WORK_GEOMETRY);
+      const double in_motion = fmax(budget, Etop);
+      Etop = fmax(Etop, Em);
+      if (get(p, ND_ACTIVE_POINTS) == 0) {
+        if (in_motion > 0) rise = fmax(rise, (L - low) / in_motion);
+        low = fmin(low, L);
+      }
+      if (strain > 0) pen_ratio = fmax(pen_ratio, get(p, ND_MAX_PENETRATION) / (strain * pen_length));
     }
   }
   if (!code && late) outcome = "silent_failure";
+  if (unguarded) {
+    printf("%s,%s,%" PRId64 ",%.4g,%.4g,%.4g\n", outcome, code_name(code), code ? k : (int64_t)0, growth, rise,
+           pen_ratio);
+    nd_problem_destroy(&p);
+    return 0;
+  }
   const char *theory = scheme == ND_SCHEME_HYBRID && Theta == 1 ? (theory_ok ? "held" : "violated") : "-";
   char msg[256] = "";
   if (code) {
