@@ -1,7 +1,7 @@
 // Benchmark (not a test): what the guards of docs/design.md §3b cost a free-flight
 // step of the disk (hybrid, Theta = 1, gamma0 = 1e-3, tau = 0.05, the 160
 // steps before the impact at t = 10). Two copies of the problem step in
-// turn, one with the default guards, one with the energy and penetration
+// turn, one with the default guards, one with the energy, energy-balance and penetration
 // guards off, so that both see the same machine; prints one CSV row: median
 // step with and without, their relative difference, and the cost of one
 // energy evaluation (what the energy guard would cost if it ran every step)
@@ -37,6 +37,7 @@ int main(int argc, char **argv) {
     }
   nd_problem_set_guard(p[1], ND_GUARD_ENERGY, 0);
   nd_problem_set_guard(p[1], ND_GUARD_PENETRATION, 0);
+  nd_problem_set_guard(p[1], ND_GUARD_ENERGY_BALANCE, 0);
   std::vector<double> t[2];
   for (int step = 0; step < 160; ++step)
     for (int k = 0; k < 2; ++k) {

@@ -159,12 +159,13 @@ extern "C" {
 
 /* Guards for nd_problem_set_guard: X(name, value, description) */
 #define ND_GUARD_LIST(X)                                                                \
-  X(ND_GUARD_ENERGY, 1, "factor f: refuse a step with E > f (E^0 + max_k W^k); 0 off; default 2") \
-  X(ND_GUARD_PENETRATION, 2, "refuse a step sinking a point deeper than f h_K; 0 off; default 0.5") \
+  X(ND_GUARD_ENERGY, 1, "factor f (a backstop): refuse a step with E > f (E^0 + max_k W^k); 0 off; default 2") \
+  X(ND_GUARD_PENETRATION, 2, "refuse u_n - g0 > f eps* min(h_K, L/8), eps* the strain of the energy put in; 0 off; default 4") \
   X(ND_GUARD_CRITICAL_TIMESTEP, 3, "1: refuse explicit steps above tau_c (default); 0: allow") \
   X(ND_GUARD_UNSTABLE_SCHEME, 4, "1: refuse the theta-scheme with theta < 1/2 (default); 0: allow") \
   X(ND_GUARD_COERCIVITY, 5, "1: refuse Theta > 0 with K_Theta indefinite (default); 0: allow") \
-  X(ND_GUARD_INITIAL_PENETRATION, 6, "1: refuse an initial state inside the obstacle (default); 0: allow")
+  X(ND_GUARD_INITIAL_PENETRATION, 6, "1: refuse an initial state inside the obstacle (default); 0: allow") \
+  X(ND_GUARD_ENERGY_BALANCE, 7, "tol: refuse a gain of the balance E_Theta - works + dissipations above tol times the energy in motion; 0 off; default 0.05")
 
 /* Operators for nd_problem_get_matrix, on the free DOFs: X(name, value, description) */
 #define ND_MATRIX_LIST(X)                                                              \

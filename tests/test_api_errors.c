@@ -1182,7 +1182,9 @@ START_TEST(problem_guards) {
   nd_problem p = problem_1d();
   EXPECT_ERR(nd_problem_set_guard(NULL, ND_GUARD_ENERGY, 2), ND_ERR_NULL, "nd_problem_set_guard", "problem");
   EXPECT_ERR(nd_problem_set_guard(p, 0, 1), ND_ERR_KEY, "nd_problem_set_guard", "guard 0");
-  EXPECT_ERR(nd_problem_set_guard(p, 7, 1), ND_ERR_KEY, "nd_problem_set_guard", "guard 7");
+  /* (7 is ND_GUARD_ENERGY_BALANCE since issue 57: 8 is the first unknown) */
+  EXPECT_ERR(nd_problem_set_guard(p, 8, 1), ND_ERR_KEY, "nd_problem_set_guard", "guard 8");
+  EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, -0.1), ND_ERR_VALUE, "nd_problem_set_guard", "0 (off)");
   EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_ENERGY, 0.5), ND_ERR_VALUE, "nd_problem_set_guard", ">= 1");
   EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_ENERGY, NAN), ND_ERR_VALUE, "nd_problem_set_guard", "0 (off)");
   EXPECT_ERR(nd_problem_set_guard(p, ND_GUARD_PENETRATION, -1), ND_ERR_VALUE, "nd_problem_set_guard", "0 (off)");

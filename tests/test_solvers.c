@@ -49,8 +49,12 @@ static nd_problem block_2d_cells(int64_t nx, int64_t ny, int degree, int scheme,
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
   /* generalized-alpha, which applies the contact force at its alpha_f point,
      gains energy at the impact (x3.1 at rho_inf = 0.8, Theta = 0): the energy
-     guard stops it at t = 1.02. This test compares backends, not schemes. */
+     guard stops it at t = 1.02. This test compares backends, not schemes.
+     The energy-balance guard refuses the smaller gains of the other schemes
+     at this stiff impact (6.6 % of the energy in motion at t = 1.04) for
+     the same reason. */
   ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_ENERGY, 0));
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0));
   return p;
 }
 

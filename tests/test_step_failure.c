@@ -90,6 +90,7 @@ START_TEST(divergence_is_refused_and_keeps_the_state) {
   /* the guards would refuse it long before (test_guards): off, to reach the
      last line of defence */
   ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_ENERGY, 0));
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0)); /* (it refuses the growth at its first impact) */
   ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0));
   ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_CRITICAL_TIMESTEP, 0));
   int status = ND_OK, k = 0;

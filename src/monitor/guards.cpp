@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <limits>
 
 #include "assembly/coercivity.hpp"
 #include "common/error.hpp"
@@ -21,14 +22,16 @@ constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 // points, the deepest of the rank's own (the rank that has the deepest
 // fails with it, the others with it failing there: guard_step runs inside
 // the step's agreement)
-std::pair<double, size_t> deepest(const Discretization &d, const State &s) {
+// (length: the lengths the penetration is measured in, h_K by default)
+std::pair<double, size_t> deepest(const Discretization &d, const State &s, const std::vector<double> *length = nullptr) {
+  const std::vector<double> &len = length && !length->empty() ? *length : d.contact.h;
   PointValues scratch;
   const PointValues &points = state_points(d, s, scratch, d.counters);
   const std::vector<double> &un = points.un;
   std::pair<double, size_t> worst{0, 0};
   auto visit = [&](size_t q) {
     if (!(un[q] > 0)) return;
-    const double r = un[q] / d.contact.h[q];
+    const double r = un[q] / len[q];
     if (r > worst.first) worst = {r, q};
   };
   if (points.partial) {
@@ -47,7 +50,78 @@ std::string point(const Discretization &d, size_t q) {
   return at + ")";
 }
 
+// The balance of Theorem 2.8 at a state: E_Theta less what loads, obstacle,
+// supports and re-linearisations put in, plus what damping and friction
+// took out. R from the step's sums, else by a pass over the points' s_q
+// (their P_q the step's); NaN for a distributed state's points, and, unless
+// `settle`, for a state its step left unevaluated (shown contact-free: no
+// pass over the points for it)
+double balance_of(const Discretization &d, const State &s, double E, bool settle = false) {
+  double R = 0;
+  if (d.theta != 0 && d.contact.size() > 0) {
+    const PointValues &v = s.products.points;
+    if (s.products.of == d.id && v.summed) R = v.sums.nitsche;
+    else if (s.partial || v.partial || (v.ref && !settle)) return std::numeric_limits<double>::quiet_NaN();
+    else R = nitsche_energy(d, s);
+  }
+  return E - d.theta * R - s.W - s.W_obstacle - s.W_prescribed - s.W_geometry + s.D_damping + s.D_friction;
+}
+// (Theta/2) sum_q w_q gamma_q ((s_q.U)^2 + sum_k (ts_qk.U)^2 at frictional
+// points): U'KU/2 less this is U'K_Theta U/2 (one pass over the points' s rows)
+double theta_term(const Discretization &d, const State &s) {
+  const ContactPoints &cp = d.contact;
+  if (d.theta == 0) return 0;
+  double sum = 0;
+  const size_t mt = static_cast<size_t>(cp.m - 1);
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const double sn = cp.s[q].dot(s.U.data());
+    double e = sn * sn;
+    if (mt > 0 && cp.friction[q])
+      for (size_t k = 0; k < mt; ++k) {
+        const double st = cp.ts[q * mt + k].dot(s.U.data());
+        e += st * st;
+      }
+    sum += cp.w[q] * cp.gamma[q] * e;
+  }
+  return 0.5 * d.theta * sum;
+}
+
+// no point in contact at s: shown contact-free, or evaluated with none active
+bool contact_free(const Discretization &d, const State &s) {
+  if (d.contact.size() == 0) return true;
+  const PointValues &v = s.products.points;
+  return s.products.of == d.id && (v.ref || (v.summed && v.sums.active == 0));
+}
+
+// The step's contact term of Theorem 2.8, (Theta - 1) sum_q (w_q/gamma_q)
+// phi_q a_q.(U^{n+1} - U^n), phi_q the contact terms the steps applied; NaN
+// where the state's points are not all at hand (a distributed state's)
+double step_exchange(const Discretization &d, const State &old, const State &next) {
+  if (d.theta == 1 || next.phi.empty()) return 0;
+  if (old.partial || next.partial || next.phi.size() != d.contact.size()) return std::numeric_limits<double>::quiet_NaN();
+  const ContactPoints &cp = d.contact;
+  double sum = 0;
+  // the trapezoid of the two steps' applied terms (the new one alone where
+  // old has none): a measure of the contact work, for the message only
+  const bool mean = old.phi.size() != cp.size();
+  for (size_t q = 0; q < cp.size(); ++q) {
+    const double phi = mean ? next.phi[q] : 0.5 * (next.phi[q] + old.phi[q]);
+    if (phi != 0) sum += cp.w[q] / cp.gamma[q] * phi * (cp.a[q].dot(next.U.data()) - cp.a[q].dot(old.U.data()));
+  }
+  return (d.theta - 1) * sum;
+}
+
+const char *scheme_advice(const Discretization &d) {
+  return d.theta < 0 ? "Theta = 1 (the hybrid scheme with Theta = 1 never gains), a smaller gamma0 or a smaller step"
+                     : "a smaller step, a smaller gamma0, or the hybrid scheme with Theta = 1, which never gains";
+}
+
 }  // namespace
+
+double penetration_limit(const Discretization &d, const Guards &g, const GuardState &s) {
+  if (!(g.penetration > 0) || !(s.budget > 0) || !(d.stiffness_volume > 0)) return 0;
+  return g.penetration * std::sqrt(2 * s.budget / d.stiffness_volume);
+}
 
 void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
   if (g.initial_penetration && d.contact.size() > 0) {
@@ -61,10 +135,81 @@ void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
   s.guard = GuardState{};
   s.guard.E0 = mechanical_energy(d, s);
   s.guard.budget = s.guard.E0;
+  s.guard.E_top = s.guard.E0;
+  // the balance at t^0 (R by a pass over the points unless the state's own
+  // made it; a distributed state's: the first evaluated step starts it)
+  s.guard.balance = s.guard.balance_low = balance_of(d, s, s.guard.E0, true);
   if (!std::isfinite(s.guard.E0)) fail(ND_ERR_NONFINITE_STATE, "the initial energy is not finite");
 }
 
-void guard_step(const Discretization &d, const Guards &g, const State &old, State &next) {
+namespace {
+// The energy-balance guard (docs/design.md §3b): L at next against its
+// lowest value so far, relative to the energy in motion; updates next.guard
+void guard_balance(const Discretization &d, const Guards &g, const State &old, State &next, double E) {
+  GuardState &gs = next.guard;
+  const double scale = std::max(gs.budget, gs.E_top);
+  gs.E_top = std::max(gs.E_top, E);
+  const double dX = step_exchange(d, old, next);
+  if (std::isnan(dX)) {  // (a distributed state: not checked)
+    gs.balance = gs.balance_low = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  gs.exchange += dX;
+  const bool free = contact_free(d, next);
+  double L;
+  if (free) {
+    // out of contact: the whole balance, at the first state out of contact
+    // (R from a pass over the points where the step left them unevaluated).
+    // Not after it: a step out of contact is linear, and the set-up's checks
+    // (coercive K_Theta, theta >= 1/2, tau below tau_c) keep the scheme from
+    // gaining there; its own energy need not be E_Theta (generalized-alpha's
+    // high modes: E oscillates while they decay)
+    if (!gs.in_contact && !std::isnan(gs.balance_low)) return;
+    L = balance_of(d, next, E, true);
+    if (std::isnan(L)) return;
+  } else {
+    // in contact: E_Theta less the energy the penalty holds where it counts
+    // it positively, (Theta/2) sum_q (w_q/gamma_q) [P_q]_+^2 for Theta > 0:
+    // 1/2 V'MV + 1/2 U'K_Theta U. Dropping a term >= 0 keeps the hybrid
+    // scheme's (Theta = 1) below its non-increasing balance, and a scheme
+    // applying the law elsewhere (generalized-alpha at Y) does not hold
+    // that energy at U^{n+1}. For Theta <= 0 the term is <= 0: E_Theta is
+    // the whole balance, which dips while the penalty holds energy.
+    if (next.partial) return;
+    L = d.theta > 0 ? E - theta_term(d, next) - next.W - next.W_obstacle - next.W_prescribed - next.W_geometry +
+                          next.D_damping + next.D_friction
+                    : balance_of(d, next, E, true);
+    if (std::isnan(L)) return;
+  }
+  gs.in_contact = !free;
+  if (std::isnan(gs.balance_low)) {
+    if (free) gs.balance = gs.balance_low = L, gs.exchange = 0;
+    return;
+  }
+  const double gain = L - gs.balance_low;
+  if (gain > g.balance * scale) {
+    // the cause: with Theta != 1, the contact term of the impact (since the
+    // last contact-free state), if it put in most of the gain
+    const bool method = d.theta != 1 && gs.exchange > 0.5 * gain;
+    fail(ND_ERR_ENERGY_GROWTH,
+         "the step to t = " + num(next.t) +
+             " raises the energy balance E_Theta - W - W_obstacle - W_prescribed - W_geometry + D_damping + "
+             "D_friction (Theorem 2.8) by " + num(gain) + " above its lowest value out of contact, more than " +
+             num(g.balance) + " times the energy in motion " + num(scale) + ": " +
+             (method ? "Theta = " + num(d.theta) + " gains energy at impacts (the contact term (Theta - 1) sum_q "
+                       "(w_q/gamma_q) [P_q]_+ a_q.V put in " + num(gs.exchange) + " since the impact began)"
+                     : d.theta < 0 ? "Theta = " + num(d.theta) + " gains energy at impacts"
+                                   : std::string("the time scheme gains energy in contact")) +
+             "; use " + scheme_advice(d) + "; the step was not taken");
+  }
+  gs.balance = L;
+  // the reference: the lowest balance where no energy is held by the contact
+  // (with Theta != 1 the balance dips while the penalty holds energy)
+  if (free) gs.balance_low = std::min(gs.balance_low, L), gs.exchange = 0;
+}
+}  // namespace
+
+void guard_step(const Discretization &d, const Guards &g, const State &old, State &next, bool balance) {
   GuardState &gs = next.guard;
   gs = old.guard;
   // a moving obstacle puts energy in too, and so do moving supports (prescribed motion)
@@ -75,22 +220,38 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   // (a state whose points the step did not evaluate: first from their
   // reference, without a pass)
   const PointReference *ref = next.products.of == d.id ? next.products.points.ref.get() : nullptr;
-  if (g.penetration > 0 && d.contact.size() > 0 &&
-      !(ref && penetration_within(d.contact, next.U.data(), next.gap.empty() ? nullptr : next.gap.data(), *ref,
-                                  g.penetration))) {
-    const auto [r, q] = deepest(d, next);
-    if (r > g.penetration)
-      fail(ND_ERR_PENETRATION, "the step to t = " + num(next.t) + " sinks contact point " + std::to_string(q) + " " +
-                                   point(d, q) + " " + num(r * d.contact.h[q]) + " into the obstacle, more than " +
-                                   num(g.penetration) + " of its cell size " + num(d.contact.h[q]) +
-                                   ": the penalty is too weak (lower gamma0, or gamma0 = 0 for an automatic one) or "
-                                   "the step too large; the step was not taken");
+  if (g.penetration > 0 && d.contact.size() > 0) {
+    // (of the points' lengths min(h_K, L/8); 0: no energy put in, no point may sink)
+    const double limit = penetration_limit(d, g, gs);
+    const std::vector<double> &length = d.penetration_length;
+    if (!(ref && limit > 0 &&
+          penetration_within(d.contact, next.U.data(), next.gap.empty() ? nullptr : next.gap.data(), *ref, limit,
+                             &length))) {
+      const auto [r, q] = deepest(d, next, &length);
+      if (r > limit) {
+        const double strain = limit / g.penetration;
+        const double motion = strain * length[q] * kPenetrationBodyDivisor;
+        fail(ND_ERR_PENETRATION,
+             "the step to t = " + num(next.t) + " sinks contact point " + std::to_string(q) + " " + point(d, q) + " " +
+                 num(r * length[q]) + " into the obstacle, more than " + num(g.penetration) + " times " +
+                 num(strain * length[q]) + " (the strain " + num(strain) +
+                 " that the energy put in, " + num(gs.budget) + ", gives the body, times " +
+                 (length[q] < d.contact.h[q] ? "1/" + num(kPenetrationBodyDivisor) + " of the body's length " +
+                                                   num(motion / strain) + " across its contact region"
+                                             : "the cell size " + num(d.contact.h[q])) +
+                 "): the penalty is too weak (lower gamma0, or gamma0 = 0 for an automatic one) or "
+                 "the step too large; the step was not taken");
+      }
+    }
   }
-  if (!(g.energy > 0)) return;
+  const bool balanced = balance && g.balance > 0;
+  if (!(g.energy > 0) && !balanced) return;
   const double E = mechanical_energy(d, next);
   if (!std::isfinite(E))
     fail(ND_ERR_NONFINITE_STATE, "the energy after the step to t = " + num(next.t) +
                                      " is not finite; the step was not taken");
+  if (balanced) guard_balance(d, g, old, next, E);
+  if (!(g.energy > 0)) return;
   // with damping the energy it dissipated counts with E: E + D <= f (E^0 + W + W_obstacle)
   if (E + next.D_damping > g.energy * gs.budget) {
     // a gamma0 above the bound makes K_Theta indefinite (the free motion

@@ -10,20 +10,34 @@ namespace nd {
 // What the library checks (docs/design.md §3b); nd_problem_set_guard sets them.
 struct Guards {
   double energy = 2;         // E <= f (E^0 + max_k (W^k + W_obstacle^k)); 0: off
-  double penetration = 0.5;  // u_n - g0 <= f h_K; 0: off
+  // u_n - g0 <= f h_K eps*, eps* = sqrt(2 E_in / sum_K E_K |K|) the strain
+  // of the energy put in (docs/design.md §3b.5); 0: off
+  double penetration = 4;
+  // the balance L = E_Theta - W - W_obstacle - W_prescribed - W_geometry +
+  // D_damping + D_friction may rise above its lowest value by at most
+  // tol max(E^0 + max W, max_k E^k) (docs/design.md §3b); 0: off
+  double balance = 0.05;
   bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
 };
+
+// eps* f of the guard's test u_n - g0 <= eps* f h_K at a state with this
+// guard state: 0 when the guard is off or no energy was put in (then no
+// point may sink at all)
+double penetration_limit(const Discretization &d, const Guards &g, const GuardState &s);
 
 // At t^0: the initial penetration (beyond round-off, 1e-10 h_K) and the
 // energy reference E^0. Throws ND_ERR_PENETRATION.
 void guard_initial_state(const Discretization &d, const Guards &g, State &s);
 
-// After a step old -> next: penetration deeper than the guard's fraction of
+// After a step old -> next: penetration deeper than penetration_limit times
 // h_K (ND_ERR_PENETRATION); mechanical energy above f (E^0 + max_k (W^k + W_obstacle^k))
 // (ND_ERR_ENERGY_GROWTH) or not finite (ND_ERR_NONFINITE_STATE), evaluated
 // at every step: a sparser schedule (when |U| or |V| grew by 10 %, and every
 // 16 steps) let the stability suite accept steps up to x2.4 past the limit.
 // Updates next.guard.
-void guard_step(const Discretization &d, const Guards &g, const State &old, State &next);
+// balance: whether the scheme's energy is E_Theta (every scheme but
+// generalized-alpha, whose end states' E oscillates while it damps: the
+// energy-balance guard then leaves it to the factor guard)
+void guard_step(const Discretization &d, const Guards &g, const State &old, State &next, bool balance = true);
 
 }  // namespace nd

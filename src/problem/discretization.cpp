@@ -15,6 +15,8 @@
 #include "common/format.hpp"
 #include "assembly/nitsche.hpp"
 #include "assembly/redistribution.hpp"
+#include "mesh/cell_shape.hpp"
+#include "mesh/geometry.hpp"
 #include "parallel/share.hpp"
 #include "problem/forces.hpp"
 #include "solve/contact_law.hpp"
@@ -159,6 +161,46 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
 }  // namespace
 
 namespace {
+// sum_K E_K |K| over every cell of the mesh (each rank the whole mesh): a
+// simplex |det J|/dim!, a quadrilateral or hexahedron |det J| at its centre
+// (exact for a bilinear quadrilateral, whose det J is affine)
+// (and |Omega| into *volume_out)
+double stiffness_volume(const Space &space, const CellMaterials &mat, double *volume_out) {
+  const Mesh &m = *space.mesh;
+  const int dim = m.dim;
+  const double factorial = dim == 1 ? 1 : dim == 2 ? 2 : 6;
+  const double *corners[8];
+  double J[9], sum = 0, total = 0;
+  const double centre[3] = {0.5, 0.5, 0.5};
+  for (int64_t c = 0; c < m.n_cells; ++c) {
+    const int64_t *v = m.cell(c);
+    for (int i = 0; i < m.cell_vertices(); ++i) corners[i] = m.x(v[i]);
+    double volume;
+    if (m.simplicial()) {
+      simplex_jacobian(dim, corners, J);
+      volume = std::fabs(determinant(dim, J)) / factorial;
+    } else {
+      cube::jacobian(dim, corners, centre, J);
+      volume = std::fabs(determinant(dim, J));
+    }
+    sum += mat.of(c).young * volume;
+    total += volume;
+  }
+  *volume_out = total;
+  return sum;
+}
+
+// min(h_q, L/8), L = |Omega| / |Gamma_C| (|Gamma_C| = sum_q w_q, a point's
+// weight 1 in 1D): the penetration guard's lengths (docs/design.md §3b.5)
+std::vector<double> penetration_lengths(const ContactPoints &cp, double volume) {
+  double area = 0;
+  for (double w : cp.w) area += w;
+  const double body = area > 0 ? volume / area / kPenetrationBodyDivisor : 0;
+  std::vector<double> length(cp.size());
+  for (size_t q = 0; q < cp.size(); ++q) length[q] = std::min(cp.h[q], body);
+  return length;
+}
+
 // C = alpha M + beta K with the scheme's mass, on their shared pattern
 void set_damping(Discretization &d, const Definition &def) {
   d.damping_alpha = def.damping_alpha, d.damping_beta = def.damping_beta;
@@ -211,6 +253,8 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, nullptr, nullptr);
   d->contact_law = def.contact_law_given ? def.contact_law_given : point_laws(def, d->contact, space.dim);
   d->gamma0_limit = gamma0_limit(space, d->dofs, materials_of(space, def), d->contact);
+  double volume = 0;
+  d->stiffness_volume = stiffness_volume(space, materials_of(space, def), &volume);
   if (frozen) d->contact = contact_points(space, d->dofs, def, automatic ? 1.0 : def.gamma0, frozen, pairing);
   d->theta = def.theta;
   d->gamma0 = def.gamma0;
@@ -222,6 +266,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   }
   set_bounds(d->contact);
   require_shared_index_lists(d->contact);
+  d->penetration_length = penetration_lengths(d->contact, volume);
   count(counters, &Counters::matrix_assemblies);
   try {
     d->K_theta = assemble_k_theta(d->K, d->contact, def.theta);
@@ -246,6 +291,7 @@ std::unique_ptr<Discretization> with_normals(const Space &space, const Definitio
   d->counters = from.counters;
   d->M = from.M, d->M_lumped = from.M_lumped, d->massless = from.massless, d->K = from.K;
   d->theta = from.theta, d->gamma0 = from.gamma0, d->gamma0_limit = from.gamma0_limit;
+  d->stiffness_volume = from.stiffness_volume, d->penetration_length = from.penetration_length;
   d->contact_law = from.contact_law;
   d->rows_split = from.rows_split;
   d->geometry.dim = space.dim;

@@ -425,6 +425,10 @@ void Problem::set_guard(int guard, double value) {
     case ND_GUARD_INITIAL_PENETRATION:
       g.initial_penetration = on;
       break;
+    case ND_GUARD_ENERGY_BALANCE:
+      need_factor(0);
+      g.balance = value;
+      break;
     default:
       fail(ND_ERR_KEY, "guard " + std::to_string(guard) + " is not an ND_GUARD_* value");
   }
@@ -768,7 +772,7 @@ void Problem::step() {
     if (curved || friction) next.positions = positions(def_.planes, def_.obstacles);
     else next.positions.clear();
     next.W_geometry += relinearised;
-    guard_step(*disc_, def_.guards, state_, next);
+    guard_step(*disc_, def_.guards, state_, next, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
   };
   try {
     // every rank commits the step or none does (one reference captured:
@@ -815,7 +819,7 @@ uint64_t Problem::inputs_digest() const {
   const Definition &d = def_;
   h.value(d.given);
   for (double x : {d.material.young, d.material.poisson, d.material.density, d.theta, d.gamma0, d.tau,
-                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration, d.damping_alpha,
+                   d.newton.rtol, d.newton.atol, d.guards.energy, d.guards.penetration, d.guards.balance, d.damping_alpha,
                    d.damping_beta})
     h.value(x);
   for (const Definition::Friction &f : d.friction) h.value(f.region), h.value(f.law), h.value(f.parameter);
@@ -957,6 +961,11 @@ void Problem::overwrite_state(const double *u, const double *v) {
   const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
   s.guard.E0 += dE;
   s.guard.budget += dE;
+  // the energy balance starts again from the new state (its first state
+  // out of contact): a state set by the caller is not a step's
+  s.guard.balance = s.guard.balance_low = std::numeric_limits<double>::quiet_NaN();
+  s.guard.exchange = 0;
+  s.guard.in_contact = false;
   state_ = std::move(s);
   initial_guarded_ = false;  // at n = 0 the next step checks the new initial state, as before
 }

@@ -22,6 +22,7 @@
 #include "common/format.hpp"
 #include "common/simd.hpp"
 #include "monitor/energies.hpp"
+#include "monitor/guards.hpp"
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
 #include "solve/friction.hpp"
@@ -258,7 +259,7 @@ void Step::contact_term() {
 // where shown free
 void Step::new_state_products(bool shown_free, PointValues *known, const HeldPoints *held) {
   std::shared_ptr<const PointReference> from;
-  if (shown_free && may_leave_points_) from = point_reference(d_, old_, *old_products_, def_.guards.penetration);
+  if (shown_free && may_leave_points_) from = point_reference(d_, old_, *old_products_, penetration_limit(d_, def_.guards, old_.guard));
   if (from) compute_products_bounded(d_, next, std::move(from));
   else compute_products(d_, next, known, held);
 }

@@ -405,13 +405,15 @@ double admitted_reach(const double *x, const double *c, const double *g, const d
 }
 }  // namespace
 
-void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit) {
+void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit,
+                         const std::vector<double> *length) {
+  const std::vector<double> &len = length && !length->empty() ? *length : cp.h;
   const size_t nq = cp.size();
   const double *g = ref.gap.empty() ? cp.gap.data() : ref.gap.data();
   if ((!ref.gap.empty() && ref.gap.size() != nq) || ref.P.size() != nq || cp.nu.size() != nq) return;
   ref.free_reach = admitted_reach(ref.P.data(), cp.nu.data(), g, nullptr, 0, nq);
-  if (limit > 0 && ref.un.size() == nq && cp.a_sum.size() == nq && cp.h.size() == nq)
-    ref.within_reach = admitted_reach(ref.un.data(), cp.a_sum.data(), g, cp.h.data(), limit, nq),
+  if (limit > 0 && ref.un.size() == nq && cp.a_sum.size() == nq && len.size() == nq)
+    ref.within_reach = admitted_reach(ref.un.data(), cp.a_sum.data(), g, len.data(), limit, nq),
     ref.within_limit = limit;
 }
 
@@ -554,10 +556,14 @@ bool within_from_reference(const ContactPoints &cp, const double *U, const doubl
 }  // namespace
 
 bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
-                        double limit) {
-  if (cp.h.size() != cp.size()) return false;
-  const double admitted = limit == ref.within_limit ? ref.within_reach : -std::numeric_limits<double>::infinity();
-  return within_from_reference(cp, U, gap, ref, ref.un, cp.a_sum, cp.h.data(), limit, admitted);
+                        double limit, const std::vector<double> *length) {
+  const std::vector<double> &len = length && !length->empty() ? *length : cp.h;
+  if (len.size() != cp.size()) return false;
+  // (a reach admitted for a limit is admitted for any larger one: the
+  // guard's limit grows with the energy put in)
+  const double admitted =
+      ref.within_limit > 0 && limit >= ref.within_limit ? ref.within_reach : -std::numeric_limits<double>::infinity();
+  return within_from_reference(cp, U, gap, ref, ref.un, cp.a_sum, len.data(), limit, admitted);
 }
 
 bool nonpositive_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref) {

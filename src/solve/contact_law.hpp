@@ -84,21 +84,23 @@ Reach reach(const std::vector<int64_t> &dofs, const double *U, const double *Ure
 // gaps: at a U whose reach (over cp.dofs, from ref.U) they admit, with the
 // gaps bitwise the reference's, certainly_free's test and the bounds below
 // hold at every point (the same verdicts), one comparison instead of one a point.
-void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit);
+// (length: the points' lengths the limit multiplies, null or empty: h_q)
+void set_reference_reach(const ContactPoints &cp, PointReference &ref, double limit,
+                         const std::vector<double> *length = nullptr);
 // Whether r admits a reach made by set_reference_reach, and whether the gaps
 // at the check are bitwise the reference's (what the checks ask)
 bool reach_admitted(const Reach &r, double admitted);
 bool same_gaps(const double *g, const double *g_ref, size_t nq);
 
 // Whether every point's u_n - g0 at U (gaps `gap`, null: the assembled
-// ones), evaluated, would be at most limit h_q, shown without evaluating
+// ones), evaluated, would be at most limit h_q (limit length_q with `length`), shown without evaluating
 // one: from the point reference's (time/state.hpp),
 //   u_n(U) <= u_n(U_ref) + sum_k |a_qk| max_i |U_i - U_ref_i| + g_ref - g
 // (i over cp.dofs) with certainly_free's margin. False says nothing: then
 // evaluate. The penetration guard's test for a state whose points were not
 // evaluated (monitor/guards.cpp).
 bool penetration_within(const ContactPoints &cp, const double *U, const double *gap, const PointReference &ref,
-                        double limit);
+                        double limit, const std::vector<double> *length = nullptr);
 // Whether every point's P_q at U would be at most 0, shown the same way
 // from the reference's P_q (certainly_free's bound and margin): a query of
 // a state whose points a step left unevaluated then knows its contact

@@ -30,6 +30,10 @@ struct ClampedRows {
   std::vector<double> M_lumped;
 };
 
+// the penetration guard's length at a point is min(h_K, L / this), L the
+// body's length across its contact region (docs/design.md §3b.5)
+constexpr double kPenetrationBodyDivisor = 8;
+
 struct Discretization {
   Discretization(DofMap d, bool lump);
   // unique per discretization made in this process: what a State's Products are valid for
@@ -53,6 +57,13 @@ struct Discretization {
   double gamma0_limit = 0;  // gamma0* at Theta = 1 (docs/design.md §3b.1); +inf without contact
   bool coercive = false;    // K_Theta checked positive semi-definite
   double omega_max = 0;     // the explicit schemes' highest frequency, once estimated
+  // sum_K E_K |K| over every cell (Young's modulus times volume, an energy):
+  // the penetration guard's strain scale sqrt(2 E_in / this) (docs/design.md §3b)
+  double stiffness_volume = 0;
+  // the penetration guard's lengths: min(h_K, L/8) at each contact point,
+  // L = |Omega| / |Gamma_C| the body's length across its contact region
+  // (docs/design.md §3b.5); empty without contact points
+  std::vector<double> penetration_length;
   std::unique_ptr<Factorization> M_factor;  // consistent mass, factored on first use
   std::unique_ptr<ClampedRows> clamped;     // when there are clamped DOFs
   Counters *counters = nullptr;             // the problem's (ND_STAT_*)

@@ -188,7 +188,7 @@ std::shared_ptr<const PointReference> point_reference(const Discretization &d, c
   if (p.points.partial || p.points.P.size() != nq || p.points.un.size() != nq || s.U.empty()) return nullptr;
   auto ref = std::make_shared<PointReference>();
   ref->U = s.U, ref->P = p.points.P, ref->un = p.points.un, ref->gap = s.gap;
-  set_reference_reach(d.contact, *ref, penetration_limit);  // (one pass here, none at each check from it)
+  set_reference_reach(d.contact, *ref, penetration_limit, &d.penetration_length);  // (one pass here, none at each check from it)
   return ref;
 }
 

@@ -13,6 +13,19 @@ struct Share;  // parallel/share.hpp
 struct GuardState {
   double E0 = 0;      // mechanical energy at t^0
   double budget = 0;  // E^0 + max_k (W^k + W_obstacle^k): the most energy loads and obstacle put in
+  // The energy-balance guard (docs/design.md §3b): the balance
+  // L = E_Theta - W - W_obstacle - W_prescribed - W_geometry + D_damping +
+  // D_friction - exchange at the last state it was evaluated at (NaN: none yet), its
+  // lowest value so far, and the largest mechanical energy seen. Not in the
+  // checkpoint: a resumed run starts them again at its first contact step.
+  double balance = std::numeric_limits<double>::quiet_NaN();
+  double balance_low = std::numeric_limits<double>::quiet_NaN();
+  double E_top = 0;
+  // the contact term of Theorem 2.8 the steps put in since t = 0,
+  // (Theta - 1) sum_q (w_q/gamma_q) phi_q a_q.(U^{n+1} - U^n) with the
+  // contact term phi_q each step applied (0 with Theta = 1)
+  double exchange = 0;
+  bool in_contact = false;  // the last state the balance was evaluated at had a point in contact
 };
 
 // P_q(U) and u_n - g0 = a_q.U - g_q at every contact point of a state, with

@@ -42,7 +42,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"solver", {"linear", "newton_rtol", "newton_atol", "newton_max_iter", "mass_lumping", "mass_redistribution"}},
       {"initial", {"displacement", "velocity"}},
       {"output", {"history", "paraview", "interval"}},
-      {"guards", {"energy", "penetration", "critical_timestep", "unstable_scheme", "coercivity",
+      {"guards", {"energy", "energy_balance", "penetration", "critical_timestep", "unstable_scheme", "coercivity",
                   "initial_penetration"}},
       {"checkpoint", {"file", "every"}},
   };
@@ -655,7 +655,8 @@ void read_guards(const Reader &r, const toml::table &t, Scene &s) {
                                {"critical_timestep", ND_GUARD_CRITICAL_TIMESTEP, false},
                                {"unstable_scheme", ND_GUARD_UNSTABLE_SCHEME, false},
                                {"coercivity", ND_GUARD_COERCIVITY, false},
-                               {"initial_penetration", ND_GUARD_INITIAL_PENETRATION, false}};
+                               {"initial_penetration", ND_GUARD_INITIAL_PENETRATION, false},
+                               {"energy_balance", ND_GUARD_ENERGY_BALANCE, true}};
   for (const Kind &k : kinds) {
     const toml::node *n = t.get(k.key);
     if (!n) continue;

@@ -9,12 +9,30 @@
  * A run is a silent failure when every call returned ND_OK although, by this
  * program's own measurement, the mechanical energy passed 2 (E^0 + max_k W^k)
  * (the guard's default factor), became non-finite, or a contact point sank
- * deeper than half its cell size: what the guards exist to catch. late: the
+ * deeper than 4 eps* min(h, L/8), eps* = sqrt(2 (E^0 + max_k W^k) / int E dx)
+ * the strain of the energy put in and L = |Omega| / |Gamma_C| (the
+ * penetration guard's default, docs/design.md §3b.5, measured here from the
+ * scene's own dimensions): what the guards exist to catch. late: the
  * steps accepted past those limits before a guard stopped the run.
  * theory: for the hybrid scheme with Theta = 1, whether E_Theta + D - W never
  * increased (part 2 of the paper; D the damping's dissipation), else "-".
  *
- * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR
+ * With a 7th argument `unguarded` the run is made again with the guards that
+ * act during the steps off (energy, energy balance, penetration; the set-up's
+ * checks stay) to judge a refusal, and prints instead
+ *
+ *   outcome,code,step,energy_growth,balance_gain,penetration_ratio
+ *
+ * balance_gain: the largest rise of the balance L = E_Theta - W - W_obstacle
+ * - W_prescribed - W_geometry + D_damping + D_friction at a state without
+ * an active point above its lowest value at such a state before (t^0
+ * included), relative to the largest of E^0 + max W and max E; and
+ * penetration_ratio the deepest point over eps* min(h, L/8). run.py calls a
+ * refusal justified when the unguarded run then fails (a non-finite state,
+ * Newton), gains (energy_growth > 1.05 or balance_gain > 0.05) or sinks
+ * (penetration_ratio > 4), and a false alarm otherwise.
+ *
+ * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded]
  *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha,
  *   each with the suffixes (any of them, in this order) _damped for Rayleigh
  *   damping alpha = 0.05, beta = 0.1 tau (damping ratio about 0.1 at the
@@ -55,10 +73,11 @@ static double now(void) {
 }
 
 int main(int argc, char **argv) {
-  if (argc != 7) {
-    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR\n", argv[0]);
+  if (argc != 7 && !(argc == 8 && !strcmp(argv[7], "unguarded"))) {
+    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded]\n", argv[0]);
     return 2;
   }
+  const int unguarded = argc == 8;
   const char *scene = argv[1], *scheme_arg = argv[3];
   char scheme_name[32];
   snprintf(scheme_name, sizeof scheme_name, "%s", scheme_arg);
@@ -77,11 +96,15 @@ int main(int argc, char **argv) {
   nd_mesh m = NULL;
   nd_problem p = NULL;
   double E = 1, nu = 0.3, h = 0, tau = 0, T = 0;
+  /* |Omega| and |Gamma_C| (the body's length across its contact region L
+     is their ratio), for the penetration criterion */
+  double volume = 0, contact_area = 0;
   int st = ND_OK;
   double g[3] = {0, 0, 0}, origin[3] = {0, 0, 0}, up[3] = {0, 0, 0};
   if (!strcmp(scene, "bar")) { /* docs/design.md §7: clamped at x = 1, u0 = (1-x)/2 */
     const double lo[2] = {-0.5, 0.5}, hi[2] = {0.5, 1.5};
     h = 1.0 / 40, tau = h / 2, T = 6;
+    volume = 1, contact_area = 1;
     st = nd_mesh_create_interval(40, 0, 1, &m);
     if (!st) st = nd_mesh_mark_boundary_box(m, 1, &lo[0], &hi[0]);
     if (!st) st = nd_mesh_mark_boundary_box(m, 2, &lo[1], &hi[1]);
@@ -89,6 +112,7 @@ int main(int argc, char **argv) {
   } else if (!strcmp(scene, "rect")) { /* a free 16 x 4 block, 0.05 above the plane, falling at 0.5 */
     const double lo[2] = {0, 0.05}, hi[2] = {4, 1.05}, blo[2] = {-1, 0}, bhi[2] = {5, 0.05};
     h = 0.25 * sqrt(2.0), tau = 0.02, T = 4;
+    volume = 4, contact_area = 4;
     st = nd_mesh_create_rectangle(16, 4, lo, hi, &m);
     if (!st) st = nd_mesh_mark_boundary_box(m, 1, blo, bhi);
     up[1] = 1;
@@ -96,6 +120,7 @@ int main(int argc, char **argv) {
     char path[1024];
     snprintf(path, sizeof path, "%s/disk_h4.msh", argv[6]);
     E = 50, nu = 0.25, h = 4, tau = 0.1, T = 32;
+    volume = 3.14159265358979 * 20 * 20, contact_area = 3.14159265358979 * 20; /* radius 20, the lower half circle */
     g[1] = -0.1, up[1] = 1;
     st = nd_mesh_read_gmsh(path, &m);
   }
@@ -133,6 +158,9 @@ int main(int argc, char **argv) {
   if (!st && damped) st = nd_problem_set_damping(p, 0.05, 0.1 * tau);
   const double F = 0.3;
   if (!st && friction) st = nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F);
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY, 0);
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0);
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0);
   if (st) {
     fprintf(stderr, "%s\n", nd_last_error());
     return 1;
@@ -153,6 +181,9 @@ int main(int argc, char **argv) {
     free(x);
     free(u0);
   }
+  /* int E dx: _layered, the half of the volume at the obstacle 4 times as stiff */
+  const double stiffness_volume = (layered ? 2.5 : 1.0) * E * volume;
+  const double pen_length = fmin(h, volume / contact_area / 8);
   const int64_t steps = nd_step_count(T, tau);
   if (steps < 0) {
     fprintf(stderr, "%s: T / tau = %g / %g is not a number of steps (0 to 2^63 - 1)\n", argv[0], T, tau);
@@ -166,6 +197,9 @@ int main(int argc, char **argv) {
   double E0 = get(p, ND_ENERGY_MECHANICAL), budget = E0, growth = 0, pen = 0, its = 0;
   double prev = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), scale = fabs(prev);  /* (D = 0 at t = 0) */
   int theory_ok = 1, late = 0;
+  /* the unguarded rerun's measures: the balance out of contact, its lowest
+     value so far, its largest rise; the deepest point over eps* min(h, L/8) */
+  double low = get(p, ND_ENERGY_AUGMENTED) - get(p, ND_WORK), rise = 0, Etop = E0, pen_ratio = 0;
   st = nd_problem_setup(p);
   if (st) {
     outcome = "refused_at_setup", code = st;
@@ -183,14 +217,29 @@ int main(int argc, char **argv) {
       growth = fmax(growth, isfinite(r) ? r : INFINITY);
       pen = fmax(pen, get(p, ND_MAX_PENETRATION) / h);
       its += get(p, ND_NEWTON_ITERATIONS);
-      if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) / h > 0.5) ++late;
+      const double strain = sqrt(2 * budget / stiffness_volume);
+      if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) > 4 * strain * pen_length) ++late;
       const double e = get(p, ND_ENERGY_AUGMENTED) + D - W;
       scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W) + D);
       if (e > prev + 1e-10 * scale) theory_ok = 0;
       prev = e;
+      const double L = e - get(p, ND_WORK_OBSTACLE) - get(p, ND_WORK_PRESCRIBED) - get(p, ND_WORK_GEOMETRY);
+      const double in_motion = fmax(budget, Etop);
+      Etop = fmax(Etop, Em);
+      if (get(p, ND_ACTIVE_POINTS) == 0) {
+        if (in_motion > 0) rise = fmax(rise, (L - low) / in_motion);
+        low = fmin(low, L);
+      }
+      if (strain > 0) pen_ratio = fmax(pen_ratio, get(p, ND_MAX_PENETRATION) / (strain * pen_length));
     }
   }
   if (!code && late) outcome = "silent_failure";
+  if (unguarded) {
+    printf("%s,%s,%" PRId64 ",%.4g,%.4g,%.4g\n", outcome, code_name(code), code ? k : (int64_t)0, growth, rise,
+           pen_ratio);
+    nd_problem_destroy(&p);
+    return 0;
+  }
   const char *theory = scheme == ND_SCHEME_HYBRID && Theta == 1 ? (theory_ok ? "held" : "violated") : "-";
   char msg[256] = "";
   if (code) {
