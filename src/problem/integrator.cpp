@@ -119,10 +119,7 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
   // in 2D refactoring gains nothing over the condensed Newton.
   if (!d.contact.a.empty()) {
     const Structure s = tangent_structure(def.theta, d.contact_law->traits());
-    // (a pair's rows couple two cells, which A's factor has no room for: the
-    // updated factor would have to grow; the columns and T refactored on a
-    // widened pattern serve pairs: tangent_refactor.cpp)
-    const bool updown = updown_tangent_applies(def.solver, s) && d.contact.pairing.empty() &&
+    const bool updown = updown_tangent_applies(def.solver, s) &&
                         (def.tangent == TangentChoice::Updown ||
                          (def.tangent == TangentChoice::Auto && d.geometry.dim == 3));
     // (a law of m > 1 values, friction, with the operators whole on the

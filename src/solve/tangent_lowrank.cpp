@@ -79,7 +79,7 @@ class LowRankTangent : public TangentSolver {
     }
     if (max_rank_ >= 0 && k > max_rank_) {  // the refactorization is cheaper here
       if (!fallback_) {
-        fallback_ = updown_tangent_applies(solver_, structure_) && law.cp->pairing.empty()
+        fallback_ = updown_tangent_applies(solver_, structure_)
                         ? make_updown_tangent(A_, A_factor_, counters_)
                         : make_refactoring_tangent(A_, A_factor_, solver_, structure_, counters_, geometry_);
         fallback_->begin_step(committed_);

@@ -47,16 +47,7 @@ class RefactoringTangent : public TangentSolver {
   // pattern is A's and every point's a_q x a_q (s_q has a_q's index list),
   // A's entries scattered into it (place_), and T's factor analysed anew
   void widen(const ContactPoints &cp) {
-    std::vector<std::vector<int64_t>> rows(static_cast<size_t>(A_.n));
-    for (int64_t i = 0; i < A_.n; ++i) rows[i].assign(A_.col.begin() + A_.ptr[i], A_.col.begin() + A_.ptr[i + 1]);
-    for (size_t q = 0; q < cp.size(); ++q)
-      for (int64_t i : cp.a[q].idx) rows[i].insert(rows[i].end(), cp.a[q].idx.begin(), cp.a[q].idx.end());
-    T_ = csr_from_rows(std::move(rows));
-    place_.resize(A_.val.size());
-    for (int64_t i = 0; i < A_.n; ++i)
-      for (int64_t k = A_.ptr[i]; k < A_.ptr[i + 1]; ++k)
-        place_[k] = std::lower_bound(T_.col.begin() + T_.ptr[i], T_.col.begin() + T_.ptr[i + 1], A_.col[k]) -
-                    T_.col.begin();
+    T_ = widened_pattern(A_, cp, place_);
     T_factor_ = make_factorization(solver_, T_, structure_, counters_, geometry_);
     widened_for_ = &cp;
   }
@@ -75,6 +66,19 @@ class RefactoringTangent : public TangentSolver {
 };
 
 }  // namespace
+
+Csr widened_pattern(const Csr &A, const ContactPoints &cp, std::vector<int64_t> &place) {
+  std::vector<std::vector<int64_t>> rows(static_cast<size_t>(A.n));
+  for (int64_t i = 0; i < A.n; ++i) rows[i].assign(A.col.begin() + A.ptr[i], A.col.begin() + A.ptr[i + 1]);
+  for (size_t q = 0; q < cp.size(); ++q)
+    for (int64_t i : cp.a[q].idx) rows[i].insert(rows[i].end(), cp.a[q].idx.begin(), cp.a[q].idx.end());
+  Csr W = csr_from_rows(std::move(rows));
+  place.resize(A.val.size());
+  for (int64_t i = 0; i < A.n; ++i)
+    for (int64_t k = A.ptr[i]; k < A.ptr[i + 1]; ++k)
+      place[k] = std::lower_bound(W.col.begin() + W.ptr[i], W.col.begin() + W.ptr[i + 1], A.col[k]) - W.col.begin();
+  return W;
+}
 
 std::unique_ptr<TangentSolver> make_refactoring_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                         Structure structure, Counters *counters,

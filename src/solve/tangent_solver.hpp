@@ -103,6 +103,13 @@ int64_t updown_max_updates(int64_t n_points);
 void reserve_tangent_log(TangentLog &log, int64_t n_points);
 // factor_weight scales the cost model's price of a factorization (tests: a
 // tiny weight refactors at every change, a huge one only updates).
+// Two bodies (contact/pairing.hpp): a pair's point couples its slave cell's
+// DOFs with its master cell's, which A's pattern (the cells') lacks. The
+// pattern of A and of every point's a_q x a_q (s_q has a_q's index list),
+// with A's entry k at place[k]: the pattern a tangent with pairs is
+// assembled and factored on.
+Csr widened_pattern(const Csr &A, const ContactPoints &cp, std::vector<int64_t> &place);
+
 std::unique_ptr<TangentSolver> make_updown_tangent(const Csr &A, const Factorization &A_factor,
                                                    Counters *counters = nullptr, double factor_weight = 1.0);
 // Whether a history (from a checkpoint) has the form the updated factor

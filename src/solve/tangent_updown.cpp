@@ -101,7 +101,13 @@ class UpdownTangent : public TangentSolver {
       A_factor_.solve_from(x, guess);
       return;
     }
-    if (!factor_) factor_ = std::make_unique<UpdatableCholesky>(A_, counters_, &A_factor_);
+    if (!factor_) {
+      // (pairs: T on the widened pattern, its own analysis: A's factor, whose
+      // rows hold no coupling of the bodies, is not a start; a new pairing
+      // makes a new integrator, and this again)
+      if (!cp.pairing.empty()) T_ = widened_pattern(A_, cp, place_);
+      factor_ = std::make_unique<UpdatableCholesky>(T_, counters_, place_.empty() ? &A_factor_ : nullptr);
+    }
     if (!synced_) replay(cp, d_new_);
     if (!update_to(cp, d_new_, first)) count(counters_, &Counters::lagged_steps);
     ++stats.lowrank;
@@ -138,7 +144,12 @@ class UpdownTangent : public TangentSolver {
     if (updated) {
       ++stats.restarts;
     } else {
-      T_.val = A_.val;  // same size: no allocation
+      if (place_.empty()) {
+        T_.val = A_.val;  // same size: no allocation
+      } else {
+        std::fill(T_.val.begin(), T_.val.end(), 0.0);
+        for (size_t k = 0; k < place_.size(); ++k) T_.val[place_[k]] = A_.val[k];
+      }
       for (size_t j = 0; j < base_q_.size(); ++j)
         add_point_tangent(cp, 1.0, static_cast<size_t>(base_q_[j]), base.x[j], T_, b_, p_);
       count(counters_, &Counters::tangent_updates);
@@ -256,6 +267,7 @@ class UpdownTangent : public TangentSolver {
   }
 
   const Csr &A_;
+  std::vector<int64_t> place_;  // pairs: A's entry k is T's place_[k] (empty: T has A's pattern)
   const Factorization &A_factor_;
   Counters *counters_;
   double factor_weight_;  // the price of a factorization, times the model's
