@@ -1255,7 +1255,7 @@ static void failed_step_in_layout(int dim, int solver, int distributed) {
                 "%dD layout %d: a rank's part moved in a failed step", dim, distributed);
   ck_assert_msg(t0 == t1 && memcmp(&e0, &e1, sizeof e0) == 0 && memcmp(&f0, &f1, sizeof f0) == 0,
                 "%dD layout %d: the monitors moved in a failed step", dim, distributed);
-  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0.5)); /* the default */
+  ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_PENETRATION, 4)); /* the default (design.md §3b) */
   for (int k = 0; k < 3; ++k) {
     ND_OK_OR_FAIL(nd_step(p));
     ND_OK_OR_FAIL(nd_step(twin));
