@@ -58,7 +58,6 @@ class MasterSurface {
   // y's landing on this facet's plane, its barycentric coordinates not
   // clamped to the facet (how far outside the facet y has slid)
   Projection on_facet(int64_t facet, const double *y) const;
-  bool empty() const { return facets_.empty(); }
 
  private:
   struct Moved {
