@@ -74,7 +74,8 @@ extern "C" {
   X(ND_ERR_UNSTABLE, -26, "the scheme is unstable with this time step (explicit, or theta < 1/2)") \
   X(ND_ERR_ENERGY_GROWTH, -27, "the energy guard refused the step: energy grew past the loads' work") \
   X(ND_ERR_PENETRATION, -28, "the penetration guard refused the step or the initial state") \
-  X(ND_ERR_CALLBACK, -30, "a user callback failed (returned non-zero); the step was not taken")
+  X(ND_ERR_CALLBACK, -30, "a user callback failed (returned non-zero); the step was not taken") \
+  X(ND_ERR_ACCURACY, -31, "adaptive steps: the error estimate stayed above the tolerance at tau_min; not taken")
 
 /* Time schemes for nd_problem_set_scheme: X(name, value, parameters) */
 #define ND_SCHEME_LIST(X)                                                              \
@@ -104,7 +105,7 @@ extern "C" {
   X(ND_ACTIVE_POINTS, 9, "number of contact points with P_q > 0")                      \
   X(ND_MAX_PENETRATION, 10, "max_q (u_n - g0)_+ at the contact points")                \
   X(ND_NEWTON_ITERATIONS_TOTAL, 11, "Newton iterations of all accepted steps")         \
-  X(ND_TIMESTEP, 12, "the time step tau")                                             \
+  X(ND_TIMESTEP, 12, "the time step tau (adaptive steps: the size the next step tries)") \
   X(ND_GAMMA0, 13, "gamma0 in use (the automatic value when 0 was set)")               \
   X(ND_GAMMA0_LIMIT, 14, "largest gamma0 keeping K_Theta >= 0 (element bound; inf if Theta <= 0)") \
   X(ND_WORK_OBSTACLE, 15, "work of the moving obstacle on the body since t = 0")       \
@@ -144,7 +145,11 @@ extern "C" {
   X(ND_WORK_GEOMETRY, 71, "E_Theta change of curved obstacles' re-linearisations (gaps, refreshed normals) since t = 0") \
   X(ND_CONTACT_FORCE_TANGENTIAL_X, 75, "x of the tangential contact force's resultant the last step applied, obstacle on body") \
   X(ND_CONTACT_FORCE_TANGENTIAL_Y, 76, "y of that resultant (0 in 1D)")                \
-  X(ND_CONTACT_FORCE_TANGENTIAL_Z, 77, "z of that resultant (0 below 3D)")
+  X(ND_CONTACT_FORCE_TANGENTIAL_Z, 77, "z of that resultant (0 below 3D)") \
+  X(ND_STAT_STEPS_ACCEPTED, 80, "steps nd_step took since nd_problem_create") \
+  X(ND_STAT_STEPS_REJECTED, 81, "adaptive steps tried and rejected (retried smaller) since creation") \
+  X(ND_TIMESTEP_LAST, 82, "the size of the step that led to t^n (0 at t^0)") \
+  X(ND_ERROR_ESTIMATE, 83, "adaptive steps: the last step's error estimate over the tolerance (<= 1)")
 
 /* Linear solvers for nd_problem_set_linear_solver: X(name, value, description) */
 #define ND_SOLVER_LIST(X)                                                              \
@@ -362,6 +367,17 @@ ND_EXPORT int nd_problem_set_comm_f(nd_problem p, int fortran_comm);
    state after each step). Before nd_problem_setup. */
 ND_EXPORT int nd_problem_set_distributed_state(nd_problem p, int on);
 ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau);
+/* Adaptive time steps, off by default (tolerance 0 turns them off): each
+   nd_step takes one step of a size in [tau_min, tau_max] (tau_max/2^k or
+   tau_min) chosen by its error estimate (the local truncation error
+   relative to the largest displacement, and the step's gain of the energy
+   balance relative to the energy in motion, both below tolerance); a
+   rejected or failed try is retried smaller and leaves no trace; the step
+   that first makes a contact point active ends at the first touch. The
+   first step tries the size of nd_problem_set_timestep (tau_max if none).
+   Implicit schemes, one process. */
+ND_EXPORT int nd_problem_set_adaptive_timestep(nd_problem p, double tolerance, double tau_min,
+                                               double tau_max);
 /* u0, v0 per FE node (n*dim values each); NULL means zero. Values at clamped
    DOFs are ignored. Resets the time, the step count and the work to 0. */
 ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0,

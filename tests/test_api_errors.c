@@ -666,6 +666,31 @@ START_TEST(problem_material) {
 }
 END_TEST
 
+/* adaptive steps: finite values, tolerance >= 0, 0 < tau_min <= tau_max when
+   on; an explicit scheme is refused at the step, the problem unchanged */
+START_TEST(problem_adaptive_timestep) {
+  nd_problem p = problem_1d();
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(NULL, 1e-3, 1e-6, 1e-2), ND_ERR_NULL, "nd_problem_set_adaptive_timestep", "problem");
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(p, NAN, 1e-6, 1e-2), ND_ERR_NONFINITE, "nd_problem_set_adaptive_timestep", "finite");
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(p, 1e-3, 1e-6, INFINITY), ND_ERR_NONFINITE, "nd_problem_set_adaptive_timestep", "finite");
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(p, -1e-3, 1e-6, 1e-2), ND_ERR_VALUE, "nd_problem_set_adaptive_timestep", "tolerance");
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(p, 1e-3, 0, 1e-2), ND_ERR_TIMESTEP, "nd_problem_set_adaptive_timestep", "tau_min");
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(p, 1e-3, -1, 1e-2), ND_ERR_TIMESTEP, "nd_problem_set_adaptive_timestep", "tau_min");
+  EXPECT_ERR(nd_problem_set_adaptive_timestep(p, 1e-3, 1e-2, 1e-3), ND_ERR_TIMESTEP, "nd_problem_set_adaptive_timestep", "tau_max");
+  EXPECT_OK(nd_problem_set_adaptive_timestep(p, 1e-3, 1e-6, 1e-2));
+  EXPECT_OK(nd_problem_set_adaptive_timestep(p, 0, 0, 0)); /* off: tau_min, tau_max not read */
+  EXPECT_OK(nd_problem_destroy(&p));
+  const double explicit_newmark[2] = {0, 0.5};
+  p = nd_test_bar(8, 1, ND_SCHEME_NEWMARK, explicit_newmark, 1.0, 0.2, 1e-3);
+  EXPECT_OK(nd_problem_set_adaptive_timestep(p, 1e-3, 1e-6, 1e-3));
+  EXPECT_ERR(nd_step(p), ND_ERR_STATE, "nd_step", "implicit");
+  double n = -1;
+  EXPECT_OK(nd_get_scalar(p, ND_STEP_INDEX, &n));
+  ck_assert_double_eq(n, 0);
+  EXPECT_OK(nd_problem_destroy(&p));
+}
+END_TEST
+
 /* Rayleigh damping: alpha, beta >= 0 and finite; plane stress only in 2D;
    stiffness damping with mass redistribution refused at set-up */
 START_TEST(problem_damping_plane_stress) {
@@ -1623,6 +1648,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, cell_regions_and_materials);
   tcase_add_test(def, problem_nitsche_timestep);
   tcase_add_test(def, problem_damping_plane_stress);
+  tcase_add_test(def, problem_adaptive_timestep);
   tcase_add_test(def, problem_scheme);
   tcase_add_test(def, problem_regions_and_loads);
   tcase_add_loop_test(def, problem_contact_normal_scale, 0, 2);

@@ -633,6 +633,17 @@ static unsigned char *older_block(const unsigned char *buf, int64_t n, int64_t a
   return out;
 }
 
+/* version 11's tail before the checksum: the energy-balance guard's
+   balance, lowest balance, E_top, exchange (8 bytes each) and its
+   in-contact byte; without adaptive steps nothing follows it */
+enum { kGuardTail = 4 * 8 + 1 };
+/* buf as version 10 (no guard tail) */
+static unsigned char *as_version_10(const unsigned char *buf, int64_t n, int64_t *n_out);
+
+static unsigned char *as_version_10(const unsigned char *buf, int64_t n, int64_t *n_out) {
+  return older_block(buf, n, n - 8 - kGuardTail, kGuardTail, 10, n_out);
+}
+
 /* the offsets of a version 9 block's fields (src/problem/checkpoint.cpp):
    header 32 bytes, the definition's 7 fingerprints, then the state */
 typedef struct {
@@ -681,7 +692,7 @@ START_TEST(fields_out_of_range_are_refused) {
   unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
-  ck_assert_int_eq(good[8], 10); /* the version */
+  ck_assert_int_eq(good[8], 11); /* the version */
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
   const layout l = layout_of(nf, nc, np);
   ck_assert_int_eq(get_i64(good, l.n), 30);
@@ -695,7 +706,7 @@ START_TEST(fields_out_of_range_are_refused) {
   /* version 8's tail: the clamped DOFs' U, V, A (empty: no prescribed
      motion, in their room) and W_prescribed, then the checksum; no section
      flagged (no curved obstacle, no friction) */
-  const int64_t W_prescribed = nbytes - 16, Ac = W_prescribed - 8 - 8 * nc, Vc = Ac - 8 - 8 * nc,
+  const int64_t guard = nbytes - 8 - kGuardTail, W_prescribed = guard - 8, Ac = W_prescribed - 8 - 8 * nc, Vc = Ac - 8 - 8 * nc,
                 Uc = Vc - 8 - 8 * nc;
   ck_assert_int_eq(get_i64(good, Uc), 0);
   ck_assert_int_eq(get_i64(good, Ac), 0);
@@ -735,13 +746,17 @@ START_TEST(fields_out_of_range_are_refused) {
       {l.gap + 8, 0, nan, "obstacle gaps"},
       {l.W_obstacle, 0, inf, "work of the obstacle"},
       {l.D_damping, 0, nan, "dissipation of the damping"},
-      {l.curved, 2, 8, "section flags"}, /* (1, 2 and 4 name sections) */
+      {l.curved, 2, 16, "section flags"}, /* (1, 2, 4 and 8 name sections) */
       {l.reaction + 8, 0, nan, "reactions"},
       {l.phi + 8, 0, nan, "applied contact term"},
       {l.log_i, 1, 1, "tangent history"}, /* one index: nb = 0 points ... */
       {12, 1, 7, "reserved"},               /* (the header's reserved word and the fingerprint's first half) */
       {Uc, 1, (double)nc, "some of U, V, A only"}, /* (U_c's zeros there, V_c and A_c empty) */
       {W_prescribed, 0, nan, "W_prescribed"},
+      {guard, 0, inf, "energy balance"}, /* (NaN: not evaluated yet, a valid value) */
+      {guard + 16, 0, nan, "largest mechanical energy"},
+      {guard + 24, 0, inf, "contact exchange"},
+      {guard + 32, 2, 2, "in-contact flag"},
   };
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     memcpy(bad, good, (size_t)nbytes);
@@ -757,8 +772,8 @@ START_TEST(fields_out_of_range_are_refused) {
   }
   /* padding (the room of a shorter field) that is not zero */
   memcpy(bad, good, (size_t)nbytes);
-  ck_assert_int_eq(bad[nbytes - 17], 0); /* (the last byte of A_c's room) */
-  bad[nbytes - 17] = 1;
+  ck_assert_int_eq(bad[W_prescribed - 1], 0); /* (the last byte of A_c's room) */
+  bad[W_prescribed - 1] = 1;
   reseal(bad, nbytes);
   refused_unchanged(p, nbytes, bad, ND_ERR_FORMAT, "padding", "padding");
   /* a resealed copy of the good block still loads, and gives its time */
@@ -864,7 +879,13 @@ START_TEST(version_8_curved_checkpoint_loads) {
   ck_assert(Wg != 0);
   int64_t n9 = 0;
   unsigned char *v9 = save(a, &n9);
-  ck_assert_int_eq(v9[8], 10); /* (version 10 without pairs: version 9's layout) */
+  ck_assert_int_eq(v9[8], 11);
+  {  /* (version 10 without pairs, before the guard tail: version 9's layout) */
+    int64_t n10 = 0;
+    unsigned char *v10 = as_version_10(v9, n9, &n10);
+    free(v9);
+    v9 = v10, n9 = n10;
+  }
   int64_t at = -1, found = 0; /* W_geometry's one place in the payload */
   for (int64_t i = 32; i + 8 <= n9 - 8; ++i)
     if (memcmp(v9 + i, &Wg, 8) == 0) at = i, ++found;
@@ -933,7 +954,7 @@ START_TEST(friction_section_holds_the_planes) {
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = 2 * nodes - nf;
   /* from the end: the checksum, W_prescribed, A_c, V_c, U_c (each its count
      and room), then the planes' points: a count and 3 values per plane */
-  const int64_t Uc = nbytes - 16 - 3 * (8 + 8 * nc), points = Uc - 8 - 3 * 8;
+  const int64_t Uc = nbytes - 16 - kGuardTail - 3 * (8 + 8 * nc), points = Uc - 8 - 3 * 8;
   ck_assert_int_eq(good[layout_of(nf, nc, np).curved], 2); /* (the friction section alone) */
   ck_assert_int_eq(get_i64(good, points), 3);
   ck_assert(get_double(good, points + 8) == x && get_double(good, points + 16) == 0);
@@ -963,7 +984,10 @@ START_TEST(friction_section_holds_the_planes) {
      had static planes then) still loads, the planes taken where they are:
      with the plane kept still, the run goes on as from the version 9 one */
   int64_t n8 = 0;
-  unsigned char *v8 = older_block(good, nbytes, points, 32, 8, &n8);
+  int64_t n10 = 0;
+  unsigned char *v10 = as_version_10(good, nbytes, &n10);
+  unsigned char *v8 = older_block(v10, n10, points, 32, 8, &n8);
+  free(v10);
   snap from[2];
   for (int run = 0; run < 2; ++run) {
     ND_OK_OR_FAIL(run == 0 ? nd_problem_load_state(p, nbytes, good) : nd_problem_load_state(p, n8, v8));

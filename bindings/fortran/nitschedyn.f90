@@ -46,7 +46,8 @@ module nitschedyn
             nd_problem_set_newton, nd_problem_set_mass_lumping, nd_problem_set_mass_redistribution, nd_problem_set_linear_solver, &
             nd_problem_set_damping, nd_problem_set_plane_stress, &
             nd_problem_set_comm_f, nd_problem_set_distributed_state, &
-            nd_problem_set_timestep, nd_problem_set_initial_state, nd_problem_set_monitor, &
+            nd_problem_set_timestep, nd_problem_set_adaptive_timestep, &
+            nd_problem_set_initial_state, nd_problem_set_monitor, &
             nd_problem_set_guard
   public :: nd_problem_get_node_count, nd_problem_get_node_coordinates, &
             nd_problem_get_contact_point_count, nd_problem_get_contact_points
@@ -536,6 +537,15 @@ module nitschedyn
       real(c_double), value :: tau
       integer(c_int) :: status
     end function nd_problem_set_timestep
+
+    ! tolerance 0: fixed steps again
+    function nd_problem_set_adaptive_timestep(p, tolerance, tau_min, tau_max) result(status) &
+        bind(C, name='nd_problem_set_adaptive_timestep')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: p
+      real(c_double), value :: tolerance, tau_min, tau_max
+      integer(c_int) :: status
+    end function nd_problem_set_adaptive_timestep
 
     ! u0(dim, n), v0(dim, n); an absent array (NULL) means zero
     function nd_problem_set_initial_state(p, n, u0, v0) result(status) &

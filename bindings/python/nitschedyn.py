@@ -164,6 +164,7 @@ _PROTOTYPES = {
     "nd_problem_set_comm_f": (_int, [_ptr, _int]),
     "nd_problem_set_distributed_state": (_int, [_ptr, _int]),
     "nd_problem_set_timestep": (_int, [_ptr, _dbl]),
+    "nd_problem_set_adaptive_timestep": (_int, [_ptr, _dbl, _dbl, _dbl]),
     "nd_problem_set_initial_state": (_int, [_ptr, _i64, _pdbl, _pdbl]),
     "nd_problem_get_state_size": (_int, [_ptr, ctypes.POINTER(ctypes.c_int64)]),
     "nd_problem_save_state": (_int, [_ptr, _i64, ctypes.c_void_p]),
@@ -601,6 +602,10 @@ class Problem(_Handle):
 
     def set_timestep(self, tau):
         _check(lib.nd_problem_set_timestep(self._h, tau))
+
+    def set_adaptive_timestep(self, tolerance, tau_min=0.0, tau_max=0.0):
+        """Adaptive steps in [tau_min, tau_max]; tolerance 0: fixed steps."""
+        _check(lib.nd_problem_set_adaptive_timestep(self._h, tolerance, tau_min, tau_max))
 
     def set_initial_state(self, u0=None, v0=None):
         """u0, v0 per node; None means zero."""

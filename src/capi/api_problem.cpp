@@ -313,6 +313,21 @@ ND_EXPORT int nd_problem_set_timestep(nd_problem p, double tau) {
   });
 }
 
+ND_EXPORT int nd_problem_set_adaptive_timestep(nd_problem p, double tolerance, double tau_min, double tau_max) {
+  return nd::guarded("nd_problem_set_adaptive_timestep", [&] {
+    nd::Problem &pr = nd::problem_of(p);
+    need_range(std::isfinite(tolerance) && std::isfinite(tau_min) && std::isfinite(tau_max), ND_ERR_NONFINITE,
+               "tolerance, tau_min and tau_max must be finite");
+    need_range(tolerance >= 0, ND_ERR_VALUE, "the tolerance must be positive (0: fixed steps)");
+    if (tolerance > 0) {
+      need_range(tau_min > 0, ND_ERR_TIMESTEP, "tau_min must be positive");
+      need_range(tau_max >= tau_min, ND_ERR_TIMESTEP, "tau_max must be at least tau_min");
+    }
+    pr.set_adaptive_timestep(tolerance, tau_min, tau_max);
+    return ND_OK;
+  });
+}
+
 ND_EXPORT int nd_problem_set_initial_state(nd_problem p, int64_t n, const double *u0, const double *v0) {
   return nd::guarded("nd_problem_set_initial_state", [&] {
     nd::Problem &pr = nd::problem_of(p);

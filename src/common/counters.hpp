@@ -36,6 +36,8 @@ struct Counters {
   // steps whose first Newton iteration kept the last step's tangent (the
   // updated factor, solve/tangent_updown.cpp: kLagSolves)
   int64_t lagged_steps = 0;
+  // steps nd_step took, and adaptive steps it tried and rejected (retried smaller)
+  int64_t steps_accepted = 0, steps_rejected = 0;
   int64_t normal_refreshes = 0;  // curved obstacles: points whose frozen normal was made again
   // the updated factor's rank-one modifications (columns updated or
   // downdated), and their work: the entries of L times the vectors that

@@ -35,8 +35,12 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // and without curved obstacles the friction section with the planes' points
 // at t^n (StateSizes::n_places); 10 (always written): flag 4, the contact
 // pairs' section after the friction's: each point's pairing, then (without
-// the curved obstacles' section) the frozen normals and W_geometry
-constexpr uint32_t kVersion = 10;
+// the curved obstacles' section) the frozen normals and W_geometry; 11
+// (always written): after W_prescribed the energy-balance guard's state
+// (GuardState: balance, its lowest value, E_top, exchange, in contact), and
+// flag 8, adaptive time steps (StateSizes::adaptive): the step control
+// (StepControl: tau_next, tau_last, ratio, scale, the mean acceleration)
+constexpr uint32_t kVersion = 11;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
 class Writer {
@@ -155,7 +159,9 @@ DefinitionPrint definition_print(const Definition &def, const Discretization &d)
   }
   if (def.given & kTimestep) {
     Hash h;
-    h.value(def.tau);
+    // (adaptive steps: the sizes they may take; the size now is the state's)
+    if (def.adaptive.on()) h.value(def.adaptive.tolerance), h.value(def.adaptive.tau_min), h.value(def.adaptive.tau_max);
+    else h.value(def.tau);
     done(kPrintTimestep, h);
   }
   {
@@ -245,7 +251,8 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   const uint32_t version = version_for(sizes);
   payload.value(s.D_damping);
   const bool positions = sizes.n_positions > 0, friction = sizes.n_slip > 0, pairs = sizes.pairs;
-  payload.value(static_cast<uint8_t>((positions ? 1 : 0) | (friction ? 2 : 0) | (pairs ? 4 : 0)));
+  payload.value(static_cast<uint8_t>((positions ? 1 : 0) | (friction ? 2 : 0) | (pairs ? 4 : 0) |
+                                     (sizes.adaptive ? 8 : 0)));
   payload.padded(s.reaction, n_clamped);
   payload.padded(s.phi, static_cast<uint64_t>(n_contact));
   payload.padded(s.tangent_log.i, log_indices(n_contact, version));
@@ -274,6 +281,14 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.padded(s.Vc, n_clamped);
   payload.padded(s.Ac, n_clamped);
   payload.value(s.W_prescribed);
+  const GuardState &g = s.guard;
+  for (double x : {g.balance, g.balance_low, g.E_top, g.exchange}) payload.value(x);
+  payload.value(static_cast<uint8_t>(g.in_contact));
+  if (sizes.adaptive) {
+    const StepControl &c = s.control;
+    for (double x : {c.tau_next, c.tau_last, c.ratio, c.scale}) payload.value(x);
+    payload.padded(c.a_mean, n_free);
+  }
   Writer w;
   w.out.assign(kMagic, kMagic + sizeof kMagic);
   w.value(version);
@@ -338,6 +353,7 @@ int64_t max_state_size(const StateSizes &sizes) {
     s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
   }
   s.Uc = s.Vc = s.Ac = s.F_fixed;
+  if (sizes.adaptive) s.control.a_mean = s.U;
   return static_cast<int64_t>(encode_state(s, 0, DefinitionPrint{}, sizes).size());
 }
 
@@ -459,18 +475,19 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   need_finite(s.gap, "obstacle gaps");
   s.W_obstacle = r.value<double>();
   need_finite(s.W_obstacle, "work of the obstacle (W_obstacle)");
-  bool positions = head.version == 7, friction = false, pairs = false;
+  bool positions = head.version == 7, friction = false, pairs = false, control = false;
   if (head.version >= 8) {
     s.D_damping = r.value<double>();
     need_finite(s.D_damping, "dissipation of the damping");
     const uint8_t flags = r.value<uint8_t>();
-    const unsigned most = head.version >= 10 ? 7 : 3;
+    const unsigned most = head.version >= 11 ? 15 : head.version >= 10 ? 7 : 3;
     if (flags > most)
       fail(ND_ERR_FORMAT, "the checkpoint's section flags are " + std::to_string(flags) + ", not 0 to " +
                               std::to_string(most));
     positions = (flags & 1) != 0;
     friction = (flags & 2) != 0;
     pairs = (flags & 4) != 0;
+    control = (flags & 8) != 0;
   }
   s.reaction = optional(sizes.n_clamped, "reactions");
   need_finite(s.reaction, "reactions");
@@ -542,6 +559,29 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
       fail(ND_ERR_FORMAT, "the checkpoint's prescribed motion has some of U, V, A only");
     s.W_prescribed = r.value<double>();
     need_finite(s.W_prescribed, "work of the prescribed motion (W_prescribed)");
+  }
+  if (head.version >= 11) {  // the balance guard's state (before: it starts again)
+    GuardState &g = s.guard;
+    g.balance = r.value<double>(), g.balance_low = r.value<double>();
+    g.E_top = r.value<double>(), g.exchange = r.value<double>();
+    // (NaN: not evaluated yet; never infinite)
+    for (double x : {g.balance, g.balance_low})
+      if (std::isinf(x)) fail(ND_ERR_FORMAT, "the checkpoint's energy balance is infinite");
+    need_finite(g.E_top, "largest mechanical energy (energy-balance guard)");
+    need_finite(g.exchange, "contact exchange (energy-balance guard)");
+    const uint8_t in_contact = r.value<uint8_t>();
+    if (in_contact > 1) fail(ND_ERR_FORMAT, "the checkpoint's in-contact flag is not 0 or 1");
+    g.in_contact = in_contact == 1;
+  }
+  if (control) {  // (a problem with fixed steps reads and drops it)
+    StepControl c;
+    c.tau_next = r.value<double>(), c.tau_last = r.value<double>(), c.ratio = r.value<double>();
+    c.scale = r.value<double>();
+    for (double x : {c.tau_next, c.tau_last, c.ratio, c.scale})
+      if (!(std::isfinite(x) && x >= 0)) fail(ND_ERR_FORMAT, "the checkpoint's step control has a value that is negative or not finite");
+    c.a_mean = optional(sizes.n_free, "mean acceleration (step control)");
+    need_finite(c.a_mean, "mean acceleration (step control)");
+    if (sizes.adaptive) s.control = std::move(c);
   }
   if ((sizes.n_positions > 0) != positions || (sizes.n_positions > 0 && s.positions.empty()))
     fail(ND_ERR_STATE, sizes.n_positions > 0 ? "the checkpoint has no curved obstacles (sphere, cylinder, distance); this problem has"

@@ -63,6 +63,7 @@ struct StateSizes {
   // section; n_boundary, the mesh's boundary facets, bounds a pairing's facet
   bool pairs = false;
   int64_t n_boundary = 0;
+  bool adaptive = false;  // adaptive time steps: the step control (State::control) follows
 };
 // Every field that may be absent or grow (the load, the reactions, the
 // tangent's history) takes the room of its longest form: a problem's

@@ -14,6 +14,7 @@
 #include "contact/law.hpp"
 #include "common/error.hpp"
 #include "contact/obstacle.hpp"
+#include "time/step_control.hpp"
 #include "contact/pairing.hpp"
 #include "monitor/guards.hpp"
 #include "nitschedyn.h"
@@ -40,6 +41,7 @@ enum Aspect : unsigned {
   kObstacle = 1u << 13,  // a plane's point moved (same normal), an obstacle's pose: only the gaps change
   kDamping = 1u << 14,   // Rayleigh damping alpha, beta
   kMotion = 1u << 15,    // the clamped DOFs' prescribed displacement: only the step's data change
+  kAdaptive = 1u << 16,  // adaptive time steps: how a step's size is chosen, nothing derived
 };
 
 // What may change from step to step without new operators: the loads and
@@ -88,6 +90,8 @@ struct Definition : TimeData {
   std::shared_ptr<const PointLaw> contact_law_given;
   std::vector<double> scheme_params;
   double tau = 0;
+  // adaptive time steps (off: tolerance 0); tau is then the first step's size
+  AdaptiveOptions adaptive;
   NewtonOptions newton;
   bool lumped = false;
   // Rayleigh damping C = alpha M + beta K (both 0: off, no term anywhere)

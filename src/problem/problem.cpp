@@ -95,6 +95,7 @@ void Problem::drop(unsigned aspects) {
     // its symbolic analysis is kept for the next integrator
     if (integrator_ && integrator_->A_factor) spare_A_factor_ = std::move(integrator_->A_factor);
     integrator_.reset();
+    kept_integrators_.clear();
   }
   if (aspects & (kDiscretizationDeps | kSolver)) spare_A_factor_.reset();
 }
@@ -382,6 +383,15 @@ void Problem::set_linear_solver(int solver) {
 void Problem::set_timestep(double tau) {
   def_.tau = tau;
   changed(kTimestep);
+  state_.control.tau_next = 0;  // (adaptive steps: the next step tries tau)
+}
+
+void Problem::set_adaptive_timestep(double tolerance, double tau_min, double tau_max) {
+  def_.adaptive = AdaptiveOptions{tolerance, tau_min, tau_max};
+  // (a step size is given: tau_max's, unless nd_problem_set_timestep gives another)
+  if (tolerance > 0 && !(def_.given & kTimestep)) set_timestep(tau_max);
+  state_.control.tau_next = 0;
+  changed(kAdaptive);
 }
 
 void Problem::set_initial_state(const double *u0, const double *v0) {
@@ -529,7 +539,11 @@ Integrator &Problem::integrator_or_build() {
   std::function<Csr(double)> own_part;
   if (linear_solver_distributes(def_.solver) && !d.rows_split && !ownership().node_owner.empty())
     own_part = [&](double c) { return assemble_own_step_matrix(space_, d, def_, *ownership_, c); };
-  integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part, refresh_ordering_);
+  // (adaptive steps: A's pattern analysed for another size, its ordering reused)
+  const Factorization *like = refresh_ordering_;
+  for (const KeptIntegrator &k : kept_integrators_)
+    if (!like && k.of == d.id && k.in->A_factor) like = k.in->A_factor.get();
+  integrator_ = make_integrator(d, def_, std::move(spare_A_factor_), own_part, like);
   integrator_new_ = true;
   return *integrator_;
 }
@@ -730,12 +744,19 @@ double Problem::relinearised_nitsche_energy(const std::vector<double> &gap_n) {
 }
 
 void Problem::step() {
+  if (def_.adaptive.on()) return adaptive_step();
+  step_once(nullptr);
+  count(counters_.get(), &Counters::steps_accepted);
+}
+
+void Problem::step_once(const Attempt *attempt) {
   agree_on_inputs("nd_step");
   State next;
   // a refresh of the curved points' normals makes the operators again; a
   // failed step gives the old ones back, with the state they belong to
   std::unique_ptr<Discretization> kept_disc;
   std::unique_ptr<Integrator> kept_integrator;
+  std::vector<KeptIntegrator> kept_sizes;  // (declared after kept_disc: destroyed before it)
   auto body = [&] {
     prepare();
     const std::vector<double> *gap = &current_gaps();
@@ -750,6 +771,7 @@ void Problem::step() {
       if (geo.normal != disc_->contact.normal || geo.pairing != disc_->contact.pairing) {
         kept_disc = std::move(disc_);
         kept_integrator = std::move(integrator_);
+        kept_sizes.swap(kept_integrators_);  // (of kept_disc: of no use with the new rows)
         // (only the contact rows and K_Theta change)
         disc_ = with_normals(space_, def_, *kept_disc, geo.normal, geo.pairing.empty() ? nullptr : &geo.pairing);
         refresh_ordering_ = kept_integrator && kept_integrator->A_factor ? kept_integrator->A_factor.get() : nullptr;
@@ -773,6 +795,7 @@ void Problem::step() {
     else next.positions.clear();
     next.W_geometry += relinearised;
     guard_step(*disc_, def_.guards, state_, next, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
+    if (attempt) judge_step(*attempt, next);
   };
   try {
     // every rank commits the step or none does (one reference captured:
@@ -780,7 +803,10 @@ void Problem::step() {
     nd::on_every_rank(def_.comm.get(), std::ref(body), "the step", "no rank took it");
   } catch (...) {
     refresh_ordering_ = nullptr;
-    if (kept_disc) disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
+    if (kept_disc) {
+      disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
+      kept_integrators_.swap(kept_sizes);
+    }
     throw;
   }
   spare_ = std::move(state_);  // its memory serves the next step's state
@@ -984,7 +1010,7 @@ StateSizes Problem::state_sizes() {
           def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size()),
           static_cast<int64_t>(d.contact.size()) * (d.contact.m - 1),
           d.contact.m > 1 && def_.obstacles.empty() ? static_cast<int64_t>(3 * def_.planes.size()) : 0,
-          !def_.pairs.empty(), static_cast<int64_t>(mesh_->boundary.size())};
+          !def_.pairs.empty(), static_cast<int64_t>(mesh_->boundary.size()), def_.adaptive.on()};
 }
 
 void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
@@ -996,7 +1022,7 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
       (!s.normal.empty() && s.normal != d.contact.normal) || (!s.pairing.empty() && s.pairing != d.contact.pairing);
   state_ = std::move(s);
   state_ready_ = true;
-  if (other_rows) disc_.reset(), integrator_.reset();
+  if (other_rows) disc_.reset(), integrator_.reset(), kept_integrators_.clear();
   setup_done_ = state_.n > 0;
   // the checkpoint holds F^n: at n = 0 the loads given now are t^1's
   if (state_.n == 0 && !start_) start_ = std::make_unique<TimeData>(def_);
@@ -1155,6 +1181,8 @@ constexpr StatKey kStatKeys[] = {
     {ND_STAT_FACTOR_MODIFICATIONS, &Counters::factor_modifications},
     {ND_STAT_FACTOR_MODIFIED_ENTRIES, &Counters::factor_modified_entries},
     {ND_STAT_NORMAL_REFRESHES, &Counters::normal_refreshes},
+    {ND_STAT_STEPS_ACCEPTED, &Counters::steps_accepted},
+    {ND_STAT_STEPS_REJECTED, &Counters::steps_rejected},
 };
 }  // namespace
 
@@ -1215,8 +1243,12 @@ double Problem::scalar(int key) {
       return c.W_prescribed;
     case ND_WORK_GEOMETRY:
       return c.W_geometry;
-    case ND_TIMESTEP:
-      return def_.tau;
+    case ND_TIMESTEP:  // (adaptive: the size the next step tries)
+      return def_.adaptive.on() && c.control.tau_next > 0 ? c.control.tau_next : def_.tau;
+    case ND_TIMESTEP_LAST:
+      return c.n > 0 ? (c.control.tau_last > 0 ? c.control.tau_last : c.tau_ref) : 0.0;
+    case ND_ERROR_ESTIMATE:
+      return c.control.ratio;
     case ND_PARTITION_KIND: {  // (made when the communicator was given: no message)
       const std::string &method = ownership().method;
       return method == "one rank" ? 0 : method == "slabs" ? 2 : 1;

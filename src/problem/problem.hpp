@@ -67,6 +67,11 @@ class Problem {
   void set_mass_redistribution(bool on);
   void set_linear_solver(int solver);
   void set_timestep(double tau);
+  // Adaptive time steps (docs/design.md §10.8; tolerance 0: off): each step
+  // is judged by its error estimate and retried smaller, leaving no trace,
+  // until it passes; the step that first touches is cut to land there.
+  // Checked by the caller: finite, tolerance >= 0, 0 < tau_min <= tau_max.
+  void set_adaptive_timestep(double tolerance, double tau_min, double tau_max);
   void set_initial_state(const double *u0, const double *v0);  // n_dofs each, or nullptr
   void set_guard(int guard, double value);  // an ND_GUARD_* and its value
   // The ranks that step this problem together (null: this process alone);
@@ -173,6 +178,18 @@ class Problem {
   void step();
 
  private:
+  // one step of size def_.tau; with `attempt`, judged as an adaptive step
+  // (its error estimate, its first touch), which throws Rejected to retry
+  struct Attempt {
+    bool may_land = true;  // the step may be cut to land at the first touch
+  };
+  void step_once(const Attempt *attempt);
+  // adaptive steps (problem/adaptive_step.cpp)
+  void adaptive_step();
+  void judge_step(const Attempt &attempt, State &next);
+  // the integrator of step size tau in use: kept, or built at the next
+  // prepare(); the one in use kept for its size (kKeptSizes at most)
+  void use_timestep(double tau);
   void changed(unsigned aspects);
   void prepare();  // setup() without the ranks' agreement
   void agree_on_inputs(const char *call);  // collective(call, inputs_digest()), ND_ERR_STATE if they differ
@@ -224,6 +241,14 @@ class Problem {
   // the work counters (ND_STAT_*), since creation; a stable address the derived objects keep
   std::unique_ptr<Counters> counters_ = std::make_unique<Counters>();
   std::unique_ptr<Integrator> integrator_;
+  // adaptive steps: the integrators of the last step sizes used (their A
+  // factored), for the discretization whose id `of` holds; most recent first
+  struct KeptIntegrator {
+    double tau;
+    uint64_t of;
+    std::unique_ptr<Integrator> in;
+  };
+  std::vector<KeptIntegrator> kept_integrators_;
   // a new integrator since the last step: it may hold other rows and points
   // than the one that made a distributed state (another solver, another
   // Newton path), so the next step completes the state first

@@ -412,7 +412,8 @@ void Step::newton(std::vector<double> &r) {
   if (!res.converged)
     fail(ND_ERR_NEWTON, "Newton did not converge in " + std::to_string(res.iterations) + " iterations at t = " +
                             num(next.t) + " (residual " + num(res.residual) + ", tolerance " + num(res.tolerance) +
-                            "); the step was not taken");
+                            "); the step was not taken: try half the time step, or let the library choose it "
+                            "(nd_problem_set_adaptive_timestep)");
   next.last_iterations = res.iterations;
   bounded_ = res.bounded;
   const TangentLog *history = in.tangent->log();

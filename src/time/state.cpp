@@ -36,6 +36,7 @@ State reuse_storage(State &&used) {
   s.products = reuse_storage(std::move(used.products));
   take(s.tangent_log.i, used.tangent_log.i);
   take(s.tangent_log.x, used.tangent_log.x);
+  take(s.control.a_mean, used.control.a_mean);
   return s;
 }
 

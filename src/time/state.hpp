@@ -5,6 +5,8 @@
 #include <memory>
 #include <vector>
 
+#include "time/step_control.hpp"
+
 namespace nd {
 
 struct Share;  // parallel/share.hpp
@@ -182,6 +184,8 @@ struct State {
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;
+  // adaptive time steps (time/step_control.hpp): all zero, empty, with fixed steps
+  StepControl control;
   TangentLog tangent_log;
   Products products;
 };

@@ -95,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (p) nd_problem_get_node_count(p, &nodes);
     int dim = 1;
     if (m) nd_mesh_get_dimension(m, &dim);
-    switch (in.ConsumeIntegralInRange<int>(0, 64)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 65)) {
       case 0:
         nd_mesh_destroy(&m);
         if (CALL(nd_mesh_create_interval, any_count(in, 12), lo[0], hi[0], &m) != ND_OK && m) violated("interval", 0, "handle");
@@ -321,6 +321,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                     &x);
         break;
       }
+      case 65:  // adaptive steps with any values (refused, or on: the steps then choose their sizes)
+        if (p) CALL(nd_problem_set_adaptive_timestep, p, in.ConsumeBool() ? 0.0 : any_double(in), any_double(in),
+                    any_double(in));
+        break;
       case 36:
         if (p) CALL(nd_problem_add_contact_cylinder, p, in.ConsumeIntegralInRange<int>(-1, 3), a, b, any_double(in),
                     in.ConsumeIntegralInRange<int>(-1, 2));

@@ -239,6 +239,10 @@ Setup build(const Scene &s, Problem &prob) {
   scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
              "[scheme]");
   scene_call(nd_problem_set_timestep(p, s.tau), s.tau_at.empty() ? "--tau" : s.tau_at, "time.tau");
+  if (s.tolerance != 0)
+    scene_call(nd_problem_set_adaptive_timestep(p, s.tolerance, s.tau_min > 0 ? s.tau_min : 1e-6 * s.tau,
+                                                s.tau_max > 0 ? s.tau_max : s.tau),
+               s.tolerance_at, "time.tolerance");
   const std::string solver_at = s.solver_at.empty() ? s.file : s.solver_at;
   scene_call(nd_problem_set_linear_solver(p, s.solver_id), solver_at, "solver.linear");
   if (s.newton_given)
@@ -270,7 +274,8 @@ class Progress {
   Progress(bool on, int64_t steps) : on_(on && steps > 0), tty_(isatty(STDERR_FILENO) != 0), steps_(steps) {}
   void update(int64_t k, double t) {
     if (!on_) return;
-    const int percent = (int)(100.0 * (double)k / (double)steps_);  // 100 * k overflows past 2^63 / 100
+    // (100 * k overflows past 2^63 / 100; adaptive steps may take more than T/tau)
+    const int percent = (int)std::min(100.0, 100.0 * (double)k / (double)steps_);
     if (tty_) {
       if (percent == last_ && k != steps_) return;
       last_ = percent;
@@ -323,7 +328,9 @@ int run(const Options &opt) {
   if (opt.T >= 0) s.T = opt.T, s.T_given = true, s.T_at = "--T";
   if (!s.tau_given) throw SceneError(s.file + ": no 'time.tau' (required unless --tau is given)");
   if (!s.T_given) throw SceneError(s.file + ": no 'time.T' (required unless --T is given)");
+  // (adaptive steps: T/tau for the progress and the frames; the run ends at T)
   const int64_t steps = ndcli::step_count(s);  // refused unless an int64_t holds it
+  const bool adaptive = s.tolerance > 0;
   // the steps between ParaView frames (more than the run's: its first and last)
   const double frame_steps = s.interval / s.tau + 0.5;
   const int64_t every = s.interval <= 0 ? 1
@@ -376,7 +383,7 @@ int run(const Options &opt) {
   if (!opt.restart.empty()) {
     call(nd_problem_load_state_file(p, opt.restart.c_str()), "--restart " + opt.restart);
     const double step = scalar(p, ND_STEP_INDEX);
-    if (!(step >= 0 && step <= (double)steps)) {
+    if (!(step >= 0 && (adaptive || step <= (double)steps))) {
       std::ostringstream os;
       os.precision(17);
       os << "--restart " << opt.restart << ": the checkpoint is at step " << step
@@ -391,10 +398,19 @@ int run(const Options &opt) {
   Progress bar(opt.progress || (!opt.quiet && isatty(STDERR_FILENO)), steps);
   const double E0 = scalar(p, ND_ENERGY_AUGMENTED);
   double max_force = 0, max_pen = 0, newton = 0;
-  for (int64_t k = first; k <= steps; ++k) {
+  // the last step: the scene's count, or (adaptive) the first at T (to round-off)
+  auto done = [&](int64_t k) { return adaptive ? scalar(p, ND_TIME) >= s.T * (1 - 1e-12) : k == steps; };
+  int64_t last = steps;
+  for (int64_t k = first;; ++k) {
     if (k > first) {
+      // adaptive steps: the last one ends at T (a ladder from T - t down)
+      const double now = scalar(p, ND_TIME);
+      if (adaptive && now + scalar(p, ND_TIMESTEP) > s.T)
+        call(nd_problem_set_adaptive_timestep(p, s.tolerance, std::min(s.tau_min > 0 ? s.tau_min : 1e-6 * s.tau, s.T - now),
+                                              s.T - now),
+             "the last adaptive step");
       // the values in time where they are at t^{n+1}: loads, motions, obstacles
-      give_time_values(s, p, su, scalar(p, ND_TIME) + scalar(p, ND_TIMESTEP), false);
+      give_time_values(s, p, su, now + scalar(p, ND_TIMESTEP), false);
       const int st = nd_step(p);
       if (st < 0) {
         bar.finish();
@@ -402,7 +418,7 @@ int run(const Options &opt) {
                        nd_last_error());
       }
       newton += scalar(p, ND_NEWTON_ITERATIONS);
-      if (!checkpoint.empty() && (k == steps || (s.checkpoint_every > 0 && k % s.checkpoint_every == 0)))
+      if (!checkpoint.empty() && (done(k) || (s.checkpoint_every > 0 && k % s.checkpoint_every == 0)))
         call(nd_problem_save_state_file(p, checkpoint.c_str()), "writing the checkpoint " + checkpoint.string());
     }
     const double t = scalar(p, ND_TIME), force = scalar(p, ND_CONTACT_FORCE), pen = scalar(p, ND_MAX_PENETRATION);
@@ -417,7 +433,7 @@ int run(const Options &opt) {
                    scalar(p, ND_DISSIPATION_FRICTION), scalar(p, ND_DISSIPATION_DAMPING), scalar(p, ND_WORK_GEOMETRY));
       if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
     }
-    if (!prefix.empty() && (k % every == 0 || k == steps)) {
+    if (!prefix.empty() && (k % every == 0 || done(k))) {
       char name[32];
       std::snprintf(name, sizeof name, "_%04zu.vtu", frame0 + frames.size());
       const fs::path vtu = prefix.string() + name;
@@ -426,6 +442,10 @@ int run(const Options &opt) {
       times.push_back(t);
     }
     bar.update(k, t);
+    if (done(k)) {
+      last = k;
+      break;
+    }
   }
   bar.finish();
   if (!prefix.empty()) {
@@ -442,8 +462,8 @@ int run(const Options &opt) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%s: %" PRId64 " steps to t = %g; E_Theta %.8g -> %.8g, W %.8g; max contact force %.6g, max "
               "penetration %.4e; mean Newton iterations %.3f; %.2f s\n",
-              s.file.c_str(), steps - first, scalar(p, ND_TIME), E0, scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK),
-              max_force, max_pen, steps > first ? newton / (double)(steps - first) : 0.0, seconds);
+              s.file.c_str(), last - first, scalar(p, ND_TIME), E0, scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK),
+              max_force, max_pen, last > first ? newton / (double)(last - first) : 0.0, seconds);
   return 0;
 }
 

@@ -38,7 +38,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"contact_pair", {"slave", "master"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
-      {"time", {"tau", "T"}},
+      {"time", {"tau", "T", "tolerance", "tau_min", "tau_max"}},
       {"solver", {"linear", "newton_rtol", "newton_atol", "newton_max_iter", "mass_lumping", "mass_redistribution"}},
       {"initial", {"displacement", "velocity"}},
       {"output", {"history", "paraview", "interval"}},
@@ -962,6 +962,13 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       s.T_at = r.where(T->source());
       if (s.T < 0) r.fail(T->source(), "'time.T' must be >= 0");
     }
+    // adaptive steps: the library checks the values (nd_problem_set_adaptive_timestep)
+    if (const toml::node *tol = t.get("tolerance")) {
+      s.tolerance = r.number(*tol, "time", "tolerance");
+      s.tolerance_at = r.where(tol->source());
+    }
+    if (const toml::node *lo = t.get("tau_min")) s.tau_min = r.number(*lo, "time", "tau_min");
+    if (const toml::node *hi = t.get("tau_max")) s.tau_max = r.number(*hi, "time", "tau_max");
   }
 
   if (const toml::node *n = root.get("solver")) read_solver(r, r.table(*n, "", "solver"), s);

@@ -138,6 +138,10 @@ struct Scene {
   double tau = 0, T = 0;
   bool tau_given = false, T_given = false;
   std::string tau_at, T_at;
+  // adaptive steps (tolerance 0: fixed steps of tau); tau_min, tau_max: 0
+  // until given (then 1e-6 tau and tau)
+  double tolerance = 0, tau_min = 0, tau_max = 0;
+  std::string tolerance_at;
   // [solver]
   std::string linear = "auto";
   int solver_id = 0;

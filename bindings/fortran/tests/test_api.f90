@@ -43,7 +43,7 @@ program test_api
 
   character(len=32) :: part
   if (command_argument_count() /= 1) then
-    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles|friction|pairs'
+    write (error_unit, '(a)') 'usage: test_api errors|destroy|monitor|api|checkpoint|obstacles|friction|pairs|adaptive'
     stop 2, quiet=.true.
   end if
   call get_command_argument(1, part)
@@ -64,6 +64,8 @@ program test_api
     call test_friction()
   case ('pairs')
     call test_pairs()
+  case ('adaptive')
+    call test_adaptive()
   case default
     write (error_unit, '(a)') 'test_api: unknown part ' // trim(part)
     stop 2, quiet=.true.
@@ -408,6 +410,51 @@ contains
     call check(sum(v(1:11)) / 11 < -0.09_c_double, 'bar 1 leaves backwards at about -v0')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_pairs
+
+  ! ---- adaptive time steps (the twin of tests/test_adaptive.c) ------------
+  ! A free bar flying at -1 towards the plane x = -0.1037: a step ends at the
+  ! first touch t = 0.1037 exactly, and the hybrid Theta = 1 ledger E_Theta - W
+  ! - W_obstacle never rises past round-off through the impact.
+  subroutine test_adaptive()
+    type(c_ptr) :: m, p
+    real(c_double) :: lo(1) = [-0.5_c_double], hi(1) = [0.5_c_double], plane(1) = [-0.1037_c_double]
+    real(c_double) :: up(1) = [1.0_c_double], v(21), t, landed, e, w, wo, previous, rise, rejected
+    integer :: k
+    call check(nd_mesh_create_interval(20_c_int64_t, 0.0_c_double, 1.0_c_double, m) == ND_OK, 'a bar')
+    call check(nd_mesh_mark_boundary_box(m, 1_c_int, lo, hi) == ND_OK, 'its end x = 0')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_problem_set_material(p, 1.0_c_double, 0.0_c_double, 1.0_c_double) == ND_OK, 'material')
+    call check(nd_problem_set_contact_plane(p, 1_c_int, plane, up) == ND_OK, 'the plane')
+    call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.2_c_double) == ND_OK, 'Nitsche')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'the hybrid scheme')
+    v = -1
+    call check(nd_problem_set_initial_state(p, 21_c_int64_t, v0=v) == ND_OK, 'flying at -1')
+    call check(nd_problem_set_adaptive_timestep(p, -1.0_c_double, 1e-6_c_double, 0.04_c_double) == ND_ERR_VALUE, &
+               'a negative tolerance is refused')
+    call check(nd_problem_set_adaptive_timestep(p, 1e-3_c_double, 0.05_c_double, 0.04_c_double) == ND_ERR_TIMESTEP, &
+               'tau_max below tau_min is refused')
+    call check(nd_problem_set_adaptive_timestep(p, 1e-3_c_double, 1e-6_c_double, 0.04_c_double) == ND_OK, &
+               'nd_problem_set_adaptive_timestep')
+    call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, previous) == ND_OK, 'ND_ENERGY_AUGMENTED')
+    landed = huge(1.0_c_double)
+    rise = 0
+    do k = 1, 200
+      call check(nd_step(p) == ND_OK, 'an adaptive step')
+      call check(nd_get_scalar(p, ND_TIME, t) == ND_OK, 'ND_TIME')
+      landed = min(landed, abs(t - 0.1037_c_double))
+      call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, e) == ND_OK, 'ND_ENERGY_AUGMENTED')
+      call check(nd_get_scalar(p, ND_WORK, w) == ND_OK, 'ND_WORK')
+      call check(nd_get_scalar(p, ND_WORK_OBSTACLE, wo) == ND_OK, 'ND_WORK_OBSTACLE')
+      rise = max(rise, e - w - wo - previous)
+      previous = e - w - wo
+    end do
+    call check(landed <= 1e-12_c_double, 'a step ended at the first touch')
+    call check(rise <= 1e-13_c_double * 0.5_c_double, 'the ledger never rose past round-off')
+    call check(nd_get_scalar(p, ND_STAT_STEPS_REJECTED, rejected) == ND_OK .and. rejected >= 1, &
+               'the step past the touch was rejected')
+    call check(nd_problem_destroy(p) == ND_OK, 'destroy')
+  end subroutine test_adaptive
 
   ! ---- checkpoint and restart, the way a legacy code holds its data --------
   subroutine test_checkpoint()

@@ -44,4 +44,30 @@ for s in bar_pushed pulse; do
     }') || { fail "$s: $report"; continue; }
   echo "ok: $s: $report"
 done
+# Adaptive steps (bar_bounce_adaptive.toml, time.tolerance): the run ends at
+# T = 3 exactly, a row lands at the first touch t = 0.1037 (a rigid flight:
+# to round-off), the rows are not the 75 fixed steps of T/tau, and the
+# ledger E_Theta - W - W_obstacle never rises past round-off.
+s=bar_bounce_adaptive
+if "$driver" "$scenes/$s.toml" --quiet --out "$work/$s" > "$work/$s.out" 2> "$work/$s.err"; then
+  report=$(grep -v '^#' "$work/$s/${s}_history.csv" | awk -F, '
+    NR == 1 { next }
+    {
+      L = $4 - $5 - $11
+      if (NR > 2 && L - last > rise) rise = L - last
+      last = L
+      d = $2 - 0.1037; if (d < 0) d = -d
+      if (NR == 2 || d < touch) touch = d
+      t = $2; n = NR - 2
+    }
+    END {
+      if (t != 3) { print "the run ended at t = " t ", not 3"; exit 1 }
+      if (touch > 1e-12) { print "no row within 1e-12 of the touch (" touch ")"; exit 1 }
+      if (n == 75) { print "75 steps: the fixed ones"; exit 1 }
+      if (rise > 1e-13) { print "the ledger rose by " rise; exit 1 }
+      print "steps " n ", touch to " touch ", largest rise " rise
+    }') && echo "ok: $s: $report" || fail "$s: $report"
+else
+  fail "$s: $(cat "$work/$s.err")"
+fi
 [ $fails -eq 0 ] || exit 1
