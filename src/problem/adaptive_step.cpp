@@ -63,7 +63,7 @@ void Problem::adaptive_step() {
   if (communicator_size(def_.comm.get()) > 1)
     fail(ND_ERR_STATE, "adaptive time steps on several MPI ranks are not supported yet: step with a fixed time step "
                        "(nd_problem_set_adaptive_timestep with tolerance 0)");
-  const double tau_given = def_.tau;
+  const double tau_before = def_.tau;
   const double next = state_ready_ ? state_.control.tau_next : 0;
   double tau = next > 0 ? next : ladder_below(o, std::clamp(def_.tau, o.tau_min, o.tau_max));
   Attempt attempt;
@@ -78,22 +78,24 @@ void Problem::adaptive_step() {
       if (r.landing) {
         attempt.may_land = false;  // (one cut a step: the landing is then taken as it comes)
       } else if (tau <= o.tau_min || tries == kMostTries) {
-        use_timestep(tau_given);  // (the problem as it was: the next step starts from the same size)
+        use_timestep(tau_before);  // (the problem as it was: the next step starts from the same size)
         fail(ND_ERR_ACCURACY, std::string(r.what()) + " at the smallest step tau_min = " + num(o.tau_min) +
                                   "; the step was not taken: raise the tolerance or lower tau_min");
       }
       tau = r.tau_retry;
+      attempt.retried = true;
     } catch (const Error &e) {
       if (!mended_by_smaller_steps(e.code())) {
-        use_timestep(tau_given);
+        use_timestep(tau_before);
         throw;
       }
       if (tau <= o.tau_min || tries == kMostTries) {
-        use_timestep(tau_given);
+        use_timestep(tau_before);
         fail(e.code(), std::string(e.what()) + " (adaptive steps: at the smallest step tau_min = " + num(o.tau_min) + ")");
       }
       count(counters_.get(), &Counters::steps_rejected);
       tau = ladder_below(o, 0.5 * tau);
+      attempt.retried = true;
     }
   }
 }
@@ -126,9 +128,12 @@ void Problem::judge_step(const Attempt &attempt, State &next) {
     throw Rejected("the error estimate of the step to t = " + num(next.t) + " is " + num(ratio) +
                        " times the tolerance " + num(o.tolerance),
                    size_after_rejected(o, tau, ratio), false);
-  next.control.ratio = ratio;
-  next.control.tau_last = tau;
-  next.control.tau_next = size_after_accepted(o, tau, ratio);
+  StepControl &c = next.control;
+  c.ratio = ratio;
+  c.tau_last = tau;
+  c.hold = attempt.retried ? kHoldSteps : std::max(0.0, state_.control.hold - 1);
+  c.tau_next = size_after_accepted(o, tau, ratio);
+  if (c.hold > 0) c.tau_next = std::min(c.tau_next, tau);
 }
 
 }  // namespace nd

@@ -39,7 +39,7 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // (always written): after W_prescribed the energy-balance guard's state
 // (GuardState: balance, its lowest value, E_top, exchange, in contact), and
 // flag 8, adaptive time steps (StateSizes::adaptive): the step control
-// (StepControl: tau_next, tau_last, ratio, scale, the mean acceleration)
+// (StepControl: tau_next, tau_last, ratio, scale, hold, the mean acceleration)
 constexpr uint32_t kVersion = 11;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
@@ -286,7 +286,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
   payload.value(static_cast<uint8_t>(g.in_contact));
   if (sizes.adaptive) {
     const StepControl &c = s.control;
-    for (double x : {c.tau_next, c.tau_last, c.ratio, c.scale}) payload.value(x);
+    for (double x : {c.tau_next, c.tau_last, c.ratio, c.scale, c.hold}) payload.value(x);
     payload.padded(c.a_mean, n_free);
   }
   Writer w;
@@ -576,8 +576,8 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
   if (control) {  // (a problem with fixed steps reads and drops it)
     StepControl c;
     c.tau_next = r.value<double>(), c.tau_last = r.value<double>(), c.ratio = r.value<double>();
-    c.scale = r.value<double>();
-    for (double x : {c.tau_next, c.tau_last, c.ratio, c.scale})
+    c.scale = r.value<double>(), c.hold = r.value<double>();
+    for (double x : {c.tau_next, c.tau_last, c.ratio, c.scale, c.hold})
       if (!(std::isfinite(x) && x >= 0)) fail(ND_ERR_FORMAT, "the checkpoint's step control has a value that is negative or not finite");
     c.a_mean = optional(sizes.n_free, "mean acceleration (step control)");
     need_finite(c.a_mean, "mean acceleration (step control)");

@@ -89,8 +89,10 @@ struct Definition : TimeData {
   // white-box (tests): a law outside the registry in its place (null: contact_law's)
   std::shared_ptr<const PointLaw> contact_law_given;
   std::vector<double> scheme_params;
-  double tau = 0;
-  // adaptive time steps (off: tolerance 0); tau is then the first step's size
+  // the step size in use; with adaptive steps (tolerance > 0) the control's,
+  // tau_given the one nd_problem_set_timestep gave (the fixed size again
+  // when they are turned off)
+  double tau = 0, tau_given = 0;
   AdaptiveOptions adaptive;
   NewtonOptions newton;
   bool lumped = false;

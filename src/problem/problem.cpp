@@ -381,17 +381,24 @@ void Problem::set_linear_solver(int solver) {
 }
 
 void Problem::set_timestep(double tau) {
+  state_.control.tau_next = 0;  // (adaptive steps: the next step tries tau)
+  def_.tau_given = tau;
+  // (the same size again, as a host's loop sets it before each step: its
+  // step operator stays factored)
+  if (tau == def_.tau && (def_.given & kTimestep)) return;
   def_.tau = tau;
   changed(kTimestep);
-  state_.control.tau_next = 0;  // (adaptive steps: the next step tries tau)
 }
 
 void Problem::set_adaptive_timestep(double tolerance, double tau_min, double tau_max) {
+  const bool was_on = def_.adaptive.on();
   def_.adaptive = AdaptiveOptions{tolerance, tau_min, tau_max};
-  // (a step size is given: tau_max's, unless nd_problem_set_timestep gives another)
-  if (tolerance > 0 && !(def_.given & kTimestep)) set_timestep(tau_max);
   state_.control.tau_next = 0;
   changed(kAdaptive);
+  // (a step size is given: tau_max's, unless nd_problem_set_timestep gives
+  // another; turned off, the steps take the size it gave again)
+  if (tolerance > 0 && !(def_.given & kTimestep)) set_timestep(tau_max);
+  if (!(tolerance > 0) && was_on && def_.tau != def_.tau_given) set_timestep(def_.tau_given);
 }
 
 void Problem::set_initial_state(const double *u0, const double *v0) {

@@ -181,7 +181,8 @@ class Problem {
   // one step of size def_.tau; with `attempt`, judged as an adaptive step
   // (its error estimate, its first touch), which throws Rejected to retry
   struct Attempt {
-    bool may_land = true;  // the step may be cut to land at the first touch
+    bool may_land = true;   // the step may be cut to land at the first touch
+    bool retried = false;   // a try of this step was rejected or failed
   };
   void step_once(const Attempt *attempt);
   // adaptive steps (problem/adaptive_step.cpp)

@@ -22,8 +22,12 @@ struct AdaptiveOptions {
 // (V^{n+1} - V^n)/tau, from which the next estimates u'''.
 struct StepControl {
   double tau_next = 0, tau_last = 0, ratio = 0, scale = 0;
+  // the accepted steps left that may not grow (kHoldSteps after a step that
+  // needed a retry): a size that just failed is not tried again at once
+  double hold = 0;
   std::vector<double> a_mean;
 };
+constexpr int kHoldSteps = 8;
 
 // Sizes are tau_max / 2^k (and tau_min): a run returns to the same few
 // sizes, whose step operators' factors the problem keeps (kKeptSizes), and

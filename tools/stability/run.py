@@ -12,7 +12,9 @@ silent failure (ND_OK on a step whose energy or penetration was past the
 limits). Every run a guard stops during the steps (ND_ERR_ENERGY_GROWTH,
 ND_ERR_PENETRATION) is run again with those guards off and judged on that
 rerun: justified when it then fails, gains energy or sinks, a false alarm
-otherwise (column rerun_unguarded; stability_case's header). Writes
+otherwise (column rerun_unguarded; stability_case's header). Every run
+Newton stops (ND_ERR_NEWTON) is run again with adaptive time steps (column
+rerun_adaptive): mended when it then reaches T. Writes
 OUT/data/stability.csv and OUT/STABILITY.md, generated from the CSV only.
 Exit status 1 when any run is a silent failure or a false alarm.
 """
@@ -30,7 +32,7 @@ import time
 HEAD = ["scene", "degree", "scheme", "Theta", "gamma0E", "tau", "steps", "outcome", "code", "step",
         "energy_growth", "max_penetration_over_h", "late", "newton_per_step", "wall_s", "theory", "message"]
 # the rerun's verdict, after the driver's columns
-CSV_HEAD = HEAD + ["rerun_unguarded"]
+CSV_HEAD = HEAD + ["rerun_unguarded", "rerun_adaptive"]
 GUARD_CODES = ("ND_ERR_ENERGY_GROWTH", "ND_ERR_PENETRATION")
 GAMMA0E = ["1e-8", "1e-6", "1e-4", "1e-2", "1", "1e2", "1e4"]
 
@@ -84,6 +86,21 @@ def judge(exe, meshes, row):
         why.append("sinks (%s x the penetration limit)" % pen)
     return ("justified: " if why else "false_alarm: ") + ("; ".join(why) if why else
                                                           "growth %s, balance +%s, penetration %s" % (growth, gain, pen))
+
+
+def adapt(exe, meshes, row):
+    """Reruns a run Newton stopped with adaptive time steps (the guards on):
+    'completed: N steps, R rejected', or what stopped it."""
+    if row["outcome"] != "stopped_at_step" or row["code"] != "ND_ERR_NEWTON":
+        return ""
+    r = subprocess.run([exe, row["scene"], str(row["degree"]), row["scheme"], row["Theta"], row["gamma0E"], meshes,
+                        "adaptive"], capture_output=True, text=True, timeout=600)
+    if r.returncode != 0:
+        return "error: " + r.stderr.strip()[:80]
+    outcome, code, steps, rejected = r.stdout.strip().split(",")
+    if outcome == "completed":
+        return "completed: %s steps, %s rejected" % (steps, rejected)
+    return "%s: %s after %s steps" % (outcome, code, steps)
 
 
 def table(head, rows):
@@ -144,6 +161,16 @@ def report(rows, out, seconds, quick):
         md.append(table(["scene", "P", "scheme", "Θ", "γ0 E", "code", "step", "rerun"],
                         [[r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], r["code"], r["step"],
                           r["rerun_unguarded"]] for r in alarms]))
+    newton = [r for r in rows if r.get("rerun_adaptive")]
+    mended = [r for r in newton if r["rerun_adaptive"].startswith("completed")]
+    md.append("\n## Newton failures rerun with adaptive time steps\n")
+    md.append("Each run stopped by ND_ERR_NEWTON at its fixed step is run again with adaptive steps "
+              "(`nd_problem_set_adaptive_timestep(3)`: tolerance 1e-2, tau_min = 1e-4 tau, tau_max = tau; the "
+              "guards on). **%d Newton failures, %d completed with adaptive steps.**\n" % (len(newton), len(mended)))
+    if newton:
+        md.append(table(["scene", "P", "scheme", "Θ", "γ0 E", "step", "adaptive rerun"],
+                        [[r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], r["step"],
+                          r["rerun_adaptive"]] for r in newton]))
     md.append("\n## Per scheme and γ0 E: what happened\n")
     md.append("Cells: C completed, R refused at setup, S stopped by a guard or failure during the run, "
               "X silent failure; one letter per (scene, degree, Θ) in the order of the rows of the CSV.\n")
@@ -185,8 +212,9 @@ def main():
     with cf.ThreadPoolExecutor(o.jobs) as pool:
         rows = list(pool.map(lambda c: run_one(exe, o.meshes, c), cases))
         verdicts = list(pool.map(lambda r: judge(exe, o.meshes, r), rows))
-    for r, v in zip(rows, verdicts):
-        r["rerun_unguarded"] = v
+        adapted = list(pool.map(lambda r: adapt(exe, o.meshes, r), rows))
+    for r, v, a in zip(rows, verdicts, adapted):
+        r["rerun_unguarded"], r["rerun_adaptive"] = v, a
     seconds = time.time() - t0
     with open(os.path.join(o.out, "data", "stability.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=CSV_HEAD)
@@ -200,6 +228,11 @@ def main():
                                                                     alarms))
     print("%d runs in %.0f s (OPENBLAS_NUM_THREADS=%s): %s" % (len(rows), seconds, env_threads,
                                                               ", ".join("%s %d" % kv for kv in sorted(by.items()))))
+    newton = [r["rerun_adaptive"] for r in rows if r["rerun_adaptive"]]
+    print("%d Newton failures rerun with adaptive steps: %d completed" %
+          (len(newton), sum(a.startswith("completed") for a in newton)))
+    # (an adaptive rerun that completes past the limits is a silent failure too)
+    silent += sum(a.startswith("silent") for a in newton)
     print("%d passed, %d failed" % (len(rows) - silent, silent))
     return 1 if silent or alarms else 0
 

@@ -32,7 +32,17 @@
  * Newton), gains (energy_growth > 1.05 or balance_gain > 0.05) or sinks
  * (penetration_ratio > 4), and a false alarm otherwise.
  *
- * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded]
+ * With `adaptive` instead, the run is made again with the guards on and
+ * adaptive time steps (nd_problem_set_adaptive_timestep: tolerance 1e-2,
+ * tau_min = 1e-4 tau, tau_max = tau) to T (within 20 times the fixed
+ * steps), to see whether a step size the
+ * library chooses mends a failure of the fixed step (Newton), and prints
+ *
+ *   outcome,code,steps,rejected
+ *
+ * outcome as above (a completed run past the limits: silent_failure).
+ *
+ * usage: stability_case SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded|adaptive]
  *   SCENE   bar | rect | disk       SCHEME  hybrid | newmark | theta1 | explicit | galpha,
  *   each with the suffixes (any of them, in this order) _damped for Rayleigh
  *   damping alpha = 0.05, beta = 0.1 tau (damping ratio about 0.1 at the
@@ -73,11 +83,11 @@ static double now(void) {
 }
 
 int main(int argc, char **argv) {
-  if (argc != 7 && !(argc == 8 && !strcmp(argv[7], "unguarded"))) {
-    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded]\n", argv[0]);
+  if (argc != 7 && !(argc == 8 && (!strcmp(argv[7], "unguarded") || !strcmp(argv[7], "adaptive")))) {
+    fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded|adaptive]\n", argv[0]);
     return 2;
   }
-  const int unguarded = argc == 8;
+  const int unguarded = argc == 8 && !strcmp(argv[7], "unguarded");
   const char *scene = argv[1], *scheme_arg = argv[3];
   char scheme_name[32];
   snprintf(scheme_name, sizeof scheme_name, "%s", scheme_arg);
@@ -158,6 +168,8 @@ int main(int argc, char **argv) {
   if (!st && damped) st = nd_problem_set_damping(p, 0.05, 0.1 * tau);
   const double F = 0.3;
   if (!st && friction) st = nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F);
+  const int adaptive = argc == 8 && !strcmp(argv[7], "adaptive");
+  if (!st && adaptive) st = nd_problem_set_adaptive_timestep(p, 1e-2, 1e-4 * tau, tau);
   if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY, 0);
   if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0);
   if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0);
@@ -204,7 +216,8 @@ int main(int argc, char **argv) {
   if (st) {
     outcome = "refused_at_setup", code = st;
   } else {
-    for (k = 1; k <= steps; ++k) {
+    /* (adaptive: to T, within 20 times the fixed steps) */
+    for (k = 1; adaptive ? get(p, ND_TIME) < T * (1 - 1e-12) && k <= 20 * steps : k <= steps; ++k) {
       st = nd_step(p);
       if (st) {
         outcome = "stopped_at_step", code = st;
@@ -234,6 +247,13 @@ int main(int argc, char **argv) {
     }
   }
   if (!code && late) outcome = "silent_failure";
+  if (adaptive) {
+    if (!code && get(p, ND_TIME) < T * (1 - 1e-12)) outcome = "stopped_at_step";  /* (out of steps) */
+    printf("%s,%s,%" PRId64 ",%.0f\n", outcome, code_name(code), (int64_t)get(p, ND_STEP_INDEX),
+           get(p, ND_STAT_STEPS_REJECTED));
+    nd_problem_destroy(&p);
+    return 0;
+  }
   if (unguarded) {
     printf("%s,%s,%" PRId64 ",%.4g,%.4g,%.4g\n", outcome, code_name(code), code ? k : (int64_t)0, growth, rise,
            pen_ratio);
