@@ -26,7 +26,8 @@
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
 #   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
 #   make stability-quick  its small plan (a test of make check too): $(BUILD)/stability-quick/
-#   make meshes     regenerate examples/meshes/*.msh from the .geo sources (gmsh)
+#   make meshes     regenerate examples/meshes/*.msh (and the gmsh-written fixtures of
+#                   tests/fixtures) from the .geo sources (gmsh)
 # no "Entering/Leaving directory" lines from the makes that CMake runs
 MAKEFLAGS += --no-print-directory
 export MAKEFLAGS
@@ -176,6 +177,14 @@ meshes:
 	  gmsh -3 -setnumber h $$h -format msh41 $(MESHES)/ball.geo -o $(MESHES)/ball_h$$h.msh || exit 1; \
 	done
 	gmsh -2 -setnumber h 0.5 -format msh41 $(MESHES)/disk.geo -o $(MESHES)/disk_h0.5.msh
+	for h in 4 2 1; do \
+	  gmsh -2 -setnumber h $$h -format msh41 $(MESHES)/disk_quad.geo -o $(MESHES)/disk_quad_h$$h.msh || exit 1; \
+	done
+	for h in 4 2; do \
+	  gmsh -3 -setnumber h $$h -format msh41 $(MESHES)/ball_hex.geo -o $(MESHES)/ball_hex_h$$h.msh || exit 1; \
+	done
+	gmsh -2 -order 2 -setnumber dim 2 -format msh41 tests/fixtures/q2_cell.geo -o tests/fixtures/q2_quad.msh
+	gmsh -3 -order 2 -setnumber dim 3 -format msh41 tests/fixtures/q2_cell.geo -o tests/fixtures/q2_hex.msh
 
 clean:
 	rm -rf $(BUILD) build-sanitize $(FUZZ_BUILD) $(PETSC_BUILD)

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""The disk (2D) and ball (3D) of docs/design.md §7 solved by GetFEM, for bench/run.sh.
+"""The disk (2D) and ball (3D) of docs/design.md §7 solved by GetFEM, for bench/run.sh
+(simplices, or quadrilaterals and hexahedra: examples/meshes/disk_quad, ball_hex).
 
 GetFEM (Debian's python3-getfem) does the finite element work: the Gmsh mesh,
 the P1/P2 Lagrange space, elasticity and mass bricks, its Nitsche contact
@@ -26,6 +27,9 @@ Matching our formulation (docs/design.md §1-2):
 - Quadrature: IM_TRIANGLE(2p) / IM_TETRAHEDRON(2 or 5), whose face rules are
   exact for the polynomial parts, as ours; the points differ in 3D (the
   integrand [P]_+ is not polynomial), a difference of the discretization size.
+  Quadrilaterals and hexahedra (GT_QK from the mesh, FEM_QK(dim, p) by
+  set_classical_fem): IM_GAUSS_PARALLELEPIPED(dim, k), our rules: k = 2p for
+  K, 2p + dim - 1 for M, 2p + dim - 2 for the contact (its facets' rule).
 - Newton stops when ||G||_1 <= rtol (||r||_1 + ||c M U^n||_1) (GetFEM's max_res
   is absolute otherwise), rtol = 1e-10 as in our library.
 - Initial acceleration: U0 = 0, no contact (gap 5) and K_Theta U0 = 0, so
@@ -105,9 +109,17 @@ class Drop:
         m = load_mesh(mesh, dim)
         self.mf = gf.MeshFem(m, dim)
         self.mf.set_classical_fem(degree)
-        # exact for degree 2p (GetFEM has no IM_TETRAHEDRON(4): 5 for P2 in 3D)
-        rule = "IM_TRIANGLE(%d)" % (2 * degree) if dim == 2 else "IM_TETRAHEDRON(%d)" % (2 if degree == 1 else 5)
-        self.mim = gf.MeshIm(m, gf.Integ(rule))
+        # exact for degree 2p (GetFEM has no IM_TETRAHEDRON(4): 5 for P2 in 3D); on
+        # quadrilaterals and hexahedra (GT_QK, FEM_QK) our Gauss tensor rules
+        # (src/assembly/bulk.cpp, src/fem/facet.cpp), exact a variable to degree
+        # 2p (K), 2p + dim - 1 (M) and, on the facets, 2p + dim - 2 (contact)
+        if "QK" in m.geotrans()[0].char():
+            cube = lambda k: gf.MeshIm(m, gf.Integ("IM_GAUSS_PARALLELEPIPED(%d,%d)" % (dim, k)))
+            self.mim_k, self.mim = cube(2 * degree), cube(2 * degree + dim - 1)
+            self.mim_c = cube(2 * degree + dim - 2)
+        else:
+            rule = "IM_TRIANGLE(%d)" % (2 * degree) if dim == 2 else "IM_TETRAHEDRON(%d)" % (2 if degree == 1 else 5)
+            self.mim = self.mim_k = self.mim_c = gf.MeshIm(m, gf.Integ(rule))
         n = self.mf.nbdof()
         self.n = n
 
@@ -117,7 +129,7 @@ class Drop:
         md.add_fem_variable("u", self.mf)
         md.add_initialized_data("lambda", [LAMBDA])
         md.add_initialized_data("mu", [MU])
-        md.add_isotropic_linearized_elasticity_brick(self.mim, "u", "lambda", "mu")  # plane strain in 2D
+        md.add_isotropic_linearized_elasticity_brick(self.mim_k, "u", "lambda", "mu")  # plane strain in 2D
         md.add_initialized_data("c", [self.c])
         md.add_mass_brick(self.mim, "u", "c")  # c M, rho = 1
         self.i_rhs = md.add_explicit_rhs("u", np.zeros(n))
@@ -130,12 +142,12 @@ class Drop:
         # sigma_n n: the normal part only (see the docstring)
         self.sigma_n = "(((lambda*Trace(Grad_u)*Id(%d) + mu*(Grad_u + Grad_u')) * %s).%s)" % (dim, nc, nc)
         neumann = "(%s*%s)" % (self.sigma_n, nc)
-        md.add_Nitsche_contact_with_rigid_obstacle_brick(self.mim, "u", neumann, "obstacle", "gamma0_getfem",
+        md.add_Nitsche_contact_with_rigid_obstacle_brick(self.mim_c, "u", neumann, "obstacle", "gamma0_getfem",
                                                          CONTACT, THETA)
         self.md = md
 
         self.M = gf.asm_mass_matrix(self.mim, self.mf)
-        self.K = gf.asm_generic(self.mim, 2, "lambda*Div_Test_u*Div_Test2_u + 2*mu*Sym(Grad_Test_u):Sym(Grad_Test2_u)",
+        self.K = gf.asm_generic(self.mim_k, 2, "lambda*Div_Test_u*Div_Test2_u + 2*mu*Sym(Grad_Test_u):Sym(Grad_Test2_u)",
                                 -1, md)
         g = np.zeros(n)
         g[dim - 1::dim] = -0.1  # body force (0, -0.1) or (0, 0, -0.1), components interleaved
@@ -167,7 +179,7 @@ class Drop:
         """sum_q w_q [P_q]_+ / gamma_q, P = u.n - g0 - gamma n.sigma(u)n (our ND_CONTACT_FORCE)."""
         G = "(element_size/gamma0_getfem)"
         expr = "pos_part(u.%s - obstacle - %s*%s)/%s" % (self.nc, G, self.sigma_n, G)
-        return float(gf.asm_generic(self.mim, 0, expr, CONTACT, self.md))
+        return float(gf.asm_generic(self.mim_c, 0, expr, CONTACT, self.md))
 
 
 def check_brick(mesh, dim, degree):
@@ -184,7 +196,7 @@ def check_brick(mesh, dim, degree):
     sv = "(((lambda*Trace(Grad_Test_u)*Id(%d) + mu*(Grad_Test_u + Grad_Test_u')) * %s).%s)" % (dim, d.nc, d.nc)
     P = "(u.%s - obstacle - %s*%s)" % (d.nc, G, d.sigma_n)
     expr = "-%g*%s*%s*%s + pos_part(%s)/%s*(Test_u.%s - %g*%s*%s)" % (THETA, G, d.sigma_n, sv, P, G, d.nc, THETA, G, sv)
-    Rp = np.asarray(gf.asm_generic(d.mim, 1, expr, CONTACT, d.md))
+    Rp = np.asarray(gf.asm_generic(d.mim_c, 1, expr, CONTACT, d.md))
     print("check-brick %s P%d: max |GetFEM - DESIGN| / max |DESIGN| = %.2e (contact force %.6g)"
           % (os.path.basename(mesh), degree, np.abs(R - Rp).max() / np.abs(Rp).max(), d.contact_force()))
 

@@ -50,22 +50,10 @@ $py bench/getfem_drop.py --header > "$getfem"
   echo "blas_core=$($py bench/blas_core.py 2>/dev/null || echo unknown)"
   echo "mode=$mode"; } > "$out/machine.txt"
 # GetFEM's Nitsche brick, as configured, against docs/design.md §1's terms
-: > "$out/check_brick.txt"
-for c in disk_h4:2:1 disk_h4:2:2 ball_h4:3:1 ball_h4:3:2; do
-  IFS=: read -r mesh dim degree <<EOF
-$c
-EOF
-  $py bench/getfem_drop.py --check-brick "$meshes/$mesh.msh" "$dim" "$degree" >> "$out/check_brick.txt"
-done
+. bench/pair.sh
+check_bricks "$out/check_brick.txt" disk_h4:2:1 disk_h4:2:2 ball_h4:3:1 ball_h4:3:2
 for entry in $plan; do
-  IFS=: read -r mesh dim degree T only <<EOF
-$entry
-EOF
-  tag=${mesh}_P$degree
-  OPENBLAS_NUM_THREADS=1 "$build/disk_bench" "$dim" "$meshes/$mesh.msh" "$degree" 0.05 "$T" 0 newmark \
-    "$out/history/ours_$tag.csv" >> "$ours"
-  [ "$only" = ours ] || OPENBLAS_NUM_THREADS=1 $py bench/getfem_drop.py "$meshes/$mesh.msh" "$dim" "$degree" 0.05 \
-    "$T" "$out/history/getfem_$tag.csv" >> "$getfem"
+  run_pair "$ours" "$getfem" "$out/history" P "$entry"
   # the BLAS comparison: alternating rounds (bench/perf_report.py keeps the
   # fastest run of each setting); a loop under a second is at the mercy of the
   # machine's other jobs (a 65 ms loop differed by 1.35x between two runs of
@@ -105,6 +93,8 @@ if [ "$mode" != quick ]; then
     OPENBLAS_NUM_THREADS=1 "$build/guard_cost" "$meshes/disk_h1.msh" "$degree" >> "$guards"
   done
   # (the Newton tangent paths, bench/tangent.sh, take longer: make bench-tangent)
+  # quadrilaterals and hexahedra, ours and GetFEM's (about 5 minutes)
+  sh bench/quads.sh "$build" "$out"
 fi
 $py bench/perf_report.py --results "$out" --out "$report"
 echo "written: $out/*.csv, $report"

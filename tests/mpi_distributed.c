@@ -184,13 +184,17 @@ END_TEST
 /* The schemes that carry an acceleration (their right-hand sides read M A^n
  * as well: with split operators a rank holds its rows of it only), and the
  * theta scheme, on split rows with MUMPS: the same histories as one process
- * with CHOLMOD, to 1e-8, and the same active sets. */
+ * with CHOLMOD, to 1e-8, and the same active sets. On the disk and ball of
+ * simplices, and of quadrilaterals and hexahedra (Q1: disk_quad_h4,
+ * ball_hex_h4). */
 START_TEST(implicit_schemes_on_split_rows) {
   const int schemes[] = {ND_SCHEME_NEWMARK, ND_SCHEME_GENERALIZED_ALPHA, ND_SCHEME_THETA};
   const double params[][2] = {{0.25, 0.5}, {0.8, 0}, {0.75, 0}};
-  for (int dim = 2; dim <= 3; ++dim) {
+  static const char *const meshes[] = {"disk_h4", "ball_h4", "disk_quad_h4", "ball_hex_h4"};
+  for (int m = 0; m < 4; ++m) {
+    const int dim = 2 + m % 2;
     char mesh[512];
-    snprintf(mesh, sizeof mesh, "%s/%s_h4.msh", ND_MESH_DIR, dim == 2 ? "disk" : "ball");
+    snprintf(mesh, sizeof mesh, "%s/%s.msh", ND_MESH_DIR, meshes[m]);
     for (int k = 0; k < 3; ++k) {
       history serial, split;
       for (int distributed = 0; distributed <= 1; ++distributed) {
@@ -201,15 +205,17 @@ START_TEST(implicit_schemes_on_split_rows) {
         run(p, distributed ? &split : &serial);
         ND_OK_OR_FAIL(nd_problem_destroy(&p));
       }
-      ck_assert_msg(max_abs(serial.force, kSteps) > 0, "%dD scheme %d: no impact within the horizon", dim, schemes[k]);
+      ck_assert_msg(max_abs(serial.force, kSteps) > 0, "%s scheme %d: no impact within the horizon", meshes[m],
+                    schemes[k]);
       const double e = relative_gap(serial.energy, split.energy, kSteps);
       const double f = relative_gap(serial.force, split.force, kSteps);
       if (g_rank == 0)
-        printf("%dD scheme %d, %d rank(s): energy %.2e force %.2e off one process\n", dim, schemes[k], g_size, e, f);
-      ck_assert_msg(nd_test_on_all_ranks(e <= 1e-8 && f <= 1e-8), "%dD scheme %d: energy %.3g, force %.3g", dim, schemes[k],
-                    e, f);
+        printf("%s scheme %d, %d rank(s): energy %.2e force %.2e off one process\n", meshes[m], schemes[k], g_size, e,
+               f);
+      ck_assert_msg(nd_test_on_all_ranks(e <= 1e-8 && f <= 1e-8), "%s scheme %d: energy %.3g, force %.3g", meshes[m],
+                    schemes[k], e, f);
       ck_assert_msg(nd_test_on_all_ranks(memcmp(serial.active, split.active, sizeof serial.active) == 0),
-                    "%dD scheme %d: the active sets differ", dim, schemes[k]);
+                    "%s scheme %d: the active sets differ", meshes[m], schemes[k]);
     }
   }
 }

@@ -42,6 +42,7 @@ typedef struct {
   int dim, degree, law;
   double coefficient, alpha, theta, tau;
   const nd_test_scheme *scheme;
+  int quads; /* 1: quadrilaterals (hexahedra) on the same grid, 0 (default): simplices */
 } block_spec;
 
 /* the block's mass: rho = 1, volume 2 (area 2 in 2D, per unit thickness) */
@@ -53,11 +54,15 @@ static nd_problem block(const block_spec *b) {
   const int coarse = b->degree == 2;
   if (b->dim == 2) {
     const double lo[2] = {0, 0}, hi[2] = {2, 1}, blo[2] = {-1, -1e-9}, bhi[2] = {3, 1e-9};
-    ND_OK_OR_FAIL(nd_mesh_create_rectangle(coarse ? 4 : 8, coarse ? 2 : 4, lo, hi, &m));
+    if (b->quads) ND_OK_OR_FAIL(nd_mesh_create_rectangle_cells(coarse ? 4 : 8, coarse ? 2 : 4, lo, hi,
+                                                               ND_CELL_QUADRILATERAL, &m));
+    else ND_OK_OR_FAIL(nd_mesh_create_rectangle(coarse ? 4 : 8, coarse ? 2 : 4, lo, hi, &m));
     ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
   } else {
     const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1}, blo[3] = {-1, -1, -1e-9}, bhi[3] = {3, 2, 1e-9};
-    ND_OK_OR_FAIL(nd_mesh_create_box(coarse ? 2 : 4, coarse ? 1 : 2, coarse ? 1 : 2, lo, hi, &m));
+    if (b->quads) ND_OK_OR_FAIL(nd_mesh_create_box_cells(coarse ? 2 : 4, coarse ? 1 : 2, coarse ? 1 : 2, lo, hi,
+                                                         ND_CELL_HEXAHEDRON, &m));
+    else ND_OK_OR_FAIL(nd_mesh_create_box(coarse ? 2 : 4, coarse ? 1 : 2, coarse ? 1 : 2, lo, hi, &m));
     ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, blo, bhi));
   }
   ND_OK_OR_FAIL(nd_problem_create(m, b->degree, &p));
@@ -104,13 +109,14 @@ static const nd_test_scheme kTheta1 = {ND_SCHEME_THETA, {1, 0}}, kHybrid = {ND_S
 
 /* Coulomb's law seen from the resultants: whenever every active point
    slides, |f_t| = F f_n in 2D (f_t along -x: the block slides down the
-   slope), and |f_t| <= F f_n (the cone) in 3D; for every scheme, P1, P2. */
+   slope), and |f_t| <= F f_n (the cone) in 3D; for every scheme (the
+   explicit one too), P1, P2; on simplices (_i = 0) and Q cells (_i = 1). */
 START_TEST(coulomb_tangential_is_F_times_normal) {
   const double F = 0.3;
   for (int dim = 2; dim <= 3; ++dim)
     for (int degree = 1; degree <= (dim == 2 ? 2 : 1); ++degree)  /* (3D P2: the cone holds alike; its cost, not) */
       for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
-        const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 2e-3, &nd_test_schemes[k]};
+        const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 2e-3, &nd_test_schemes[k], _i};
         nd_problem p = block(&b);
         int sliding_steps = 0;
         double worst = 0;
@@ -129,8 +135,8 @@ START_TEST(coulomb_tangential_is_F_times_normal) {
           }
         }
         if (dim == 2)
-          printf("dim 2 P%d scheme %d: %d steps all sliding, max |f_x + F f_n|/(F f_n) = %.2e\n", degree, k,
-                 sliding_steps, worst);
+          printf("dim 2 %s%d scheme %d: %d steps all sliding, max |f_x + F f_n|/(F f_n) = %.2e\n", _i ? "Q" : "P",
+                 degree, k, sliding_steps, worst);
         if (dim == 2) {
           ck_assert_int_gt(sliding_steps, 0);
           ck_assert_double_le(worst, 1e-12);
@@ -147,7 +153,7 @@ END_TEST
    every point sliding f_t,x = -F f_n, the acceleration is g sin - F f_n/m. */
 START_TEST(coulomb_momentum_is_the_impulse) {
   const double F = 0.3, alpha = 0.5;
-  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, alpha, 1, 2e-3, &kTheta1};
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, alpha, 1, 2e-3, &kTheta1, 0};
   nd_problem p = block(&b);
   double P = scalar(p, ND_MOMENTUM_X), worst = 0, fn_sum = 0;
   const int steps = 1000, from = 500;
@@ -183,7 +189,7 @@ END_TEST
 START_TEST(coulomb_sticks_below_the_angle) {
   const double F = 0.3, alpha = atan(0.2);
   for (int dim = 2; dim <= 3; ++dim) {
-    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, F, alpha, 1, 2e-3, &kTheta1};
+    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, F, alpha, 1, 2e-3, &kTheta1, 0};
     nd_problem p = block(&b);
     for (int n = 0; n < 500; ++n) ND_OK_OR_FAIL(nd_step(p));
     const double D = scalar(p, ND_DISSIPATION_FRICTION), P0 = scalar(p, ND_MOMENTUM_X);
@@ -210,7 +216,7 @@ START_TEST(tresca_threshold) {
   /* m g sin(alpha) = 0.959: above s L = 0.4, below 1.2 */
   const double s_slide = 0.2, s_stick = 0.6, alpha = 0.5;
   {
-    const block_spec b = {2, 1, ND_FRICTION_TRESCA, s_slide, alpha, 1, 2e-3, &kTheta1};
+    const block_spec b = {2, 1, ND_FRICTION_TRESCA, s_slide, alpha, 1, 2e-3, &kTheta1, 0};
     nd_problem p = block(&b);
     double worst = 0;
     for (int n = 0; n < 300; ++n) {
@@ -224,7 +230,7 @@ START_TEST(tresca_threshold) {
   }
   {  /* sticking: nothing slides, nothing more is dissipated, and (theta = 1:
         the momentum is the impulse) friction carries m g sin - dP_x/tau */
-    const block_spec b = {2, 1, ND_FRICTION_TRESCA, s_stick, alpha, 1, 2e-3, &kTheta1};
+    const block_spec b = {2, 1, ND_FRICTION_TRESCA, s_stick, alpha, 1, 2e-3, &kTheta1, 0};
     nd_problem p = block(&b);
     for (int n = 0; n < 200; ++n) ND_OK_OR_FAIL(nd_step(p));
     const double D = scalar(p, ND_DISSIPATION_FRICTION);
@@ -278,6 +284,7 @@ static int hybrid_ledger(nd_problem p, int steps, double F, const char *label) {
   return sliding_steps;
 }
 
+/* (_i = 0: simplices, 1: quadrilaterals and hexahedra, Q1 and Q2) */
 START_TEST(hybrid_ledger_never_increases) {
   struct {
     int law;
@@ -287,10 +294,11 @@ START_TEST(hybrid_ledger_never_increases) {
     for (int degree = 1; degree <= 2; ++degree)
       for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         if (dim == 3 && degree == 2 && c > 0) continue;  /* (3D P2: one case; the others' cost, not their checks) */
-        const block_spec b = {dim, degree, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid};
+        const block_spec b = {dim, degree, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid, _i};
         nd_problem p = block(&b);
         char label[64];
-        snprintf(label, sizeof label, "hybrid dim %d P%d law %d alpha %.1f", dim, degree, cases[c].law, cases[c].alpha);
+        snprintf(label, sizeof label, "hybrid dim %d %s%d law %d alpha %.1f", dim, _i ? "Q" : "P", degree, cases[c].law,
+                 cases[c].alpha);
         hybrid_ledger(p, 150, 0, label);
         ND_OK_OR_FAIL(nd_problem_destroy(&p));
       }
@@ -304,7 +312,7 @@ END_TEST
    checked to that share and a step); once stopped it sticks for good. */
 START_TEST(launched_block_stops) {
   const double F = 0.3, v0 = 0.3;
-  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1};
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1, 0};
   nd_problem p = block(&b);
   launch(p, 2, v0);
   int64_t nn = 0;
@@ -596,7 +604,7 @@ START_TEST(friction_with_mass_redistribution) {
   const double F = 0.3;
   for (int dim = 2; dim <= 3; ++dim)
     for (int degree = 1; degree <= (dim == 2 ? 2 : 1); ++degree) {  /* (3D P2: its cost, not its check) */
-      const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 2e-3, &kHybrid};
+      const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 2e-3, &kHybrid, 0};
       nd_problem p = block(&b);
       ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
       char label[64];
@@ -614,7 +622,7 @@ START_TEST(friction_with_mass_redistribution) {
   for (int dim = 2; dim <= 3; ++dim)
     for (int degree = 1; degree <= (dim == 2 ? 2 : 1); ++degree) {
       const nd_test_scheme central = {ND_SCHEME_NEWMARK, {0, 0.5}};
-      const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 0, &central};
+      const block_spec b = {dim, degree, ND_FRICTION_COULOMB, F, 0.5, 1, 0, &central, 0};
       nd_problem p = block(&b);
       ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, 1));
       ND_OK_OR_FAIL(nd_problem_set_newton(p, 0, 0, 50));
@@ -701,7 +709,7 @@ END_TEST
    the frictionless trajectory, to the Newton tolerance. */
 START_TEST(zero_coefficient_is_frictionless) {
   for (int redistributed = 0; redistributed <= 1; ++redistributed) {  /* (and with mass redistribution, both) */
-    const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0, 0.5, 0, 2e-3, &kTheta1};
+    const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0, 0.5, 0, 2e-3, &kTheta1, 0};
     block_spec f = b;
     f.law = ND_FRICTION_NONE;
     nd_problem p = block(&b), q = block(&f);
@@ -741,7 +749,7 @@ START_TEST(galilean_moving_plane) {
   const double v = 0.7, alphas[2] = {0.5, 0.1};
   for (int a = 0; a < 2; ++a)
     for (int k = 0; k < ND_TEST_N_SCHEMES; ++k) {
-      const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, alphas[a], 1, 2e-3, &nd_test_schemes[k]};
+      const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, alphas[a], 1, 2e-3, &nd_test_schemes[k], 0};
       nd_problem still = block(&b), moving = block(&b);
       launch(moving, 2, v);
       int64_t nn = 0;
@@ -801,7 +809,7 @@ END_TEST
     - carried: from 0.3 s after, no point slides and D_f stays, bitwise. */
 START_TEST(conveyor_drags_then_carries) {
   const double F = 0.1, v = 0.1;
-  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1};
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, F, 0, 1, 1e-3, &kTheta1, 0};
   nd_problem p = block(&b);
   int64_t nn = 0;
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
@@ -868,7 +876,7 @@ START_TEST(hybrid_ledger_moving_plane) {
   const double v = 0.3, a = 1e-4, omega = 20;
   for (int dim = 2; dim <= 3; ++dim)
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-      const block_spec b = {dim, 1, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid};
+      const block_spec b = {dim, 1, cases[c].law, cases[c].coefficient, cases[c].alpha, 1, 2e-3, &kHybrid, 0};
       nd_problem p = block(&b);
       /* (the identity is the solved step's: in 3D the sliding turns, the
          projection on the disk is curved, and Newton's default tolerance
@@ -909,7 +917,7 @@ START_TEST(restart_is_bitwise) {
   const nd_test_scheme central = {ND_SCHEME_NEWMARK, {0, 0.5}};
   const int dim = _i;
   for (int redistributed = 0; redistributed <= (dim == 2); ++redistributed) {  /* (and an explicit step with it) */
-    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, redistributed ? &central : &kHybrid};
+    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, redistributed ? &central : &kHybrid, 0};
     nd_problem p = block(&b), q = block(&b);
     ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(p, redistributed));
     ND_OK_OR_FAIL(nd_problem_set_mass_redistribution(q, redistributed));
@@ -949,7 +957,7 @@ END_TEST
 START_TEST(restart_moving_plane_is_bitwise) {
   const double v = 0.3;
   for (int dim = 2; dim <= 3; ++dim) {
-    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, 0.3, 0.1, 1, 2e-3, &kHybrid};
+    const block_spec b = {dim, 1, ND_FRICTION_COULOMB, 0.3, 0.1, 1, 2e-3, &kHybrid, 0};
     nd_problem p = block(&b), q = block(&b);
     for (int n = 1; n <= 60; ++n) {
       place_plane(p, dim, v * n * b.tau, 0, 0);
@@ -986,7 +994,7 @@ END_TEST
    one, so no slip is shifted and no work counted (the block's plane
    through (5, 0), tilted by 1e-6, in place of the one through the origin). */
 START_TEST(replaced_plane_counts_no_work) {
-  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, &kTheta1};
+  const block_spec b = {2, 1, ND_FRICTION_COULOMB, 0.3, 0.5, 1, 2e-3, &kTheta1, 0};
   nd_problem p = block(&b);
   for (int n = 0; n < 50; ++n) ND_OK_OR_FAIL(nd_step(p));
   const double point[2] = {5, 0}, tilted[2] = {1e-6, 1};
@@ -1002,11 +1010,11 @@ int main(void) {
   Suite *s = suite_create("friction");
   TCase *tc = tcase_create("friction");
   tcase_set_timeout(tc, 600);
-  tcase_add_test(tc, coulomb_tangential_is_F_times_normal);
+  tcase_add_loop_test(tc, coulomb_tangential_is_F_times_normal, 0, 2);
   tcase_add_test(tc, coulomb_momentum_is_the_impulse);
   tcase_add_test(tc, coulomb_sticks_below_the_angle);
   tcase_add_test(tc, tresca_threshold);
-  tcase_add_test(tc, hybrid_ledger_never_increases);
+  tcase_add_loop_test(tc, hybrid_ledger_never_increases, 0, 2);
   tcase_add_test(tc, launched_block_stops);
   tcase_add_test(tc, oblique_impact_at_gross_slip);
   tcase_add_test(tc, oblique_impact_spin);

@@ -22,12 +22,15 @@ static double scalar(nd_problem p, int key) {
   return x;
 }
 
-/* the disk with its material, gravity and Nitsche parameters; no obstacle */
-static nd_problem disk(int scheme, const double *params, double tau) {
+/* the disk (a mesh of examples/meshes, degree) with its material, gravity
+   and Nitsche parameters; no obstacle */
+static nd_problem disk_of(const char *mesh, int degree, int scheme, const double *params, double tau) {
   nd_mesh m = NULL;
   nd_problem p = NULL;
-  ND_OK_OR_FAIL(nd_mesh_read_gmsh(ND_MESH_DIR "/disk_h4.msh", &m));
-  ND_OK_OR_FAIL(nd_problem_create(m, 1, &p));
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", ND_MESH_DIR, mesh);
+  ND_OK_OR_FAIL(nd_mesh_read_gmsh(path, &m));
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&m));
   const double lambda = 20, mu = 20;
   const double young = mu * (3 * lambda + 2 * mu) / (lambda + mu), nu = lambda / (2 * (lambda + mu));
@@ -38,6 +41,9 @@ static nd_problem disk(int scheme, const double *params, double tau) {
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, scheme, params));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
   return p;
+}
+static nd_problem disk(int scheme, const double *params, double tau) {
+  return disk_of("disk_h4.msh", 1, scheme, params, tau);
 }
 
 static int64_t nodes(nd_problem p) {
@@ -133,13 +139,14 @@ START_TEST(galilean_invariance) {
      (axis x, top at z = 0); body and cylinder translating together along
      the axis at vx, vs both at rest: the relative motion is the same (a
      rigid translation has no strain; the cylinder's normals and distances
-     do not depend on x): to round-off */
+     do not depend on x): to round-off. _i = 1: the ball in hexahedra
+     (ball_hex_h4), Q1 */
   const double vx = 0.5, tau = 0.1, point[3] = {0, 0, -40}, axis[3] = {1, 0, 0}, g[3] = {0, 0, -kG};
   const double down[3] = {0, 0, -1};
   nd_problem q[2];
   for (int k = 0; k < 2; ++k) {
     nd_mesh m = NULL;
-    ND_OK_OR_FAIL(nd_mesh_read_gmsh(ND_MESH_DIR "/ball_h4.msh", &m));
+    ND_OK_OR_FAIL(nd_mesh_read_gmsh(_i ? ND_MESH_DIR "/ball_hex_h4.msh" : ND_MESH_DIR "/ball_h4.msh", &m));
     ND_OK_OR_FAIL(nd_problem_create(m, 1, &q[k]));
     ND_OK_OR_FAIL(nd_mesh_destroy(&m));
     ND_OK_OR_FAIL(nd_problem_set_material(q[k], 100, 0.25, 1.0));
@@ -178,9 +185,10 @@ START_TEST(galilean_invariance) {
       }
     active = fmax(active, scalar(b, ND_ACTIVE_POINTS));
   }
-  printf("Galilean (ball on a cylinder, along its axis): max |(u - vx t) - u_rest| = %.3g (max |u| %.3g), "
+  printf("Galilean (ball of %s on a cylinder, along its axis): max |(u - vx t) - u_rest| = %.3g (max |u| %.3g), "
          "%g and %g refreshes, up to %g active points\n",
-         diff, scale, scalar(a, ND_STAT_NORMAL_REFRESHES), scalar(b, ND_STAT_NORMAL_REFRESHES), active);
+         _i ? "hexahedra" : "tetrahedra", diff, scale, scalar(a, ND_STAT_NORMAL_REFRESHES),
+         scalar(b, ND_STAT_NORMAL_REFRESHES), active);
   fflush(stdout);
   ck_assert_double_gt(active, 0);
   ck_assert_double_gt(scalar(b, ND_STAT_NORMAL_REFRESHES), 0);
@@ -197,9 +205,10 @@ START_TEST(rotating_obstacle_work_closes_the_ledger) {
      omega: its centre swings sideways and pushes the disk. Hybrid, Theta =
      1: E_Theta - W - W_obstacle - W_geometry does not increase at any step,
      those that refresh the normals included (docs/design.md §10.1: the
-     re-linearisations' change of E_Theta at U^n is W_geometry) */
+     re-linearisations' change of E_Theta at U^n is W_geometry). _i: 0 the
+     triangles, P1; 1, 2 the disk in quadrilaterals (disk_quad_h4), Q1, Q2 */
   const double tau = 0.1, omega = 0.01, centre[2] = {0, -40}, zero[2] = {0, 0};
-  nd_problem p = disk(ND_SCHEME_HYBRID, NULL, tau);
+  nd_problem p = disk_of(_i ? "disk_quad_h4.msh" : "disk_h4.msh", _i ? _i : 1, ND_SCHEME_HYBRID, NULL, tau);
   ND_OK_OR_FAIL(nd_problem_add_contact_sphere(p, 1, centre, 40, 0));
   double prev = scalar(p, ND_ENERGY_AUGMENTED) - scalar(p, ND_WORK) - scalar(p, ND_WORK_OBSTACLE), worst = 0;
   double refresh_jumps = 0, refresh_steps = 0; /* W_geometry's part at the steps that refreshed normals */
@@ -217,9 +226,9 @@ START_TEST(rotating_obstacle_work_closes_the_ledger) {
                   k * tau, e - prev, scale);
     prev = e;
   }
-  printf("rotating circle: W_obstacle = %.6g, W = %.6g, W_geometry = %.3g, largest relative rise %.3g; %g refreshes "
-         "in %g steps, W_geometry changed by %.3g there\n",
-         scalar(p, ND_WORK_OBSTACLE), scalar(p, ND_WORK), scalar(p, ND_WORK_GEOMETRY), worst,
+  printf("rotating circle (%s%d): W_obstacle = %.6g, W = %.6g, W_geometry = %.3g, largest relative rise %.3g; %g "
+         "refreshes in %g steps, W_geometry changed by %.3g there\n",
+         _i ? "Q" : "P", _i ? _i : 1, scalar(p, ND_WORK_OBSTACLE), scalar(p, ND_WORK), scalar(p, ND_WORK_GEOMETRY), worst,
          scalar(p, ND_STAT_NORMAL_REFRESHES), refresh_steps, refresh_jumps);
   ck_assert_double_ne(scalar(p, ND_WORK_OBSTACLE), 0);
   ck_assert_double_gt(refresh_steps, 0);
@@ -406,8 +415,8 @@ int main(void) {
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, plane_as_callback_is_the_plane);
   tcase_add_test(tc, circle_approaches_the_plane_as_one_over_r);
-  tcase_add_test(tc, galilean_invariance);
-  tcase_add_test(tc, rotating_obstacle_work_closes_the_ledger);
+  tcase_add_loop_test(tc, galilean_invariance, 0, 2);
+  tcase_add_loop_test(tc, rotating_obstacle_work_closes_the_ledger, 0, 3);
   tcase_add_test(tc, failed_step_after_a_refresh_keeps_the_problem);
   tcase_add_test(tc, callback_failure_fails_the_step);
   tcase_add_test(tc, restart_is_bitwise);

@@ -564,6 +564,74 @@ START_TEST(gmsh_refuses_mixed_and_serendipity) {
 }
 END_TEST
 
+/* Gmsh's own 9-node quadrilateral and 27-node hexahedron (one cell each,
+   tests/fixtures/q2_cell.geo, written by gmsh 4.8 with -order 2): the
+   reader checks each of the element's other nodes against the mean of the
+   corners its table (gmsh.cpp's kQuad9, kHex27) says, so a wrong table
+   refuses the file; then the Q2 space's 9 (27) nodes are gmsh's, one to one
+   by position. The tolerance: gmsh places these nodes through its curves'
+   parametrizations, 1.3e-12 off the means here (the reader's 1e-9 of the
+   cell's extent); a node of another place is off by a quarter of an edge
+   at least. */
+static int64_t read_msh41_nodes(const char *path, double *x, int64_t room) {
+  FILE *f = fopen(path, "r");
+  ck_assert_ptr_nonnull(f);
+  char line[256];
+  while (fgets(line, sizeof line, f) && strncmp(line, "$Nodes", 6) != 0) {
+  }
+  long blocks = 0, total = 0, tag_min = 0, tag_max = 0;
+  ck_assert_int_eq(fscanf(f, "%ld %ld %ld %ld", &blocks, &total, &tag_min, &tag_max), 4);
+  ck_assert(total <= room && tag_min == 1 && tag_max == total); /* (gmsh numbers them 1..n) */
+  for (long b = 0; b < blocks; ++b) {
+    long edim = 0, etag = 0, param = 0, n = 0, tags[32];
+    ck_assert_int_eq(fscanf(f, "%ld %ld %ld %ld", &edim, &etag, &param, &n), 4);
+    ck_assert(n <= 32 && param == 0);
+    for (long i = 0; i < n; ++i) ck_assert_int_eq(fscanf(f, "%ld", &tags[i]), 1);
+    for (long i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) ck_assert_int_eq(fscanf(f, "%lf", &x[(tags[i] - 1) * 3 + k]), 1);
+  }
+  fclose(f);
+  return total;
+}
+
+START_TEST(gmsh_q2_node_order_is_gmsh_s) {
+  const int dim = 2 + _i;
+  const char *path = dim == 2 ? ND_FIXTURE_DIR "/q2_quad.msh" : ND_FIXTURE_DIR "/q2_hex.msh";
+  double xg[27 * 3];
+  const int64_t ng = read_msh41_nodes(path, xg, 27);
+  ck_assert_int_eq(ng, dim == 2 ? 9 : 27);
+  nd_mesh m = NULL;
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(nd_mesh_read_gmsh(path, &m));
+  int64_t cells = 0, facets = 0;
+  ND_OK_OR_FAIL(nd_mesh_get_cell_count(m, &cells));
+  ND_OK_OR_FAIL(nd_mesh_get_region_size(m, 5, &facets));
+  ck_assert_int_eq(cells, 1);
+  ck_assert_int_eq(facets, 1); /* (its 3- or 9-node facet read as the cell's) */
+  ND_OK_OR_FAIL(nd_problem_create(m, 2, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  ck_assert_int_eq(n, ng);
+  double x[27 * 3];
+  int taken[27] = {0};
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  const double extent = 3.0; /* the cell's */
+  for (int64_t g = 0; g < ng; ++g) {
+    int64_t twin = -1;
+    for (int64_t i = 0; i < n; ++i) {
+      double d = 0;
+      for (int k = 0; k < dim; ++k) d = fmax(d, fabs(x[i * dim + k] - xg[g * 3 + k]));
+      if (d <= 1e-9 * extent) twin = i;
+    }
+    ck_assert_msg(twin >= 0 && !taken[twin], "gmsh's node %lld (%g, %g, %g) is not one of the space's",
+                  (long long)g + 1, xg[g * 3], xg[g * 3 + 1], xg[g * 3 + 2]);
+    taken[twin] = 1;
+  }
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 /* ---- refusals -------------------------------------------------------------- */
 
 START_TEST(refusals) {
@@ -668,6 +736,7 @@ int main(void) {
   tcase_add_loop_test(tc, gmsh_reads_quadrilaterals_and_hexahedra, 0, 4);
   tcase_add_test(tc, gmsh_41_reads_quadrilaterals);
   tcase_add_test(tc, gmsh_refuses_mixed_and_serendipity);
+  tcase_add_loop_test(tc, gmsh_q2_node_order_is_gmsh_s, 0, 2);
   tcase_add_test(tc, refusals);
   tcase_add_loop_test(tc, redistribution_keeps_the_mass, 0, 4);
   suite_add_tcase(s, tc);

@@ -172,10 +172,12 @@ Setup build(const Scene &s, Problem &prob) {
   } else if (s.generate == "interval") {
     scene_call(nd_mesh_create_interval(s.cells[0], s.lo[0], s.hi[0], &mesh.m), s.mesh_at, "[mesh]");
   } else if (s.generate == "rectangle") {
-    scene_call(nd_mesh_create_rectangle(s.cells[0], s.cells[1], s.lo.data(), s.hi.data(), &mesh.m), s.mesh_at, "[mesh]");
+    scene_call(nd_mesh_create_rectangle_cells(s.cells[0], s.cells[1], s.lo.data(), s.hi.data(), s.cell_type, &mesh.m),
+               s.mesh_at, "[mesh]");
   } else {
-    scene_call(nd_mesh_create_box(s.cells[0], s.cells[1], s.cells[2], s.lo.data(), s.hi.data(), &mesh.m), s.mesh_at,
-               "[mesh]");
+    scene_call(nd_mesh_create_box_cells(s.cells[0], s.cells[1], s.cells[2], s.lo.data(), s.hi.data(), s.cell_type,
+                                        &mesh.m),
+               s.mesh_at, "[mesh]");
   }
   call(nd_mesh_get_dimension(mesh.m, &out.dim), "nd_mesh_get_dimension");
   ndcli::check_dimension(s, out.dim);
@@ -344,9 +346,10 @@ int run(const Options &opt) {
 
   if (!opt.quiet) {
     const double gamma0 = scalar(p, ND_GAMMA0), limit = scalar(p, ND_GAMMA0_LIMIT);
-    std::printf("%s%s%s: %dD, P%d, %" PRId64 " nodes (%" PRId64 " unknowns), %s scheme, Theta = %g, gamma0 = %g (%s"
+    std::printf("%s%s%s: %dD, %c%d, %" PRId64 " nodes (%" PRId64 " unknowns), %s scheme, Theta = %g, gamma0 = %g (%s"
                 "coercive up to %g), tau = %g, T = %g: %" PRId64 " steps\n",
-                s.file.c_str(), s.title.empty() ? "" : ": ", ndcli::printable(s.title).c_str(), su.dim, s.degree,
+                s.file.c_str(), s.title.empty() ? "" : ": ", ndcli::printable(s.title).c_str(), su.dim,
+                s.cell_type ? 'Q' : 'P', s.degree,
                 su.nodes, su.nodes * su.dim, s.scheme.c_str(), s.Theta, gamma0, s.gamma0 == 0 ? "automatic; " : "",
                 limit, s.tau, steps * s.tau, steps);
     std::fflush(stdout);

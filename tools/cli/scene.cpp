@@ -24,7 +24,7 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"", {"title", "mesh", "regions", "material", "loads", "dirichlet", "obstacle", "contact_pair", "nitsche",
             "scheme", "time", "solver", "initial", "output", "guards", "checkpoint"}},
-      {"mesh", {"gmsh", "generate", "cells", "lo", "hi", "degree"}},
+      {"mesh", {"gmsh", "generate", "cells", "cell_type", "lo", "hi", "degree"}},
       {"regions.NAME", {"id", "lo", "hi"}},
       {"material", {"E", "nu", "rho", "damping", "plane_stress", "region", "lo", "hi"}},
       {"loads", {"body_force", "traction", "nodal"}},
@@ -493,7 +493,7 @@ void read_mesh(const Reader &r, const toml::table &t, Scene &s) {
   if (!gmsh && !gen)
     r.fail(t.source(), "[mesh] has neither 'gmsh' (a Gmsh file) nor 'generate' (interval, rectangle or box)");
   if (gmsh) {
-    for (const char *k : {"cells", "lo", "hi"})
+    for (const char *k : {"cells", "cell_type", "lo", "hi"})
       if (const toml::node *n = t.get(k)) r.fail(n->source(), std::string("'mesh.") + k + "' is for a generated mesh");
     const std::filesystem::path p = r.string(*gmsh, "mesh", "gmsh");
     if (p.empty()) r.fail(gmsh->source(), "'mesh.gmsh' is empty");
@@ -532,6 +532,15 @@ void read_mesh(const Reader &r, const toml::table &t, Scene &s) {
                    " components for a " + s.generate);
     for (int k = 0; k < s.dim; ++k)
       if (!(s.lo[k] < s.hi[k])) r.fail(t.get("hi")->source(), "'mesh.hi' must exceed 'mesh.lo' in every component");
+    if (const toml::node *c = t.get("cell_type")) {  // the generator's cells: simplices (default) or whole
+      const std::string type = r.string(*c, "mesh", "cell_type");
+      const char *whole = s.dim == 2 ? "quadrilateral" : s.dim == 3 ? "hexahedron" : nullptr;
+      if (type == "simplex") s.cell_type = ND_CELL_SIMPLEX;
+      else if (whole && type == whole) s.cell_type = s.dim == 2 ? ND_CELL_QUADRILATERAL : ND_CELL_HEXAHEDRON;
+      else
+        r.fail(c->source(), "'mesh.cell_type' is \"" + type + "\": " + (s.dim == 1 ? "an " : "a ") + s.generate + " takes \"simplex\"" +
+                                (whole ? std::string(" or \"") + whole + "\"" : std::string()));
+    }
   }
   if (const toml::node *d = t.get("degree")) {
     s.degree = static_cast<int>(r.integer(*d, "mesh", "degree", 1, 2));

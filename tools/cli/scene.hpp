@@ -99,6 +99,7 @@ struct Scene {
   std::string gmsh_at;
   std::string generate;  // "interval", "rectangle", "box" or empty
   std::vector<int64_t> cells;
+  int cell_type = 0;  // ND_CELL_SIMPLEX, or ND_CELL_QUADRILATERAL / ND_CELL_HEXAHEDRON (whole cells)
   std::vector<double> lo, hi;
   int dim = 0;  // known after reading the mesh when it comes from Gmsh
   int degree = 1;

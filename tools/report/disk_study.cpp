@@ -22,8 +22,15 @@
 // the coarse field evaluated there (outside the coarse polygon, near the
 // curved boundary, the nearest cell's polynomial is extended).
 //
-//   disk_study --plan quick|full --out DIR [--repeat K]
-// writes DIR/disk.csv (a row per run) and DIR/disk_force.csv (histories).
+// With --cells quadrilateral the same disk meshed in quadrilaterals
+// (examples/meshes/disk_quad_h*.msh), Q1/Q2, the hybrid scheme alone, against
+// its own finest run (Q2); a last row compares the triangles' reference (P2,
+// h = 1 or 2 as the plan's) with it, status simplex-reference: the two
+// discretizations' limits must agree to their errors.
+//
+//   disk_study --plan quick|full --out DIR [--repeat K] [--cells simplex|quadrilateral]
+// writes DIR/disk.csv (a row per run) and DIR/disk_force.csv (histories), or
+// DIR/disk_quad.csv and DIR/disk_quad_force.csv.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,14 +56,19 @@ constexpr double kT = 14, kSnap1 = 12, kSnap2 = 14;
 // kTauDivides / tau is an integer (2 divides kSnap1, kSnap2 and kT)
 constexpr double kCflFraction = 0.9, kTauDivides = 2;
 
+// the mesh family: "disk" (triangles) or "disk_quad" (quadrilaterals)
+std::string g_family = "disk";
+
 struct Spec {
   std::string scheme;  // "hybrid", "newmark(0.25,0.5)", "hybrid+redistributed" or "explicit+redistributed"
   int degree;
   double h, tau;  // explicit: tau <= 0, chosen from the critical step
   bool reference;
+  std::string family = g_family;
   std::string label() const {
-    char b[96];
-    std::snprintf(b, sizeof b, "%s P%d h=%g%s", scheme.c_str(), degree, h, reference ? " (reference)" : "");
+    char b[128];
+    std::snprintf(b, sizeof b, "%s %s%d h=%g%s%s", scheme.c_str(), family == "disk" ? "P" : "Q", degree, h,
+                  reference ? " (reference)" : "", family == g_family ? "" : " (triangles)");
     return b;
   }
 };
@@ -77,9 +89,9 @@ double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::string mesh_path(double h) {
+std::string mesh_path(double h, const std::string &family = g_family) {
   char b[512];
-  std::snprintf(b, sizeof b, "%s/disk_h%g.msh", ND_MESH_DIR, h);
+  std::snprintf(b, sizeof b, "%s/%s_h%g.msh", ND_MESH_DIR, family.c_str(), h);
   return b;
 }
 
@@ -101,7 +113,7 @@ std::string march(Run &r, bool keep, double &setup_s, double &loop_s) {
   const double nm[2] = {expl ? 0.0 : 0.25, 0.5};
   nd_problem p = nullptr;
   double t0 = now();
-  int st = drop_scene_create(2, mesh_path(s.h).c_str(), s.degree, hybrid ? ND_SCHEME_HYBRID : ND_SCHEME_NEWMARK,
+  int st = drop_scene_create(2, mesh_path(s.h, s.family).c_str(), s.degree, hybrid ? ND_SCHEME_HYBRID : ND_SCHEME_NEWMARK,
                              nm, 1.0, kGamma0, expl ? 1.0 : s.tau, ND_SOLVER_AUTO, &p);
   if (st == ND_OK && expl) st = nd_problem_set_mass_lumping(p, 1);
   if (st == ND_OK && redistributed) st = nd_problem_set_mass_redistribution(p, 1);
@@ -147,7 +159,7 @@ std::string march(Run &r, bool keep, double &setup_s, double &loop_s) {
   }
   if (st != ND_OK) error = nd_last_error();
   if (keep && error.empty()) {  // the evaluation space; its nodes must be the problem's
-    auto mesh = std::make_shared<const nd::Mesh>(nd::read_gmsh(mesh_path(s.h).c_str()));
+    auto mesh = std::make_shared<const nd::Mesh>(nd::read_gmsh(mesh_path(s.h, s.family).c_str()));
     r.space = std::make_unique<nd::Space>(mesh, s.degree);
     std::vector<double> x(2 * n_nodes);
     nd_problem_get_node_coordinates(p, n_nodes, x.data());
@@ -199,7 +211,7 @@ class Locator {
     buckets_.resize(static_cast<size_t>(nb * nb));
     for (int64_t c = 0; c < m.n_cells; ++c) {
       double clo[2] = {1e300, 1e300}, chi[2] = {-1e300, -1e300};
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < m.cell_vertices(); ++k)
         for (int d = 0; d < 2; ++d)
           clo[d] = std::min(clo[d], m.x(m.cell(c)[k])[d]), chi[d] = std::max(chi[d], m.x(m.cell(c)[k])[d]);
       for (int i = index(clo[0], 0); i <= index(chi[0], 0); ++i)
@@ -219,7 +231,9 @@ class Locator {
           for (int64_t c : buckets_[i * nb_ + j]) {
             double l[2];
             reference(c, x, l);
-            const double lmin = std::min({l[0], l[1], 1 - l[0] - l[1]});
+            // how far inside: the least barycentric coordinate, or distance to the square's sides
+            const double lmin = m_.simplicial() ? std::min({l[0], l[1], 1 - l[0] - l[1]})
+                                                : std::min({l[0], l[1], 1 - l[0], 1 - l[1]});
             if (lmin > best_min) best_min = lmin, best = c, xi[0] = l[0], xi[1] = l[1];
           }
         }
@@ -232,11 +246,27 @@ class Locator {
   int index(double v, int d) const {
     return std::clamp(static_cast<int>(std::floor((v - lo_[d]) / size_[d])), 0, nb_ - 1);
   }
+  // xi with x(xi) = x: the affine map's inverse, or Newton's iterations on
+  // the bilinear map from the centre (quadratic convergence; 8 reach
+  // round-off for the convex cells of the meshes, and points near them)
   void reference(int64_t c, const double *x, double *xi) const {
-    const nd::CellMap A(m_, c);
-    const double dx[2] = {x[0] - A.x0[0], x[1] - A.x0[1]};
-    xi[0] = A.Jinv[0] * dx[0] + A.Jinv[1] * dx[1];
-    xi[1] = A.Jinv[2] * dx[0] + A.Jinv[3] * dx[1];
+    nd::CellMap A(m_, c);
+    if (m_.simplicial()) xi[0] = xi[1] = 0;
+    else xi[0] = xi[1] = 0.5;
+    for (int it = 0; it < (m_.simplicial() ? 1 : 8); ++it) {
+      A.at(xi);
+      double y[2];
+      A.to_physical(xi, y);
+      const double dx[2] = {x[0] - y[0], x[1] - y[1]};
+      xi[0] += A.Jinv[0] * dx[0] + A.Jinv[1] * dx[1];
+      xi[1] += A.Jinv[2] * dx[0] + A.Jinv[3] * dx[1];
+    }
+    if (!m_.simplicial()) {  // not converged (a point far off the cell, where the map folds): far outside it
+      double y[2];
+      A.to_physical(xi, y);
+      if (!(std::hypot(x[0] - y[0], x[1] - y[1]) <= 1e-9 * std::sqrt(std::abs(A.det))))
+        xi[0] = xi[1] = -1e300;
+    }
   }
   const nd::Mesh &m_;
   double lo_[2], size_[2];
@@ -245,9 +275,10 @@ class Locator {
 };
 
 // u and its gradient (row-major 2x2, du_i/dx_j) at reference point xi of cell c (map A)
-void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, const nd::CellMap &A, const double *xi,
+void evaluate(const nd::Space &s, const std::vector<double> &u, int64_t c, nd::CellMap A, const double *xi,
               double *val, double *grad) {
-  double phi[6], dphi_ref[12], dphi[2];
+  double phi[9], dphi_ref[18], dphi[2];
+  A.at(xi);
   s.basis.values(xi, phi);
   s.basis.gradients(xi, dphi_ref);
   const int64_t *nodes = s.nodes_of(c);
@@ -275,13 +306,14 @@ double strain_energy_density(const double *g) {
 void field_errors(const Run &ref, const std::vector<double> &ur, const Run &run, const std::vector<double> &uc,
                   const Locator &loc, double &l2, double &energy) {
   const nd::Space &R = *ref.space, &C = *run.space;
-  const nd::QuadratureRule q = nd::simplex_rule(2, 2 * R.degree);
+  const nd::QuadratureRule q = nd::cell_rule(R.mesh->cell_type, 2, 2 * R.degree);
   double e_l2 = 0, r_l2 = 0, e_en = 0, r_en = 0;
   for (int64_t c = 0; c < R.mesh->n_cells; ++c) {
-    const nd::CellMap A(*R.mesh, c);
+    nd::CellMap A(*R.mesh, c);
     for (size_t k = 0; k < q.size(); ++k) {
       const double *xi = &q.points[2 * k];
       double x[2], vr[2], gr[4], vc[2], gc[4], xic[2];
+      A.at(xi);
       A.to_physical(xi, x);
       evaluate(R, ur, c, A, xi, vr, gr);
       const int64_t cc = loc.find(x, xic);
@@ -333,21 +365,21 @@ double force_error(const Run &ref, const Run &run) { return force_difference(run
 }  // namespace
 
 int main(int argc, char **argv) {
-  std::string plan = "quick", out = ".";
+  std::string plan = "quick", out = ".", cells = "simplex";
   int repeat = 3;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--plan")) plan = argv[i + 1];
     else if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
     else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
-    else {
-      std::fprintf(stderr, "usage: disk_study --plan quick|full --out DIR [--repeat K]\n");
-      return 2;
-    }
+    else if (!std::strcmp(argv[i], "--cells")) cells = argv[i + 1];
+    else plan = "";
   }
-  if ((argc - 1) % 2 != 0 || (plan != "quick" && plan != "full")) {
-    std::fprintf(stderr, "usage: disk_study --plan quick|full --out DIR [--repeat K]\n");
+  if ((argc - 1) % 2 != 0 || (plan != "quick" && plan != "full") || (cells != "simplex" && cells != "quadrilateral")) {
+    std::fprintf(stderr, "usage: disk_study --plan quick|full --out DIR [--repeat K] [--cells simplex|quadrilateral]\n");
     return 2;
   }
+  const bool quads = cells == "quadrilateral";
+  if (quads) g_family = "disk_quad";
   // the ladder; the reference is the finest mesh in P2 with half its time
   // step; the redistributed model's reference the explicit redistributed P2
   // one mesh finer (full plan) or on the finest mesh (quick plan)
@@ -359,7 +391,10 @@ int main(int argc, char **argv) {
   Run ref, ref_red;
   ref.spec = {"hybrid", 2, h_ref, 0.5 * kTauOverH * h_ref, true};
   ref_red.spec = {kExplicit, 2, h_ref_red, 0, true};
-  for (Run *r : {&ref, &ref_red}) {
+  // quadrilaterals: the triangles' reference beside their own (no redistributed one)
+  Run simplex_ref;
+  simplex_ref.spec = {"hybrid", 2, h_ref, 0.5 * kTauOverH * h_ref, true, "disk"};
+  for (Run *r : quads ? std::vector<Run *>{&ref, &simplex_ref} : std::vector<Run *>{&ref, &ref_red}) {
     run(*r, 1);
     if (r->status != "ok") {
       std::fprintf(stderr, "disk_study: the reference run %s failed: %s\n", r->spec.label().c_str(),
@@ -367,7 +402,10 @@ int main(int argc, char **argv) {
       return 1;
     }
   }
-  for (const char *scheme : {"hybrid", "newmark(0.25,0.5)", "hybrid+redistributed", kExplicit})
+  const std::vector<const char *> schemes =
+      quads ? std::vector<const char *>{"hybrid"}
+            : std::vector<const char *>{"hybrid", "newmark(0.25,0.5)", "hybrid+redistributed", kExplicit};
+  for (const char *scheme : schemes)
     for (int degree : {1, 2})
       for (double h : hs) {
         if (quick && degree == 2 && h == h_ref) continue;
@@ -381,12 +419,13 @@ int main(int argc, char **argv) {
   auto coarser = [&](const Run &r) -> const Run * {
     for (const Run &c : runs)
       if (c.spec.scheme == r.spec.scheme && c.spec.degree == r.spec.degree && c.spec.h == 2 * r.spec.h &&
+          c.spec.family == r.spec.family &&
           c.status == "ok" && r.status == "ok")
         return &c;
     return nullptr;
   };
 
-  const std::string csv = out + "/disk.csv", fcsv = out + "/disk_force.csv";
+  const std::string csv = out + "/" + g_family + ".csv", fcsv = out + "/" + g_family + "_force.csv";
   FILE *f = std::fopen(csv.c_str(), "w"), *ff = std::fopen(fcsv.c_str(), "w");
   if (!f || !ff) {
     std::fprintf(stderr, "disk_study: cannot write %s\n", out.c_str());
@@ -400,7 +439,8 @@ int main(int argc, char **argv) {
   auto row = [&](const Run &r, const std::string &errors) {
     std::string extra;
     char b[64];
-    if (!r.spec.reference && r.status == "ok") std::snprintf(b, sizeof b, "%.6g", force_error(ref_red, r)), extra = b;
+    if (!quads && !r.spec.reference && r.status == "ok")
+      std::snprintf(b, sizeof b, "%.6g", force_error(ref_red, r)), extra = b;
     const Run *c = &r == &ref ? nullptr : coarser(r);
     std::snprintf(b, sizeof b, ",%.6g", c ? force_difference(*c, r) : NAN);
     extra += c ? b : ",";
@@ -414,7 +454,7 @@ int main(int argc, char **argv) {
       std::fprintf(ff, "\"%s\",%.10g,%.10g\n", r.spec.label().c_str(), static_cast<double>(n) * r.spec.tau, r.force[n]);
   };
   row(ref, ",,,,");
-  row(ref_red, ",,,,");
+  if (!quads) row(ref_red, ",,,,");
   {  // the transfer itself: the reference against itself through the locator is exact
     const Locator loc(*ref.space->mesh);
     double l2, en;
@@ -424,18 +464,20 @@ int main(int argc, char **argv) {
       return 1;
     }
   }
-  for (const Run &r : runs) {
-    if (r.status != "ok") {
-      row(r, ",,,,");
-      continue;
-    }
+  auto errors = [&](const Run &r) {
     const Locator loc(*r.space->mesh);
     double l2a, ena, l2b, enb;
     field_errors(ref, ref.u1, r, r.u1, loc, l2a, ena);
     field_errors(ref, ref.u2, r, r.u2, loc, l2b, enb);
     char b[160];
     std::snprintf(b, sizeof b, "%.6g,%.6g,%.6g,%.6g,%.6g", l2a, ena, l2b, enb, force_error(ref, r));
-    row(r, b);
+    return std::string(b);
+  };
+  for (const Run &r : runs) row(r, r.status == "ok" ? errors(r) : ",,,,");
+  if (quads) {  // the triangles' reference against the quadrilaterals'
+    simplex_ref.spec.reference = false;
+    simplex_ref.status = "simplex-reference";
+    row(simplex_ref, errors(simplex_ref));
   }
   const bool ok = std::fclose(f) == 0 && std::fclose(ff) == 0;
   return ok ? 0 : 1;

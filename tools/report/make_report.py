@@ -711,6 +711,46 @@ def sec_disk(disk, force, machine=None):
     return md
 
 
+QUAD_ERR = DISK_ERR[:5]  # (no redistributed reference on quadrilaterals)
+
+
+def sec_disk_quad(quad, disk):
+    """The disk in quadrilaterals (Q1, Q2, hybrid) against its own finest run, its rates beside the
+    triangles' (hybrid P1, P2 of disk.csv), and the triangles' reference against the quadrilaterals'."""
+    md = ["## 2D disk in quadrilaterals\n"]
+    if quad is None:
+        return md + ["The quadrilateral disk study was not run (no disk_quad.csv).\n"]
+    md.append("The same disk and scene meshed in quadrilaterals (`examples/meshes/disk_quad.geo`, a transfinite "
+              "O-grid; h the size of the cells on the circle), Q1 and Q2, the hybrid scheme, τ = h/40, against its own "
+              "reference (Q2 on the finest quadrilateral mesh, half its step), errors measured as in the triangles' "
+              "study (`disk_study --cells quadrilateral`).\n\n")
+    rows = []
+    for r in sorted(quad, key=lambda r: (r["status"] == "simplex-reference", r["degree"], -r["h"])):
+        rows.append([r["scheme"], ("P%d" if r["status"] == "simplex-reference" else "Q%d") % r["degree"], g3(r["h"]),
+                     int(r["unknowns"]), g3(r["tau"]), int(r["steps"]), ftime(r["setup_s"]), ftime(r["loop_s"])] +
+                    [g3(r.get(k)) for k, _ in QUAD_ERR] + [g3(r.get("d_force_coarser")), r["status"]])
+    md.append(table(["scheme", "cells", "h", "unknowns", "τ", "steps", "setup", "loop"] + [n for _, n in QUAD_ERR] +
+                    ["‖F_2h − F_h‖/‖F_h‖", "status"], rows))
+    rows = []
+    for cells, rs_all in (("quadrilaterals", quad), ("triangles", disk or [])):
+        for (s, d), rs in curves([r for r in rs_all if ok(r) and r["scheme"] == "hybrid"]).items():
+            if len(rs) >= 2:
+                rows.append([cells, ("Q%d" if cells == "quadrilaterals" else "P%d") % d,
+                             "h %s–%s" % (g3(rs[0]["h"]), g3(rs[-1]["h"]))] +
+                            [frate(rate([r["h"] for r in rs], [r.get(k, math.nan) for r in rs])) for k, _ in QUAD_ERR])
+    md.append("\nRates (hybrid), slope of log(error) against log(h), each family against its own reference:\n\n")
+    md.append(table(["cells", "element", "fit range"] + [n for _, n in QUAD_ERR], rows))
+    cross = [r for r in quad if r["status"] == "simplex-reference"]
+    if cross:
+        r = cross[0]
+        md.append("\nThe triangles' reference (P2, h = %s, τ = %s) against the quadrilaterals' (row "
+                  "`simplex-reference`): u L² %s and %s at t = 12 and 14, energy %s and %s, force %s: of the size "
+                  "of the Q2 and P2 errors at the finest h, as it must be if both families converge to one solution.\n" % (
+                      g3(r["h"]), g3(r["tau"]), g3(r["e_l2_u_t12"]), g3(r["e_l2_u_t14"]), g3(r["e_energy_u_t12"]),
+                      g3(r["e_energy_u_t14"]), g3(r["e_force_l2"])))
+    return md
+
+
 def sec_failed(parts):
     rows = []
     for name, rs in parts:
@@ -748,7 +788,9 @@ DESCR = {"bar.csv": "bar runs: h-ladder and τ-ladder, one row per run (and per 
          "getfem.csv": "the same bar runs with GetFEM", "energy_hybrid.csv": "energy history, hybrid scheme",
          "energy_newmark.csv": "energy history, Newmark(1/4,1/2)", "energy_theta_half.csv": "energy history, θ = 1/2",
          "disk.csv": "2D disk runs and their errors against the reference run",
-         "disk_force.csv": "contact force history of every disk run", "machine.txt": "machine, date, plan, jobs",
+         "disk_force.csv": "contact force history of every disk run",
+         "disk_quad.csv": "the disk in quadrilaterals (Q1, Q2): runs and errors against its Q2 reference",
+         "disk_quad_force.csv": "contact force history of every quadrilateral disk run", "machine.txt": "machine, date, plan, jobs",
          "runs.log": "command line, exit code and stderr of every run",
          "runs_pressure.log": "the same for a re-run of the pressure study alone (run.py --only pressure)",
          "runs_disk.log": "the same for a re-run of the disk study alone (run.py --only disk)",
@@ -981,8 +1023,11 @@ def main():
     else:
         md.append("## 1D bar\n\nThe bar study was not run (no bar.csv): no rates, work–precision or cheapest-choice "
                   "results.\n")
+    quad = read_csv(os.path.join(a.data, "disk_quad.csv"))
     md += sec_energy(bar, energy) + sec_getfem(bar, getfem, pairs) + sec_disk(disk, force, machine)
-    md += sec_failed([("bar.csv", bar), ("getfem.csv", getfem), ("disk.csv", disk)])
+    md += sec_disk_quad(quad, disk)
+    md += sec_failed([("bar.csv", bar), ("getfem.csv", getfem), ("disk.csv", disk),
+                      ("disk_quad.csv", [r for r in quad or [] if r["status"] != "simplex-reference"])])
     md += sec_files(a.data, data_rel, written)
     with open(os.path.join(a.out, "REPORT.md"), "w") as fh:
         fh.write("\n".join(md))

@@ -2,7 +2,8 @@
 """Runs the work-precision study of the report (make report / make report-quick).
 
 Every run is a separate process of build/bar1d (the 1D bar against its exact
-solution), build/disk_study (the 2D disk against its finest run) or
+solution), build/disk_study (the 2D disk against its finest run, in triangles and in
+quadrilaterals) or
 tools/report/getfem_bar.py (the bar with GetFEM), each writing CSV rows; this
 script only decides what to run, runs it on --jobs workers and collects the
 rows into OUT/data/*.csv. tools/report/make_report.py turns them into the
@@ -279,7 +280,7 @@ def main():
             t0 = time.time()
             argv = [os.path.join(a.build, "disk_study"), "--plan", p["disk"], "--out", data,
                     "--repeat", str(p["repeat"])]
-            failures += run_all([(1, argv)], 1, log)
+            failures += run_all([(1, argv), (1, argv + ["--cells", "quadrilateral"])], 1, log)
             print("disk in %.0f s" % (time.time() - t0), flush=True)
     if alone:  # the other parts' machine and date stay; this re-run is recorded beside them
         with open(os.path.join(data, "machine.txt"), "a") as fh:

@@ -9,13 +9,30 @@
 # §10.1) E_Theta + D_f + D - W - W_obstacle - W_prescribed - W_geometry
 # must not rise from row to row by more than round-off (1e-12 of the
 # largest energy in the run).
-# And the sliding block with Coulomb friction (sliding_block.toml) dissipates.
+# And the sliding blocks with Coulomb friction (sliding_block.toml, and
+# sliding_block_hex.toml in hexahedra, its ledger too) dissipate.
 # usage: obstacle_scenes.sh DRIVER SCENES_DIR WORK_DIR
 set -u
 driver=$1 scenes=$2 work=$3
 rm -rf "$work"
 mkdir -p "$work"
 fails=0
+# check_ledger NAME CSV: the ledger, read by column name from the history
+check_ledger() {
+  verdict=$(grep -v '^#' "$2" | awk -F, '
+    NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+    { e = $c["E_Theta"] + $c["dissipation_friction"] + $c["dissipation_damping"] - $c["W"] - $c["W_obstacle"] \
+          - $c["W_prescribed"] - $c["W_geometry"]
+      s = ($c["E_Theta"] < 0 ? -$c["E_Theta"] : $c["E_Theta"]) + ($c["W"] < 0 ? -$c["W"] : $c["W"])
+      if (s > scale) scale = s
+      if (NR > 2 && e - prev > rise) rise = e - prev
+      prev = e; wg = $c["W_geometry"] }
+    END { printf "%s %.3g %.3g %.3g\n", (rise <= 1e-12 * scale ? "ok" : "FAIL"), rise, scale, wg }')
+  case "$verdict" in
+    ok*) echo "ok: $1: ledger (largest rise, scale, W_geometry) $verdict" ;;
+    *) echo "FAIL: $1: ledger rose: (largest rise, scale, W_geometry) $verdict"; fails=$((fails + 1)) ;;
+  esac
+}
 for s in ball_bowl disk_cylinder two_balls; do
   if ! "$driver" "$scenes/$s.toml" --quiet --T 14 --out "$work/$s" > "$work/$s.out" 2> "$work/$s.err"; then
     echo "FAIL: $s: $(cat "$work/$s.err")"
@@ -30,38 +47,28 @@ for s in ball_bowl disk_cylinder two_balls; do
   else
     echo "ok: $s: $line"
   fi
-  # the ledger, read by column name from the history
   csv="$work/$s/${s}_history.csv"
-  verdict=$(grep -v '^#' "$csv" | awk -F, '
-    NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
-    { e = $c["E_Theta"] + $c["dissipation_friction"] + $c["dissipation_damping"] - $c["W"] - $c["W_obstacle"] \
-          - $c["W_prescribed"] - $c["W_geometry"]
-      s = ($c["E_Theta"] < 0 ? -$c["E_Theta"] : $c["E_Theta"]) + ($c["W"] < 0 ? -$c["W"] : $c["W"])
-      if (s > scale) scale = s
-      if (NR > 2 && e - prev > rise) rise = e - prev
-      prev = e; wg = $c["W_geometry"] }
-    END { printf "%s %.3g %.3g %.3g\n", (rise <= 1e-12 * scale ? "ok" : "FAIL"), rise, scale, wg }')
-  case "$verdict" in
-    ok*) echo "ok: $s: ledger (largest rise, scale, W_geometry) $verdict" ;;
-    *) echo "FAIL: $s: ledger rose: (largest rise, scale, W_geometry) $verdict"; fails=$((fails + 1)) ;;
-  esac
+  check_ledger "$s" "$csv"
 done
-# the sliding block (examples/scenes/sliding_block.toml): friction dissipates
-# (the history's column dissipation_friction, D_f, grows from 0 to a positive value)
-if ! "$driver" "$scenes/sliding_block.toml" --quiet --T 0.5 --out "$work/sliding_block" > "$work/sliding_block.out" \
-     2> "$work/sliding_block.err"; then
-  echo "FAIL: sliding_block: $(cat "$work/sliding_block.err")"
-  fails=$((fails + 1))
-else
-  csv="$work/sliding_block/sliding_block_history.csv"
+# the sliding blocks (examples/scenes/sliding_block.toml; sliding_block_hex.toml, a
+# box of hexahedra, mesh.cell_type): friction dissipates (the history's column
+# dissipation_friction, D_f, grows from 0 to a positive value); the hexahedra's
+# run, the hybrid scheme with Theta = 1, also keeps the ledger
+for s in sliding_block sliding_block_hex; do
+  if ! "$driver" "$scenes/$s.toml" --quiet --T 0.5 --out "$work/$s" > "$work/$s.out" 2> "$work/$s.err"; then
+    echo "FAIL: $s: $(cat "$work/$s.err")"
+    fails=$((fails + 1))
+    continue
+  fi
+  csv="$work/$s/${s}_history.csv"
   col=$(grep -v '^#' "$csv" | head -1 | tr , '\n' | grep -n '^dissipation_friction$' | cut -d: -f1)
   last=$(grep -v '^#' "$csv" | tail -1 | cut -d, -f"${col:-1}")
-  header=dissipation_friction
   if [ -z "$col" ] || ! awk -v d="$last" 'BEGIN { exit !(d > 0) }'; then
-    echo "FAIL: sliding_block: no frictional dissipation in $csv (last column $header = $last)"
+    echo "FAIL: $s: no frictional dissipation in $csv (last column dissipation_friction = $last)"
     fails=$((fails + 1))
   else
-    echo "ok: sliding_block: D_f = $last at t = 0.5"
+    echo "ok: $s: D_f = $last at t = 0.5"
   fi
-fi
+  [ $s = sliding_block_hex ] && check_ledger "$s" "$csv"
+done
 [ $fails -eq 0 ] || exit 1

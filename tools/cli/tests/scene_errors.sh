@@ -450,6 +450,13 @@ expect 2 cells_per_direction "cells_per_direction.toml:3:10: 'mesh.cells[0]' mus
   '2s/.*/generate = "interval"\ncells = [2000000]\nlo = [0.0]\nhi = [1.0]/'
 expect 2 cells_total "cells_total.toml:3:9: 'mesh.cells' makes more than 10000000 cells" \
   '2s/.*/generate = "box"\ncells = [1000, 1000, 1000]\nlo = [0.0, 0.0, 0.0]\nhi = [1.0, 1.0, 1.0]/'
+expect 2 cell_type_gmsh "cell_type_gmsh.toml:3:13: 'mesh.cell_type' is for a generated mesh" '2a\
+cell_type = "quadrilateral"'
+expect 2 cell_type_rectangle \
+  "cell_type_rectangle.toml:6:13: 'mesh.cell_type' is \"hexahedron\": a rectangle takes \"simplex\" or \"quadrilateral\"" \
+  '2s/.*/generate = "rectangle"\ncells = [2, 2]\nlo = [0.0, 0.0]\nhi = [1.0, 1.0]\ncell_type = "hexahedron"/'
+expect 2 cell_type_interval "cell_type_interval.toml:6:13: 'mesh.cell_type' is \"quadrilateral\": an interval takes \"simplex\"" \
+  '2s/.*/generate = "interval"\ncells = [2]\nlo = [0.0]\nhi = [1.0]\ncell_type = "quadrilateral"/'
 esc=$(printf '\033')
 sed 's/^$//' base.toml > escape_title.toml
 sed -i '1i\
