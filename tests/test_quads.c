@@ -542,6 +542,8 @@ START_TEST(gmsh_41_reads_quadrilaterals) {
 }
 END_TEST
 
+/* a 3D mix (a hexahedron and a tetrahedron on its top face) is refused; the
+   2D mix is read (tests/test_mixed.c) */
 START_TEST(gmsh_refuses_mixed_and_serendipity) {
   char path[] = "/tmp/nd_quads_XXXXXX";
   const int fd = mkstemp(path);
@@ -549,10 +551,11 @@ START_TEST(gmsh_refuses_mixed_and_serendipity) {
   close(fd);
   nd_mesh m = NULL;
   nd_test_write_file(path,
-                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n"
-                     "$EndNodes\n$Elements\n2\n1 3 2 1 1 1 2 3 4\n2 2 2 1 1 2 5 3\n$EndElements\n");
+                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
+                     "5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n9 0 0 2\n"
+                     "$EndNodes\n$Elements\n2\n1 5 2 1 1 1 2 3 4 5 6 7 8\n2 4 2 1 1 5 6 8 9\n$EndElements\n");
   ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
-  ck_assert_msg(strstr(nd_last_error(), "mixed") != NULL, "%s", nd_last_error());
+  ck_assert_msg(strstr(nd_last_error(), "tetrahedra and hexahedra") != NULL, "%s", nd_last_error());
   nd_test_write_file(path,
                      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
                      "5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n"
