@@ -13,7 +13,7 @@
  *    the operators of nd_mesh_create_mixed with the file's cells;
  *  - contact: a block of triangles and quadrilaterals dropped on a plane,
  *    hybrid scheme, Theta = 1: E_Theta - W never increases, step by step;
- *  - the refusals: a 3D mix, prisms and pyramids. */
+ *  - the refusals: a 3D mix (arrays and files), prisms and pyramids. */
 #include <math.h>
 #include <float.h>
 #include <stdio.h>
@@ -438,6 +438,23 @@ END_TEST
 
 /* ---- refusals ---------------------------------------------------------------- */
 
+/* an MSH 2.2 file of these sections is refused (ND_ERR_FORMAT), the
+   message naming `what` */
+static void file_refused(const char *sections, const char *what) {
+  char path[] = "/tmp/nd_mixed_XXXXXX";
+  const int fd = mkstemp(path);
+  ck_assert_int_ge(fd, 0);
+  close(fd);
+  char text[1024];
+  snprintf(text, sizeof text, "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n%s", sections);
+  nd_test_write_file(path, text);
+  nd_mesh m = NULL;
+  ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
+  ck_assert_msg(strstr(nd_last_error(), what) != NULL, "%s", nd_last_error());
+  ck_assert_ptr_null(m);
+  remove(path);
+}
+
 START_TEST(refusals) {
   nd_mesh m = NULL;
   /* a hexahedron and a tetrahedron on its top face */
@@ -447,23 +464,16 @@ START_TEST(refusals) {
   ck_assert_int_eq(nd_mesh_create_mixed(3, 9, x, 2, types, cells, &m), ND_ERR_DIMENSION);
   ck_assert_msg(strstr(nd_last_error(), "pyramids or prisms") != NULL, "%s", nd_last_error());
   ck_assert_ptr_null(m);
-  /* Gmsh prisms (6) and pyramids (7) are named */
-  char path[] = "/tmp/nd_mixed_XXXXXX";
-  const int fd = mkstemp(path);
-  ck_assert_int_ge(fd, 0);
-  close(fd);
-  nd_test_write_file(path,
-                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 0 1\n"
-                     "6 0 1 1\n$EndNodes\n$Elements\n1\n1 6 2 1 1 1 2 3 4 5 6\n$EndElements\n");
-  ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
-  ck_assert_msg(strstr(nd_last_error(), "a prism") != NULL, "%s", nd_last_error());
-  nd_test_write_file(path,
-                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0.5 1\n"
-                     "$EndNodes\n$Elements\n1\n1 7 2 1 1 1 2 3 4 5\n$EndElements\n");
-  ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
-  ck_assert_msg(strstr(nd_last_error(), "a pyramid") != NULL, "%s", nd_last_error());
-  ck_assert_ptr_null(m);
-  remove(path);
+  /* the same from Gmsh files; prisms (6) and pyramids (7) named */
+  file_refused("$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n9 0 0 2\n$EndNodes\n"
+               "$Elements\n2\n1 5 2 1 1 1 2 3 4 5 6 7 8\n2 4 2 1 1 5 6 8 9\n$EndElements\n",
+               "tetrahedra and hexahedra");
+  file_refused("$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 0 1\n6 0 1 1\n$EndNodes\n"
+               "$Elements\n1\n1 6 2 1 1 1 2 3 4 5 6\n$EndElements\n",
+               "a prism");
+  file_refused("$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0.5 1\n$EndNodes\n"
+               "$Elements\n1\n1 7 2 1 1 1 2 3 4 5\n$EndElements\n",
+               "a pyramid");
   /* one type only: the uniform mesh of nd_mesh_create_cells, the same operators */
   const double sq[8] = {0, 0, 1, 0, 1, 1, 0, 1};
   const int quads[1] = {ND_CELL_QUADRILATERAL};

@@ -167,6 +167,17 @@ void check_sizes(int dim, int64_t n_vertices, const double *coords, int64_t n_ce
   if (!cells) fail(ND_ERR_NULL, where + "cells is NULL");
 }
 
+// A mesh's sizes, before its cells
+Mesh sized(int dim, int cell_type, int64_t n_vertices, int64_t n_cells, int stride) {
+  Mesh m;
+  m.dim = dim;
+  m.cell_type = cell_type;
+  m.n_vertices = n_vertices;
+  m.n_cells = n_cells;
+  m.stride = stride;
+  return m;
+}
+
 // The checks and the boundary of a mesh whose cells, types and stride are
 // set (m.cells padded to m.stride entries a cell)
 Mesh finish_mesh(Mesh m, const double *coords, const std::string &where) {
@@ -248,12 +259,7 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
   // sizes from the caller: checked before any arithmetic on pointers
   const int64_t n_indices = checked_mul(n_cells, nv, "n_cells * vertices per cell");
   checked_count<int64_t>(n_indices, "n_cells * vertices per cell");
-  Mesh m;
-  m.dim = dim;
-  m.cell_type = cell_type;
-  m.n_vertices = n_vertices;
-  m.n_cells = n_cells;
-  m.stride = nv;
+  Mesh m = sized(dim, cell_type, n_vertices, n_cells, nv);
   m.cells.assign(cells, cells + n_indices);
   return finish_mesh(std::move(m), coords, where);
 }
@@ -276,12 +282,7 @@ Mesh make_mixed_mesh(int dim, int64_t n_vertices, const double *coords, int64_t 
                                std::to_string(first_of[ND_CELL_HEXAHEDRON]) +
                                " a hexahedron: a conforming mix of the two needs pyramids or prisms, which this "
                                "library does not have; mixed meshes are 2D (triangles and quadrilaterals)");
-  Mesh m;
-  m.dim = dim;
-  m.cell_type = kMixedCells;
-  m.n_vertices = n_vertices;
-  m.n_cells = n_cells;
-  m.stride = 4;
+  Mesh m = sized(dim, kMixedCells, n_vertices, n_cells, 4);
   m.types.assign(types, types + n_cells);
   m.cells.assign(checked_count<int64_t>(checked_mul(n_cells, 4, "n_cells * 4"), "n_cells * 4"), -1);
   for (int64_t c = 0, at = 0; c < n_cells; ++c)
