@@ -11,8 +11,9 @@
  *  - the Gmsh reader: examples/meshes/mixed.msh (MSH 4.1), mixed_v2.msh
  *    (2.2) and mixed_o2.msh (6-node triangles, 9-node quadrilaterals) give
  *    the operators of nd_mesh_create_mixed with the file's cells;
- *  - contact: a block of triangles and quadrilaterals dropped on a plane,
- *    hybrid scheme, Theta = 1: E_Theta - W never increases, step by step;
+ *  - contact: a block of triangles and quadrilaterals dropped on a plane
+ *    (also with redistributed mass), and one onto another (a contact pair),
+ *    hybrid scheme, Theta = 1: the ledger never rises, step by step;
  *  - the refusals: a 3D mix (arrays and files), prisms and pyramids. */
 #include <math.h>
 #include <float.h>
@@ -438,6 +439,69 @@ START_TEST(contact_ledger_on_a_mixed_block) {
 }
 END_TEST
 
+/* Two mixed patches, the upper one shifted by (0.1, 1.02) and falling at
+   speed 1 onto the lower one, clamped at y = 0: a contact pair (docs/design.md
+   §10.3) whose slave and master facets are triangles' and quadrilaterals'
+   edges. Hybrid scheme, Theta = 1: E_Theta - W - W_geometry never rises,
+   step by step, to round-off (as tests/test_pairs.c's ledger). */
+START_TEST(contact_pair_of_mixed_blocks) {
+  const int degree = 1 + _i;
+  const patch q = mixed_patch();
+  double x[4 * NV];
+  int types[2 * MAX_CELLS];
+  int64_t cells[8 * MAX_CELLS];
+  for (int v = 0; v < NV; ++v) {
+    x[2 * v] = q.x[2 * v], x[2 * v + 1] = q.x[2 * v + 1];
+    x[2 * (NV + v)] = q.x[2 * v] + 0.1, x[2 * (NV + v) + 1] = q.x[2 * v + 1] + 1.02;
+  }
+  for (int64_t c = 0; c < q.n_cells; ++c) types[c] = types[q.n_cells + c] = q.types[c];
+  for (int64_t k = 0; k < q.n_indices; ++k) cells[k] = q.cells[k], cells[q.n_indices + k] = q.cells[k] + NV;
+  nd_mesh m = NULL;
+  ND_OK_OR_FAIL(nd_mesh_create_mixed(2, 2 * NV, x, 2 * q.n_cells, types, cells, &m));
+  const double slave_lo[2] = {-1, 1.01}, slave_hi[2] = {2, 1.03}, master_lo[2] = {-1, 0.99}, master_hi[2] = {2, 1.001};
+  const double clamp_lo[2] = {-1, -0.001}, clamp_hi[2] = {2, 0.001};
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 1, slave_lo, slave_hi));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 2, master_lo, master_hi));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(m, 3, clamp_lo, clamp_hi));
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(nd_problem_create(m, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&m));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 100.0, 0.3, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 3));
+  ND_OK_OR_FAIL(nd_problem_set_contact_pair(p, 1, 2));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 2e-3));
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *nx = malloc(sizeof(double) * (size_t)(2 * nn)), *v0 = calloc((size_t)(2 * nn), sizeof(double));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, nx));
+  for (int64_t i = 0; i < nn; ++i) v0[2 * i + 1] = nx[2 * i + 1] > 1.01 ? -1.0 : 0.0;
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nn, NULL, v0));
+  free(nx), free(v0);
+  double before = 0, E = 0, W = 0, Wg = 0, active = 0, worst = -INFINITY;
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_ENERGY_AUGMENTED, &before));
+  const double scale = before;
+  int contact_steps = 0;
+  for (int n = 0; n < 100; ++n) {
+    ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_ENERGY_AUGMENTED, &E));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_WORK, &W));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_WORK_GEOMETRY, &Wg));
+    ND_OK_OR_FAIL(nd_get_scalar(p, ND_ACTIVE_POINTS, &active));
+    contact_steps += active > 0;
+    worst = fmax(worst, E - W - Wg - before);
+    before = E - W - Wg;
+  }
+  printf("mixed pair P%d/Q%d, hybrid Theta = 1: max step rise of E_Theta - W - W_geometry = %.3g (E0 %.3g), %d steps "
+         "in contact\n",
+         degree, degree, worst, scale, contact_steps);
+  ck_assert_double_le(worst, 1e-12 * scale);
+  ck_assert_int_gt(contact_steps, 5);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+}
+END_TEST
+
 /* ---- refusals ---------------------------------------------------------------- */
 
 /* an MSH 2.2 file of these sections is refused (ND_ERR_FORMAT), the
@@ -536,6 +600,7 @@ int main(void) {
   tcase_add_loop_test(tc, rigid_motions_mass_and_patch_test, 0, 2);
   tcase_add_test(tc, gmsh_mixed_files_give_the_arrays_operators);
   tcase_add_loop_test(tc, contact_ledger_on_a_mixed_block, 0, 4);
+  tcase_add_loop_test(tc, contact_pair_of_mixed_blocks, 0, 2);
   tcase_add_test(tc, refusals);
   tcase_add_loop_test(tc, vtu_has_each_cells_type, 0, 2);
   suite_add_tcase(s, tc);
