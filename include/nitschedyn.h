@@ -239,6 +239,12 @@ ND_EXPORT int nd_mesh_create_box(int64_t nx, int64_t ny, int64_t nz, const doubl
    (dim 3) cells have 2^dim vertices each, in the VTK and Gmsh order. */
 ND_EXPORT int nd_mesh_create_cells(int dim, int cell_type, int64_t n_nodes, const double *coords,
                                    int64_t n_cells, const int64_t *cells, nd_mesh *out);
+/* A mesh whose cells have their own types: cell_types[c] of ND_CELL_LIST,
+   cells each cell's vertices in turn (as many as its type has). 2D mixes
+   triangles and quadrilaterals; in 1D and 3D all cells have one type
+   (ND_ERR_DIMENSION: a tetrahedron/hexahedron mix needs prisms or pyramids). */
+ND_EXPORT int nd_mesh_create_mixed(int dim, int64_t n_nodes, const double *coords, int64_t n_cells,
+                                   const int *cell_types, const int64_t *cells, nd_mesh *out);
 /* The generators with a cell type: ND_CELL_SIMPLEX gives the meshes above,
    ND_CELL_QUADRILATERAL (rectangle) and ND_CELL_HEXAHEDRON (box) keep each
    rectangle or box whole. */

@@ -258,6 +258,52 @@ START_TEST(mesh_create_cells_errors) {
 }
 END_TEST
 
+/* nd_mesh_create_mixed: each refusal names the cell and what is wrong */
+START_TEST(mesh_create_mixed_errors) {
+  /* a square in two parts: quadrilateral 0 1 4 3 and triangles 1 2 5, 1 5 4 */
+  const double x[12] = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1};
+  const int types[3] = {ND_CELL_QUADRILATERAL, ND_CELL_SIMPLEX, ND_CELL_SIMPLEX};
+  const int unknown[3] = {ND_CELL_QUADRILATERAL, 7, ND_CELL_SIMPLEX};
+  const int hexahedron[3] = {ND_CELL_QUADRILATERAL, ND_CELL_HEXAHEDRON, ND_CELL_SIMPLEX};
+  const int64_t cells[10] = {0, 1, 4, 3, 1, 2, 5, 1, 5, 4};
+  const int64_t negative[10] = {0, 1, 4, 3, 1, 2, -5, 1, 5, 4}, outside[10] = {0, 1, 4, 3, 1, 2, 6, 1, 5, 4};
+  const int64_t inverted[10] = {0, 1, 4, 3, 1, 5, 2, 1, 5, 4};
+  nd_mesh m = MESH_SENTINEL;
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, types, cells, NULL), ND_ERR_NULL, "nd_mesh_create_mixed", "out");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, NULL, cells, &m), ND_ERR_NULL, "nd_mesh_create_mixed", "cell_types");
+  ck_assert_ptr_null(m);
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, types, NULL, &m), ND_ERR_NULL, "nd_mesh_create_mixed", "cells");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, NULL, 3, types, cells, &m), ND_ERR_NULL, "nd_mesh_create_mixed", "coords");
+  EXPECT_ERR(nd_mesh_create_mixed(4, 6, x, 3, types, cells, &m), ND_ERR_DIMENSION, "nd_mesh_create_mixed", "dim");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 0, types, cells, &m), ND_ERR_SIZE, "nd_mesh_create_mixed", "n_cells");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 2, x, 3, types, cells, &m), ND_ERR_SIZE, "nd_mesh_create_mixed", "n_nodes");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, unknown, cells, &m), ND_ERR_VALUE, "nd_mesh_create_mixed",
+             "cell_types[1] is 7");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, hexahedron, cells, &m), ND_ERR_DIMENSION, "nd_mesh_create_mixed",
+             "cell_types[1]: hexahedra need dim 3");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, types, negative, &m), ND_ERR_INDEX, "nd_mesh_create_mixed",
+             "cell 1 names vertex -5");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, types, outside, &m), ND_ERR_INDEX, "nd_mesh_create_mixed",
+             "cell 1 names vertex 6");
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, types, inverted, &m), ND_ERR_DEGENERATE, "nd_mesh_create_mixed",
+             "cell 1 is inverted");
+  /* counts that do not match the cells: the two triangles given as quadrilaterals */
+  const int all_quads[3] = {ND_CELL_QUADRILATERAL, ND_CELL_QUADRILATERAL, ND_CELL_QUADRILATERAL};
+  const int64_t wrong_count[12] = {0, 1, 4, 3, 1, 2, 5, 1, 5, 4, 0, 0};
+  EXPECT_ERR(nd_mesh_create_mixed(2, 6, x, 3, all_quads, wrong_count, &m), ND_ERR_INDEX, "nd_mesh_create_mixed",
+             "cell 1 repeats vertex 1");
+  /* 3D: tetrahedra and hexahedra do not mix (no prisms or pyramids) */
+  const double x3[27] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1, 0, 0, 2};
+  const int mix3[2] = {ND_CELL_HEXAHEDRON, ND_CELL_SIMPLEX};
+  const int64_t cells3[12] = {0, 1, 2, 3, 4, 5, 6, 7, 4, 5, 7, 8};
+  EXPECT_ERR(nd_mesh_create_mixed(3, 9, x3, 2, mix3, cells3, &m), ND_ERR_DIMENSION, "nd_mesh_create_mixed",
+             "pyramids or prisms");
+  ck_assert_ptr_null(m);
+  EXPECT_OK(nd_mesh_create_mixed(2, 6, x, 3, types, cells, &m));
+  EXPECT_OK(nd_mesh_destroy(&m));
+}
+END_TEST
+
 START_TEST(mesh_create_indices) {
   const double x[] = {0, 1, 2};
   nd_mesh m = MESH_SENTINEL;
@@ -1631,6 +1677,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(mesh, mesh_null_arguments);
   tcase_add_test(mesh, mesh_create_dimension_and_sizes);
   tcase_add_test(mesh, mesh_create_cells_errors);
+  tcase_add_test(mesh, mesh_create_mixed_errors);
   tcase_add_test(mesh, mesh_create_orphan_vertex);
   tcase_add_test(mesh, mesh_create_indices);
   tcase_add_test(mesh, mesh_create_nonfinite);

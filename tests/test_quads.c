@@ -11,7 +11,7 @@
  *  - the mass: sum of M's entries and of the lumped diagonal is
  *    rho |Omega| per component, consistent and lumped, the lumped positive;
  *  - the Gmsh reader: a file of quadrilaterals or hexahedra (4, 8, 9, 27
- *    nodes) gives the generator's operators; curved, mixed and serendipity
+ *    nodes) gives the generator's operators; curved and serendipity
  *    elements are refused;
  *  - contact on Q facets: the strip bouncing on a plane is the bar bouncing,
  *    gamma matched cell by cell (h_K = sqrt(dim) h), every implicit scheme
@@ -542,17 +542,13 @@ START_TEST(gmsh_41_reads_quadrilaterals) {
 }
 END_TEST
 
-START_TEST(gmsh_refuses_mixed_and_serendipity) {
+/* (mixed meshes: tests/test_mixed.c) */
+START_TEST(gmsh_refuses_serendipity) {
   char path[] = "/tmp/nd_quads_XXXXXX";
   const int fd = mkstemp(path);
   ck_assert_int_ge(fd, 0);
   close(fd);
   nd_mesh m = NULL;
-  nd_test_write_file(path,
-                     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n"
-                     "$EndNodes\n$Elements\n2\n1 3 2 1 1 1 2 3 4\n2 2 2 1 1 2 5 3\n$EndElements\n");
-  ck_assert_int_eq(nd_mesh_read_gmsh(path, &m), ND_ERR_FORMAT);
-  ck_assert_msg(strstr(nd_last_error(), "mixed") != NULL, "%s", nd_last_error());
   nd_test_write_file(path,
                      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
                      "5 0.5 0 0\n6 1 0.5 0\n7 0.5 1 0\n8 0 0.5 0\n"
@@ -735,7 +731,7 @@ int main(void) {
   tcase_add_loop_test(tc, mass_is_rho_times_volume, 0, 4);
   tcase_add_loop_test(tc, gmsh_reads_quadrilaterals_and_hexahedra, 0, 4);
   tcase_add_test(tc, gmsh_41_reads_quadrilaterals);
-  tcase_add_test(tc, gmsh_refuses_mixed_and_serendipity);
+  tcase_add_test(tc, gmsh_refuses_serendipity);
   tcase_add_loop_test(tc, gmsh_q2_node_order_is_gmsh_s, 0, 2);
   tcase_add_test(tc, refusals);
   tcase_add_loop_test(tc, redistribution_keeps_the_mass, 0, 4);

@@ -32,7 +32,7 @@ module nitschedyn
   ! ---- the C functions, under their C names --------------------------------
   public :: nd_version, nd_last_error, nd_strerror, nd_set_blas_threads, nd_get_blas_threads
   public :: nd_mesh_create, nd_mesh_create_interval, nd_mesh_create_rectangle, nd_mesh_create_box, &
-            nd_mesh_create_cells, nd_mesh_create_rectangle_cells, nd_mesh_create_box_cells, &
+            nd_mesh_create_cells, nd_mesh_create_mixed, nd_mesh_create_rectangle_cells, nd_mesh_create_box_cells, &
             nd_mesh_read_gmsh, nd_mesh_set_region, nd_mesh_mark_boundary_box, nd_mesh_get_dimension, &
             nd_mesh_get_vertex_count, nd_mesh_get_cell_count, nd_mesh_get_region_size, nd_mesh_destroy, &
             nd_mesh_set_cell_region, nd_mesh_get_cell_regions
@@ -184,6 +184,19 @@ module nitschedyn
       type(c_ptr), intent(out) :: out
       integer(c_int) :: status
     end function nd_mesh_create_cells
+
+    ! cell_types(n_cells) of ND_CELL_LIST; cells: each cell's vertices in turn
+    function nd_mesh_create_mixed(dim, n_nodes, coords, n_cells, cell_types, cells, out) result(status) &
+        bind(C, name='nd_mesh_create_mixed')
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int), value :: dim
+      integer(c_int64_t), value :: n_nodes, n_cells
+      real(c_double), intent(in) :: coords(*)
+      integer(c_int), intent(in) :: cell_types(*)
+      integer(c_int64_t), intent(in) :: cells(*)
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: status
+    end function nd_mesh_create_mixed
 
     function nd_mesh_create_rectangle_cells(nx, ny, lo, hi, cell_type, out) result(status) &
         bind(C, name='nd_mesh_create_rectangle_cells')

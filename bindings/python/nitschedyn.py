@@ -124,6 +124,7 @@ _PROTOTYPES = {
     "nd_mesh_create_rectangle": (_int, [_i64, _i64, _pdbl, _pdbl, _pptr]),
     "nd_mesh_create_box": (_int, [_i64, _i64, _i64, _pdbl, _pdbl, _pptr]),
     "nd_mesh_create_cells": (_int, [_int, _int, _i64, _pdbl, _i64, _pi64, _pptr]),
+    "nd_mesh_create_mixed": (_int, [_int, _i64, _pdbl, _i64, _pint, _pi64, _pptr]),
     "nd_mesh_create_rectangle_cells": (_int, [_i64, _i64, _pdbl, _pdbl, _int, _pptr]),
     "nd_mesh_create_box_cells": (_int, [_i64, _i64, _i64, _pdbl, _pdbl, _int, _pptr]),
     "nd_mesh_read_gmsh": (_int, [_str, _pptr]),
@@ -319,8 +320,8 @@ class _Handle:
 
 
 class Mesh(_Handle):
-    """A mesh (nd_mesh) of simplices, quadrilaterals or hexahedra, with
-    boundary regions."""
+    """A mesh (nd_mesh) of simplices, quadrilaterals or hexahedra (or 2D
+    triangles and quadrilaterals mixed: Mesh.mixed), with boundary regions."""
 
     _destroy = lib.nd_mesh_destroy
 
@@ -346,6 +347,22 @@ class Mesh(_Handle):
         else:
             _check(lib.nd_mesh_create_cells(dim, cell_type, x.shape[0], _dptr(x), c.shape[0], _i64ptr(c),
                                             ctypes.byref(self._h)))
+
+    @classmethod
+    def mixed(cls, coords, cell_types, cells):
+        """A mesh whose cells have their own types (nd_mesh_create_mixed):
+        coords (n_nodes, dim), cell_types (n_cells) of ND_CELL_LIST, cells
+        each cell's vertices (a list of lists, or all of them in turn)."""
+        x = np.ascontiguousarray(coords, dtype=np.float64)
+        if x.ndim == 1:  # 1D: a flat list of x
+            x = x.reshape(-1, 1)
+        types = np.ascontiguousarray(cell_types, dtype=np.intc).reshape(-1)
+        flat = [v for cell in cells for v in np.atleast_1d(cell)]
+        c = np.ascontiguousarray(flat, dtype=np.int64)
+        m = cls()
+        _check(lib.nd_mesh_create_mixed(x.shape[1], x.shape[0], _dptr(x), types.size, types.ctypes.data_as(_pint),
+                                        _i64ptr(c), ctypes.byref(m._h)))
+        return m
 
     @classmethod
     def interval(cls, n_cells, a=0.0, b=1.0):

@@ -15,7 +15,7 @@ bool AssemblyPart::takes(const Space &s, const DofMap &dofs, int64_t cell) const
   if (cells && !(*cells)[cell]) return false;
   if (!rows) return true;
   const int64_t *nodes = s.nodes_of(cell);
-  for (int i = 0; i < s.basis.n; ++i)
+  for (int i = 0; i < s.basis_of(cell).n; ++i)
     for (int a = 0; a < s.dim; ++a)
       if (const int64_t r = dofs.free[nodes[i] * s.dim + a]; r >= 0 && (*rows)[r]) return true;
   return false;
@@ -26,7 +26,7 @@ bool AssemblyPart::takes(const Space &s, const DofMap &dofs, int64_t cell) const
 // a cell adds nb^2 node pairs, not (nb d)^2 DOF pairs, to sort. Free DOFs are
 // numbered in DOF order (DofMap), so each row's columns come out sorted.
 Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &part) {
-  const int nb = s.basis.n, d = s.dim;
+  const int d = s.dim;
   const std::vector<int64_t> &free = dofs.free;
   auto held = [&](int64_t r) { return r >= 0 && (!part.rows || (*part.rows)[r]); };
   auto node_held = [&](int64_t v) {
@@ -38,6 +38,7 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     if (!part.takes(s, dofs, c)) continue;
     const int64_t *nodes = s.nodes_of(c);
+    const int nb = s.basis_of(c).n;
     for (int i = 0; i < nb; ++i)
       if (node_held(nodes[i]))
         for (int j = 0; j < nb; ++j) adjacent[nodes[i]].push_back(nodes[j]);
@@ -80,44 +81,48 @@ Csr operator_pattern(const Space &s, const DofMap &dofs, const AssemblyPart &par
 }
 
 ElementMatrices::ElementMatrices(const Space &s, const CellMaterials &mat)
-    : me(static_cast<size_t>(s.basis.n * s.basis.n)),
-      ke(static_cast<size_t>(s.basis.n * s.dim * s.basis.n * s.dim)),
+    : me(static_cast<size_t>(s.stride * s.stride)),
+      ke(static_cast<size_t>(s.stride * s.dim * s.stride * s.dim)),
       s_(s),
       mat_(mat),
       // a multilinear map's det J has degree dim - 1 in each variable: the
       // mass is exact with it, the stiffness on parallelograms and parallelepipeds
-      mass_rule_(cell_rule(s.mesh->cell_type, s.dim, s.mesh->simplicial() ? 2 * s.degree : 2 * s.degree + s.dim - 1)),
-      stiff_rule_(cell_rule(s.mesh->cell_type, s.dim, s.mesh->simplicial() ? 2 * (s.degree - 1) : 2 * s.degree)),
-      phi_(static_cast<size_t>(s.basis.n)),
-      gref_(static_cast<size_t>(s.basis.n * s.dim)),
-      g_(static_cast<size_t>(s.basis.n * s.dim)) {
+      mass_rule_{simplex_rule(s.dim, 2 * s.degree), cube_rule(s.dim, 2 * s.degree + s.dim - 1)},
+      stiff_rule_{simplex_rule(s.dim, 2 * (s.degree - 1)), cube_rule(s.dim, 2 * s.degree)},
+      phi_(static_cast<size_t>(s.stride)),
+      gref_(static_cast<size_t>(s.stride * s.dim)),
+      g_(static_cast<size_t>(s.stride * s.dim)) {
   for (const Material &m : mat.list) lam_.push_back(m.lambda(s.dim)), mu_.push_back(m.mu(s.dim));
 }
 
 void ElementMatrices::compute(int64_t c) {
-  const int nb = s_.basis.n, d = s_.dim;
+  const Lagrange &basis = s_.basis_of(c);
+  nb = basis.n;
+  simplex_ = s_.mesh->simplicial(c);
+  const QuadratureRule &mass_rule = mass_rule_[simplex_ ? 0 : 1], &stiff_rule = stiff_rule_[simplex_ ? 0 : 1];
+  const int d = s_.dim;
   const size_t which = mat_.uniform() ? 0 : static_cast<size_t>(mat_.index[c]);
   const double lam = lam_[which], mu = mu_[which];
   rho = mat_.list[which].density;
   CellMap map(*s_.mesh, c);
   const bool affine = map.affine;
   mass = affine ? rho * map.det / (d == 1 ? 1.0 : d == 2 ? 2.0 : 6.0) : 0.0;
-  std::fill(me.begin(), me.end(), 0.0);
-  std::fill(ke.begin(), ke.end(), 0.0);
-  for (size_t q = 0; q < mass_rule_.size(); ++q) {
-    map.at(&mass_rule_.points[q * d]);
-    s_.basis.values(&mass_rule_.points[q * d], phi_.data());
-    const double w = mass_rule_.weights[q] * map.det * rho;
+  me.assign(static_cast<size_t>(nb * nb), 0.0);  // (within the capacity: no allocation)
+  ke.assign(static_cast<size_t>(nb * d * nb * d), 0.0);
+  for (size_t q = 0; q < mass_rule.size(); ++q) {
+    map.at(&mass_rule.points[q * d]);
+    basis.values(&mass_rule.points[q * d], phi_.data());
+    const double w = mass_rule.weights[q] * map.det * rho;
     if (!affine) mass += w;
     for (int i = 0; i < nb; ++i)
       for (int j = 0; j < nb; ++j) me[i * nb + j] += w * phi_[i] * phi_[j];
   }
   const std::vector<double> &g = g_;
-  for (size_t q = 0; q < stiff_rule_.size(); ++q) {
-    map.at(&stiff_rule_.points[q * d]);
-    s_.basis.gradients(&stiff_rule_.points[q * d], gref_.data());
+  for (size_t q = 0; q < stiff_rule.size(); ++q) {
+    map.at(&stiff_rule.points[q * d]);
+    basis.gradients(&stiff_rule.points[q * d], gref_.data());
     for (int i = 0; i < nb; ++i) map.physical_gradient(&gref_[i * d], &g_[i * d]);
-    const double w = stiff_rule_.weights[q] * map.det;
+    const double w = stiff_rule.weights[q] * map.det;
     // row (i,a), column (j,b): lambda d_a phi_i d_b phi_j
     //                          + mu (delta_ab grad phi_i . grad phi_j + d_b phi_i d_a phi_j)
     for (int i = 0; i < nb; ++i)
@@ -133,9 +138,8 @@ void ElementMatrices::compute(int64_t c) {
 }
 
 void ElementMatrices::lump(std::vector<double> &diagonal, bool redistributed) const {
-  const int nb = s_.basis.n;
   diagonal.resize(static_cast<size_t>(nb));
-  if (!s_.mesh->simplicial() && s_.degree == 1 && !redistributed) {
+  if (!simplex_ && s_.degree == 1 && !redistributed) {
     for (int i = 0; i < nb; ++i) {
       double sum = 0;
       for (int j = 0; j < nb; ++j) sum += me[i * nb + j];
@@ -154,10 +158,10 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMateri
   ops.M = operator_pattern(s, dofs, part);
   ops.K = ops.M.zeros_like();
   ops.M_lumped.assign(static_cast<size_t>(dofs.n_free), 0.0);
-  const int nb = s.basis.n, d = s.dim;
+  const int d = s.dim;
   ElementMatrices em(s, mat);
   const std::vector<double> &me = em.me, &ke = em.ke;
-  std::vector<int64_t> offset(static_cast<size_t>(nb));
+  std::vector<int64_t> offset(static_cast<size_t>(s.stride));
   std::vector<double> lumped;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     if (!part.takes(s, dofs, c)) continue;
@@ -165,6 +169,7 @@ BulkOperators assemble_bulk(const Space &s, const DofMap &dofs, const CellMateri
     if (contact_nodes) redistribute_element_mass(s, c, *contact_nodes, em.me);
     em.lump(lumped, contact_nodes != nullptr);
     const int64_t *nodes = s.nodes_of(c);
+    const int nb = em.nb;
     for (int i = 0; i < nb; ++i) {
       bool found = false;  // offset[j]: where node j's columns start in node i's rows
       for (int a = 0; a < d; ++a) {
@@ -221,23 +226,25 @@ std::vector<double> assemble_load(const Space &s, const DofMap &dofs, const doub
                                   const std::vector<NeumannLoad> &neumann) {
   if (!f && neumann.empty()) return {};
   std::vector<double> F(static_cast<size_t>(dofs.n_free), 0.0);
-  const int nb = s.basis.n, d = s.dim;
-  std::vector<double> phi(nb);
-  auto add = [&](const int64_t *nodes, const double *vec, double w) {
-    for (int i = 0; i < nb; ++i)
+  const int d = s.dim;
+  std::vector<double> phi(static_cast<size_t>(s.stride));
+  auto add = [&](int64_t c, const double *vec, double w) {
+    const int64_t *nodes = s.nodes_of(c);
+    for (int i = 0; i < s.basis_of(c).n; ++i)
       for (int a = 0; a < d; ++a) {
         const int64_t r = dofs.free[nodes[i] * d + a];
         if (r >= 0) F[r] += w * phi[i] * vec[a];
       }
   };
   if (f) {  // (exact for P1, P2; for Q1, Q2 with det J's degree added)
-    const QuadratureRule rule = cell_rule(s.mesh->cell_type, d, s.mesh->simplicial() ? s.degree : s.degree + d - 1);
+    const QuadratureRule rules[2] = {simplex_rule(d, s.degree), cube_rule(d, s.degree + d - 1)};
     for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
       CellMap map(*s.mesh, c);
+      const QuadratureRule &rule = rules[s.mesh->simplicial(c) ? 0 : 1];
       for (size_t q = 0; q < rule.size(); ++q) {
         map.at(&rule.points[q * d]);
-        s.basis.values(&rule.points[q * d], phi.data());
-        add(s.nodes_of(c), f, rule.weights[q] * map.det);
+        s.basis_of(c).values(&rule.points[q * d], phi.data());
+        add(c, f, rule.weights[q] * map.det);
       }
     }
   }
@@ -245,8 +252,8 @@ std::vector<double> assemble_load(const Space &s, const DofMap &dofs, const doub
     for (int64_t b : s.mesh->regions.at(nl.region)) {
       const Facet &facet = s.mesh->boundary[b];
       for (const FacetPoint &fp : facet_quadrature(*s.mesh, facet, s.degree)) {
-        s.basis.values(fp.xi, phi.data());
-        add(s.nodes_of(facet.cell), nl.g, fp.weight);
+        s.basis_of(facet.cell).values(fp.xi, phi.data());
+        add(facet.cell, nl.g, fp.weight);
       }
     }
   for (double x : F)

@@ -35,10 +35,11 @@ class ElementMatrices {
  public:
   ElementMatrices(const Space &s, const CellMaterials &mat);
   ElementMatrices(const Space &s, CellMaterials &&mat) = delete;  // (it keeps a reference)
-  void compute(int64_t cell);  // fills me, ke, mass and rho
+  void compute(int64_t cell);  // fills nb, me, ke, mass and rho
   // The lumped diagonal of me as it is then: Q1, the row sums; otherwise,
   // and after a redistribution, HRZ: the diagonal scaled to the cell's mass.
   void lump(std::vector<double> &diagonal, bool redistributed) const;
+  int nb = 0;       // the cell's local basis functions (its type's)
   std::vector<double> me, ke;
   double mass = 0;  // the cell's: rho |K|
   double rho = 0;   // the cell's density
@@ -47,7 +48,8 @@ class ElementMatrices {
   const Space &s_;
   const CellMaterials &mat_;
   std::vector<double> lam_, mu_;  // of each material of the list
-  QuadratureRule mass_rule_, stiff_rule_;
+  QuadratureRule mass_rule_[2], stiff_rule_[2];  // a simplex's, a quadrilateral's or hexahedron's
+  bool simplex_ = true;                          // the cell's type
   std::vector<double> phi_, gref_, g_;
 };
 

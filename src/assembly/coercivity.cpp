@@ -63,9 +63,10 @@ double gamma0_limit(const Space &s, const DofMap &dofs, const CellMaterials &mat
   for (size_t q = 0; q < cp.size(); ++q) by_cell[s.mesh->boundary[cp.facet[q]].cell].push_back(q);
   double limit = std::numeric_limits<double>::infinity();
   ElementMatrices em(s, mat);
-  const int nb = s.basis.n, d = s.dim;
+  const int d = s.dim;
   for (const auto &[cell, points] : by_cell) {
     em.compute(cell);
+    const int nb = em.nb;
     // the cell's free DOFs: local position -> free index
     const int64_t *nodes = s.nodes_of(cell);
     std::vector<int> local;  // positions (i*d + a) that are free

@@ -25,13 +25,16 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
                                const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,
                                bool tangential) {
   ContactPoints cp;
-  const int d = sp.dim, nb = sp.basis.n;
+  const int d = sp.dim;
   if (tangential && d > 1) cp.m = d;
   const int mt = cp.m - 1;  // tangential values per point
   // sigma_n sigma_n is of degree 2(p-1) and u_n u_n of degree 2p: the rule is
   // exact for the polynomial part of every contact integrand.
   const int degree = 2 * sp.degree;
-  std::vector<double> phi(nb), gref(nb * d), g(nb * d);
+  // (phi has sp.stride values, a cell with fewer basis functions padded with 0:
+  // cp.phi's stride is the space's)
+  std::vector<double> phi(static_cast<size_t>(sp.stride)), gref(static_cast<size_t>(sp.stride * d)),
+      g(static_cast<size_t>(sp.stride * d));
   for (size_t ir = 0; ir < regions.size(); ++ir) {
     for (int64_t b : sp.mesh->regions.at(regions[ir])) {
       const Facet &f = sp.mesh->boundary[b];
@@ -40,12 +43,15 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
       const Material &m = mat.of(f.cell);
       const double lam = m.lambda(d), mu = m.mu(d);
       const int64_t *nodes = sp.nodes_of(f.cell);
+      const Lagrange &basis = sp.basis_of(f.cell);
+      const int nb = basis.n;
       for (const FacetPoint &fp : facet_quadrature(*sp.mesh, f, degree)) {
         double nu[3] = {0, 0, 0}, n[3] = {0, 0, 0};
         normal_of(ir, fp.x, nu);
         for (int k = 0; k < 3; ++k) n[k] = -nu[k];
-        sp.basis.values(fp.xi, phi.data());
-        sp.basis.gradients(fp.xi, gref.data());
+        basis.values(fp.xi, phi.data());
+        std::fill(phi.begin() + nb, phi.end(), 0.0);
+        basis.gradients(fp.xi, gref.data());
         map.at(fp.xi);
         for (int i = 0; i < nb; ++i) map.physical_gradient(&gref[i * d], &g[i * d]);
         SparseRow a, s, af, sf;
@@ -107,11 +113,11 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
 
 void append_counterpart(const Space &sp, const DofMap &dofs, ContactPoints &cp, size_t q, int64_t cell,
                         const double *xi) {
-  const int d = sp.dim, nb = sp.basis.n, mt = cp.m - 1;
-  std::vector<double> phi(static_cast<size_t>(nb));
-  sp.basis.values(xi, phi.data());
-  cp.counterpart_phi.resize(cp.size() * static_cast<size_t>(nb));
-  std::copy(phi.begin(), phi.end(), cp.counterpart_phi.begin() + static_cast<std::ptrdiff_t>(q * nb));
+  const int d = sp.dim, nb = sp.basis_of(cell).n, mt = cp.m - 1, stride = sp.stride;
+  std::vector<double> phi(static_cast<size_t>(stride), 0.0);
+  sp.basis_of(cell).values(xi, phi.data());
+  cp.counterpart_phi.resize(cp.size() * static_cast<size_t>(stride));
+  std::copy(phi.begin(), phi.end(), cp.counterpart_phi.begin() + static_cast<std::ptrdiff_t>(q * stride));
   const double *nu = &cp.normal[q * 3];
   const int64_t *nodes = sp.nodes_of(cell);
   // rows: a (the normal), then ta k; each with its stress row of zeros

@@ -45,7 +45,7 @@ struct ContactPoints {
   std::vector<int> plane;                // index into the definition's planes; -1: a curved region's point
   std::vector<int> region;               // the point's region
   std::vector<double> normal;            // nu_q = -n_q, 3 per point: what the rows were made with
-  std::vector<double> phi;               // the basis values at the point (basis.n each): u_q(U) (contact/obstacles.hpp)
+  std::vector<double> phi;               // the basis values at the point (Space::stride each, 0 past its cell's basis): u_q(U) (contact/obstacles.hpp)
   std::vector<double> w, gamma, gap, x;  // x: n * dim
   std::vector<double> h;                 // diameter h_K of the owning cell
   // gamma_q / gamma0: h_K, times E / E_K where the owning cell's material is
@@ -91,7 +91,7 @@ struct ContactPoints {
   // Two bodies (docs/design.md §10.3, contact/pairing.hpp): each point's
   // pairing, kPairingValues values (the master facet, -1 for a point not of
   // a pair, and its barycentric coordinates there), and the master cell's
-  // basis values at the paired point (basis.n each); both empty without pairs
+  // basis values at the paired point (Space::stride each); both empty without pairs
   std::vector<double> pairing, counterpart_phi;
   size_t size() const { return w.size(); }
   // the a and s rows of value k (0: the normal, k >= 1: tangential k - 1)

@@ -42,7 +42,7 @@ std::vector<double> at_b_c(int m, int n, int p, const double *A, const double *B
 }  // namespace
 
 void redistribute_element_mass(const Space &s, int64_t cell, const std::vector<char> &on_contact, std::vector<double> &me) {
-  const int nb = s.basis.n, d = s.dim, m = d + 1;
+  const int nb = s.basis_of(cell).n, d = s.dim, m = d + 1;
   const int64_t *nodes = s.nodes_of(cell);
   std::vector<int> I;
   for (int i = 0; i < nb; ++i)

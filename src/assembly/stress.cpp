@@ -8,11 +8,11 @@ namespace nd {
 
 void cell_stress(const Space &s, const CellMaterials &mat, const double *U_full, int64_t c, const double *xi,
                  double sigma[9]) {
-  const int d = s.dim, n = s.basis.n;
+  const int d = s.dim, n = s.basis_of(c).n;
   CellMap map(*s.mesh, c);
   map.at(xi);
   std::vector<double> gref(static_cast<size_t>(n * d));
-  s.basis.gradients(xi, gref.data());
+  s.basis_of(c).gradients(xi, gref.data());
   double G[9] = {0};  // G[i][j] = du_i/dx_j
   const int64_t *nodes = s.nodes_of(c);
   for (int a = 0; a < n; ++a) {

@@ -59,6 +59,15 @@ ND_EXPORT int nd_mesh_create_cells(int dim, int cell_type, int64_t n_nodes, cons
   });
 }
 
+ND_EXPORT int nd_mesh_create_mixed(int dim, int64_t n_nodes, const double *coords, int64_t n_cells,
+                                   const int *cell_types, const int64_t *cells, nd_mesh *out) {
+  return nd::guarded("nd_mesh_create_mixed", [&] {
+    nd::need(out, "out");
+    *out = nullptr;
+    return publish(nd::make_mixed_mesh(dim, n_nodes, coords, n_cells, cell_types, cells), out);
+  });
+}
+
 ND_EXPORT int nd_mesh_create_rectangle_cells(int64_t nx, int64_t ny, const double lo[2], const double hi[2],
                                              int cell_type, nd_mesh *out) {
   return nd::guarded("nd_mesh_create_rectangle_cells", [&] {

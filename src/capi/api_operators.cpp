@@ -67,7 +67,7 @@ ND_EXPORT int nd_problem_get_cells(nd_problem p, int64_t *n_cells, int *nodes_pe
       std::copy(sp.cell_nodes.begin(), sp.cell_nodes.end(), nodes);
     }
     *n_cells = cells;
-    *nodes_per_cell = sp.basis.n;
+    *nodes_per_cell = sp.stride;  // (a mixed mesh: the largest cell's, the others padded with -1)
     return ND_OK;
   });
 }

@@ -118,13 +118,14 @@ Nearest nearest(int region, const std::vector<ContactPlane> &planes, const std::
 
 void displacement_at(const Space &sp, const DofMap &dofs, const ContactPoints &cp, size_t q, const double *U,
                      double *u) {
-  const int d = sp.dim, nb = sp.basis.n;
-  const int64_t *nodes = sp.nodes_of(sp.mesh->boundary[cp.facet[q]].cell);
+  const int64_t cell = sp.mesh->boundary[cp.facet[q]].cell;
+  const int d = sp.dim, nb = sp.basis_of(cell).n, stride = sp.stride;  // (cp.phi: stride values a point)
+  const int64_t *nodes = sp.nodes_of(cell);
   for (int c = 0; c < d; ++c) u[c] = 0;
   for (int i = 0; i < nb; ++i)
     for (int c = 0; c < d; ++c) {
       const int64_t r = dofs.free[nodes[i] * d + c];
-      if (r >= 0) u[c] += cp.phi[q * nb + i] * U[r];
+      if (r >= 0) u[c] += cp.phi[q * stride + i] * U[r];
     }
 }
 

@@ -46,9 +46,10 @@ bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *
   for (int i = 0; i < m.facet_size(); ++i) moved(sp, dofs, v[i], U, x[i]);
   // across the facet, away from the cell's centre
   double centre[3] = {0, 0, 0}, c[3];
-  for (int i = 0; i < m.cell_vertices(); ++i) {
+  const int nv = m.cell_vertices(facet.cell);
+  for (int i = 0; i < nv; ++i) {
     moved(sp, dofs, m.cell(facet.cell)[i], U, c);
-    for (int k = 0; k < d; ++k) centre[k] += c[k] / m.cell_vertices();
+    for (int k = 0; k < d; ++k) centre[k] += c[k] / nv;
   }
   double n[3] = {0, 0, 0};
   if (d == 1) {
@@ -74,7 +75,7 @@ bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *
 MasterSurface::MasterSurface(const Space &sp, const DofMap &dofs, int region, const double *U) : dim_(sp.dim) {
   const Mesh &m = *sp.mesh;
   const int d = dim_;
-  if (d == 3 && !m.simplicial())
+  if (m.cell_type == ND_CELL_HEXAHEDRON)
     fail(ND_ERR_STATE, "a contact pair on hexahedra is not supported yet (its master faces are bilinear): "
                        "use tetrahedra");
   auto it = m.regions.find(region);
@@ -282,7 +283,7 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
 void facet_point_reference(const Mesh &m, const Facet &f, const double *bary, double *xi) {
   const int d = m.dim;
   for (int k = 0; k < d; ++k) xi[k] = 0;
-  if (m.simplicial()) {
+  if (m.simplicial(f.cell)) {
     // barycentric in the cell: the facet's vertices are the cell's local
     // vertices but f.local, in order; xi_k is vertex k + 1's
     for (int i = 0, j = 0; i <= d; ++i) {
@@ -300,14 +301,15 @@ void facet_point_reference(const Mesh &m, const Facet &f, const double *bary, do
 
 void counterpart_displacement(const Space &sp, const DofMap &dofs, int64_t facet, const double *bary, const double *U,
                               double *u) {
-  const int d = sp.dim, nb = sp.basis.n;
+  const int d = sp.dim;
   if (facet < 0 || facet >= static_cast<int64_t>(sp.mesh->boundary.size()))
     fail(ND_ERR_INTERNAL, "a pairing's facet is out of range");
   const Facet &f = sp.mesh->boundary[facet];
   double xi[3] = {0, 0, 0};
   facet_point_reference(*sp.mesh, f, bary, xi);
+  const int nb = sp.basis_of(f.cell).n;
   std::vector<double> phi(static_cast<size_t>(nb));
-  sp.basis.values(xi, phi.data());
+  sp.basis_of(f.cell).values(xi, phi.data());
   const int64_t *nodes = sp.nodes_of(f.cell);
   for (int c = 0; c < d; ++c) u[c] = 0;
   for (int i = 0; i < nb; ++i)

@@ -81,8 +81,4 @@ QuadratureRule cube_rule(int dim, int degree) {
   return r;
 }
 
-QuadratureRule cell_rule(int cell_type, int dim, int degree) {
-  return cell_type ? cube_rule(dim, degree) : simplex_rule(dim, degree);
-}
-
 }  // namespace nd

@@ -15,7 +15,7 @@ std::vector<FacetPoint> cube_facet_quadrature(const Mesh &m, const Facet &f, int
   const int d = m.dim, axis = f.local / 2;
   const QuadratureRule rule = cube_rule(d - 1, degree + d - 2);
   const double *corners[8];
-  for (int v = 0; v < m.cell_vertices(); ++v) corners[v] = m.x(m.cell(f.cell)[v]);
+  for (int v = 0; v < m.cell_vertices(f.cell); ++v) corners[v] = m.x(m.cell(f.cell)[v]);
   int free_axes[2] = {0, 0};
   for (int k = 0, j = 0; k < d; ++k)
     if (k != axis) free_axes[j++] = k;
@@ -48,7 +48,7 @@ std::vector<FacetPoint> cube_facet_quadrature(const Mesh &m, const Facet &f, int
 }  // namespace
 
 std::vector<FacetPoint> facet_quadrature(const Mesh &m, const Facet &f, int degree) {
-  if (!m.simplicial()) return cube_facet_quadrature(m, f, degree);
+  if (!m.simplicial(f.cell)) return cube_facet_quadrature(m, f, degree);
   const int d = m.dim;
   const QuadratureRule rule = simplex_rule(d - 1, degree);
   // local vertices of the facet in the cell, and its edge vectors

@@ -8,10 +8,10 @@
 
 namespace nd {
 
-CellMap::CellMap(const Mesh &m, int64_t c) : dim(m.dim), affine(m.simplicial()) {
+CellMap::CellMap(const Mesh &m, int64_t c) : dim(m.dim), affine(m.simplicial(c)) {
   for (int i = 0; i < dim; ++i) x0[i] = m.x(m.cell(c)[0])[i];
   if (!affine) {
-    for (int v = 0; v < m.cell_vertices(); ++v) corners_[v] = m.x(m.cell(c)[v]);
+    for (int v = 0; v < m.cell_vertices(c); ++v) corners_[v] = m.x(m.cell(c)[v]);
     const double centre[3] = {0.5, 0.5, 0.5};
     multilinear_at(centre);
     return;

@@ -76,8 +76,6 @@ QuadratureRule simplex_rule(int dim, int degree);
 QuadratureRule cube_rule(int dim, int degree);
 // The Q1/Q2 nodes' positions on [0,1]^dim (Lagrange::tensor_index), 3 a node.
 void cube_nodes(int dim, int degree, signed char *index);
-// simplex_rule or cube_rule by cell type
-QuadratureRule cell_rule(int cell_type, int dim, int degree);
 // Gauss-Legendre on [0, 1] with n points.
 void gauss_legendre01(int n, std::vector<double> &x, std::vector<double> &w);
 

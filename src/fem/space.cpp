@@ -5,56 +5,29 @@
 #include <map>
 #include <utility>
 
+#include "common/checked.hpp"
 #include "common/error.hpp"
 #include "mesh/cell_shape.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
 
+// The vertices, then per cell in turn its new edges, faces (3D hexahedra)
+// and (Q2) its centre: one numbering for every cell type, so that a P2
+// triangle and a Q2 quadrilateral share their common edge's node. A node's
+// position is the mean of its edge's, face's or cell's vertices (the map's
+// value at its reference position).
 Space::Space(std::shared_ptr<const Mesh> m, int p)
-    : mesh(std::move(m)), dim(mesh->dim), degree(p), basis(mesh->dim, p, mesh->cell_type) {
+    : mesh(std::move(m)),
+      dim(mesh->dim),
+      degree(p),
+      bases_{Lagrange(dim, p, ND_CELL_SIMPLEX), Lagrange(dim, p, dim == 1 ? ND_CELL_SIMPLEX : dim - 1)} {
   const Mesh &msh = *mesh;
-  if (!msh.simplicial()) {
-    number_cube_nodes();
-    return;
-  }
-  const int nv = dim + 1;
-  cell_nodes.resize(static_cast<size_t>(msh.n_cells) * basis.n);
-  std::map<std::pair<int64_t, int64_t>, int64_t> edge_id;
-  int64_t next = msh.n_vertices;
-  for (int64_t c = 0; c < msh.n_cells; ++c) {
-    const int64_t *v = msh.cell(c);
-    int64_t *out = &cell_nodes[c * basis.n];
-    for (int i = 0; i < nv; ++i) out[i] = v[i];
-    if (degree == 2)
-      for (int e = 0; e < Lagrange::n_edges(dim); ++e) {
-        int a, b;
-        Lagrange::edge_vertices(dim, e, a, b);
-        auto key = std::minmax(v[a], v[b]);
-        auto it = edge_id.emplace(std::make_pair(key.first, key.second), next);
-        if (it.second) ++next;
-        out[nv + e] = it.first->second;
-      }
-  }
-  n_nodes = next;
-  edge_coords_.assign(static_cast<size_t>(n_nodes - msh.n_vertices) * dim, 0.0);
-  for (int64_t c = 0; c < msh.n_cells && degree == 2; ++c)
-    for (int e = 0; e < Lagrange::n_edges(dim); ++e) {
-      int a, b;
-      Lagrange::edge_vertices(dim, e, a, b);
-      const int64_t node = nodes_of(c)[nv + e];
-      for (int k = 0; k < dim; ++k)
-        edge_coords_[(node - msh.n_vertices) * dim + k] = 0.5 * (msh.x(msh.cell(c)[a])[k] + msh.x(msh.cell(c)[b])[k]);
-    }
-}
-
-// Q2: the vertices, then per cell in turn its new edges, faces (3D) and its
-// centre; a node's position is the mean of its edge's, face's or cell's
-// vertices (the multilinear map's value at its reference position).
-void Space::number_cube_nodes() {
-  const Mesh &msh = *mesh;
-  const int nv = msh.cell_vertices(), nb = basis.n;
-  cell_nodes.resize(static_cast<size_t>(msh.n_cells) * nb);
+  basis = basis_of(0);
+  stride = msh.mixed() ? bases_[1].n : basis.n;
+  cell_nodes.assign(checked_count<int64_t>(checked_mul(msh.n_cells, stride, "n_cells * nodes per cell"),
+                                           "n_cells * nodes per cell"),
+                    -1);
   std::map<std::array<int64_t, 4>, int64_t> shared;  // sorted vertices (edges padded with -1) -> node
   int64_t next = msh.n_vertices;
   auto node_of = [&](std::array<int64_t, 4> key, int n_vertices) {
@@ -71,10 +44,19 @@ void Space::number_cube_nodes() {
   };
   for (int64_t c = 0; c < msh.n_cells; ++c) {
     const int64_t *v = msh.cell(c);
-    int64_t *out = &cell_nodes[c * nb];
+    int64_t *out = &cell_nodes[c * stride];
+    const int nv = msh.cell_vertices(c);
     for (int i = 0; i < nv; ++i) out[i] = v[i];
     if (degree == 1) continue;
     int at = nv;
+    if (msh.simplicial(c)) {
+      for (int e = 0; e < Lagrange::n_edges(dim); ++e) {
+        int a, b;
+        Lagrange::edge_vertices(dim, e, a, b);
+        out[at++] = node_of({v[a], v[b], -1, -1}, 2);
+      }
+      continue;
+    }
     for (int e = 0; e < cube::n_edges(dim); ++e)
       out[at++] = node_of({v[cube::kEdge[e][0]], v[cube::kEdge[e][1]], -1, -1}, 2);
     if (dim == 3)
@@ -95,12 +77,13 @@ void Space::number_cube_nodes() {
 std::vector<int64_t> Space::facet_nodes(const Facet &f) const {
   std::vector<int64_t> out;
   const int64_t *nodes = nodes_of(f.cell);
-  if (!mesh->simplicial()) {  // facet 2 axis + side: the nodes at xi_axis = side
-    for (int i = 0; i < basis.n; ++i)
-      if (basis.tensor_index(i, f.local / 2) == f.local % 2) out.push_back(nodes[i]);
+  const Lagrange &lb = basis_of(f.cell);
+  if (!mesh->simplicial(f.cell)) {  // facet 2 axis + side: the nodes at xi_axis = side
+    for (int i = 0; i < lb.n; ++i)
+      if (lb.tensor_index(i, f.local / 2) == f.local % 2) out.push_back(nodes[i]);
     return out;
   }
-  for (int i = 0; i < basis.n; ++i) {
+  for (int i = 0; i < lb.n; ++i) {
     // a vertex node lies on the facet unless it is the opposite vertex; an
     // edge node unless its edge touches the opposite vertex
     bool on = true;

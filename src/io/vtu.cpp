@@ -61,7 +61,7 @@ VtkCell vtk_cell(int dim, int degree, int cell_type) {
   return {24, {0, 1, 2, 3, 4, 7, 5, 6, 8, 9}};           // (0,1),(1,2),(2,0),(0,3),(1,3),(2,3)
 }
 // vertex, line, triangle or quadrilateral
-int vtk_facet_type(const Mesh &m) { return m.dim == 1 ? 1 : m.dim == 2 ? 3 : m.simplicial() ? 5 : 9; }
+int vtk_facet_type(const Mesh &m) { return m.dim == 1 ? 1 : m.dim == 2 ? 3 : m.all_simplices() ? 5 : 9; }
 
 void write_vector_field(FILE *f, const char *name, const std::vector<double> &full, int dim, int64_t n) {
   std::fprintf(f, "        <DataArray type=\"Float64\" Name=\"%s\" NumberOfComponents=\"3\" format=\"ascii\">\n", name);
@@ -87,7 +87,9 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
     acc.first += cp.w[q] * lam[q];
     acc.second += cp.w[q];
   }
-  const VtkCell cell = vtk_cell(d, s.degree, m.cell_type);
+  // (each cell its type's: a mixed mesh's triangles and quadrilaterals)
+  const VtkCell cells[2] = {vtk_cell(d, s.degree, ND_CELL_SIMPLEX), vtk_cell(d, s.degree, d == 1 ? 0 : d - 1)};
+  auto cell_of = [&](int64_t c) -> const VtkCell & { return cells[m.simplicial(c) ? 0 : 1]; };
   const int facet_size = m.facet_size();
   const int64_t n_cells = m.n_cells, n_facets = static_cast<int64_t>(facet_pressure.size());
   AtomicFile f(path);
@@ -106,9 +108,11 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
     for (int k = 0; k < 3; ++k) std::fprintf(o, "%.17g%c", k < d ? s.node_x(i)[k] : 0.0, k == 2 ? '\n' : ' ');
   std::fprintf(o, "        </DataArray>\n      </Points>\n      <Cells>\n");
   std::fprintf(o, "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-  for (int64_t c = 0; c < n_cells; ++c)
+  for (int64_t c = 0; c < n_cells; ++c) {
+    const VtkCell &cell = cell_of(c);
     for (size_t k = 0; k < cell.order.size(); ++k)
       std::fprintf(o, "%lld%c", static_cast<long long>(s.nodes_of(c)[cell.order[k]]), k + 1 == cell.order.size() ? '\n' : ' ');
+  }
   for (auto &fp : facet_pressure) {  // contact facets through their vertices
     const auto v = m.facet_vertices(m.boundary[fp.first]);
     for (int k = 0; k < facet_size; ++k)
@@ -116,10 +120,11 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
   }
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
   int64_t offset = 0;
-  for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%lld\n", static_cast<long long>(offset += static_cast<int64_t>(cell.order.size())));
+  for (int64_t c = 0; c < n_cells; ++c)
+    std::fprintf(o, "%lld\n", static_cast<long long>(offset += static_cast<int64_t>(cell_of(c).order.size())));
   for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%lld\n", static_cast<long long>(offset += facet_size));
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-  for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%d\n", cell.type);
+  for (int64_t c = 0; c < n_cells; ++c) std::fprintf(o, "%d\n", cell_of(c).type);
   for (int64_t k = 0; k < n_facets; ++k) std::fprintf(o, "%d\n", vtk_facet_type(m));
   std::fprintf(o, "        </DataArray>\n      </Cells>\n      <PointData Vectors=\"displacement\">\n");
   write_vector_field(o, "displacement", U, d, s.n_nodes);
@@ -135,10 +140,10 @@ void write_vtu(const VtuSnapshot &snap, const char *path) {
   // contact facets get zeros. 1D: sigma_xx alone; 2D/3D: 3x3, row-major.
   const int n_comp = d == 1 ? 1 : 9;
   std::fprintf(o, "        </DataArray>\n        <DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"%d\" format=\"ascii\">\n", n_comp);
-  std::vector<double> centroid(static_cast<size_t>(d), m.simplicial() ? 1.0 / (d + 1) : 0.5);
+  const double simplex_centre[3] = {1.0 / (d + 1), 1.0 / (d + 1), 1.0 / (d + 1)}, cube_centre[3] = {0.5, 0.5, 0.5};
   for (int64_t c = 0; c < n_cells; ++c) {
     double sigma[9];
-    cell_stress(s, *snap.material, U.data(), c, centroid.data(), sigma);
+    cell_stress(s, *snap.material, U.data(), c, m.simplicial(c) ? simplex_centre : cube_centre, sigma);
     for (int k = 0; k < n_comp; ++k) std::fprintf(o, "%.17g%c", sigma[k], k + 1 == n_comp ? '\n' : ' ');
   }
   for (int64_t k = 0; k < n_facets; ++k)

@@ -168,8 +168,18 @@ ElementType element_type(int64_t type) {
   }
 }
 
+// Gmsh's prisms and pyramids (first and second order): what joins
+// tetrahedra to hexahedra in a conforming 3D mix
+const char *prism_or_pyramid(int64_t type) {
+  return type == 6 || type == 13 || type == 18 ? "a prism" : type == 7 || type == 14 || type == 19 ? "a pyramid" : nullptr;
+}
+
 ElementType supported(Tokens &tk, int64_t type) {
   const ElementType et = element_type(type);
+  if (const char *name = prism_or_pyramid(type))
+    tk.error("element type " + std::to_string(type) + " is not supported: it is " + name +
+             ", and the library has no prisms or pyramids, so it takes no 3D mix of tetrahedra and hexahedra (mixed "
+             "meshes are 2D: triangles and quadrilaterals; see nd_mesh_read_gmsh(3))");
   if (et.dim < 0)
     tk.error("element type " + std::to_string(type) + " is not supported (15, 1, 2, 4, 8, 9, 11; 3, 5, 10, 12" +
              (type == 16 || type == 17 ? std::string("; serendipity elements, 8-node quadrilaterals and 20-node "
@@ -400,16 +410,18 @@ Mesh read_gmsh(const char *path) {
   int top = -1;
   for (const Element &e : raw.elements) top = std::max(top, e.dim);
   if (top < 1) fail(ND_ERR_FORMAT, std::string(path) + ": no line, triangle, quadrilateral, tetrahedron or hexahedron elements");
-  int cell_type = -1;  // of the top-dimensional elements: one type
-  for (const Element &e : raw.elements) {
-    if (e.dim != top) continue;
-    if (cell_type >= 0 && e.cell_type != cell_type)
-      fail(ND_ERR_FORMAT, std::string(path) + ": the cells mix simplices and " +
-                              (top == 2 ? "quadrilaterals" : "hexahedra") +
-                              ": mixed meshes are not supported yet (one cell type a mesh)");
-    cell_type = e.cell_type;
-  }
-  const int nv = cell_type == ND_CELL_SIMPLEX ? top + 1 : 1 << top;
+  // the top-dimensional elements' types: one, or (2D) triangles and quadrilaterals
+  bool has[3] = {false, false, false};
+  for (const Element &e : raw.elements)
+    if (e.dim == top) has[e.cell_type] = true;
+  const bool mixed = top == 2 && has[ND_CELL_SIMPLEX] && has[ND_CELL_QUADRILATERAL];
+  if (has[ND_CELL_SIMPLEX] && has[ND_CELL_HEXAHEDRON])
+    fail(ND_ERR_FORMAT, std::string(path) + ": the cells mix tetrahedra and hexahedra: a conforming 3D mix needs "
+                                            "pyramids or prisms, which this library does not have (mixed meshes are "
+                                            "2D: triangles and quadrilaterals)");
+  const int cell_type = mixed ? kMixedCells : has[ND_CELL_SIMPLEX] ? ND_CELL_SIMPLEX : top - 1;
+  const int stride = mixed ? 4 : cell_type == ND_CELL_SIMPLEX ? top + 1 : 1 << top;  // (padded as Mesh::cells)
+  std::vector<int> types;  // each cell's (a mixed mesh's)
   // keep the vertices of top-dimensional cells, numbered by first use
   std::map<int64_t, int64_t> index;
   std::vector<double> coords;
@@ -440,22 +452,24 @@ Mesh read_gmsh(const char *path) {
       fail(ND_ERR_FORMAT, std::string(path) + ": physical tag " + std::to_string(tag) + " is not a valid cell region");
     cell_region.push_back(static_cast<int>(tag));
     any_group = any_group || tag > 0;
+    const int nv = e.cell_type == ND_CELL_SIMPLEX ? top + 1 : 1 << top;
     const double *x[8];
     for (int i = 0; i < nv; ++i) x[i] = position(e.nodes[i]).data();
     if (e.high >= 0) straight_high_order_nodes(path, e, x, raw, position);
     double J[9];
     const double centre[3] = {0.5, 0.5, 0.5};
-    if (cell_type == ND_CELL_SIMPLEX)
+    if (e.cell_type == ND_CELL_SIMPLEX)
       simplex_jacobian(top, x, J);
     else
       cube::jacobian(top, x, centre, J);
     std::array<int64_t, 8> v = e.nodes;
     if (determinant(top, J) < 0) {  // Gmsh does not fix the orientation
-      if (cell_type == ND_CELL_SIMPLEX) std::swap(v[0], v[1]);
-      if (cell_type == ND_CELL_QUADRILATERAL) std::swap(v[1], v[3]);
-      if (cell_type == ND_CELL_HEXAHEDRON) std::swap_ranges(v.begin(), v.begin() + 4, v.begin() + 4);
+      if (e.cell_type == ND_CELL_SIMPLEX) std::swap(v[0], v[1]);
+      if (e.cell_type == ND_CELL_QUADRILATERAL) std::swap(v[1], v[3]);
+      if (e.cell_type == ND_CELL_HEXAHEDRON) std::swap_ranges(v.begin(), v.begin() + 4, v.begin() + 4);
     }
-    for (int i = 0; i < nv; ++i) cells.push_back(vertex(v[i]));
+    for (int i = 0; i < stride; ++i) cells.push_back(i < nv ? vertex(v[i]) : -1);
+    types.push_back(e.cell_type);
   }
   // two used nodes at one position: refused with their tags (unused nodes,
   // which Gmsh files may repeat, were left out above)
@@ -464,12 +478,14 @@ Mesh read_gmsh(const char *path) {
     for (const auto &[tag, id] : index) tags[static_cast<size_t>(id)] = tag;
     const int64_t n = static_cast<int64_t>(index.size());
     const std::vector<int64_t> component =
-        vertex_components(n, static_cast<int64_t>(cells.size()) / nv, cells.data(), nv);
+        vertex_components(n, static_cast<int64_t>(types.size()), cells.data(), stride);
     refuse_duplicate_vertices(top, n, coords.data(), std::string(path) + ": ", tags.data(), &component);
   }
-  Mesh m = make_mesh(top, static_cast<int64_t>(index.size()), coords.data(),
-                     static_cast<int64_t>(cells.size()) / nv, cells.data(),
-                     std::string(path) + ": ", cell_type);
+  if (mixed) cells.erase(std::remove(cells.begin(), cells.end(), -1), cells.end());  // (each cell's own count)
+  const int64_t n_vertices = static_cast<int64_t>(index.size()), n_cells = static_cast<int64_t>(types.size());
+  Mesh m = mixed ? make_mixed_mesh(top, n_vertices, coords.data(), n_cells, types.data(), cells.data(),
+                                   std::string(path) + ": ")
+                 : make_mesh(top, n_vertices, coords.data(), n_cells, cells.data(), std::string(path) + ": ", cell_type);
   if (any_group) m.cell_region = std::move(cell_region);
   // facet elements of physical groups -> regions. Each (facet, group) pair
   // costs memory: a file may name at most as many pairs as it has bytes

@@ -65,9 +65,9 @@ const BoundaryIndex &boundary_index(Mesh &m) {
 void find_boundary(Mesh &m, const std::string &where) {
   // A facet is on the boundary when exactly one cell owns it.
   std::unordered_map<FacetKey, std::pair<Facet, int>, FacetKeyHash> seen;
-  seen.reserve(static_cast<size_t>(m.n_cells) * m.cell_facets());
+  seen.reserve(static_cast<size_t>(m.n_cells) * (2 * m.dim));
   for (int64_t c = 0; c < m.n_cells; ++c)
-    for (int f = 0; f < m.cell_facets(); ++f) {
+    for (int f = 0; f < m.cell_facets(c); ++f) {
       Facet facet{c, f};
       auto it = seen.emplace(key_of(m.facet_vertices(facet), m.facet_size()), std::make_pair(facet, 0));
       if (++it.first->second.second > 2)
@@ -86,7 +86,7 @@ void find_boundary(Mesh &m, const std::string &where) {
 std::array<int64_t, 4> Mesh::facet_vertices(const Facet &f) const {
   std::array<int64_t, 4> v{-1, -1, -1, -1};
   const int64_t *c = cell(f.cell);
-  if (!simplicial()) {
+  if (!simplicial(f.cell)) {
     for (int k = 0; k < facet_size(); ++k) v[k] = c[cube::facet_vertex(dim, f.local, k)];
     return v;
   }
@@ -98,7 +98,7 @@ std::array<int64_t, 4> Mesh::facet_vertices(const Facet &f) const {
 
 double Mesh::cell_diameter(int64_t c) const {
   const int64_t *v = cell(c);
-  const int nv = cell_vertices();
+  const int nv = cell_vertices(c);
   double h2 = 0;
   for (int i = 0; i < nv; ++i)
     for (int j = i + 1; j < nv; ++j) {
@@ -112,8 +112,8 @@ double Mesh::cell_diameter(int64_t c) const {
 void Mesh::cell_jacobian(int64_t c, double *J) const {
   const int64_t *v = cell(c);
   const double *corners[8];
-  for (int i = 0; i < cell_vertices(); ++i) corners[i] = x(v[i]);
-  if (simplicial()) {
+  for (int i = 0; i < cell_vertices(c); ++i) corners[i] = x(v[i]);
+  if (simplicial(c)) {
     simplex_jacobian(dim, corners, J);
   } else {
     const double xi[3] = {0, 0, 0};
@@ -129,9 +129,9 @@ namespace {
 double smallest_corner_determinant(const Mesh &m, int64_t c) {
   const int64_t *v = m.cell(c);
   const double *corners[8];
-  for (int i = 0; i < m.cell_vertices(); ++i) corners[i] = m.x(v[i]);
+  for (int i = 0; i < m.cell_vertices(c); ++i) corners[i] = m.x(v[i]);
   double lowest = 0;
-  for (int i = 0; i < m.cell_vertices(); ++i) {
+  for (int i = 0; i < m.cell_vertices(c); ++i) {
     const double xi[3] = {1.0 * cube::kCorner[i][0], 1.0 * cube::kCorner[i][1], 1.0 * cube::kCorner[i][2]};
     double J[9];
     cube::jacobian(m.dim, corners, xi, J);
@@ -143,32 +143,49 @@ double smallest_corner_determinant(const Mesh &m, int64_t c) {
 
 }  // namespace
 
-Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
-               const int64_t *cells, const std::string &where, int cell_type) {
-  if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, where + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
+namespace {
+
+const char *kTypeNames = "ND_CELL_SIMPLEX (0), ND_CELL_QUADRILATERAL (1) or ND_CELL_HEXAHEDRON (2)";
+
+// The cell type's vertex count in dim, refused when the type is unknown or
+// not of this dimension (`what` names it in the message)
+int checked_vertices(int dim, int cell_type, const std::string &where, const std::string &what) {
   if (cell_type != ND_CELL_SIMPLEX && cell_type != ND_CELL_QUADRILATERAL && cell_type != ND_CELL_HEXAHEDRON)
-    fail(ND_ERR_VALUE, where + "cell_type is " + std::to_string(cell_type) +
-                           ", not ND_CELL_SIMPLEX (0), ND_CELL_QUADRILATERAL (1) or ND_CELL_HEXAHEDRON (2)");
+    fail(ND_ERR_VALUE, where + what + " is " + std::to_string(cell_type) + ", not " + kTypeNames);
   if (cell_type != ND_CELL_SIMPLEX && dim != cell_type + 1)
-    fail(ND_ERR_DIMENSION, where + (cell_type == ND_CELL_QUADRILATERAL ? "quadrilaterals" : "hexahedra") +
+    fail(ND_ERR_DIMENSION, where + what + ": " + (cell_type == ND_CELL_QUADRILATERAL ? "quadrilaterals" : "hexahedra") +
                                " need dim " + std::to_string(cell_type + 1) + ", not " + std::to_string(dim));
-  const int nv = cell_type == ND_CELL_SIMPLEX ? dim + 1 : 1 << dim;
+  return cell_type == ND_CELL_SIMPLEX ? dim + 1 : 1 << dim;
+}
+
+void check_sizes(int dim, int64_t n_vertices, const double *coords, int64_t n_cells, const int64_t *cells,
+                 const std::string &where) {
+  if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, where + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
   if (n_vertices <= dim) fail(ND_ERR_SIZE, where + "n_nodes must be at least dim + 1");
   if (n_cells <= 0) fail(ND_ERR_SIZE, where + "n_cells must be positive");
   if (!coords) fail(ND_ERR_NULL, where + "coords is NULL");
   if (!cells) fail(ND_ERR_NULL, where + "cells is NULL");
-  // sizes from the caller: checked before any arithmetic on pointers
-  const int64_t n_coords = checked_mul(n_vertices, dim, "n_nodes * dim");
-  const int64_t n_indices = checked_mul(n_cells, nv, "n_cells * vertices per cell");
-  checked_count<double>(n_coords, "n_nodes * dim");
-  checked_count<int64_t>(n_indices, "n_cells * vertices per cell");
+}
+
+// A mesh's sizes, before its cells
+Mesh sized(int dim, int cell_type, int64_t n_vertices, int64_t n_cells, int stride) {
   Mesh m;
   m.dim = dim;
   m.cell_type = cell_type;
   m.n_vertices = n_vertices;
   m.n_cells = n_cells;
+  m.stride = stride;
+  return m;
+}
+
+// The checks and the boundary of a mesh whose cells, types and stride are
+// set (m.cells padded to m.stride entries a cell)
+Mesh finish_mesh(Mesh m, const double *coords, const std::string &where) {
+  const int dim = m.dim;
+  const int64_t n_vertices = m.n_vertices, n_cells = m.n_cells;
+  const int64_t n_coords = checked_mul(n_vertices, dim, "n_nodes * dim");
+  checked_count<double>(n_coords, "n_nodes * dim");
   m.coords.assign(coords, coords + n_coords);
-  m.cells.assign(cells, cells + n_indices);
   for (int64_t i = 0; i < n_coords; ++i)
     if (!std::isfinite(m.coords[i]))
       fail(ND_ERR_NONFINITE, where + "coords[" + std::to_string(i) + "] (coordinate " +
@@ -176,14 +193,17 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
                                  ") is not finite");
   // Every index before any geometry: 1-based connectivity (a common slip
   // from Fortran or Gmsh) would otherwise surface as an inverted or flat cell.
-  const auto [lowest, highest] = std::minmax_element(m.cells.begin(), m.cells.end());
+  int64_t lowest = n_vertices, highest = -1;
+  for (int64_t c = 0; c < n_cells; ++c)
+    for (int i = 0; i < m.cell_vertices(c); ++i)
+      lowest = std::min(lowest, m.cell(c)[i]), highest = std::max(highest, m.cell(c)[i]);
   for (int64_t c = 0; c < n_cells; ++c) {
     const int64_t *v = m.cell(c);
-    for (int i = 0; i < nv; ++i) {
+    for (int i = 0; i < m.cell_vertices(c); ++i) {
       if (v[i] < 0 || v[i] >= n_vertices)
         fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " names vertex " + std::to_string(v[i]) +
                                ", outside [0, " + std::to_string(n_vertices) + "): vertex indices are 0-based" +
-                               (*lowest == 1 && *highest == n_vertices
+                               (lowest == 1 && highest == n_vertices
                                     ? " (the indices run from 1 to n_nodes: 1-based? subtract 1)"
                                     : ""));
       for (int j = 0; j < i; ++j)
@@ -191,12 +211,13 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
           fail(ND_ERR_INDEX, where + "cell " + std::to_string(c) + " repeats vertex " + std::to_string(v[i]));
     }
   }
-  const std::vector<int64_t> component = vertex_components(n_vertices, n_cells, m.cells.data(), m.cell_vertices());
+  const std::vector<int64_t> component = vertex_components(n_vertices, n_cells, m.cells.data(), m.stride);
   refuse_duplicate_vertices(dim, n_vertices, m.coords.data(), where, nullptr, &component);
   for (int64_t c = 0; c < n_cells; ++c) {
     double J[9];
     m.cell_jacobian(c, J);
-    const double det = m.simplicial() ? determinant(dim, J) : smallest_corner_determinant(m, c);
+    const bool simplex = m.simplicial(c);
+    const double det = simplex ? determinant(dim, J) : smallest_corner_determinant(m, c);
     const double h = m.cell_diameter(c);
     if (!std::isfinite(det) || !std::isfinite(std::pow(h, dim)))
       fail(ND_ERR_VALUE, where + "cell " + std::to_string(c) + ": its size overflows (diameter " + num(h) +
@@ -207,24 +228,66 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
                                   (dim == 1 ? "length" : dim == 2 ? "area" : "volume"));
     if (det < 0)
       fail(ND_ERR_DEGENERATE, where + "cell " + std::to_string(c) +
-                                  (m.simplicial() ? " is inverted (negative orientation): order its vertices " +
-                                                        std::string(dim == 1   ? "left to right"
-                                                                    : dim == 2 ? "counter-clockwise"
-                                                                               : "with positive volume")
-                                                  : dim == 2 ? " is inverted or not convex: order its vertices "
-                                                               "counter-clockwise"
-                                                             : " is inverted or too distorted: order its vertices "
-                                                               "counter-clockwise on the bottom face, then the "
-                                                               "top face above them"));
+                                  (simplex ? " is inverted (negative orientation): order its vertices " +
+                                                 std::string(dim == 1   ? "left to right"
+                                                             : dim == 2 ? "counter-clockwise"
+                                                                        : "with positive volume")
+                                  : dim == 2 ? " is inverted or not convex: order its vertices "
+                                               "counter-clockwise"
+                                             : " is inverted or too distorted: order its vertices "
+                                               "counter-clockwise on the bottom face, then the "
+                                               "top face above them"));
   }
   // An orphan vertex would carry unknowns with no mass and no stiffness.
   std::vector<char> used(static_cast<size_t>(n_vertices), 0);
-  for (int64_t v : m.cells) used[v] = 1;
+  for (int64_t v : m.cells)
+    if (v >= 0) used[v] = 1;
   for (int64_t v = 0; v < n_vertices; ++v)
     if (!used[v])
       fail(ND_ERR_INDEX, where + "vertex " + std::to_string(v) + " belongs to no cell; every vertex must belong to one");
   find_boundary(m, where);
   return m;
+}
+
+}  // namespace
+
+Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
+               const int64_t *cells, const std::string &where, int cell_type) {
+  if (dim < 1 || dim > 3) fail(ND_ERR_DIMENSION, where + "dim is " + std::to_string(dim) + ", not 1, 2 or 3");
+  const int nv = checked_vertices(dim, cell_type, where, "cell_type");
+  check_sizes(dim, n_vertices, coords, n_cells, cells, where);
+  // sizes from the caller: checked before any arithmetic on pointers
+  const int64_t n_indices = checked_mul(n_cells, nv, "n_cells * vertices per cell");
+  checked_count<int64_t>(n_indices, "n_cells * vertices per cell");
+  Mesh m = sized(dim, cell_type, n_vertices, n_cells, nv);
+  m.cells.assign(cells, cells + n_indices);
+  return finish_mesh(std::move(m), coords, where);
+}
+
+Mesh make_mixed_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells, const int *types,
+                     const int64_t *cells, const std::string &where) {
+  check_sizes(dim, n_vertices, coords, n_cells, cells, where);
+  if (!types) fail(ND_ERR_NULL, where + "cell_types is NULL");
+  checked_count<int64_t>(n_cells, "n_cells");
+  int64_t first_of[3] = {-1, -1, -1};  // each type's first cell
+  for (int64_t c = 0; c < n_cells; ++c) {
+    checked_vertices(dim, types[c], where, "cell_types[" + std::to_string(c) + "]");
+    if (first_of[types[c]] < 0) first_of[types[c]] = c;
+  }
+  const int first = static_cast<int>(types[0]);
+  const bool uniform = std::all_of(types, types + n_cells, [&](int t) { return t == first; });
+  if (uniform) return make_mesh(dim, n_vertices, coords, n_cells, cells, where, first);
+  if (dim == 3)  // (1D has one type: refused above)
+    fail(ND_ERR_DIMENSION, where + "cell " + std::to_string(first_of[ND_CELL_SIMPLEX]) + " is a tetrahedron and cell " +
+                               std::to_string(first_of[ND_CELL_HEXAHEDRON]) +
+                               " a hexahedron: a conforming mix of the two needs pyramids or prisms, which this "
+                               "library does not have; mixed meshes are 2D (triangles and quadrilaterals)");
+  Mesh m = sized(dim, kMixedCells, n_vertices, n_cells, 4);
+  m.types.assign(types, types + n_cells);
+  m.cells.assign(checked_count<int64_t>(checked_mul(n_cells, 4, "n_cells * 4"), "n_cells * 4"), -1);
+  for (int64_t c = 0, at = 0; c < n_cells; ++c)
+    for (int i = 0; i < m.cell_vertices(c); ++i) m.cells[c * 4 + i] = cells[at++];
+  return finish_mesh(std::move(m), coords, where);
 }
 
 std::vector<int64_t> vertex_components(int64_t n, int64_t n_cells, const int64_t *cells, int per_cell) {
@@ -235,7 +298,7 @@ std::vector<int64_t> vertex_components(int64_t n, int64_t n_cells, const int64_t
     return v;
   };
   for (int64_t c = 0; c < n_cells; ++c)
-    for (int i = 1; i < per_cell; ++i) {
+    for (int i = 1; i < per_cell && cells[c * per_cell + i] >= 0; ++i) {
       const int64_t a = find(cells[c * per_cell]), b = find(cells[c * per_cell + i]);
       if (a != b) root[std::max(a, b)] = std::min(a, b);  // the smaller index names the component
     }

@@ -1,6 +1,6 @@
-// Meshes in 1D (intervals), 2D (triangles or quadrilaterals) and 3D
-// (tetrahedra or hexahedra), one cell type per mesh, with their boundary
-// facets and numbered boundary regions.
+// Meshes in 1D (intervals), 2D (triangles, quadrilaterals, or both mixed)
+// and 3D (tetrahedra or hexahedra), with their boundary facets and numbered
+// boundary regions.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -22,13 +22,22 @@ struct Facet {
 
 struct BoundaryIndex;  // mesh.cpp: a boundary facet's index from its vertices
 
+// Mesh::cell_type of a mesh mixing triangles and quadrilaterals
+inline constexpr int kMixedCells = -1;
+
+// A uniform mesh (one cell type) stores its type once and its cells packed;
+// a mixed one (2D: triangles and quadrilaterals) each cell's type and its
+// cells padded to 4 entries, a triangle's last -1, so that cell(c) stays one
+// multiplication and a uniform mesh pays neither memory nor a lookup.
 struct Mesh {
   int dim = 0;
-  int cell_type = 0;                   // ND_CELL_SIMPLEX, _QUADRILATERAL or _HEXAHEDRON
+  int cell_type = 0;                   // ND_CELL_SIMPLEX, _QUADRILATERAL, _HEXAHEDRON, or kMixedCells
   int64_t n_vertices = 0;
   int64_t n_cells = 0;
   std::vector<double> coords;          // n_vertices * dim
-  std::vector<int64_t> cells;          // n_cells * cell_vertices()
+  std::vector<int64_t> cells;          // n_cells * stride
+  int stride = 0;                      // entries a cell in `cells`: its vertices; mixed: 4
+  std::vector<signed char> types;      // a mixed mesh's cell types; empty when uniform
   std::vector<Facet> boundary;         // facets owned by exactly one cell
   std::map<int, std::set<int64_t>> regions;  // region -> indices into boundary
   // each cell's region (>= 0; 0: in none), or empty: every cell in region 0
@@ -39,12 +48,17 @@ struct Mesh {
   std::shared_ptr<const BoundaryIndex> boundary_lookup;
 
   const double *x(int64_t v) const { return &coords[v * dim]; }
-  bool simplicial() const { return cell_type == 0; }
-  // vertices of a cell (dim + 1, or 2^dim), facets of a cell, vertices of a facet
-  int cell_vertices() const { return simplicial() ? dim + 1 : 1 << dim; }
-  int cell_facets() const { return simplicial() ? dim + 1 : 2 * dim; }
-  int facet_size() const { return simplicial() ? dim : 1 << (dim - 1); }
-  const int64_t *cell(int64_t c) const { return &cells[c * cell_vertices()]; }
+  bool mixed() const { return cell_type == kMixedCells; }
+  int type(int64_t c) const { return mixed() ? types[c] : cell_type; }
+  bool simplicial(int64_t c) const { return type(c) == 0; }
+  // every cell a simplex (1D always; a mixed mesh not)
+  bool all_simplices() const { return cell_type == 0; }
+  // vertices of a cell (dim + 1, or 2^dim), facets of a cell, vertices of a
+  // facet (the same for every cell: a mix is 2D, where facets are segments)
+  int cell_vertices(int64_t c) const { return simplicial(c) ? dim + 1 : 1 << dim; }
+  int cell_facets(int64_t c) const { return simplicial(c) ? dim + 1 : 2 * dim; }
+  int facet_size() const { return cell_type == 2 ? 4 : dim; }
+  const int64_t *cell(int64_t c) const { return &cells[c * stride]; }
   // The facet_size() vertices of a facet (the rest -1): a simplex's in the
   // cell's local order, a quadrilateral's or hexahedron's turning about the
   // outward normal (mesh/cell_shape.hpp).
@@ -63,6 +77,13 @@ struct Mesh {
 // Gmsh order (counter-clockwise; the bottom face, then the top one above it).
 Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells,
                const int64_t *cells, const std::string &where = {}, int cell_type = 0);
+// A mesh whose cells have their own types (ND_CELL_SIMPLEX or
+// ND_CELL_QUADRILATERAL in 2D; in 1D and 3D one type only, ND_ERR_DIMENSION
+// naming the mix: a conforming tetrahedron/hexahedron mix needs pyramids or
+// prisms). cells: each cell's vertices in turn, as many as its type has.
+// All of one type: the uniform mesh make_mesh makes.
+Mesh make_mixed_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cells, const int *types,
+                     const int64_t *cells, const std::string &where = {});
 // ND_ERR_DEGENERATE naming both when two of the n vertices (dim coordinates
 // each, finite) of one connected component are at exactly the same position
 // (two bodies may touch there: docs/design.md §10.3); O(n log n). names:
@@ -71,7 +92,7 @@ Mesh make_mesh(int dim, int64_t n_vertices, const double *coords, int64_t n_cell
 void refuse_duplicate_vertices(int dim, int64_t n, const double *coords, const std::string &where,
                                const int64_t *names = nullptr, const std::vector<int64_t> *component = nullptr);
 // The connected component of each of n vertices (the smallest vertex index
-// in it) through the cells, per_cell vertices each
+// in it) through the cells, per_cell entries each (-1: padding, skipped)
 std::vector<int64_t> vertex_components(int64_t n, int64_t n_cells, const int64_t *cells, int per_cell);
 Mesh make_interval(int64_t n_cells, double a, double b);
 // nx*ny rectangles split into 2 triangles; nx*ny*nz boxes into 6 tetrahedra;

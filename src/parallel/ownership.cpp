@@ -6,7 +6,7 @@
 namespace nd {
 
 std::vector<int> slab_partition(const Mesh &m, int parts) {
-  const int d = m.dim, nv = m.cell_vertices();
+  const int d = m.dim;
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   for (int k = 0; k < d; ++k) {
     lo[k] = hi[k] = m.n_vertices ? m.x(0)[k] : 0.0;
@@ -16,8 +16,10 @@ std::vector<int> slab_partition(const Mesh &m, int parts) {
   for (int k = 1; k < d; ++k)
     if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
   std::vector<double> centre(static_cast<size_t>(m.n_cells), 0.0);
-  for (int64_t c = 0; c < m.n_cells; ++c)
+  for (int64_t c = 0; c < m.n_cells; ++c) {
+    const int nv = m.cell_vertices(c);
     for (int i = 0; i < nv; ++i) centre[c] += m.x(m.cell(c)[i])[axis] / nv;
+  }
   std::vector<int64_t> order(static_cast<size_t>(m.n_cells));
   std::iota(order.begin(), order.end(), int64_t{0});
   std::stable_sort(order.begin(), order.end(), [&](int64_t a, int64_t b) { return centre[a] < centre[b]; });
@@ -35,19 +37,19 @@ namespace {
 // The dual graph's rows of the cells [begin, end): the cells sharing a facet
 // (facet_size() vertices) with each, ascending.
 void dual_graph(const Mesh &m, int64_t begin, int64_t end, std::vector<int64_t> &ia, std::vector<int64_t> &ja) {
-  const int nv = m.cell_vertices();
   std::vector<int64_t> first(static_cast<size_t>(m.n_vertices + 1), 0), cells(m.cells.size());
-  for (int64_t v : m.cells) ++first[v + 1];
+  for (int64_t v : m.cells)
+    if (v >= 0) ++first[v + 1];  // (not a mixed mesh's padding)
   std::partial_sum(first.begin(), first.end(), first.begin());
   std::vector<int64_t> next(first.begin(), first.end() - 1);
   for (int64_t c = 0; c < m.n_cells; ++c)
-    for (int i = 0; i < nv; ++i) cells[next[m.cell(c)[i]]++] = c;
+    for (int i = 0; i < m.cell_vertices(c); ++i) cells[next[m.cell(c)[i]]++] = c;
   ia.assign(1, 0);
   ja.clear();
   std::vector<int64_t> met;
   for (int64_t c = begin; c < end; ++c) {
     met.clear();
-    for (int i = 0; i < nv; ++i) {
+    for (int i = 0; i < m.cell_vertices(c); ++i) {
       const int64_t v = m.cell(c)[i];
       met.insert(met.end(), cells.begin() + first[v], cells.begin() + first[v + 1]);
     }
@@ -104,7 +106,7 @@ Ownership ownership_of_cells(const Space &s, std::vector<int> cell_owner, int ra
   // a node belongs to its lowest-numbered cell's rank (a node of no cell to rank 0)
   own.node_owner.assign(static_cast<size_t>(s.n_nodes), -1);
   for (int64_t cell = 0; cell < s.mesh->n_cells; ++cell)
-    for (int i = 0; i < s.basis.n; ++i) {
+    for (int i = 0; i < s.basis_of(cell).n; ++i) {
       int &o = own.node_owner[s.nodes_of(cell)[i]];
       if (o < 0) o = own.cell_owner[cell];
     }

@@ -174,9 +174,9 @@ double stiffness_volume(const Space &space, const CellMaterials &mat, double *vo
   const double centre[3] = {0.5, 0.5, 0.5};
   for (int64_t c = 0; c < m.n_cells; ++c) {
     const int64_t *v = m.cell(c);
-    for (int i = 0; i < m.cell_vertices(); ++i) corners[i] = m.x(v[i]);
+    for (int i = 0; i < m.cell_vertices(c); ++i) corners[i] = m.x(v[i]);
     double volume;
-    if (m.simplicial()) {
+    if (m.simplicial(c)) {
       simplex_jacobian(dim, corners, J);
       volume = std::fabs(determinant(dim, J)) / factorial;
     } else {

@@ -18,11 +18,12 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
       row_of[k] = static_cast<int64_t>(cr.dofs.size());
       cr.dofs.push_back(static_cast<int64_t>(k));
     }
-  const int nb = s.basis.n, d = s.dim;
+  const int d = s.dim;
   // the free columns (K, M) and the clamped ones (Kcc, Mcc) of each clamped row
   std::vector<std::vector<int64_t>> cols(cr.dofs.size()), cols_c(cr.dofs.size());
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     const int64_t *nodes = s.nodes_of(c);
+    const int nb = s.basis_of(c).n;
     for (int i = 0; i < nb * d; ++i) {
       const int64_t r = row_of[nodes[i / d] * d + i % d];
       if (r < 0) continue;
@@ -42,6 +43,7 @@ ClampedRows clamped_rows(const Space &s, const DofMap &dofs, const CellMaterials
   std::vector<double> lumped;
   for (int64_t c = 0; c < s.mesh->n_cells; ++c) {
     const int64_t *nodes = s.nodes_of(c);
+    const int nb = s.basis_of(c).n;
     bool any = false;
     for (int i = 0; i < nb * d && !any; ++i) any = row_of[nodes[i / d] * d + i % d] >= 0;
     if (!any) continue;

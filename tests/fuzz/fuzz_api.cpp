@@ -135,6 +135,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           violated("cells", 0, "handle");
         break;
       }
+      case 60: {  // a mixed mesh: any types a cell (the count of vertices each takes from them), any vertices
+        const int d = in.ConsumeIntegralInRange<int>(0, 4);
+        const int64_t nv = in.ConsumeIntegralInRange<int64_t>(0, 12), nc = in.ConsumeIntegralInRange<int64_t>(0, 4);
+        std::vector<double> x(static_cast<size_t>(nv * 3 + 1));
+        std::vector<int> types(static_cast<size_t>(nc + 1));
+        std::vector<int64_t> c(static_cast<size_t>(nc * 8 + 1));  // (room for the largest type's count)
+        for (auto &v : x) v = any_double(in);
+        for (auto &t : types) t = in.ConsumeIntegralInRange<int>(-1, 3);
+        for (auto &v : c) v = in.ConsumeIntegralInRange<int64_t>(-1, 13);
+        nd_mesh_destroy(&m);
+        if (CALL(nd_mesh_create_mixed, d, nv, x.data(), nc, types.data(), c.data(), &m) != ND_OK && m)
+          violated("mixed", 0, "handle");
+        break;
+      }
       case 62: {  // the generators with a cell type, any type
         const int type = in.ConsumeIntegralInRange<int>(-1, 3);
         nd_mesh_destroy(&m);

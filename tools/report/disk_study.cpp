@@ -211,7 +211,7 @@ class Locator {
     buckets_.resize(static_cast<size_t>(nb * nb));
     for (int64_t c = 0; c < m.n_cells; ++c) {
       double clo[2] = {1e300, 1e300}, chi[2] = {-1e300, -1e300};
-      for (int k = 0; k < m.cell_vertices(); ++k)
+      for (int k = 0; k < m.cell_vertices(c); ++k)
         for (int d = 0; d < 2; ++d)
           clo[d] = std::min(clo[d], m.x(m.cell(c)[k])[d]), chi[d] = std::max(chi[d], m.x(m.cell(c)[k])[d]);
       for (int i = index(clo[0], 0); i <= index(chi[0], 0); ++i)
@@ -232,7 +232,7 @@ class Locator {
             double l[2];
             reference(c, x, l);
             // how far inside: the least barycentric coordinate, or distance to the square's sides
-            const double lmin = m_.simplicial() ? std::min({l[0], l[1], 1 - l[0] - l[1]})
+            const double lmin = m_.simplicial(c) ? std::min({l[0], l[1], 1 - l[0] - l[1]})
                                                 : std::min({l[0], l[1], 1 - l[0], 1 - l[1]});
             if (lmin > best_min) best_min = lmin, best = c, xi[0] = l[0], xi[1] = l[1];
           }
@@ -251,9 +251,10 @@ class Locator {
   // round-off for the convex cells of the meshes, and points near them)
   void reference(int64_t c, const double *x, double *xi) const {
     nd::CellMap A(m_, c);
-    if (m_.simplicial()) xi[0] = xi[1] = 0;
+    const bool simplex = m_.simplicial(c);
+    if (simplex) xi[0] = xi[1] = 0;
     else xi[0] = xi[1] = 0.5;
-    for (int it = 0; it < (m_.simplicial() ? 1 : 8); ++it) {
+    for (int it = 0; it < (simplex ? 1 : 8); ++it) {
       A.at(xi);
       double y[2];
       A.to_physical(xi, y);
@@ -261,7 +262,7 @@ class Locator {
       xi[0] += A.Jinv[0] * dx[0] + A.Jinv[1] * dx[1];
       xi[1] += A.Jinv[2] * dx[0] + A.Jinv[3] * dx[1];
     }
-    if (!m_.simplicial()) {  // not converged (a point far off the cell, where the map folds): far outside it
+    if (!simplex) {  // not converged (a point far off the cell, where the map folds): far outside it
       double y[2];
       A.to_physical(xi, y);
       if (!(std::hypot(x[0] - y[0], x[1] - y[1]) <= 1e-9 * std::sqrt(std::abs(A.det))))
@@ -306,7 +307,8 @@ double strain_energy_density(const double *g) {
 void field_errors(const Run &ref, const std::vector<double> &ur, const Run &run, const std::vector<double> &uc,
                   const Locator &loc, double &l2, double &energy) {
   const nd::Space &R = *ref.space, &C = *run.space;
-  const nd::QuadratureRule q = nd::cell_rule(R.mesh->cell_type, 2, 2 * R.degree);
+  // (the reference mesh holds one cell type)
+  const nd::QuadratureRule q = R.mesh->simplicial(0) ? nd::simplex_rule(2, 2 * R.degree) : nd::cube_rule(2, 2 * R.degree);
   double e_l2 = 0, r_l2 = 0, e_en = 0, r_en = 0;
   for (int64_t c = 0; c < R.mesh->n_cells; ++c) {
     nd::CellMap A(*R.mesh, c);

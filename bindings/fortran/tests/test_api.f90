@@ -648,6 +648,18 @@ contains
     status = nd_mesh_get_cell_count(m, nc)
     call check(status == ND_OK .and. nc == 1, 'one quadrilateral')
     call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    ! a quadrilateral and two triangles in one mesh (nd_mesh_create_mixed)
+    call check(nd_mesh_create_mixed(2_c_int, 6_c_int64_t, &
+                                    [0.0_c_double, 0.0_c_double, 1.0_c_double, 0.0_c_double, 2.0_c_double, &
+                                     0.0_c_double, 0.0_c_double, 1.0_c_double, 1.0_c_double, 1.0_c_double, &
+                                     2.0_c_double, 1.0_c_double], 3_c_int64_t, &
+                                    [ND_CELL_QUADRILATERAL, ND_CELL_SIMPLEX, ND_CELL_SIMPLEX], &
+                                    [0_c_int64_t, 1_c_int64_t, 4_c_int64_t, 3_c_int64_t, 1_c_int64_t, 2_c_int64_t, &
+                                     5_c_int64_t, 1_c_int64_t, 5_c_int64_t, 4_c_int64_t], m) == ND_OK, &
+               'nd_mesh_create_mixed')
+    status = nd_mesh_get_cell_count(m, nc)
+    call check(status == ND_OK .and. nc == 3, 'three mixed cells')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
     call check(nd_mesh_create_box_cells(2_c_int64_t, 1_c_int64_t, 1_c_int64_t, [0.0_c_double, 0.0_c_double, &
                                         0.0_c_double], [2.0_c_double, 1.0_c_double, 1.0_c_double], &
                                         ND_CELL_HEXAHEDRON, m) == ND_OK, 'nd_mesh_create_box_cells')
