@@ -95,6 +95,8 @@ if [ "$mode" != quick ]; then
   # (the Newton tangent paths, bench/tangent.sh, take longer: make bench-tangent)
   # quadrilaterals and hexahedra, ours and GetFEM's (about 5 minutes)
   sh bench/quads.sh "$build" "$out"
+  # adaptive time steps against fixed ones (error at T against run time)
+  sh bench/adaptive.sh "$build" "$out/adaptive.txt"
 fi
 $py bench/perf_report.py --results "$out" --out "$report"
 echo "written: $out/*.csv, $report"
