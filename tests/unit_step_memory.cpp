@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
 #include "testutil.h"
 #include "unit_drop.hpp"
 
