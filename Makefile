@@ -24,7 +24,9 @@
 #                   and the tables of report/SCALING.md on stdout
 #   make report     the work-precision study (about 15 min): report/REPORT.md, plots, data
 #   make report-quick  the same, small (about 2 min, in CI): $(BUILD)/report-quick/
-#   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv
+#   make stability  the stability suite: report/STABILITY.md and report/data/stability.csv;
+#                   its fixed plan and STABILITY_RANDOM (200) cases drawn at random with a
+#                   fresh seed (from the time), printed; replay: make stability STABILITY_SEED=...
 #   make stability-quick  its small plan (a test of make check too): $(BUILD)/stability-quick/
 #   make meshes     regenerate examples/meshes/*.msh (and the gmsh-written fixtures of
 #                   tests/fixtures) from the .geo sources (gmsh)
@@ -162,8 +164,14 @@ report-quick: all report-deps
 	$(REPORT_PY) tools/report/make_report.py --data $(BUILD)/report-quick/data --out $(BUILD)/report-quick
 
 # The stability suite (tools/stability): stiff and extreme cases, no silent failure.
+# A fresh seed for the random cases unless STABILITY_SEED is given (:= once).
+STABILITY_RANDOM ?= 200
+ifeq ($(STABILITY_SEED),)
+STABILITY_SEED := $(shell date -u +%Y%m%d%H%M%S)
+endif
 stability: all
-	$(REPORT_PY) tools/stability/run.py --build $(BUILD) --out report
+	@echo "stability: seed $(STABILITY_SEED) (replay: make stability STABILITY_SEED=$(STABILITY_SEED))"
+	$(REPORT_PY) tools/stability/run.py --build $(BUILD) --out report --random $(STABILITY_RANDOM) --seed $(STABILITY_SEED)
 
 stability-quick: all
 	$(REPORT_PY) tools/stability/run.py --quick --build $(BUILD) --out $(BUILD)/stability-quick

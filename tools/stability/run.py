@@ -17,6 +17,17 @@ Newton stops (ND_ERR_NEWTON) is run again with adaptive time steps (column
 rerun_adaptive): mended when it then reaches T. Writes
 OUT/data/stability.csv and OUT/STABILITY.md, generated from the CSV only.
 Exit status 1 when any run is a silent failure or a false alarm.
+
+Besides that matrix (class base), the classes of issue 57 (class_plan; the
+class in the CSV's first column, the report's per-class table): 3d (the
+ball), material (steel in SI units, rubber nu = 0.49, 0.4999), speed (10x,
+100x), timestep (tau 1e-2x to 1e2x, implicit schemes), moving_plane,
+static_load, sliver (flat contact cells), long (1e5 steps; full plan only);
+and with --random N --seed S, N cases drawn with random.Random(S) (class
+random; random_plan), so that the suite is not a fixed list to tune
+against. make stability passes a fresh seed from the time unless
+STABILITY_SEED is given and prints it; the quick plan (--quick, a test of
+make check) stays fixed.
 """
 import argparse
 import collections
@@ -25,42 +36,151 @@ import csv
 import io
 import os
 import platform
+import random
 import subprocess
 import sys
 import time
 
-HEAD = ["scene", "degree", "scheme", "Theta", "gamma0E", "tau", "steps", "outcome", "code", "step",
+HEAD = ["class", "scene", "degree", "scheme", "Theta", "gamma0E", "options", "tau", "steps", "outcome", "code", "step",
         "energy_growth", "max_penetration_over_h", "late", "newton_per_step", "wall_s", "theory", "message"]
 # the rerun's verdict, after the driver's columns
 CSV_HEAD = HEAD + ["rerun_unguarded", "rerun_adaptive"]
+# the wall time an adaptive rerun gets (the slow part: friction at tiny gamma0)
+ADAPTIVE_SECONDS = 60
 GUARD_CODES = ("ND_ERR_ENERGY_GROWTH", "ND_ERR_PENETRATION")
 GAMMA0E = ["1e-8", "1e-6", "1e-4", "1e-2", "1", "1e2", "1e4"]
 
 
-def plan(quick):
+SCHEMES = ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_damped", "explicit_damped",
+           "hybrid_friction", "newmark_friction", "explicit_friction", "hybrid_layered", "newmark_layered",
+           "explicit_layered")
+IMPLICIT = ("hybrid", "newmark", "theta1", "galpha")
+# the classes of issue 57, in the report's order (random: run.py --random)
+CLASSES = ("base", "3d", "material", "speed", "timestep", "moving_plane", "static_load", "sliver", "long", "random")
+
+
+def base_plan(quick):
     if quick:
-        return [(sc, 1, s, th, g) for sc in ("bar", "rect")
+        return [("base", sc, 1, s, th, g, ()) for sc in ("bar", "rect")
                 for s in ("hybrid", "newmark", "explicit", "hybrid_damped", "explicit_damped", "hybrid_friction",
                           "explicit_friction", "hybrid_layered", "explicit_layered")
                 for th in ("1", "-1") for g in ("1e-4", "1", "1e4") if applies(sc, s)]
-    return [(sc, d, s, th, g) for sc in ("bar", "rect", "disk") for d in (1, 2)
-            for s in ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_damped", "explicit_damped",
-                      "hybrid_friction", "newmark_friction", "explicit_friction", "hybrid_layered", "newmark_layered",
-                      "explicit_layered")
-            for th in ("1", "0", "-1") for g in GAMMA0E if applies(sc, s)]
+    return [("base", sc, d, s, th, g, ()) for sc in ("bar", "rect", "disk") for d in (1, 2)
+            for s in SCHEMES for th in ("1", "0", "-1") for g in GAMMA0E if applies(sc, s)]
+
+
+def class_plan(quick):
+    """The extreme classes (stability_case's header: scenes ball, sliver, rest;
+    options mat=, speed=, tau=, plane=moving, steps=)."""
+    if quick:  # (a few, fast: well under a second in all)
+        return [("material", "bar", 1, "hybrid", "1", "1e-4", ("mat=steel",)),
+                ("speed", "rect", 1, "explicit", "1", "1", ("speed=100",)),
+                ("moving_plane", "rect", 1, "hybrid", "1", "1e-4", ("plane=moving",)),
+                ("static_load", "rest", 1, "hybrid", "1", "1e-4", ()),
+                ("sliver", "sliver", 1, "hybrid", "-1", "1", ())]
+    c = []
+    four = ("hybrid", "newmark", "galpha", "explicit")
+    # (a) the 3D ball, P1 (P2: about 2 minutes a run)
+    c += [("3d", "ball", 1, s, th, g, ()) for s in ("hybrid", "newmark", "explicit")
+          for th in ("1", "-1") for g in ("1e-4", "1", "1e4")]
+    # (b) steel in SI units, rubber nearly incompressible
+    c += [("material", sc, d, s, th, g, (m,)) for m, scenes in (("mat=steel", ("bar", "rect")),
+                                                                 ("mat=rubber", ("rect", "disk")),
+                                                                 ("mat=rubber4999", ("rect", "disk")))
+          for sc in scenes for d in (1, 2) for s in four for th in ("1", "0", "-1")
+          for g in ("1e-4", "1e-2", "1", "1e4")]
+    # (c) impact speeds 10 and 100 times the default
+    c += [("speed", sc, d, s, th, g, ("speed=%s" % f,)) for f in (10, 100) for sc in ("bar", "rect", "disk")
+          for d in (1, 2) for s in four for th in ("1", "-1") for g in ("1e-4", "1", "1e4")]
+    # (d) time steps 1e-2 to 1e2 times the default, implicit schemes
+    c += [("timestep", sc, d, s, th, g, ("tau=%s" % f,)) for f in ("0.01", "0.1", "10", "100")
+          for sc in ("bar", "rect", "disk") for d in (1, 2) for s in IMPLICIT for th in ("1", "-1")
+          for g in ("1e-4", "1", "1e4")]
+    # (e) the moving plane
+    c += [("moving_plane", sc, d, s, th, g, ("plane=moving",)) for sc in ("bar", "rect", "disk") for d in (1, 2)
+          for s in four + ("hybrid_friction",) for th in ("1", "0", "-1") for g in ("1e-4", "1e-2", "1", "1e4")
+          if applies(sc, s)]
+    # (f) a static load: at rest on the plane under gravity, 10^4 steps
+    c += [("static_load", "rest", d, s, th, g, ()) for d in (1, 2)
+          for s in ("hybrid", "newmark", "galpha", "explicit", "hybrid_damped", "hybrid_friction")
+          for th in ("1", "0", "-1") for g in GAMMA0E]
+    # (g) flat and sliver contact cells (aspect 1e-3)
+    c += [("sliver", "sliver", d, s, th, g, ()) for d in (1, 2)
+          for s in ("hybrid", "newmark", "theta1", "galpha", "explicit", "explicit_damped", "hybrid_friction")
+          for th in ("1", "0", "-1") for g in GAMMA0E]
+    # (h) 10^5 steps of the bar
+    c += [("long", "bar", d, s, th, g, ("steps=100000",)) for d in (1, 2) for s in ("hybrid", "newmark", "galpha")
+          for th in ("1", "-1") for g in ("1e-4", "1e-2")]
+    return c
+
+
+def random_plan(n, seed):
+    """n cases drawn with random.Random(seed): scene, degree, scheme, Theta (one
+    of 1, 0, -1 or uniform), gamma0 E (log-uniform in [1e-8, 1e4], or 0: the
+    library's automatic value), material, speed factor, tau factor, a moving
+    plane."""
+    r = random.Random(seed)
+    cases = []
+    while len(cases) < n:
+        sc = r.choice(("bar", "rect", "disk", "sliver", "rest") * 6 + ("ball",))
+        d = 1 if sc == "ball" else r.choice((1, 2))
+        s = r.choice(SCHEMES)
+        if not applies(sc, s):
+            continue
+        th = r.choice(("1", "0", "-1")) if r.random() < 0.75 else "%.3f" % r.uniform(-1, 1)
+        g = "0" if r.random() < 0.1 else "%.3g" % 10 ** r.uniform(-8, 4)
+        opts = []
+        mats = ["default", "rubber", "rubber4999"] + (["steel"] if sc in ("bar", "rect", "sliver") else [])
+        m = r.choice(mats)
+        if m != "default":
+            opts.append("mat=" + m)
+        if sc != "rest" and r.random() < 2 / 3:
+            opts.append("speed=%.3g" % 10 ** r.uniform(-1, 2))
+        if r.random() < 2 / 3:
+            # (explicit: around the critical step; the rest and the ball: at most 4e4 steps)
+            lo = -1 if s.startswith("explicit") else {"rest": -0.6, "ball": -0.3}.get(sc, -2)
+            opts.append("tau=%.3g" % 10 ** r.uniform(lo, 0.3 if s.startswith("explicit") else 2))
+        if sc != "rest" and r.random() < 0.2:
+            opts.append("plane=moving")
+        cases.append(("random", sc, d, s, th, g, tuple(opts)))
+    return cases
+
+
+def plan(quick, n_random=0, seed=0):
+    return base_plan(quick) + class_plan(quick) + (random_plan(n_random, seed) if n_random else [])
 
 
 def applies(scene, scheme):
     """Friction needs a tangent plane (2D: not the bar); two materials the
-    generated meshes (the bar, the rectangle)."""
-    return not (scene == "bar" and "_friction" in scheme) and not (scene == "disk" and "_layered" in scheme)
+    generated meshes (the bar, the rectangle, the block's variants)."""
+    return not (scene == "bar" and "_friction" in scheme) and not (scene in ("disk", "ball") and "_layered" in scheme)
+
+
+def args(row_or_case):
+    if isinstance(row_or_case, dict):
+        r = row_or_case
+        opts = [] if r["options"] in ("", "-") else r["options"].split(" ")
+        return [r["scene"], str(r["degree"]), r["scheme"], r["Theta"], r["gamma0E"]], opts + ["class=" + r["class"]]
+    cls, sc, d, s, th, g, opts = row_or_case
+    return [sc, str(d), s, th, g], list(opts) + ["class=" + cls]
+
+
+def call(exe, meshes, what, mode=None, timeout=600):
+    head, tail = args(what)
+    return subprocess.run([exe] + head + [meshes] + ([mode] if mode else []) + tail, capture_output=True, text=True,
+                          timeout=timeout)
 
 
 def run_one(exe, meshes, case):
-    sc, d, s, th, g = case
-    r = subprocess.run([exe, sc, str(d), s, th, g, meshes], capture_output=True, text=True, timeout=600)
-    if r.returncode != 0:
-        return dict(zip(HEAD, [sc, d, s, th, g, "", "", "error", "", "", "", "", "", "", "", "-", r.stderr.strip()]))
+    cls, sc, d, s, th, g, opts = case
+    try:
+        r = call(exe, meshes, case)
+        err = r.stderr.strip() if r.returncode != 0 else None
+    except subprocess.TimeoutExpired:
+        err = "timeout (600 s)"
+    if err is not None:
+        return dict(zip(HEAD, [cls, sc, d, s, th, g, " ".join(opts) or "-", "", "", "error", "", "", "", "", "", "",
+                               "", "-", err]))
     return next(csv.DictReader(io.StringIO(r.stdout), fieldnames=HEAD))
 
 
@@ -72,8 +192,10 @@ def judge(exe, meshes, row):
     'false_alarm: ...' otherwise."""
     if row["outcome"] != "stopped_at_step" or row["code"] not in GUARD_CODES:
         return ""
-    r = subprocess.run([exe, row["scene"], str(row["degree"]), row["scheme"], row["Theta"], row["gamma0E"], meshes,
-                        "unguarded"], capture_output=True, text=True, timeout=600)
+    try:
+        r = call(exe, meshes, row, "unguarded")
+    except subprocess.TimeoutExpired:
+        return "error: timeout (600 s)"
     if r.returncode != 0:
         return "error: " + r.stderr.strip()[:80]
     outcome, code, step, growth, gain, pen = r.stdout.strip().split(",")
@@ -93,8 +215,10 @@ def adapt(exe, meshes, row):
     'completed: N steps, R rejected', or what stopped it."""
     if row["outcome"] != "stopped_at_step" or row["code"] != "ND_ERR_NEWTON":
         return ""
-    r = subprocess.run([exe, row["scene"], str(row["degree"]), row["scheme"], row["Theta"], row["gamma0E"], meshes,
-                        "adaptive"], capture_output=True, text=True, timeout=600)
+    try:
+        r = call(exe, meshes, row, "adaptive", timeout=ADAPTIVE_SECONDS)
+    except subprocess.TimeoutExpired:
+        return "timeout: not at T within %d s" % ADAPTIVE_SECONDS
     if r.returncode != 0:
         return "error: " + r.stderr.strip()[:80]
     outcome, code, steps, rejected = r.stdout.strip().split(",")
@@ -109,14 +233,40 @@ def table(head, rows):
     return "\n".join(out) + "\n"
 
 
-def report(rows, out, seconds, quick):
+def class_table(rows):
+    """Per class: runs, completed, refused at setup, stopped by a guard and
+    justified by the rerun without the guards, false alarms, stopped otherwise
+    (Newton, ...; of them completed with adaptive steps), silent failures."""
+    out = []
+    for c in [c for c in CLASSES if any(r["class"] == c for r in rows)]:
+        rs = [r for r in rows if r["class"] == c]
+        guard = [r for r in rs if r.get("rerun_unguarded")]
+        other = [r for r in rs if r["outcome"] == "stopped_at_step" and not r.get("rerun_unguarded")]
+        out.append([c, len(rs), sum(r["outcome"] == "completed" for r in rs),
+                    sum(r["outcome"] == "refused_at_setup" for r in rs),
+                    sum(r["rerun_unguarded"].startswith("justified") for r in guard),
+                    sum(not r["rerun_unguarded"].startswith("justified") for r in guard),
+                    "%d (%d)" % (len(other), sum(r.get("rerun_adaptive", "").startswith("completed") for r in other)),
+                    sum(r["outcome"] in ("silent_failure", "error") for r in rs) +
+                    sum(r.get("rerun_adaptive", "").startswith("silent") for r in rs)])
+    tot = ["**all**"] + [sum(int(str(x).split()[0]) for x in col) for col in list(zip(*out))[1:]]
+    tot[6] = "%d (%d)" % (tot[6], sum(int(r[6].split("(")[1][:-1]) for r in out))
+    return table(["class", "runs", "completed", "refused at setup", "stopped, justified", "false alarms",
+                  "stopped otherwise (adaptive rerun completed)", "silent"], out + [tot])
+
+
+def opt(r):
+    return "" if r["options"] in ("", "-") else r["options"]
+
+
+def report(rows, out, seconds, quick, seed=None, n_random=0):
     by = collections.Counter(r["outcome"] for r in rows)
     codes = collections.Counter((r["outcome"], r["code"]) for r in rows if r["outcome"] != "completed")
     silent = [r for r in rows if r["outcome"] in ("silent_failure", "error")]
     late = [r for r in rows if r["outcome"] == "stopped_at_step" and r["late"] not in ("", "0")]
     md = ["# Stability on stiff and extreme cases\n",
           "Generated by `tools/stability/run.py%s` from `data/stability.csv`; never edited by hand.\n" %
-          (" --quick" if quick else ""),
+          (" --quick" if quick else (" --random %d --seed %s" % (n_random, seed) if n_random else "")),
           "Machine: %s, %d cores, %s; %s. %d runs in %.0f s.\n" % (
               platform.machine(), os.cpu_count(), platform.platform(), time.strftime("%Y-%m-%d"), len(rows), seconds),
           "Every run uses the library's default guards (`nd_problem_set_guard(3)`). A run is a **silent "
@@ -128,6 +278,20 @@ def report(rows, out, seconds, quick):
           "|Omega|/|Gamma_C|, the body's length across its contact region: the penetration guard's default, "
           "invariant under a change of units), as measured by the driver itself "
           "(`tools/stability/stability_case.c`), and the run completed all the same.\n",
+          "## Per class\n",
+          "The classes of issue 57 (`class` in the CSV; the scenes and options in `tools/stability/stability_case.c`'s "
+          "header): base (bar, rect, disk: every scheme, Θ, γ0 E), 3d (the ball, P1), material (steel in SI "
+          "units, rubber ν = 0.49 and 0.4999), speed (impact 10 and 100 times the default), timestep (τ 1e-2 to "
+          "1e2 times the default, implicit schemes), moving_plane, static_load (at rest on the plane under "
+          "gravity, 10^4 steps), sliver (contact cells 1e-3 as high as wide), long (10^5 steps of the bar)%s. "
+          "Stopped, justified / false alarms: stopped by ND_ERR_ENERGY_GROWTH or ND_ERR_PENETRATION and judged by "
+          "the rerun without the guards (below); stopped otherwise: Newton and the other codes, in brackets those "
+          "the rerun with adaptive steps completed; silent: silent failures (an adaptive rerun completed past the "
+          "limits counts too) and errors of the driver.\n" % (
+              (", random (%d cases drawn with `random.Random(%s)`: scene, degree, scheme, Θ, γ0 E log-uniform in "
+               "[1e-8, 1e4] or 0 the automatic value, material, speed, τ, a moving plane; replay with `make "
+               "stability STABILITY_SEED=%s`)" % (n_random, seed, seed)) if n_random else ""),
+          class_table(rows),
           "## Outcomes\n",
           table(["outcome", "runs"], sorted(by.items())),
           "**Silent failures: %d of %d runs.**\n" % (len(silent), len(rows)),
@@ -158,37 +322,41 @@ def report(rows, out, seconds, quick):
               "at such a state before) or sinks (deeper than 4 ε* min(h, L/8)). **%d refusals judged, %d justified, "
               "%d false alarms.**\n" % (len(judged), len(judged) - len(alarms), len(alarms)))
     if alarms:
-        md.append(table(["scene", "P", "scheme", "Θ", "γ0 E", "code", "step", "rerun"],
-                        [[r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], r["code"], r["step"],
+        md.append(table(["class", "scene", "P", "scheme", "Θ", "γ0 E", "options", "code", "step", "rerun"],
+                        [[r["class"], r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], opt(r),
+                          r["code"], r["step"],
                           r["rerun_unguarded"]] for r in alarms]))
     newton = [r for r in rows if r.get("rerun_adaptive")]
     mended = [r for r in newton if r["rerun_adaptive"].startswith("completed")]
     md.append("\n## Newton failures rerun with adaptive time steps\n")
     md.append("Each run stopped by ND_ERR_NEWTON at its fixed step is run again with adaptive steps "
               "(`nd_problem_set_adaptive_timestep(3)`: tolerance 1e-2, tau_min = 1e-4 tau, tau_max = tau; the "
-              "guards on). **%d Newton failures, %d completed with adaptive steps.**\n" % (len(newton), len(mended)))
+              "guards on; at most %d s of wall time). **%d Newton failures, %d completed with adaptive steps.**\n" % (ADAPTIVE_SECONDS, len(newton), len(mended)))
     if newton:
-        md.append(table(["scene", "P", "scheme", "Θ", "γ0 E", "step", "adaptive rerun"],
-                        [[r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], r["step"],
+        md.append(table(["class", "scene", "P", "scheme", "Θ", "γ0 E", "options", "step", "adaptive rerun"],
+                        [[r["class"], r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], opt(r), r["step"],
                           r["rerun_adaptive"]] for r in newton]))
-    md.append("\n## Per scheme and γ0 E: what happened\n")
+    base = [r for r in rows if r["class"] == "base"]
+    md.append("\n## Per scheme and γ0 E: what happened (class base)\n")
     md.append("Cells: C completed, R refused at setup, S stopped by a guard or failure during the run, "
               "X silent failure; one letter per (scene, degree, Θ) in the order of the rows of the CSV.\n")
     letters = {"completed": "C", "refused_at_setup": "R", "stopped_at_step": "S", "silent_failure": "X", "error": "E"}
-    schemes = sorted({r["scheme"] for r in rows})
-    gs = sorted({r["gamma0E"] for r in rows}, key=float)
+    schemes = sorted({r["scheme"] for r in base})
+    gs = sorted({r["gamma0E"] for r in base}, key=float)
     grid = []
     for s in schemes:
         line = [s]
         for g in gs:
-            line.append("".join(letters[r["outcome"]] for r in rows if r["scheme"] == s and r["gamma0E"] == g))
+            line.append("".join(letters[r["outcome"]] for r in base if r["scheme"] == s and r["gamma0E"] == g))
         grid.append(line)
     md.append(table(["scheme"] + ["γ0 E = %s" % g for g in gs], grid))
     if silent:
         md.append("\n## Silent failures\n")
-        md.append(table(["scene", "P", "scheme", "Θ", "γ0 E", "energy growth", "penetration / h", "code"],
-                        [[r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], r["energy_growth"],
-                          r["max_penetration_over_h"], r["code"]] for r in silent]))
+        md.append(table(["class", "scene", "P", "scheme", "Θ", "γ0 E", "options", "energy growth", "penetration / h",
+                         "code", "message"],
+                        [[r["class"], r["scene"], r["degree"], r["scheme"], r["Theta"], r["gamma0E"], opt(r),
+                          r["energy_growth"], r["max_penetration_over_h"], r["code"], r["message"][:80]]
+                         for r in silent]))
     md.append("\n## Every run\n")
     md.append("The columns of `data/stability.csv`: the case, the outcome, the status code and the step it came at, "
               "the largest E/(E^0 + max W) and penetration/h seen on accepted steps, Newton iterations per step, "
@@ -203,11 +371,19 @@ def main():
     a.add_argument("--meshes", default="examples/meshes")
     a.add_argument("--out", default="report")
     a.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    a.add_argument("--random", type=int, default=0, metavar="N", help="N cases drawn at random (besides the plan)")
+    a.add_argument("--seed", default=None, help="the seed of --random (default: from the time)")
+    a.add_argument("--only-random", action="store_true", help="the random cases alone (to replay a seed quickly)")
     o = a.parse_args()
+    if o.random and o.seed is None:
+        o.seed = time.strftime("%Y%m%d%H%M%S", time.gmtime())
+    if o.random:
+        print("stability: %d random cases, seed %s (replay: run.py --random %d --seed %s)" % (o.random, o.seed,
+                                                                                             o.random, o.seed))
     exe = os.path.join(o.build, "tools", "stability", "stability_case")
     os.makedirs(os.path.join(o.out, "data"), exist_ok=True)
     env_threads = os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # one process per core
-    cases = plan(o.quick)
+    cases = random_plan(o.random, o.seed) if o.only_random else plan(o.quick, o.random, o.seed)
     t0 = time.time()
     with cf.ThreadPoolExecutor(o.jobs) as pool:
         rows = list(pool.map(lambda c: run_one(exe, o.meshes, c), cases))
@@ -220,7 +396,7 @@ def main():
         w = csv.DictWriter(f, fieldnames=CSV_HEAD)
         w.writeheader()
         w.writerows(rows)
-    report(rows, o.out, seconds, o.quick)
+    report(rows, o.out, seconds, o.quick, o.seed, o.random)
     by = collections.Counter(r["outcome"] for r in rows)
     silent = by["silent_failure"] + by["error"]
     alarms = sum(1 for r in rows if r["rerun_unguarded"] and not r["rerun_unguarded"].startswith("justified"))
@@ -234,6 +410,8 @@ def main():
     # (an adaptive rerun that completes past the limits is a silent failure too)
     silent += sum(a.startswith("silent") for a in newton)
     print("%d passed, %d failed" % (len(rows) - silent, silent))
+    if o.random:
+        print("seed %s" % o.seed)
     return 1 if silent or alarms else 0
 
 
