@@ -611,7 +611,27 @@ class PetscMumps : public Factorization {
   int64_t received_at(const std::vector<int64_t> &at) const override { return v_ ? v_->received(at) : 0; }
 
  private:
+  // MUMPS sizes its work arrays from the analysis' estimate plus ICNTL(14)
+  // per cent (20 by default); the estimate can fall short (INFOG(1) = -8, -9,
+  // -17, -20: "increase ICNTL(14)", seen with 4 slab ranks on the hexahedral
+  // ball), which is not a lack of memory: the factorization is made again
+  // with 4 times the relaxation, up to kMostRelaxation per cent
+  static constexpr int kMostRelaxation = 1280;
   void factor_from(const Csr &A, const Csr *own, Structure s) {
+    for (;;) {
+      try {
+        factor_once(A, own, s);
+        return;
+      } catch (const WorkspaceShort &short_of) {
+        if (relaxation_ >= kMostRelaxation) fail(ND_ERR_NOMEM, "out of memory" + short_of.status);
+        relaxation_ = 4 * std::max(relaxation_, 20);
+      }
+    }
+  }
+  struct WorkspaceShort {
+    std::string status;
+  };
+  void factor_once(const Csr &A, const Csr *own, Structure s) {
     def_ = Definiteness::Unknown;
     Session session;
     factored_ = false;
@@ -626,6 +646,7 @@ class PetscMumps : public Factorization {
       check(MatGetFactor(A_->get(), MATSOLVERMUMPS, cholesky ? MAT_FACTOR_CHOLESKY : MAT_FACTOR_LU, &F_), "MatGetFactor");
       // the inertia also where a root node would go to ScaLAPACK (parallel runs)
       check(MatMumpsSetIcntl(F_, 13, 1), "MatMumpsSetIcntl(13)");
+      if (relaxation_ > 0) check(MatMumpsSetIcntl(F_, 14, relaxation_), "MatMumpsSetIcntl(14)");
       check(MatSetFromOptions(F_), "MatSetFromOptions");
       if (cholesky)
         check(MatCholeskyFactorSymbolic(F_, A_->get(), nullptr, &info), "MatCholeskyFactorSymbolic (MUMPS analysis)");
@@ -664,8 +685,9 @@ class PetscMumps : public Factorization {
       if (s == Structure::SymmetricPositiveDefinite) fail_not_positive_definite(def_, "singular" + st);
       fail(ND_ERR_SINGULAR, "the matrix is singular" + st);
     }
-    if (err == MAT_FACTOR_OUTMEMORY || infog1 == -13 || infog1 == -9 || infog1 == -8 || infog1 == -14 ||
-        infog1 == -15 || infog1 == -17 || infog1 == -20)
+    // (the work arrays' estimate fell short: factor_from retries with more)
+    if (infog1 == -8 || infog1 == -9 || infog1 == -17 || infog1 == -20) throw WorkspaceShort{st};
+    if (err == MAT_FACTOR_OUTMEMORY || infog1 == -13 || infog1 == -14 || infog1 == -15)
       fail(ND_ERR_NOMEM, "out of memory" + st);
     fail(ND_ERR_INTERNAL, "MUMPS failed" + st);
   }
@@ -676,6 +698,7 @@ class PetscMumps : public Factorization {
   Mat F_ = nullptr;
   bool cholesky_ = false, factored_ = false;
   Definiteness def_ = Definiteness::Unknown;
+  int relaxation_ = 0;  // ICNTL(14) once a factorization fell short (0: MUMPS's default)
 };
 
 // ---- GAMG -----------------------------------------------------------------------
