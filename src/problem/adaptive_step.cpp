@@ -111,9 +111,11 @@ void Problem::judge_step(const Attempt &attempt, State &next) {
   if (attempt.may_land && d.contact.size() > 0) {
     PointValues at_old, at_new;
     const PointValues &was = state_points(d, state_, at_old, d.counters);
-    std::vector<double> rate(d.contact.size());
+    // (in contact already: no first touch, and the new state's points need no evaluation)
+    const bool touching = std::any_of(was.P.begin(), was.P.end(), [](double P) { return P > 0; });
+    std::vector<double> rate(touching ? 0 : d.contact.size());
     for (size_t q = 0; q < rate.size(); ++q) rate[q] = d.contact.a[q].dot(state_.V.data());
-    const double s = first_touch(was.P, state_points(d, next, at_new, d.counters).P, was.un, rate, tau);
+    const double s = touching ? 1 : first_touch(was.P, state_points(d, next, at_new, d.counters).P, was.un, rate, tau);
     if (s < 1 && s * tau >= o.tau_min)
       throw Rejected("the step makes the first contact points active", s * tau, true);
   }
