@@ -21,9 +21,10 @@ void multiply(const Discretization &d, const Csr &A, const std::vector<double> &
   if (rows) gather(*rows, {y.data()});
 }
 
-// y = (K_Theta + T_c) x
-void apply(const Discretization &d, const std::vector<double> &x, std::vector<double> &y) {
+// y = (K_Theta + T_c) x, or K_Theta x without the contact points
+void apply(const Discretization &d, const std::vector<double> &x, std::vector<double> &y, bool with_points) {
   multiply(d, d.K_theta, x, y);
+  if (!with_points) return;
   const ContactPoints &cp = d.contact;
   const double max_slope = d.contact_law->traits().max_slope;  // (every point active, as stiff as it gets)
   // (friction: a frictional point's tangential pairs too, sticking as stiff as the normal one)
@@ -53,7 +54,7 @@ double m_dot(const Discretization &d, const std::vector<double> &x, const std::v
 
 }  // namespace
 
-CriticalStep estimate_omega_max(Discretization &d, int solver) {
+CriticalStep estimate_omega_max(Discretization &d, int solver, bool every_point_active) {
   const size_t n = static_cast<size_t>(d.dofs.n_free);
   const int max_iter = static_cast<int>(std::min<size_t>(n, 80));
   std::vector<std::vector<double>> Q;  // M-orthonormal Lanczos vectors
@@ -69,7 +70,7 @@ CriticalStep estimate_omega_max(Discretization &d, int solver) {
   for (; j < max_iter; ++j) {
     for (double &v : r) v /= b;
     Q.push_back(r);
-    apply(d, Q[j], z);
+    apply(d, Q[j], z, every_point_active);
     alpha.push_back(dot(static_cast<int64_t>(n), Q[j].data(), z.data()));
     w = z;
     d.mass_solve(w.data(), solver);  // w = M^-1 (K + T) q_j
@@ -98,7 +99,7 @@ CriticalStep estimate_omega_max(Discretization &d, int solver) {
   }
   if (!(theta_max > 0) || !std::isfinite(theta_max))
     fail(ND_ERR_INTERNAL, "the critical step estimate failed (largest Ritz value " + std::to_string(theta_max) + ")");
-  return CriticalStep{std::sqrt(theta_max + bound), j + 1};
+  return CriticalStep{std::sqrt(theta_max + bound), std::sqrt(theta_max), j + 1};
 }
 
 }  // namespace nd

@@ -58,6 +58,24 @@ uint64_t mesh_digest(const Mesh &m, const Space &s) {
   }
   return h.h;
 }
+
+// An explicit step the energy guards refused, above the critical step with
+// every contact point active: the cause, in the guard's message
+[[noreturn]] void explain_explicit_refusal(const Discretization &d, const TimeScheme &scheme, double tau) {
+  try {
+    throw;
+  } catch (const Error &e) {
+    const double limit = scheme.stability_limit();
+    if ((e.code() != ND_ERR_ENERGY_GROWTH && e.code() != ND_ERR_PENETRATION) || !std::isfinite(limit) ||
+        !(d.omega_max > 0) || !(tau * d.omega_max > limit))
+      throw;
+    throw Error(e.code(), std::string(e.what()) + " (the explicit step " + num(tau) +
+                              " is above its critical step with every contact point active, " +
+                              num(limit / d.omega_max) + " (nd_problem_estimate_critical_timestep): the active " +
+                              "points' penalty makes it unstable; lower the time step or raise gamma0)");
+  }
+}
+
 }  // namespace
 
 Problem::Problem(std::shared_ptr<const Mesh> mesh, int degree)
@@ -692,12 +710,21 @@ void Problem::prepare() {
                           "(theta-scheme with theta < 1/2, Newmark with gamma < 1/2): choose theta >= 1/2 or "
                           "gamma >= 1/2, or allow it with the unstable-scheme guard for a study");
   if (def_.guards.coercivity) check_coercivity(d, def_.solver, in.A_factor.get());
+  // An explicit step above the free motion's critical step grows whatever
+  // the contact does: refused. Between it and the critical step with every
+  // contact point active (the estimate nd_problem_estimate_critical_timestep
+  // gives) it is stable or not by the active set the run reaches, which
+  // only the steps know: the energy guards watch it, and their message
+  // names the estimate (docs/design.md §3b.4).
   const double limit = in.scheme->stability_limit();
-  if (def_.guards.critical_timestep && std::isfinite(limit) && def_.tau * omega_max() > limit)
-    fail(ND_ERR_UNSTABLE, "the time step " + num(def_.tau) + " exceeds the scheme's critical step " +
-                              num(limit / omega_max()) + " (" + num(limit) + "/omega_max, the highest frequency with " +
-                              "every contact point active): lower the time step, use an implicit scheme, or raise "
-                              "gamma0 (a softer penalty); the critical-timestep guard allows it for a study");
+  if (def_.guards.critical_timestep && std::isfinite(limit) && def_.tau * omega_free() > limit)
+    fail(ND_ERR_UNSTABLE, "the time step " + num(def_.tau) + " exceeds the scheme's critical step of the free motion " +
+                              num(limit / omega_free()) + " (" + num(limit) + "/omega, the highest frequency with " +
+                              "no contact point active): every run grows. Lower the time step (below " +
+                              num(limit / omega_max()) + " with every contact point active, " +
+                              "nd_problem_estimate_critical_timestep), use an implicit scheme, or raise gamma0 "
+                              "(a softer penalty); the critical-timestep guard allows it for a study");
+  if (std::isfinite(limit)) omega_max();  // (for the guards' message: not estimated during a step)
   state();
   // friction set (or its points changed) since the state was made: no traction stored from here
   if (d.contact.m > 1 ? state_.slip.size() != d.contact.size() * static_cast<size_t>(d.contact.m - 1)
@@ -801,7 +828,11 @@ void Problem::step_once(const Attempt *attempt) {
     if (curved || friction) next.positions = positions(def_.planes, def_.obstacles);
     else next.positions.clear();
     next.W_geometry += relinearised;
-    guard_step(*disc_, def_.guards, state_, next, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
+    try {
+      guard_step(*disc_, def_.guards, state_, next, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
+    } catch (...) {
+      explain_explicit_refusal(*disc_, *integrator_->scheme, def_.tau);
+    }
     if (attempt) judge_step(*attempt, next);
   };
   try {
@@ -961,10 +992,26 @@ void Problem::set_communicator(CommunicatorPtr comm) {
   changed(kSolver);  // every factorization is made again over the new ranks
 }
 
-double Problem::omega_max() {
+// Both estimates at once: with Theta != 1 the contact tangent's symmetric
+// part may be indefinite, so that every point active can lower the highest
+// frequency below the free motion's; the critical step is the smaller one's.
+void Problem::estimate_frequencies() {
   Discretization &d = discretization_agreed();
-  if (!(d.omega_max > 0)) d.omega_max = estimate_omega_max(d, def_.solver).omega_max;
-  return d.omega_max;
+  if (d.omega_max > 0 && d.omega_free > 0) return;
+  const CriticalStep all = estimate_omega_max(d, def_.solver);
+  const CriticalStep free = d.contact.size() > 0 ? estimate_omega_max(d, def_.solver, false) : all;
+  d.omega_max = std::max(all.omega_max, free.omega_max);
+  d.omega_free = free.omega_low;
+}
+
+double Problem::omega_max() {
+  estimate_frequencies();
+  return disc_->omega_max;
+}
+
+double Problem::omega_free() {
+  estimate_frequencies();
+  return disc_->omega_free;
 }
 
 double Problem::critical_timestep() {

@@ -201,7 +201,12 @@ class Problem {
   Discretization &discretization_agreed();  // collective with split rows: discretization_() agreed by the ranks
   const std::vector<double> &constant_load_();
   Integrator &integrator_or_build();
+  // the explicit schemes' highest frequency with every contact point active
+  // or none (the larger), and the free motion's, a lower bound
+  // (monitor/critical_step.hpp): estimated once per discretization
+  void estimate_frequencies();
   double omega_max();
+  double omega_free();
   const State &state();
   // a partial state's other rows gathered from their owners (collective;
   // nothing when the state is whole)

@@ -57,6 +57,9 @@ struct Discretization {
   double gamma0_limit = 0;  // gamma0* at Theta = 1 (docs/design.md §3b.1); +inf without contact
   bool coercive = false;    // K_Theta checked positive semi-definite
   double omega_max = 0;     // the explicit schemes' highest frequency, once estimated
+  // the free motion's (no contact point active), a lower bound: the
+  // critical-step check's (docs/design.md §3b.4), once estimated
+  double omega_free = 0;
   // sum_K E_K |K| over every cell (Young's modulus times volume, an energy):
   // the penetration guard's strain scale sqrt(2 E_in / this) (docs/design.md §3b)
   double stiffness_volume = 0;

@@ -56,7 +56,8 @@ SCHEMES = ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_damped",
            "explicit_layered")
 IMPLICIT = ("hybrid", "newmark", "theta1", "galpha")
 # the classes of issue 57, in the report's order (random: run.py --random)
-CLASSES = ("base", "3d", "material", "speed", "timestep", "moving_plane", "static_load", "sliver", "long", "random")
+CLASSES = ("base", "3d", "material", "speed", "timestep", "moving_plane", "static_load", "sliver", "critical", "long",
+           "random")
 
 
 def base_plan(quick):
@@ -108,6 +109,13 @@ def class_plan(quick):
     c += [("sliver", "sliver", d, s, th, g, ()) for d in (1, 2)
           for s in ("hybrid", "newmark", "theta1", "galpha", "explicit", "explicit_damped", "hybrid_friction")
           for th in ("1", "0", "-1") for g in GAMMA0E]
+    # (i) explicit steps around the library's critical-step estimate, with
+    # switching contact: below it a run must be stable or stopped within a
+    # step; above it a refusal must be of a run that really blows up
+    c += [("critical", sc, d, "explicit", th, g, ("tau_c=%s" % f,))
+          for sc, d in (("bar", 1), ("bar", 2), ("rect", 1), ("rect", 2), ("disk", 1), ("ball", 1))
+          for th in ("1", "0", "-1") for g in ("0", "1e-2", "1")
+          for f in ("0.5", "0.9", "0.99", "1", "1.01", "1.05", "1.2", "1.5")]
     # (h) 10^5 steps of the bar
     c += [("long", "bar", d, s, th, g, ("steps=100000",)) for d in (1, 2) for s in ("hybrid", "newmark", "galpha")
           for th in ("1", "-1") for g in ("1e-4", "1e-2")]
@@ -184,13 +192,18 @@ def run_one(exe, meshes, case):
     return next(csv.DictReader(io.StringIO(r.stdout), fieldnames=HEAD))
 
 
+def critical_refusal(row):
+    """A set-up refused by the critical-step check (ND_GUARD_CRITICAL_TIMESTEP)."""
+    return row["outcome"] == "refused_at_setup" and row["code"] == "ND_ERR_UNSTABLE" and "critical" in row["message"]
+
+
 def judge(exe, meshes, row):
     """Reruns a run a guard stopped with the guards of the steps off: 'justified: ...' when
     the rerun fails, gains energy (E/(E^0 + max W) > 1.05: a body that creates no energy has
     E <= E^0 + W; or the balance out of contact rises by more than 5 % of the energy in
     motion) or sinks (deeper than 4 eps* min(h, L/8)),
     'false_alarm: ...' otherwise."""
-    if row["outcome"] != "stopped_at_step" or row["code"] not in GUARD_CODES:
+    if not (row["outcome"] == "stopped_at_step" and row["code"] in GUARD_CODES) and not critical_refusal(row):
         return ""
     try:
         r = call(exe, meshes, row, "unguarded")
@@ -243,7 +256,7 @@ def class_table(rows):
         guard = [r for r in rs if r.get("rerun_unguarded")]
         other = [r for r in rs if r["outcome"] == "stopped_at_step" and not r.get("rerun_unguarded")]
         out.append([c, len(rs), sum(r["outcome"] == "completed" for r in rs),
-                    sum(r["outcome"] == "refused_at_setup" for r in rs),
+                    sum(r["outcome"] == "refused_at_setup" and not r.get("rerun_unguarded") for r in rs),
                     sum(r["rerun_unguarded"].startswith("justified") for r in guard),
                     sum(not r["rerun_unguarded"].startswith("justified") for r in guard),
                     "%d (%d)" % (len(other), sum(r.get("rerun_adaptive", "").startswith("completed") for r in other)),
@@ -251,7 +264,7 @@ def class_table(rows):
                     sum(r.get("rerun_adaptive", "").startswith("silent") for r in rs)])
     tot = ["**all**"] + [sum(int(str(x).split()[0]) for x in col) for col in list(zip(*out))[1:]]
     tot[6] = "%d (%d)" % (tot[6], sum(int(r[6].split("(")[1][:-1]) for r in out))
-    return table(["class", "runs", "completed", "refused at setup", "stopped, justified", "false alarms",
+    return table(["class", "runs", "completed", "refused at setup", "guard refusals, justified", "false alarms",
                   "stopped otherwise (adaptive rerun completed)", "silent"], out + [tot])
 
 
@@ -283,8 +296,11 @@ def report(rows, out, seconds, quick, seed=None, n_random=0):
           "header): base (bar, rect, disk: every scheme, Θ, γ0 E), 3d (the ball, P1), material (steel in SI "
           "units, rubber ν = 0.49 and 0.4999), speed (impact 10 and 100 times the default), timestep (τ 1e-2 to "
           "1e2 times the default, implicit schemes), moving_plane, static_load (at rest on the plane under "
-          "gravity, 10^4 steps), sliver (contact cells 1e-3 as high as wide), long (10^5 steps of the bar)%s. "
-          "Stopped, justified / false alarms: stopped by ND_ERR_ENERGY_GROWTH or ND_ERR_PENETRATION and judged by "
+          "gravity, 10^4 steps), sliver (contact cells 1e-3 as high as wide), critical (the explicit scheme at "
+          "0.5 to 1.5 times the library's critical-step estimate: bar P1/P2, rect P1/P2, disk, ball), long (10^5 "
+          "steps of the bar)%s. Refused at setup: by the set-up's checks other than the critical step. Guard "
+          "refusals, justified / false alarms: stopped by ND_ERR_ENERGY_GROWTH or ND_ERR_PENETRATION, or refused "
+          "at setup by the critical-step check (ND_ERR_UNSTABLE), and judged by "
           "the rerun without the guards (below); stopped otherwise: Newton and the other codes, in brackets those "
           "the rerun with adaptive steps completed; silent: silent failures (an adaptive rerun completed past the "
           "limits counts too) and errors of the driver.\n" % (
@@ -315,8 +331,9 @@ def report(rows, out, seconds, quick, seed=None, n_random=0):
     judged = [r for r in rows if r.get("rerun_unguarded")]
     alarms = [r for r in judged if not r["rerun_unguarded"].startswith("justified")]
     md.append("\n## Refusals judged by a rerun without the guards\n")
-    md.append("Each run stopped by ND_ERR_ENERGY_GROWTH or ND_ERR_PENETRATION is run again with the energy, "
-              "energy-balance and penetration guards off. Justified: the rerun then fails, gains energy "
+    md.append("Each run stopped by ND_ERR_ENERGY_GROWTH or ND_ERR_PENETRATION, or refused at setup by the "
+              "critical-step check, is run again with the energy, energy-balance and penetration guards and the "
+              "critical-step check off. Justified: the rerun then fails, gains energy "
               "(E/(E^0 + max W) > 1.05, or the balance E_Θ − W − W_obstacle − W_prescribed − W_geometry + D rises, at "
               "a state without an active point, by more than 5 %% of the energy in motion above its lowest value "
               "at such a state before) or sinks (deeper than 4 ε* min(h, L/8)). **%d refusals judged, %d justified, "
@@ -374,6 +391,8 @@ def main():
     a.add_argument("--random", type=int, default=0, metavar="N", help="N cases drawn at random (besides the plan)")
     a.add_argument("--seed", default=None, help="the seed of --random (default: from the time)")
     a.add_argument("--only-random", action="store_true", help="the random cases alone (to replay a seed quickly)")
+    a.add_argument("--class", dest="classes", action="append", choices=CLASSES, metavar="NAME",
+                   help="run only the cases of this class (repeatable; %s)" % ", ".join(CLASSES))
     o = a.parse_args()
     if o.random and o.seed is None:
         o.seed = time.strftime("%Y%m%d%H%M%S", time.gmtime())
@@ -384,6 +403,8 @@ def main():
     os.makedirs(os.path.join(o.out, "data"), exist_ok=True)
     env_threads = os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # one process per core
     cases = random_plan(o.random, o.seed) if o.only_random else plan(o.quick, o.random, o.seed)
+    if o.classes:
+        cases = [c for c in cases if c[0] in o.classes]
     t0 = time.time()
     with cf.ThreadPoolExecutor(o.jobs) as pool:
         rows = list(pool.map(lambda c: run_one(exe, o.meshes, c), cases))

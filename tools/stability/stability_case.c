@@ -25,8 +25,9 @@
  * increased (part 2 of the paper; D the damping's dissipation), else "-".
  *
  * With a 7th argument `unguarded` the run is made again with the guards that
- * act during the steps off (energy, energy balance, penetration; the set-up's
- * checks stay) to judge a refusal, and prints instead
+ * act during the steps off (energy, energy balance, penetration) and the
+ * set-up's critical-step check (the other set-up checks stay) to judge a
+ * refusal, and prints instead
  *
  *   outcome,code,step,energy_growth,balance_gain,penetration_ratio
  *
@@ -82,6 +83,9 @@
  *     tau=F        the time step F times the scene's (T rounded to a whole number
  *                  of steps, at least one)
  *     steps=N      T = N tau (the long runs)
+ *     tau_c=F      explicit: the time step F times the library's estimate of the
+ *                  critical step (nd_problem_estimate_critical_timestep), T the
+ *                  scene's (rounded to a whole number of steps)
  *     plane=moving the plane moves towards the body at v_p (bar 0.1, else 0.5)
  *                  until T/2, then stays (nd_problem_set_contact_plane before
  *                  each step; rect and sliver start at rest) */
@@ -140,7 +144,7 @@ static int block_mesh(double gap, nd_mesh *m) {
 
 int main(int argc, char **argv) {
   const char *mode = "", *cls = "base", *mat = "default", *plane = "fixed";
-  double speed = 1, tau_factor = 1;
+  double speed = 1, tau_factor = 1, critical_factor = 0;
   int64_t fixed_steps = 0;
   char options[512] = "";
   int bad = argc < 7;
@@ -163,11 +167,12 @@ int main(int argc, char **argv) {
     else if (!strncmp(argv[a], "speed=", 6)) speed = atof(v);
     else if (!strncmp(argv[a], "tau=", 4)) tau_factor = atof(v);
     else if (!strncmp(argv[a], "steps=", 6)) fixed_steps = atoll(v);
+    else if (!strncmp(argv[a], "tau_c=", 6)) critical_factor = atof(v);
     else if (!strncmp(argv[a], "plane=", 6)) plane = v;
     else bad = 1;
     snprintf(options + strlen(options), sizeof options - strlen(options), "%s%s", *options ? " " : "", argv[a]);
   }
-  if (bad || !(speed > 0) || !(tau_factor > 0) || fixed_steps < 0 ||
+  if (bad || !(speed > 0) || !(tau_factor > 0) || fixed_steps < 0 || critical_factor < 0 ||
       (strcmp(mat, "default") && strcmp(mat, "steel") && strcmp(mat, "rubber") && strcmp(mat, "rubber4999")) ||
       (strcmp(plane, "fixed") && strcmp(plane, "moving"))) {
     fprintf(stderr, "usage: %s SCENE DEGREE SCHEME THETA GAMMA0E MESH_DIR [unguarded|adaptive] [KEY=VALUE ...]\n",
@@ -285,6 +290,17 @@ int main(int argc, char **argv) {
     if (!st) st = nd_problem_set_mass_lumping(p, 1);
   }
   if (!st) st = nd_problem_set_scheme(p, scheme, params);
+  if (!st && critical_factor > 0 && scheme_name[0] != 'e') {
+    fprintf(stderr, "%s: tau_c= is for the explicit scheme\n", argv[0]);
+    return 2;
+  }
+  if (!st && critical_factor > 0) { /* (the estimate reads the scheme and the mass, not tau) */
+    double tau_c = 0;
+    st = nd_problem_estimate_critical_timestep(p, &tau_c);
+    tau = critical_factor * tau_c;
+    steps = fixed_steps ? fixed_steps : (int64_t)fmax(1, floor(T / tau + 0.5));
+    T = (double)steps * tau;
+  }
   if (!st) st = nd_problem_set_timestep(p, tau);
   if (!st && damped) st = nd_problem_set_damping(p, 0.05, 0.1 * tau);
   const double F = 0.3;
@@ -293,6 +309,8 @@ int main(int argc, char **argv) {
   if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY, 0);
   if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0);
   if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_PENETRATION, 0);
+  /* (and the set-up's critical-step check, to judge its refusals) */
+  if (!st && unguarded) st = nd_problem_set_guard(p, ND_GUARD_CRITICAL_TIMESTEP, 0);
   if (st) {
     fprintf(stderr, "%s\n", nd_last_error());
     return 1;
