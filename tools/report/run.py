@@ -3,7 +3,7 @@
 
 Every run is a separate process of build/bar1d (the 1D bar against its exact
 solution), build/disk_study (the 2D disk against its finest run, in triangles and in
-quadrilaterals) or
+quadrilaterals; the 3D ball in tetrahedra and hexahedra against one reference) or
 tools/report/getfem_bar.py (the bar with GetFEM), each writing CSV rows; this
 script only decides what to run, runs it on --jobs workers and collects the
 rows into OUT/data/*.csv. tools/report/make_report.py turns them into the
@@ -214,24 +214,24 @@ def main():
     g.add_argument("--quick", action="store_true", help="the CI plan (NX = 20..160, about a minute)")
     g.add_argument("--full", action="store_true", help="the report's plan (NX = 20..2560, default)")
     ap.add_argument("--jobs", type=int, default=2, help="runs at a time (default 2)")
-    ap.add_argument("--only", choices=["bar", "pressure", "getfem", "disk", "energy"], action="append",
+    ap.add_argument("--only", choices=["bar", "pressure", "getfem", "disk", "ball", "energy"], action="append",
                     help="run only these parts (repeatable); default all. pressure: the bar's pressure study "
-                         "alone (part of bar), its rows replacing those of bar.csv in OUT/data. pressure and disk "
-                         "alone keep OUT/data's other files (their log goes to runs_pressure.log or "
-                         "runs_disk.log, machine.txt gains a line)")
+                         "alone (part of bar), its rows replacing those of bar.csv in OUT/data. pressure, disk and ball "
+                         "alone keep OUT/data's other files (their log goes to runs_pressure.log, "
+                         "runs_disk.log or runs_ball.log, machine.txt gains a line)")
     a = ap.parse_args()
     # one thread per run: the runs are small, and two of them share the machine
     os.environ["OPENBLAS_NUM_THREADS"] = "1"
     os.environ["OMP_NUM_THREADS"] = "1"
     p = plan(a.quick)
-    parts = a.only or ["bar", "getfem", "disk", "energy"]
+    parts = a.only or ["bar", "getfem", "disk", "ball", "energy"]
     data = os.path.join(a.out, "data")
     os.makedirs(data, exist_ok=True)
     t_start = time.time()
     failures = 0
     # a re-run of the pressure or the disk study alone into an existing data
     # directory: its own log; the other parts' log, machine and date stay
-    alone = set(parts) <= {"pressure", "disk"}
+    alone = set(parts) <= {"pressure", "disk", "ball"}
     log_name = "runs_%s.log" % "_".join(sorted(set(parts))) if alone else "runs.log"
     with tempfile.TemporaryDirectory() as rows, open(os.path.join(data, log_name), "w") as log:
         if "bar" in parts:
@@ -282,6 +282,11 @@ def main():
                     "--repeat", str(p["repeat"])]
             failures += run_all([(1, argv), (1, argv + ["--cells", "quadrilateral"])], 1, log)
             print("disk in %.0f s" % (time.time() - t0), flush=True)
+        if "ball" in parts:  # one process (the reference needs 2.6 GB); each run timed once (P1 h = 1: 4 min)
+            t0 = time.time()
+            failures += run_all([(1, [os.path.join(a.build, "disk_study"), "--plan", p["disk"], "--out", data,
+                                      "--repeat", "1", "--body", "ball"])], 1, log)
+            print("ball in %.0f s" % (time.time() - t0), flush=True)
     if alone:  # the other parts' machine and date stay; this re-run is recorded beside them
         with open(os.path.join(data, "machine.txt"), "a") as fh:
             fh.write("%s study re-run (--only %s): %s, %s, plan %s, jobs %d, wall time %.0f s\n" %
