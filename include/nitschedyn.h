@@ -306,7 +306,8 @@ ND_EXPORT int nd_problem_set_contact_plane(nd_problem p, int region, const doubl
                                            const double *normal);
 /* gamma = gamma0 * h_K (h_K the diameter of the cell owning the facet; times
    E / E_K with several materials, nd_problem_set_material_region);
-   gamma0 = 0 chooses a safe value (half the coercivity limit, ND_GAMMA0) */
+   gamma0 = 0 chooses a safe value (half the coercivity limit; 1/50 of it with
+   Theta <= 0 and the hybrid scheme; ND_GAMMA0) */
 /* More rigid obstacles for a region (docs/design.md §10.1); at each contact
    point the nearest acts. inside = 1: the body is inside the shell (a bowl).
    A sphere is a circle in 2D; a cylinder (infinite, of this axis) is 3D. */

@@ -114,6 +114,41 @@ START_TEST(automatic_gamma0) {
 }
 END_TEST
 
+/* Theta <= 0 with the hybrid scheme: 1/50 of gamma0* (docs/design.md §3b.1),
+   at which the (Theta - 1) term of Theorem 2.8 gains about 1e-3 of the
+   energy at the impact, against 5 % at the old automatic value, half the
+   bound (measured: 1.0e-3 at P1, 2.5e-4 at P2 with Theta = -1, round-off
+   with Theta = 0; asserted below 2e-3, 25 times below the guard's line),
+   the balance guard on and every step taken; the scheme changed to the
+   theta-scheme: half the bound again */
+START_TEST(automatic_gamma0_of_the_hybrid_scheme_with_theta_at_most_zero) {
+  const double thetas[] = {0.0, -1.0};
+  for (int t = 0; t < 2; ++t)
+    for (int degree = 1; degree <= 2; ++degree) {
+      nd_problem p = bar(degree, 3.0, thetas[t], 0.0, 0.0);
+      const double bound = 1 / ((degree == 1 ? 1 : 4) * 3.0);
+      ck_assert_double_eq_tol(scalar(p, ND_GAMMA0), 0.5 * bound, 1e-12 * bound);
+      ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+      ck_assert_double_eq_tol(scalar(p, ND_GAMMA0), 0.02 * bound, 1e-12 * bound);
+      const double E0 = scalar(p, ND_ENERGY_MECHANICAL);
+      double growth = 0;
+      for (int k = 0; k < 120; ++k) { /* through the impact at t = 1 */
+        ND_OK_OR_FAIL(nd_step(p));
+        growth = fmax(growth, scalar(p, ND_ENERGY_MECHANICAL) / (E0 + scalar(p, ND_WORK)) - 1);
+      }
+      printf("bar P%d Theta = %g, hybrid, automatic gamma0 = gamma0* / 50: largest E/(E0 + W) - 1 = %.6g\n", degree,
+             thetas[t], growth);
+      ck_assert_double_lt(growth, 2e-3);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+      p = bar(degree, 3.0, thetas[t], 0.0, 0.0);
+      ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+      ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_THETA, (const double[]){1.0}));
+      ck_assert_double_eq_tol(scalar(p, ND_GAMMA0), 0.5 * bound, 1e-12 * bound);
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+}
+END_TEST
+
 /* message states "gamma0 <= X is safe" with X the bound ND_GAMMA0_LIMIT
    reported (to the 6 significant digits of the library's messages) */
 static void assert_states_bound(const char *message, double limit) {
@@ -244,6 +279,7 @@ int main(void) {
   tcase_add_test(tc, coercivity_limit_of_the_bar);
   tcase_add_test(tc, coercivity_limit_of_the_disk);
   tcase_add_test(tc, automatic_gamma0);
+  tcase_add_test(tc, automatic_gamma0_of_the_hybrid_scheme_with_theta_at_most_zero);
   tcase_add_test(tc, refusals_of_a_large_gamma0_state_the_bound);
   tcase_add_test(tc, schemes_unstable_at_every_step_are_refused);
   tcase_add_test(tc, initial_penetration_is_refused);

@@ -12,10 +12,12 @@
  *    refused at the same step; the bar of §7 with every default runs 1e5
  *    steps without a refusal (the old limit stopped it at step 17,634);
  *  - the energy-balance guard, E_Theta - W - ... + D against its lowest value
- *    out of contact: Theta = -1 with the automatic gamma0 gains energy at
- *    the impact of the block (refused, the message names Theta = -1; with
- *    the guard off the same run ends with more energy than it started
- *    with), Theta = 1 with the hybrid scheme completes. */
+ *    out of contact: Theta = -1 with gamma0 at half the bound gamma0* (the
+ *    automatic value of Theta = 1, and of every Theta before issue 57)
+ *    gains energy at the impact of the block (refused, the message names
+ *    Theta = -1; with the guard off the same run ends with more energy than
+ *    it started with); Theta = -1 with its own automatic gamma0 (1/50 of gamma0*
+ *    with the hybrid scheme) and Theta = 1 complete. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -141,7 +143,11 @@ END_TEST
 START_TEST(theta_minus_one_gaining_energy_is_refused) {
   int code;
   double pen;
-  nd_problem p = block(-1.0, 0.0, 1.0, 1.0, 1.0, 1.0); /* gamma0 = 0: automatic */
+  /* half the bound: Theta = 1's automatic gamma0 (E = 1: gamma0 E = gamma0) */
+  nd_problem p = block(1.0, 0.0, 1.0, 1.0, 1.0, 1.0);
+  const double half = scalar(p, ND_GAMMA0);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  p = block(-1.0, half, 1.0, 1.0, 1.0, 1.0);
   const int64_t k = run(p, 200, &code, &pen);
   printf("refused at step %lld: %s\n", (long long)k, nd_last_error());
   ck_assert_int_eq(code, ND_ERR_ENERGY_GROWTH);
@@ -149,7 +155,7 @@ START_TEST(theta_minus_one_gaining_energy_is_refused) {
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   /* the refusal is justified: without the guard the block leaves the
      obstacle with more energy than it came with (no load: E_Theta - W is E_Theta) */
-  p = block(-1.0, 0.0, 1.0, 1.0, 1.0, 1.0);
+  p = block(-1.0, half, 1.0, 1.0, 1.0, 1.0);
   ND_OK_OR_FAIL(nd_problem_set_guard(p, ND_GUARD_ENERGY_BALANCE, 0));
   const double E0 = scalar(p, ND_ENERGY_MECHANICAL);
   double top = 0;
@@ -160,11 +166,14 @@ START_TEST(theta_minus_one_gaining_energy_is_refused) {
   printf("Theta = -1 without the balance guard: E_Theta out of contact up to %g E0\n", top / E0);
   ck_assert(top > 1.05 * E0);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
-  /* Theta = 1: the hybrid scheme never gains */
-  p = block(1.0, 0.0, 1.0, 1.0, 1.0, 1.0);
-  const int64_t k1 = run(p, 200, &code, &pen);
-  ck_assert_msg(code == ND_OK, "step %lld: %s", (long long)k1, nd_last_error());
-  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  /* Theta = 1: the hybrid scheme never gains; Theta = -1 with its own
+     automatic gamma0 (docs/design.md §3b.1) runs through the impact */
+  for (int t = 0; t < 2; ++t) {
+    p = block(t == 0 ? 1.0 : -1.0, 0.0, 1.0, 1.0, 1.0, 1.0);
+    const int64_t k1 = run(p, 200, &code, &pen);
+    ck_assert_msg(code == ND_OK, "Theta = %d, step %lld: %s", t == 0 ? 1 : -1, (long long)k1, nd_last_error());
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
 }
 END_TEST
 

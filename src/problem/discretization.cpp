@@ -261,7 +261,7 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
   if (automatic && d->contact.size() > 0) {
     if (!(d->gamma0_limit > 0 && std::isfinite(d->gamma0_limit)))
       fail(ND_ERR_NITSCHE, "no automatic gamma0: the coercivity limit is " + num(d->gamma0_limit));
-    d->gamma0 = kAutomaticGamma0Fraction * d->gamma0_limit / std::max(def.theta, 1.0);
+    d->gamma0 = automatic_gamma0_fraction(def) * d->gamma0_limit;
     for (size_t q = 0; q < d->contact.size(); ++q) d->contact.gamma[q] = d->gamma0 * d->contact.gamma_length[q];
   }
   set_bounds(d->contact);
@@ -283,6 +283,11 @@ std::unique_ptr<Discretization> discretize(const Space &space, const Definition 
     d->clamped = std::make_unique<ClampedRows>(
         clamped_rows(space, d->dofs, materials_of(space, def), def.redistributed ? &on_contact : nullptr));
   return d;
+}
+
+double automatic_gamma0_fraction(const Definition &def) {
+  if (def.theta <= 0 && def.scheme == ND_SCHEME_HYBRID) return kAutomaticGamma0SkewHybrid;
+  return kAutomaticGamma0Fraction / std::max(def.theta, 1.0);
 }
 
 std::unique_ptr<Discretization> with_normals(const Space &space, const Definition &def, const Discretization &from,

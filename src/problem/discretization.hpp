@@ -19,8 +19,14 @@
 namespace nd {
 
 
-// The automatic gamma0: this fraction of gamma0*/max(Theta, 1).
+// The automatic gamma0: this fraction of gamma0*/max(Theta, 1); with
+// Theta <= 0 and the hybrid scheme, kAutomaticGamma0SkewHybrid of gamma0*
+// (docs/design.md §3b.1: the energy the (Theta - 1) term of Theorem 2.8
+// gains at impacts falls with gamma0 in that scheme; in Newmark's a stiffer
+// penalty gains more, and the theta-scheme gains nothing).
 constexpr double kAutomaticGamma0Fraction = 0.5;
+constexpr double kAutomaticGamma0SkewHybrid = 0.02;
+double automatic_gamma0_fraction(const Definition &def);
 
 // With `own` (several ranks; null: one process) M, K and K_Theta hold the
 // rows of own's nodes only, each entry with the bits of the whole operator's.

@@ -360,9 +360,11 @@ void Problem::set_friction(int region, int law, const double *params) {
 
 void Problem::set_scheme(int scheme, const std::vector<double> &params) {
   make_scheme(scheme, params);  // checks the id and the parameters
+  const double fraction = automatic_gamma0_fraction(def_);
   def_.scheme = scheme;
   def_.scheme_params = params;
-  changed(kScheme);
+  // (an automatic gamma0 that depends on the scheme: the operators again)
+  changed(kScheme | (def_.gamma0 == 0 && automatic_gamma0_fraction(def_) != fraction ? kNitsche : 0u));
 }
 
 void Problem::set_nodal_forces(const double *f) {
