@@ -56,8 +56,8 @@ SCHEMES = ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_damped",
            "explicit_layered")
 IMPLICIT = ("hybrid", "newmark", "theta1", "galpha")
 # the classes of issue 57, in the report's order (random: run.py --random)
-CLASSES = ("base", "3d", "material", "speed", "timestep", "moving_plane", "static_load", "sliver", "critical", "long",
-           "random")
+CLASSES = ("base", "3d", "material", "speed", "timestep", "moving_plane", "static_load", "sliver", "critical",
+           "two_bodies", "long", "random")
 
 
 def base_plan(quick):
@@ -78,7 +78,8 @@ def class_plan(quick):
                 ("speed", "rect", 1, "explicit", "1", "1", ("speed=100",)),
                 ("moving_plane", "rect", 1, "hybrid", "1", "1e-4", ("plane=moving",)),
                 ("static_load", "rest", 1, "hybrid", "1", "1e-4", ()),
-                ("sliver", "sliver", 1, "hybrid", "-1", "1", ())]
+                ("sliver", "sliver", 1, "hybrid", "-1", "1", ()),
+                ("two_bodies", "pair", 1, "hybrid", "1", "0", ())]
     c = []
     four = ("hybrid", "newmark", "galpha", "explicit")
     # (a) the 3D ball, P1 (P2: about 2 minutes a run)
@@ -116,6 +117,10 @@ def class_plan(quick):
           for sc, d in (("bar", 1), ("bar", 2), ("rect", 1), ("rect", 2), ("disk", 1), ("ball", 1))
           for th in ("1", "0", "-1") for g in ("0", "1e-2", "1")
           for f in ("0.5", "0.9", "0.99", "1", "1.01", "1.05", "1.2", "1.5")]
+    # (j) two deformable bodies: two disks meeting (nd_problem_set_contact_pair)
+    c += [("two_bodies", "pair", d, s, th, g, ()) for d in (1, 2)
+          for s in ("hybrid", "newmark", "theta1", "galpha", "explicit") for th in ("1", "0", "-1")
+          for g in ("0", "1e-4", "1e-2", "1", "1e4")]
     # (h) 10^5 steps of the bar
     c += [("long", "bar", d, s, th, g, ("steps=100000",)) for d in (1, 2) for s in ("hybrid", "newmark", "galpha")
           for th in ("1", "-1") for g in ("1e-4", "1e-2")]
@@ -297,7 +302,8 @@ def report(rows, out, seconds, quick, seed=None, n_random=0):
           "units, rubber ν = 0.49 and 0.4999), speed (impact 10 and 100 times the default), timestep (τ 1e-2 to "
           "1e2 times the default, implicit schemes), moving_plane, static_load (at rest on the plane under "
           "gravity, 10^4 steps), sliver (contact cells 1e-3 as high as wide), critical (the explicit scheme at "
-          "0.5 to 1.5 times the library's critical-step estimate: bar P1/P2, rect P1/P2, disk, ball), long (10^5 "
+          "0.5 to 1.5 times the library's critical-step estimate: bar P1/P2, rect P1/P2, disk, ball), two_bodies "
+          "(two disks meeting, a contact pair: every scheme, Θ, γ0 E), long (10^5 "
           "steps of the bar)%s. Refused at setup: by the set-up's checks other than the critical step. Guard "
           "refusals, justified / false alarms: stopped by ND_ERR_ENERGY_GROWTH or ND_ERR_PENETRATION, or refused "
           "at setup by the critical-step check (ND_ERR_UNSTABLE), and judged by "
@@ -317,8 +323,9 @@ def report(rows, out, seconds, quick, seed=None, n_random=0):
           "## Refusals and stops, by code\n",
           table(["outcome", "code", "runs"], [[o, c, n] for (o, c), n in sorted(codes.items())]),
           "## The theory's verdict\n",
-          "Hybrid scheme, Θ = 1: E_Θ + D − W never increases (part 2 of the paper, D the damping's "
-          "dissipation with friction's, docs/design.md §10.5 and §10.2; loads only on the disk). ",
+          "Hybrid scheme, Θ = 1: E_Θ + D − W − W_geometry never increases (part 2 of the paper, D the damping's "
+          "dissipation with friction's, docs/design.md §10.5 and §10.2; loads only on the disk; W_geometry what "
+          "a contact pair's re-pairing puts in, §10.3). ",
           ]
     hyb = [r for r in rows if r["theory"] != "-"]
     md.append("Of %d such runs that reached a step, %d held and %d violated it%s.\n" % (
