@@ -14,8 +14,10 @@ struct Guards {
   // of the energy put in (docs/design.md §3b.5); 0: off
   double penetration = 4;
   // the balance L = E_Theta - W - W_obstacle - W_prescribed - W_geometry +
-  // D_damping + D_friction may rise above its lowest value by at most
-  // tol max(E^0 + max W, max_k E^k) (docs/design.md §3b); 0: off
+  // D_damping + D_friction (Theta < 0: with min(E, E_Theta) for E_Theta;
+  // in contact, Theta > 0: without the penalty's energy) may rise above its
+  // lowest value out of contact by at most tol max(E^0 + max W, max_k E^k)
+  // (docs/design.md §3b); 0: off
   double balance = 0.05;
   bool critical_timestep = true, unstable_scheme = true, coercivity = true, initial_penetration = true;
 };

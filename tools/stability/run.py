@@ -206,7 +206,8 @@ def judge(exe, meshes, row):
     """Reruns a run a guard stopped with the guards of the steps off: 'justified: ...' when
     the rerun fails, gains energy (E/(E^0 + max W) > 1.05: a body that creates no energy has
     E <= E^0 + W; or the balance out of contact rises by more than 5 % of the energy in
-    motion) or sinks (deeper than 4 eps* min(h, L/8)),
+    motion; or the balance with min(E, E_Theta) does, at any state: stability_case's
+    contact_gain) or sinks (deeper than 4 eps* min(h, L/8)),
     'false_alarm: ...' otherwise."""
     if not (row["outcome"] == "stopped_at_step" and row["code"] in GUARD_CODES) and not critical_refusal(row):
         return ""
@@ -216,16 +217,17 @@ def judge(exe, meshes, row):
         return "error: timeout (600 s)"
     if r.returncode != 0:
         return "error: " + r.stderr.strip()[:80]
-    outcome, code, step, growth, gain, pen = r.stdout.strip().split(",")
+    outcome, code, step, growth, gain, pen, cgain = r.stdout.strip().split(",")
     why = []
     if outcome == "stopped_at_step":
         why.append("fails (%s at step %s)" % (code, step))
-    if float(growth) > 1.05 or float(gain) > 0.05:
-        why.append("gains (E/(E0 + max W) %s, balance out of contact +%s)" % (growth, gain))
+    if float(growth) > 1.05 or float(gain) > 0.05 or float(cgain) > 0.05:
+        why.append("gains (E/(E0 + max W) %s, balance out of contact +%s, in contact +%s)" % (growth, gain, cgain))
     if float(pen) > 4:
         why.append("sinks (%s x the penetration limit)" % pen)
     return ("justified: " if why else "false_alarm: ") + ("; ".join(why) if why else
-                                                          "growth %s, balance +%s, penetration %s" % (growth, gain, pen))
+                                                          "growth %s, balance +%s, in contact +%s, penetration %s" %
+                                                          (growth, gain, cgain, pen))
 
 
 def adapt(exe, meshes, row):
@@ -343,7 +345,8 @@ def report(rows, out, seconds, quick, seed=None, n_random=0):
               "critical-step check off. Justified: the rerun then fails, gains energy "
               "(E/(E^0 + max W) > 1.05, or the balance E_Θ − W − W_obstacle − W_prescribed − W_geometry + D rises, at "
               "a state without an active point, by more than 5 %% of the energy in motion above its lowest value "
-              "at such a state before) or sinks (deeper than 4 ε* min(h, L/8)). **%d refusals judged, %d justified, "
+              "at such a state before, or, with min(E, E_Θ) for E_Θ, at any state above that lowest value: a gain "
+              "in contact) or sinks (deeper than 4 ε* min(h, L/8)). **%d refusals judged, %d justified, "
               "%d false alarms.**\n" % (len(judged), len(judged) - len(alarms), len(alarms)))
     if alarms:
         md.append(table(["class", "scene", "P", "scheme", "Θ", "γ0 E", "options", "code", "step", "rerun"],
