@@ -8,7 +8,10 @@
 DefineConstant[ h = {4, Name "mesh size"} ];
 R = 20; zc = 25;
 a = 0.4 * R;                                    // the cube's half-side
-n = Ceil(R * Acos(1 / 3) / h) + 1;               // points along a cube edge and its arc
+// points along a cube edge and its arc: odd, so that a node sits at each
+// pole (the cap's centre), where the ball first touches the plane: with an
+// even number the lowest point was 0.32 (h = 4) above the disk's 5
+n = 2 * Ceil(R * Acos(1 / 3) / (2 * h)) + 1;
 nv = Ceil(R * Acos(Sqrt(2 / 3)) / h) + 1;        // along half a vertical edge and its arc
 m = Ceil((R - a) / h) + 1;                       // from the cube to the sphere
 Point(1) = {0, 0, zc};
