@@ -308,7 +308,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           if (CALL(nd_problem_get_matrix, p, ND_MATRIX_MASS, &n, &nnz, nullptr, nullptr, nullptr) == ND_OK &&
               n >= 0 && n < 100000) {
             buf.assign(static_cast<size_t>(n + 1), 0.0);
-            buf2.assign(static_cast<size_t>(n + 1), 0.0);
+            // (room for the residual's n values and for the up to 5 values asked of contact_values:
+            // the harness's own buffer, which a small mesh made shorter than the count it passed)
+            buf2.assign(static_cast<size_t>(std::max<int64_t>(n + 1, 5)), 0.0);
             for (auto &x : buf) x = any_double(in);
             CALL(nd_problem_contact_residual, p, n, buf.data(), buf2.data());
             CALL(nd_problem_contact_values, p, n, buf.data(), in.ConsumeIntegralInRange<int>(0, 5), buf2.data());
