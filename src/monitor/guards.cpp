@@ -50,6 +50,12 @@ std::string point(const Discretization &d, size_t q) {
   return at + ")";
 }
 
+// An energy less what loads, obstacle, supports and re-linearisations put
+// in, plus what damping and friction took out: the balance's form
+double ledger(const State &s, double energy) {
+  return energy - s.W - s.W_obstacle - s.W_prescribed - s.W_geometry + s.D_damping + s.D_friction;
+}
+
 // The balance of Theorem 2.8 at a state: E_Theta less what loads, obstacle,
 // supports and re-linearisations put in, plus what damping and friction
 // took out. R from the step's sums, else by a pass over the points' s_q
@@ -64,7 +70,7 @@ double balance_of(const Discretization &d, const State &s, double E, bool settle
     else if (s.partial || v.partial || (v.ref && !settle)) return std::numeric_limits<double>::quiet_NaN();
     else R = nitsche_energy(d, s);
   }
-  return E - d.theta * R - s.W - s.W_obstacle - s.W_prescribed - s.W_geometry + s.D_damping + s.D_friction;
+  return ledger(s, E - d.theta * R);
 }
 // The guard's balance: balance_of with min(E, E_Theta) for E_Theta when
 // Theta < 0 (-Theta R >= 0 there: the Nitsche term, no energy of the body;
@@ -73,7 +79,7 @@ double balance_of(const Discretization &d, const State &s, double E, bool settle
 double guard_balance_of(const Discretization &d, const State &s, double E) {
   const double whole = balance_of(d, s, E, true);
   if (!(d.theta < 0) || std::isnan(whole)) return whole;
-  return std::min(whole, E - s.W - s.W_obstacle - s.W_prescribed - s.W_geometry + s.D_damping + s.D_friction);
+  return std::min(whole, ledger(s, E));
 }
 // (Theta/2) sum_q w_q gamma_q ((s_q.U)^2 + sum_k (ts_qk.U)^2 at frictional
 // points): U'KU/2 less this is U'K_Theta U/2 (one pass over the points' s rows)
@@ -198,8 +204,7 @@ void guard_balance(const Discretization &d, const Guards &g, const State &old, S
     // the balance dips.
     if (next.partial) return;
     if (d.theta > 0) {
-      L = E - theta_term(d, next) - next.W - next.W_obstacle - next.W_prescribed - next.W_geometry +
-          next.D_damping + next.D_friction;
+      L = ledger(next, E - theta_term(d, next));
     } else {
       L = guard_balance_of(d, next, E);
     }

@@ -726,7 +726,6 @@ void Problem::prepare() {
                               num(limit / omega_max()) + " with every contact point active, " +
                               "nd_problem_estimate_critical_timestep), use an implicit scheme, or raise gamma0 "
                               "(a softer penalty); the critical-timestep guard allows it for a study");
-  if (std::isfinite(limit)) omega_max();  // (for the guards' message: not estimated during a step)
   state();
   // friction set (or its points changed) since the state was made: no traction stored from here
   if (d.contact.m > 1 ? state_.slip.size() != d.contact.size() * static_cast<size_t>(d.contact.m - 1)
