@@ -63,7 +63,7 @@ int main(int argc, char **argv) {
   d.dofs.restrict_to_free(full.data(), s.V.data());
   for (int r = 0; r < 21; ++r) {
     const double t0 = seconds();
-    sink += nd::mechanical_energy(d, s);
+    sink += nd::mechanical_energy(d, s, nd::Products{});
     te.push_back(seconds() - t0);
   }
   const double with = median(t[0]), without = median(t[1]);

@@ -1,10 +1,12 @@
 #!/bin/sh
 # No folder of src/ includes a folder that stands above it in the data flow
 # (docs/architecture.md §1): the order below, lowest first. A folder may
-# include itself and any folder before it.
+# include itself and any folder before it. src/fast, the step driver's fast
+# paths, is included by src/problem alone (and itself): the method's folders
+# (solve, monitor, ...) never see it.
 # Usage: scripts/check-layers.sh [SRC_DIR]   (exit 1 and the offending lines)
 src=${1:-$(dirname "$0")/../src}
-order="common mesh fem parallel linalg assembly contact time solve monitor problem io capi"
+order="common mesh fem parallel linalg assembly contact time solve fast monitor problem io capi"
 rank() { i=0; for f in $order; do [ "$f" = "$1" ] && { echo $i; return; }; i=$((i + 1)); done; echo -1; }
 bad=0
 for dir in "$src"/*/; do
@@ -17,6 +19,10 @@ for dir in "$src"/*/; do
     t=$(rank "$target")
     if [ "$t" -gt "$r" ]; then
       echo "check-layers: $(echo "$line" | sed "s|^$src/||; s|^.*/src/||") : src/$folder includes src/$target, which stands above it"
+      bad=1
+    fi
+    if [ "$target" = fast ] && [ "$folder" != fast ] && [ "$folder" != problem ]; then
+      echo "check-layers: $(echo "$line" | sed "s|^$src/||; s|^.*/src/||") : src/$folder includes src/fast, the step driver's alone"
       bad=1
     fi
   done

@@ -1,4 +1,4 @@
-// The contact columns Z_q = A^{-1} b_q on split rows (solve/contact_columns.hpp)
+// The contact columns Z_q = A^{-1} b_q on split rows (fast/contact_columns.hpp)
 // under mpiexec -n 1, 2, 4: held at a rank's own rows and the points' DOFs,
 // they give what whole columns give (G, p_q . Z_j, the sums of columns once
 // completed), the same on every rank, and a column receives from the other
@@ -31,10 +31,10 @@
 #include "parallel/communicator_mpi.hpp"
 #include "parallel/share.hpp"
 #include "problem/discretization.hpp"
-#include "solve/contact_columns.hpp"
+#include "fast/contact_columns.hpp"
 #include "solve/contact_law.hpp"
 #include "solve/newton.hpp"
-#include "solve/tangent_solver.hpp"
+#include "fast/tangents.hpp"
 #include "unit_drop.hpp"
 #include "unit_fixtures.hpp"
 // last: check.h's fail() macro would clash with nd::fail and std::ios::fail

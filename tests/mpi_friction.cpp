@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "capi/handles.hpp"  // before check.h, whose fail() macro hides nd::fail
-#include "solve/tangent_solver.hpp"
+#include "fast/tangents.hpp"
 // last: check.h's fail() macro would clash with nd::fail and std::ios::fail
 #include <check.h>
 

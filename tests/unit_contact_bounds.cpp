@@ -460,7 +460,7 @@ START_TEST(queried_sums_are_kept_with_their_products) {
       for (int j = 0; j < 5; ++j) again[j] = scalar(a, keys[j]);  // read from the kept sums
       ck_assert_msg(std::memcmp(va, vb, sizeof va) == 0 && std::memcmp(va, again, sizeof va) == 0,
                     "%dD step %d: the queries differ", dim, k + 1);
-      const nd::Products &pa = a->problem.current_state().products;
+      const nd::Products &pa = a->problem.current_products();
       ck_assert(pa.pass != 0 && pa.queried_pass == pa.pass && pa.queried_nitsche);
       contact += va[2] > 0;
     }
@@ -518,7 +518,7 @@ START_TEST(scheme_change_after_unevaluated_points) {
       nd_problem probe = translating_block(dim, ndtest::kSchemes[2], gap, speed);
       impact = -1;
       for (int k = 0; k < 40 && impact < 0; ++k) {
-        before_unevaluated = probe->problem.current_state().products.points.ref != nullptr;
+        before_unevaluated = probe->problem.current_products().points.ref != nullptr;
         ND_OK_OR_FAIL(nd_step(probe));
         if (scalar(probe, ND_ACTIVE_POINTS) > 0) impact = k;
       }

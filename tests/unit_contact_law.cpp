@@ -209,9 +209,9 @@ START_TEST(friction_laws_jacobian_and_projection) {
 END_TEST
 
 // The fast tangents of friction against the refactoring one: in 2D the
-// block tangent (solve/tangent_blocks.cpp: Woodbury over the active points'
+// block tangent (fast/tangent_blocks.cpp: Woodbury over the active points'
 // m values, A's factor reused), in 3D GMRES preconditioned by the sticking
-// tangent's factor (solve/tangent_sticking.cpp). A block dropped, turning,
+// tangent's factor (fast/tangent_sticking.cpp). A block dropped, turning,
 // with a tangential velocity onto the plane, Coulomb F = 0.3 (sliding, then
 // sticking) and Tresca, every implicit scheme, Theta = 1 and 0: the same
 // trajectories to 1e-10 relative (the Newton tolerance and the solves'

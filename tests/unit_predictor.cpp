@@ -1,4 +1,4 @@
-// A step that is its predictor (solve/predictor_check.hpp): Newmark,
+// A step that is its predictor (fast/predictor_check.hpp): Newmark,
 // generalized-alpha and the theta-scheme take U^{n+1} = U^n + tau V^n +
 // w tau^2 A^n (w = 1/2, or theta), with no solve, when it solves the step to
 // round-off.

@@ -248,41 +248,44 @@ END_TEST
 // but the products' four, every other field as State{} has it.
 START_TEST(reused_storage_is_a_new_state) {
   nd::State used;
+  nd::Products used_p;  // (the products, a cache held beside the state)
   used.t = 1, used.n = 3, used.t_ref = 0.5, used.tau_ref = 0.25, used.n_ref = 1;
   for (std::vector<double> *v : {&used.U, &used.V, &used.A, &used.F_fixed, &used.gap, &used.reaction, &used.phi,
-                                 &used.products.MU, &used.products.MV, &used.products.MA, &used.products.KU,
-                                 &used.products.points.P, &used.products.points.un, &used.tangent_log.x})
+                                 &used_p.MU, &used_p.MV, &used_p.MA, &used_p.KU,
+                                 &used_p.points.P, &used_p.points.un, &used.tangent_log.x})
     v->assign(5, 2.0);
   used.tangent_log.i.assign(5, 7);
-  used.partial = used.A_valid = used.products.points.partial = used.products.points.summed = true;
+  used.partial = used.A_valid = used_p.points.partial = used_p.points.summed = true;
   used.F = std::make_shared<const std::vector<double>>(5, 1.0);
-  used.products.points.ref = std::make_shared<const nd::PointReference>();
-  used.products.of = 9, used.products.n = 5, used.products.kinetic = used.products.strain = 4;
-  used.products.points.sums.force = 6;
+  used_p.points.ref = std::make_shared<const nd::PointReference>();
+  used_p.of = 9, used_p.n = 5, used_p.kinetic = used_p.strain = 4;
+  used_p.points.sums.force = 6;
   used.W = used.W_obstacle = 8, used.last_iterations = 2, used.total_iterations = 10;
   used.guard.E0 = used.guard.budget = 3;
   const double *U_memory = used.U.data();
 
   const nd::State s = nd::reuse_storage(std::move(used));
+  const nd::Products p = nd::reuse_storage(std::move(used_p));
   const nd::State fresh;
+  const nd::Products fresh_p;
   ck_assert_ptr_eq(s.U.data(), U_memory);  // the memory, not a copy
   for (const std::vector<double> *v : {&s.U, &s.V, &s.A, &s.F_fixed, &s.gap, &s.reaction, &s.phi,
-                                       &s.products.points.P, &s.products.points.un, &s.tangent_log.x}) {
+                                       &p.points.P, &p.points.un, &s.tangent_log.x}) {
     ck_assert(v->empty());
     ck_assert_uint_ge(v->capacity(), 5);
   }
   // the products' vectors keep their sizes (the next pass writes every
   // entry, not filled with zeros first); of = 0 below says they are not computed
-  for (const std::vector<double> *v : {&s.products.MU, &s.products.MV, &s.products.MA, &s.products.KU})
+  for (const std::vector<double> *v : {&p.MU, &p.MV, &p.MA, &p.KU})
     ck_assert_uint_eq(v->size(), 5);
   ck_assert(s.tangent_log.i.empty());
   ck_assert(s.t == fresh.t && s.n == fresh.n && s.t_ref == fresh.t_ref && s.tau_ref == fresh.tau_ref &&
             s.n_ref == fresh.n_ref && s.W == fresh.W && s.W_obstacle == fresh.W_obstacle);
   ck_assert(s.partial == fresh.partial && s.A_valid == fresh.A_valid);
-  ck_assert(!s.F && !s.products.rows && !s.products.points.ref);
-  ck_assert(s.products.of == fresh.products.of && s.products.n == fresh.products.n &&
-            s.products.kinetic == fresh.products.kinetic && s.products.strain == fresh.products.strain);
-  ck_assert(!s.products.points.partial && !s.products.points.summed && s.products.points.sums.force == 0);
+  ck_assert(!s.F && !p.rows && !p.points.ref);
+  ck_assert(p.of == fresh_p.of && p.n == fresh_p.n &&
+            p.kinetic == fresh_p.kinetic && p.strain == fresh_p.strain);
+  ck_assert(!p.points.partial && !p.points.summed && p.points.sums.force == 0);
   ck_assert(s.last_iterations == fresh.last_iterations && s.total_iterations == fresh.total_iterations);
   ck_assert(s.guard.E0 == fresh.guard.E0 && s.guard.budget == fresh.guard.budget);
 }

@@ -1,6 +1,6 @@
 // The low-rank Newton tangent (Woodbury over the active points, the factor
 // of A = c M + K_Theta reused) and the condensed Newton (on the contact
-// points alone, solve/newton_condensed.hpp) against the reference that
+// points alone, fast/newton_condensed.hpp) against the reference that
 // refactors the tangent: the same trajectories to 1e-10 relative and the
 // same Newton iteration counts, for every implicit scheme, Theta = 1, 0, -1, P1/P2, in
 // 1D (the bar), 2D (a rectangle dropped on a plane) and 3D (a box dropped on
@@ -21,7 +21,7 @@
 #include "common/simd.hpp"
 #include "linalg/backends.hpp"
 #include "monitor/energies.hpp"
-#include "solve/contact_columns.hpp"
+#include "fast/contact_columns.hpp"
 #include "solve/contact_law.hpp"
 #include "testutil.h"
 #include "unit_drop.hpp"
@@ -507,7 +507,7 @@ START_TEST(residual_from_products_is_newton_residual) {
           const nd::Discretization &d = p->problem.discretization();
           nd::State st = p->problem.current_state();
           nd::PointValues at_n;  // (the step may have left them unevaluated: PointValues::ref)
-          const std::vector<double> Pn = nd::state_points(d, st, at_n).P;
+          const std::vector<double> Pn = nd::state_points(d, st, nd::Products{}, at_n).P;
           nd::ContactLaw law{&d.contact, d.theta, in.scheme.get(), &Pn};
           nd::NewtonSystem sys{&in.A, in.tangent.get(), &d.M, in.coef.c, in.coef.kappa, &law};
           Uniform rnd(4242);
@@ -525,13 +525,14 @@ START_TEST(residual_from_products_is_newton_residual) {
             const double full = nd::newton_residual(sys, r, st.U, G, &active, MU);
             int any = 0;
             for (char a : active) any += a != 0;
-            nd::compute_products(d, st);
-            const double from = nd::newton_residual_from_products(sys, st.products, st.U, r, G);
+            nd::Products products;
+            nd::compute_products(d, st, products);
+            const double from = nd::newton_residual_from_products(sys, products, st.U, r, G);
             ck_assert_msg(std::fabs(from - full) <= 1e-12 * full, "%dD P%d %s Theta = %g: %.17g from the products, %.17g",
                           dim, degree, sc.name, theta, from, full);
             // with the contact term left out it is another residual
             if (any) {
-              nd::Products no_contact = st.products;
+              nd::Products no_contact = products;
               for (auto &P : no_contact.points.P) P = -1;
               ck_assert(std::fabs(nd::newton_residual_from_products(sys, no_contact, st.U, r, G) - full) > 1e-10 * full);
               ++checked;
@@ -695,7 +696,7 @@ START_TEST(new_state_points_from_newton) {
           law.local = true;
           std::vector<double> P, un;
           law.P_all(s.U.data(), P, &un);
-          const nd::PointValues &kept = s.products.points;
+          const nd::PointValues &kept = p->problem.current_products().points;
           if (kept.ref) {  // left unevaluated, shown off the obstacle: no point active, none evaluated
             ck_assert(kept.P.empty() && kept.un.empty());
             for (double Pq : P) ck_assert_msg(Pq <= 0, "%dD step %d: P_q = %g in a state shown free", dim, k + 1, Pq);
@@ -796,7 +797,7 @@ void updated_factor_history(int dim, int refine, bool supernodal) {
   for (int k = 0; k < then; ++k) ND_OK_OR_FAIL(nd_step(b));
   ck_assert_msg(bits(a) == bits(b), "the resumed run differs");
   // (in 3D the resumed steps include ones whose first iteration kept the
-  // last tangent, solve/tangent_updown.cpp: the choice is made alike; on the
+  // last tangent, fast/tangent_updown.cpp: the choice is made alike; on the
   // 2D rectangle no step's changes cost three solves)
   double lagged_a = 0, lagged_b = 0;
   ND_OK_OR_FAIL(nd_get_scalar(a, ND_STAT_LAGGED_STEPS, &lagged_a));

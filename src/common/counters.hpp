@@ -31,10 +31,10 @@ struct Counters {
   int64_t point_values_received = 0;
   // iterations of the Krylov solves of an iterative backend (GAMG)
   int64_t krylov_iterations = 0;
-  // implicit steps their predictor solved (solve/predictor_check.hpp): no solve
+  // implicit steps their predictor solved (fast/predictor_check.hpp): no solve
   int64_t predicted_steps = 0;
   // steps whose first Newton iteration kept the last step's tangent (the
-  // updated factor, solve/tangent_updown.cpp: kLagSolves)
+  // updated factor, fast/tangent_updown.cpp: kLagSolves)
   int64_t lagged_steps = 0;
   // steps nd_step took, and adaptive steps it tried and rejected (retried smaller)
   int64_t steps_accepted = 0, steps_rejected = 0;

@@ -1,7 +1,7 @@
 // The wide (AVX2) forms of the hottest passes (linalg/node_blocks.hpp, the
 // contact points' pass in solve/contact_law.cpp, the Newmark update,
 // all_finite, the updated factor's rotations in linalg/supernodal.cpp, the
-// sums of contact columns in solve/contact_columns.cpp):
+// sums of contact columns in fast/contact_columns.cpp):
 // chosen at run time, where
 // the CPU has AVX2, and with the bits of the scalar forms (each lane one of
 // their sums, added in the same order; no FMA, which rounds once). Each

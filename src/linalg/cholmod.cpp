@@ -205,7 +205,7 @@ class Cholmod : public Factorization {
   }
   // Each column as solve() makes it, bit for bit (tests/unit_linalg.cpp),
   // its forward solve only over the supernodes its nonzeros reach: the
-  // columns of the contact points (solve/contact_columns.hpp) have a few
+  // columns of the contact points (fast/contact_columns.hpp) have a few
   // nonzeros each, and reach a small part of L's entries.
   void solve_many(double *x, int64_t n, int64_t k) const override;
   // Each column's values at the rows `at` as solve() makes them, bit for

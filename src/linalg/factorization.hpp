@@ -74,7 +74,7 @@ class Factorization {
   // the part of a whole solve's backward work that solve_many_at makes for
   // the unknowns `at`: 1 when it solves whole (every backend but supernodal
   // CHOLMOD, which solves only for those). A caller may keep columns at few
-  // rows when that is small (solve/contact_columns.hpp).
+  // rows when that is small (fast/contact_columns.hpp).
   virtual double backward_share_at(const std::vector<int64_t> &at) const {
     (void)at;
     return 1.0;

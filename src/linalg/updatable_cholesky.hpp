@@ -5,7 +5,7 @@
 // larger 2D ones), a supernodal LL^T modified by our updates and solved by
 // our sweeps (linalg/supernodal.hpp); elsewhere a simplicial LDL^T modified
 // by CHOLMOD's (its Modify module, which needs that form). The Newton tangent of the symmetric contact problem (Theta = 1)
-// changes by such terms as contact points come and go (solve/tangent_updown.cpp).
+// changes by such terms as contact points come and go (fast/tangent_updown.cpp).
 #pragma once
 #include <cstdint>
 #include <memory>

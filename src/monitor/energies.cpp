@@ -9,8 +9,8 @@
 
 namespace nd {
 
-double mechanical_energy(const Discretization &d, const State &s) {
-  if (s.products.of == d.id) return 0.5 * s.products.kinetic + 0.5 * s.products.strain;
+double mechanical_energy(const Discretization &d, const State &s, const Products &p) {
+  if (p.of == d.id) return 0.5 * p.kinetic + 0.5 * p.strain;
   // a rank holds its rows only: the other rows' sums come in a collective
   // pass, which a query on one rank cannot make (set-up makes it)
   if (d.rows_split)
@@ -64,14 +64,13 @@ inline __attribute__((always_inline)) void add_point(const ContactPoints &cp, co
 }
 // the sums of a state: the step's when it left them, else over every point
 // in order (phi_q = phi(P_q) before a step: the applied force is the force)
-PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
-  const Products &p = s.products;
+PointSums state_sums(const Discretization &d, const State &s, const Products &p, bool nitsche) {
   if (p.of == d.id && p.points.summed) return p.points.sums;
   // the sums an earlier query made at these products (the same pass, the same bits)
   const bool kept = p.of == d.id && p.pass != 0;
   if (kept && p.queried_pass == p.pass && (p.queried_nitsche || !nitsche)) return p.queried;
   PointValues scratch;
-  const PointValues &v = state_points(d, s, scratch);
+  const PointValues &v = state_points(d, s, p, scratch);
   const std::vector<double> &P = whole(v.P, v), &un = whole(v.un, v);
   PointSums t;
   const PointLaw &law = *d.contact_law;
@@ -87,9 +86,9 @@ PointSums state_sums(const Discretization &d, const State &s, bool nitsche) {
 }
 }  // namespace
 
-void sum_points(const Discretization &d, State &s, const std::vector<double> &dW) {
+void sum_points(const Discretization &d, State &s, Products &p, const std::vector<double> &dW) {
   const ContactPoints &cp = d.contact;
-  PointValues &v = s.products.points;
+  PointValues &v = p.points;
   PointSums t;
   double W = 0;
   const Share *share = cp.share.get();
@@ -110,11 +109,13 @@ void sum_points(const Discretization &d, State &s, const std::vector<double> &dW
   s.W_obstacle += W;
 }
 
-double nitsche_energy(const Discretization &d, const State &s) { return state_sums(d, s, true).nitsche; }
+double nitsche_energy(const Discretization &d, const State &s, const Products &p) {
+  return state_sums(d, s, p, true).nitsche;
+}
 
-PointSums region_sums(const Discretization &d, const State &s, int region) {
+PointSums region_sums(const Discretization &d, const State &s, const Products &p, int region) {
   PointValues scratch;
-  const PointValues &v = state_points(d, s, scratch);
+  const PointValues &v = state_points(d, s, p, scratch);
   const std::vector<double> &P = whole(v.P, v), &un = whole(v.un, v);
   PointSums t;
   const double *phi = s.phi.empty() ? nullptr : s.phi.data();
@@ -123,9 +124,9 @@ PointSums region_sums(const Discretization &d, const State &s, int region) {
   return t;
 }
 
-std::vector<double> contact_pressure(const Discretization &d, const State &s) {
+std::vector<double> contact_pressure(const Discretization &d, const State &s, const Products &p) {
   PointValues scratch;
-  const PointValues &points = state_points(d, s, scratch);
+  const PointValues &points = state_points(d, s, p, scratch);
   const std::vector<double> &Pq = whole(points.P, points);
   std::vector<double> lam(d.contact.size());
   for (size_t q = 0; q < lam.size(); ++q) {
@@ -142,25 +143,27 @@ namespace {
 // contact forces and active points are zero (+0, the evaluated sums' bits:
 // no term is added), so a query evaluates no point: evaluating them all
 // would cost a large part of a predicted step per query
-bool shown_free(const Discretization &d, const State &s) {
-  const PointValues &v = s.products.points;
-  return s.products.of == d.id && v.ref && d.contact_law->traits().zero_when_free &&
+bool shown_free(const Discretization &d, const State &s, const Products &p) {
+  const PointValues &v = p.points;
+  return p.of == d.id && v.ref && d.contact_law->traits().zero_when_free &&
          nonpositive_within(d.contact, s.U.data(), s.gap.empty() ? nullptr : s.gap.data(), *v.ref);
 }
 }  // namespace
 
-double contact_force(const Discretization &d, const State &s) {
-  return shown_free(d, s) ? 0.0 : state_sums(d, s, false).force;
+double contact_force(const Discretization &d, const State &s, const Products &p) {
+  return shown_free(d, s, p) ? 0.0 : state_sums(d, s, p, false).force;
 }
 
-double contact_force_applied(const Discretization &d, const State &s) {
-  return shown_free(d, s) ? 0.0 : state_sums(d, s, false).force_applied;
+double contact_force_applied(const Discretization &d, const State &s, const Products &p) {
+  return shown_free(d, s, p) ? 0.0 : state_sums(d, s, p, false).force_applied;
 }
 
-int64_t active_points(const Discretization &d, const State &s) {
-  return shown_free(d, s) ? 0 : static_cast<int64_t>(state_sums(d, s, false).active);
+int64_t active_points(const Discretization &d, const State &s, const Products &p) {
+  return shown_free(d, s, p) ? 0 : static_cast<int64_t>(state_sums(d, s, p, false).active);
 }
 
-double max_penetration(const Discretization &d, const State &s) { return state_sums(d, s, false).penetration; }
+double max_penetration(const Discretization &d, const State &s, const Products &p) {
+  return state_sums(d, s, p, false).penetration;
+}
 
 }  // namespace nd

@@ -23,10 +23,11 @@ constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 // fails with it, the others with it failing there: guard_step runs inside
 // the step's agreement)
 // (length: the lengths the penetration is measured in, h_K by default)
-std::pair<double, size_t> deepest(const Discretization &d, const State &s, const std::vector<double> *length = nullptr) {
+std::pair<double, size_t> deepest(const Discretization &d, const State &s, const Products &p,
+                                  const std::vector<double> *length = nullptr) {
   const std::vector<double> &len = length && !length->empty() ? *length : d.contact.h;
   PointValues scratch;
-  const PointValues &points = state_points(d, s, scratch, d.counters);
+  const PointValues &points = state_points(d, s, p, scratch, d.counters);
   const std::vector<double> &un = points.un;
   std::pair<double, size_t> worst{0, 0};
   auto visit = [&](size_t q) {
@@ -62,13 +63,13 @@ double ledger(const State &s, double energy) {
 // (their P_q the step's); NaN for a distributed state's points, and, unless
 // `settle`, for a state its step left unevaluated (shown contact-free: no
 // pass over the points for it)
-double balance_of(const Discretization &d, const State &s, double E, bool settle = false) {
+double balance_of(const Discretization &d, const State &s, const Products &p, double E, bool settle = false) {
   double R = 0;
   if (d.theta != 0 && d.contact.size() > 0) {
-    const PointValues &v = s.products.points;
-    if (s.products.of == d.id && v.summed) R = v.sums.nitsche;
+    const PointValues &v = p.points;
+    if (p.of == d.id && v.summed) R = v.sums.nitsche;
     else if (s.partial || v.partial || (v.ref && !settle)) return std::numeric_limits<double>::quiet_NaN();
-    else R = nitsche_energy(d, s);
+    else R = nitsche_energy(d, s, p);
   }
   return ledger(s, E - d.theta * R);
 }
@@ -76,8 +77,8 @@ double balance_of(const Discretization &d, const State &s, double E, bool settle
 // Theta < 0 (-Theta R >= 0 there: the Nitsche term, no energy of the body;
 // docs/design.md §3b), balance_of itself otherwise (out of contact, where
 // R >= 0, that is min(E, E_Theta) too). NaN where balance_of is.
-double guard_balance_of(const Discretization &d, const State &s, double E) {
-  const double whole = balance_of(d, s, E, true);
+double guard_balance_of(const Discretization &d, const State &s, const Products &p, double E) {
+  const double whole = balance_of(d, s, p, E, true);
   if (!(d.theta < 0) || std::isnan(whole)) return whole;
   return std::min(whole, ledger(s, E));
 }
@@ -102,10 +103,10 @@ double theta_term(const Discretization &d, const State &s) {
 }
 
 // no point in contact at s: shown contact-free, or evaluated with none active
-bool contact_free(const Discretization &d, const State &s) {
+bool contact_free(const Discretization &d, const Products &p) {
   if (d.contact.size() == 0) return true;
-  const PointValues &v = s.products.points;
-  return s.products.of == d.id && (v.ref || (v.summed && v.sums.active == 0));
+  const PointValues &v = p.points;
+  return p.of == d.id && (v.ref || (v.summed && v.sums.active == 0));
 }
 
 // The step's contact term of Theorem 2.8, (Theta - 1) sum_q (w_q/gamma_q)
@@ -138,9 +139,9 @@ double penetration_limit(const Discretization &d, const Guards &g, const GuardSt
   return g.penetration * std::sqrt(2 * s.budget / d.stiffness_volume);
 }
 
-void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
+void guard_initial_state(const Discretization &d, const Guards &g, State &s, const Products &p) {
   if (g.initial_penetration && d.contact.size() > 0) {
-    const auto [r, q] = deepest(d, s);
+    const auto [r, q] = deepest(d, s, p);
     if (r > kInitialPenetration)
       fail(ND_ERR_PENETRATION, "the initial state penetrates the obstacle by " + num(r * d.contact.h[q]) +
                                    " at contact point " + std::to_string(q) + " " + point(d, q) +
@@ -148,19 +149,20 @@ void guard_initial_state(const Discretization &d, const Guards &g, State &s) {
                                    "); move the body or the obstacle, or allow it with the initial-penetration guard");
   }
   s.guard = GuardState{};
-  s.guard.E0 = mechanical_energy(d, s);
+  s.guard.E0 = mechanical_energy(d, s, p);
   s.guard.budget = s.guard.E0;
   s.guard.E_top = s.guard.E0;
   // the balance at t^0 (R by a pass over the points unless the state's own
   // made it; a distributed state's: the first evaluated step starts it)
-  s.guard.balance = s.guard.balance_low = guard_balance_of(d, s, s.guard.E0);
+  s.guard.balance = s.guard.balance_low = guard_balance_of(d, s, p, s.guard.E0);
   if (!std::isfinite(s.guard.E0)) fail(ND_ERR_NONFINITE_STATE, "the initial energy is not finite");
 }
 
 namespace {
 // The energy-balance guard (docs/design.md §3b): L at next against its
 // lowest value so far, relative to the energy in motion; updates next.guard
-void guard_balance(const Discretization &d, const Guards &g, const State &old, State &next, double E) {
+void guard_balance(const Discretization &d, const Guards &g, const State &old, State &next, const Products &p,
+                   double E) {
   GuardState &gs = next.guard;
   const double scale = std::max(gs.budget, gs.E_top);
   gs.E_top = std::max(gs.E_top, E);
@@ -170,7 +172,7 @@ void guard_balance(const Discretization &d, const Guards &g, const State &old, S
     return;
   }
   gs.exchange += dX;
-  const bool free = contact_free(d, next);
+  const bool free = contact_free(d, p);
   double L;
   if (free) {
     // out of contact: the whole balance, at the first state out of contact
@@ -180,7 +182,7 @@ void guard_balance(const Discretization &d, const Guards &g, const State &old, S
     // gaining there; its own energy need not be E_Theta (generalized-alpha's
     // high modes: E oscillates while they decay)
     if (!gs.in_contact && !std::isnan(gs.balance_low)) return;
-    L = guard_balance_of(d, next, E);
+    L = guard_balance_of(d, next, p, E);
     if (std::isnan(L)) return;
   } else {
     // in contact: E_Theta = E - Theta R, R = 1/2 sum_q w_q (gamma_q (s_q U)^2
@@ -206,7 +208,7 @@ void guard_balance(const Discretization &d, const Guards &g, const State &old, S
     if (d.theta > 0) {
       L = ledger(next, E - theta_term(d, next));
     } else {
-      L = guard_balance_of(d, next, E);
+      L = guard_balance_of(d, next, p, E);
     }
     if (std::isnan(L)) return;
   }
@@ -238,7 +240,8 @@ void guard_balance(const Discretization &d, const Guards &g, const State &old, S
 }
 }  // namespace
 
-void guard_step(const Discretization &d, const Guards &g, const State &old, State &next, bool balance) {
+void guard_step(const Discretization &d, const Guards &g, const State &old, State &next, const Products &p,
+                bool balance) {
   GuardState &gs = next.guard;
   gs = old.guard;
   // a moving obstacle puts energy in too, and so do moving supports
@@ -252,7 +255,7 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   gs.budget = std::max(gs.budget, put_in);
   // (a state whose points the step did not evaluate: first from their
   // reference, without a pass)
-  const PointReference *ref = next.products.of == d.id ? next.products.points.ref.get() : nullptr;
+  const PointReference *ref = p.of == d.id ? p.points.ref.get() : nullptr;
   if (g.penetration > 0 && d.contact.size() > 0) {
     // (of the points' lengths min(h_K, L/8); 0: no energy put in, no point may sink)
     const double limit = penetration_limit(d, g, gs);
@@ -260,7 +263,7 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
     if (!(ref && limit > 0 &&
           penetration_within(d.contact, next.U.data(), next.gap.empty() ? nullptr : next.gap.data(), *ref, limit,
                              &length))) {
-      const auto [r, q] = deepest(d, next, &length);
+      const auto [r, q] = deepest(d, next, p, &length);
       if (r > limit) {
         const double strain = limit / g.penetration;
         const double motion = strain * length[q] * kPenetrationBodyDivisor;
@@ -279,11 +282,11 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
   }
   const bool balanced = balance && g.balance > 0;
   if (!(g.energy > 0) && !balanced) return;
-  const double E = mechanical_energy(d, next);
+  const double E = mechanical_energy(d, next, p);
   if (!std::isfinite(E))
     fail(ND_ERR_NONFINITE_STATE, "the energy after the step to t = " + num(next.t) +
                                      " is not finite; the step was not taken");
-  if (balanced) guard_balance(d, g, old, next, E);
+  if (balanced) guard_balance(d, g, old, next, p, E);
   if (!(g.energy > 0)) return;
   // with damping the energy it dissipated counts with E: E + D <= f (E^0 + W + W_obstacle)
   if (E + next.D_damping > g.energy * gs.budget) {

@@ -3,6 +3,7 @@
 // saying what to change. They read the state and the discretization only.
 #pragma once
 #include "solve/operators.hpp"
+#include "time/products.hpp"
 #include "time/state.hpp"
 
 namespace nd {
@@ -28,18 +29,19 @@ struct Guards {
 double penetration_limit(const Discretization &d, const Guards &g, const GuardState &s);
 
 // At t^0: the initial penetration (beyond round-off, 1e-10 h_K) and the
-// energy reference E^0. Throws ND_ERR_PENETRATION.
-void guard_initial_state(const Discretization &d, const Guards &g, State &s);
+// energy reference E^0 (p: s's products). Throws ND_ERR_PENETRATION.
+void guard_initial_state(const Discretization &d, const Guards &g, State &s, const Products &p);
 
 // After a step old -> next: penetration deeper than penetration_limit times
 // h_K (ND_ERR_PENETRATION); mechanical energy above f (E^0 + max_k (W^k + W_obstacle^k))
 // (ND_ERR_ENERGY_GROWTH) or not finite (ND_ERR_NONFINITE_STATE), evaluated
 // at every step: a sparser schedule (when |U| or |V| grew by 10 %, and every
 // 16 steps) let the stability suite accept steps up to x2.4 past the limit.
-// Updates next.guard.
+// Updates next.guard. p: next's products (time/products.hpp).
 // balance: whether the scheme's energy is E_Theta (every scheme but
 // generalized-alpha, whose end states' E oscillates while it damps: the
 // energy-balance guard then leaves it to the factor guard)
-void guard_step(const Discretization &d, const Guards &g, const State &old, State &next, bool balance = true);
+void guard_step(const Discretization &d, const Guards &g, const State &old, State &next, const Products &p,
+                bool balance = true);
 
 }  // namespace nd

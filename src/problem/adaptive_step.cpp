@@ -100,7 +100,7 @@ void Problem::adaptive_step() {
   }
 }
 
-void Problem::judge_step(const Attempt &attempt, State &next) {
+void Problem::judge_step(const Attempt &attempt, State &next, const Products &next_products) {
   const AdaptiveOptions &o = def_.adaptive;
   const Discretization &d = *disc_;
   const double tau = def_.tau;
@@ -110,12 +110,12 @@ void Problem::judge_step(const Attempt &attempt, State &next) {
   // the step that first touches ends at the touch
   if (attempt.may_land && d.contact.size() > 0) {
     PointValues at_old, at_new;
-    const PointValues &was = state_points(d, state_, at_old, d.counters);
+    const PointValues &was = state_points(d, state_, products_, at_old, d.counters);
     // (in contact already: no first touch, and the new state's points need no evaluation)
     const bool touching = std::any_of(was.P.begin(), was.P.end(), [](double P) { return P > 0; });
     std::vector<double> rate(touching ? 0 : d.contact.size());
     for (size_t q = 0; q < rate.size(); ++q) rate[q] = d.contact.a[q].dot(state_.V.data());
-    const double s = touching ? 1 : first_touch(was.P, state_points(d, next, at_new, d.counters).P, was.un, rate, tau);
+    const double s = touching ? 1 : first_touch(was.P, state_points(d, next, next_products, at_new, d.counters).P, was.un, rate, tau);
     if (s < 1 && s * tau >= o.tau_min)
       throw Rejected("the step makes the first contact points active", s * tau, true);
   }

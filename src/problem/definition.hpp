@@ -19,7 +19,8 @@
 #include "monitor/guards.hpp"
 #include "nitschedyn.h"
 #include "parallel/communicator.hpp"
-#include "solve/contact_columns.hpp"
+#include "fast/contact_columns.hpp"
+#include "fast/tangents.hpp"
 #include "solve/newton.hpp"
 
 namespace nd {
@@ -102,14 +103,14 @@ struct Definition : TimeData {
   int solver = ND_SOLVER_AUTO;
   // the Newton tangent solver (white-box, not in the C API: tests and benchmarks)
   TangentChoice tangent = TangentChoice::Auto;
-  // where the contact columns are held (solve/contact_columns.hpp;
+  // where the contact columns are held (fast/contact_columns.hpp;
   // white-box: tests compare the choices)
   ColumnRows column_rows = ColumnRows::Auto;
   // the contact checks a step may settle by a bound from the last evaluated
   // P_q, and the new states' points it then leaves unevaluated (white-box,
   // not in the C API: tests compare the trajectories without it)
   bool contact_bounds = true;
-  // whether a step may be its predictor (solve/predictor_check.hpp;
+  // whether a step may be its predictor (fast/predictor_check.hpp;
   // white-box, not in the C API: tests compare the trajectories without it)
   bool predicted_steps = true;
   // with split rows, each rank keeps the state right on the rows its steps

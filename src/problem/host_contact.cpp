@@ -74,8 +74,9 @@ Csr host_contact_tangent(Problem &p, const double *U, const double *U_old) {
 void host_contact_values(Problem &p, const double *U, int count, double *values) {
   const Discretization &d = whole_operators(p, "the contact values");
   const State t = at_host_U(p, d, U);
-  const double all[kHostContactValues] = {contact_force(d, t), static_cast<double>(active_points(d, t)),
-                                          nitsche_energy(d, t), max_penetration(d, t)};
+  const Products none;  // (a host's U: no products, each value from a pass over the points)
+  const double all[kHostContactValues] = {contact_force(d, t, none), static_cast<double>(active_points(d, t, none)),
+                                          nitsche_energy(d, t, none), max_penetration(d, t, none)};
   std::copy_n(all, std::min(count, kHostContactValues), values);
 }
 

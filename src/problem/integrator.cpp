@@ -11,7 +11,7 @@
 #include "parallel/agreement.hpp"
 #include "problem/forces.hpp"
 #include "solve/newton.hpp"
-#include "solve/predictor_check.hpp"
+#include "fast/predictor_check.hpp"
 #include "solve/products.hpp"
 
 namespace nd {

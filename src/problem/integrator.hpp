@@ -10,8 +10,8 @@
 #include "problem/definition.hpp"
 #include "problem/discretization.hpp"
 #include "problem/massless.hpp"
-#include "solve/newton_condensed.hpp"
-#include "solve/tangent_solver.hpp"
+#include "fast/newton_condensed.hpp"
+#include "fast/tangents.hpp"
 #include "time/scheme.hpp"
 
 namespace nd {
@@ -98,12 +98,20 @@ struct StepData {
   const std::vector<double> *slip_shift = nullptr;
 };
 
-// The state at t^{n+1} from `old` with the data at t^{n+1}; also the
-// obstacle's work and the reactions of the step. Throws (and changes
-// nothing) when the step fails. storage: a state no longer needed (the one
-// before `old`), whose vectors' memory the new state reuses, so that a
-// free-flight step allocates nothing once a run is under way.
-State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new,
-              State &&storage = State{});
+// A state and its products (time/products.hpp): the cache kept beside it
+struct StateWithProducts {
+  State state;
+  Products products;
+};
+
+// The state at t^{n+1} from `old` (old_products: its products, read when
+// current, else made aside) with the data at t^{n+1}, and its products;
+// also the obstacle's work and the reactions of the step. Throws (and
+// changes nothing) when the step fails. storage: a state and products no
+// longer needed (the ones before `old`), whose vectors' memory the new ones
+// reuse, so that a free-flight step allocates nothing once a run is under way.
+StateWithProducts advance(Integrator &in, Discretization &d, const Definition &def, const State &old,
+                          const Products &old_products, const StepData &at_new,
+                          StateWithProducts &&storage = StateWithProducts{});
 
 }  // namespace nd

@@ -625,7 +625,7 @@ const State &Problem::state() {
       curved_gaps(s, d, def_);
     }
     start_slip(d, s);  // friction: no traction stored at t^0
-    state_ = std::move(s);
+    replace_state(std::move(s));
     state_ready_ = true;
   }
   return state_;
@@ -653,7 +653,7 @@ void Problem::complete_state() {
   std::vector<double *> fields{state_.U.data(), state_.V.data()};
   if (state_.A_valid) fields.push_back(state_.A.data());
   gather(*rows, fields);  // (the held rows keep their bits: the owners' values)
-  PointValues &points = state_.products.points;
+  PointValues &points = products_.points;
   if (points.partial) {  // each rank's own points are right (their sums stay the step's)
     const Share *owners = discretization_().contact.share.get();
     if (!owners) fail(ND_ERR_INTERNAL, "a distributed state's points without their ranks");
@@ -731,7 +731,7 @@ void Problem::prepare() {
   if (d.contact.m > 1 ? state_.slip.size() != d.contact.size() * static_cast<size_t>(d.contact.m - 1)
                       : !state_.slip.empty()) {
     start_slip(d, state_);
-    state_.products.of = 0;
+    products_.of = 0;
   }
   // (and the planes where they are now, from which the next step's move)
   if (d.contact.m > 1 && state_.positions.size() != positions(def_.planes, def_.obstacles).size())
@@ -739,15 +739,16 @@ void Problem::prepare() {
   // Remark 3.2 (equilibrium_acceleration assigns A only once it is computed)
   if (in.scheme->uses_acceleration() && !state_.A_valid) {
     complete_state();
+    products_.MA.clear();  // (dropped first: a throw below leaves none of the old A's)
     d.equilibrium_acceleration(state_, def_.solver, !in.scheme->is_explicit(), true);
   }
   // the products the first step's right-hand side reads (each step leaves
   // its own), and the initial energy of the guard (of a whole state)
-  if (!products_current(d, state_, in.scheme->uses_acceleration())) {
+  if (!products_current(d, state_, products_, in.scheme->uses_acceleration())) {
     complete_state();
-    compute_products(d, state_);
+    compute_products(d, state_, products_);
   }
-  if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_);
+  if (state_.n == 0 && !initial_guarded_) guard_initial_state(d, def_.guards, state_, products_);
   initial_guarded_ = true;  // checked once, not again at every step
   setup_done_ = true;
 }
@@ -775,7 +776,7 @@ StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
 double Problem::relinearised_nitsche_energy(const std::vector<double> &gap_n) {
   State at;
   at.U = state_.U, at.gap = gap_n, at.slip = state_.slip, at.phi = state_.phi;
-  return nitsche_energy(*disc_, at);
+  return nitsche_energy(*disc_, at, Products{});  // (no products: a pass over the points)
 }
 
 void Problem::step() {
@@ -786,7 +787,7 @@ void Problem::step() {
 
 void Problem::step_once(const Attempt *attempt) {
   agree_on_inputs("nd_step");
-  State next;
+  StateWithProducts next;
   // a refresh of the curved points' normals makes the operators again; a
   // failed step gives the old ones back, with the state they belong to
   std::unique_ptr<Discretization> kept_disc;
@@ -801,7 +802,7 @@ void Problem::step_once(const Attempt *attempt) {
     if (curved) {
       geo = curved_geometry(*gap);
       if (def_.theta != 0) complete_state();  // (a distributed state: R reads every point)
-      const double R_old = def_.theta != 0 ? nitsche_energy(*disc_, state_) : 0;
+      const double R_old = def_.theta != 0 ? nitsche_energy(*disc_, state_, products_) : 0;
       // new rows: A refactored, the columns dropped
       if (geo.normal != disc_->contact.normal || geo.pairing != disc_->contact.pairing) {
         kept_disc = std::move(disc_);
@@ -823,18 +824,19 @@ void Problem::step_once(const Attempt *attempt) {
         friction ? obstacle_slip(disc_->contact, space_.dim, state_.positions, def_.planes) : std::vector<double>();
     StepData data{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr, &motion};
     data.slip_shift = &shift;
-    next = advance(*integrator_, *disc_, def_, state_, data, std::move(spare_));
-    if (curved) next.normal = std::move(geo.normal), next.pairing = std::move(geo.pairing);
-    else next.normal.clear(), next.pairing.clear();
-    if (curved || friction) next.positions = positions(def_.planes, def_.obstacles);
-    else next.positions.clear();
-    next.W_geometry += relinearised;
+    next = advance(*integrator_, *disc_, def_, state_, products_, data, std::move(spare_));
+    State &s = next.state;
+    if (curved) s.normal = std::move(geo.normal), s.pairing = std::move(geo.pairing);
+    else s.normal.clear(), s.pairing.clear();
+    if (curved || friction) s.positions = positions(def_.planes, def_.obstacles);
+    else s.positions.clear();
+    s.W_geometry += relinearised;
     try {
-      guard_step(*disc_, def_.guards, state_, next, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
+      guard_step(*disc_, def_.guards, state_, s, next.products, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
     } catch (...) {
       explain_explicit_refusal(*disc_, *integrator_->scheme, def_.tau);
     }
-    if (attempt) judge_step(*attempt, next);
+    if (attempt) judge_step(*attempt, s, next.products);
   };
   try {
     // every rank commits the step or none does (one reference captured:
@@ -848,8 +850,14 @@ void Problem::step_once(const Attempt *attempt) {
     }
     throw;
   }
-  spare_ = std::move(state_);  // its memory serves the next step's state
-  state_ = std::move(next);
+  // the old state's and products' memory serves the next step's
+  spare_.state = std::move(state_), spare_.products = std::move(products_);
+  replace_state(std::move(next.state), std::move(next.products));
+}
+
+void Problem::replace_state(State &&s, Products &&p) {
+  state_ = std::move(s);
+  products_ = std::move(p);
 }
 
 // With split rows each rank assembles its own rows of the operators alone,
@@ -1033,13 +1041,13 @@ void Problem::overwrite_state(const double *u, const double *v) {
   if (u) d.dofs.restrict_to_free(u, s.U.data());
   if (v) d.dofs.restrict_to_free(v, s.V.data());
   s.A_valid = false;
-  s.products.of = 0;   // of the state it replaces
   s.reaction.clear();  // no step led here: the equilibrium's, on demand
   s.phi.clear();
   carry_slip(d, state_, s);  // (friction: the tangential traction stays)
   if (integrator_->scheme->uses_acceleration()) d.equilibrium_acceleration(s, def_.solver);
-  compute_products(d, s);  // the next step's, and the energy (setup() made state_'s)
-  const double dE = mechanical_energy(d, s) - mechanical_energy(d, state_);
+  Products ps;
+  compute_products(d, s, ps);  // the next step's, and the energy (setup() made state_'s)
+  const double dE = mechanical_energy(d, s, ps) - mechanical_energy(d, state_, products_);
   s.guard.E0 += dE;
   s.guard.budget += dE;
   // the energy balance starts again from the new state (its first state
@@ -1047,7 +1055,7 @@ void Problem::overwrite_state(const double *u, const double *v) {
   s.guard.balance = s.guard.balance_low = std::numeric_limits<double>::quiet_NaN();
   s.guard.exchange = 0;
   s.guard.in_contact = false;
-  state_ = std::move(s);
+  replace_state(std::move(s), std::move(ps));
   initial_guarded_ = false;  // at n = 0 the next step checks the new initial state, as before
 }
 
@@ -1075,7 +1083,7 @@ void Problem::load_state(const unsigned char *buf, int64_t nbytes) {
   // curved obstacles: the operators are made again with the checkpoint's normals
   const bool other_rows =
       (!s.normal.empty() && s.normal != d.contact.normal) || (!s.pairing.empty() && s.pairing != d.contact.pairing);
-  state_ = std::move(s);
+  replace_state(std::move(s));  // (no products: the set-up makes them)
   state_ready_ = true;
   if (other_rows) disc_.reset(), integrator_.reset(), kept_integrators_.clear();
   setup_done_ = state_.n > 0;
@@ -1142,7 +1150,10 @@ void Problem::field(int which, double *full) {
     return;
   }
   complete_state();  // whole vectors: collective when the state is partial
-  if (which == ND_FIELD_ACCELERATION && !s.A_valid) discretization_().equilibrium_acceleration(state_, def_.solver);
+  if (which == ND_FIELD_ACCELERATION && !s.A_valid) {
+    products_.MA.clear();  // (U and V stay: of the products only M A changes, products_current)
+    discretization_().equilibrium_acceleration(state_, def_.solver);
+  }
   const Discretization &d = discretization_();
   d.dofs.extend_to_full(state_vector(s, which)->data(), full);
   // prescribed motion: the clamped DOFs where the supports have taken them
@@ -1196,7 +1207,7 @@ void Problem::gathered_field(int which, int root, double *full) {
 std::vector<double> Problem::contact_pressure() {
   const State &s = state();
   complete_state();  // a distributed state's points: collective
-  return nd::contact_pressure(discretization_(), s);
+  return nd::contact_pressure(discretization_(), s, products_);
 }
 
 std::vector<double> Problem::contact_pressure_applied() {
@@ -1251,7 +1262,8 @@ double Problem::region_scalar(int region, int key) {
     fail(ND_ERR_KEY, "key " + std::to_string(key) + " is not a scalar of a contact region's points (ND_CONTACT_FORCE, "
                      "ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION, ND_ENERGY_NITSCHE)");
   complete_state();  // (a distributed state: every point's values)
-  const PointSums t = region_sums(d, state(), region);
+  const State &s = state();
+  const PointSums t = region_sums(d, s, products_, region);
   switch (key) {
     case ND_CONTACT_FORCE:
       return t.force;
@@ -1321,19 +1333,19 @@ double Problem::scalar(int key) {
   const Discretization &d = discretization_();
   switch (key) {
     case ND_ENERGY_MECHANICAL:
-      return mechanical_energy(d, s);
+      return mechanical_energy(d, s, products_);
     case ND_ENERGY_NITSCHE:
-      return nitsche_energy(d, s);
+      return nitsche_energy(d, s, products_);
     case ND_ENERGY_AUGMENTED:
-      return mechanical_energy(d, s) - d.theta * nitsche_energy(d, s);
+      return mechanical_energy(d, s, products_) - d.theta * nitsche_energy(d, s, products_);
     case ND_CONTACT_FORCE:
-      return contact_force(d, s);
+      return contact_force(d, s, products_);
     case ND_CONTACT_FORCE_APPLIED:
-      return contact_force_applied(d, s);
+      return contact_force_applied(d, s, products_);
     case ND_ACTIVE_POINTS:
-      return static_cast<double>(active_points(d, s));
+      return static_cast<double>(active_points(d, s, products_));
     case ND_MAX_PENETRATION:
-      return max_penetration(d, s);
+      return max_penetration(d, s, products_);
     case ND_CONTACT_FORCE_TANGENTIAL_X:
     case ND_CONTACT_FORCE_TANGENTIAL_Y:
     case ND_CONTACT_FORCE_TANGENTIAL_Z:

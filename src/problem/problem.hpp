@@ -115,7 +115,7 @@ class Problem {
   // white-box: whether a step may show its contact checks by the bound
   // (ContactLaw::certainly_free); the same bits either way
   void set_contact_bounds(bool on) { def_.contact_bounds = on; }
-  // white-box: whether a step may be its predictor (solve/predictor_check.hpp)
+  // white-box: whether a step may be its predictor (fast/predictor_check.hpp)
   void set_predicted_steps(bool on) { def_.predicted_steps = on; }
 
   // ---- queries
@@ -125,6 +125,11 @@ class Problem {
   const Discretization &discretization() { return discretization_(); }
   // white-box (tests): the state at t^n in free DOFs, with its load and gaps
   const State &current_state() { return state(); }
+  // white-box (tests): its products as held beside it (time/products.hpp; of = 0: none yet)
+  const Products &current_products() {
+    state();
+    return products_;
+  }
   // the integrator once built (benchmarks time its solve: the floor of a step)
   const Integrator *integrator() const { return integrator_.get(); }
   const Counters &counters() const { return *counters_; }
@@ -187,7 +192,7 @@ class Problem {
   void step_once(const Attempt *attempt);
   // adaptive steps (problem/adaptive_step.cpp)
   void adaptive_step();
-  void judge_step(const Attempt &attempt, State &next);
+  void judge_step(const Attempt &attempt, State &next, const Products &next_products);
   // the integrator of step size tau in use: kept, or built at the next
   // prepare(); the one in use kept for its size (kKeptSizes at most)
   void use_timestep(double tau);
@@ -265,7 +270,12 @@ class Problem {
   const Factorization *refresh_ordering_ = nullptr;
   bool obstacle_redefined_ = false;  // a new plane (not a motion): the state's gaps follow
   State state_;
-  State spare_;  // the state before state_ (values not read): the next step reuses its memory
+  // state_'s products (time/products.hpp): a cache beside the state, reset
+  // (replace_state) wherever state_ is replaced
+  Products products_;
+  // the state and products before state_ (values not read): the next step reuses their memory
+  StateWithProducts spare_;
+  void replace_state(State &&s, Products &&p = Products{});
   bool state_ready_ = false;
   bool initial_guarded_ = false;  // the initial state passed guard_initial_state
   bool setup_done_ = false;  // F^0 is fixed: a load set now is F^{n+1} (docs/design.md §8)

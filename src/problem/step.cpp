@@ -28,7 +28,7 @@
 #include "solve/friction.hpp"
 #include "solve/clamped_coupling.hpp"
 #include "solve/newton.hpp"
-#include "solve/predictor_check.hpp"
+#include "fast/predictor_check.hpp"
 #include "solve/products.hpp"
 
 namespace nd {
@@ -85,7 +85,7 @@ bool finite_with_work(const Discretization &d, const State &old, const std::vect
   return sums[1] == 0;
 }
 
-// A step may be its predictor (solve/predictor_check.hpp) when the scheme's
+// A step may be its predictor (fast/predictor_check.hpp) when the scheme's
 // predictor is exact at constant acceleration, the state has one, and the
 // last step was its predictor, or applied no contact term and every
 // kPredictorProbe-th step tries it (a deformed body's free flight pays one
@@ -116,10 +116,11 @@ void copy_log(TangentLog &to, const TangentLog &from, size_t n_points) {
 
 class Step {
  public:
-  Step(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new,
-       State &&storage)
-      : in_(in), d_(d), def_(def), old_(old), at_new_(at_new), scheme_(*in.scheme), tau_(in.tau),
-        next(reuse_storage(std::move(storage))) {}
+  Step(Integrator &in, Discretization &d, const Definition &def, const State &old, const Products &old_products,
+       const StepData &at_new, StateWithProducts &&storage)
+      : in_(in), d_(d), def_(def), old_(old), old_held_(old_products), at_new_(at_new), scheme_(*in.scheme),
+        tau_(in.tau), next(reuse_storage(std::move(storage.state))),
+        next_products(reuse_storage(std::move(storage.products))) {}
 
   void start();
   void contact_term();
@@ -140,12 +141,14 @@ class Step {
   Discretization &d_;
   const Definition &def_;
   const State &old_;
+  const Products &old_held_;  // old_'s products as the problem holds them (current or not)
   const StepData &at_new_;
   const TimeScheme &scheme_;
   const double tau_;
 
  public:
   State next;  // the state at t^{n+1}, made aside (the problem swaps it in once accepted)
+  Products next_products;  // its products, made by the step (the energy, the next right-hand side)
 
  private:
   // the load at t^n as the step reads it (zeros when only t^{n+1} has one)
@@ -220,7 +223,7 @@ void Step::contact_term() {
   law_.buffers = &in_.contact_scratch;
   // the products of the state at t^n: its P_q(U^n) (the implicit schemes'
   // contact terms read them) and what the right-hand side is made of
-  old_products_ = &products_of(d, old_, scratch_, scheme_.uses_acceleration());
+  old_products_ = &products_of(d, old_, old_held_, scratch_, scheme_.uses_acceleration());
   // points the step before left unevaluated (PointValues::ref): the bound
   // from their reference, whose P_q stand as P^n (all <= 0, as P^n's are);
   // a law that reads more of P^n than that (a scheme changed since) has
@@ -260,8 +263,8 @@ void Step::contact_term() {
 void Step::new_state_products(bool shown_free, PointValues *known, const HeldPoints *held) {
   std::shared_ptr<const PointReference> from;
   if (shown_free && may_leave_points_) from = point_reference(d_, old_, *old_products_, penetration_limit(d_, def_.guards, old_.guard));
-  if (from) compute_products_bounded(d_, next, std::move(from));
-  else compute_products(d_, next, known, held);
+  if (from) compute_products_bounded(d_, next, next_products, std::move(from));
+  else compute_products(d_, next, next_products, known, held);
 }
 
 // The moving supports' share of the step's work: the loads on the clamped
@@ -348,10 +351,10 @@ void Step::implicit_step() {
   if (predictor_may_solve(in_, d_, def_, old_, moving_)) {  // the new state's pass, made now, checks the predictor
     constant_acceleration_update(tau_, old_, next);
     new_state_products(may_leave_points_ && law_.certainly_free(next.U), nullptr, nullptr);
-    predicted_ = predictor_solves_step(law_, in_.coef.c, r, next, in_.scratch);
+    predicted_ = predictor_solves_step(law_, in_.coef.c, r, next, next_products, in_.scratch);
     if (predicted_) next.last_iterations = 0, count(d_.counters, &Counters::predicted_steps);
     else  // (U is still the predictor: where the solves start)
-      next.products = reuse_storage(std::move(next.products));
+      next_products = reuse_storage(std::move(next_products));
   }
   if (predicted_) return;  // nothing to solve: the new state and its pass are made
   if (d_.contact.a.empty()) {  // no contact: one solve with the cached factor
@@ -390,9 +393,9 @@ void Step::newton(std::vector<double> &r) {
     // state's own, whole
     auto update_and_pass = [&]() -> const Products & {
       scheme_.update(tau_, old_, next);
-      compute_products(d_, next);
+      compute_products(d_, next, next_products);
       made_ = true;
-      return next.products;
+      return next_products;
     };
     std::function<const Products &()> products_at;  // (by reference: no allocation)
     // (damping: G's C term is not among the products)
@@ -401,7 +404,7 @@ void Step::newton(std::vector<double> &r) {
                                                 solution_points, products_at ? &products_at : nullptr);
     res = cr.newton;
     if (!res.converged) {
-      if (made_) next.products = reuse_storage(std::move(next.products)), made_ = false;  // (Newton goes on from U)
+      if (made_) next_products = reuse_storage(std::move(next_products)), made_ = false;  // (Newton goes on from U)
       const int before = res.iterations;
       res = newton_solve(sys, r, def_.newton, next.U, solution_points);
       res.iterations += before;
@@ -451,7 +454,7 @@ void Step::finish() {
   // phi and for the next step, and the next right-hand side)
   // (at_solution: an explicit step's, or Newton's at its solution; empty: evaluated there)
   if (!predicted_ && !made_) new_state_products(bounded_, &in_.at_solution, in_.points.get());
-  const bool unevaluated = next.products.points.ref != nullptr;
+  const bool unevaluated = next_products.points.ref != nullptr;
   std::vector<double> phi = std::move(next.phi);  // (empty, its memory reused)
   phi.assign(d.contact.size(), 0.0);
   next.W_obstacle = old_.W_obstacle;
@@ -460,7 +463,7 @@ void Step::finish() {
   const bool pp = law_.positive_part();
   auto apply = [&](size_t q) {
     double slope;
-    law_.law(q, next.products.points.P[q], phi[q], slope, pp);
+    law_.law(q, next_products.points.P[q], phi[q], slope, pp);
     if (phi[q] == 0) return;  // (a term -0 or +0 changes no sum of W_obstacle, which is never -0)
     const double w = -d.contact.w[q] / d.contact.gamma[q] * phi[q] * (law_.g(q) - old_law_.g(q));
     if (in_.points) dW[q] = w;
@@ -475,7 +478,7 @@ void Step::finish() {
     for (size_t q = 0; q < phi.size(); ++q) apply(q);
   }
   // friction: the tangential values applied, the new slip reference, D_f (solve/friction.hpp)
-  if (d.contact.m > 1) end_friction_step(law_, d, phi, shift_, next);
+  if (d.contact.m > 1) end_friction_step(law_, d, phi, shift_, next, next_products.points.P);
   if (d.clamped) {
     const double a = scheme_.mean_weight();
     std::vector<double> Abar;
@@ -488,21 +491,21 @@ void Step::finish() {
     if (moving_) prescribed_work(d, next.reaction);
   }
   next.phi = std::move(phi);
-  if (in_.points) sum_points(d, next, dW);  // (collective: every rank's step comes here)
+  if (in_.points) sum_points(d, next, next_products, dW);  // (collective: every rank's step comes here)
 }
 
 }  // namespace
 
-State advance(Integrator &in, Discretization &d, const Definition &def, const State &old, const StepData &at_new,
-              State &&storage) {
-  Step step(in, d, def, old, at_new, std::move(storage));
+StateWithProducts advance(Integrator &in, Discretization &d, const Definition &def, const State &old,
+                          const Products &old_products, const StepData &at_new, StateWithProducts &&storage) {
+  Step step(in, d, def, old, old_products, at_new, std::move(storage));
   step.start();
   step.contact_term();
   step.predict();  // the first guess of U^{n+1}; an explicit scheme's U^{n+1} itself
   if (step.is_explicit()) step.explicit_step();
   else step.implicit_step();
   step.finish();
-  return std::move(step.next);
+  return StateWithProducts{std::move(step.next), std::move(step.next_products)};
 }
 
 }  // namespace nd

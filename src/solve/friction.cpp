@@ -53,10 +53,9 @@ std::vector<double> obstacle_slip(const ContactPoints &cp, int dim, const std::v
 }
 
 void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi,
-                       const std::vector<double> *shift, State &next) {
+                       const std::vector<double> *shift, State &next, std::vector<double> &P) {
   const ContactPoints &cp = d.contact;
   const size_t nq = cp.size(), mt = static_cast<size_t>(cp.m - 1);
-  std::vector<double> &P = next.products.points.P;
   if (P.size() != nq * (mt + 1) || next.slip.size() != nq * mt)
     fail(ND_ERR_INTERNAL, "the end of a step with friction without the points' tangential values");
   next.phi_t.assign(nq * mt, 0.0);

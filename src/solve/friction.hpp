@@ -38,7 +38,7 @@ std::vector<double> obstacle_slip(const ContactPoints &cp, int dim, const std::v
                                   const std::vector<ContactPlane> &now);
 
 // The end of a step with friction: `law` the step's (its rule and P^n),
-// next.products.points.P the values at U^{n+1} with the step's reference
+// P the values at U^{n+1} with the step's reference (next's products')
 // (next.slip): phi_t, the new reference, D_f, the sliding and sticking
 // points; then the new state's tangential values with the new reference
 // (the bits a restart's products have). phi: the step's normal values.
@@ -46,7 +46,7 @@ std::vector<double> obstacle_slip(const ContactPoints &cp, int dim, const std::v
 // does the work -sum (w_q/gamma_q) phi_t . shift on the body, added to
 // next.W_obstacle (the obstacle's velocity times the whole contact force).
 void end_friction_step(const ContactLaw &law, const Discretization &d, const std::vector<double> &phi,
-                       const std::vector<double> *shift, State &next);
+                       const std::vector<double> *shift, State &next, std::vector<double> &P);
 
 // sum_q w_q lambda_t,q: the tangential contact force the last step applied
 // (obstacle on body), lambda_t = -phi_t/gamma_q along the t_qk; zeros

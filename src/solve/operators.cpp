@@ -26,7 +26,7 @@ constexpr int64_t kMassCgMinSize = 2048;
 constexpr double kMassCgTolerance = 1e-15;
 // ... and on, while round-off lets the residual fall, toward this one: A^0's
 // error excites the round-off vibrations a predicted step cannot follow
-// (solve/predictor_check.hpp; its residual holds (omega tau)^2/2 times that
+// (fast/predictor_check.hpp; its residual holds (omega tau)^2/2 times that
 // error). The few more iterations this costs bring the first predicted
 // step well within kPredictorRoundOffs.
 constexpr double kMassCgTarget = 1e-16;
@@ -102,9 +102,6 @@ Discretization::Discretization(DofMap d, bool lump)
 
 void Discretization::equilibrium_acceleration(State &s, int solver, bool once, bool in_step, PointValues *at_U,
                                               const DampedVelocity *damping) {
-  // U and V stay: of the products only M A changes (products_current);
-  // dropped first, so that a throw below leaves none of the old A's
-  s.products.MA.clear();
   const size_t n = s.U.size();
   std::vector<double> rhs(n);
   count(counters, &Counters::spmv);

@@ -15,6 +15,7 @@
 #include "linalg/factorization.hpp"
 #include "linalg/node_blocks.hpp"
 #include "parallel/share.hpp"
+#include "time/products.hpp"
 #include "time/state.hpp"
 
 namespace nd {
@@ -114,6 +115,7 @@ struct Discretization {
   // With damping it solves (M + slope C) A = F - K_Theta U - N(U) - C V_known,
   // V_known and slope from `damped` (an explicit step: V^{n+1} = V_known +
   // slope A^{n+1}), else M A = ... - C V (the state's V).
+  // A new A leaves the state's products' M A stale: whoever holds them drops it.
   struct DampedVelocity {
     const std::vector<double> *V_known;
     double slope;

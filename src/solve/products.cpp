@@ -164,21 +164,22 @@ void products_pass(const Discretization &d, const State &s, Products &p) {
 }  // namespace
 
 namespace {
-void products_of_state(const Discretization &d, State &s) {
+void products_of_state(const Discretization &d, const State &s, Products &p) {
   static std::atomic<uint64_t> passes{0};
-  s.products.of = 0;  // stays 0 if anything below throws
-  s.products.pass = ++passes;  // (a query's sums from an earlier pass no longer hold)
-  if (d.rows_split && d.rows) products_pass<true, true>(d, s, s.products);
-  else products_pass<true>(d, s, s.products);
-  add_clamped_energy(d, s, s.products.kinetic, s.products.strain);  // (prescribed motion: the whole body's)
+  p.of = 0;  // stays 0 if anything below throws
+  p.pass = ++passes;  // (a query's sums from an earlier pass no longer hold)
+  if (d.rows_split && d.rows) products_pass<true, true>(d, s, p);
+  else products_pass<true>(d, s, p);
+  add_clamped_energy(d, s, p.kinetic, p.strain);  // (prescribed motion: the whole body's)
 }
 }  // namespace
 
-void compute_products_bounded(const Discretization &d, State &s, std::shared_ptr<const PointReference> ref) {
-  products_of_state(d, s);
-  s.products.points = PointValues{};
-  s.products.points.ref = std::move(ref);
-  s.products.of = d.id;
+void compute_products_bounded(const Discretization &d, const State &s, Products &p,
+                              std::shared_ptr<const PointReference> ref) {
+  products_of_state(d, s, p);
+  p.points = PointValues{};
+  p.points.ref = std::move(ref);
+  p.of = d.id;
 }
 
 std::shared_ptr<const PointReference> point_reference(const Discretization &d, const State &s, const Products &p,
@@ -192,14 +193,15 @@ std::shared_ptr<const PointReference> point_reference(const Discretization &d, c
   return ref;
 }
 
-void compute_products(const Discretization &d, State &s, PointValues *known, const HeldPoints *held) {
-  products_of_state(d, s);
+void compute_products(const Discretization &d, const State &s, Products &p, PointValues *known,
+                      const HeldPoints *held) {
+  products_of_state(d, s, p);
   if (known && known->P.size() == d.contact.size() * static_cast<size_t>(d.contact.m) &&
       known->un.size() == d.contact.size()) {
-    std::swap(s.products.points, *known);  // (known keeps the products' memory: no allocation)
+    std::swap(p.points, *known);  // (known keeps the products' memory: no allocation)
   } else if (held && !d.contact.a.empty()) {  // the rank's points, evaluated here (no message)
     ContactLaw law = state_contact_law(d, s);
-    PointValues &v = s.products.points;
+    PointValues &v = p.points;
     v = PointValues{};
     v.P.assign(d.contact.size(), std::numeric_limits<double>::quiet_NaN());
     v.un = v.P;
@@ -220,28 +222,25 @@ void compute_products(const Discretization &d, State &s, PointValues *known, con
     law.counters = d.counters;
     // (a partial state without held points is right at every point's DOFs on every rank: no message)
     law.local = s.partial;
-    law.P_all(s.U.data(), s.products.points.P, &s.products.points.un);
+    law.P_all(s.U.data(), p.points.P, &p.points.un);
   }
-  s.products.of = d.id;
+  p.of = d.id;
 }
 
-bool products_current(const Discretization &d, const State &s, bool with_acceleration) {
-  const Products &p = s.products;
+bool products_current(const Discretization &d, const State &s, const Products &p, bool with_acceleration) {
   return p.of == d.id && (!with_acceleration || !s.A_valid || p.MA.size() == p.MU.size());
 }
 
-const Products &products_of(const Discretization &d, const State &s, Products &scratch, bool with_acceleration) {
-  if (products_current(d, s, with_acceleration)) return s.products;
-  State copy;  // the same pass as compute_products, on a state we may not change
-  copy.U = s.U, copy.V = s.V, copy.A = s.A, copy.A_valid = s.A_valid, copy.gap = s.gap, copy.partial = s.partial;
-  copy.Uc = s.Uc, copy.Vc = s.Vc;
-  compute_products(d, copy);
-  scratch = std::move(copy.products);
+const Products &products_of(const Discretization &d, const State &s, const Products &p, Products &scratch,
+                            bool with_acceleration) {
+  if (products_current(d, s, p, with_acceleration)) return p;
+  compute_products(d, s, scratch);  // (the same pass, into the caller's scratch)
   return scratch;
 }
 
-const PointValues &state_points(const Discretization &d, const State &s, PointValues &scratch, Counters *counters) {
-  if (s.products.of == d.id && !s.products.points.ref) return s.products.points;
+const PointValues &state_points(const Discretization &d, const State &s, const Products &p, PointValues &scratch,
+                                Counters *counters) {
+  if (p.of == d.id && !p.points.ref) return p.points;
   count(counters, &Counters::contact_evaluations);
   ContactLaw law = state_contact_law(d, s);
   law.local = true;  // a query: every point here, no message

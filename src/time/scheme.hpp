@@ -12,6 +12,7 @@
 
 #include "assembly/contact.hpp"
 #include "contact/law.hpp"
+#include "time/products.hpp"
 #include "time/state.hpp"
 
 namespace nd {
@@ -57,7 +58,7 @@ class TimeScheme {
   virtual void predict(double tau, const State &old, std::vector<double> &U) const = 0;
   // Whether predict() is exact when the acceleration does not change over
   // the step (the Taylor predictor of the Newmark family): a step may then
-  // be its predictor (solve/predictor_check.hpp).
+  // be its predictor (fast/predictor_check.hpp).
   virtual bool predicts_constant_acceleration() const { return false; }
   // Where the step takes the contact law (contact/law.hpp): at U^{n+1} by
   // default; the law applies the rule (apply_rule), the scheme names it.

@@ -18,7 +18,7 @@
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
-#include "solve/tangent_solver.hpp"
+#include "fast/tangents.hpp"
 
 namespace nd {
 namespace {

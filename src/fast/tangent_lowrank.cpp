@@ -28,8 +28,8 @@
 
 #include "common/error.hpp"
 #include "nitschedyn.h"
-#include "solve/contact_columns.hpp"
-#include "solve/tangent_solver.hpp"
+#include "fast/contact_columns.hpp"
+#include "fast/tangents.hpp"
 
 namespace nd {
 

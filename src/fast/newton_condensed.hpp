@@ -22,13 +22,13 @@
 #include <vector>
 
 #include "linalg/factorization.hpp"
-#include "solve/contact_columns.hpp"
+#include "fast/contact_columns.hpp"
 #include "solve/newton.hpp"
 
 namespace nd {
 
 // What the condensed Newton keeps across iterations and steps: the columns
-// and G (solve/contact_columns.hpp), and the LU of the last k x k Jacobian
+// and G (fast/contact_columns.hpp), and the LU of the last k x k Jacobian
 // with the set and slopes it was made for (the same matrix gives the same
 // LU: reusing it changes no bit).
 class CondensedCache {

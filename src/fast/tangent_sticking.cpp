@@ -23,7 +23,7 @@
 
 #include "contact/friction.hpp"
 #include "linalg/gmres.hpp"
-#include "solve/tangent_solver.hpp"
+#include "fast/tangents.hpp"
 
 namespace nd {
 namespace {

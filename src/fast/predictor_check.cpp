@@ -1,4 +1,4 @@
-#include "solve/predictor_check.hpp"
+#include "fast/predictor_check.hpp"
 
 #include <cfloat>
 #include <cmath>
@@ -8,8 +8,7 @@
 namespace nd {
 
 bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s,
-                           std::vector<double> &G) {
-  const Products &p = s.products;
+                           const Products &p, std::vector<double> &G) {
   const ContactPoints &cp = *law.cp;
   // (points left unevaluated: shown free by the bound, PointValues::ref)
   const bool pp = law.positive_part();

@@ -1,4 +1,4 @@
-#include "solve/contact_columns.hpp"
+#include "fast/contact_columns.hpp"
 
 #include <algorithm>
 #include <string>

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "solve/contact_law.hpp"
+#include "time/products.hpp"
 #include "time/state.hpp"
 
 namespace nd {
@@ -22,12 +23,12 @@ namespace nd {
 constexpr double kPredictorRoundOffs = 16;
 
 // Whether s.U solves the implicit step G(U) = (c M + K_Theta) U + kappa N(U) - r = 0
-// to round-off, from s.products (valid for s): no contact point active at U
+// to round-off, from p, s's products (valid for s): no contact point active at U
 // (phi_q and its slope zero at every point: N and its tangent vanish; or
 // the points left unevaluated, shown free by the bound: PointValues::ref)
 // and the residual within kPredictorRoundOffs. Serial operators only. G: a
 // workspace (its values are not read).
 bool predictor_solves_step(const ContactLaw &law, double c, const std::vector<double> &r, const State &s,
-                           std::vector<double> &G);
+                           const Products &p, std::vector<double> &G);
 
 }  // namespace nd

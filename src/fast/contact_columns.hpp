@@ -1,6 +1,6 @@
 // The columns Z_q = A^{-1} b_q of the contact points and G = P^T Z over a set
-// of them, shared by the two fast Newton paths (solve/newton_condensed.hpp,
-// solve/tangent_lowrank.cpp). A column is one solve with A's factor, made the
+// of them, shared by the two fast Newton paths (fast/newton_condensed.hpp,
+// fast/tangent_lowrank.cpp). A column is one solve with A's factor, made the
 // first time its point is in a set; its bits do not depend on which others
 // were made with it, so a run resumed from a checkpoint, whose cache starts
 // empty, is bitwise the uninterrupted one. At most max_columns are held:

@@ -1,10 +1,11 @@
-#include "solve/newton_condensed.hpp"
+#include "fast/newton_condensed.hpp"
 
 #include <lapacke.h>
 
 #include <string>
 
 #include "common/error.hpp"
+#include "fast/tangents.hpp"
 #include "nitschedyn.h"
 
 namespace nd {
