@@ -105,7 +105,8 @@ class Case:
         self.mu = young / (2 * (1 + poisson))
 
 
-def bars(N, nonmatching, v0, tau=0.01, T=3.0):
+def bars(N, nonmatching, v0, tau=0.01, T=None):
+    T = T or max(3.0, GAP / (2 * v0) + 2.5)  # (they touch at GAP/(2 v0), part about 2 later)
     ny = N // 2
     X1, T1 = block(0, 1, 0, 0.5, N, ny, 0)
     X2, T2 = block(1 + GAP, 2 + GAP, 0, 0.5, N, ny + (N // 8 if nonmatching else 0), len(X1))
@@ -360,7 +361,8 @@ def main(argv):
     Ns = (8, 16) if quick else (8, 16, 32, 64)
     cases = [bars(N, False, 0.1) for N in Ns] + [bars(N, True, 0.1) for N in Ns]
     if not quick:
-        cases += [bars(8, False, 0.01), bars(16, False, 0.01), disks(4, 0.05), disks(2, 0.05)]
+        cases += [bars(8, False, 0.01), bars(16, False, 0.01), bars(8, False, 0.001), bars(8, True, 0.01),
+                  disks(4, 0.05), disks(2, 0.05)]
     rows, csv = [], []
     for case in cases:
         t0 = time.perf_counter()
@@ -390,7 +392,7 @@ def write(rows, csv):
     L.append("c1 its centre displacement, E = 1/2 V'MV + 1/2 U'KU; dU = max |U_lib - U_other| / max |U_lib|.")
     L.append("lib21: the library with the roles swapped (slave 2, master 1): master/slave's own bias.")
     L.append("")
-    L.append("|dPtot| = max_n |P1 + P2 - P1(0) - P2(0)|; Q1, L1: max_n of body 1's transverse momentum and angular")
+    L.append("|dPtot| = max_n |P1 + P2 - P1(0) - P2(0)| / |P1(0)|; Q1, L1: max_n of body 1's transverse momentum and angular")
     L.append("momentum about its centre of mass, / |P1(0)| (L1 also / the body's length 1 or radius 20); t_on, t_off:")
     L.append("first and last step with a contact force > 1e-6 of its largest; rebound: P1(end)/P1(0).")
     L.append("")
@@ -414,6 +416,7 @@ def write(rows, csv):
             P0 = abs(v[0, 1])
             length = 20.0 if case.msh else 1.0
             q, l = np.abs(v[:, 7]).max() / P0, np.abs(v[:, 8]).max() / (P0 * length)
+            drift /= P0
             if k == "lib":
                 L.append("%-18s %5.3g %5d %-9s %9s %9s %9s %9s %9s %8.1e %8.1e %8.1e %6.3f %6.3f %8.5f"
                          % (case.name, case.h, case.steps, k, "", "", "", "", "", drift, q, l, on, off, vend))
