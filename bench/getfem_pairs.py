@@ -437,9 +437,8 @@ def write(rows, csv):
     with open(os.path.join(out, "getfem_pairs.txt"), "w") as f:
         f.write(text + "\n")
     with open(os.path.join(out, "getfem_pairs.csv"), "w") as f:
-        f.write("case,t,P1_lib,P2_lib,c1_lib,c2_lib,F1_lib,E_lib," + ",".join(
-            "%s_%s" % (q, k) for k in ("lib21", "biased", "unbiased") for q in ("P1", "P2", "c1", "c2", "F1", "E"))
-            + "\n")
+        f.write("case,t," + ",".join("%s_%s" % (q, k) for k in ("lib", "lib21", "biased", "unbiased")
+                                     for q in ("P1", "P2", "c1", "c2", "F1", "E", "Q1", "L1")) + "\n")
         f.write("\n".join(csv) + "\n")
 
 
