@@ -333,7 +333,8 @@ def run(nd, case):
     check = float(np.abs(np.abs(h["lib"][1:, 5]) - np.array(applied)).max())
     newton = {k: (r.newton if hasattr(r, "newton") else int(r.p.scalar(nd.ND_NEWTON_ITERATIONS_TOTAL)))
               for k, r in runs.items()}
-    return dict(h=h, dU=dU, dUt={k: np.array(v) for k, v in dUt.items()}, Umax=Umax, seconds=seconds, check=check, gamma0=lib.gamma0, newton=newton,
+    return dict(h=h, dU=dU, dUt={k: np.array(v) for k, v in dUt.items()}, Umax=Umax, seconds=seconds,
+                check=check, gamma0=lib.gamma0, newton=newton,
                 dofs=n, points=lib.p.contact_point_count)
 
 
@@ -396,9 +397,11 @@ def write(rows, csv):
     L.append("c1 its centre displacement, E = 1/2 V'MV + 1/2 U'KU; dU = max |U_lib - U_other| / max |U_lib|.")
     L.append("lib21: the library with the roles swapped (slave 2, master 1): master/slave's own bias.")
     L.append("")
-    L.append("|dPtot| = max_n |P1 + P2 - P1(0) - P2(0)| / |P1(0)|; Q1, L1: max_n of body 1's transverse momentum and angular")
+    L.append("|dPtot| = max_n |P1 + P2 - P1(0) - P2(0)| / |P1(0)|; Q1, L1: max_n of body 1's transverse momentum "
+             "and angular")
     L.append("momentum about its centre of mass, / |P1(0)| (L1 also / the body's length 1 or radius 20); t_on, t_off:")
-    L.append("first and last step with a contact force > 1e-6 of its largest; rebound: P1(end)/P1(0).")
+    L.append("first and last step with a contact force > 1e-6 of its largest; rebound: P1(end)/P1(0) "
+             "(the disks still touch at t = 12).")
     L.append("")
     L.append("%-18s %5s %5s %-9s %9s %9s %9s %9s %9s %8s %8s %8s %6s %6s %8s" % (
         "case", "h", "steps", "other", "F1", "P1", "c1", "E", "dU", "|dPtot|", "Q1", "L1", "t_on", "t_off",
