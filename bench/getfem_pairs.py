@@ -30,7 +30,8 @@ traction, sigma(u) Normal).
 GetFEM's brick (getfem_contact_and_friction_large_sliding.cc, 5.4) is a
 Theta = 0 Nitsche method only (no Theta-term): its traction is
 Coulomb_friction_coupled_projection(sigma(u) N, n_x, Vs, g, F = 0, 1/gamma),
-i.e. -[sigma_n - g/gamma]_- n_x ... with
+with F = 0 the pressure [-(sigma(u) N).n_x - g/gamma]_+ along -n_x on the
+slave (ours: [P_q]_+/gamma_q, P_q = a_q U - gamma_q s_q U - g_q), with
   n_x  the slave's unit normal in the deformed configuration
        (Transformed_unit_vector(Grad_u, Normal)), a function of u,
   y    the master point hit by the ray from x + u(x) along n_x
