@@ -75,10 +75,12 @@ std::unique_ptr<TangentSolver> make_block_tangent(const Csr &A, const Factorizat
 // more than factoring (friction in 3D: fast/tangent_sticking.cpp): GMRES
 // on T, preconditioned by the factor of the sticking tangent of T's active
 // set, refactored only when that set changes; T refactored itself where
-// GMRES does not converge.
+// GMRES does not converge. A_blocks: A by nodes (Integrator::A_blocks, the
+// bits of A's CSR product), or null.
 std::unique_ptr<TangentSolver> make_sticking_tangent(const Csr &A, const Factorization &A_factor, int solver,
                                                      Structure structure, Counters *counters = nullptr,
-                                                     const DofGeometry *geometry = nullptr);
+                                                     const DofGeometry *geometry = nullptr,
+                                                     const NodeBlocks *A_blocks = nullptr);
 
 // The rank above which the second solve beats Z w: the measured crossovers
 // lie on either side of it, and near it the two variants cost about the

@@ -137,7 +137,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
       in->tangent = make_block_tangent(in->A, *in->A_factor, def.solver, s, lowrank_rank_limit(in->A.n, d.contact),
                                        d.counters, &d.geometry);
     } else if (sticking) {
-      in->tangent = make_sticking_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry);
+      in->tangent =
+          make_sticking_tangent(in->A, *in->A_factor, def.solver, s, d.counters, &d.geometry, in->A_blocks.get());
     } else if (refactors) {
       // on split operators the solves keep the rows Newton reads (a rank's rows and their halo)
       std::vector<int64_t> held = in->held;  // a distributed state's rows, else those Newton reads

@@ -137,46 +137,57 @@ bool ContactLaw::P_by_runs(const double *U, double *P, double *un) const {
 }
 
 namespace {
-// ta_j.U and ts_j.U for point q's m - 1 tangential pairs, each summed in
-// index order (the bits of SparseRow::dot), in one loop over the index list
-// they share with a_q: U and the indices read once
-void tangential_dots(const ContactPoints &cp, size_t q, const double *U, double *ta, double *ts) {
-  const size_t mt = static_cast<size_t>(cp.m - 1), j0 = q * mt;
+// ta_j.U and ts_j.U for point q's m - 1 tangential pairs and, with Normal,
+// a_q.U and s_q.U (sa, ss), each summed in index order (the bits of
+// SparseRow::dot), in one loop over the index list they share with a_q: U
+// and the indices read once for all of a point's values
+template <bool Normal, int Mt>
+void point_dots(const ContactPoints &cp, size_t q, const double *U, double &sa, double &ss, double *ta, double *ts) {
+  const size_t j0 = q * Mt;
   const int64_t *idx = cp.a[q].idx.data();
+  const double *a0 = cp.a[q].val.data(), *s0 = cp.s[q].val.data();
   const double *a1 = cp.ta[j0].val.data(), *s1 = cp.ts[j0].val.data();
-  double sa1 = 0, ss1 = 0, sa2 = 0, ss2 = 0;
-  const size_t len = cp.a[q].idx.size();
-  if (mt == 1) {
-    for (size_t k = 0; k < len; ++k) {
-      const double u = U[idx[k]];
-      sa1 += a1[k] * u;
-      ss1 += s1[k] * u;
+  const double *a2 = Mt == 2 ? cp.ta[j0 + 1].val.data() : nullptr, *s2 = Mt == 2 ? cp.ts[j0 + 1].val.data() : nullptr;
+  double sa0 = 0, ss0 = 0, sa1 = 0, ss1 = 0, sa2 = 0, ss2 = 0;
+  for (size_t k = 0, len = cp.a[q].idx.size(); k < len; ++k) {
+    const double u = U[idx[k]];
+    if (Normal) sa0 += a0[k] * u, ss0 += s0[k] * u;
+    sa1 += a1[k] * u;
+    ss1 += s1[k] * u;
+    if (Mt == 2) sa2 += a2[k] * u, ss2 += s2[k] * u;
+  }
+  sa = sa0, ss = ss0;
+  ta[0] = sa1, ts[0] = ss1, ta[1] = sa2, ts[1] = ss2;
+}
+
+// every point's tangential values (and, with Normal, P_q and u_n - g0
+// into P[q] and un[q], un null: not wanted) at U, one loop per point
+template <bool Normal, int Mt>
+void friction_pass(const ContactLaw &law, const double *U, double *P, double *un) {
+  const ContactPoints &cp = *law.cp;
+  const size_t nq = cp.size();
+  double sa, ss, ta[2], ts[2];
+  for (size_t q = 0; q < nq; ++q) {
+    point_dots<Normal, Mt>(cp, q, U, sa, ss, ta, ts);
+    if (Normal) {
+      if (un) un[q] = sa - law.g(q);
+      P[q] = sa - cp.gamma[q] * ss - law.g(q);
     }
-  } else {
-    const double *a2 = cp.ta[j0 + 1].val.data(), *s2 = cp.ts[j0 + 1].val.data();
-    for (size_t k = 0; k < len; ++k) {
-      const double u = U[idx[k]];
-      sa1 += a1[k] * u;
-      ss1 += s1[k] * u;
-      sa2 += a2[k] * u;
-      ss2 += s2[k] * u;
+    for (size_t k = 0; k < Mt; ++k) {
+      const size_t j = q * Mt + k;
+      P[nq + j] = ta[k] - cp.gamma[q] * ts[k] - (law.gap_t ? law.gap_t[j] : 0.0);
     }
   }
-  ta[0] = sa1, ts[0] = ss1, ta[1] = sa2, ts[1] = ss2;
+}
+
+template <bool Normal>
+void friction_pass(const ContactLaw &law, const double *U, double *P, double *un) {
+  if (law.cp->m == 2) return friction_pass<Normal, 1>(law, U, P, un);
+  friction_pass<Normal, 2>(law, U, P, un);
 }
 }  // namespace
 
-void ContactLaw::tangential_values(const double *U, double *P) const {
-  const size_t nq = cp->size(), mt = static_cast<size_t>(cp->m - 1);
-  double ta[2], ts[2];
-  for (size_t q = 0; q < nq; ++q) {
-    tangential_dots(*cp, q, U, ta, ts);
-    for (size_t k = 0; k < mt; ++k) {
-      const size_t j = q * mt + k;
-      P[nq + j] = ta[k] - cp->gamma[q] * ts[k] - (gap_t ? gap_t[j] : 0.0);
-    }
-  }
-}
+void ContactLaw::tangential_values(const double *U, double *P) const { friction_pass<false>(*this, U, P, nullptr); }
 
 void ContactLaw::law_m(size_t q, const std::vector<double> &P, double *value, double *J) const {
   double v[3], vn[3];
@@ -196,13 +207,7 @@ void ContactLaw::P_all(const double *U, std::vector<double> &P, std::vector<doub
   // process's bits (docs/design.md §10.2)
   if (cp->m > 1) {
     P.resize(values());
-    for (size_t q = 0; q < cp->size(); ++q) {
-      double sa, ss;
-      dots(q, U, sa, ss);
-      if (un) (*un)[q] = sa - g(q);
-      P[q] = sa - cp->gamma[q] * ss - g(q);
-    }
-    tangential_values(U, P.data());
+    friction_pass<true>(*this, U, P.data(), un ? un->data() : nullptr);
     count(counters, &Counters::point_evaluations, static_cast<int64_t>(cp->size()));
     count(counters, &Counters::own_point_evaluations, static_cast<int64_t>(cp->size()));
     return;

@@ -154,8 +154,12 @@ NewtonResult iterate(const NewtonSystem &sys, const std::vector<double> &r, cons
     const bool small = res.residual <= res.tolerance, still = step <= 64 * DBL_EPSILON * u_norm;
     if ((!changed && (small || still)) || (small && still)) {
       res.converged = true;
-      // the points at the solution, every one of them (un made with P): the new state's
-      if (points && !partial && !at.P.empty() && at.un.size() == at.P.size()) std::swap(*points, at);
+      // the points at the solution, every one of them (un made with P; with
+      // friction P also holds the tangential values, at the slip reference
+      // the new state starts with): the new state's
+      if (points && !partial && !at.P.empty() && at.P.size() == sys.law->values() &&
+          at.un.size() == sys.law->cp->size())
+        std::swap(*points, at);
       return res;
     }
   }

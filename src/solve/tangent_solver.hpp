@@ -17,6 +17,8 @@
 
 namespace nd {
 
+struct NodeBlocks;  // (linalg/node_blocks.hpp)
+
 // What a tangent solver did, for tests and benchmarks.
 struct TangentStats {
   int64_t calls = 0;             // solve() calls
