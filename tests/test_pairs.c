@@ -591,6 +591,214 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
 }
 END_TEST
 
+/* ---- friction between the bodies (docs/design.md §10.3, "Friction between bodies") */
+
+/* the stack, free (no support), pressed together by nodal forces: -N0 (y)
+   spread over the upper block's top nodes, +N0 over the lower block's base
+   nodes, and with shear T: +T (x) on the top, -T on the base. The forces
+   sum to zero: the total momentum is conserved. The upper block starts at
+   (v0, 0) against the lower one at rest. Coulomb F on the slave region 1. */
+static nd_problem pressed(int dim, int degree, double F, double v0, double N0, double T) {
+  nd_problem p = dim == 2 ? stack(2, degree, 5, 4) : stack(3, degree, 3, 2);
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  if (F >= 0) ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *x = malloc(sizeof(double) * (size_t)(dim * n)), *v = calloc((size_t)(dim * n), sizeof(double)),
+         *f = calloc((size_t)(dim * n), sizeof(double));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  int top = 0, base = 0;
+  for (int64_t i = 0; i < n; ++i) top += x[i * dim + 1] > 1.5 - 1e-9, base += x[i * dim + 1] < 1e-9;
+  for (int64_t i = 0; i < n; ++i) {
+    if (x[i * dim + 1] > 1) v[i * dim] = v0;
+    if (x[i * dim + 1] > 1.5 - 1e-9) f[i * dim + 1] = -N0 / top, f[i * dim] = T / top;
+    if (x[i * dim + 1] < 1e-9) f[i * dim + 1] = N0 / base, f[i * dim] = -T / base;
+  }
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, NULL, v));
+  ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, n, f));
+  free(x), free(v), free(f);
+  return p;
+}
+
+typedef struct {
+  double momentum_defect; /* max over steps and components of |P(t) - P(0)| */
+  double ledger_worst;    /* largest rise of E_Theta + D_f - W - W_geometry over a step, over its terms */
+  double ledger_rise;     /* the same, absolute */
+  double rate, rate_expected; /* the relative velocity's mean decay rate while sliding, and F N (1/m1 + 1/m2) */
+  double D_f, D_expected;  /* D_f and sum over steps of F N^{n+1} (x_rel^{n+1} - x_rel^n) */
+  double slid;             /* the relative displacement of the bodies' means */
+  double v_rel;            /* the relative velocity at the end */
+  double repaired, sliding_after; /* points paired anew; sliding points at the end */
+  double D_after_sticking; /* D_f's growth after step `quiet` */
+} slide_run;
+
+/* the run: per step, the bodies' x momenta (rows of M V over each body's
+   DOFs: no DOF clamped, free DOF = nodal value), the normal force the step
+   applied (the slave region's, ND_CONTACT_FORCE_APPLIED) */
+static slide_run slide(nd_problem p, int dim, double F, int steps, int quiet) {
+  slide_run r;
+  memset(&r, 0, sizeof r);
+  const int momenta[3] = {ND_MOMENTUM_X, ND_MOMENTUM_Y, ND_MOMENTUM_Z};
+  nd_test_csr K = nd_test_get_matrix(p, ND_MATRIX_STIFFNESS), M = nd_test_get_matrix(p, ND_MATRIX_MASS);
+  const int64_t nn = K.n / dim;
+  double *X = malloc(sizeof(double) * (size_t)K.n), *U = malloc(sizeof(double) * (size_t)K.n),
+         *V = malloc(sizeof(double) * (size_t)K.n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, X));
+  double m[2] = {0, 0}; /* the bodies' masses: 1'M1 over x DOFs */
+  for (int64_t i = 0; i < nn; ++i)
+    for (int64_t e = M.ptr[i * dim]; e < M.ptr[i * dim + 1]; ++e) m[X[i * dim + 1] > 1] += M.val[e];
+  double P0[3] = {0, 0, 0}, previous = 0, x_prev = 0, v_start = 0, t_start = -1, v_end = 0, t_end = 0, D_quiet = 0;
+  for (int k = 0; k <= steps; ++k) {
+    if (k) ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, U));
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, nn, V));
+    double pb[2] = {0, 0}, xb[2] = {0, 0}; /* x momenta, and 1'M U over each body */
+    for (int64_t i = 0; i < nn; ++i)
+      for (int64_t e = M.ptr[i * dim]; e < M.ptr[i * dim + 1]; ++e)
+        pb[X[i * dim + 1] > 1] += M.val[e] * V[M.col[e]], xb[X[i * dim + 1] > 1] += M.val[e] * U[M.col[e]];
+    const double v_rel = pb[1] / m[1] - pb[0] / m[0], x_rel = xb[1] / m[1] - xb[0] / m[0];
+    const double ledger = scalar(p, ND_ENERGY_AUGMENTED) + scalar(p, ND_DISSIPATION_FRICTION) - scalar(p, ND_WORK) -
+                          scalar(p, ND_WORK_GEOMETRY);
+    const double scale = terms(&K, U, U) + terms(&M, V, V);
+    for (int c = 0; c < dim; ++c) {
+      const double P = scalar(p, momenta[c]);
+      if (k == 0) P0[c] = P;
+      r.momentum_defect = fmax(r.momentum_defect, fabs(P - P0[c]));
+    }
+    if (k) {
+      r.ledger_rise = fmax(r.ledger_rise, ledger - previous);
+      r.ledger_worst = fmax(r.ledger_worst, (ledger - previous) / scale);
+      const double N = scalar(p, ND_CONTACT_FORCE_APPLIED);
+      r.D_expected += F * N * fabs(x_rel - x_prev);
+      /* sliding with every contact point: the mean rate */
+      if (scalar(p, ND_SLIDING_POINTS) > 0 && scalar(p, ND_STICKING_POINTS) == 0 && N > 0) {
+        if (t_start < 0) t_start = scalar(p, ND_TIME), v_start = v_rel, r.rate_expected = 0;
+        t_end = scalar(p, ND_TIME), v_end = v_rel;
+        r.rate_expected += F * N * (1 / m[0] + 1 / m[1]);
+        r.rate += 1;
+      }
+    }
+    if (getenv("ND_PAIR_DEBUG") && k)
+      printf("  %d t %.3f N %.5f ft %.5f FN %.5f slide %g stick %g v_rel %.5f p1 %.6f p0 %.6f Df %.6f\n", k,
+             scalar(p, ND_TIME), scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X),
+             F * scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_SLIDING_POINTS), scalar(p, ND_STICKING_POINTS),
+             v_rel, pb[1], pb[0], scalar(p, ND_DISSIPATION_FRICTION));
+    if (k == quiet) D_quiet = scalar(p, ND_DISSIPATION_FRICTION);
+    previous = ledger, x_prev = x_rel;
+    r.v_rel = v_rel;
+    r.slid = x_rel;
+  }
+  if (r.rate > 0) r.rate_expected /= r.rate; /* (the mean of F N (1/m1 + 1/m2) over the sliding steps) */
+  r.rate = t_end > t_start ? (v_start - v_end) / (t_end - t_start) : 0;
+  r.D_f = scalar(p, ND_DISSIPATION_FRICTION);
+  r.D_after_sticking = r.D_f - D_quiet;
+  r.repaired = scalar(p, ND_STAT_NORMAL_REFRESHES);
+  r.sliding_after = scalar(p, ND_SLIDING_POINTS);
+  nd_test_csr_free(&K), nd_test_csr_free(&M), free(X), free(U), free(V);
+  return r;
+}
+
+START_TEST(coulomb_friction_between_two_blocks) {
+  /* the upper block slides at v0 = 0.5 over the lower one, both free,
+     pressed together by N0 = 1: the relative velocity falls at F N (1/m1 +
+     1/m2) (N the applied normal resultant) until they stick and move
+     together; the total momentum is conserved (the pair's forces, the
+     tangential ones included, equal and opposite); D_f is F N times the
+     distance slid; the hybrid ledger with Theta = 1 never rises */
+  const double F = 0.3;
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem p = pressed(dim, 1, F, 0.5, 1.0, 0.0);
+    const slide_run r = slide(p, dim, F, 120, 100);
+    printf("pair friction %dD P1: momentum defect %.3g, ledger rise %.3g (%.3g of its terms), decay rate %.6f vs "
+           "F N (1/m1 + 1/m2) %.6f, D_f %.6f vs F N slid %.6f (slid %.4f), v_rel at the end %.3g, %g points paired "
+           "anew, D_f after step 100 %.3g\n",
+           dim, r.momentum_defect, r.ledger_rise, r.ledger_worst, r.rate, r.rate_expected, r.D_f, r.D_expected, r.slid,
+           r.v_rel, r.repaired, r.D_after_sticking);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+START_TEST(a_pair_below_the_friction_angle_sticks) {
+  /* pressed by N0 = 1 and sheared by T = 0.2 < F N0 (F = 0.3), the blocks
+     starting together at rest: no point slides once pressed */
+  const double F = 0.3;
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem p = pressed(dim, 1, F, 0.0, 1.0, 0.2);
+    const slide_run r = slide(p, dim, F, 120, 40);
+    printf("pair sticking %dD: D_f %.3g (after step 40: %.3g), slid %.3g, sliding points %g, momentum defect %.3g, "
+           "ledger rise %.3g\n",
+           dim, r.D_f, r.D_after_sticking, r.slid, r.sliding_after, r.momentum_defect, r.ledger_rise);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+START_TEST(zero_friction_between_bodies_is_frictionless) {
+  /* Coulomb with F = 0 and Theta = 0 (no tangential Theta-term): the
+     frictionless pair's run, to the solves' round-off */
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem a = thrown(dim, 1, 1.0), b = thrown(dim, 1, 1.0);
+    const double zero = 0;
+    ND_OK_OR_FAIL(nd_problem_set_nitsche(a, 0.0, 0.0));
+    ND_OK_OR_FAIL(nd_problem_set_nitsche(b, 0.0, 0.0));
+    ND_OK_OR_FAIL(nd_problem_set_friction(b, 1, ND_FRICTION_COULOMB, &zero));
+    double diff = 0, largest = 0;
+    int64_t n = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(a, &n));
+    double *ua = malloc(sizeof(double) * (size_t)(dim * n)), *ub = malloc(sizeof(double) * (size_t)(dim * n));
+    for (int k = 0; k < 100; ++k) {
+      ND_OK_OR_FAIL(nd_step(a));
+      ND_OK_OR_FAIL(nd_step(b));
+      ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, n, ua));
+      ND_OK_OR_FAIL(nd_get_field(b, ND_FIELD_DISPLACEMENT, n, ub));
+      for (int64_t i = 0; i < dim * n; ++i) diff = fmax(diff, fabs(ua[i] - ub[i])), largest = fmax(largest, fabs(ua[i]));
+    }
+    printf("pair F = 0 %dD: %.3g from the frictionless run (|u| up to %.3g), %g points paired anew\n", dim, diff,
+           largest, scalar(a, ND_STAT_NORMAL_REFRESHES));
+    free(ua), free(ub);
+    ND_OK_OR_FAIL(nd_problem_destroy(&a));
+    ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  }
+}
+END_TEST
+
+START_TEST(a_restart_with_friction_between_bodies_is_bitwise) {
+  /* the thrown block with friction: the slip references (in the pairing's
+     rows) and the pairings restart bitwise after points were paired anew */
+  const double F = 0.3;
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem a = thrown(dim, 1, 1.0);
+    ND_OK_OR_FAIL(nd_problem_set_friction(a, 1, ND_FRICTION_COULOMB, &F));
+    unsigned char *saved = NULL;
+    int64_t size = 0;
+    const int steps = 110, at = 60;
+    double repaired_at = 0;
+    for (int k = 1; k <= steps; ++k) {
+      ND_OK_OR_FAIL(nd_step(a));
+      if (k == at) saved = nd_test_checkpoint(a, &size), repaired_at = scalar(a, ND_STAT_NORMAL_REFRESHES);
+    }
+    nd_problem b = thrown(dim, 1, 1.0);
+    ND_OK_OR_FAIL(nd_problem_set_friction(b, 1, ND_FRICTION_COULOMB, &F));
+    ND_OK_OR_FAIL(nd_problem_load_state(b, size, saved));
+    for (int k = at + 1; k <= steps; ++k) ND_OK_OR_FAIL(nd_step(b));
+    nd_test_snapshot sa = nd_test_take(a, dim), sb = nd_test_take(b, dim);
+    printf("pair friction restart %dD: %g points paired anew before the checkpoint, D_f %.6g\n", dim, repaired_at,
+           scalar(a, ND_DISSIPATION_FRICTION));
+    ck_assert_double_gt(repaired_at, 0);
+    ck_assert_double_gt(scalar(a, ND_DISSIPATION_FRICTION), 0);
+    ck_assert(nd_test_same(&sa, &sb));
+    ck_assert(scalar(a, ND_DISSIPATION_FRICTION) == scalar(b, ND_DISSIPATION_FRICTION));
+    ck_assert(scalar(a, ND_WORK_GEOMETRY) == scalar(b, ND_WORK_GEOMETRY));
+    nd_test_snapshot_free(&sa), nd_test_snapshot_free(&sb);
+    free(saved);
+    ND_OK_OR_FAIL(nd_problem_destroy(&a));
+    ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  }
+}
+END_TEST
+
 START_TEST(bad_pairs_are_refused) {
   nd_problem p = stack(2, 1, 5, 4);
   ck_assert_int_eq(nd_problem_set_contact_pair(NULL, 1, 2), ND_ERR_NULL);
@@ -599,12 +807,6 @@ START_TEST(bad_pairs_are_refused) {
   ck_assert_int_eq(nd_problem_set_contact_pair(p, 1, 1), ND_ERR_REGION);
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
-  /* friction between the bodies: not yet, said at the step */
-  const double mu = 0.3;
-  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &mu));
-  ck_assert_int_eq(nd_step(p), ND_ERR_STATE);
-  ck_assert_ptr_nonnull(strstr(nd_last_error(), "friction between two bodies"));
-  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_NONE, NULL));
   /* a slave region with a plane too */
   const double o[2] = {0, 0}, up[2] = {0, 1};
   ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, up));
@@ -634,6 +836,10 @@ int main(void) {
   tcase_add_test(tc, mirror_disks_approach_one_disk_on_the_symmetry_plane);
   tcase_add_test(tc, a_failed_step_after_a_new_pairing_keeps_the_problem);
   tcase_add_test(tc, a_restart_with_a_pair_is_bitwise);
+  tcase_add_test(tc, coulomb_friction_between_two_blocks);
+  tcase_add_test(tc, a_pair_below_the_friction_angle_sticks);
+  tcase_add_test(tc, zero_friction_between_bodies_is_frictionless);
+  tcase_add_test(tc, a_restart_with_friction_between_bodies_is_bitwise);
   tcase_add_test(tc, bad_pairs_are_refused);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
