@@ -131,11 +131,8 @@ std::unique_ptr<Integrator> make_integrator(Discretization &d, const Definition 
     // "Friction". Every rank makes the same solves: one process's bits)
     const bool blocks = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
                         !d.rows_split && d.geometry.dim == 2;
-    // (friction between two bodies in 3D: the refactoring tangent, on A's
-    // pattern widened by the pairs; the sticking tangent's S keeps A's)
     const bool sticking = refactors && d.contact_law->traits().m > 1 && def.tangent == TangentChoice::Auto &&
-                          !d.rows_split && d.geometry.dim == 3 && !linear_solver_iterative(def.solver) &&
-                          d.contact.pairing.empty();
+                          !d.rows_split && d.geometry.dim == 3 && !linear_solver_iterative(def.solver);
     if (blocks) {
       in->tangent = make_block_tangent(in->A, *in->A_factor, def.solver, s, lowrank_rank_limit(in->A.n, d.contact),
                                        d.counters, &d.geometry);
