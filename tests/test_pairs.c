@@ -6,7 +6,12 @@
  * and P2, Q1 and Q2 in 2D, non-matching meshes); a block bouncing and sliding over another
  * (paired anew as it slides) keeps both momenta and the ledger; a failed
  * step leaves the problem as it was; a restart is bitwise; bad pairs are
- * refused; two pairs carry their own forces (nd_get_region_scalar). */
+ * refused; two pairs carry their own forces (nd_get_region_scalar).
+ * Friction between the bodies (docs/design.md §10.3, "Friction between
+ * bodies"): a block sliding over another with Coulomb friction slows at
+ * F N (1/m1 + 1/m2), dissipates F N times the distance slid and keeps the
+ * total momentum and the hybrid ledger; below the friction angle it
+ * sticks; F = 0 is the frictionless pair; a restart is bitwise. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
