@@ -125,6 +125,11 @@ class StickingTangent : public TangentSolver {
       std::fill(S_.val.begin(), S_.val.end(), 0.0);
       for (size_t k = 0; k < place_.size(); ++k) S_.val[place_[k]] = A_.val[k];
     }
+    // symmetric positive definite with Theta = 1 (rows a - gamma s on both sides, blocks >= 0);
+    // (analysed with A's values, as before pairs: an analysis may read them)
+    const Structure s = law.theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+    if (!S_factor_ || s != S_structure_)
+      S_factor_ = make_factorization(solver_, place_.empty() ? A_ : S_, s, counters_, geometry_);
     double Jd[9];
     const int64_t nb = log_.i[0];
     for (int64_t j = 0; j < nb; ++j) {
@@ -136,9 +141,6 @@ class StickingTangent : public TangentSolver {
       for (int k = 1; k < m; ++k) Jd[k * m + k] = tangential ? c : 0.0;
       add_block_tangent(cp, law.theta, q, kappa * cp.w[q] / cp.gamma[q], Jd, S_, rows_b_, rows_p_);
     }
-    // symmetric positive definite with Theta = 1 (rows a - gamma s on both sides, blocks >= 0)
-    const Structure s = law.theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
-    if (!S_factor_ || s != S_structure_) S_factor_ = make_factorization(solver_, S_, s, counters_, geometry_);
     S_factor_->refactor(S_, s);
     S_structure_ = s, S_log_ = log_, S_kappa_ = kappa, S_theta_ = law.theta;
     ++stats.refactorizations;
