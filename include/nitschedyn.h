@@ -336,7 +336,8 @@ ND_EXPORT int nd_problem_move_obstacle(nd_problem p, int region, int index, cons
 /* The friction law of a contact region (docs/design.md §10.2): law one of
    ND_FRICTION_LIST, params its parameters (NULL for ND_FRICTION_NONE). 2D
    and 3D; the region's obstacle its plane alone (it may move: slip is
-   relative to it); one rank. */
+   relative to it), or a contact pair's master surface (the region the
+   pair's slave: friction between two bodies); one rank. */
 ND_EXPORT int nd_problem_set_friction(nd_problem p, int region, int law, const double *params);
 ND_EXPORT int nd_problem_set_nitsche(nd_problem p, double theta, double gamma0);
 ND_EXPORT int nd_problem_set_scheme(nd_problem p, int scheme, const double *params);

@@ -6,7 +6,12 @@
  * and P2, Q1 and Q2 in 2D, non-matching meshes); a block bouncing and sliding over another
  * (paired anew as it slides) keeps both momenta and the ledger; a failed
  * step leaves the problem as it was; a restart is bitwise; bad pairs are
- * refused; two pairs carry their own forces (nd_get_region_scalar). */
+ * refused; two pairs carry their own forces (nd_get_region_scalar).
+ * Friction between the bodies (docs/design.md §10.3, "Friction between
+ * bodies"): a block sliding over another with Coulomb friction slows at
+ * F N (1/m1 + 1/m2), dissipates F N times the distance slid and keeps the
+ * total momentum and the hybrid ledger; below the friction angle it
+ * sticks; F = 0 is the frictionless pair; a restart is bitwise. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -338,14 +343,27 @@ END_TEST
 /* a block [0.5, 1.5] x [1 + delta, 1.5] (x [0.5, 1.5]) over [0, 2] x [0, 1]
    (x [0, 2]), non-matching meshes; regions: 1 the upper block's bottom, 2 the
    lower block's top, 3 the lower block's base */
+static nd_problem stack_heavy(int dim, int cell_type, int degree, int top_cells, int base_cells, double density);
 static nd_problem stack_cells(int dim, int cell_type, int degree, int top_cells, int base_cells) {
+  return stack_heavy(dim, cell_type, degree, top_cells, base_cells, 0);
+}
+
+/* density > 0: the lower block's (cell region 1), the upper's 1 */
+static nd_problem stack_heavy(int dim, int cell_type, int degree, int top_cells, int base_cells, double density) {
   const double delta = 1e-3;
   blocks m = {dim, cell_type, 0, 0, NULL, NULL};
   const double lo1[3] = {0, 0, 0}, hi1[3] = {2, 1, 2}, lo2[3] = {0.5, 1 + delta, 0.5}, hi2[3] = {1.5, 1.5, 1.5};
   const int n1[3] = {2 * base_cells, base_cells, 2 * base_cells}, n2[3] = {top_cells, top_cells / 2 + 1, top_cells};
   add_block(&m, lo1, hi1, n1);
+  const int64_t lower = m.nc;
   add_block(&m, lo2, hi2, n2);
   nd_mesh h = make(&m);
+  if (density > 0) {
+    int64_t *cells = malloc(sizeof(int64_t) * (size_t)lower);
+    for (int64_t c = 0; c < lower; ++c) cells[c] = c;
+    ND_OK_OR_FAIL(nd_mesh_set_cell_region(h, 1, lower, cells));
+    free(cells);
+  }
   const double blo[3] = {-1, 1 + delta / 2, -1}, bhi[3] = {3, 1 + 2 * delta, 3};
   const double tlo[3] = {-1, 1 - delta / 2, -1}, thi[3] = {3, 1 + delta / 2, 3};
   const double clo[3] = {-1, -1, -1}, chi[3] = {3, 1e-9, 3};
@@ -356,6 +374,7 @@ static nd_problem stack_cells(int dim, int cell_type, int degree, int top_cells,
   ND_OK_OR_FAIL(nd_problem_create(h, degree, &p));
   ND_OK_OR_FAIL(nd_mesh_destroy(&h));
   ND_OK_OR_FAIL(nd_problem_set_material(p, 100.0, 0.3, 1.0));
+  if (density > 0) ND_OK_OR_FAIL(nd_problem_set_material_region(p, 1, 100.0, 0.3, density));
   ND_OK_OR_FAIL(nd_problem_set_contact_pair(p, 1, 2));
   ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 0.0));
   return p;
@@ -591,6 +610,291 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
 }
 END_TEST
 
+/* ---- friction between the bodies (docs/design.md §10.3, "Friction between bodies") */
+
+/* the stack, free (no support), pressed together by nodal forces: -N0 (y)
+   spread over the upper block's top nodes, +N0 over the lower block's base
+   nodes. The forces sum to zero: the total momentum is conserved. The lower
+   block 100 times denser (its mass 200 in 2D, 400 in 3D, against the upper
+   block's 0.499): with small strains a pair's force acts at the slave point
+   and at its paired master point, a reference distance d apart once slid,
+   which turns the pair as a couple N d would; the heavy block barely turns.
+   The upper block starts at (v0, 0) against the lower one at rest; Coulomb
+   F on the slave region 1. hybrid: the hybrid scheme (the ledger), else
+   backward Euler (theta = 1), which damps the landing's vibration away,
+   with E = 1e4 (a stiff pair: the bodies slide nearly as rigid ones) */
+static void press(nd_problem p, int dim, double N0, double T) {
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *x = malloc(sizeof(double) * (size_t)(dim * n)), *f = calloc((size_t)(dim * n), sizeof(double));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  int top = 0, base = 0, bottom = 0, face = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    const double y = x[i * dim + 1];
+    top += y > 1.5 - 1e-9, base += y < 1e-9, bottom += y > 1 && y < 1.01, face += y == 1;
+  }
+  /* (the shear T, +T along x on the upper block's bottom and -T on the lower
+     block's top: 1e-3 apart, no couple to turn the pair) */
+  for (int64_t i = 0; i < n; ++i) {
+    const double y = x[i * dim + 1];
+    if (y > 1.5 - 1e-9) f[i * dim + 1] = -N0 / top;
+    if (y < 1e-9) f[i * dim + 1] = N0 / base;
+    if (y > 1 && y < 1.01) f[i * dim] = T / bottom;
+    if (y == 1) f[i * dim] = -T / face;
+  }
+  ND_OK_OR_FAIL(nd_problem_set_nodal_forces(p, n, f));
+  free(x), free(f);
+}
+
+static nd_problem pressed(int dim, double F, double v0, double N0, int hybrid) {
+  nd_problem p = dim == 2 ? stack_heavy(2, ND_CELL_SIMPLEX, 1, 5, 4, 100) : stack_heavy(3, ND_CELL_SIMPLEX, 1, 3, 2, 100);
+  const double one = 1;
+  if (!hybrid) {
+    ND_OK_OR_FAIL(nd_problem_set_material(p, 1e4, 0.3, 1.0));
+    ND_OK_OR_FAIL(nd_problem_set_material_region(p, 1, 1e4, 0.3, 100));
+  }
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, hybrid ? ND_SCHEME_HYBRID : ND_SCHEME_THETA, hybrid ? NULL : &one));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
+  if (F >= 0) ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &F));
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  double *x = malloc(sizeof(double) * (size_t)(dim * n)), *v = calloc((size_t)(dim * n), sizeof(double));
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, n, x));
+  for (int64_t i = 0; i < n; ++i)
+    if (x[i * dim + 1] > 1) v[i * dim] = v0;
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, NULL, v));
+  free(x), free(v);
+  press(p, dim, N0, 0);
+  return p;
+}
+
+typedef struct {
+  double momentum_defect; /* max over steps and components of |P(t) - P(0)| */
+  double ledger_worst;    /* largest rise of E_Theta + D_f - W - W_geometry over a step, over its terms */
+  double ledger_rise;     /* the same, absolute */
+  /* over the steps where every pressed point slides (the first run of them):
+     the relative velocity's fall, and the impulse sum tau F N (1/m1 + 1/m2)
+     with N the normal resultant each step applied */
+  double fall, impulse, t_start, t_end;
+  double t_stop;          /* the first step with no point sliding */
+  double D_f;             /* at the end */
+  /* over those steps: D_f's growth, and the sum of F N^{n+1} |x_rel^{n+1} - x_rel^n| */
+  double D_window, D_expected;
+  double slid;            /* the relative displacement of the bodies' means at the end */
+  double v_rel;           /* the relative velocity at the end */
+  double repaired, sliding_after; /* points paired anew; sliding points at the end */
+  double D_quiet, slid_quiet, v_quiet; /* D_f, x_rel and v_rel at step `quiet` */
+  double mass[2];         /* the lower and the upper block's */
+} slide_run;
+
+/* the run: per step, the bodies' x momenta (rows of M V over each body's
+   DOFs: no DOF clamped, free DOF = nodal value), the normal force the step
+   applied (ND_CONTACT_FORCE_APPLIED); at step `shear` the shear T is added */
+static slide_run slide(nd_problem p, int dim, double F, int steps, int quiet, int shear, double N0, double T) {
+  slide_run r;
+  memset(&r, 0, sizeof r);
+  r.t_stop = -1;
+  const int momenta[3] = {ND_MOMENTUM_X, ND_MOMENTUM_Y, ND_MOMENTUM_Z};
+  nd_test_csr K = nd_test_get_matrix(p, ND_MATRIX_STIFFNESS), M = nd_test_get_matrix(p, ND_MATRIX_MASS);
+  const int64_t nn = K.n / dim;
+  double *X = malloc(sizeof(double) * (size_t)K.n), *U = malloc(sizeof(double) * (size_t)K.n),
+         *V = malloc(sizeof(double) * (size_t)K.n);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, X));
+  for (int64_t i = 0; i < nn; ++i) /* (1'M1 over each body's x DOFs) */
+    for (int64_t e = M.ptr[i * dim]; e < M.ptr[i * dim + 1]; ++e) r.mass[X[i * dim + 1] > 1] += M.val[e];
+  double P0[3] = {0, 0, 0}, previous = 0, x_prev = 0, v_prev = 0, v_start = 0, D_prev = 0, D_start = 0;
+  int window = 0; /* 0 before the sliding run, 1 in it, 2 after */
+  for (int k = 0; k <= steps; ++k) {
+    if (k && k == shear) press(p, dim, N0, T);
+    if (k) ND_OK_OR_FAIL(nd_step(p));
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_DISPLACEMENT, nn, U));
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, nn, V));
+    double pb[2] = {0, 0}, xb[2] = {0, 0}; /* x momenta, and 1'M U over each body */
+    for (int64_t i = 0; i < nn; ++i)
+      for (int64_t e = M.ptr[i * dim]; e < M.ptr[i * dim + 1]; ++e)
+        pb[X[i * dim + 1] > 1] += M.val[e] * V[M.col[e]], xb[X[i * dim + 1] > 1] += M.val[e] * U[M.col[e]];
+    const double v_rel = pb[1] / r.mass[1] - pb[0] / r.mass[0], x_rel = xb[1] / r.mass[1] - xb[0] / r.mass[0];
+    const double ledger = scalar(p, ND_ENERGY_AUGMENTED) + scalar(p, ND_DISSIPATION_FRICTION) - scalar(p, ND_WORK) -
+                          scalar(p, ND_WORK_GEOMETRY);
+    const double scale = terms(&K, U, U) + terms(&M, V, V);
+    for (int c = 0; c < dim; ++c) {
+      const double P = scalar(p, momenta[c]);
+      if (k == 0) P0[c] = P;
+      r.momentum_defect = fmax(r.momentum_defect, fabs(P - P0[c]));
+    }
+    if (k) {
+      r.ledger_rise = fmax(r.ledger_rise, ledger - previous);
+      r.ledger_worst = fmax(r.ledger_worst, (ledger - previous) / scale);
+      const double N = scalar(p, ND_CONTACT_FORCE_APPLIED), sliding = scalar(p, ND_SLIDING_POINTS);
+      const int all = sliding > 0 && scalar(p, ND_STICKING_POINTS) == 0;
+      if (window == 0 && all) window = 1, v_start = v_prev, r.t_start = scalar(p, ND_TIME) - 0.01, D_start = D_prev;
+      if (window == 1 && !all) window = 2;
+      if (window == 1) {
+        r.impulse += 0.01 * F * N * (1 / r.mass[0] + 1 / r.mass[1]);
+        r.fall = v_start - v_rel, r.t_end = scalar(p, ND_TIME);
+        r.D_expected += F * N * fabs(x_rel - x_prev);
+        r.D_window = scalar(p, ND_DISSIPATION_FRICTION) - D_start;
+      }
+      if (window && r.t_stop < 0 && sliding == 0) r.t_stop = scalar(p, ND_TIME);
+    }
+    if (getenv("ND_PAIR_DEBUG") && k)
+      printf("  %d t %.3f N %.5f ft %.5f slide %g stick %g v_rel %.5f x_rel %.6f D_f %.6g\n", k, scalar(p, ND_TIME),
+             scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_CONTACT_FORCE_TANGENTIAL_X),
+             scalar(p, ND_SLIDING_POINTS), scalar(p, ND_STICKING_POINTS), v_rel, x_rel,
+             scalar(p, ND_DISSIPATION_FRICTION));
+    if (k == quiet) r.D_quiet = scalar(p, ND_DISSIPATION_FRICTION), r.slid_quiet = x_rel, r.v_quiet = v_rel;
+    previous = ledger, x_prev = x_rel, v_prev = v_rel, D_prev = scalar(p, ND_DISSIPATION_FRICTION);
+    r.v_rel = v_rel;
+    r.slid = x_rel;
+  }
+  r.D_f = scalar(p, ND_DISSIPATION_FRICTION);
+  r.repaired = scalar(p, ND_STAT_NORMAL_REFRESHES);
+  r.sliding_after = scalar(p, ND_SLIDING_POINTS);
+  nd_test_csr_free(&K), nd_test_csr_free(&M), free(X), free(U), free(V);
+  return r;
+}
+
+START_TEST(coulomb_friction_between_two_blocks) {
+  /* the upper block slides at v0 = 0.5 over the lower one, both free,
+     pressed together by N0 = 1. While every pressed point slides the
+     tangential force is F N, so the relative velocity falls at F N (1/m1 +
+     1/m2) (N the normal resultant each step applied) and D_f grows by F N
+     times the relative distance slid, until the blocks stick and move
+     together; the total momentum is conserved (the pair's forces, the
+     tangential ones included, equal and opposite). Backward Euler, E = 1e4
+     (the landing's vibration damped); then the hybrid scheme, E = 100: its
+     ledger E_Theta + D_f - W - W_geometry never rises */
+  const double F = 0.3, v0 = 0.5, N0 = 1;
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem p = pressed(dim, F, v0, N0, 0);
+    const slide_run r = slide(p, dim, F, 120, -1, -1, N0, 0);
+    const double rate = r.fall / (r.t_end - r.t_start), expected = r.impulse / (r.t_end - r.t_start);
+    const double stop = v0 / (F * N0 * (1 / r.mass[0] + 1 / r.mass[1]));
+    printf("pair friction %dD P1 (theta = 1): masses %.4f, %.4f; momentum defect %.3g; every point sliding over "
+           "[%.2f, %.2f]: decay rate %.6f, F N (1/m1 + 1/m2) %.6f (%.2g apart), D_f grew %.6f, F N slid %.6f (%.2g "
+           "apart); stopped at %.2f (v0 / (F N0 (1/m1 + 1/m2)) = %.3f), v_rel at the end %.3g; %g points paired anew\n",
+           dim, r.mass[1], r.mass[0], r.momentum_defect, r.t_start, r.t_end, rate, expected,
+           fabs(rate - expected) / expected, r.D_window, r.D_expected, fabs(r.D_window - r.D_expected) / r.D_expected,
+           r.t_stop, stop, r.v_rel, r.repaired);
+    ck_assert_double_gt(r.repaired, 0); /* (it slid from facet to facet) */
+    ck_assert_double_gt(r.t_end - r.t_start, 0.6); /* (most of the slide: stop = 0.83) */
+    /* the decay rate: measured 3.7e-4 (2D) and 1.3e-4 (3D) from F N (1/m1 +
+       1/m2): the normal forces' tangential part through the master's
+       turned facets, and the upper block's deformation in x_rel */
+    ck_assert_double_le(fabs(rate - expected), 2e-3 * expected);
+    ck_assert_double_le(fabs(r.D_window - r.D_expected), 2e-2 * r.D_expected);
+    ck_assert_double_le(fabs(r.v_rel), 1e-2 * v0); /* stopped */
+    /* momenta of order 0.25 (the upper block), forces of order 1 over 120
+       steps on ~100 rows: 120 x 100 x 2.2e-16 x 1 = 2.6e-12, and a factor */
+    ck_assert_double_le(r.momentum_defect, 3e-11);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    p = pressed(dim, F, v0, N0, 1);
+    const slide_run h = slide(p, dim, F, 120, -1, -1, N0, 0);
+    printf("pair friction %dD P1 (hybrid): momentum defect %.3g, ledger rise %.3g (%.3g of its terms), D_f %.4g, "
+           "%g points paired anew\n",
+           dim, h.momentum_defect, h.ledger_rise, h.ledger_worst, h.D_f, h.repaired);
+    ck_assert_double_gt(h.repaired, 0);
+    ck_assert_double_gt(h.D_f, 0);
+    ck_assert_double_le(h.ledger_worst, DBL_EPSILON); /* below one rounding of the energy's terms */
+    ck_assert_double_le(h.momentum_defect, 3e-11);
+    ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
+START_TEST(a_pair_below_the_friction_angle_sticks) {
+  /* the blocks at rest, pressed by N0 = 1; once landed (step 20) sheared
+     by T = 0.2 (+T on the upper block, -T on the lower): with F = 0.3 > T/N0
+     they move together, the shear taken up by the blocks' elastic strain
+     (x_rel moves by T h / (mu L) = 2.6e-5 in 2D) and micro-slip at the
+     contact's ends; with F = 0.1 they slide, v_rel at (T - F N)(1/m1 +
+     1/m2) t */
+  const double N0 = 1, T = 0.2;
+  for (int dim = 2; dim <= 3; ++dim)
+    for (int slides = 0; slides <= 1; ++slides) {
+      const double F = slides ? 0.1 : 0.3;
+      nd_problem p = pressed(dim, F, 0.0, N0, 0);
+      const slide_run r = slide(p, dim, F, 120, 20, 20, N0, T);
+      const double moved = r.slid - r.slid_quiet, expected = (T - F * N0) * (1 / r.mass[0] + 1 / r.mass[1]);
+      printf("pair %s %dD, F = %g: D_f %.3g (after step 20: %.3g), x_rel after step 20 %.3g, v_rel %.6f (sliding at "
+             "(T - F N0) (1/m1 + 1/m2) t: %.6f), sliding points at the end %g, momentum defect %.3g\n",
+             slides ? "sliding" : "sticking", dim, F, r.D_f, r.D_f - r.D_quiet, moved, r.v_rel - r.v_quiet, expected,
+             r.sliding_after, r.momentum_defect);
+      if (slides) {
+        ck_assert_double_le(fabs(r.v_rel - r.v_quiet - expected), 1e-2 * expected);
+      } else {
+        ck_assert_double_le(fabs(moved), 1e-4);
+        ck_assert_double_le(r.D_f - r.D_quiet, 1e-4 * F * N0); /* (F N times the micro-slip) */
+      }
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+    }
+}
+END_TEST
+
+START_TEST(zero_friction_between_bodies_is_frictionless) {
+  /* Coulomb with F = 0 and Theta = 0 (no tangential Theta-term): the
+     frictionless pair's run, to the solves' round-off */
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem a = thrown(dim, 1, 1.0), b = thrown(dim, 1, 1.0);
+    const double zero = 0;
+    ND_OK_OR_FAIL(nd_problem_set_nitsche(a, 0.0, 0.0));
+    ND_OK_OR_FAIL(nd_problem_set_nitsche(b, 0.0, 0.0));
+    ND_OK_OR_FAIL(nd_problem_set_friction(b, 1, ND_FRICTION_COULOMB, &zero));
+    double diff = 0, largest = 0;
+    int64_t n = 0;
+    ND_OK_OR_FAIL(nd_problem_get_node_count(a, &n));
+    double *ua = malloc(sizeof(double) * (size_t)(dim * n)), *ub = malloc(sizeof(double) * (size_t)(dim * n));
+    for (int k = 0; k < 100; ++k) {
+      ND_OK_OR_FAIL(nd_step(a));
+      ND_OK_OR_FAIL(nd_step(b));
+      ND_OK_OR_FAIL(nd_get_field(a, ND_FIELD_DISPLACEMENT, n, ua));
+      ND_OK_OR_FAIL(nd_get_field(b, ND_FIELD_DISPLACEMENT, n, ub));
+      for (int64_t i = 0; i < dim * n; ++i) diff = fmax(diff, fabs(ua[i] - ub[i])), largest = fmax(largest, fabs(ua[i]));
+    }
+    printf("pair F = 0 %dD: %.3g from the frictionless run (|u| up to %.3g), %g points paired anew\n", dim, diff,
+           largest, scalar(a, ND_STAT_NORMAL_REFRESHES));
+    free(ua), free(ub);
+    ND_OK_OR_FAIL(nd_problem_destroy(&a));
+    ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  }
+}
+END_TEST
+
+START_TEST(a_restart_with_friction_between_bodies_is_bitwise) {
+  /* the thrown block with friction: the slip references (in the pairing's
+     rows) and the pairings restart bitwise after points were paired anew */
+  const double F = 0.3;
+  for (int dim = 2; dim <= 3; ++dim) {
+    nd_problem a = thrown(dim, 1, 1.0);
+    ND_OK_OR_FAIL(nd_problem_set_friction(a, 1, ND_FRICTION_COULOMB, &F));
+    unsigned char *saved = NULL;
+    int64_t size = 0;
+    const int steps = 110, at = 60;
+    double repaired_at = 0;
+    for (int k = 1; k <= steps; ++k) {
+      ND_OK_OR_FAIL(nd_step(a));
+      if (k == at) saved = nd_test_checkpoint(a, &size), repaired_at = scalar(a, ND_STAT_NORMAL_REFRESHES);
+    }
+    nd_problem b = thrown(dim, 1, 1.0);
+    ND_OK_OR_FAIL(nd_problem_set_friction(b, 1, ND_FRICTION_COULOMB, &F));
+    ND_OK_OR_FAIL(nd_problem_load_state(b, size, saved));
+    for (int k = at + 1; k <= steps; ++k) ND_OK_OR_FAIL(nd_step(b));
+    nd_test_snapshot sa = nd_test_take(a, dim), sb = nd_test_take(b, dim);
+    printf("pair friction restart %dD: %g points paired anew before the checkpoint, D_f %.6g\n", dim, repaired_at,
+           scalar(a, ND_DISSIPATION_FRICTION));
+    ck_assert_double_gt(repaired_at, 0);
+    ck_assert_double_gt(scalar(a, ND_DISSIPATION_FRICTION), 0);
+    ck_assert(nd_test_same(&sa, &sb));
+    ck_assert(scalar(a, ND_DISSIPATION_FRICTION) == scalar(b, ND_DISSIPATION_FRICTION));
+    ck_assert(scalar(a, ND_WORK_GEOMETRY) == scalar(b, ND_WORK_GEOMETRY));
+    nd_test_snapshot_free(&sa), nd_test_snapshot_free(&sb);
+    free(saved);
+    ND_OK_OR_FAIL(nd_problem_destroy(&a));
+    ND_OK_OR_FAIL(nd_problem_destroy(&b));
+  }
+}
+END_TEST
+
 START_TEST(bad_pairs_are_refused) {
   nd_problem p = stack(2, 1, 5, 4);
   ck_assert_int_eq(nd_problem_set_contact_pair(NULL, 1, 2), ND_ERR_NULL);
@@ -599,12 +903,6 @@ START_TEST(bad_pairs_are_refused) {
   ck_assert_int_eq(nd_problem_set_contact_pair(p, 1, 1), ND_ERR_REGION);
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
-  /* friction between the bodies: not yet, said at the step */
-  const double mu = 0.3;
-  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_COULOMB, &mu));
-  ck_assert_int_eq(nd_step(p), ND_ERR_STATE);
-  ck_assert_ptr_nonnull(strstr(nd_last_error(), "friction between two bodies"));
-  ND_OK_OR_FAIL(nd_problem_set_friction(p, 1, ND_FRICTION_NONE, NULL));
   /* a slave region with a plane too */
   const double o[2] = {0, 0}, up[2] = {0, 1};
   ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, o, up));
@@ -634,6 +932,10 @@ int main(void) {
   tcase_add_test(tc, mirror_disks_approach_one_disk_on_the_symmetry_plane);
   tcase_add_test(tc, a_failed_step_after_a_new_pairing_keeps_the_problem);
   tcase_add_test(tc, a_restart_with_a_pair_is_bitwise);
+  tcase_add_test(tc, coulomb_friction_between_two_blocks);
+  tcase_add_test(tc, a_pair_below_the_friction_angle_sticks);
+  tcase_add_test(tc, zero_friction_between_bodies_is_frictionless);
+  tcase_add_test(tc, a_restart_with_friction_between_bodies_is_bitwise);
   tcase_add_test(tc, bad_pairs_are_refused);
   suite_add_tcase(s, tc);
   return nd_test_run(s);

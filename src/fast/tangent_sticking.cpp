@@ -120,7 +120,25 @@ class StickingTangent : public TangentSolver {
   void factor_S(const ContactLaw &law, double kappa, double c) {
     const ContactPoints &cp = *law.cp;
     const int m = cp.m;
-    S_.val = A_.val;
+    // two bodies: a pair's point couples its slave and master cells, which
+    // A's pattern lacks: S on A's pattern widened by the pairs, A's entries
+    // scattered into it (as the refactoring tangent's T)
+    if (!cp.pairing.empty() && widened_for_ != &cp) {
+      S_ = widened_pattern(A_, cp, place_);
+      S_factor_.reset();
+      widened_for_ = &cp;
+    }
+    if (place_.empty()) {
+      S_.val = A_.val;
+    } else {
+      std::fill(S_.val.begin(), S_.val.end(), 0.0);
+      for (size_t k = 0; k < place_.size(); ++k) S_.val[place_[k]] = A_.val[k];
+    }
+    // symmetric positive definite with Theta = 1 (rows a - gamma s on both sides, blocks >= 0);
+    // (analysed with A's values, as before pairs: an analysis may read them)
+    const Structure s = law.theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
+    if (!S_factor_ || s != S_structure_)
+      S_factor_ = make_factorization(solver_, place_.empty() ? A_ : S_, s, counters_, geometry_);
     double Jd[9];
     const int64_t nb = log_.i[0];
     for (int64_t j = 0; j < nb; ++j) {
@@ -132,9 +150,6 @@ class StickingTangent : public TangentSolver {
       for (int k = 1; k < m; ++k) Jd[k * m + k] = tangential ? c : 0.0;
       add_block_tangent(cp, law.theta, q, kappa * cp.w[q] / cp.gamma[q], Jd, S_, rows_b_, rows_p_);
     }
-    // symmetric positive definite with Theta = 1 (rows a - gamma s on both sides, blocks >= 0)
-    const Structure s = law.theta == 1 ? Structure::SymmetricPositiveDefinite : Structure::General;
-    if (!S_factor_ || s != S_structure_) S_factor_ = make_factorization(solver_, A_, s, counters_, geometry_);
     S_factor_->refactor(S_, s);
     S_structure_ = s, S_log_ = log_, S_kappa_ = kappa, S_theta_ = law.theta;
     ++stats.refactorizations;
@@ -195,6 +210,8 @@ class StickingTangent : public TangentSolver {
   Counters *counters_;
   const DofGeometry *geometry_;
   Csr S_;
+  std::vector<int64_t> place_;  // A's entry k is S's place_[k] (empty: S has A's pattern)
+  const ContactPoints *widened_for_ = nullptr;
   std::unique_ptr<Factorization> S_factor_;
   Structure S_structure_ = Structure::General;
   TangentLog log_, S_log_;  // the step's history, and the one S was made from

@@ -688,10 +688,6 @@ void Problem::prepare() {
     if (curved_region(pair.slave, def_.obstacles))
       fail(ND_ERR_STATE, "region " + std::to_string(pair.slave) + " is a contact pair's slave and has an obstacle: a "
                          "region's points meet one master surface or rigid obstacles, not both (yet)");
-    for (const Definition::Friction &f : def_.friction)
-      if (f.law != kFrictionNone && f.region == pair.slave)
-        fail(ND_ERR_STATE, "friction between two bodies is not supported yet (region " + std::to_string(f.region) +
-                           " is a contact pair's slave): its tangential rows would need the pairing's slip reference");
   }
   for (const Definition::Friction &f : def_.friction)
     if (f.law != kFrictionNone && curved_region(f.region, def_.obstacles))
@@ -793,6 +789,7 @@ void Problem::step_once(const Attempt *attempt) {
   std::unique_ptr<Discretization> kept_disc;
   std::unique_ptr<Integrator> kept_integrator;
   std::vector<KeptIntegrator> kept_sizes;  // (declared after kept_disc: destroyed before it)
+  std::vector<double> kept_slip;           // friction: the state's references in kept_disc's rows
   auto body = [&] {
     prepare();
     const std::vector<double> *gap = &current_gaps();
@@ -810,6 +807,11 @@ void Problem::step_once(const Attempt *attempt) {
         kept_sizes.swap(kept_integrators_);  // (of kept_disc: of no use with the new rows)
         // (only the contact rows and K_Theta change)
         disc_ = with_normals(space_, def_, *kept_disc, geo.normal, geo.pairing.empty() ? nullptr : &geo.pairing);
+        // friction: the references in the new rows, the tractions held (R's change to W_geometry below)
+        if (disc_->contact.m > 1 && !state_.slip.empty()) {
+          kept_slip = state_.slip;
+          state_.slip = transport_slip(kept_disc->contact, disc_->contact, state_.U, kept_slip);
+        }
         refresh_ordering_ = kept_integrator && kept_integrator->A_factor ? kept_integrator->A_factor.get() : nullptr;
         prepare();
         refresh_ordering_ = nullptr;
@@ -847,6 +849,7 @@ void Problem::step_once(const Attempt *attempt) {
     if (kept_disc) {
       disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
       kept_integrators_.swap(kept_sizes);
+      if (!kept_slip.empty()) state_.slip = std::move(kept_slip);
     }
     throw;
   }

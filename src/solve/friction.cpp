@@ -1,5 +1,7 @@
 #include "solve/friction.hpp"
 
+#include <algorithm>
+
 #include "common/error.hpp"
 #include "nitschedyn.h"
 
@@ -29,6 +31,36 @@ void carry_slip(const Discretization &d, const State &from, State &to) {
   const std::vector<double> p_to = tangential_dots(d.contact, to.U), p_from = tangential_dots(d.contact, from.U);
   to.slip.resize(p_to.size());
   for (size_t j = 0; j < p_to.size(); ++j) to.slip[j] = from.slip[j] + (p_to[j] - p_from[j]);
+}
+
+std::vector<double> transport_slip(const ContactPoints &from, const ContactPoints &to, const std::vector<double> &U,
+                                   const std::vector<double> &slip) {
+  if (to.m <= 1) return {};
+  if (from.m != to.m || from.size() != to.size() || slip.size() != tangential_count(from))
+    fail(ND_ERR_INTERNAL, "slip references carried between rows of other points");
+  const size_t mt = static_cast<size_t>(to.m - 1);
+  const std::vector<double> p_from = tangential_dots(from, U), p_to = tangential_dots(to, U);
+  std::vector<double> out = slip;
+  for (size_t q = 0; q < to.size(); ++q) {
+    const bool normal = std::equal(&to.normal[3 * q], &to.normal[3 * q] + 3, &from.normal[3 * q]);
+    const bool paired = to.pairing.empty() ||
+                        (from.pairing.size() == to.pairing.size() &&
+                         std::equal(&to.pairing[kPairingValues * q], &to.pairing[kPairingValues * q] + kPairingValues,
+                                    &from.pairing[kPairingValues * q]));
+    if (normal && paired) continue;  // the same rows: the same references
+    double v[3] = {0, 0, 0};  // the tangential value vector at U in the old rows
+    for (size_t k = 0; k < mt; ++k) {
+      const size_t j = q * mt + k;
+      for (int c = 0; c < 3; ++c) v[c] += (p_from[j] - slip[j]) * from.tangent[3 * j + static_cast<size_t>(c)];
+    }
+    for (size_t k = 0; k < mt; ++k) {
+      const size_t j = q * mt + k;
+      double vt = 0;
+      for (int c = 0; c < 3; ++c) vt += to.tangent[3 * j + static_cast<size_t>(c)] * v[c];
+      out[j] = p_to[j] - vt;
+    }
+  }
+  return out;
 }
 
 std::vector<double> obstacle_slip(const ContactPoints &cp, int dim, const std::vector<double> &before,

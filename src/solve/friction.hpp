@@ -27,6 +27,15 @@ void start_slip(const Discretization &d, State &s);
 // a state overwritten (nd_problem_set_state) keeps its frictional traction
 void carry_slip(const Discretization &d, const State &from, State &to);
 
+// The slip references for new rows at the same U (a re-pairing, docs/design.md
+// §10.3 "Friction between bodies"): a point whose rows changed (its normal or
+// pairing) keeps its tangential value vector sum_k P_t,k t_k at U, projected
+// on its new tangent plane (|P_t| does not grow: the traction stays in the
+// disk of the step that applied it); a point whose rows did not change keeps
+// its references bit for bit. The change of R goes to W_geometry.
+std::vector<double> transport_slip(const ContactPoints &from, const ContactPoints &to, const std::vector<double> &U,
+                                   const std::vector<double> &slip);
+
 // Friction against a moving obstacle (docs/design.md §10.2): slip is
 // relative, so over a step each point's reference moves with the obstacle's
 // tangential displacement there, t_qk . (x_o^{n+1} - x_o^n) for a point of

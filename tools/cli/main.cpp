@@ -230,13 +230,17 @@ Setup build(const Scene &s, Problem &prob) {
       for (size_t k = 0; k < shift.size() && k < point.size(); ++k) point[k] += shift[k];
       scene_call(nd_problem_set_contact_plane(p, region, point.data(), o.normal.data()), o.at, "[obstacle]");
     }
-    if (!o.friction_at.empty())
-      scene_call(nd_problem_set_friction(p, region, o.friction_law, &o.friction_parameter), o.friction_at,
+    if (!o.friction.at.empty())
+      scene_call(nd_problem_set_friction(p, region, o.friction.law, &o.friction.parameter), o.friction.at,
                  "obstacle.friction");
   }
-  for (const auto &c : s.pairs)
+  for (const auto &c : s.pairs) {
     scene_call(nd_problem_set_contact_pair(p, ndcli::region_id(s, c.slave), ndcli::region_id(s, c.master)), c.at,
                "[contact_pair]");
+    if (!c.friction.at.empty())
+      scene_call(nd_problem_set_friction(p, ndcli::region_id(s, c.slave), c.friction.law, &c.friction.parameter),
+                 c.friction.at, "contact_pair.friction");
+  }
   scene_call(nd_problem_set_nitsche(p, s.Theta, s.gamma0), s.nitsche_at.empty() ? s.file : s.nitsche_at, "[nitsche]");
   scene_call(nd_problem_set_scheme(p, s.scheme_id, s.params.data()), s.scheme_at.empty() ? s.file : s.scheme_at,
              "[scheme]");

@@ -35,7 +35,8 @@ const std::map<std::string, std::vector<std::string>> &table_keys() {
       {"obstacle", {"region", "shape", "point", "normal", "center", "radius", "axis", "inside", "velocity", "position",
                     "rotation", "friction"}},
       {"obstacle.friction", {"law", "coefficient", "threshold"}},
-      {"contact_pair", {"slave", "master"}},
+      {"contact_pair", {"slave", "master", "friction"}},
+      {"contact_pair.friction", {"law", "coefficient", "threshold"}},
       {"nitsche", {"Theta", "gamma0"}},
       {"scheme", {"name", "theta", "beta", "gamma", "rho_inf"}},
       {"time", {"tau", "T", "tolerance", "tau_min", "tau_max"}},
@@ -485,6 +486,33 @@ class Reader {
   bool allow_infinite_ = false;
 };
 
+// a region's friction law, the table `parent`.friction
+FrictionEntry read_friction(const Reader &r, const toml::node &fr, const std::string &parent) {
+  const std::string table = parent + ".friction";
+  FrictionEntry e;
+  const toml::table &f = r.table(fr, parent, "friction");
+  r.check_keys(f, table, table);
+  const toml::node *law = f.get("law");
+  if (!law) r.missing(f, table, "law", "\"coulomb\", \"tresca\" or \"none\"");
+  const std::string name = r.string(*law, table, "law");
+  const std::map<std::string, std::pair<int, const char *>> laws = {{"none", {ND_FRICTION_NONE, nullptr}},
+                                                                     {"coulomb", {ND_FRICTION_COULOMB, "coefficient"}},
+                                                                     {"tresca", {ND_FRICTION_TRESCA, "threshold"}}};
+  const auto it = laws.find(name);
+  if (it == laws.end())
+    r.fail(law->source(), "'" + table + ".law' must be \"coulomb\", \"tresca\" or \"none\", not \"" + name + "\"");
+  e.law = it->second.first;
+  for (const char *key : {"coefficient", "threshold"})
+    if (f.get(key) && (!it->second.second || std::string(key) != it->second.second))
+      r.fail(f.get(key)->source(), "'" + table + "." + key + "' is not a parameter of the law \"" + name + "\"" +
+                                       (it->second.second ? std::string(" (its: ") + it->second.second + ")" : ""));
+  if (it->second.second)
+    e.parameter = r.number(f, table, it->second.second, nullptr,
+                           e.law == ND_FRICTION_COULOMB ? "the friction coefficient F" : "the threshold s, a stress");
+  e.at = r.where(fr.source());
+  return e;
+}
+
 void read_mesh(const Reader &r, const toml::table &t, Scene &s) {
   r.check_keys(t, "mesh", "mesh");
   s.mesh_at = r.where(t.source());
@@ -881,31 +909,7 @@ Scene parse_scene(std::string_view text, const std::string &path) {
         }
       }
       if (t->get("velocity")) o.velocity = r.vector(*t, "obstacle", "velocity", "the obstacle's velocity");
-      if (const toml::node *fr = t->get("friction")) {  // the region's friction law
-        const toml::table &f = r.table(*fr, "obstacle", "friction");
-        r.check_keys(f, "obstacle.friction", "obstacle.friction");
-        const toml::node *law = f.get("law");
-        if (!law) r.missing(f, "obstacle.friction", "law", "\"coulomb\", \"tresca\" or \"none\"");
-        const std::string name = r.string(*law, "obstacle.friction", "law");
-        const std::map<std::string, std::pair<int, const char *>> laws = {
-            {"none", {ND_FRICTION_NONE, nullptr}},
-            {"coulomb", {ND_FRICTION_COULOMB, "coefficient"}},
-            {"tresca", {ND_FRICTION_TRESCA, "threshold"}}};
-        const auto it = laws.find(name);
-        if (it == laws.end())
-          r.fail(law->source(), "'obstacle.friction.law' must be \"coulomb\", \"tresca\" or \"none\", not \"" + name + "\"");
-        o.friction_law = it->second.first;
-        for (const char *key : {"coefficient", "threshold"})
-          if (f.get(key) && (!it->second.second || std::string(key) != it->second.second))
-            r.fail(f.get(key)->source(), std::string("'obstacle.friction.") + key + "' is not a parameter of the law \"" +
-                                             name + "\"" +
-                                             (it->second.second ? std::string(" (its: ") + it->second.second + ")" : ""));
-        if (it->second.second)
-          o.friction_parameter = r.number(f, "obstacle.friction", it->second.second, nullptr,
-                                          o.friction_law == ND_FRICTION_COULOMB ? "the friction coefficient F"
-                                                                                : "the threshold s, a stress");
-        o.friction_at = r.where(fr->source());
-      }
+      if (const toml::node *fr = t->get("friction")) o.friction = read_friction(r, *fr, "obstacle");
       if (const toml::node *pos = t->get("position")) {
         if (t->get("velocity")) r.fail(pos->source(), "'obstacle.position' and 'obstacle.velocity' both move it: keep one");
         o.position = r.time_value(*pos, "obstacle", "position");
@@ -930,6 +934,7 @@ Scene parse_scene(std::string_view text, const std::string &path) {
       if (!master) r.missing(*t, "contact_pair", "master", "the region of the other body's surface");
       e.slave = r.region(*slave, "contact_pair", "slave");
       e.master = r.region(*master, "contact_pair", "master");
+      if (const toml::node *fr = t->get("friction")) e.friction = read_friction(r, *fr, "contact_pair");
       e.at = r.where(t->source());
       s.pairs.push_back(e);
     }

@@ -53,6 +53,14 @@ struct NodalLoad {  // [[loads.nodal]] node = N, value = ...: a force on one FE 
 };
 
 
+// friction = { law = "coulomb", coefficient = F } or { law = "tresca", threshold = s }
+// (an obstacle's region, or a contact pair's slave region: nd_problem_set_friction)
+struct FrictionEntry {
+  int law = 0;  // ND_FRICTION_*
+  double parameter = 0;
+  std::string at;  // empty: not given
+};
+
 struct Obstacle {
   RegionRef region;
   std::string shape = "plane";  // plane, sphere, cylinder
@@ -61,10 +69,7 @@ struct Obstacle {
   double radius = 0;
   bool inside = false;
   std::vector<double> velocity;  // a constant translation velocity (empty: at rest)
-  // friction = { law = "coulomb", coefficient = F } or { law = "tresca", threshold = s }
-  int friction_law = 0;  // ND_FRICTION_*
-  double friction_parameter = 0;
-  std::string friction_at;
+  FrictionEntry friction;
   TimeValue position;            // its translation from where it is defined, in time (empty: none)
   TimeValue rotation;            // an angle about the origin (2D) or the z axis (3D), in time (empty: none)
   std::string at;
@@ -72,6 +77,7 @@ struct Obstacle {
 
 struct ContactPairEntry {  // [[contact_pair]]: two bodies' regions (nd_problem_set_contact_pair)
   RegionRef slave, master;
+  FrictionEntry friction;  // the slave region's: friction between the bodies
   std::string at;
 };
 

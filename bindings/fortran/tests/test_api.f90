@@ -64,6 +64,7 @@ program test_api
     call test_friction()
   case ('pairs')
     call test_pairs()
+    call test_pair_friction()
   case ('adaptive')
     call test_adaptive()
   case default
@@ -410,6 +411,79 @@ contains
     call check(sum(v(1:11)) / 11 < -0.09_c_double, 'bar 1 leaves backwards at about -v0')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_pairs
+
+  ! ---- friction between two bodies (the twin of test_pairs.c's, of
+  ! test_pairs.py's thrown block) ----------------------------------------
+  ! the block [0.5, 1.5] x [1.001, 1.5] (4 x 2 cells) thrown at (1, -0.5)
+  ! onto [0, 2] x [0, 1] (8 x 4), no load and no support, Coulomb F = 0.3 on
+  ! the slave region: the total momentum stays to round-off, with Theta = 1
+  ! the hybrid ledger E_Theta + D_f - W_geometry never rises, and D_f > 0
+  subroutine test_pair_friction()
+    integer, parameter :: nx(2) = [8, 4], ny(2) = [4, 2]
+    real(c_double), parameter :: lo(2, 2) = reshape([0.0_c_double, 0.0_c_double, 0.5_c_double, 1.001_c_double], [2, 2])
+    real(c_double), parameter :: hi(2, 2) = reshape([2.0_c_double, 1.0_c_double, 1.5_c_double, 1.5_c_double], [2, 2])
+    type(c_ptr) :: m, p
+    real(c_double) :: x(2, 60), v(2, 60), F(1) = [0.3_c_double], P0(2), mom(2), e, D, Wg, previous, rise, E0
+    integer(c_int64_t) :: cells(3, 80), nv, nc, base
+    integer :: b, i, j, k
+    nv = 0
+    nc = 0
+    do b = 1, 2
+      base = nv
+      do j = 0, ny(b)
+        do i = 0, nx(b)
+          nv = nv + 1
+          x(:, nv) = lo(:, b) + (hi(:, b) - lo(:, b)) * [real(i, c_double) / nx(b), real(j, c_double) / ny(b)]
+        end do
+      end do
+      do j = 0, ny(b) - 1
+        do i = 0, nx(b) - 1
+          cells(:, nc + 1) = base + [j * (nx(b) + 1) + i, j * (nx(b) + 1) + i + 1, (j + 1) * (nx(b) + 1) + i + 1]
+          cells(:, nc + 2) = base + [j * (nx(b) + 1) + i, (j + 1) * (nx(b) + 1) + i + 1, (j + 1) * (nx(b) + 1) + i]
+          nc = nc + 2
+        end do
+      end do
+    end do
+    call check(nd_mesh_create(2_c_int, nv, x, nc, cells, m) == ND_OK, 'two blocks in one mesh')
+    call check(nd_mesh_mark_boundary_box(m, 1_c_int, [-1.0_c_double, 1.0005_c_double], [3.0_c_double, 1.002_c_double]) &
+               == ND_OK, 'the upper block''s bottom')
+    call check(nd_mesh_mark_boundary_box(m, 2_c_int, [-1.0_c_double, 0.9995_c_double], [3.0_c_double, 1.0005_c_double]) &
+               == ND_OK, 'the lower block''s top')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_problem_set_material(p, 100.0_c_double, 0.3_c_double, 1.0_c_double) == ND_OK, 'material')
+    call check(nd_problem_set_contact_pair(p, 1_c_int, 2_c_int) == ND_OK, 'nd_problem_set_contact_pair')
+    call check(nd_problem_set_friction(p, 1_c_int, ND_FRICTION_COULOMB, F) == ND_OK, 'friction on the pair''s slave')
+    call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.0_c_double) == ND_OK, 'nd_problem_set_nitsche')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'the hybrid scheme')
+    call check(nd_problem_set_timestep(p, 0.01_c_double) == ND_OK, 'nd_problem_set_timestep')
+    v = 0
+    do i = 1, int(nv)
+      if (x(2, i) > 1) v(:, i) = [1.0_c_double, -0.5_c_double]
+    end do
+    call check(nd_problem_set_initial_state(p, nv, v0=v) == ND_OK, 'the upper block thrown')
+    call check(nd_get_scalar(p, ND_MOMENTUM_X, P0(1)) == ND_OK, 'ND_MOMENTUM_X')
+    call check(nd_get_scalar(p, ND_MOMENTUM_Y, P0(2)) == ND_OK, 'ND_MOMENTUM_Y')
+    call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, E0) == ND_OK, 'ND_ENERGY_AUGMENTED')
+    previous = E0
+    rise = 0
+    do k = 1, 100
+      call check(nd_step(p) == ND_OK, 'a step with friction between the bodies')
+      call check(nd_get_scalar(p, ND_MOMENTUM_X, mom(1)) == ND_OK, 'ND_MOMENTUM_X')
+      call check(nd_get_scalar(p, ND_MOMENTUM_Y, mom(2)) == ND_OK, 'ND_MOMENTUM_Y')
+      ! (momenta of order 0.5, forces of order 1 on ~100 rows over 100 steps)
+      call check(maxval(abs(mom - P0)) <= 1e-12_c_double, 'the total momentum is conserved, friction included')
+      call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, e) == ND_OK, 'ND_ENERGY_AUGMENTED')
+      call check(nd_get_scalar(p, ND_DISSIPATION_FRICTION, D) == ND_OK, 'ND_DISSIPATION_FRICTION')
+      call check(nd_get_scalar(p, ND_WORK_GEOMETRY, Wg) == ND_OK, 'ND_WORK_GEOMETRY')
+      rise = max(rise, (e + D - Wg) - previous)
+      previous = e + D - Wg
+    end do
+    ! (a block far from where it started: E's terms cancel ~1e4 times E)
+    call check(rise <= 1e-12_c_double * E0, 'E_Theta + D_f - W_geometry never rises (Theta = 1, hybrid)')
+    call check(D > 0, 'friction between the bodies dissipates')
+    call check(nd_problem_destroy(p) == ND_OK, 'destroy')
+  end subroutine test_pair_friction
 
   ! ---- adaptive time steps (the twin of tests/test_adaptive.c) ------------
   ! A free bar flying at -1 towards the plane x = -0.1037: a step ends at the

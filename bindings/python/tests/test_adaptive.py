@@ -8,6 +8,8 @@ arguments are nd.Error with their codes.
 
 usage: test_adaptive.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
+import sys
+
 import numpy as np
 
 import nitschedyn as nd
@@ -46,4 +48,4 @@ check(landed <= 1e-12, "a step ends at the first touch (%g off)" % landed)
 check(rise <= 1e-13 * 0.5, "the ledger never rises past round-off (%g)" % rise)
 check(same, "the fixed run given the same sizes is bitwise the adaptive one")
 check(a.scalar(nd.ND_STAT_STEPS_REJECTED) >= 1, "the step past the touch was rejected")
-finish()
+sys.exit(finish())

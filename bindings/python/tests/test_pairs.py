@@ -3,10 +3,16 @@
 tests/test_pairs.c and bindings/fortran/tests/test_api.f90 (pairs): two bars
 hitting head-on keep their total momentum to round-off and, with Theta = 1,
 the hybrid scheme's ledger; the contact lasts about 2L/c and the bars
-rebound; bad pairs are nd.Error with their codes.
+rebound; bad pairs are nd.Error with their codes. Friction between the
+bodies (2D): a block thrown onto another and sliding over it with Coulomb
+F = 0.3 keeps the total momentum and, with Theta = 1, the hybrid ledger
+E_Theta + D_f - W_geometry, with D_f > 0 (test_pairs.c's
+coulomb_friction_between_two_blocks).
 
 usage: test_pairs.py   (prints "N passed, M failed"; exit 1 on a failure)
 """
+import sys
+
 import numpy as np
 
 import nitschedyn as nd
@@ -47,4 +53,56 @@ check(rise <= 1e-12 * 0.01, "E_Theta - W_geometry never rises with Theta = 1 (%.
 check(len(touched) > 0 and abs(touched[-1] - touched[0] - 2) <= 0.05, "the contact lasts 2L/c = 2")
 v = p.field(nd.ND_FIELD_VELOCITY).ravel()
 check(v[:11].mean() < -0.09 and v[11:].mean() > 0.09, "the bars rebound at about -+v0")
-finish()
+
+
+def block(lo, hi, n):
+    """the rectangle [lo, hi] of n[0] x n[1] cells, each split in two triangles"""
+    xs, ys = np.linspace(lo[0], hi[0], n[0] + 1), np.linspace(lo[1], hi[1], n[1] + 1)
+    x = np.array([[a, b] for b in ys for a in xs])
+    at = lambda i, j: j * (n[0] + 1) + i
+    cells = []
+    for j in range(n[1]):
+        for i in range(n[0]):
+            cells += [[at(i, j), at(i + 1, j), at(i + 1, j + 1)], [at(i, j), at(i + 1, j + 1), at(i, j + 1)]]
+    return x, np.array(cells)
+
+
+# the block [0.5, 1.5] x [1.001, 1.5] thrown at (1, -0.5) onto [0, 2] x [0, 1],
+# no gravity, no support: it lands and slides over the lower block (paired
+# anew from facet to facet), friction F = 0.3 on the slave region 1
+x1, c1 = block([0, 0], [2, 1], [8, 4])
+x2, c2 = block([0.5, 1.001], [1.5, 1.5], [5, 3])
+m = nd.Mesh(np.vstack([x1, x2]), np.vstack([c1, c2 + len(x1)]))
+m.mark_boundary_box(1, [-1, 1.0005], [3, 1.002])
+m.mark_boundary_box(2, [-1, 0.9995], [3, 1.0005])
+p = nd.Problem(m, 1)
+p.set_material(100.0, 0.3, 1.0)
+p.set_contact_pair(1, 2)
+p.set_friction(1, nd.ND_FRICTION_COULOMB, 0.3)
+p.set_nitsche(1.0, 0.0)
+p.set_scheme(nd.ND_SCHEME_HYBRID)
+p.set_timestep(0.01)
+upper = p.node_coordinates()[:, 1] > 1
+v0 = np.zeros((p.node_count, 2))
+v0[upper] = [1.0, -0.5]
+p.set_initial_state(v0=v0)
+P0 = [p.scalar(nd.ND_MOMENTUM_X), p.scalar(nd.ND_MOMENTUM_Y)]
+ledger = lambda: (p.scalar(nd.ND_ENERGY_AUGMENTED) + p.scalar(nd.ND_DISSIPATION_FRICTION)
+                  - p.scalar(nd.ND_WORK_GEOMETRY))
+previous, drift, rise, E0 = ledger(), 0.0, 0.0, ledger()
+for k in range(100):
+    p.step()
+    drift = max(drift, abs(p.scalar(nd.ND_MOMENTUM_X) - P0[0]), abs(p.scalar(nd.ND_MOMENTUM_Y) - P0[1]))
+    rise = max(rise, ledger() - previous)
+    previous = ledger()
+# (momenta of order 0.5, forces of order 1 on ~100 rows over 100 steps)
+check(drift <= 1e-12, "friction between bodies: the total momentum is conserved (%.3g)" % drift)
+# (a block far from where it started: E's terms cancel ~1e4 times E, as
+# test_pairs.c's thrown block measures; there 2e-17 of them)
+check(rise <= 1e-12 * E0, "friction between bodies: E_Theta + D_f - W_geometry never rises (%.3g of %.3g)"
+      % (rise, E0))
+check(p.scalar(nd.ND_DISSIPATION_FRICTION) > 0, "friction between bodies dissipates")
+check(p.scalar(nd.ND_STAT_NORMAL_REFRESHES) > 0, "the sliding block is paired anew")
+print("friction between bodies: momentum drift %.3g, ledger rise %.3g of %.3g, D_f %.6g" %
+      (drift, rise, E0, p.scalar(nd.ND_DISSIPATION_FRICTION)))
+sys.exit(finish())

@@ -10,7 +10,8 @@
 # must not rise from row to row by more than round-off (1e-12 of the
 # largest energy in the run).
 # And the sliding blocks with Coulomb friction (sliding_block.toml, and
-# sliding_block_hex.toml in hexahedra, its ledger too) dissipate.
+# sliding_block_hex.toml in hexahedra, its ledger too; sliding_blocks.toml,
+# a block over another with friction on the contact pair) dissipate.
 # usage: obstacle_scenes.sh DRIVER SCENES_DIR WORK_DIR
 set -u
 driver=$1 scenes=$2 work=$3
@@ -51,10 +52,11 @@ for s in ball_bowl disk_cylinder two_balls; do
   check_ledger "$s" "$csv"
 done
 # the sliding blocks (examples/scenes/sliding_block.toml; sliding_block_hex.toml, a
-# box of hexahedra, mesh.cell_type): friction dissipates (the history's column
+# box of hexahedra, mesh.cell_type; sliding_blocks.toml, friction between two
+# bodies, contact_pair.friction): friction dissipates (the history's column
 # dissipation_friction, D_f, grows from 0 to a positive value); the hexahedra's
 # run, the hybrid scheme with Theta = 1, also keeps the ledger
-for s in sliding_block sliding_block_hex; do
+for s in sliding_block sliding_block_hex sliding_blocks; do
   if ! "$driver" "$scenes/$s.toml" --quiet --T 0.5 --out "$work/$s" > "$work/$s.out" 2> "$work/$s.err"; then
     echo "FAIL: $s: $(cat "$work/$s.err")"
     fails=$((fails + 1))
