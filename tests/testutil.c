@@ -1,5 +1,6 @@
 #include "testutil.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,6 +102,13 @@ nd_test_csr nd_test_get_matrix(nd_problem p, int which) {
 }
 
 void nd_test_csr_free(nd_test_csr *a) { free(a->ptr), free(a->col), free(a->val); }
+
+double nd_test_csr_terms(const nd_test_csr *A, const double *x, const double *y) {
+  double s = 0;
+  for (int64_t i = 0; i < A->n; ++i)
+    for (int64_t e = A->ptr[i]; e < A->ptr[i + 1]; ++e) s += fabs(A->val[e] * x[i] * y[A->col[e]]);
+  return s;
+}
 
 void nd_test_write_file(const char *path, const char *text) {
   FILE *f = fopen(path, "w");

@@ -51,6 +51,10 @@ typedef struct {
 } nd_test_csr;
 nd_test_csr nd_test_get_matrix(nd_problem p, int which);
 void nd_test_csr_free(nd_test_csr *a);
+/* sum_ij |A_ij x_i y_j|: what the round-off of x'Ay is relative to (a
+   quadratic energy of a state far from the origin, a body that has moved as
+   a whole, cancels terms much larger than itself) */
+double nd_test_csr_terms(const nd_test_csr *A, const double *x, const double *y);
 
 /* writes text to the file at path (a check fails when it cannot) */
 void nd_test_write_file(const char *path, const char *text);
