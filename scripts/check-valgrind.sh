@@ -10,7 +10,9 @@
 # every layer at smaller sizes (the Newton tangent paths, the forces on 3D
 # meshes, file output, the contact bounds, the critical-step estimate, the
 # convergence study, friction's schemes, laws and impacts on 2D and 3D
-# meshes: test_friction, more than 10 minutes alone), and the
+# meshes: test_friction, more than 10 minutes alone; the contact pairs'
+# schemes, friction and restarts: test_pairs, 6 minutes, whose pairing and
+# rows test_self_contact and the Fortran pairs twin take under valgrind), and the
 # allocation-failure sweep (thousands of steps)
 # and METIS under a memory budget (unit_metis_memory), which interpose
 # malloc themselves; all of them run under ASan and UBSan (make
@@ -33,7 +35,7 @@ if [ "${1:-}" = "--one" ]; then
 fi
 build=${1:-build}
 jobs=${2:-2}
-slow="unit_tangent unit_forces test_io unit_contact_bounds unit_critical_step test_convergence test_friction unit_alloc_failure unit_metis_memory"
+slow="unit_tangent unit_forces test_io unit_contact_bounds unit_critical_step test_convergence test_friction test_pairs unit_alloc_failure unit_metis_memory"
 [ "${3:-}" = all ] && slow=""
 programs() {
   for t in "$build"/tests/test_* "$build"/tests/unit_*; do
