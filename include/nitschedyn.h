@@ -435,7 +435,9 @@ ND_EXPORT int nd_get_field_gathered(nd_problem p, int field, int root, int64_t n
 ND_EXPORT int nd_get_scalar(nd_problem p, int key, double *out);
 /* A contact scalar of one contact region's points alone (a contact pair's:
    its slave region): ND_CONTACT_FORCE, ND_CONTACT_FORCE_APPLIED,
-   ND_ACTIVE_POINTS, ND_MAX_PENETRATION or ND_ENERGY_NITSCHE (its part of R).
+   ND_ACTIVE_POINTS, ND_MAX_PENETRATION or ND_ENERGY_NITSCHE (its part of R);
+   with friction ND_DISSIPATION_FRICTION, ND_SLIDING_POINTS,
+   ND_STICKING_POINTS and ND_CONTACT_FORCE_TANGENTIAL_X/Y/Z (0 without).
    The regions' values add up to nd_get_scalar's (the deepest: its max). */
 ND_EXPORT int nd_get_region_scalar(nd_problem p, int region, int key, double *out);
 /* Checkpoint: the whole state at t^n (t, n, U, V, A, F^n, W, Newton totals,

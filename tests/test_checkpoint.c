@@ -692,7 +692,7 @@ START_TEST(fields_out_of_range_are_refused) {
   unsigned char *good = save(p, &nbytes), *bad = malloc((size_t)nbytes);
   ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nodes));
   ND_OK_OR_FAIL(nd_problem_get_contact_point_count(p, &np));
-  ck_assert_int_eq(good[8], 11); /* the version */
+  ck_assert_int_eq(good[8], 12); /* the version */
   const int64_t nf = get_i64(good, layout_of(0, 0, 0).U), nc = nodes - nf;
   const layout l = layout_of(nf, nc, np);
   ck_assert_int_eq(get_i64(good, l.n), 30);
@@ -879,7 +879,7 @@ START_TEST(version_8_curved_checkpoint_loads) {
   ck_assert(Wg != 0);
   int64_t n9 = 0;
   unsigned char *v9 = save(a, &n9);
-  ck_assert_int_eq(v9[8], 11);
+  ck_assert_int_eq(v9[8], 12);
   {  /* (version 10 without pairs, before the guard tail: version 9's layout) */
     int64_t n10 = 0;
     unsigned char *v10 = as_version_10(v9, n9, &n10);
@@ -980,13 +980,29 @@ START_TEST(friction_section_holds_the_planes) {
     free(again.f);
   }
   free(next.f);
-  /* a version 8 block (its friction section without the points: friction
-     had static planes then) still loads, the planes taken where they are:
-     with the plane kept still, the run goes on as from the version 9 one */
+  /* before the planes' points, the one contact region's D_f, sliding and
+     sticking points (version 12: a count and 3 values); a version 11 block
+     (without them) loads, its one region's values the problem's */
+  const int64_t regions = points - 32;
+  ck_assert_int_eq(get_i64(good, regions), 3);
+  double D = 0, D_region = -1;
+  ND_OK_OR_FAIL(nd_problem_load_state(p, nbytes, good));
+  ND_OK_OR_FAIL(nd_get_scalar(p, ND_DISSIPATION_FRICTION, &D));
+  ck_assert(D > 0 && get_double(good, regions + 8) == D);
+  int64_t n11 = 0;
+  unsigned char *v11 = older_block(good, nbytes, regions, 32, 11, &n11);
+  ND_OK_OR_FAIL(nd_problem_load_state(p, n11, v11));
+  ND_OK_OR_FAIL(nd_get_region_scalar(p, 1, ND_DISSIPATION_FRICTION, &D_region));
+  ck_assert(D_region == D);
+  free(v11);
+  /* a version 8 block (its friction section without the regions' values
+     and the points: friction had static planes then) still loads, the
+     planes taken where they are: with the plane kept still, the run goes on
+     as from the version 9 one */
   int64_t n8 = 0;
   int64_t n10 = 0;
   unsigned char *v10 = as_version_10(good, nbytes, &n10);
-  unsigned char *v8 = older_block(v10, n10, points, 32, 8, &n8);
+  unsigned char *v8 = older_block(v10, n10, regions, 64, 8, &n8);
   free(v10);
   snap from[2];
   for (int run = 0; run < 2; ++run) {

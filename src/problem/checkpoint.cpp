@@ -39,8 +39,11 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // (always written): after W_prescribed the energy-balance guard's state
 // (GuardState: balance, its lowest value, E_top, exchange, in contact), and
 // flag 8, adaptive time steps (StateSizes::adaptive): the step control
-// (StepControl: tau_next, tau_last, ratio, scale, hold, the mean acceleration)
-constexpr uint32_t kVersion = 11;
+// (StepControl: tau_next, tau_last, ratio, scale, hold, the mean acceleration);
+// 12 (always written): the friction section ends with each contact region's
+// D_f, sliding and sticking points (State::by_region; read from 8 to 11 only
+// with one contact region, whose values are the whole problem's)
+constexpr uint32_t kVersion = 12;
 uint32_t version_for(const StateSizes &) { return kVersion; }
 
 class Writer {
@@ -268,6 +271,7 @@ std::vector<unsigned char> encode_state(const State &s, uint64_t fingerprint, co
     payload.value(s.D_friction);
     payload.value(s.sliding);
     payload.value(s.sticking);
+    payload.padded(s.by_region, static_cast<uint64_t>(sizes.n_by_region));
     if (sizes.n_places > 0) payload.padded(s.positions, static_cast<uint64_t>(sizes.n_places));
   }
   if (pairs) {
@@ -348,6 +352,7 @@ int64_t max_state_size(const StateSizes &sizes) {
   if (sizes.n_places > 0) s.positions.resize(static_cast<size_t>(sizes.n_places));
   s.slip.resize(static_cast<size_t>(sizes.n_slip));
   s.phi_t = s.slip;
+  s.by_region.resize(static_cast<size_t>(sizes.n_by_region));
   if (sizes.pairs) {
     s.pairing.resize(static_cast<size_t>(kPairingValues * sizes.n_contact));
     s.normal.resize(static_cast<size_t>(3 * sizes.n_contact));
@@ -522,6 +527,16 @@ void decode_state(const unsigned char *buf, int64_t nbytes, uint64_t fingerprint
     s.sticking = r.value<int64_t>();
     if (s.sliding < 0 || s.sticking < 0 || s.sliding > sizes.n_contact || s.sticking > sizes.n_contact - s.sliding)
       fail(ND_ERR_FORMAT, "the checkpoint's counts of sliding and sticking points are out of range");
+    if (head.version >= 12) {
+      s.by_region = optional(sizes.n_by_region, "contact regions' friction values");
+      need_finite(s.by_region, "contact regions' friction values");
+      for (size_t i = 0; i < s.by_region.size(); ++i)
+        if (!(s.by_region[i] >= 0) || (i % 3 > 0 && s.by_region[i] != std::floor(s.by_region[i])))
+          fail(ND_ERR_FORMAT, "the checkpoint's friction values of contact region " + std::to_string(i / 3) +
+                                  " are negative or not counts");
+    } else if (sizes.n_by_region == 3) {  // (one region: the problem's values are its)
+      s.by_region = {s.D_friction, static_cast<double>(s.sliding), static_cast<double>(s.sticking)};
+    }
     // (the planes' points, for the slip's shift; version 8 had none: its
     // friction had static planes, and Problem::prepare takes them where they are)
     if (head.version >= 9 && sizes.n_places > 0 && !positions) {

@@ -55,6 +55,7 @@ struct StateSizes {
   int64_t n_free, n_clamped, n_contact;
   int64_t n_positions = 0;
   int64_t n_slip = 0;  // friction: the slip references' values (m - 1 per point), else 0
+  int64_t n_by_region = 0;  // friction: State::by_region's values (3 per contact region)
   // friction without curved obstacles: the planes' points at t^n (3 per
   // plane, State::positions), in the friction section; else 0
   int64_t n_places = 0;

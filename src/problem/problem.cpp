@@ -1075,6 +1075,7 @@ StateSizes Problem::state_sizes() {
           static_cast<int64_t>(d.contact.size()),
           def_.obstacles.empty() ? 0 : static_cast<int64_t>(positions(def_.planes, def_.obstacles).size()),
           static_cast<int64_t>(d.contact.size()) * (d.contact.m - 1),
+          d.contact.m > 1 ? static_cast<int64_t>(3 * friction_regions(d.contact).size()) : 0,
           d.contact.m > 1 && def_.obstacles.empty() ? static_cast<int64_t>(3 * def_.planes.size()) : 0,
           !def_.pairs.empty(), static_cast<int64_t>(mesh_->boundary.size()), def_.adaptive.on()};
 }
@@ -1260,12 +1261,27 @@ double Problem::region_scalar(int region, int key) {
   if (std::find(d.contact.region.begin(), d.contact.region.end(), region) == d.contact.region.end())
     fail(ND_ERR_REGION, "region " + std::to_string(region) +
                             " has no contact points (a region with a plane or an obstacle, or a pair's slave region)");
+  const bool friction_key = key == ND_DISSIPATION_FRICTION || key == ND_SLIDING_POINTS || key == ND_STICKING_POINTS;
+  const bool tangential_key = key == ND_CONTACT_FORCE_TANGENTIAL_X || key == ND_CONTACT_FORCE_TANGENTIAL_Y ||
+                              key == ND_CONTACT_FORCE_TANGENTIAL_Z;
   if (key != ND_CONTACT_FORCE && key != ND_CONTACT_FORCE_APPLIED && key != ND_ACTIVE_POINTS &&
-      key != ND_MAX_PENETRATION && key != ND_ENERGY_NITSCHE)
+      key != ND_MAX_PENETRATION && key != ND_ENERGY_NITSCHE && !friction_key && !tangential_key)
     fail(ND_ERR_KEY, "key " + std::to_string(key) + " is not a scalar of a contact region's points (ND_CONTACT_FORCE, "
-                     "ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION, ND_ENERGY_NITSCHE)");
+                     "ND_CONTACT_FORCE_APPLIED, ND_ACTIVE_POINTS, ND_MAX_PENETRATION, ND_ENERGY_NITSCHE, "
+                     "ND_DISSIPATION_FRICTION, ND_SLIDING_POINTS, ND_STICKING_POINTS, ND_CONTACT_FORCE_TANGENTIAL_X/Y/Z)");
   complete_state();  // (a distributed state: every point's values)
   const State &s = state();
+  if (tangential_key) return tangential_resultant(d, s, region)[key - ND_CONTACT_FORCE_TANGENTIAL_X];
+  if (friction_key) {
+    if (d.contact.m <= 1) return 0.0;  // (frictionless: as nd_get_scalar's)
+    if (s.by_region.empty())
+      fail(ND_ERR_STATE, "the contact regions' friction values are unknown: the state was loaded from a checkpoint "
+                         "older than version 12 with several contact regions (nd_get_scalar has the problem's)");
+    const std::vector<int> regions = friction_regions(d.contact);
+    const size_t slot = static_cast<size_t>(std::find(regions.begin(), regions.end(), region) - regions.begin());
+    if (3 * slot + 2 >= s.by_region.size()) fail(ND_ERR_INTERNAL, "the state has no friction values for the region");
+    return s.by_region[3 * slot + (key == ND_DISSIPATION_FRICTION ? 0 : key == ND_SLIDING_POINTS ? 1 : 2)];
+  }
   const PointSums t = region_sums(d, s, products_, region);
   switch (key) {
     case ND_CONTACT_FORCE:

@@ -190,6 +190,7 @@ void Step::start() {
   // friction: the slip reference of the step is the state's, moved with the
   // obstacle's tangential displacement (slip is relative: docs/design.md §10.2)
   next.D_friction = old_.D_friction;
+  next.by_region = old_.by_region;  // (end_friction_step adds the step's)
   next.W_geometry = old_.W_geometry;  // (Problem::step adds this step's re-linearisation)
   if (d_.contact.m > 1) {
     next.slip = old_.slip;

@@ -701,7 +701,13 @@ void ContactLaw::add_force_from(const std::vector<double> &Pq, double kappa, dou
     double value[3], J[9];
     for_read([&](size_t q) {
       law_m(q, Pq, value, J);
-      if (active) (*active)[q] = J[0] != 0;
+      // (a tangent block of its own: Tresca's sticking points out of contact
+      // too, so that the solve does not take A's alone for theirs)
+      if (active) {
+        bool any = false;
+        for (int k = 0; k < cp->m * cp->m; ++k) any = any || J[k] != 0;
+        (*active)[q] = any;
+      }
       add_blocks(*cp, theta, q, kappa * cp->w[q] / cp->gamma[q], value, y);
     });
     return;

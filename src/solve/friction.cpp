@@ -20,10 +20,18 @@ std::vector<double> tangential_dots(const ContactPoints &cp, const std::vector<d
 }
 }  // namespace
 
+std::vector<int> friction_regions(const ContactPoints &cp) {
+  std::vector<int> r;
+  for (size_t q = 0; q < cp.size(); ++q)
+    if (r.empty() || r.back() != cp.region[q]) r.push_back(cp.region[q]);
+  return r;
+}
+
 void start_slip(const Discretization &d, State &s) {
-  if (d.contact.m <= 1) return s.slip.clear();
+  if (d.contact.m <= 1) return s.slip.clear(), s.by_region.clear();
   s.slip = tangential_dots(d.contact, s.U);
   s.phi_t.assign(s.slip.size(), 0.0);
+  s.by_region.assign(3 * friction_regions(d.contact).size(), 0.0);
 }
 
 void carry_slip(const Discretization &d, const State &from, State &to) {
@@ -92,9 +100,24 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
     fail(ND_ERR_INTERNAL, "the end of a step with friction without the points' tangential values");
   next.phi_t.assign(nq * mt, 0.0);
   next.sliding = next.sticking = 0;
+  // each region's sum (empty: unknown, a checkpoint of version < 12 with
+  // several regions), the region's points consecutive
+  const bool regions = !next.by_region.empty();
+  if (regions && next.by_region.size() != 3 * friction_regions(cp).size())
+    fail(ND_ERR_INTERNAL, "the state's friction values per region do not match the contact regions");
+  size_t slot = 0;
+  double D_region = 0;
+  auto close_region = [&] {
+    next.by_region[3 * slot] += D_region;
+    D_region = 0;
+    ++slot;
+  };
+  if (regions)
+    for (size_t r = 0; r < next.by_region.size() / 3; ++r) next.by_region[3 * r + 1] = next.by_region[3 * r + 2] = 0;
   const double c = tangential_weight(law.rule());
   double value[3], J[9], D = 0, W = 0;
   for (size_t q = 0; q < nq; ++q) {
+    if (regions && q > 0 && cp.region[q] != cp.region[q - 1]) close_region();
     law.law_m(q, P, value, J);
     if (value[0] != phi[q]) fail(ND_ERR_INTERNAL, "the normal value of a frictional point differs from the step's");
     bool slides = false;
@@ -104,12 +127,18 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
       const double e = Y - value[k + 1];
       next.phi_t[j] = value[k + 1];
       next.slip[j] += e;
-      D += cp.w[q] / cp.gamma[q] * value[k + 1] * e;
+      const double Dq = cp.w[q] / cp.gamma[q] * value[k + 1] * e;
+      D += Dq;
+      D_region += Dq;
       if (shift) W -= cp.w[q] / cp.gamma[q] * value[k + 1] * (*shift)[j];
       slides = slides || e != 0;
     }
-    if (value[0] > 0 && cp.friction[q]) (slides ? next.sliding : next.sticking) += 1;
+    if (value[0] > 0 && cp.friction[q]) {
+      (slides ? next.sliding : next.sticking) += 1;
+      if (regions) next.by_region[3 * slot + (slides ? 1 : 2)] += 1;
+    }
   }
+  if (regions && nq > 0) close_region();
   next.D_friction += D;
   if (shift) next.W_obstacle += W;
   ContactLaw at_state = law;
@@ -117,12 +146,13 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
   at_state.tangential_values(next.U.data(), P.data());
 }
 
-std::array<double, 3> tangential_resultant(const Discretization &d, const State &s) {
+std::array<double, 3> tangential_resultant(const Discretization &d, const State &s, int region) {
   std::array<double, 3> f{0, 0, 0};
   const ContactPoints &cp = d.contact;
   if (cp.m <= 1 || s.phi_t.size() != tangential_count(cp)) return f;
   for (size_t j = 0; j < s.phi_t.size(); ++j) {
     const size_t q = j / static_cast<size_t>(cp.m - 1);
+    if (region >= 0 && cp.region[q] != region) continue;
     const double lw = -cp.w[q] * s.phi_t[j] / cp.gamma[q];
     for (int k = 0; k < 3; ++k) f[k] += lw * cp.tangent[3 * j + k];
   }

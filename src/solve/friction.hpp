@@ -19,6 +19,10 @@
 
 namespace nd {
 
+// The contact regions in the order their points first appear (assemble_contact
+// groups a region's points): the slots of State::by_region, 3 values each
+std::vector<int> friction_regions(const ContactPoints &cp);
+
 // s.slip such that the tangential values at s.U are 0 (no frictional
 // traction stored: the initial state), for a problem with friction; else empty
 void start_slip(const Discretization &d, State &s);
@@ -59,7 +63,7 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
 
 // sum_q w_q lambda_t,q: the tangential contact force the last step applied
 // (obstacle on body), lambda_t = -phi_t/gamma_q along the t_qk; zeros
-// without friction or before a step
-std::array<double, 3> tangential_resultant(const Discretization &d, const State &s);
+// without friction or before a step. region >= 0: that region's points alone
+std::array<double, 3> tangential_resultant(const Discretization &d, const State &s, int region = -1);
 
 }  // namespace nd

@@ -108,6 +108,9 @@ struct State {
   std::vector<double> slip, phi_t;
   double D_friction = 0;
   int64_t sliding = 0, sticking = 0;
+  // the same three per contact region (solve/friction.hpp: friction_regions'
+  // order): its D_f, sliding and sticking points (a count as a double, exact)
+  std::vector<double> by_region;
   int last_iterations = 0;
   int64_t total_iterations = 0;
   GuardState guard;

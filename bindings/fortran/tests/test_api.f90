@@ -482,6 +482,9 @@ contains
     ! (a block far from where it started: E's terms cancel ~1e4 times E)
     call check(rise <= 1e-12_c_double * E0, 'E_Theta + D_f - W_geometry never rises (Theta = 1, hybrid)')
     call check(D > 0, 'friction between the bodies dissipates')
+    ! the one contact region's D_f is the problem's, to the bit (the same sums)
+    call check(nd_get_region_scalar(p, 1_c_int, ND_DISSIPATION_FRICTION, e) == ND_OK .and. .not. abs(e - D) > 0, &
+               'nd_get_region_scalar: the pair''s D_f is the whole')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_pair_friction
 

@@ -102,6 +102,9 @@ check(drift <= 1e-12, "friction between bodies: the total momentum is conserved 
 check(rise <= 1e-12 * E0, "friction between bodies: E_Theta + D_f - W_geometry never rises (%.3g of %.3g)"
       % (rise, E0))
 check(p.scalar(nd.ND_DISSIPATION_FRICTION) > 0, "friction between bodies dissipates")
+# the one contact region's friction values are the problem's, to the bit (the same sums)
+for key in (nd.ND_DISSIPATION_FRICTION, nd.ND_SLIDING_POINTS, nd.ND_STICKING_POINTS, nd.ND_CONTACT_FORCE_TANGENTIAL_X):
+    check(p.region_scalar(1, key) == p.scalar(key), "nd_get_region_scalar: the pair's friction value %d" % key)
 check(p.scalar(nd.ND_STAT_NORMAL_REFRESHES) > 0, "the sliding block is paired anew")
 print("friction between bodies: momentum drift %.3g, ledger rise %.3g of %.3g, D_f %.6g" %
       (drift, rise, E0, p.scalar(nd.ND_DISSIPATION_FRICTION)))
