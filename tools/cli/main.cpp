@@ -90,6 +90,12 @@ double scalar(nd_problem p, int key) {
   return x;
 }
 
+double region_scalar(nd_problem p, int region, int key) {
+  double x = 0;
+  call(nd_get_region_scalar(p, region, key, &x), "nd_get_region_scalar");
+  return x;
+}
+
 struct Setup {
   int dim = 0;
   int64_t nodes = 0;
@@ -374,8 +380,14 @@ int run(const Options &opt) {
     if (!s.title.empty())  // a comment before the header: python3 -m nitschedyn.plot titles the plot with it
       std::fprintf(history.f, "# title: %s\n", ndcli::printable(s.title).c_str());
     std::fputs("step,t,E,E_Theta,W,contact_force,active_points,max_penetration,newton_iterations,contact_force_applied,"
-               "W_obstacle,W_prescribed,dissipation_friction,dissipation_damping,W_geometry\n",
+               "W_obstacle,W_prescribed,dissipation_friction,dissipation_damping,W_geometry",
                history.f);
+    // each contact pair's own (nd_get_region_scalar on its slave region)
+    for (const auto &c : s.pairs) {
+      const int r = ndcli::region_id(s, c.slave);
+      std::fprintf(history.f, ",pair%d_contact_force,pair%d_active_points,pair%d_dissipation_friction", r, r, r);
+    }
+    std::fputs("\n", history.f);
   }
   fs::path prefix;
   std::vector<std::string> frames;
@@ -432,12 +444,18 @@ int run(const Options &opt) {
     max_force = std::max(max_force, force);
     max_pen = std::max(max_pen, pen);
     if (history.f) {
-      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+      std::fprintf(history.f, "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.0f,%.17g,%.0f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g",
                    k, t,
                    scalar(p, ND_ENERGY_MECHANICAL), scalar(p, ND_ENERGY_AUGMENTED), scalar(p, ND_WORK), force,
                    scalar(p, ND_ACTIVE_POINTS), pen, k > 0 ? scalar(p, ND_NEWTON_ITERATIONS) : 0.0,
                    scalar(p, ND_CONTACT_FORCE_APPLIED), scalar(p, ND_WORK_OBSTACLE), scalar(p, ND_WORK_PRESCRIBED),
                    scalar(p, ND_DISSIPATION_FRICTION), scalar(p, ND_DISSIPATION_DAMPING), scalar(p, ND_WORK_GEOMETRY));
+      for (const auto &c : s.pairs) {
+        const int r = ndcli::region_id(s, c.slave);
+        std::fprintf(history.f, ",%.17g,%.0f,%.17g", region_scalar(p, r, ND_CONTACT_FORCE),
+                     region_scalar(p, r, ND_ACTIVE_POINTS), region_scalar(p, r, ND_DISSIPATION_FRICTION));
+      }
+      std::fputs("\n", history.f);
       if (std::ferror(history.f)) throw LibError("cannot write the history " + history_path.string());
     }
     if (!prefix.empty() && (k % every == 0 || done(k))) {

@@ -72,5 +72,18 @@ for s in sliding_block sliding_block_hex sliding_blocks; do
     echo "ok: $s: D_f = $last at t = 0.5"
   fi
   [ $s = sliding_block_hex ] && check_ledger "$s" "$csv"
+  # the one pair's columns (its slave region's, nd_get_region_scalar) are the
+  # whole problem's: it holds every contact point
+  if [ $s = sliding_blocks ]; then
+    verdict=$(grep -v '^#' "$csv" | awk -F, '
+      NR == 1 { for (i = 1; i <= NF; ++i) { c[$i] = i; if ($i ~ /^pair[0-9]+_contact_force$/) p = substr($i, 1, index($i, "_") - 1) }; next }
+      { n++; if ($c[p "_contact_force"] != $c["contact_force"] || $c[p "_active_points"] != $c["active_points"] ||
+                 $c[p "_dissipation_friction"] != $c["dissipation_friction"]) bad++ }
+      END { print (p != "" && n > 0 && bad == 0) ? "ok " p : "FAIL " p " " bad+0 " of " n+0 }')
+    case "$verdict" in
+      ok*) echo "ok: $s: the pair's columns ($verdict) are the problem's at every step" ;;
+      *) echo "FAIL: $s: the pair's columns differ from the problem's ($verdict)"; fails=$((fails + 1)) ;;
+    esac
+  fi
 done
 [ $fails -eq 0 ] || exit 1
