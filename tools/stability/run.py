@@ -79,7 +79,8 @@ def class_plan(quick):
                 ("moving_plane", "rect", 1, "hybrid", "1", "1e-4", ("plane=moving",)),
                 ("static_load", "rest", 1, "hybrid", "1", "1e-4", ()),
                 ("sliver", "sliver", 1, "hybrid", "-1", "1", ()),
-                ("two_bodies", "pair", 1, "hybrid", "1", "0", ())]
+                ("two_bodies", "pair", 1, "hybrid", "1", "0", ()),
+                ("two_bodies", "pair", 1, "hybrid_friction", "1", "0", ())]
     c = []
     four = ("hybrid", "newmark", "galpha", "explicit")
     # (a) the 3D ball, P1 (P2: about 2 minutes a run)
@@ -119,7 +120,8 @@ def class_plan(quick):
           for f in ("0.5", "0.9", "0.99", "1", "1.01", "1.05", "1.2", "1.5")]
     # (j) two deformable bodies: two disks meeting (nd_problem_set_contact_pair)
     c += [("two_bodies", "pair", d, s, th, g, ()) for d in (1, 2)
-          for s in ("hybrid", "newmark", "theta1", "galpha", "explicit") for th in ("1", "0", "-1")
+          for s in ("hybrid", "newmark", "theta1", "galpha", "explicit", "hybrid_friction", "newmark_friction",
+                    "explicit_friction") for th in ("1", "0", "-1")
           for g in ("0", "1e-4", "1e-2", "1", "1e4")]
     # (h) 10^5 steps of the bar
     c += [("long", "bar", d, s, th, g, ("steps=100000",)) for d in (1, 2) for s in ("hybrid", "newmark", "galpha")

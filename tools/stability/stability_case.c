@@ -78,12 +78,13 @@
  *             examples/meshes/two_disks_h4.msh (the disk's, 1 apart) meeting
  *             at 0.5 each (nd_problem_set_contact_pair, regions 1 and 2),
  *             no load, E = 50, nu = 0.25, tau = 0.1, T = 20; the penetration
- *             measured into the other body
+ *             measured into the other body; with _friction (Coulomb F = 0.3
+ *             on the pair) also sliding past each other at -+0.5 along x
  *   SCHEME  hybrid | newmark | theta1 | explicit | galpha,
  *   each with the suffixes (any of them, in this order) _damped for Rayleigh
  *   damping alpha = 0.05, beta = 0.1 tau (damping ratio about 0.1 at the
  *   highest frequency the step resolves), _friction for Coulomb friction F =
- *   0.3 on the contact region (2D), _layered for two materials: the half of
+ *   0.3 on the contact region (2D; the pair's slave region), _layered for two materials: the half of
  *   the bar's or the rectangle's cells at the obstacle 4 times as stiff and
  *   twice as dense.
  *   The energies then count D_f with D (ND_DISSIPATION_FRICTION).
@@ -221,8 +222,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "%s: unknown scene %s\n", argv[0], scene);
     return 2;
   }
-  if (pair && (moving || friction || layered || strcmp(mat, "default"))) {
-    fprintf(stderr, "%s: the pair scene takes no moving plane, friction, layers or material\n", argv[0]);
+  if (pair && (moving || layered || strcmp(mat, "default"))) {
+    fprintf(stderr, "%s: the pair scene takes no moving plane, layers or material\n", argv[0]);
     return 2;
   }
   if (steel && !(strcmp(scene, "bar") == 0 || strcmp(scene, "rect") == 0 || strcmp(scene, "sliver") == 0)) {
@@ -349,10 +350,16 @@ int main(int argc, char **argv) {
   /* the initial state: the block's velocity towards the plane, the bar's stretch */
   int64_t n = 0;
   nd_problem_get_node_count(p, &n);
-  if (v0_down > 0) { /* (pair: the upper disk down, the lower one up) */
+  if (v0_down > 0) { /* (pair: the upper disk down, the lower one up; with
+                         friction also sliding along x at -+v0, so that they
+                         meet at gross slip and roll apart) */
     double *v0 = calloc((size_t)(dim * n), sizeof(double)), *x = malloc(sizeof(double) * (size_t)(dim * n));
     nd_problem_get_node_coordinates(p, n, x);
-    for (int64_t i = 0; i < n; ++i) v0[dim * i + dim - 1] = pair && x[dim * i + dim - 1] < 0 ? v0_down : -v0_down;
+    for (int64_t i = 0; i < n; ++i) {
+      const int lower = pair && x[dim * i + dim - 1] < 0;
+      v0[dim * i + dim - 1] = lower ? v0_down : -v0_down;
+      if (pair && friction) v0[dim * i] = lower ? -v0_down : v0_down;
+    }
     free(x);
     nd_problem_set_initial_state(p, n, NULL, v0);
     free(v0);

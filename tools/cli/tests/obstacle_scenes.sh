@@ -76,7 +76,8 @@ for s in sliding_block sliding_block_hex sliding_blocks; do
   # whole problem's: it holds every contact point
   if [ $s = sliding_blocks ]; then
     verdict=$(grep -v '^#' "$csv" | awk -F, '
-      NR == 1 { for (i = 1; i <= NF; ++i) { c[$i] = i; if ($i ~ /^pair[0-9]+_contact_force$/) p = substr($i, 1, index($i, "_") - 1) }; next }
+      NR == 1 { for (i = 1; i <= NF; ++i) { c[$i] = i; if ($i ~ /^pair[0-9]+_contact_force$/) p = $i }
+                sub(/_contact_force$/, "", p); next }
       { n++; if ($c[p "_contact_force"] != $c["contact_force"] || $c[p "_active_points"] != $c["active_points"] ||
                  $c[p "_dissipation_friction"] != $c["dissipation_friction"]) bad++ }
       END { print (p != "" && n > 0 && bad == 0) ? "ok " p : "FAIL " p " " bad+0 " of " n+0 }')
