@@ -100,7 +100,7 @@ void Problem::adaptive_step() {
   }
 }
 
-void Problem::judge_step(const Attempt &attempt, State &next, const Products &next_products) {
+void Problem::judge_step(const Attempt &attempt, const State &from, State &next, const Products &next_products) {
   const AdaptiveOptions &o = def_.adaptive;
   const Discretization &d = *disc_;
   const double tau = def_.tau;
@@ -110,22 +110,22 @@ void Problem::judge_step(const Attempt &attempt, State &next, const Products &ne
   // the step that first touches ends at the touch
   if (attempt.may_land && d.contact.size() > 0) {
     PointValues at_old, at_new;
-    const PointValues &was = state_points(d, state_, products_, at_old, d.counters);
+    const PointValues &was = state_points(d, from, products_, at_old, d.counters);
     // (in contact already: no first touch, and the new state's points need no evaluation)
     const bool touching = std::any_of(was.P.begin(), was.P.end(), [](double P) { return P > 0; });
     std::vector<double> rate(touching ? 0 : d.contact.size());
-    for (size_t q = 0; q < rate.size(); ++q) rate[q] = d.contact.a[q].dot(state_.V.data());
+    for (size_t q = 0; q < rate.size(); ++q) rate[q] = d.contact.a[q].dot(from.V.data());
     const double s = touching ? 1 : first_touch(was.P, state_points(d, next, next_products, at_new, d.counters).P, was.un, rate, tau);
     if (s < 1 && s * tau >= o.tau_min)
       throw Rejected("the step makes the first contact points active", s * tau, true);
   }
   // the step's gain of the energy balance (monitor/guards.hpp: its value
   // at the states the guard evaluated), above the lowest the run reached
-  const GuardState &was = state_.guard, &now = next.guard;
+  const GuardState &was = from.guard, &now = next.guard;
   double gain = 0;
   if (std::isfinite(now.balance) && std::isfinite(was.balance))
     gain = now.balance - std::max(was.balance, std::isfinite(was.balance_low) ? was.balance_low : was.balance);
-  const double ratio = step_error(o, state_, next, tau, gain, std::max(now.budget, now.E_top));
+  const double ratio = step_error(o, from, next, tau, gain, std::max(now.budget, now.E_top));
   if (ratio > 1)
     throw Rejected("the error estimate of the step to t = " + num(next.t) + " is " + num(ratio) +
                        " times the tolerance " + num(o.tolerance),
@@ -133,7 +133,7 @@ void Problem::judge_step(const Attempt &attempt, State &next, const Products &ne
   StepControl &c = next.control;
   c.ratio = ratio;
   c.tau_last = tau;
-  c.hold = attempt.retried ? kHoldSteps : std::max(0.0, state_.control.hold - 1);
+  c.hold = attempt.retried ? kHoldSteps : std::max(0.0, from.control.hold - 1);
   c.tau_next = size_after_accepted(o, tau, ratio);
   if (c.hold > 0) c.tau_next = std::min(c.tau_next, tau);
 }

@@ -769,9 +769,9 @@ StepGeometry Problem::curved_geometry(const std::vector<double> &plane_gaps) {
 // R at the state's U with the current discretization's rows and the gaps
 // a step starts from (g_q^n of its re-linearisation): the Nitsche energy
 // the state has in the step's geometry
-double Problem::relinearised_nitsche_energy(const std::vector<double> &gap_n) {
+double Problem::relinearised_nitsche_energy(const State &from, const std::vector<double> &gap_n) {
   State at;
-  at.U = state_.U, at.gap = gap_n, at.slip = state_.slip, at.phi = state_.phi;
+  at.U = from.U, at.gap = gap_n, at.slip = from.slip, at.phi = from.phi;
   return nitsche_energy(*disc_, at, Products{});  // (no products: a pass over the points)
 }
 
@@ -789,8 +789,11 @@ void Problem::step_once(const Attempt *attempt) {
   std::unique_ptr<Discretization> kept_disc;
   std::unique_ptr<Integrator> kept_integrator;
   std::vector<KeptIntegrator> kept_sizes;  // (declared after kept_disc: destroyed before it)
-  std::vector<double> kept_slip;           // friction: the state's references in kept_disc's rows
   auto body = [&] {
+    // where the step starts: the state, or (friction, new rows) a copy with
+    // its slip references carried to the new rows; the state keeps its own
+    State carried;
+    const State *from = &state_;
     prepare();
     const std::vector<double> *gap = &current_gaps();
     StepGeometry geo;
@@ -809,15 +812,16 @@ void Problem::step_once(const Attempt *attempt) {
         disc_ = with_normals(space_, def_, *kept_disc, geo.normal, geo.pairing.empty() ? nullptr : &geo.pairing);
         // friction: the references in the new rows, the tractions held (R's change to W_geometry below)
         if (disc_->contact.m > 1 && !state_.slip.empty()) {
-          kept_slip = state_.slip;
-          state_.slip = transport_slip(kept_disc->contact, disc_->contact, state_.U, kept_slip);
+          carried = state_;
+          carried.slip = transport_slip(kept_disc->contact, disc_->contact, state_.U, state_.slip);
+          from = &carried;
         }
         refresh_ordering_ = kept_integrator && kept_integrator->A_factor ? kept_integrator->A_factor.get() : nullptr;
         prepare();
         refresh_ordering_ = nullptr;
       }
       gap = &geo.gap;
-      if (def_.theta != 0) relinearised = -def_.theta * (relinearised_nitsche_energy(geo.gap_old) - R_old);
+      if (def_.theta != 0) relinearised = -def_.theta * (relinearised_nitsche_energy(*from, geo.gap_old) - R_old);
     }
     const std::vector<double> motion =
         disc_->clamped && !def_.prescribed.empty() ? clamped_values(*disc_, def_.prescribed) : std::vector<double>();
@@ -826,7 +830,7 @@ void Problem::step_once(const Attempt *attempt) {
         friction ? obstacle_slip(disc_->contact, space_.dim, state_.positions, def_.planes) : std::vector<double>();
     StepData data{current_load(), clamped_load_(), *gap, curved ? &geo.gap_old : nullptr, &motion};
     data.slip_shift = &shift;
-    next = advance(*integrator_, *disc_, def_, state_, products_, data, std::move(spare_));
+    next = advance(*integrator_, *disc_, def_, *from, products_, data, std::move(spare_));
     State &s = next.state;
     if (curved) s.normal = std::move(geo.normal), s.pairing = std::move(geo.pairing);
     else s.normal.clear(), s.pairing.clear();
@@ -834,11 +838,11 @@ void Problem::step_once(const Attempt *attempt) {
     else s.positions.clear();
     s.W_geometry += relinearised;
     try {
-      guard_step(*disc_, def_.guards, state_, s, next.products, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
+      guard_step(*disc_, def_.guards, *from, s, next.products, def_.scheme != ND_SCHEME_GENERALIZED_ALPHA);
     } catch (...) {
       explain_explicit_refusal(*disc_, *integrator_->scheme, def_.tau);
     }
-    if (attempt) judge_step(*attempt, s, next.products);
+    if (attempt) judge_step(*attempt, *from, s, next.products);
   };
   try {
     // every rank commits the step or none does (one reference captured:
@@ -849,7 +853,6 @@ void Problem::step_once(const Attempt *attempt) {
     if (kept_disc) {
       disc_ = std::move(kept_disc), integrator_ = std::move(kept_integrator);
       kept_integrators_.swap(kept_sizes);
-      if (!kept_slip.empty()) state_.slip = std::move(kept_slip);
     }
     throw;
   }

@@ -192,7 +192,8 @@ class Problem {
   void step_once(const Attempt *attempt);
   // adaptive steps (problem/adaptive_step.cpp)
   void adaptive_step();
-  void judge_step(const Attempt &attempt, State &next, const Products &next_products);
+  // (from: the state the step started from, its references in the step's rows)
+  void judge_step(const Attempt &attempt, const State &from, State &next, const Products &next_products);
   // the integrator of step size tau in use: kept, or built at the next
   // prepare(); the one in use kept for its size (kKeptSizes at most)
   void use_timestep(double tau);
@@ -230,7 +231,7 @@ class Problem {
   // points' gaps at U, where `at` places the obstacles now
   void curved_gaps(State &s, const Discretization &d, const TimeData &at);
   StepGeometry curved_geometry(const std::vector<double> &plane_gaps);
-  double relinearised_nitsche_energy(const std::vector<double> &gap_n);
+  double relinearised_nitsche_energy(const State &from, const std::vector<double> &gap_n);
   void require_region(int region, const char *what) const;
 
   std::shared_ptr<const Mesh> mesh_;
