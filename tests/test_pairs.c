@@ -686,11 +686,13 @@ END_TEST
 START_TEST(a_restart_with_a_pair_is_bitwise) {
   /* the checkpoint holds the pairings and frozen normals and, with
      friction, the slip references (in the pairing's rows): resumed from it
-     after points were paired anew, the run is the uninterrupted one */
+     after points were paired anew, the run is the uninterrupted one (on
+     hexahedra too, kind 4: the pairings' (s, t)) */
   const double F = 0.3;
   for (int friction = 0; friction <= 1; ++friction)
-    for (int dim = 2; dim <= 3; ++dim) {
-      nd_problem a = thrown(dim, 1, 1.0), b = thrown(dim, 1, 1.0);
+    for (int kind = 2; kind <= 4; ++kind) {
+      const int dim = kind == 2 ? 2 : 3, cells = kind == 4 ? ND_CELL_HEXAHEDRON : ND_CELL_SIMPLEX;
+      nd_problem a = thrown_cells(dim, cells, 1, 1.0), b = thrown_cells(dim, cells, 1, 1.0);
       if (friction) {
         ND_OK_OR_FAIL(nd_problem_set_friction(a, 1, ND_FRICTION_COULOMB, &F));
         ND_OK_OR_FAIL(nd_problem_set_friction(b, 1, ND_FRICTION_COULOMB, &F));
@@ -708,8 +710,8 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
       for (int k = at + 1; k <= steps; ++k) ND_OK_OR_FAIL(nd_step(b));
       nd_test_snapshot sa = nd_test_take(a, dim), sb = nd_test_take(b, dim);
       if (friction)
-        printf("pair friction restart %dD: %g points paired anew before the checkpoint, D_f %.6g\n", dim,
-               repaired_at, scalar(a, ND_DISSIPATION_FRICTION));
+        printf("pair friction restart %dD %s: %g points paired anew before the checkpoint, D_f %.6g\n", dim,
+               kind == 4 ? "Q1" : "P1", repaired_at, scalar(a, ND_DISSIPATION_FRICTION));
       ck_assert(nd_test_same(&sa, &sb));
       ck_assert(scalar(a, ND_WORK_GEOMETRY) == scalar(b, ND_WORK_GEOMETRY));
       if (friction) {
@@ -718,7 +720,7 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
       }
       nd_test_snapshot_free(&sa), nd_test_snapshot_free(&sb);
       if (!friction) {  /* a problem without the pair refuses the checkpoint */
-        nd_problem c = stack(dim, 1, dim == 2 ? 5 : 3, dim == 2 ? 4 : 2);
+        nd_problem c = stack_cells(dim, cells, 1, dim == 2 ? 5 : 3, dim == 2 ? 4 : 2);
         ND_OK_OR_FAIL(nd_problem_set_contact_pair(c, 2, 1)); /* (the other way round: other points) */
         ND_OK_OR_FAIL(nd_problem_set_scheme(c, ND_SCHEME_HYBRID, NULL));
         ND_OK_OR_FAIL(nd_problem_set_timestep(c, 0.01));
