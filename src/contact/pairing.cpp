@@ -84,6 +84,7 @@ bool face_parameters(const double (&x)[4][3], const double *y, double &s, double
     if (!(det > 0)) h12 = dot(xs, xt, 3), det = h11 * h22 - h12 * h12;
     if (!(det > 0) || !std::isfinite(det)) return false;
     const double ds = -(h22 * g1 - h12 * g2) / det, dt = -(h11 * g2 - h12 * g1) / det;
+    if (!std::isfinite(ds) || !std::isfinite(dt)) return false;  // (y not finite: s and t stay finite)
     s = std::clamp(s + ds, -1.0, 2.0), t = std::clamp(t + dt, -1.0, 2.0);
     // (quadratic convergence: the error is then below round-off)
     if (std::abs(ds) + std::abs(dt) <= 1e-10) return true;
