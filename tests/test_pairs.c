@@ -11,7 +11,10 @@
  * bodies"): a block sliding over another with Coulomb friction slows at
  * F N (1/m1 + 1/m2), dissipates F N times the distance slid and keeps the
  * total momentum and the hybrid ledger; below the friction angle it
- * sticks; F = 0 is the frictionless pair; a restart is bitwise. */
+ * sticks; F = 0 is the frictionless pair; a restart is bitwise.
+ * Hexahedra (Q1, Q2; master faces bilinear): the bars head-on are the 1D
+ * bars, the resting block carries its weight, the thrown block and the
+ * Coulomb slide keep momentum and the ledgers. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -29,7 +32,7 @@ static double scalar(nd_problem p, int key) {
 /* ---- meshes of blocks: one connected component each */
 
 typedef struct {
-  int dim, cell_type; /* ND_CELL_SIMPLEX or, in 2D, ND_CELL_QUADRILATERAL */
+  int dim, cell_type; /* ND_CELL_SIMPLEX, or ND_CELL_QUADRILATERAL (2D), ND_CELL_HEXAHEDRON (3D) */
   int64_t nv, nc;
   double *x;
   int64_t *cells;
@@ -47,12 +50,15 @@ static double volume6(const double *a, const double *b, const double *c, const d
 
 /* the box [lo, hi] of n[0] x n[1] (x n[2]) cells added to m: each rectangle
    split into 2 triangles, each box into the 6 tetrahedra along its diagonal
-   (conforming from box to box) */
+   (conforming from box to box), or kept (quadrilaterals, hexahedra) */
 static void add_block(blocks *m, const double *lo, const double *hi, const int *n) {
-  const int quads = m->cell_type == ND_CELL_QUADRILATERAL;
-  const int d = m->dim, nz = d == 3 ? n[2] : 0, per = quads ? 4 : d + 1;
+  const int quads = m->cell_type == ND_CELL_QUADRILATERAL, hexes = m->cell_type == ND_CELL_HEXAHEDRON;
+  const int d = m->dim, nz = d == 3 ? n[2] : 0, per = quads ? 4 : hexes ? 8 : d + 1;
   const int64_t base = m->nv, nv = (int64_t)(n[0] + 1) * (n[1] + 1) * (nz + 1);
-  const int64_t nc = quads ? (int64_t)n[0] * n[1] : d == 2 ? 2LL * n[0] * n[1] : 6LL * n[0] * n[1] * n[2];
+  const int64_t nc = quads   ? (int64_t)n[0] * n[1]
+                     : hexes ? (int64_t)n[0] * n[1] * n[2]
+                     : d == 2 ? 2LL * n[0] * n[1]
+                              : 6LL * n[0] * n[1] * n[2];
   m->x = realloc(m->x, sizeof(double) * (size_t)(d * (m->nv + nv)));
   m->cells = realloc(m->cells, sizeof(int64_t) * (size_t)(per * (m->nc + nc)));
   ck_assert(m->x && m->cells);
@@ -73,6 +79,11 @@ static void add_block(blocks *m, const double *lo, const double *hi, const int *
                         e = base + vertex_at(n, i + 1, j + 1, 0), f = base + vertex_at(n, i, j + 1, 0);
           if (quads) *c++ = a, *c++ = b, *c++ = e, *c++ = f;
           else *c++ = a, *c++ = b, *c++ = e, *c++ = a, *c++ = e, *c++ = f;
+          continue;
+        }
+        if (hexes) { /* (the VTK order: the bottom counter-clockwise, then the top) */
+          for (int v = 0; v < 8; ++v)
+            *c++ = base + vertex_at(n, i + ((v + 1) / 2 % 2), j + (v / 2 % 2), k + v / 4);
           continue;
         }
         static const int order[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
@@ -108,6 +119,7 @@ typedef struct {
   double *momentum;         /* bar 1's momentum at each step (malloc'ed) */
   double exact_error;       /* its largest difference from the exact one's */
   int steps;
+  int64_t rows;             /* (hex_bars: the free DOFs) */
 } bar_run;
 
 /* bar 1's momentum in the exact solution: each bar hits the mid-plane as a
@@ -172,7 +184,7 @@ static bar_run bars_mass(int n, int degree, double theta, double tau, int scheme
   char *first = malloc((size_t)nn);
   for (int64_t i = 0; i < nn; ++i) first[i] = X[i] < 1 + gap / 2, v[i] = first[i] ? v0 : -v0;
   ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nn, NULL, v));
-  bar_run r = {-1, -1, 0, 0, 0, 0, NULL, 0, 0};
+  bar_run r = {-1, -1, 0, 0, 0, 0, NULL, 0, 0, 0};
   const int steps = (int)(3.0 / tau + 0.5);
   r.steps = steps;
   r.momentum = malloc(sizeof(double) * (size_t)(steps + 1));
@@ -278,6 +290,104 @@ START_TEST(bars_head_on_converge_to_the_elastic_impact) {
     ck_assert_double_le(difference, pair.exact_error + wall.exact_error);
     last = pair.exact_error;
     free(pair.momentum), free(wall.momentum);
+  }
+}
+END_TEST
+
+/* the two bars as hexahedra along x, n cells each and one across (a square
+   section of side w), nu = 0: the 1D bars' motion per unit section, ux(x, t)
+   alone (no lateral strain); bar 1's end face the slave, bar 2's the master */
+static const double kSection = 0.1; /* w */
+static bar_run hex_bars(int n, int degree, double tau) {
+  const double gap = 0.01, v0 = 0.1, w = kSection;
+  blocks m = {3, ND_CELL_HEXAHEDRON, 0, 0, NULL, NULL};
+  const double lo1[3] = {0, 0, 0}, hi1[3] = {1, w, w}, lo2[3] = {1 + gap, 0, 0}, hi2[3] = {2 + gap, w, w};
+  const int cells[3] = {n, 1, 1};
+  add_block(&m, lo1, hi1, cells);
+  add_block(&m, lo2, hi2, cells);
+  nd_mesh h = make(&m);
+  const double alo[3] = {1 - 1e-9, -1, -1}, ahi[3] = {1 + gap / 2, 1, 1};
+  const double blo[3] = {1 + gap / 2, -1, -1}, bhi[3] = {1 + gap + 1e-9, 1, 1};
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(h, 1, alo, ahi));
+  ND_OK_OR_FAIL(nd_mesh_mark_boundary_box(h, 2, blo, bhi));
+  nd_problem p = NULL;
+  ND_OK_OR_FAIL(nd_problem_create(h, degree, &p));
+  ND_OK_OR_FAIL(nd_mesh_destroy(&h));
+  ND_OK_OR_FAIL(nd_problem_set_material(p, 1.0, 0.0, 1.0));
+  ND_OK_OR_FAIL(nd_problem_set_contact_pair(p, 1, 2));
+  ND_OK_OR_FAIL(nd_problem_set_nitsche(p, 1.0, 0.0));
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
+  int64_t nn = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &nn));
+  double *X = malloc(sizeof(double) * (size_t)(3 * nn)), *v = calloc((size_t)(3 * nn), sizeof(double));
+  char *first = malloc((size_t)nn);
+  ND_OK_OR_FAIL(nd_problem_get_node_coordinates(p, nn, X));
+  for (int64_t i = 0; i < nn; ++i) first[i] = X[3 * i] < 1 + gap / 2, v[3 * i] = first[i] ? v0 : -v0;
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, nn, NULL, v));
+  bar_run r = {-1, -1, 0, 0, 0, 0, NULL, 0, 0, 0};
+  const int steps = (int)(3.0 / tau + 0.5), momenta[3] = {ND_MOMENTUM_X, ND_MOMENTUM_Y, ND_MOMENTUM_Z};
+  r.steps = steps, r.rows = 3 * nn;
+  r.momentum = malloc(sizeof(double) * (size_t)(steps + 1));
+  nd_test_csr M = nd_test_get_matrix(p, ND_MATRIX_MASS); /* (no DOF clamped: free DOF 3 i + c is node i's) */
+  double P0[3] = {0, 0, 0}, previous = 0;
+  for (int k = 0; k <= steps; ++k) {
+    if (k) ND_OK_OR_FAIL(nd_step(p));
+    const double t = scalar(p, ND_TIME);
+    const double ledger = scalar(p, ND_ENERGY_AUGMENTED) - scalar(p, ND_WORK) - scalar(p, ND_WORK_GEOMETRY);
+    for (int c = 0; c < 3; ++c) {
+      const double P = scalar(p, momenta[c]);
+      if (k == 0) P0[c] = P;
+      r.momentum_drift = fmax(r.momentum_drift, fabs(P - P0[c]));
+    }
+    if (k == 0) r.E0 = ledger;
+    else r.ledger_rise = fmax(r.ledger_rise, ledger - previous);
+    previous = ledger;
+    if (scalar(p, ND_ACTIVE_POINTS) > 0) {
+      if (r.t_on < 0) r.t_on = t;
+      r.t_off = t;
+    }
+    ND_OK_OR_FAIL(nd_get_field(p, ND_FIELD_VELOCITY, nn, v));
+    double p1 = 0; /* bar 1's x momentum per unit section */
+    for (int64_t i = 0; i < nn; ++i)
+      if (first[i])
+        for (int64_t e = M.ptr[3 * i]; e < M.ptr[3 * i + 1]; ++e) p1 += M.val[e] * v[M.col[e]];
+    r.momentum[k] = p1 / (w * w);
+    r.exact_error = fmax(r.exact_error, fabs(r.momentum[k] - exact_momentum(t, gap, v0)));
+  }
+  nd_test_csr_free(&M);
+  int count = 0;
+  for (int64_t i = 0; i < nn; ++i)
+    if (first[i]) r.v_after += v[3 * i], ++count;
+  r.v_after /= count;
+  free(X), free(v), free(first);
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  return r;
+}
+
+START_TEST(hex_bars_head_on_are_the_1d_bars) {
+  /* the bars head-on as Q1 and Q2 hexahedra (hex_bars): the total momentum
+     conserved to round-off (as kMomentumRoundOff: each step's forces cancel
+     over the rows, the bars' momenta w^2 v0 = 1e-3: steps x rows x eps x
+     1e-3, and a factor of ten; 7.5e-13 for Q2's 1134 rows), the ledger with
+     Theta = 1 never rising, and bar 1's momentum per unit section the 1D
+     pair's (bars) within that pair's own error from the exact impact: two
+     discretizations of one problem (contact for 2L/c = 2, the bars leaving
+     at -+v0). (Measured: 7.5e-14 and 8.4e-14 apart, the 1D errors 7.8e-3
+     and 1.8e-3: with nu = 0 the section's sums are the 1D equations.) */
+  for (int degree = 1; degree <= 2; ++degree) {
+    bar_run hex = hex_bars(10, degree, 0.01), line = bars(10, degree, 1, 0.01, ND_SCHEME_HYBRID, 0);
+    double difference = 0;
+    for (int k = 0; k <= hex.steps; ++k) difference = fmax(difference, fabs(hex.momentum[k] - line.momentum[k]));
+    printf("hex bars Q%d: momentum drift %.3g, ledger rise %.3g of %.3g; contact %.3f to %.3f (1D: %.3f to %.3f), "
+           "rebound %.5f (1D: %.5f); momentum error %.4g (1D: %.4g), hex vs 1D %.4g\n",
+           degree, hex.momentum_drift, hex.ledger_rise, hex.E0, hex.t_on, hex.t_off, line.t_on, line.t_off,
+           hex.v_after, line.v_after, hex.exact_error, line.exact_error, difference);
+    const double momentum = kSection * kSection * 0.1;
+    ck_assert_double_le(hex.momentum_drift, 10.0 * hex.steps * (double)hex.rows * DBL_EPSILON * momentum);
+    ck_assert_double_le(hex.ledger_rise, kLedgerRoundOff * hex.E0);
+    ck_assert_double_le(difference, line.exact_error);
+    free(hex.momentum), free(line.momentum);
   }
 }
 END_TEST
@@ -390,22 +500,28 @@ START_TEST(a_resting_block_carries_its_weight) {
      backward Euler damps the motion away, and at rest the block's equation
      summed over its vertical DOFs is weight = contact resultant (K's rows
      sum to zero over a free body's translation): the resultant reaches the
-     weight as the velocity dies out */
+     weight as the velocity dies out. The same on hexahedra, Q1 and Q2: the
+     upper block's 3 x 2 x 3 cells on the lower one's 4 x 2 x 4, the faces
+     not matching (a slave point's master face by the bilinear projection).
+     The bound is the tetrahedra's: the velocity left after 300 damped steps
+     and the solves' tolerance, far above round-off (measured on
+     hexahedra: 2e-15 and 3e-15, round-off of the weight) */
   const double g[3] = {0, -1, 0}, one = 1;
-  for (int dim = 2; dim <= 4; ++dim) /* (4: 2D on quadrilaterals) */
+  for (int dim = 2; dim <= 5; ++dim) /* (4: 2D on quadrilaterals, 5: 3D on hexahedra) */
     for (int degree = 1; degree <= 2; ++degree) {
       if (dim == 3 && degree == 2) continue; /* (3D P2: in the bouncing test below) */
       nd_problem p = dim == 2   ? stack(2, degree, 5, 4)
                      : dim == 3 ? stack(3, degree, 3, 2)
-                                : stack_cells(2, ND_CELL_QUADRILATERAL, degree, 5, 4);
+                     : dim == 4 ? stack_cells(2, ND_CELL_QUADRILATERAL, degree, 5, 4)
+                                : stack_cells(3, ND_CELL_HEXAHEDRON, degree, 3, 2);
       ND_OK_OR_FAIL(nd_problem_set_dirichlet(p, 3));
       ND_OK_OR_FAIL(nd_problem_set_body_force(p, g));
       ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_THETA, &one));
       ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.05));
       for (int k = 0; k < 300; ++k) ND_OK_OR_FAIL(nd_step(p));
       const double weight = 0.499, resultant = scalar(p, ND_CONTACT_FORCE);
-      printf("stack %s%d: resultant %.15f, weight %.15f\n", dim == 2 ? "2D P" : dim == 3 ? "3D P" : "2D Q", degree,
-             resultant, weight);
+      printf("stack %s%d: resultant %.15f, weight %.15f\n",
+             dim == 2 ? "2D P" : dim == 3 ? "3D P" : dim == 4 ? "2D Q" : "3D Q", degree, resultant, weight);
       ck_assert_double_le(fabs(resultant - weight), 1e-10 * weight);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
@@ -415,8 +531,8 @@ END_TEST
 /* the upper block thrown at (vx, -0.5), no gravity, no support: it lands,
    slides over the lower one while in contact (paired anew from facet to
    facet) and bounces off */
-static nd_problem thrown(int dim, int degree, double vx) {
-  nd_problem p = dim == 2 ? stack(2, degree, 5, 4) : stack(3, degree, 3, 2);
+static nd_problem thrown_cells(int dim, int cell_type, int degree, double vx) {
+  nd_problem p = dim == 2 ? stack_cells(2, cell_type, degree, 5, 4) : stack_cells(3, cell_type, degree, 3, 2);
   ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_HYBRID, NULL));
   ND_OK_OR_FAIL(nd_problem_set_timestep(p, 0.01));
   int64_t n = 0;
@@ -430,10 +546,14 @@ static nd_problem thrown(int dim, int degree, double vx) {
   return p;
 }
 
+static nd_problem thrown(int dim, int degree, double vx) { return thrown_cells(dim, ND_CELL_SIMPLEX, degree, vx); }
+
 START_TEST(a_block_sliding_over_another_keeps_momentum_and_the_ledger) {
-  for (int dim = 2; dim <= 3; ++dim)
+  /* (and on hexahedra, Q1 and Q2: its points slide from face to bilinear face) */
+  for (int kind = 2; kind <= 4; ++kind) /* (4: 3D on hexahedra) */
     for (int degree = 1; degree <= 2; ++degree) {
-      nd_problem p = thrown(dim, degree, 1.0);
+      const int dim = kind == 2 ? 2 : 3, cells = kind == 4 ? ND_CELL_HEXAHEDRON : ND_CELL_SIMPLEX;
+      nd_problem p = thrown_cells(dim, cells, degree, 1.0);
       const int momenta[3] = {ND_MOMENTUM_X, ND_MOMENTUM_Y, ND_MOMENTUM_Z};
       double P0[3], drift = 0, rise = 0, previous = 0, E0 = 0, contact_steps = 0, worst = 0;
       nd_test_csr K = nd_test_get_matrix(p, ND_MATRIX_STIFFNESS), M = nd_test_get_matrix(p, ND_MATRIX_MASS);
@@ -462,9 +582,10 @@ START_TEST(a_block_sliding_over_another_keeps_momentum_and_the_ledger) {
       }
       nd_test_csr_free(&K), nd_test_csr_free(&M), free(U), free(V);
       const double repaired = scalar(p, ND_STAT_NORMAL_REFRESHES);
-      printf("thrown block %dD P%d: %g contact steps, %g points paired anew, momentum drift %.3g, ledger rise %.3g "
+      printf("thrown block %dD %s%d: %g contact steps, %g points paired anew, momentum drift %.3g, ledger rise %.3g "
              "of %.3g (%.3g of its terms), W_geometry %.3g\n",
-             dim, degree, contact_steps, repaired, drift, rise, E0, worst, scalar(p, ND_WORK_GEOMETRY));
+             dim, kind == 4 ? "Q" : "P", degree, contact_steps, repaired, drift, rise, E0, worst,
+             scalar(p, ND_WORK_GEOMETRY));
       ck_assert_double_gt(contact_steps, 0);
       ck_assert_double_gt(repaired, 0); /* it slid from facet to facet */
       ck_assert_double_le(drift, kMomentumRoundOff * 10); /* (momenta of order 1) */
@@ -577,11 +698,13 @@ END_TEST
 START_TEST(a_restart_with_a_pair_is_bitwise) {
   /* the checkpoint holds the pairings and frozen normals and, with
      friction, the slip references (in the pairing's rows): resumed from it
-     after points were paired anew, the run is the uninterrupted one */
+     after points were paired anew, the run is the uninterrupted one (on
+     hexahedra too, kind 4: the pairings' (s, t)) */
   const double F = 0.3;
   for (int friction = 0; friction <= 1; ++friction)
-    for (int dim = 2; dim <= 3; ++dim) {
-      nd_problem a = thrown(dim, 1, 1.0), b = thrown(dim, 1, 1.0);
+    for (int kind = 2; kind <= 4; ++kind) {
+      const int dim = kind == 2 ? 2 : 3, cells = kind == 4 ? ND_CELL_HEXAHEDRON : ND_CELL_SIMPLEX;
+      nd_problem a = thrown_cells(dim, cells, 1, 1.0), b = thrown_cells(dim, cells, 1, 1.0);
       if (friction) {
         ND_OK_OR_FAIL(nd_problem_set_friction(a, 1, ND_FRICTION_COULOMB, &F));
         ND_OK_OR_FAIL(nd_problem_set_friction(b, 1, ND_FRICTION_COULOMB, &F));
@@ -599,8 +722,8 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
       for (int k = at + 1; k <= steps; ++k) ND_OK_OR_FAIL(nd_step(b));
       nd_test_snapshot sa = nd_test_take(a, dim), sb = nd_test_take(b, dim);
       if (friction)
-        printf("pair friction restart %dD: %g points paired anew before the checkpoint, D_f %.6g\n", dim,
-               repaired_at, scalar(a, ND_DISSIPATION_FRICTION));
+        printf("pair friction restart %dD %s: %g points paired anew before the checkpoint, D_f %.6g\n", dim,
+               kind == 4 ? "Q1" : "P1", repaired_at, scalar(a, ND_DISSIPATION_FRICTION));
       ck_assert(nd_test_same(&sa, &sb));
       ck_assert(scalar(a, ND_WORK_GEOMETRY) == scalar(b, ND_WORK_GEOMETRY));
       if (friction) {
@@ -609,7 +732,7 @@ START_TEST(a_restart_with_a_pair_is_bitwise) {
       }
       nd_test_snapshot_free(&sa), nd_test_snapshot_free(&sb);
       if (!friction) {  /* a problem without the pair refuses the checkpoint */
-        nd_problem c = stack(dim, 1, dim == 2 ? 5 : 3, dim == 2 ? 4 : 2);
+        nd_problem c = stack_cells(dim, cells, 1, dim == 2 ? 5 : 3, dim == 2 ? 4 : 2);
         ND_OK_OR_FAIL(nd_problem_set_contact_pair(c, 2, 1)); /* (the other way round: other points) */
         ND_OK_OR_FAIL(nd_problem_set_scheme(c, ND_SCHEME_HYBRID, NULL));
         ND_OK_OR_FAIL(nd_problem_set_timestep(c, 0.01));
@@ -659,14 +782,10 @@ static void press(nd_problem p, int dim, double N0, double T) {
   free(x), free(f);
 }
 
-static nd_problem pressed_law(int dim, int law, double F, double v0, double N0, int hybrid);
-static nd_problem pressed(int dim, double F, double v0, double N0, int hybrid) {
-  return pressed_law(dim, ND_FRICTION_COULOMB, F, v0, N0, hybrid);
-}
-
-/* law's parameter F (F < 0: no friction) */
-static nd_problem pressed_law(int dim, int law, double F, double v0, double N0, int hybrid) {
-  nd_problem p = dim == 2 ? stack_heavy(2, ND_CELL_SIMPLEX, 1, 5, 4, 100) : stack_heavy(3, ND_CELL_SIMPLEX, 1, 3, 2, 100);
+/* the blocks pressed together: cell_type's cells, law's parameter F (F < 0:
+   no friction) */
+static nd_problem pressed_with(int dim, int cell_type, int law, double F, double v0, double N0, int hybrid) {
+  nd_problem p = dim == 2 ? stack_heavy(2, cell_type, 1, 5, 4, 100) : stack_heavy(3, cell_type, 1, 3, 2, 100);
   const double one = 1;
   if (!hybrid) {
     ND_OK_OR_FAIL(nd_problem_set_material(p, 1e4, 0.3, 1.0));
@@ -685,6 +804,16 @@ static nd_problem pressed_law(int dim, int law, double F, double v0, double N0, 
   free(x), free(v);
   press(p, dim, N0, 0);
   return p;
+}
+
+static nd_problem pressed_cells(int dim, int cell_type, double F, double v0, double N0, int hybrid) {
+  return pressed_with(dim, cell_type, ND_FRICTION_COULOMB, F, v0, N0, hybrid);
+}
+static nd_problem pressed_law(int dim, int law, double F, double v0, double N0, int hybrid) {
+  return pressed_with(dim, ND_CELL_SIMPLEX, law, F, v0, N0, hybrid);
+}
+static nd_problem pressed(int dim, double F, double v0, double N0, int hybrid) {
+  return pressed_with(dim, ND_CELL_SIMPLEX, ND_FRICTION_COULOMB, F, v0, N0, hybrid);
 }
 
 typedef struct {
@@ -791,17 +920,20 @@ START_TEST(coulomb_friction_between_two_blocks) {
      together; the total momentum is conserved (the pair's forces, the
      tangential ones included, equal and opposite). Backward Euler, E = 1e4
      (the landing's vibration damped); then the hybrid scheme, E = 100: its
-     ledger E_Theta + D_f - W - W_geometry never rises */
+     ledger E_Theta + D_f - W - W_geometry never rises. The same on Q1
+     hexahedra (kind 4) */
   const double F = 0.3, v0 = 0.5, N0 = 1;
-  for (int dim = 2; dim <= 3; ++dim) {
-    nd_problem p = pressed(dim, F, v0, N0, 0);
+  for (int kind = 2; kind <= 4; ++kind) {
+    const int dim = kind == 2 ? 2 : 3, cells = kind == 4 ? ND_CELL_HEXAHEDRON : ND_CELL_SIMPLEX;
+    const char *name = kind == 4 ? "Q1" : "P1";
+    nd_problem p = pressed_cells(dim, cells, F, v0, N0, 0);
     const slide_run r = slide(p, dim, F, 120, -1, -1, N0, 0);
     const double rate = r.fall / (r.t_end - r.t_start), expected = r.impulse / (r.t_end - r.t_start);
     const double stop = v0 / (F * N0 * (1 / r.mass[0] + 1 / r.mass[1]));
-    printf("pair friction %dD P1 (theta = 1): masses %.4f, %.4f; momentum defect %.3g; every point sliding over "
+    printf("pair friction %dD %s (theta = 1): masses %.4f, %.4f; momentum defect %.3g; every point sliding over "
            "[%.2f, %.2f]: decay rate %.6f, F N (1/m1 + 1/m2) %.6f (%.2g apart), D_f grew %.6f, F N slid %.6f (%.2g "
            "apart); stopped at %.2f (v0 / (F N0 (1/m1 + 1/m2)) = %.3f), v_rel at the end %.3g; %g points paired anew\n",
-           dim, r.mass[1], r.mass[0], r.momentum_defect, r.t_start, r.t_end, rate, expected,
+           dim, name, r.mass[1], r.mass[0], r.momentum_defect, r.t_start, r.t_end, rate, expected,
            fabs(rate - expected) / expected, r.D_window, r.D_expected, fabs(r.D_window - r.D_expected) / r.D_expected,
            r.t_stop, stop, r.v_rel, r.repaired);
     ck_assert_double_gt(r.repaired, 0); /* (it slid from facet to facet) */
@@ -816,14 +948,16 @@ START_TEST(coulomb_friction_between_two_blocks) {
        steps on ~100 rows: 120 x 100 x 2.2e-16 x 1 = 2.6e-12, and a factor */
     ck_assert_double_le(r.momentum_defect, 3e-11);
     ND_OK_OR_FAIL(nd_problem_destroy(&p));
-    p = pressed(dim, F, v0, N0, 1);
+    p = pressed_cells(dim, cells, F, v0, N0, 1);
     const slide_run h = slide(p, dim, F, 120, -1, -1, N0, 0);
-    printf("pair friction %dD P1 (hybrid): momentum defect %.3g, ledger rise %.3g (%.3g of its terms), D_f %.4g, "
+    printf("pair friction %dD %s (hybrid): momentum defect %.3g, ledger rise %.3g (%.3g of its terms), D_f %.4g, "
            "%g points paired anew\n",
-           dim, h.momentum_defect, h.ledger_rise, h.ledger_worst, h.D_f, h.repaired);
+           dim, name, h.momentum_defect, h.ledger_rise, h.ledger_worst, h.D_f, h.repaired);
     ck_assert_double_gt(h.repaired, 0);
     ck_assert_double_gt(h.D_f, 0);
-    ck_assert_double_le(h.ledger_worst, DBL_EPSILON); /* below one rounding of the energy's terms */
+    /* a few roundings of the energy's terms (E_Theta, W, D_f and W_geometry
+       each rounded once; measured up to 1.8e-16 on Q1, at step 1) */
+    ck_assert_double_le(h.ledger_worst, 4 * DBL_EPSILON);
     ck_assert_double_le(h.momentum_defect, 3e-11);
     ND_OK_OR_FAIL(nd_problem_destroy(&p));
   }
@@ -895,7 +1029,7 @@ START_TEST(tresca_friction_between_two_blocks) {
       const slide_run h = slide(p, dim, s, 120, 20, 20, N0, T);
       printf("pair Tresca %dD, s = %g (hybrid): ledger rise %.3g of its terms, momentum defect %.3g, D_f %.4g\n", dim,
              s, h.ledger_worst, h.momentum_defect, h.D_f);
-      ck_assert_double_le(h.ledger_worst, DBL_EPSILON);
+      ck_assert_double_le(h.ledger_worst, 4 * DBL_EPSILON); /* (as Coulomb's above) */
       ck_assert_double_le(h.momentum_defect, 3e-11);
       ND_OK_OR_FAIL(nd_problem_destroy(&p));
     }
@@ -1004,6 +1138,7 @@ int main(void) {
   tcase_set_timeout(tc, 600);
   tcase_add_test(tc, bars_head_on_conserve_momentum_and_energy);
   tcase_add_test(tc, bars_head_on_converge_to_the_elastic_impact);
+  tcase_add_test(tc, hex_bars_head_on_are_the_1d_bars);
   tcase_add_test(tc, two_pairs_carry_their_own_forces);
   tcase_add_test(tc, a_resting_block_carries_its_weight);
   tcase_add_test(tc, a_block_sliding_over_another_keeps_momentum_and_the_ledger);

@@ -34,7 +34,8 @@ struct ContactPlane {
 };
 
 // values per point of a pairing (contact/pairing.hpp): the master facet, -1
-// for a point not of a pair, and 3 barycentric coordinates there
+// for a point not of a pair, and 3 coordinates there (barycentric; a
+// hexahedron's face's bilinear (s, t), then 0)
 constexpr int kPairingValues = 4;
 
 struct ContactPoints {
@@ -90,7 +91,7 @@ struct ContactPoints {
   std::vector<char> friction;
   // Two bodies (docs/design.md §10.3, contact/pairing.hpp): each point's
   // pairing, kPairingValues values (the master facet, -1 for a point not of
-  // a pair, and its barycentric coordinates there), and the master cell's
+  // a pair, and its coordinates there), and the master cell's
   // basis values at the paired point (Space::stride each); both empty without pairs
   std::vector<double> pairing, counterpart_phi;
   size_t size() const { return w.size(); }

@@ -182,7 +182,7 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
       // (the paired facet, not the nearest: a point over an edge between two
       // facets would otherwise see the edge's angle as a turn at every step)
       const Projection held = surface->on_facet(static_cast<int64_t>(g.pairing[q * kPairingValues]), e.y);
-      for (int k = 0; k < sp.mesh->facet_size(); ++k) slid = slid || held.bary[k] < -kPairSlack;
+      slid = beyond_facet(sp.mesh->facet_size(), held.bary, kPairSlack);
       c_held = 0;
       for (int k = 0; k < d; ++k) c_held += held.nu[k] * g.normal[q * 3 + k];
     } else {

@@ -45,8 +45,10 @@ std::vector<int> contact_node_regions(const std::vector<ContactPlane> &planes, c
 int pair_of(int region, const std::vector<ContactPair> &pairs);
 // a pair's point is paired anew when it has slid this far off its facet:
 // its projection's barycentric coordinates on the facet's plane below
-// -kPairSlack (a quarter of the facet beyond its edge; the slack keeps a
-// point that sits on an edge from being paired back and forth)
+// -kPairSlack, or on a hexahedron's face (s, t) outside [-kPairSlack, 1 +
+// kPairSlack] (contact/pairing.hpp: beyond_facet; a quarter of the facet
+// beyond its edge; the slack keeps a point that sits on an edge from being
+// paired back and forth)
 constexpr double kPairSlack = 0.25;
 // a pair's point farther than this many of the master's buckets (its
 // largest facet) from every master facet is not projected: its gap is that

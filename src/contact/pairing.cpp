@@ -35,14 +35,87 @@ double along(const double *a, const double *b, const double *y, int d) {
   return tt > 0 ? dot(w, t, d) / tt : 0.0;
 }
 
+// z = the facet's point of coordinates c (its n vertices x, d values each)
+void facet_point(const double (&x)[4][3], int n, const double *c, int d, double *z) {
+  double w[4];
+  facet_weights(n, c, w);
+  for (int k = 0; k < d; ++k) {
+    double zk = 0;
+    for (int i = 0; i < n; ++i) zk += w[i] * x[i][k];
+    z[k] = zk;
+  }
+}
+
+// |y - z|^2, z the facet's point of coordinates c
+double squared_distance(const double (&x)[4][3], int n, const double *c, const double *y, int d) {
+  double z[3], z2 = 0;
+  facet_point(x, n, c, d, z);
+  for (int k = 0; k < d; ++k) z2 += (y[k] - z[k]) * (y[k] - z[k]);
+  return z2;
+}
+
+// x_s and x_t of a quadrilateral face's bilinear map at (s, t)
+void face_tangents(const double (&x)[4][3], double s, double t, double *xs, double *xt) {
+  for (int k = 0; k < 3; ++k) {
+    xs[k] = (1 - t) * (x[1][k] - x[0][k]) + t * (x[2][k] - x[3][k]);
+    xt[k] = (1 - s) * (x[3][k] - x[0][k]) + s * (x[2][k] - x[1][k]);
+  }
+}
+
+// The stationary point (s, t) of |x(s, t) - y|^2 on a quadrilateral face's
+// bilinear extension: Newton from the centre (Gauss-Newton where the
+// Hessian is not positive definite: far from a warped face). A flat face's
+// (x_st in its plane, normal to y - x at the answer) converges
+// quadratically, a parallelogram's in one step. The iterates stay within
+// one facet beyond each edge (farther is slid off anyway: kPairSlack);
+// false when it did not converge.
+bool face_parameters(const double (&x)[4][3], const double *y, double &s, double &t) {
+  double xst[3];
+  for (int k = 0; k < 3; ++k) xst[k] = x[0][k] - x[1][k] + x[2][k] - x[3][k];
+  s = t = 0.5;
+  for (int it = 0; it < 32; ++it) {
+    double z[3], xs[3], xt[3], r[3];
+    const double c[2] = {s, t};
+    facet_point(x, 4, c, 3, z);
+    face_tangents(x, s, t, xs, xt);
+    for (int k = 0; k < 3; ++k) r[k] = z[k] - y[k];
+    const double g1 = dot(xs, r, 3), g2 = dot(xt, r, 3), h11 = dot(xs, xs, 3), h22 = dot(xt, xt, 3);
+    double h12 = dot(xs, xt, 3) + dot(xst, r, 3), det = h11 * h22 - h12 * h12;
+    if (!(det > 0)) h12 = dot(xs, xt, 3), det = h11 * h22 - h12 * h12;
+    if (!(det > 0) || !std::isfinite(det)) return false;
+    const double ds = -(h22 * g1 - h12 * g2) / det, dt = -(h11 * g2 - h12 * g1) / det;
+    if (!std::isfinite(ds) || !std::isfinite(dt)) return false;  // (y not finite: s and t stay finite)
+    s = std::clamp(s + ds, -1.0, 2.0), t = std::clamp(t + dt, -1.0, 2.0);
+    // (quadratic convergence: the error is then below round-off)
+    if (std::abs(ds) + std::abs(dt) <= 1e-10) return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+void facet_weights(int n, const double *c, double *w) {
+  if (n == 4) {  // a hexahedron's face: bilinear in (s, t), its vertices turning
+    const double s = c[0], t = c[1];
+    w[0] = (1 - s) * (1 - t), w[1] = s * (1 - t), w[2] = s * t, w[3] = (1 - s) * t;
+    return;
+  }
+  for (int i = 0; i < n; ++i) w[i] = c[i];
+}
+
+bool beyond_facet(int n, const double *c, double slack) {
+  if (n == 4) return c[0] < -slack || c[0] > 1 + slack || c[1] < -slack || c[1] > 1 + slack;
+  bool beyond = false;
+  for (int k = 0; k < n; ++k) beyond = beyond || c[k] < -slack;
+  return beyond;
+}
 
 bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *U, double *nu) {
   const Mesh &m = *sp.mesh;
   const int d = sp.dim;
   const Facet &facet = m.boundary[b];
   const std::array<int64_t, 4> v = m.facet_vertices(facet);
-  double x[3][3] = {};
+  double x[4][3] = {};
   for (int i = 0; i < m.facet_size(); ++i) moved(sp, dofs, v[i], U, x[i]);
   // across the facet, away from the cell's centre
   double centre[3] = {0, 0, 0}, c[3];
@@ -57,8 +130,12 @@ bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *
   } else if (d == 2) {
     n[0] = x[1][1] - x[0][1], n[1] = -(x[1][0] - x[0][0]);
   } else {
+    // (a hexahedron's face: across its diagonals, its bilinear normal at
+    // the centre, the same whichever vertex comes first)
+    const bool face = m.facet_size() == 4;
     double e1[3], e2[3];
-    for (int k = 0; k < 3; ++k) e1[k] = x[1][k] - x[0][k], e2[k] = x[2][k] - x[0][k];
+    for (int k = 0; k < 3; ++k)
+      e1[k] = face ? x[2][k] - x[0][k] : x[1][k] - x[0][k], e2[k] = face ? x[3][k] - x[1][k] : x[2][k] - x[0][k];
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -75,9 +152,6 @@ bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *
 MasterSurface::MasterSurface(const Space &sp, const DofMap &dofs, int region, const double *U) : dim_(sp.dim) {
   const Mesh &m = *sp.mesh;
   const int d = dim_;
-  if (m.cell_type == ND_CELL_HEXAHEDRON)
-    fail(ND_ERR_STATE, "a contact pair on hexahedra is not supported yet (its master faces are bilinear): "
-                       "use tetrahedra");
   auto it = m.regions.find(region);
   if (it == m.regions.end() || it->second.empty())
     fail(ND_ERR_REGION, "the contact pair's master region " + std::to_string(region) + " has no facet");
@@ -150,6 +224,7 @@ MasterSurface::MasterSurface(const Space &sp, const DofMap &dofs, int region, co
 }
 
 Projection MasterSurface::land(const Moved &f, const double *y, bool clamp) const {
+  if (f.n == 4) return land_face(f, y, clamp);
   const int d = dim_;
   Projection p;
   p.facet = f.facet;
@@ -193,6 +268,42 @@ Projection MasterSurface::land(const Moved &f, const double *y, bool clamp) cons
   return p;
 }
 
+Projection MasterSurface::land_face(const Moved &f, const double *y, bool clamp) const {
+  Projection p;
+  p.facet = f.facet;
+  double s = 0.5, t = 0.5;
+  const bool inside = face_parameters(f.x, y, s, t) && s >= 0 && s <= 1 && t >= 0 && t <= 1;
+  if (clamp && !inside) {
+    // the nearest point is on an edge (straight: a segment), the nearest
+    // edge's; (s, t) along edge e from vertex e to e + 1 (or, on a face
+    // too warped for the iteration to converge, its last iterate clamped)
+    s = std::clamp(s, 0.0, 1.0), t = std::clamp(t, 0.0, 1.0);
+    const double last[2] = {s, t};
+    double best = squared_distance(f.x, 4, last, y, 3);
+    for (int e = 0; e < 4; ++e) {
+      const double a = std::clamp(along(f.x[e], f.x[(e + 1) % 4], y, 3), 0.0, 1.0);
+      const double c[2] = {e == 0 ? a : e == 1 ? 1 : e == 2 ? 1 - a : 0, e == 0 ? 0 : e == 1 ? a : e == 2 ? 1 : 1 - a};
+      const double z2 = squared_distance(f.x, 4, c, y, 3);
+      if (z2 < best) best = z2, s = c[0], t = c[1];
+    }
+  }
+  p.bary[0] = s, p.bary[1] = t;
+  // the face's normal at z, on the facet normal's side (docs/design.md
+  // §10.3: y - z is along it at an inner landing, d the distance)
+  double xs[3], xt[3], z[3], n[3];
+  face_tangents(f.x, s, t, xs, xt);
+  n[0] = xs[1] * xt[2] - xs[2] * xt[1];
+  n[1] = xs[2] * xt[0] - xs[0] * xt[2];
+  n[2] = xs[0] * xt[1] - xs[1] * xt[0];
+  const double len = length(n, 3);
+  const double scale = !(len > 0) || !std::isfinite(len) ? 0.0 : dot(n, f.nu, 3) < 0 ? -1 / len : 1 / len;
+  for (int k = 0; k < 3; ++k) p.nu[k] = scale != 0 ? scale * n[k] : f.nu[k];  // (a collapsed corner: the facet's)
+  facet_point(f.x, 4, p.bary, 3, z);
+  for (int k = 0; k < 3; ++k) n[k] = y[k] - z[k];
+  p.d = dot(n, p.nu, 3);
+  return p;
+}
+
 Projection MasterSurface::on_facet(int64_t facet, const double *y) const {
   const int64_t i = facet >= 0 && facet < static_cast<int64_t>(where_.size()) ? where_[facet] : -1;
   if (i < 0) fail(ND_ERR_INTERNAL, "a pairing's facet is not on the master surface");
@@ -200,16 +311,6 @@ Projection MasterSurface::on_facet(int64_t facet, const double *y) const {
 }
 
 namespace {
-// |y - z|^2, z the facet's point of barycentric coordinates bary
-double squared_distance(const double (&x)[3][3], int n, const double *bary, const double *y, int d) {
-  double z2 = 0;
-  for (int k = 0; k < d; ++k) {
-    double zk = 0;
-    for (int i = 0; i < n; ++i) zk += bary[i] * x[i][k];
-    z2 += (y[k] - zk) * (y[k] - zk);
-  }
-  return z2;
-}
 // |y - box|^2 (0 inside it)
 double box_distance2(const double *lo, const double *hi, const double *y, int d) {
   double s = 0;
@@ -293,10 +394,13 @@ void facet_point_reference(const Mesh &m, const Facet &f, const double *bary, do
     }
     return;
   }
-  if (d == 3) fail(ND_ERR_STATE, "a contact pair on hexahedra is not supported yet");
-  // a quadrilateral's edge: straight in the reference square too
-  for (int j = 0; j < m.facet_size(); ++j)
-    for (int k = 0; k < d; ++k) xi[k] += bary[j] * cube::kCorner[cube::facet_vertex(d, f.local, j)][k];
+  // a quadrilateral's edge, a hexahedron's face: the reference square's or
+  // cube's (straight, flat) with the same weights of its corners
+  const int n = m.facet_size();
+  double w[4];
+  facet_weights(n, bary, w);
+  for (int j = 0; j < n; ++j)
+    for (int k = 0; k < d; ++k) xi[k] += w[j] * cube::kCorner[cube::facet_vertex(d, f.local, j)][k];
 }
 
 void counterpart_displacement(const Space &sp, const DofMap &dofs, int64_t facet, const double *bary, const double *U,

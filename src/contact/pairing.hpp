@@ -23,22 +23,34 @@ struct ContactPair {
 
 // A pairing (kPairingValues per point in ContactPoints::pairing, in
 // assembly/contact.hpp, and in the state): the master facet (an index into
-// Mesh::boundary, as a double: exact below 2^53) and the point's barycentric
-// coordinates on it (its facet_size() vertices, Mesh::facet_vertices order;
-// the rest 0).
+// Mesh::boundary, as a double: exact below 2^53) and the point's coordinates
+// on it, 3 values: a simplex's facet's or a quadrilateral's edge's
+// barycentric coordinates (its facet_size() vertices, Mesh::facet_vertices
+// order; the rest 0); a hexahedron's face's (4 vertices, turning) its
+// bilinear parameters (s, t) in [0, 1]^2, then 0: the point x(s, t) =
+// (1-s)(1-t) x_0 + s(1-t) x_1 + s t x_2 + (1-s) t x_3.
+
+// The weights of a facet's n = facet_size() vertices (n values) at the
+// point of coordinates c: c itself but on a hexahedron's face
+void facet_weights(int n, const double *c, double *w);
+// whether a landing of coordinates c is more than `slack` beyond its facet
+// (a barycentric coordinate below -slack; s or t outside [-slack, 1 + slack])
+bool beyond_facet(int n, const double *c, double slack);
 
 // Where a point lands on the master surface: the nearest point z of the
 // nearest facet, the facet's outward unit normal nu there (from the master
-// towards the slave side) and d = (y - z).nu, the signed distance to the
-// facet's tangent plane (negative: y is inside the master).
+// towards the slave side; a hexahedron's bilinear face's at z) and d =
+// (y - z).nu, the signed distance to the facet's tangent plane (negative: y
+// is inside the master).
 struct Projection {
   int64_t facet = -1;
-  double bary[3] = {0, 0, 0};
+  double bary[3] = {0, 0, 0};  // z's coordinates on the facet (a pairing's)
   double d = 0, nu[3] = {0, 0, 0};
 };
 
 // The facets of a region at the positions x + u (the facets' vertices moved
-// by U's vertex values; a P2 facet by its corners: its chord), with a bucket
+// by U's vertex values; a P2 facet by its corners: its chord, a Q2 face the
+// bilinear face of its 4 corners), with a bucket
 // grid for the nearest-facet search: built in O(n log n) for n facets, a
 // query O(1) for a point near the surface.
 class MasterSurface {
@@ -55,19 +67,21 @@ class MasterSurface {
                      int64_t hint = -1) const;
   // the size of the search's buckets: the largest facet's extent
   double bucket() const { return cell_; }
-  // y's landing on this facet's plane, its barycentric coordinates not
-  // clamped to the facet (how far outside the facet y has slid)
+  // y's landing on this facet's plane (a hexahedron's face: its bilinear
+  // extension), its coordinates not clamped to the facet (how far outside
+  // the facet y has slid: beyond_facet)
   Projection on_facet(int64_t facet, const double *y) const;
 
  private:
   struct Moved {
     int64_t facet;  // into Mesh::boundary
     int n;          // vertices
-    double x[3][3];  // their positions
+    double x[4][3];  // their positions
     double nu[3];    // outward unit normal
     double lo[3], hi[3];
   };
   Projection land(const Moved &f, const double *y, bool clamp) const;
+  Projection land_face(const Moved &f, const double *y, bool clamp) const;  // (a hexahedron's)
   int dim_;
   std::vector<Moved> facets_;
   std::vector<int64_t> where_;  // facet index -> position in facets_ (-1: not of the region)
@@ -85,12 +99,11 @@ class MasterSurface {
 bool facet_normal(const Space &sp, const DofMap &dofs, int64_t b, const double *U, double *nu);
 
 // The master cell's reference coordinates (xi, dim values) of the point with
-// barycentric coordinates `bary` on its boundary facet f; ND_ERR_STATE for a
-// hexahedron's face (not supported yet).
+// coordinates `bary` on its boundary facet f (a pairing's).
 void facet_point_reference(const Mesh &m, const Facet &f, const double *bary, double *xi);
 
 // u at the paired point (dim values): the master cell's interpolation of U
-// (clamped DOFs: zero) at the point of facet `facet` with barycentric `bary`
+// (clamped DOFs: zero) at the point of facet `facet` with coordinates `bary`
 void counterpart_displacement(const Space &sp, const DofMap &dofs, int64_t facet, const double *bary, const double *U,
                               double *u);
 

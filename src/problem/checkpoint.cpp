@@ -34,7 +34,9 @@ constexpr char kMagic[8] = {'N', 'D', 'S', 'T', 'A', 'T', 'E', '\0'};
 // 9 (always written): the curved obstacles' section ends with W_geometry,
 // and without curved obstacles the friction section with the planes' points
 // at t^n (StateSizes::n_places); 10 (always written): flag 4, the contact
-// pairs' section after the friction's: each point's pairing, then (without
+// pairs' section after the friction's: each point's pairing (kPairingValues:
+// the facet, then 3 coordinates: barycentric, or a hexahedron's face's (s,
+// t, 0), contact/pairing.hpp; the same size whatever the cells), then (without
 // the curved obstacles' section) the frozen normals and W_geometry; 11
 // (always written): after W_prescribed the energy-balance guard's state
 // (GuardState: balance, its lowest value, E_top, exchange, in contact), and

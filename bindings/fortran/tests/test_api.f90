@@ -64,6 +64,7 @@ program test_api
     call test_friction()
   case ('pairs')
     call test_pairs()
+    call test_pair_hexahedra()
     call test_pair_friction()
   case ('adaptive')
     call test_adaptive()
@@ -411,6 +412,85 @@ contains
     call check(sum(v(1:11)) / 11 < -0.09_c_double, 'bar 1 leaves backwards at about -v0')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_pairs
+
+  ! ---- the bars as Q1 hexahedra (the twin of test_pairs.c's
+  ! hex_bars_head_on_are_the_1d_bars) -------------------------------------
+  ! the same bars, one cell across a square section of side 0.1, nu = 0 (the
+  ! 1D motion per unit section), bar 2's end face a bilinear master face:
+  ! the total momentum stays 0 to round-off, the ledger never rises, the
+  ! contact lasts about 2L/c = 2 and bar 1 leaves backwards
+  subroutine test_pair_hexahedra()
+    integer, parameter :: corner(3, 8) = reshape([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, &
+                                                   0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1], [3, 8])
+    type(c_ptr) :: m, p
+    real(c_double) :: x(3, 88), v(3, 88), mom(3), e, Wg, previous, rise, E0, active, t, first, last, mean
+    integer(c_int64_t) :: cells(8, 20)
+    integer :: b, i, j, k, c, n
+    do b = 0, 1
+      do k = 0, 1
+        do j = 0, 1
+          do i = 0, 10
+            x(:, 1 + 44 * b + (k * 2 + j) * 11 + i) = [1.01_c_double * b + i / 10.0_c_double, 0.1_c_double * j, &
+                                                       0.1_c_double * k]
+          end do
+        end do
+      end do
+      do i = 0, 9
+        do c = 1, 8
+          cells(c, 1 + 10 * b + i) = 44 * b + (corner(3, c) * 2 + corner(2, c)) * 11 + i + corner(1, c)
+        end do
+      end do
+    end do
+    call check(nd_mesh_create_cells(3_c_int, ND_CELL_HEXAHEDRON, 88_c_int64_t, x, 20_c_int64_t, cells, m) == ND_OK, &
+               'two bars of hexahedra in one mesh')
+    call check(nd_mesh_mark_boundary_box(m, 1_c_int, [1 - 1e-9_c_double, -1.0_c_double, -1.0_c_double], &
+                                         [1.005_c_double, 1.0_c_double, 1.0_c_double]) == ND_OK, 'bar 1''s end face')
+    call check(nd_mesh_mark_boundary_box(m, 2_c_int, [1.005_c_double, -1.0_c_double, -1.0_c_double], &
+                                         [1.01_c_double + 1e-9_c_double, 1.0_c_double, 1.0_c_double]) == ND_OK, &
+               'bar 2''s end face')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create (Q1)')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_problem_set_material(p, 1.0_c_double, 0.0_c_double, 1.0_c_double) == ND_OK, 'material')
+    call check(nd_problem_set_contact_pair(p, 1_c_int, 2_c_int) == ND_OK, 'a pair on hexahedra')
+    call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.0_c_double) == ND_OK, 'nd_problem_set_nitsche')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'the hybrid scheme')
+    call check(nd_problem_set_timestep(p, 0.01_c_double) == ND_OK, 'nd_problem_set_timestep')
+    v = 0
+    v(1, :) = merge(0.1_c_double, -0.1_c_double, x(1, :) < 1.005_c_double)
+    call check(nd_problem_set_initial_state(p, 88_c_int64_t, v0=v) == ND_OK, 'the bars at +-0.1')
+    call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, E0) == ND_OK, 'ND_ENERGY_AUGMENTED')
+    previous = E0
+    rise = 0
+    first = -1
+    last = -1
+    do k = 1, 300
+      call check(nd_step(p) == ND_OK, 'a step of the hexahedral bars')
+      call check(nd_get_scalar(p, ND_MOMENTUM_X, mom(1)) == ND_OK, 'ND_MOMENTUM_X')
+      call check(nd_get_scalar(p, ND_MOMENTUM_Y, mom(2)) == ND_OK, 'ND_MOMENTUM_Y')
+      call check(nd_get_scalar(p, ND_MOMENTUM_Z, mom(3)) == ND_OK, 'ND_MOMENTUM_Z')
+      ! (300 steps of forces on 264 rows that cancel in the sum, momenta 1e-3:
+      ! 300 x 264 x 2.2e-16 x 1e-3, and a factor of ten)
+      call check(maxval(abs(mom)) <= 1.7e-13_c_double, 'the total momentum stays 0 to round-off (hexahedra)')
+      call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, e) == ND_OK, 'ND_ENERGY_AUGMENTED')
+      call check(nd_get_scalar(p, ND_WORK_GEOMETRY, Wg) == ND_OK, 'ND_WORK_GEOMETRY')
+      rise = max(rise, (e - Wg) - previous)
+      previous = e - Wg
+      call check(nd_get_scalar(p, ND_ACTIVE_POINTS, active) == ND_OK, 'ND_ACTIVE_POINTS')
+      call check(nd_get_scalar(p, ND_TIME, t) == ND_OK, 'ND_TIME')
+      if (active > 0) then
+        if (first < 0) first = t
+        last = t
+      end if
+    end do
+    call check(rise <= 1e-12_c_double * E0, 'E_Theta - W_geometry never rises (hexahedra, Theta = 1, hybrid)')
+    call check(abs(last - first - 2) <= 0.05_c_double, &
+               'the contact lasts 2L/c to the discretization''s error (hexahedra)')
+    call check(nd_get_field(p, ND_FIELD_VELOCITY, 88_c_int64_t, v) == ND_OK, 'ND_FIELD_VELOCITY')
+    n = count(x(1, :) < 1.005_c_double)
+    mean = sum(v(1, :), mask=x(1, :) < 1.005_c_double) / n
+    call check(mean < -0.09_c_double, 'bar 1 leaves backwards at about -v0 (hexahedra)')
+    call check(nd_problem_destroy(p) == ND_OK, 'destroy')
+  end subroutine test_pair_hexahedra
 
   ! ---- friction between two bodies (the twin of test_pairs.c's, of
   ! test_pairs.py's thrown block) ----------------------------------------

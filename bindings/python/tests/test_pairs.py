@@ -3,7 +3,8 @@
 tests/test_pairs.c and bindings/fortran/tests/test_api.f90 (pairs): two bars
 hitting head-on keep their total momentum to round-off and, with Theta = 1,
 the hybrid scheme's ledger; the contact lasts about 2L/c and the bars
-rebound; bad pairs are nd.Error with their codes. Friction between the
+rebound (and as Q1 hexahedra: a bilinear master face); bad pairs are
+nd.Error with their codes. Friction between the
 bodies (2D): a block thrown onto another and sliding over it with Coulomb
 F = 0.3 keeps the total momentum and, with Theta = 1, the hybrid ledger
 E_Theta + D_f - W_geometry, with D_f > 0 (test_pairs.c's
@@ -53,6 +54,47 @@ check(rise <= 1e-12 * 0.01, "E_Theta - W_geometry never rises with Theta = 1 (%.
 check(len(touched) > 0 and abs(touched[-1] - touched[0] - 2) <= 0.05, "the contact lasts 2L/c = 2")
 v = p.field(nd.ND_FIELD_VELOCITY).ravel()
 check(v[:11].mean() < -0.09 and v[11:].mean() > 0.09, "the bars rebound at about -+v0")
+
+# the bars again as Q1 hexahedra, one cell across a square section of side
+# w = 0.1, nu = 0 (the 1D bars' motion per unit section; test_pairs.c's
+# hex_bars_head_on_are_the_1d_bars): the master face bilinear, the same checks
+corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+x, cells = [], []
+for x0 in (0.0, 1.01):
+    base = len(x)
+    x += [[x0 + i / 10.0, 0.1 * j, 0.1 * k] for k in range(2) for j in range(2) for i in range(11)]
+    cells += [[base + (k * 2 + j) * 11 + i + a for (a, j, k) in corners] for i in range(10)]
+m = nd.Mesh(np.array(x), np.array(cells), cell_type=nd.ND_CELL_HEXAHEDRON)
+m.mark_boundary_box(1, [1 - 1e-9, -1, -1], [1.005, 1, 1])
+m.mark_boundary_box(2, [1.005, -1, -1], [1.01 + 1e-9, 1, 1])
+p = nd.Problem(m, 1)
+p.set_material(1.0, 0.0, 1.0)
+p.set_contact_pair(1, 2)
+p.set_nitsche(1.0, 0.0)
+p.set_scheme(nd.ND_SCHEME_HYBRID)
+p.set_timestep(0.01)
+first = p.node_coordinates()[:, 0] < 1.005
+v0 = np.zeros((p.node_count, 3))
+v0[:, 0] = np.where(first, 0.1, -0.1)
+p.set_initial_state(v0=v0)
+ledger = lambda: p.scalar(nd.ND_ENERGY_AUGMENTED) - p.scalar(nd.ND_WORK_GEOMETRY)
+previous, E0, drift, rise, touched = ledger(), ledger(), 0.0, 0.0, []
+for k in range(300):
+    p.step()
+    drift = max([drift] + [abs(p.scalar(key)) for key in (nd.ND_MOMENTUM_X, nd.ND_MOMENTUM_Y, nd.ND_MOMENTUM_Z)])
+    rise = max(rise, ledger() - previous)
+    previous = ledger()
+    if p.scalar(nd.ND_ACTIVE_POINTS) > 0:
+        touched.append(p.scalar(nd.ND_TIME))
+v = p.field(nd.ND_FIELD_VELOCITY)
+# (300 steps of forces on 264 rows that cancel in the sum, momenta 1e-3:
+# 300 x 264 x 2.2e-16 x 1e-3, and a factor of ten)
+check(drift <= 1.7e-13, "hexahedra: the total momentum stays 0 to round-off (%.3g)" % drift)
+check(rise <= 1e-12 * E0, "hexahedra: E_Theta - W_geometry never rises with Theta = 1 (%.3g)" % rise)
+check(len(touched) > 0 and abs(touched[-1] - touched[0] - 2) <= 0.05, "hexahedra: the contact lasts 2L/c = 2")
+check(v[first, 0].mean() < -0.09 and v[~first, 0].mean() > 0.09, "hexahedra: the bars rebound at about -+v0")
+print("hex bars: momentum drift %.3g, ledger rise %.3g of %.3g, contact %.2f to %.2f, rebound %.5f" %
+      (drift, rise, E0, touched[0], touched[-1], v[first, 0].mean()))
 
 
 def block(lo, hi, n):
