@@ -267,9 +267,6 @@ void Problem::add_obstacle(int region, std::shared_ptr<const Shape> shape) {
 void Problem::set_contact_pair(int slave, int master) {
   require_region(slave, "contact");
   require_region(master, "contact");
-  if (slave == master)
-    fail(ND_ERR_REGION, "region " + std::to_string(slave) + " as its own master: a body touching itself through one "
-                        "region is not supported yet; give the two sides as two regions");
   const ContactPair pair{slave, master};
   auto it = std::find_if(def_.pairs.begin(), def_.pairs.end(), [&](const ContactPair &x) { return x.slave == slave; });
   if (it != def_.pairs.end()) *it = pair;
