@@ -254,8 +254,9 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint, 
   double best2 = std::numeric_limits<double>::infinity();
   if (hint >= 0 && hint < static_cast<int64_t>(where_.size()) && where_[hint] >= 0) {
     const Moved &f = facets_[where_[hint]];
-    const Projection p = land(f, y, true);
-    if (!own || admits(*own, where_[hint], p)) best = p, best2 = squared_distance(f.x, f.n, p.bary, y, d);
+    best = land(f, y, true);
+    best2 = squared_distance(f.x, f.n, best.bary, y, d);
+    if (own && !admits(*own, where_[hint], best)) best = Projection{}, best2 = std::numeric_limits<double>::infinity();
   }
   const int64_t most = std::max({counts_[0], counts_[1], counts_[2]});
   // rings of buckets about y's: after ring r every facet not seen is at
