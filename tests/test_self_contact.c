@@ -249,7 +249,7 @@ START_TEST(the_whole_boundary_as_its_own_master) {
              thin ? "thin" : "thick", theta, r.contact_steps, r.parted, r.first_active, r.drift, r.worst,
              scalar(p, ND_STAT_NORMAL_REFRESHES), r.differ, ref ? (r.same ? " (bitwise)" : "") : " (no reference)",
              r.penetration);
-      check_statements(&r, theta, thin ? arm / 10 : arm);
+      check_statements(&r, theta, thin ? arm / 10 : arm); /* (a thin arm: a tenth of the area) */
       /* the arms start 0.1 apart: a point active at the first step met its own body */
       ck_assert_int_eq(r.first_active, 0);
       /* the penetrations stay far inside the depth bound h/2 */
