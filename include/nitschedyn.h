@@ -324,7 +324,9 @@ ND_EXPORT int nd_problem_add_contact_distance(nd_problem p, int region, nd_dista
    region `slave` against the surface of region `master` (master/slave
    Nitsche, any Theta), paired anew from the current positions as they
    slide. Both regions of one mesh (its connected components are the bodies);
-   a slave region has one master (set again: replaced). */
+   a slave region has one master (set again: replaced), which may be itself:
+   a body touching itself through one region (its points then skip their own
+   neighbourhood and the facets not facing them). */
 ND_EXPORT int nd_problem_set_contact_pair(nd_problem p, int slave, int master);
 /* Places the region's obstacle `index` (0-based, in the order added; the
    plane moves with nd_problem_set_contact_plane) at x -> R x + translation

@@ -11,8 +11,10 @@
 # meshes, file output, the contact bounds, the critical-step estimate, the
 # convergence study, friction's schemes, laws and impacts on 2D and 3D
 # meshes: test_friction, more than 10 minutes alone; the contact pairs'
-# schemes, friction and restarts: test_pairs, 6 minutes, whose pairing and
-# rows test_self_contact and the Fortran pairs twin take under valgrind), and the
+# schemes, friction and restarts: test_pairs, 6 minutes, and a body touching
+# itself: test_self_contact, about 20 runs of up to 300 steps, a minute each; the
+# pairing and its rows, of two regions and of a region its own master, are
+# the Fortran pairs twin's under valgrind), and the
 # allocation-failure sweep (thousands of steps)
 # and METIS under a memory budget (unit_metis_memory), which interpose
 # malloc themselves; all of them run under ASan and UBSan (make
@@ -35,7 +37,7 @@ if [ "${1:-}" = "--one" ]; then
 fi
 build=${1:-build}
 jobs=${2:-2}
-slow="unit_tangent unit_forces test_io unit_contact_bounds unit_critical_step test_convergence test_friction test_pairs unit_alloc_failure unit_metis_memory"
+slow="unit_tangent unit_forces test_io unit_contact_bounds unit_critical_step test_convergence test_friction test_pairs test_self_contact unit_alloc_failure unit_metis_memory"
 [ "${3:-}" = all ] && slow=""
 programs() {
   for t in "$build"/tests/test_* "$build"/tests/unit_*; do

@@ -1041,7 +1041,6 @@ START_TEST(problem_obstacles) {
   EXPECT_ERR(nd_problem_set_contact_pair(NULL, 1, 1), ND_ERR_NULL, "nd_problem_set_contact_pair", "p");
   EXPECT_ERR(nd_problem_set_contact_pair(p, 7, 1), ND_ERR_REGION, "nd_problem_set_contact_pair", "region 7");
   EXPECT_ERR(nd_problem_set_contact_pair(p, 1, -1), ND_ERR_REGION, "nd_problem_set_contact_pair", "region -1");
-  EXPECT_ERR(nd_problem_set_contact_pair(p, 1, 1), ND_ERR_REGION, "nd_problem_set_contact_pair", "its own master");
   /* a contact region's scalars */
   double x = 0;
   EXPECT_ERR(nd_get_region_scalar(NULL, 1, ND_CONTACT_FORCE, &x), ND_ERR_NULL, "nd_get_region_scalar", "p");

@@ -13,7 +13,7 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
   std::vector<int> regions, plane_of;
   for (size_t ip = 0; ip < planes.size(); ++ip) regions.push_back(planes[ip].region), plane_of.push_back(int(ip));
   ContactPoints cp = assemble_contact(sp, dofs, mat, regions, plane_of,
-                                      [&](size_t r, const double *, double *nu) {
+                                      [&](size_t r, int64_t, const double *, double *nu) {
                                         for (int k = 0; k < sp.dim; ++k) nu[k] = planes[r].normal[k];
                                       },
                                       gamma0);
@@ -47,7 +47,7 @@ ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMa
       const int nb = basis.n;
       for (const FacetPoint &fp : facet_quadrature(*sp.mesh, f, degree)) {
         double nu[3] = {0, 0, 0}, n[3] = {0, 0, 0};
-        normal_of(ir, fp.x, nu);
+        normal_of(ir, b, fp.x, nu);
         for (int k = 0; k < 3; ++k) n[k] = -nu[k];
         basis.values(fp.xi, phi.data());
         std::fill(phi.begin() + nb, phi.end(), 0.0);

@@ -116,9 +116,10 @@ void set_bounds(ContactPoints &cp);
 // material of the point's cell); plane_of[r] the
 // index of regions[r]'s plane when its gaps have the closed form
 // (contact_gaps), -1 otherwise (gaps 0 here: contact/obstacles.hpp), and
-// normal_of(r, x, nu) the unit normal nu_q (from the obstacle towards the
-// body) of the next point of regions[r], at x: its rows hold n_q = -nu_q.
-using NormalOf = std::function<void(size_t r, const double *x, double *nu)>;
+// normal_of(r, b, x, nu) the unit normal nu_q (from the obstacle towards the
+// body) of the next point of regions[r], at x on boundary facet b: its rows
+// hold n_q = -nu_q.
+using NormalOf = std::function<void(size_t r, int64_t b, const double *x, double *nu)>;
 // tangential: the friction rows too (m = dim)
 ContactPoints assemble_contact(const Space &sp, const DofMap &dofs, const CellMaterials &mat, const std::vector<int> &regions,
                                const std::vector<int> &plane_of, const NormalOf &normal_of, double gamma0,

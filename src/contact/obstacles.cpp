@@ -170,7 +170,9 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
       if (!surface) surface = std::make_unique<MasterSurface>(sp, dofs, pairs[pair].master, U.data());
       e.pair = true;
       const double reach = kPairReach * surface->bucket();
-      e.p = surface->project(e.y, reach, static_cast<int64_t>(g.pairing[q * kPairingValues]));
+      const int64_t held_facet = static_cast<int64_t>(g.pairing[q * kPairingValues]);
+      const OwnFacet own{cp.facet[q], cp.h[q]};
+      e.p = surface->project(e.y, reach, held_facet, pairs[pair].slave == pairs[pair].master ? &own : nullptr);
       e.far = e.p.facet < 0;
       if (e.far) {  // nothing within reach: the gap's lower bound, along the frozen normal
         e.n.d = reach;
@@ -181,10 +183,14 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
       }
       // (the paired facet, not the nearest: a point over an edge between two
       // facets would otherwise see the edge's angle as a turn at every step)
-      const Projection held = surface->on_facet(static_cast<int64_t>(g.pairing[q * kPairingValues]), e.y);
-      slid = beyond_facet(sp.mesh->facet_size(), held.bary, kPairSlack);
-      c_held = 0;
-      for (int k = 0; k < d; ++k) c_held += held.nu[k] * g.normal[q * 3 + k];
+      if (held_facet < 0) {
+        slid = !e.far;  // a region's own point not paired yet (pairing.hpp, OwnFacet), with a facet in reach now
+      } else {
+        const Projection held = surface->on_facet(held_facet, e.y);
+        slid = beyond_facet(sp.mesh->facet_size(), held.bary, kPairSlack);
+        c_held = 0;
+        for (int k = 0; k < d; ++k) c_held += held.nu[k] * g.normal[q * 3 + k];
+      }
     } else {
       e.n = nearest(cp.region[q], now.planes, now.obstacles, d, now.t, e.y);
     }
@@ -221,7 +227,7 @@ StepGeometry step_geometry(const Space &sp, const DofMap &dofs, const ContactPoi
     const double cc = std::max(e.c, paired ? cos_pair_turn : cos_turn);
     double un = 0;  // n_q.u_q = -nu_f.u_q (a pair's: of the slave's motion relative to the paired point's)
     double rel[3] = {e.u[0], e.u[1], e.u[2]};
-    if (paired) {
+    if (paired && pq[0] >= 0) {  // (not paired yet: its rows have no master side)
       double um[3];
       counterpart_displacement(sp, dofs, static_cast<int64_t>(pq[0]), pq + 1, U.data(), um);
       for (int k = 0; k < d; ++k) rel[k] -= um[k];

@@ -178,6 +178,7 @@ MasterSurface::MasterSurface(const Space &sp, const DofMap &dofs, int region, co
     cells = std::max(cells, m.cell_diameter(facet.cell));
     where_[b] = static_cast<int64_t>(facets_.size());
     facets_.push_back(f);
+    vertices_.push_back(v);
   }
   // buckets the size of the largest facet (a 1D region's points: of the
   // largest master cell), at most 8 per facet and at least one
@@ -322,7 +323,19 @@ double box_distance2(const double *lo, const double *hi, const double *y, int d)
 }
 }  // namespace
 
-Projection MasterSurface::project(const double *y, double within, int64_t hint) const {
+bool MasterSurface::admits(const OwnFacet &own, int64_t i, const Projection &p) const {
+  const int64_t at = own.facet >= 0 && own.facet < static_cast<int64_t>(where_.size()) ? where_[own.facet] : -1;
+  if (at < 0) fail(ND_ERR_INTERNAL, "a point of a region paired with itself is not on its surface");
+  const Moved &mine = facets_[at], &f = facets_[i];
+  for (int a = 0; a < mine.n; ++a)
+    for (int b = 0; b < f.n; ++b)
+      if (vertices_[at][a] == vertices_[i][b]) return false;  // its own neighbourhood (its own facet too)
+  // facing it: nu_f . (-n_q) >= cos(kSelfFacing), n_q its own facet's outward normal
+  static const double cos_facing = std::cos(kSelfFacing);
+  return -dot(f.nu, mine.nu, dim_) >= cos_facing && p.d >= -kSelfDepth * own.h;
+}
+
+Projection MasterSurface::project(const double *y, double within, int64_t hint, const OwnFacet *own) const {
   const int d = dim_;
   // farther than `within` from the facets' box: from every facet
   if (box_distance2(lo_, hi_, y, d) > within * within) return Projection{};
@@ -344,6 +357,7 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
     const Moved &f = facets_[where_[hint]];
     best = land(f, y, true);
     best2 = squared_distance(f.x, f.n, best.bary, y, d);
+    if (own && !admits(*own, where_[hint], best)) best = Projection{}, best2 = std::numeric_limits<double>::infinity();
   }
   const int64_t most = std::max({counts_[0], counts_[1], counts_[2]});
   // rings of buckets about y's: after ring r every facet not seen is at
@@ -363,6 +377,7 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
             // farther than the nearest so far, costs no projection)
             if (box_distance2(f.lo, f.hi, y, d) > best2) continue;
             const Projection p = land(f, y, true);
+            if (own && !admits(*own, members_[e], p)) continue;
             const double z2 = squared_distance(f.x, f.n, p.bary, y, d);
             // the first of equals in the facets' order: the same answer
             // whatever order the buckets are visited in
@@ -376,7 +391,7 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint) 
     if (seen >= within) break;
   }
   if (best.facet >= 0 && !(std::sqrt(best2) <= within)) best = Projection{};
-  if (best.facet < 0 && !(within < std::numeric_limits<double>::infinity()))
+  if (best.facet < 0 && !own && !(within < std::numeric_limits<double>::infinity()))
     fail(ND_ERR_INTERNAL, "no facet found on the master surface");
   return best;
 }

@@ -48,6 +48,21 @@ struct Projection {
   double d = 0, nu[3] = {0, 0, 0};
 };
 
+// A point of a region paired with itself (a body touching itself, docs/design.md
+// §10.3): the boundary facet it lies on and its cell's diameter h. Its search
+// takes only the facets of another side of the body facing it: none sharing a
+// vertex with its own facet; none whose outward normal turns more than
+// kSelfFacing from its own facet's inward one (a right-angled convex corner,
+// 90 degrees, is left out with 30 to spare for the turns between pairings);
+// none it lies more than kSelfDepth h behind (the body's other side, through
+// the body: a penetration that deep is no contact's)
+struct OwnFacet {
+  int64_t facet = -1;
+  double h = 0;
+};
+constexpr double kSelfFacing = 1.0471975511965976;  // pi / 3
+constexpr double kSelfDepth = 0.5;
+
 // The facets of a region at the positions x + u (the facets' vertices moved
 // by U's vertex values; a P2 facet by its corners: its chord, a Q2 face the
 // bilinear face of its 4 corners), with a bucket
@@ -62,9 +77,11 @@ class MasterSurface {
   // `within`, none (facet -1) when every facet is farther than that from y
   // (the search then stops at that distance)
   // (hint: a facet to try first, e.g. the point's pairing: the same answer,
-  // found sooner)
+  // found sooner; own: y is a point of this region's facet own->facet, and
+  // only the facets that OwnFacet admits are searched; none admitted within
+  // reach: facet -1, also with `within` infinite)
   Projection project(const double *y, double within = std::numeric_limits<double>::infinity(),
-                     int64_t hint = -1) const;
+                     int64_t hint = -1, const OwnFacet *own = nullptr) const;
   // the size of the search's buckets: the largest facet's extent
   double bucket() const { return cell_; }
   // y's landing on this facet's plane (a hexahedron's face: its bilinear
@@ -82,8 +99,11 @@ class MasterSurface {
   };
   Projection land(const Moved &f, const double *y, bool clamp) const;
   Projection land_face(const Moved &f, const double *y, bool clamp) const;  // (a hexahedron's)
+  // whether a point of facet own->facet may land on facet i (p: where it does)
+  bool admits(const OwnFacet &own, int64_t i, const Projection &p) const;
   int dim_;
   std::vector<Moved> facets_;
+  std::vector<std::array<int64_t, 4>> vertices_;  // facets_[i]'s vertices (Mesh::facet_vertices)
   std::vector<int64_t> where_;  // facet index -> position in facets_ (-1: not of the region)
   // the grid: cells of size `cell_` from `origin_`, `counts_` per axis;
   // bucket b's facets are entries [start_[b], start_[b + 1]) of `members_`

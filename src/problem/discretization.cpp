@@ -113,7 +113,7 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
   size_t q = 0;  // (normal_of is called for each point in turn)
   ContactPoints cp = assemble_contact(
       space, dofs, materials_of(space, def), regions, plane_of,
-      [&](size_t r, const double *x, double *nu) {
+      [&](size_t r, int64_t b, const double *x, double *nu) {
         const int pair = pair_of(regions[r], def.pairs);
         double at[kPairingValues] = {-1, 0, 0, 0};
         if (plane_of[r] >= 0) {
@@ -129,7 +129,21 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
         } else if (pair >= 0) {
           auto &surface = surfaces[static_cast<size_t>(pair)];
           if (!surface) surface = std::make_unique<MasterSurface>(space, dofs, def.pairs[pair].master, nullptr);
-          const Projection p = surface->project(x);
+          Projection p;
+          if (def.pairs[pair].slave != def.pairs[pair].master) {
+            p = surface->project(x);
+          } else {
+            // a region paired with itself: its points meet the sides facing
+            // them within the steps' reach (contact/obstacles.cpp); one with
+            // none starts unpaired, as if facing an opposed facet (its rows
+            // without a master side, its gap that reach)
+            const OwnFacet own{b, space.mesh->cell_diameter(space.mesh->boundary[b].cell)};
+            p = surface->project(x, kPairReach * surface->bucket(), -1, &own);
+            if (p.facet < 0 && !facet_normal(space, dofs, b, nullptr, p.nu))
+              fail(ND_ERR_INTERNAL, "a facet of a region paired with itself has no normal");
+            if (p.facet < 0)
+              for (double &c : p.nu) c = -c;
+          }
           for (int k = 0; k < space.dim; ++k) nu[k] = p.nu[k];
           at[0] = static_cast<double>(p.facet);
           std::copy_n(p.bary, kPairingValues - 1, at + 1);

@@ -66,6 +66,7 @@ program test_api
     call test_pairs()
     call test_pair_hexahedra()
     call test_pair_friction()
+    call test_self_pair()
   case ('adaptive')
     call test_adaptive()
   case default
@@ -378,7 +379,7 @@ contains
     call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create')
     call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
     call check(nd_problem_set_material(p, 1.0_c_double, 0.0_c_double, 1.0_c_double) == ND_OK, 'material')
-    call check(nd_problem_set_contact_pair(p, 1_c_int, 1_c_int) == ND_ERR_REGION, 'a region as its own master is refused')
+    call check(nd_problem_set_contact_pair(p, 1_c_int, 1_c_int) == ND_OK, 'a region as its own master (replaced next)')
     call check(nd_problem_set_contact_pair(p, 1_c_int, 2_c_int) == ND_OK, 'nd_problem_set_contact_pair')
     call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.0_c_double) == ND_OK, 'nd_problem_set_nitsche')
     call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'the hybrid scheme')
@@ -567,6 +568,86 @@ contains
                'nd_get_region_scalar: the pair''s D_f is the whole')
     call check(nd_problem_destroy(p) == ND_OK, 'destroy')
   end subroutine test_pair_friction
+
+  ! ---- one region as its own master (the twin of tests/test_self_contact.c's
+  ! whole boundary) ------------------------------------------------------------
+  ! [0, 2.1] x [0, 2] in cells of 0.1 (each split in two triangles) without
+  ! the slot [1, 1.1] x [0.5, 2], its whole boundary region 3 paired with
+  ! itself; the arms thrown towards each other at up to 0.5: no point active
+  ! at the first step (none pairs through the body, past a corner or with its
+  ! own facets), the slot closes and opens, the total momentum stays to
+  ! round-off, and with Theta = 1 the hybrid ledger E_Theta - W_geometry never
+  ! rises
+  subroutine test_self_pair()
+    integer, parameter :: nx = 21, ny = 20
+    type(c_ptr) :: m, p
+    real(c_double) :: x(2, (nx + 1) * (ny + 1)), v(2, (nx + 1) * (ny + 1)), P0(2), mom(2), e, Wg, previous, rise, E0
+    real(c_double) :: active
+    integer(c_int64_t) :: cells(3, 2 * nx * ny), nc, a
+    integer :: i, j, k, touched, first_active
+    logical :: parted
+    do j = 0, ny
+      do i = 0, nx
+        x(:, 1 + j * (nx + 1) + i) = [0.1_c_double * i, 0.1_c_double * j]
+      end do
+    end do
+    nc = 0
+    do j = 0, ny - 1
+      do i = 0, nx - 1
+        if (i == 10 .and. j >= 5) cycle
+        a = j * (nx + 1) + i
+        cells(:, nc + 1) = [a, a + 1, a + nx + 2]
+        cells(:, nc + 2) = [a, a + nx + 2, a + nx + 1]
+        nc = nc + 2
+      end do
+    end do
+    call check(nd_mesh_create(2_c_int, int((nx + 1) * (ny + 1), c_int64_t), x, nc, cells, m) == ND_OK, &
+               'the U-shaped body')
+    call check(nd_mesh_mark_boundary_box(m, 3_c_int, [-1.0_c_double, -1.0_c_double], [3.0_c_double, 3.0_c_double]) &
+               == ND_OK, 'its whole boundary')
+    call check(nd_problem_create(m, 1_c_int, p) == ND_OK, 'nd_problem_create')
+    call check(nd_mesh_destroy(m) == ND_OK, 'nd_mesh_destroy')
+    call check(nd_problem_set_material(p, 100.0_c_double, 0.3_c_double, 1.0_c_double) == ND_OK, 'material')
+    call check(nd_problem_set_contact_pair(p, 3_c_int, 3_c_int) == ND_OK, 'a region as its own master')
+    call check(nd_problem_set_nitsche(p, 1.0_c_double, 0.0_c_double) == ND_OK, 'nd_problem_set_nitsche')
+    call check(nd_problem_set_scheme(p, ND_SCHEME_HYBRID) == ND_OK, 'the hybrid scheme')
+    call check(nd_problem_set_timestep(p, 0.005_c_double) == ND_OK, 'nd_problem_set_timestep')
+    v = 0
+    do i = 1, size(x, 2)
+      if (x(2, i) > 0.5_c_double) v(1, i) = merge(0.5_c_double, -0.5_c_double, x(1, i) < 1.05_c_double) &
+                                             * (x(2, i) - 0.5_c_double) / 1.5_c_double
+    end do
+    call check(nd_problem_set_initial_state(p, int(size(x, 2), c_int64_t), v0=v) == ND_OK, 'the arms thrown')
+    call check(nd_get_scalar(p, ND_MOMENTUM_X, P0(1)) == ND_OK, 'ND_MOMENTUM_X')
+    call check(nd_get_scalar(p, ND_MOMENTUM_Y, P0(2)) == ND_OK, 'ND_MOMENTUM_Y')
+    call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, E0) == ND_OK, 'ND_ENERGY_AUGMENTED')
+    previous = E0
+    rise = 0
+    touched = 0
+    first_active = -1
+    parted = .false.
+    do k = 1, 150
+      call check(nd_step(p) == ND_OK, 'a step of the body touching itself')
+      call check(nd_get_scalar(p, ND_MOMENTUM_X, mom(1)) == ND_OK, 'ND_MOMENTUM_X')
+      call check(nd_get_scalar(p, ND_MOMENTUM_Y, mom(2)) == ND_OK, 'ND_MOMENTUM_Y')
+      ! (each arm's momentum 0.375, forces of order 3 on ~100 rows; the C twin
+      ! measures 6.8e-14)
+      call check(maxval(abs(mom - P0)) <= 1e-11_c_double * 0.375_c_double, 'the total momentum is conserved')
+      call check(nd_get_scalar(p, ND_ENERGY_AUGMENTED, e) == ND_OK, 'ND_ENERGY_AUGMENTED')
+      call check(nd_get_scalar(p, ND_WORK_GEOMETRY, Wg) == ND_OK, 'ND_WORK_GEOMETRY')
+      rise = max(rise, (e - Wg) - previous)
+      previous = e - Wg
+      call check(nd_get_scalar(p, ND_ACTIVE_POINTS, active) == ND_OK, 'ND_ACTIVE_POINTS')
+      if (k == 1) first_active = int(active)
+      if (active > 0.5_c_double) touched = touched + 1
+      if (touched > 0 .and. active < 0.5_c_double) parted = .true.
+    end do
+    call check(first_active == 0, 'no point active at the first step (the arms start 0.1 apart)')
+    call check(touched > 0 .and. parted, 'the slot closes and opens')
+    ! (the C twin: 8.1e-17 of the energy's terms, of the order of E0)
+    call check(rise <= 1e-12_c_double * E0, 'E_Theta - W_geometry never rises (Theta = 1, hybrid)')
+    call check(nd_problem_destroy(p) == ND_OK, 'destroy')
+  end subroutine test_self_pair
 
   ! ---- adaptive time steps (the twin of tests/test_adaptive.c) ------------
   ! A free bar flying at -1 towards the plane x = -0.1037: a step ends at the

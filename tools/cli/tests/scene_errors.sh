@@ -54,6 +54,12 @@ expect_file() {
 }
 
 expect 0 valid '' 's/^$//'
+# a region its own master (a body touching itself): the disk's circle, whose
+# points face no facet of it within reach, is accepted and runs
+expect 0 self_pair '' '7s/.*/[contact_pair]/
+8s/.*/slave = 1/
+9s/.*/master = 1/
+10d'
 expect 2 unknown_key "unknown_key.toml:7:1: unknown key 'material.colour'" '6a\
 colour = "red"'
 expect 2 unknown_table "unknown_table.toml:14:2: unknown key 'outputs'" '$a\
