@@ -724,7 +724,8 @@ static double upper_body_difference(const char *mesh, int dim, double tau) {
       ND_OK_OR_FAIL(nd_get_field(runs[pair], ND_FIELD_DISPLACEMENT, n, u + nd * pair));
       if (pair)
         for (int64_t i = 0; i < nd; ++i)
-          if (x[i - i % dim + dim - 1] > 0) difference = fmax(difference, fabs(u[nd + i] - u[i])), largest = fmax(largest, fabs(u[i]));
+          if (x[i - i % dim + dim - 1] > 0)
+            difference = fmax(difference, fabs(u[nd + i] - u[i])), largest = fmax(largest, fabs(u[i]));
     }
   free(x), free(v), free(u);
   ND_OK_OR_FAIL(nd_problem_destroy(&runs[0]));
