@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "contact/obstacle.hpp"
+#include "contact/obstacles.hpp"
 #include "mesh/cell_shape.hpp"
 
 namespace nd {
@@ -323,7 +324,7 @@ double box_distance2(const double *lo, const double *hi, const double *y, int d)
 }
 }  // namespace
 
-bool MasterSurface::admits(const OwnFacet &own, int64_t i, const Projection &p) const {
+bool MasterSurface::admits(const OwnFacet &own, int64_t i, const Projection &p, const double *y) const {
   const int64_t at = own.facet >= 0 && own.facet < static_cast<int64_t>(where_.size()) ? where_[own.facet] : -1;
   if (at < 0) fail(ND_ERR_INTERNAL, "a point of a region paired with itself is not on its surface");
   const Moved &mine = facets_[at], &f = facets_[i];
@@ -332,7 +333,11 @@ bool MasterSurface::admits(const OwnFacet &own, int64_t i, const Projection &p) 
       if (vertices_[at][a] == vertices_[i][b]) return false;  // its own neighbourhood (its own facet too)
   // facing it: nu_f . (-n_q) >= cos(kSelfFacing), n_q its own facet's outward normal
   static const double cos_facing = std::cos(kSelfFacing);
-  return -dot(f.nu, mine.nu, dim_) >= cos_facing && p.d >= -kSelfDepth * own.h;
+  if (!(-dot(f.nu, mine.nu, dim_) >= cos_facing && p.d >= -kSelfDepth * own.h)) return false;
+  // over the facet (to the slid-off slack): beyond the edge of a side its
+  // plane is no surface of the body, and a gap measured to it would push
+  // the point's own side at the other's edge
+  return !beyond_facet(f.n, land(f, y, false).bary, kPairSlack);
 }
 
 Projection MasterSurface::project(const double *y, double within, int64_t hint, const OwnFacet *own) const {
@@ -357,7 +362,7 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint, 
     const Moved &f = facets_[where_[hint]];
     best = land(f, y, true);
     best2 = squared_distance(f.x, f.n, best.bary, y, d);
-    if (own && !admits(*own, where_[hint], best)) best = Projection{}, best2 = std::numeric_limits<double>::infinity();
+    if (own && !admits(*own, where_[hint], best, y)) best = Projection{}, best2 = std::numeric_limits<double>::infinity();
   }
   const int64_t most = std::max({counts_[0], counts_[1], counts_[2]});
   // rings of buckets about y's: after ring r every facet not seen is at
@@ -377,7 +382,7 @@ Projection MasterSurface::project(const double *y, double within, int64_t hint, 
             // farther than the nearest so far, costs no projection)
             if (box_distance2(f.lo, f.hi, y, d) > best2) continue;
             const Projection p = land(f, y, true);
-            if (own && !admits(*own, members_[e], p)) continue;
+            if (own && !admits(*own, members_[e], p, y)) continue;
             const double z2 = squared_distance(f.x, f.n, p.bary, y, d);
             // the first of equals in the facets' order: the same answer
             // whatever order the buckets are visited in

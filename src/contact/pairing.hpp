@@ -55,7 +55,9 @@ struct Projection {
 // kSelfFacing from its own facet's inward one (a right-angled convex corner,
 // 90 degrees, is left out with 30 to spare for the turns between pairings);
 // none it lies more than kSelfDepth h behind (the body's other side, through
-// the body: a penetration that deep is no contact's)
+// the body: a penetration that deep is no contact's); none it lands beyond
+// by more than the slid-off slack (beyond a side's edge its plane is no
+// surface of the body)
 struct OwnFacet {
   int64_t facet = -1;
   double h = 0;
@@ -99,8 +101,8 @@ class MasterSurface {
   };
   Projection land(const Moved &f, const double *y, bool clamp) const;
   Projection land_face(const Moved &f, const double *y, bool clamp) const;  // (a hexahedron's)
-  // whether a point of facet own->facet may land on facet i (p: where it does)
-  bool admits(const OwnFacet &own, int64_t i, const Projection &p) const;
+  // whether a point y of facet own->facet may land on facet i (p: where it does)
+  bool admits(const OwnFacet &own, int64_t i, const Projection &p, const double *y) const;
   int dim_;
   std::vector<Moved> facets_;
   std::vector<std::array<int64_t, 4>> vertices_;  // facets_[i]'s vertices (Mesh::facet_vertices)

@@ -267,12 +267,6 @@ void Problem::add_obstacle(int region, std::shared_ptr<const Shape> shape) {
 void Problem::set_contact_pair(int slave, int master) {
   require_region(slave, "contact");
   require_region(master, "contact");
-  // (measured: the thrown block's faces as one region on Q1 hexahedra
-  // re-pair every point at every step and gain energy until the guard
-  // stops them at t = 0.19; tetrahedra and quadrilaterals do not)
-  if (slave == master && mesh_->cell_type == ND_CELL_HEXAHEDRON)
-    fail(ND_ERR_STATE, "region " + std::to_string(slave) + " as its own master on hexahedra is not supported yet: "
-                       "give the two sides as two regions (nd_problem_set_contact_pair(p, a, b))");
   const ContactPair pair{slave, master};
   auto it = std::find_if(def_.pairs.begin(), def_.pairs.end(), [&](const ContactPair &x) { return x.slave == slave; });
   if (it != def_.pairs.end()) *it = pair;
