@@ -139,10 +139,11 @@ ContactPoints contact_points(const Space &space, const DofMap &dofs, const Defin
             // without a master side, its gap that reach)
             const OwnFacet own{b, space.mesh->cell_diameter(space.mesh->boundary[b].cell)};
             p = surface->project(x, kPairReach * surface->bucket(), -1, &own);
-            if (p.facet < 0 && !facet_normal(space, dofs, b, nullptr, p.nu))
-              fail(ND_ERR_INTERNAL, "a facet of a region paired with itself has no normal");
-            if (p.facet < 0)
+            if (p.facet < 0) {
+              if (!facet_normal(space, dofs, b, nullptr, p.nu))
+                fail(ND_ERR_INTERNAL, "a facet of a region paired with itself has no normal");
               for (double &c : p.nu) c = -c;
+            }
           }
           for (int k = 0; k < space.dim; ++k) nu[k] = p.nu[k];
           at[0] = static_cast<double>(p.facet);

@@ -101,10 +101,10 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
   next.phi_t.assign(nq * mt, 0.0);
   next.sliding = next.sticking = 0;
   // each region's sum (empty: unknown, a checkpoint of version < 12 with
-  // several regions), the region's points consecutive
+  // several regions), the region's points consecutive: friction_regions'
+  // slots, met in order (the sizes checked as the slots are met, without a
+  // list made at every step)
   const bool regions = !next.by_region.empty();
-  if (regions && next.by_region.size() != 3 * friction_regions(cp).size())
-    fail(ND_ERR_INTERNAL, "the state's friction values per region do not match the contact regions");
   size_t slot = 0;
   double D_region = 0;
   auto close_region = [&] {
@@ -112,12 +112,17 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
     D_region = 0;
     ++slot;
   };
+  auto mismatch = [] { fail(ND_ERR_INTERNAL, "the state's friction values per region do not match the regions"); };
+  if (regions && next.by_region.size() % 3 != 0) mismatch();
   if (regions)
     for (size_t r = 0; r < next.by_region.size() / 3; ++r) next.by_region[3 * r + 1] = next.by_region[3 * r + 2] = 0;
   const double c = tangential_weight(law.rule());
   double value[3], J[9], D = 0, W = 0;
   for (size_t q = 0; q < nq; ++q) {
-    if (regions && q > 0 && cp.region[q] != cp.region[q - 1]) close_region();
+    if (regions && q > 0 && cp.region[q] != cp.region[q - 1]) {
+      close_region();
+      if (3 * slot >= next.by_region.size()) mismatch();
+    }
     law.law_m(q, P, value, J);
     if (value[0] != phi[q]) fail(ND_ERR_INTERNAL, "the normal value of a frictional point differs from the step's");
     bool slides = false;
@@ -139,6 +144,7 @@ void end_friction_step(const ContactLaw &law, const Discretization &d, const std
     }
   }
   if (regions && nq > 0) close_region();
+  if (regions && 3 * slot != next.by_region.size()) mismatch();
   next.D_friction += D;
   if (shift) next.W_obstacle += W;
   ContactLaw at_state = law;
