@@ -1065,8 +1065,10 @@ void Problem::overwrite_state(const double *u, const double *v) {
 std::vector<unsigned char> Problem::save_state() {
   state();
   complete_state();
-  const State &s = state_;
-  return encode_state(s, state_fingerprint(space_, *disc_), definition_print(def_, *disc_), state_sizes());
+  // (a set-up redefined since the state was made has no operators yet:
+  // made again here, as every other reader does)
+  const Discretization &d = discretization_();
+  return encode_state(state_, state_fingerprint(space_, d), definition_print(def_, d), state_sizes());
 }
 
 StateSizes Problem::state_sizes() {
