@@ -1269,6 +1269,28 @@ START_TEST(problem_guards) {
 }
 END_TEST
 
+/* a density and a stiffness whose operators the assembly accepts, but K/M
+   out of the doubles' range (fuzz_api: density 1e-308 on a thin rectangle):
+   the critical step is refused as the assembly refuses operators that
+   overflow, not reported as the library's failure */
+START_TEST(critical_step_out_of_range) {
+  const double cases[2][2] = {{1e300, 1e-150}, {1e-300, 1e150}}; /* young, density */
+  const char *words[2] = {"overflows", "too small"};
+  for (int k = 0; k < 2; ++k) {
+    nd_problem p = problem_2d();
+    EXPECT_OK(nd_problem_set_material(p, cases[k][0], 0.25, cases[k][1]));
+    double tau_c = -1;
+    EXPECT_ERR(nd_problem_estimate_critical_timestep(p, &tau_c), ND_ERR_MATERIAL,
+               "nd_problem_estimate_critical_timestep", words[k]);
+    ck_assert_double_eq(tau_c, -1); /* (not written) */
+    EXPECT_OK(nd_problem_set_material(p, 1.0, 0.25, 1.0));
+    EXPECT_OK(nd_problem_estimate_critical_timestep(p, &tau_c));
+    ck_assert(tau_c > 0 && isfinite(tau_c));
+    EXPECT_OK(nd_problem_destroy(&p));
+  }
+}
+END_TEST
+
 START_TEST(step_unknown_keys) {
   nd_problem p = nd_test_bar(4, 1, ND_SCHEME_HYBRID, NULL, 1.0, 0.2, 0.025);
   double u[5], x = 0;
@@ -1702,6 +1724,7 @@ static Suite *api_errors_suite(void) {
   tcase_add_test(def, problem_friction);
   tcase_add_test(def, problem_newton_solver);
   tcase_add_test(def, problem_guards);
+  tcase_add_test(def, critical_step_out_of_range);
   tcase_add_test(def, problem_prescribed_motion);
   suite_add_tcase(s, def);
 

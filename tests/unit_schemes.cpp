@@ -32,7 +32,8 @@ START_TEST(every_listed_scheme_is_registered) {
   {                                                                                \
     const int n = nd::scheme_parameter_count(name);                                \
     ck_assert_int_ge(n, 0);                                                        \
-    ck_assert_ptr_nonnull(nd::make_scheme(name, std::vector<double>(n, 0.5)).get()); \
+    const auto scheme = nd::make_scheme(name, std::vector<double>(n, 0.5));        \
+    ck_assert_ptr_nonnull(scheme.get());                                           \
     ++count;                                                                       \
     max_id = value > max_id ? value : max_id;                                      \
   }

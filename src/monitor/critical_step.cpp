@@ -55,6 +55,10 @@ double m_dot(const Discretization &d, const std::vector<double> &x, const std::v
 }  // namespace
 
 CriticalStep estimate_omega_max(Discretization &d, int solver, bool every_point_active) {
+  // (as the assembly refuses operators that overflow: ND_ERR_MATERIAL)
+  static const char *const out_of_range =
+      "the largest frequency squared, K/M, overflows: the density is too small for the stiffness on this mesh "
+      "(or the stiffness too large): rescale the units";
   const size_t n = static_cast<size_t>(d.dofs.n_free);
   const int max_iter = static_cast<int>(std::min<size_t>(n, 80));
   std::vector<std::vector<double>> Q;  // M-orthonormal Lanczos vectors
@@ -72,6 +76,8 @@ CriticalStep estimate_omega_max(Discretization &d, int solver, bool every_point_
     Q.push_back(r);
     apply(d, Q[j], z, every_point_active);
     alpha.push_back(dot(static_cast<int64_t>(n), Q[j].data(), z.data()));
+    if (!std::all_of(z.begin(), z.end(), [](double x) { return std::isfinite(x); }))
+      fail(ND_ERR_MATERIAL, out_of_range);
     w = z;
     d.mass_solve(w.data(), solver);  // w = M^-1 (K + T) q_j
     for (int pass = 0; pass < 2; ++pass)  // full reorthogonalization, twice is enough
@@ -80,6 +86,9 @@ CriticalStep estimate_omega_max(Discretization &d, int solver, bool every_point_
         for (size_t i = 0; i < n; ++i) w[i] -= c * q[i];
       }
     b = std::sqrt(std::max(0.0, m_dot(d, w, w, tmp)));
+    // (a mass so small, or a stiffness so large, against the other that
+    // K/M leaves the doubles: no step is small enough to say)
+    if (!std::isfinite(alpha.back()) || !std::isfinite(b)) fail(ND_ERR_MATERIAL, out_of_range);
     // the largest Ritz value and its residual bound b |s_last|
     const int m = j + 1;
     std::vector<double> diag(alpha), off(beta), vec(static_cast<size_t>(m * m));
@@ -97,8 +106,10 @@ CriticalStep estimate_omega_max(Discretization &d, int solver, bool every_point_
     beta.push_back(b);
     r = w;
   }
-  if (!(theta_max > 0) || !std::isfinite(theta_max))
-    fail(ND_ERR_INTERNAL, "the critical step estimate failed (largest Ritz value " + std::to_string(theta_max) + ")");
+  if (!std::isfinite(theta_max)) fail(ND_ERR_MATERIAL, out_of_range);
+  if (!(theta_max > 0))
+    fail(ND_ERR_MATERIAL, "the largest frequency squared, K/M, is " + std::to_string(theta_max) +
+                              ": the stiffness is too small for the density on this mesh: rescale the units");
   return CriticalStep{std::sqrt(theta_max + bound), std::sqrt(theta_max), j + 1};
 }
 

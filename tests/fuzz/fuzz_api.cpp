@@ -8,6 +8,7 @@
 // call.
 #include <fuzzer/FuzzedDataProvider.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "nitschedyn.h"
@@ -26,8 +28,11 @@ namespace {
   std::abort();
 }
 
-// The contract of one call's outcome.
+// The contract of one call's outcome (FUZZ_API_TRACE set: each call and
+// its status on stderr, to read what a crashing input did)
 int check(const char *call, int status) {
+  static const bool trace = std::getenv("FUZZ_API_TRACE") != nullptr;
+  if (trace) std::fprintf(stderr, "%s -> %d %s\n", call, status, nd_last_error());
   if (std::strcmp(nd_strerror(status), "unknown status code") == 0) violated(call, status, "unknown status");
   const char *msg = nd_last_error();
   if (msg == nullptr) violated(call, status, "nd_last_error() is NULL");
@@ -428,6 +433,72 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       case 44: {  // the damping's dissipation
         double x;
         if (p) CALL(nd_get_scalar, p, ND_DISSIPATION_DAMPING, &x);
+        break;
+      }
+      case 48:  // a guard: any id, any value (negative, NaN, infinite refused)
+        if (p) CALL(nd_problem_set_guard, p, in.ConsumeIntegralInRange<int>(-1, 9), any_double(in));
+        break;
+      case 49:  // the mass redistribution: any flag, then a step
+        if (p) {
+          CALL(nd_problem_set_mass_redistribution, p, in.ConsumeIntegralInRange<int>(-1, 2));
+          if (in.ConsumeBool() && steps < 24) ++steps, CALL(nd_step, p);
+        }
+        break;
+      case 56:  // the state overwritten between steps, counts possibly lying, values possibly not finite
+        if (p) {
+          buf.assign(static_cast<size_t>(3 * nodes + 1), 0.0);
+          buf2.assign(buf.size(), 0.0);
+          for (auto &x : buf) x = in.ConsumeBool() ? 1e-3 * any_double(in) : 0.0;
+          for (auto &x : buf2) x = in.ConsumeBool() ? any_double(in) : 0.0;
+          CALL(nd_problem_set_state, p, in.ConsumeBool() ? nodes : any_count(in, 40),
+               in.ConsumeBool() ? buf.data() : nullptr, in.ConsumeBool() ? buf2.data() : nullptr);
+        }
+        break;
+      case 57: {  // the critical step and the cells (sizes, then the nodes)
+        if (!p) break;
+        double tau_c;
+        CALL(nd_problem_estimate_critical_timestep, p, &tau_c);
+        int64_t n_cells = 0;
+        int per = 0;
+        if (CALL(nd_problem_get_cells, p, &n_cells, &per, nullptr) == ND_OK && n_cells * per < 100000) {
+          std::vector<int64_t> cells(static_cast<size_t>(n_cells * per) + 1);
+          CALL(nd_problem_get_cells, p, &n_cells, &per, cells.data());
+        }
+        break;
+      }
+      case 58:  // the pressure the last step applied, counts possibly lying
+        if (p && nodes < 100000) {
+          const int64_t n = in.ConsumeBool() ? nodes : any_count(in, 40);
+          buf.assign(static_cast<size_t>(std::max<int64_t>(nodes, 0) + 1), 0.0);
+          CALL(nd_get_contact_pressure_applied, p, n, buf.data());
+        }
+        break;
+      case 59: {  // files: a checkpoint and a VTU to a path that may be none, a directory, missing or a file
+        if (!p) break;
+        static std::string dir;
+        if (dir.empty()) {
+          char tmpl[] = "/tmp/fuzz_api.XXXXXX";
+          if (!mkdtemp(tmpl)) break;
+          dir = tmpl;
+          std::atexit([] {  // (the one file it may leave; the atomic writes leave no other)
+            std::remove((dir + "/out").c_str());
+            std::remove(dir.c_str());
+          });
+        }
+        const std::string paths[] = {"", dir, dir + "/missing/out", dir + "/out"};
+        const std::string &path = paths[in.ConsumeIntegralInRange<int>(0, 3)];
+        switch (in.ConsumeIntegralInRange<int>(0, 2)) {
+          case 0:
+            CALL(nd_problem_save_state_file, p, path.c_str());
+            break;
+          case 1: {  // into this problem or the other one
+            nd_problem other = problems[in.ConsumeBool() ? which : 1 - which];
+            if (other) CALL(nd_problem_load_state_file, other, path.c_str());
+            break;
+          }
+          default:
+            CALL(nd_problem_write_vtu, p, path.c_str());
+        }
         break;
       }
       case 55:  // friction: any law id, region and coefficient, then a step
