@@ -385,11 +385,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
           }
         }
         break;
-      case 45: {  // cells into a cell region: indices and counts possibly out of range
+      case 45: {  // cells into a cell region: indices out of range, counts not positive (the array's length
+                  // is the caller's word: a larger count with valid indices reads past it, as it would anywhere)
         std::vector<int64_t> c(4);
         for (auto &v : c) v = in.ConsumeIntegralInRange<int64_t>(-1, 30);
         if (m) CALL(nd_mesh_set_cell_region, m, in.ConsumeIntegralInRange<int>(-1, 3),
-                    in.ConsumeBool() ? any_count(in, 4) : in.ConsumeIntegralInRange<int64_t>(-1, 4),
+                    in.ConsumeBool() ? INT64_MIN : in.ConsumeIntegralInRange<int64_t>(-1, 4),
                     in.ConsumeBool() ? c.data() : nullptr);
         break;
       }
@@ -466,10 +467,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         }
         break;
       }
-      case 58:  // the pressure the last step applied, counts possibly lying
-        if (p && nodes < 100000) {
-          const int64_t n = in.ConsumeBool() ? nodes : any_count(in, 40);
-          buf.assign(static_cast<size_t>(std::max<int64_t>(nodes, 0) + 1), 0.0);
+      case 58:  // the pressure the last step applied, counts possibly lying (refused: not the points' count)
+        if (p) {
+          int64_t nq = 0;
+          if (CALL(nd_problem_get_contact_point_count, p, &nq) != ND_OK || nq < 0 || nq >= 100000) break;
+          const int64_t n = in.ConsumeBool() ? nq : any_count(in, 40);
+          buf.assign(static_cast<size_t>(std::max<int64_t>(nq, 40) + 1), 0.0);
           CALL(nd_get_contact_pressure_applied, p, n, buf.data());
         }
         break;
