@@ -41,6 +41,15 @@ static snap take(nd_problem p, int dim) {
 
 static int same(snap a, snap b) { return a.n == b.n && memcmp(a.f, b.f, sizeof(double) * (size_t)a.n) == 0; }
 
+/* whether two problems' fields and first scalars are bitwise equal now */
+static int same_now(nd_problem a, nd_problem b, int dim) {
+  snap sa = take(a, dim), sb = take(b, dim);
+  const int equal = same(sa, sb);
+  free(sa.f);
+  free(sb.f);
+  return equal;
+}
+
 /* a block clamped at x = 0 falling on the plane below it (1D: the bar) */
 static nd_problem scene(int dim, int degree, int scheme, const double *params) {
   if (dim == 1) {
@@ -110,16 +119,13 @@ START_TEST(resumed_runs_are_bitwise_the_uninterrupted_ones) {
             nd_problem b = scene(dim, degree, schemes[s].scheme, schemes[s].params);
             ND_OK_OR_FAIL(nd_problem_load_state(b, nbytes, buf));
             for (int k = at; k < at + then; ++k) step_moving(b, dim, moving, k + 1);
-            snap sa = take(a, dim), sb = take(b, dim);
-            ck_assert_msg(same(sa, sb), "%dD P%d scheme %d from step %d%s: the resumed run differs", dim, degree,
+            ck_assert_msg(same_now(a, b, dim), "%dD P%d scheme %d from step %d%s: the resumed run differs", dim, degree,
                           schemes[s].scheme, at, moving ? " (moving obstacle)" : "");
             double wo = 0;
             ND_OK_OR_FAIL(nd_get_scalar(b, ND_WORK_OBSTACLE, &wo));
             const int expl = nd_test_is_explicit(&schemes[s]);
             if (moving && at > 0 && !expl) /* (the explicit run may end before the impact) */
               ck_assert_msg(wo != 0, "%dD P%d scheme %d: the obstacle did no work", dim, degree, schemes[s].scheme);
-            free(sa.f);
-            free(sb.f);
             free(buf);
             ND_OK_OR_FAIL(nd_problem_destroy(&a));
             ND_OK_OR_FAIL(nd_problem_destroy(&b));
@@ -187,10 +193,7 @@ START_TEST(resumes_in_another_process) {
   for (int k = 0; k < 50; ++k) ND_OK_OR_FAIL(nd_step(a));
   ND_OK_OR_FAIL(nd_problem_load_state(b, (int64_t)nbytes, buf));
   for (int k = 0; k < 25; ++k) ND_OK_OR_FAIL(nd_step(b));
-  snap sa = take(a, 2), sb = take(b, 2);
-  ck_assert(same(sa, sb));
-  free(sa.f);
-  free(sb.f);
+  ck_assert(same_now(a, b, 2));
   ND_OK_OR_FAIL(nd_problem_destroy(&a));
   ND_OK_OR_FAIL(nd_problem_destroy(&b));
 }
@@ -271,10 +274,7 @@ START_TEST(coupling_iteration_restores_and_retries) {
       ND_OK_OR_FAIL(nd_step(b));
       free(buf);
     }
-    snap sa = take(a, 2), sb = take(b, 2);
-    ck_assert_msg(same(sa, sb), "scheme %d: the retried run differs", schemes[s].scheme);
-    free(sa.f);
-    free(sb.f);
+    ck_assert_msg(same_now(a, b, 2), "scheme %d: the retried run differs", schemes[s].scheme);
     free(guess);
     free(load);
     ND_OK_OR_FAIL(nd_problem_destroy(&a));
@@ -368,10 +368,8 @@ START_TEST(resumes_from_a_file) {
         for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(a));
         ND_OK_OR_FAIL(nd_problem_load_state_file(b, path));
         for (int k = 0; k < 20; ++k) ND_OK_OR_FAIL(nd_step(b));
-        snap sa = take(a, dim), sb = take(b, dim);
-        ck_assert_msg(same(sa, sb), "%dD P%d scheme %d: the run resumed from a file differs", dim, degree, sc->scheme);
-        free(sa.f);
-        free(sb.f);
+        ck_assert_msg(same_now(a, b, dim), "%dD P%d scheme %d: the run resumed from a file differs", dim, degree,
+                      sc->scheme);
         free(buf);
         free(file);
         ND_OK_OR_FAIL(nd_problem_destroy(&a));
@@ -404,10 +402,7 @@ START_TEST(resumes_from_a_file_in_another_process) {
   for (int k = 0; k < 50; ++k) ND_OK_OR_FAIL(nd_step(a));
   ND_OK_OR_FAIL(nd_problem_load_state_file(b, path));
   for (int k = 0; k < 25; ++k) ND_OK_OR_FAIL(nd_step(b));
-  snap sa = take(a, 3), sb = take(b, 3);
-  ck_assert(same(sa, sb));
-  free(sa.f);
-  free(sb.f);
+  ck_assert(same_now(a, b, 3));
   ND_OK_OR_FAIL(nd_problem_destroy(&a));
   ND_OK_OR_FAIL(nd_problem_destroy(&b));
   rm_dir(dir);
@@ -882,10 +877,7 @@ START_TEST(saved_after_a_redefinition_between_steps) {
     ND_OK_OR_FAIL(nd_step(p));
     ND_OK_OR_FAIL(nd_step(q));
   }
-  snap sp = take(p, 2), sq = take(q, 2);
-  ck_assert_msg(same(sp, sq), "the run resumed from the checkpoint differs");
-  free(sp.f);
-  free(sq.f);
+  ck_assert_msg(same_now(p, q, 2), "the run resumed from the checkpoint differs");
   free(buf);
   ND_OK_OR_FAIL(nd_problem_destroy(&p));
   ND_OK_OR_FAIL(nd_problem_destroy(&q));
