@@ -177,6 +177,66 @@ START_TEST(theta_minus_one_gaining_energy_is_refused) {
 }
 END_TEST
 
+/* The block at rest, generalized-alpha (rho_inf = 0.8), the plane y = d(t) rising into it
+   at 0.5 from below (moved before each step, as the stability suite does).
+   Its first contact step applies the law at the scheme's shifted point,
+   where P <= 0 yet: no force, no work, no energy put in, while the plane
+   has come up into the block by part of its approach over the step. */
+static char refusal[1024];
+static int64_t pushed(double theta, double gamma0E, double tau, int64_t steps, int *code, double *first_pen,
+                      double *energy_over_work) {
+  nd_problem p = block(theta, gamma0E, 1.0, 1.0, 1.0, 1.0);
+  int64_t n = 0;
+  ND_OK_OR_FAIL(nd_problem_get_node_count(p, &n));
+  ND_OK_OR_FAIL(nd_problem_set_initial_state(p, n, NULL, NULL));
+  const double rho_inf = 0.8;
+  ND_OK_OR_FAIL(nd_problem_set_scheme(p, ND_SCHEME_GENERALIZED_ALPHA, &rho_inf));
+  ND_OK_OR_FAIL(nd_problem_set_timestep(p, tau));
+  const double up[2] = {0, 1};
+  *code = ND_OK, *first_pen = -1, *energy_over_work = 0;
+  for (int64_t k = 1; k <= steps; ++k) {
+    const double plane[2] = {0, 0.5 * (double)k * tau};
+    ND_OK_OR_FAIL(nd_problem_set_contact_plane(p, 1, plane, up));
+    const int st = nd_step(p);
+    if (st != ND_OK) {
+      *code = st;
+      snprintf(refusal, sizeof refusal, "%s", nd_last_error());
+      ND_OK_OR_FAIL(nd_problem_destroy(&p));
+      return k;
+    }
+    const double pen = scalar(p, ND_MAX_PENETRATION);
+    if (*first_pen < 0 && pen > 0) *first_pen = pen;
+    const double W = scalar(p, ND_WORK_OBSTACLE), E = scalar(p, ND_ENERGY_MECHANICAL);
+    if (E > 0) *energy_over_work = fmax(*energy_over_work, W > 0 ? E / W : INFINITY);
+  }
+  ND_OK_OR_FAIL(nd_problem_destroy(&p));
+  return steps + 1;
+}
+
+START_TEST(a_plane_reaching_a_resting_block_is_no_sinking) {
+  /* the stability suite's false alarm (rect, galpha, Theta = 1, gamma0 E =
+     2.57e-4, tau = 0.0233 of the scene's): the plane reaches the block in
+     step 215, whose state lies 3.7e-5 inside the plane with no energy put
+     in; the guard refused it (a limit of 4 eps* l = 0). A point may sink by
+     the obstacle's approach over the step besides (docs/design.md §3b.5) */
+  const double tau = 0.0233 * 0.02;
+  int code;
+  double first, ratio;
+  const int64_t k = pushed(1.0, 2.57e-4, tau, 400, &code, &first, &ratio);
+  ck_assert_msg(code == ND_OK, "refused at step %lld: %s", (long long)k, refusal);
+  printf("pushed block: first penetration %g (the approach 0.5 tau = %g), max E / W_obstacle %g\n", first,
+         0.5 * tau, ratio);
+  ck_assert(first > 0 && first <= 0.5 * tau); /* the first contact: the plane's own approach, no more */
+  ck_assert(ratio <= 2);                      /* the energy is the plane's work's (the backstop's factor) */
+  /* the allowance is one step's approach: a penalty too weak to stop the
+     block (Theta = 0, gamma0 E = 1e4) lets it sink step after step, and is
+     still refused for it */
+  pushed(0.0, 1e4, 0.02, 200, &code, &first, &ratio);
+  printf("weak penalty: %s\n", refusal);
+  ck_assert_int_eq(code, ND_ERR_PENETRATION);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("guards_scale");
   TCase *tc = tcase_create("during_the_steps");
@@ -185,6 +245,7 @@ int main(void) {
   tcase_add_test(tc, the_verdict_does_not_depend_on_the_units);
   tcase_add_test(tc, the_reference_bar_runs_1e5_steps);
   tcase_add_test(tc, theta_minus_one_gaining_energy_is_refused);
+  tcase_add_test(tc, a_plane_reaching_a_resting_block_is_no_sinking);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

@@ -22,7 +22,8 @@
  * deeper than 4 eps* min(h, L/8), eps* = sqrt(2 (E^0 + max_k W^k) / int E dx)
  * the strain of the energy put in and L = |Omega| / |Gamma_C| (the
  * penetration guard's default, docs/design.md §3b.5, measured here from the
- * scene's own dimensions): what the guards exist to catch. late: the
+ * scene's own dimensions), beyond the moving plane's approach over the step
+ * (as the guard): what the guards exist to catch. late: the
  * steps accepted past those limits before a guard stopped the run.
  * theory: for the hybrid scheme with Theta = 1, whether E_Theta + D - W -
  * W_geometry never increased (part 2 of the paper; D the damping's
@@ -39,9 +40,9 @@
  * - W_prescribed - W_geometry + D_damping + D_friction at a state without
  * an active point above its lowest value at such a state before (t^0
  * included), relative to the largest of E^0 + max W and max E;
- * penetration_ratio the deepest point over eps* min(h, L/8); contact_gain
- * the same rise at every state, of the balance with min(E, E_Theta) for
- * E_Theta (the Nitsche term counted only where it lowers the balance: the
+ * penetration_ratio the deepest point (beyond the plane's approach) over
+ * eps* min(h, L/8); contact_gain the same rise at every state, of the
+ * balance with min(E, E_Theta) for E_Theta (the Nitsche term counted only where it lowers the balance: the
  * energy it holds in contact is no energy of the body, and for the hybrid
  * scheme with Theta = 1 this stays below its non-increasing L), above its
  * lowest value at a state without an active point before: a body that gains
@@ -412,6 +413,11 @@ int main(int argc, char **argv) {
       }
       const double force = get(p, ND_CONTACT_FORCE_APPLIED);
       work_plane += 0.5 * (force_prev + force) * (d_next - d_plane);
+      /* the plane's approach over the step: a depth no force has answered yet
+         where the scheme applies the law before the step's end (generalized-
+         alpha), with no energy put in if the body was at rest (the guard
+         allows it too) */
+      const double approach = fmax(0, d_next - d_plane);
       force_prev = force, d_plane = d_next;
       const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK) + work_plane,
                    D = get(p, ND_DISSIPATION_DAMPING) + get(p, ND_DISSIPATION_FRICTION);
@@ -420,8 +426,8 @@ int main(int argc, char **argv) {
       growth = fmax(growth, isfinite(r) ? r : INFINITY);
       pen = fmax(pen, get(p, ND_MAX_PENETRATION) / h);
       its += get(p, ND_NEWTON_ITERATIONS);
-      const double strain = sqrt(2 * budget / stiffness_volume);
-      if (!isfinite(Em) || r > 2 || get(p, ND_MAX_PENETRATION) > 4 * strain * pen_length) ++late;
+      const double strain = sqrt(2 * budget / stiffness_volume), sunk = get(p, ND_MAX_PENETRATION) - approach;
+      if (!isfinite(Em) || r > 2 || sunk > 4 * strain * pen_length) ++late;
       /* (W_geometry: what re-linearisations put in, a pair's re-pairing) */
       const double e = get(p, ND_ENERGY_AUGMENTED) + D - get(p, ND_WORK) - get(p, ND_WORK_GEOMETRY);
       scale = fmax(scale, fabs(get(p, ND_ENERGY_AUGMENTED)) + fabs(W) + D);
@@ -436,7 +442,7 @@ int main(int argc, char **argv) {
         if (in_motion > 0) rise = fmax(rise, (L - low) / in_motion);
         low = fmin(low, L), low_c = fmin(low_c, Lc);
       }
-      if (strain > 0) pen_ratio = fmax(pen_ratio, get(p, ND_MAX_PENETRATION) / (strain * pen_length));
+      if (sunk > 0) pen_ratio = fmax(pen_ratio, strain > 0 ? sunk / (strain * pen_length) : INFINITY);
     }
   }
   if (!code && late) outcome = "silent_failure";
