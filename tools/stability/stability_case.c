@@ -14,11 +14,14 @@
  * A run is a silent failure when every call returned ND_OK although, by this
  * program's own measurement, the mechanical energy passed 2 (E^0 + max_k W^k)
  * (the guard's default factor; W also counts the moving plane's work, which
- * this program sums itself: the trapezoid of ND_CONTACT_FORCE_APPLIED, the
- * force the step applied to the body, times the plane's move of each step:
- * not ND_CONTACT_FORCE, the law at the end state, which generalized-alpha
+ * this program sums itself: ND_CONTACT_FORCE_APPLIED, the force the step
+ * applied to the body, times the plane's move over that step: not
+ * ND_CONTACT_FORCE, the law at the end state, which generalized-alpha
  * (the law at its alpha level) and the hybrid scheme (the step's mean) do
- * not apply), became non-finite, or a contact point sank
+ * not apply; and not the trapezoid of two steps' applied forces, which
+ * the body feels each over its own step only: where a step jumps, as an
+ * adaptive step shortened under a plane already placed at the step's
+ * nominal end, the trapezoid counted 2.9 of a work of 91.7), became non-finite, or a contact point sank
  * deeper than 4 eps* min(h, L/8), eps* = sqrt(2 (E^0 + max_k W^k) / int E dx)
  * the strain of the energy put in and L = |Omega| / |Gamma_C| (the
  * penetration guard's default, docs/design.md §3b.5, measured here from the
@@ -390,9 +393,9 @@ int main(int argc, char **argv) {
   /* the balance with min(E, E_Theta): its lowest value without an active
      point (t^0 included), its largest rise at any state */
   double low_c = fmin(E0, get(p, ND_ENERGY_AUGMENTED)) - get(p, ND_WORK), rise_c = 0;
-  /* the moving plane: where it is (along up), the contact force of the last
-     step, the work it has done (this program's sum) */
-  double d_plane = 0, force_prev = 0, work_plane = 0;
+  /* the moving plane: where it is (along up), the work it has done (this
+     program's sum) */
+  double d_plane = 0, work_plane = 0;
   st = nd_problem_setup(p);
   if (st) {
     outcome = "refused_at_setup", code = st;
@@ -412,13 +415,13 @@ int main(int argc, char **argv) {
         break;
       }
       const double force = get(p, ND_CONTACT_FORCE_APPLIED);
-      work_plane += 0.5 * (force_prev + force) * (d_next - d_plane);
+      work_plane += force * (d_next - d_plane);
       /* the plane's approach over the step: a depth no force has answered yet
          where the scheme applies the law before the step's end (generalized-
          alpha), with no energy put in if the body was at rest (the guard
          allows it too) */
       const double approach = fmax(0, d_next - d_plane);
-      force_prev = force, d_plane = d_next;
+      d_plane = d_next;
       const double Em = get(p, ND_ENERGY_MECHANICAL), W = get(p, ND_WORK) + work_plane,
                    D = get(p, ND_DISSIPATION_DAMPING) + get(p, ND_DISSIPATION_FRICTION);
       budget = fmax(budget, E0 + W);
