@@ -35,7 +35,13 @@ Matching our formulation (docs/design.md §1-2):
 - Initial acceleration: U0 = 0, no contact (gap 5) and K_Theta U0 = 0, so
   M A0 = F = M g: A0 = g exactly.
 
-usage: getfem_drop.py MESH.msh DIM DEGREE TAU T HISTORY.csv
+Friction (bench/friction_getfem.sh): with F > 0 and an initial velocity vx
+along x, the brick takes Coulomb's coefficient F with the whole stress vector
+G = sigma(u) N and the slip u - wt, wt = U^n (alpha = 1): docs/design.md
+§10.2's weak form term for term but for the slip reference (ours is the
+return-mapped s; bench/getfem_friction.py measures that difference).
+
+usage: getfem_drop.py MESH.msh DIM DEGREE TAU T HISTORY.csv [F VX]
        getfem_drop.py --check-brick MESH.msh DIM DEGREE   (the brick against docs/design.md §1)
 Prints one CSV row (--header for the header). The mesh is converted to Gmsh's
 format 2.2 (GetFEM 5.4's reader) with gmsh in a temporary directory.
@@ -103,7 +109,7 @@ def gamma0_field(m, mim, gamma0):
 
 
 class Drop:
-    def __init__(self, mesh, dim, degree, tau):
+    def __init__(self, mesh, dim, degree, tau, friction=0.0, vx=0.0):
         self.dim, self.tau = dim, tau
         self.c = 1.0 / (BETA * tau * tau)
         m = load_mesh(mesh, dim)
@@ -141,9 +147,19 @@ class Drop:
         self.nc = nc
         # sigma_n n: the normal part only (see the docstring)
         self.sigma_n = "(((lambda*Trace(Grad_u)*Id(%d) + mu*(Grad_u + Grad_u')) * %s).%s)" % (dim, nc, nc)
-        neumann = "(%s*%s)" % (self.sigma_n, nc)
-        md.add_Nitsche_contact_with_rigid_obstacle_brick(self.mim_c, "u", neumann, "obstacle", "gamma0_getfem",
-                                                         CONTACT, THETA)
+        self.friction = friction
+        if friction > 0:
+            md.add_initialized_data("F", [friction])
+            md.add_initialized_fem_data("wt", self.mf, np.zeros(n))
+            stress = "((lambda*Trace(Grad_u)*Id(%d) + mu*(Grad_u + Grad_u'))*%s)" % (dim, nc)
+            # GetFEM 5.4 writes the slip as "((" + alpha + ")*(u-(wt))", one
+            # parenthesis short: alpha = "1)" closes it (bench/getfem_friction.py)
+            md.add_Nitsche_contact_with_rigid_obstacle_brick(self.mim_c, "u", stress, "obstacle", "gamma0_getfem",
+                                                             CONTACT, THETA, "F", "1)", "wt")
+        else:
+            neumann = "(%s*%s)" % (self.sigma_n, nc)
+            md.add_Nitsche_contact_with_rigid_obstacle_brick(self.mim_c, "u", neumann, "obstacle", "gamma0_getfem",
+                                                             CONTACT, THETA)
         self.md = md
 
         self.M = gf.asm_mass_matrix(self.mim, self.mf)
@@ -154,6 +170,7 @@ class Drop:
         self.g = g
         self.U = np.zeros(n)
         self.V = np.zeros(n)
+        self.V[0::dim] = vx
         self.A = g.copy()
 
     def step(self):
@@ -170,6 +187,8 @@ class Drop:
         An = self.c * (Un - self.U) - self.V / (b * tau) - (0.5 / b - 1.0) * self.A
         self.V = self.V + tau * ((1.0 - GAMMA_NM) * self.A + GAMMA_NM * An)
         self.U, self.A = Un, An
+        if self.friction > 0:
+            self.md.set_variable("wt", Un)
         return int(its)
 
     def energy(self):
@@ -210,14 +229,15 @@ def main(argv):
         gf.util_warning_level(0)
         check_brick(argv[2], int(argv[3]), int(argv[4]))
         return 0
-    if len(argv) != 7:
+    if len(argv) not in (7, 9):
         sys.stderr.write(__doc__)
         return 2
     mesh, dim, degree, tau, T, hist = argv[1], int(argv[2]), int(argv[3]), float(argv[4]), float(argv[5]), argv[6]
+    friction, vx = (float(argv[7]), float(argv[8])) if len(argv) == 9 else (0.0, 0.0)
     gf.util_trace_level(0)
     gf.util_warning_level(0)
     t0 = time.perf_counter()
-    d = Drop(mesh, dim, degree, tau)
+    d = Drop(mesh, dim, degree, tau, friction, vx)
     setup = time.perf_counter() - t0
     steps = int(round(T / tau))
     free, impact, contact, newton_contact = [], [], [], 0

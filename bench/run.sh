@@ -97,6 +97,10 @@ if [ "$mode" != quick ]; then
   sh bench/quads.sh "$build" "$out"
   # adaptive time steps against fixed ones (error at T against run time)
   sh bench/adaptive.sh "$build" "$out/adaptive.txt"
+  # the frictional contact step against the frictionless one, ours, and
+  # side by side with GetFEM's (Newmark) (docs/performance.md, "Friction")
+  sh bench/friction.sh "$build" > "$out/friction.txt"
+  sh bench/friction_getfem.sh "$build" "$out"
 fi
 $py bench/perf_report.py --results "$out" --out "$report"
 echo "written: $out/*.csv, $report"
