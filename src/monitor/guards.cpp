@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <limits>
 
 #include "assembly/coercivity.hpp"
@@ -288,9 +289,12 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
     if (!(ref && limit > 0 &&
           penetration_within(d.contact, next.U.data(), next.gap.empty() ? nullptr : next.gap.data(), *ref, limit,
                              &length))) {
-      // (a point may sink by what the obstacle's own approach closed over the step besides)
-      const std::vector<double> approach = obstacle_approach(d, old, next);
-      const auto [r, q] = deepest(d, next, p, &length, approach.empty() ? nullptr : &approach);
+      auto [r, q] = deepest(d, next, p, &length);
+      // (a point may sink by what the obstacle's own approach closed over the
+      // step besides: looked at only past the limit, no pass or memory else)
+      std::vector<double> approach;
+      if (r > limit) approach = obstacle_approach(d, old, next);
+      if (!approach.empty()) std::tie(r, q) = deepest(d, next, p, &length, &approach);
       if (r > limit) {
         const double strain = limit / g.penetration;
         const std::string scale =
