@@ -17,6 +17,26 @@ namespace nd {
 namespace {
 
 constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
+
+// What a moving obstacle closed of each point's gap over the step, (g^n_q -
+// g^{n+1}_q)_+, read from the two states' gaps (before null: it did not
+// move; a pair's gaps change only where it re-pairs: none either). A scheme
+// that applies the law before the step's end (generalized-alpha at its
+// shifted point) answers that approach in the steps after: a resting block
+// that a plane reaches sank by it before any force acted, with no energy put
+// in yet, where the guard's limit is 0 (stability suite, steel block,
+// generalized-alpha: a false alarm).
+struct Approach {
+  const double *before = nullptr, *after = nullptr;
+  double at(size_t q) const { return before ? std::max(0.0, before[q] - after[q]) : 0.0; }
+};
+Approach obstacle_approach(const Discretization &d, const State &old, const State &next) {
+  const std::vector<double> &before = old.gap.empty() ? d.contact.gap : old.gap,
+                            &after = next.gap.empty() ? d.contact.gap : next.gap;
+  if (&before == &after || !next.pairing.empty() || before.size() != after.size()) return {};
+  return {before.data(), after.data()};
+}
+
 // the deepest point relative to its cell size: (penetration / h, index),
 // (0, 0) where no point penetrates (the guards' limits are positive: a
 // point off the obstacle costs no division); of a distributed state's
@@ -24,17 +44,16 @@ constexpr double kInitialPenetration = 1e-10;  // of h_K: round-off
 // fails with it, the others with it failing there: guard_step runs inside
 // the step's agreement)
 // (length: the lengths the penetration is measured in, h_K by default;
-// allowed: a depth each point may have beyond them, or null)
+// allowed: a depth each point may have beyond them)
 std::pair<double, size_t> deepest(const Discretization &d, const State &s, const Products &p,
-                                  const std::vector<double> *length = nullptr,
-                                  const std::vector<double> *allowed = nullptr) {
+                                  const std::vector<double> *length = nullptr, const Approach &allowed = {}) {
   const std::vector<double> &len = length && !length->empty() ? *length : d.contact.h;
   PointValues scratch;
   const PointValues &points = state_points(d, s, p, scratch, d.counters);
   const std::vector<double> &un = points.un;
   std::pair<double, size_t> worst{0, 0};
   auto visit = [&](size_t q) {
-    const double depth = allowed ? un[q] - (*allowed)[q] : un[q];
+    const double depth = un[q] - allowed.at(q);
     if (!(depth > 0)) return;
     const double r = depth / len[q];
     if (r > worst.first) worst = {r, q};
@@ -53,27 +72,6 @@ std::string point(const Discretization &d, size_t q) {
   std::string at = "(";
   for (int k = 0; k < dim; ++k) at += (k ? ", " : "") + num(d.contact.x[q * dim + k]);
   return at + ")";
-}
-
-// How far a moving obstacle closed each point's gap over the step, (g^n -
-// g^{n+1})_+ (empty: it did not move; a pair's gaps change only where it
-// re-pairs: empty too). A scheme that applies the law before the step's end
-// (generalized-alpha at its shifted point, the hybrid scheme its mean)
-// answers that approach in the steps after: a resting block that a plane
-// reaches sank by it before any force acted, with no energy put in yet
-// (stability suite, steel block, generalized-alpha: a false alarm).
-std::vector<double> obstacle_approach(const Discretization &d, const State &old, const State &next) {
-  const std::vector<double> &before = old.gap.empty() ? d.contact.gap : old.gap,
-                            &after = next.gap.empty() ? d.contact.gap : next.gap;
-  if (&before == &after || !next.pairing.empty() || before.size() != after.size()) return {};
-  std::vector<double> closed(after.size());
-  bool any = false;
-  for (size_t q = 0; q < closed.size(); ++q) {
-    closed[q] = std::max(0.0, before[q] - after[q]);
-    any = any || closed[q] > 0;
-  }
-  if (!any) return {};
-  return closed;
 }
 
 // An energy less what loads, obstacle, supports and re-linearisations put
@@ -291,10 +289,9 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
                              &length))) {
       auto [r, q] = deepest(d, next, p, &length);
       // (a point may sink by what the obstacle's own approach closed over the
-      // step besides: looked at only past the limit, no pass or memory else)
-      std::vector<double> approach;
-      if (r > limit) approach = obstacle_approach(d, old, next);
-      if (!approach.empty()) std::tie(r, q) = deepest(d, next, p, &length, &approach);
+      // step besides: looked at only past the limit, no second pass else)
+      const Approach approach = r > limit ? obstacle_approach(d, old, next) : Approach{};
+      if (approach.before) std::tie(r, q) = deepest(d, next, p, &length, approach);
       if (r > limit) {
         const double strain = limit / g.penetration;
         const std::string scale =
@@ -305,8 +302,8 @@ void guard_step(const Discretization &d, const Guards &g, const State &old, Stat
         fail(ND_ERR_PENETRATION,
              "the step to t = " + num(next.t) + " sinks contact point " + std::to_string(q) + " " + point(d, q) + " " +
                  num(r * length[q]) + " into the obstacle" +
-                 (approach.empty() ? std::string(",")
-                                   : " beyond the obstacle's approach over the step, " + num(approach[q]) + ",") +
+                 (approach.at(q) > 0 ? " beyond the obstacle's approach over the step, " + num(approach.at(q)) + ","
+                                     : std::string(",")) +
                  " more than " + num(g.penetration) + " times " + num(strain * length[q]) + " (the strain " +
                  num(strain) + " that the energy put in, " + num(gs.budget) + ", gives the body, times " + scale +
                  "): the penalty is too weak (lower gamma0, or gamma0 = 0 for an automatic one) or "
