@@ -17,6 +17,7 @@
 #include "solve/contact_law.hpp"
 #include "time/scheme.hpp"
 #include "time/state.hpp"
+#include "time/step_control.hpp"
 // check.h last: it defines a macro `fail` that the library's headers would meet
 #include <check.h>
 
@@ -247,6 +248,22 @@ END_TEST
 // A used state's memory handed to the next step (reuse_storage) comes back
 // as a new state: every vector empty (its capacity kept, the point of it)
 // but the products' four, every other field as State{} has it.
+// The first-touch cut reads the points' normal values alone: with friction
+// the tangential values follow them in P (here positive, as a sliding
+// landing gives), and it read them as points, past its other arrays' ends
+// (valgrind found it in the stability suite's adaptive reruns). Point 1 of
+// 2 touches at a quarter of the step: u_n from -0.1 at the rate 0.4 over 1.
+START_TEST(first_touch_reads_the_normal_values) {
+  const std::vector<double> un = {-0.5, -0.1}, rate = {0.4, 0.4}, P_old = {-0.5, -0.1};
+  const std::vector<double> P_new = {-0.1, 0.3};
+  const double s = nd::first_touch(P_old, P_new, un, rate, 1.0);
+  ck_assert_double_eq_tol(s, 0.25, 1e-15);
+  std::vector<double> P_old_t = P_old, P_new_t = P_new;
+  for (double x : {0.7, 0.9}) P_old_t.push_back(x), P_new_t.push_back(x);  // (the tangential values)
+  ck_assert_double_eq(nd::first_touch(P_old_t, P_new_t, un, rate, 1.0), s);
+}
+END_TEST
+
 START_TEST(reused_storage_is_a_new_state) {
   nd::State used;
   nd::Products used_p;  // (the products, a cache held beside the state)
@@ -302,6 +319,7 @@ int main(void) {
   tcase_add_test(tc, amplification_matrix_tends_to_rho_inf);
   tcase_add_test(tc, highest_mode_decays_at_the_spectral_radius);
   tcase_add_test(tc, reused_storage_is_a_new_state);
+  tcase_add_test(tc, first_touch_reads_the_normal_values);
   suite_add_tcase(s, tc);
   return nd_test_run(s);
 }

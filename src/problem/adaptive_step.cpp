@@ -112,7 +112,10 @@ void Problem::judge_step(const Attempt &attempt, const State &from, State &next,
     PointValues at_old, at_new;
     const PointValues &was = state_points(d, from, products_, at_old, d.counters);
     // (in contact already: no first touch, and the new state's points need no evaluation)
-    const bool touching = std::any_of(was.P.begin(), was.P.end(), [](double P) { return P > 0; });
+    // (the normal values: with friction the points' tangential ones follow them)
+    const size_t nq = std::min(was.P.size(), d.contact.size());
+    const bool touching = std::any_of(was.P.begin(), was.P.begin() + static_cast<std::ptrdiff_t>(nq),
+                                      [](double P) { return P > 0; });
     std::vector<double> rate(touching ? 0 : d.contact.size());
     for (size_t q = 0; q < rate.size(); ++q) rate[q] = d.contact.a[q].dot(from.V.data());
     const double s = touching ? 1 : first_touch(was.P, state_points(d, next, next_products, at_new, d.counters).P, was.un, rate, tau);

@@ -63,10 +63,13 @@ double size_after_rejected(const AdaptiveOptions &o, double tau, double ratio) {
 
 double first_touch(const std::vector<double> &P_old, const std::vector<double> &P_new,
                    const std::vector<double> &un_old, const std::vector<double> &rate, double tau) {
-  for (double P : P_old)
-    if (P > 0) return 1;  // (in contact already: not the first touch)
+  // (the normal values: friction's tangential ones follow them in P)
+  const size_t nq = un_old.size();
+  if (P_old.size() < nq || P_new.size() < nq || rate.size() < nq) return 1;
+  for (size_t q = 0; q < nq; ++q)
+    if (P_old[q] > 0) return 1;  // (in contact already: not the first touch)
   double s = 1;
-  for (size_t q = 0; q < P_new.size(); ++q)
+  for (size_t q = 0; q < nq; ++q)
     if (P_new[q] > 0 && rate[q] > 0) s = std::min(s, std::max(0.0, -un_old[q]) / (rate[q] * tau));
   return s > kTouchMargin && s < 1 - kTouchMargin ? s : 1;
 }

@@ -59,7 +59,8 @@ double size_after_rejected(const AdaptiveOptions &o, double tau, double ratio);
 // over the step of size tau: exact for a rigid flight at constant
 // velocity (the solved state is not: the contact already pushed there).
 // 1 when no point became active, or one touched at the step's very start
-// or end. P_old, P_new: P_q at t^n and t^{n+1} (> 0: active).
+// or end. P_old, P_new: P_q at t^n and t^{n+1} (> 0: active), their first
+// un_old.size() entries (with friction the tangential values follow).
 double first_touch(const std::vector<double> &P_old, const std::vector<double> &P_new,
                    const std::vector<double> &un_old, const std::vector<double> &rate, double tau);
 
